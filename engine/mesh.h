@@ -1,0 +1,69 @@
+/* mesh.h - the connectivity of one texture domain, in texel units.
+ *
+ * Built from a texopt_model domain. Vertices are UV vertices: model vertices with equal
+ * position and equal UV are welded into one, so a vertex is split exactly where the UV
+ * layout has a seam. Points are 3D vertices: all vertices with equal position share a
+ * point, so one-rings cross UV seams. Charts are the connected components of triangles
+ * through shared UV vertices.
+ *
+ * Degenerate triangles (zero area in 3D or in texels) are flagged and carried through; the
+ * stages leave them alone. Flipped (reversed) triangles have negative signed texel area. */
+#ifndef TEXOPT_MESH_H
+#define TEXOPT_MESH_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "model.h"
+#include "status.h"
+
+enum texopt_triangle_flag {
+    TEXOPT_TRI_DEGENERATE_3D = 1u << 0,
+    TEXOPT_TRI_DEGENERATE_UV = 1u << 1,
+    TEXOPT_TRI_FLIPPED = 1u << 2,  /* negative signed area in texel space */
+    TEXOPT_TRI_OVERLAPS = 1u << 3, /* shares texels with another triangle of the domain */
+    TEXOPT_TRI_WRAPPED = 1u << 4   /* some UV outside [0,1]: relies on the wrap mode */
+};
+
+typedef struct texopt_mesh {
+    int domain;        /* index into the model's domains */
+    int width, height; /* texel frame of the domain */
+
+    size_t vertex_count;
+    double *texel;          /* 2 per vertex: (width * u, height * v) */
+    uint32_t *point_of;     /* per vertex: its welded 3D point */
+    size_t model_vertex_count;
+    uint32_t *model_vertex; /* per vertex: one model vertex it came from */
+    uint32_t *vertex_of_model_vertex; /* per model vertex of the domain (in the order of the
+                                         domain's primitives): its mesh vertex */
+
+    size_t point_count;
+    double *position;       /* 3 per point, world space */
+
+    size_t triangle_count;
+    uint32_t *triangle;       /* 3 per triangle, vertex indices */
+    uint32_t *model_triangle; /* per triangle: model triangle index */
+    double *area_3d;          /* per triangle, world units squared */
+    double *area_texel;       /* per triangle, signed, texels */
+    uint8_t *flags;           /* per triangle, texopt_triangle_flag bits */
+
+    size_t chart_count;
+    uint32_t *chart_of;       /* per triangle */
+
+    uint32_t *point_triangle_start; /* point_count + 1 offsets into point_triangle */
+    uint32_t *point_triangle;       /* triangles around each point (CSR) */
+} texopt_mesh;
+
+/* Builds the mesh of domain `domain` of `model`. On success the caller owns *out and frees it
+ * with texopt_mesh_destroy. */
+texopt_status texopt_mesh_create(texopt_mesh **out, const texopt_model *model, int domain,
+                                 char *err, size_t err_len);
+
+void texopt_mesh_destroy(texopt_mesh *mesh);
+
+/* Writes the triangles of the one-ring of `triangle` (every triangle sharing a 3D point with
+ * it, through UV seams), `triangle` itself first, into out[0..cap). Returns the full count,
+ * which may exceed cap (then only cap are written). */
+size_t texopt_mesh_one_ring(const texopt_mesh *mesh, uint32_t triangle, uint32_t *out, size_t cap);
+
+#endif

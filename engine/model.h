@@ -1,0 +1,87 @@
+/* model.h - a loaded glTF model, flattened for the engine.
+ *
+ * Every triangle primitive of every mesh is kept once (an instanced mesh takes the world
+ * transform of the first node that uses it; a skinned mesh keeps its bind pose). Vertices of
+ * all primitives are concatenated: primitive p owns model vertices [first_vertex,
+ * first_vertex + vertex_count) and triangles [first_triangle, first_triangle +
+ * triangle_count), and its triangles index model vertices directly.
+ *
+ * A texture domain is a set of primitives whose materials' textures share one TEXCOORD_0
+ * layout (connected through shared images); each domain is optimised as a unit. Its texel
+ * frame is the size of its largest texture: a UV (u, v) is the texel position
+ * (width * u, height * v).
+ *
+ * Loading and saving live in io/gltf_io.h; this header only describes the data. */
+#ifndef TEXOPT_MODEL_H
+#define TEXOPT_MODEL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "image.h"
+#include "status.h"
+
+typedef enum texopt_wrap {
+    TEXOPT_WRAP_REPEAT = 0, /* glTF default */
+    TEXOPT_WRAP_CLAMP,
+    TEXOPT_WRAP_MIRROR
+} texopt_wrap;
+
+typedef enum texopt_slot {
+    TEXOPT_SLOT_BASE_COLOR = 0,
+    TEXOPT_SLOT_NORMAL,
+    TEXOPT_SLOT_METALLIC_ROUGHNESS,
+    TEXOPT_SLOT_OCCLUSION,
+    TEXOPT_SLOT_EMISSIVE,
+    TEXOPT_SLOT_COUNT
+} texopt_slot;
+
+/* One texture binding of a material. */
+typedef struct texopt_texture_ref {
+    int image;    /* index into texopt_model.images, -1 when the slot is empty */
+    int texcoord; /* TEXCOORD_n set the binding uses */
+    texopt_wrap wrap_s, wrap_t;
+} texopt_texture_ref;
+
+typedef struct texopt_material {
+    texopt_texture_ref slot[TEXOPT_SLOT_COUNT];
+} texopt_material;
+
+typedef struct texopt_primitive {
+    int gltf_mesh, gltf_primitive; /* indices in the glTF document */
+    int material;                  /* index into texopt_model.materials, -1 when none */
+    int domain;                    /* index into texopt_model.domains, -1 when untextured */
+    size_t first_vertex, vertex_count;
+    size_t first_triangle, triangle_count;
+} texopt_primitive;
+
+typedef struct texopt_domain {
+    int primitive_count;
+    int *primitives; /* indices into texopt_model.primitives */
+    int image_count;
+    int *images;     /* indices into texopt_model.images used through TEXCOORD_0 */
+    int width, height; /* texel frame: the largest of its images */
+    texopt_wrap wrap_s, wrap_t; /* of the base colour texture, else of the first texture */
+} texopt_domain;
+
+typedef struct texopt_model {
+    size_t vertex_count;
+    float *positions; /* 3 per vertex, world space */
+    float *uvs;       /* 2 per vertex, TEXCOORD_0 as in the file (may leave [0,1]); NULL if none */
+    size_t triangle_count;
+    uint32_t *triangles; /* 3 per triangle, model vertex indices */
+
+    int primitive_count;
+    texopt_primitive *primitives;
+    int material_count;
+    texopt_material *materials;
+    int image_count;
+    texopt_image *images;  /* decoded; an image that was not decoded has NULL pixels */
+    char **image_names;    /* per image: its URI or name, for messages; may hold NULLs */
+    int domain_count;
+    texopt_domain *domains;
+
+    struct texopt_gltf_document *document; /* the parsed file, kept for saving (io/gltf_io) */
+} texopt_model;
+
+#endif

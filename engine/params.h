@@ -1,0 +1,56 @@
+/* params.h - what a user asks of one optimisation job.
+ *
+ * A zero-initialised texopt_params means the defaults (the paper's, where it has one):
+ * perceptual method, relative cost 1.0, epsilon 0.01, 100 iterations, lambda_min 0.1,
+ * all cores, seed 0, no evaluation. texopt_params_resolve fills the zeros;
+ * texopt_params_validate says which field is out of range. */
+#ifndef TEXOPT_PARAMS_H
+#define TEXOPT_PARAMS_H
+
+#include <stdint.h>
+
+#include "status.h"
+
+typedef enum texopt_method {
+    TEXOPT_METHOD_PERCEPTUAL = 0, /* stage 1 + stage 2 (the paper) */
+    TEXOPT_METHOD_INPUT,          /* the input layout, textures resized to the budget */
+    TEXOPT_METHOD_SSP,            /* Sander et al. 2002 signal-stretch targets */
+    TEXOPT_METHOD_TEWARI,         /* Tewari et al. 2004 targets */
+    TEXOPT_METHOD_ARAP,           /* isometric local-global layout */
+    TEXOPT_METHOD_COUNT
+} texopt_method;
+
+typedef enum texopt_budget {
+    TEXOPT_BUDGET_RELATIVE_COST = 0, /* covered texels of the output / of the input */
+    TEXOPT_BUDGET_TEXTURE_SIZE,      /* output texture width x height */
+    TEXOPT_BUDGET_TARGET_LOSS,       /* smallest cost whose whole-mesh loss is at most this */
+    TEXOPT_BUDGET_COUNT
+} texopt_budget;
+
+typedef struct texopt_params {
+    texopt_method method;
+    texopt_budget budget;
+    double relative_cost;   /* (0, 4]; 0 -> 1.0 */
+    int texture_width;      /* with TEXOPT_BUDGET_TEXTURE_SIZE */
+    int texture_height;
+    double target_loss;     /* with TEXOPT_BUDGET_TARGET_LOSS */
+    double epsilon;         /* loss threshold of stage 1; 0 -> 0.01 */
+    int iterations;         /* Bayesian optimisation iterations per triangle; 0 -> 100 */
+    double lambda_min;      /* smallest singular value stage 1 may choose; 0 -> 0.1 */
+    int threads;            /* 0 -> every core */
+    uint64_t seed;
+    int evaluate;           /* non-zero: run the whole-mesh evaluation after the bake */
+    int eval_resolution;    /* evaluation screen side in pixels; 0 -> automatic */
+} texopt_params;
+
+const char *texopt_method_name(texopt_method method);
+/* Returns TEXOPT_METHOD_COUNT for an unknown name. */
+texopt_method texopt_method_from_name(const char *name);
+
+/* Replaces zero fields by their defaults. */
+void texopt_params_resolve(texopt_params *params);
+
+/* Checks a resolved params struct; the message names the offending field. */
+texopt_status texopt_params_validate(const texopt_params *params, char *err, size_t err_len);
+
+#endif

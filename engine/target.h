@@ -1,0 +1,22 @@
+/* target.h - what a per-triangle stage hands the mesh-wise stage.
+ *
+ * For each triangle a target Jacobian J = R(alpha) V(beta) diag(lambda1, lambda2) V(beta)^T
+ * of the deformation from input texels to output texels, and how much the triangle's loss
+ * cares about rotation (w_rotation, wR of the paper's eq. 17) and about stretch (w_stretch,
+ * wS). The perceptual stage (triopt) fills every field; the baselines (ssp, tewari, arap)
+ * fill the Jacobian with w_rotation = 0. Degenerate triangles get J = I and zero weights. */
+#ifndef TEXOPT_TARGET_H
+#define TEXOPT_TARGET_H
+
+typedef struct texopt_triangle_target {
+    double alpha;    /* rotation, [0, pi/2) */
+    double lambda1;  /* singular values, (lambda_min, 1] for the perceptual stage */
+    double lambda2;
+    double beta;     /* orientation of the stretch axes, [0, pi/2) */
+    double loss;     /* perceptual loss E at the optimum (0 where not computed) */
+    double w_rotation;
+    double w_stretch;
+    int evaluations; /* loss evaluations spent on this triangle */
+} texopt_triangle_target;
+
+#endif

@@ -1,0 +1,49 @@
+/* Tests of params.c and status.c: defaults, range checks and messages. */
+#include <string.h>
+
+#include "params.h"
+#include "status.h"
+#include "test.h"
+
+TEST(zero_params_resolve_to_paper_defaults)
+{
+    texopt_params p = {0};
+    texopt_params_resolve(&p);
+    CHECK_NEAR(p.epsilon, 0.01, 0);
+    CHECK_EQ_INT(p.iterations, 100);
+    CHECK_NEAR(p.relative_cost, 1.0, 0);
+    CHECK(p.method == TEXOPT_METHOD_PERCEPTUAL);
+    char err[128] = "";
+    CHECK_OK(texopt_params_validate(&p, err, sizeof err), err);
+}
+
+TEST(out_of_range_fields_are_named)
+{
+    texopt_params p = {0};
+    texopt_params_resolve(&p);
+    p.epsilon = 2;
+    char err[128] = "";
+    CHECK(texopt_params_validate(&p, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "epsilon") != NULL);
+    p.epsilon = 0.01;
+    p.budget = TEXOPT_BUDGET_TEXTURE_SIZE;
+    p.texture_width = 0;
+    CHECK(texopt_params_validate(&p, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "texture_size") != NULL);
+}
+
+TEST(method_names_round_trip)
+{
+    for (int m = 0; m < TEXOPT_METHOD_COUNT; m++)
+        CHECK_EQ_INT(texopt_method_from_name(texopt_method_name((texopt_method)m)), m);
+    CHECK(texopt_method_from_name("bogus") == TEXOPT_METHOD_COUNT);
+}
+
+TEST(strerror_names_every_status)
+{
+    for (int s = 0; s < TEXOPT_STATUS_COUNT; s++)
+        CHECK(strcmp(texopt_strerror((texopt_status)s), "unknown status") != 0);
+    char err[8];
+    CHECK(texopt_fail(err, sizeof err, TEXOPT_E_IO, "%s", "truncated message") == TEXOPT_E_IO);
+    CHECK_EQ_INT(strlen(err), 7);
+}
