@@ -82,6 +82,15 @@ typedef struct texopt_model {
     texopt_domain *domains;
 
     struct texopt_gltf_document *document; /* the parsed file, kept for saving (io/gltf_io) */
+    void (*destroy_document)(struct texopt_gltf_document *document); /* set by whoever set document */
 } texopt_model;
+
+/* Groups the textured primitives into texture domains (fills domains, domain_count and each
+ * primitive's domain) from the materials' TEXCOORD_0 bindings: primitives whose materials
+ * share an image are one domain. Images with unknown size (not decoded) count as 1x1. */
+texopt_status texopt_model_build_domains(texopt_model *model, char *err, size_t err_len);
+
+/* Frees everything the model owns, including the document. Accepts NULL. */
+void texopt_model_destroy(texopt_model *model);
 
 #endif

@@ -1,0 +1,167 @@
+/* model.c - texture-domain grouping and destruction of texopt_model.
+ *
+ * Loading lives in io/gltf_io; this file only works on the flattened data, so that tests can
+ * build models in memory. */
+#include "model.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static int find_root(int *parent, int i)
+{
+    while (parent[i] != i) {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    return i;
+}
+
+/* The images a primitive's material reads through TEXCOORD_0, written to out (at most
+ * TEXOPT_SLOT_COUNT); returns how many. */
+static int primitive_images(const texopt_model *model, const texopt_primitive *prim, int *out,
+                            const texopt_texture_ref **refs)
+{
+    if (prim->material < 0 || prim->material >= model->material_count)
+        return 0;
+    const texopt_material *mat = &model->materials[prim->material];
+    int n = 0;
+    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++) {
+        const texopt_texture_ref *ref = &mat->slot[s];
+        if (ref->image < 0 || ref->image >= model->image_count || ref->texcoord != 0)
+            continue;
+        out[n] = ref->image;
+        refs[n] = ref;
+        n++;
+    }
+    return n;
+}
+
+static void free_domains(texopt_model *model)
+{
+    for (int d = 0; d < model->domain_count; d++) {
+        free(model->domains[d].primitives);
+        free(model->domains[d].images);
+    }
+    free(model->domains);
+    model->domains = NULL;
+    model->domain_count = 0;
+}
+
+/* Adds image to the domain's image list unless it is there already. */
+static void domain_add_image(texopt_domain *dom, int image)
+{
+    for (int i = 0; i < dom->image_count; i++)
+        if (dom->images[i] == image)
+            return;
+    dom->images[dom->image_count++] = image;
+}
+
+static void domain_set_frame(texopt_domain *dom, const texopt_model *model)
+{
+    dom->width = dom->height = 1;
+    for (int i = 0; i < dom->image_count; i++) {
+        const texopt_image *img = &model->images[dom->images[i]];
+        if ((long long)img->width * img->height > (long long)dom->width * dom->height) {
+            dom->width = img->width;
+            dom->height = img->height;
+        }
+    }
+}
+
+texopt_status texopt_model_build_domains(texopt_model *model, char *err, size_t err_len)
+{
+    free_domains(model);
+    int n_img = model->image_count;
+    int *parent = malloc(sizeof(int) * (size_t)(n_img > 0 ? n_img : 1));
+    int *domain_of_root = malloc(sizeof(int) * (size_t)(n_img > 0 ? n_img : 1));
+    if (!parent || !domain_of_root) {
+        free(parent);
+        free(domain_of_root);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for texture domains");
+    }
+    for (int i = 0; i < n_img; i++) {
+        parent[i] = i;
+        domain_of_root[i] = -1;
+    }
+    int imgs[TEXOPT_SLOT_COUNT];
+    const texopt_texture_ref *refs[TEXOPT_SLOT_COUNT];
+    for (int p = 0; p < model->primitive_count; p++) {
+        int n = primitive_images(model, &model->primitives[p], imgs, refs);
+        for (int k = 1; k < n; k++)
+            parent[find_root(parent, imgs[k])] = find_root(parent, imgs[0]);
+    }
+    /* Number the domains in the order of their first primitive, so the numbering is stable. */
+    int count = 0;
+    for (int p = 0; p < model->primitive_count; p++) {
+        int n = primitive_images(model, &model->primitives[p], imgs, refs);
+        model->primitives[p].domain = -1;
+        if (n == 0)
+            continue;
+        int root = find_root(parent, imgs[0]);
+        if (domain_of_root[root] < 0)
+            domain_of_root[root] = count++;
+        model->primitives[p].domain = domain_of_root[root];
+    }
+    texopt_status st = TEXOPT_OK;
+    model->domains = calloc((size_t)(count > 0 ? count : 1), sizeof(texopt_domain));
+    if (!model->domains)
+        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for texture domains");
+    if (st == TEXOPT_OK) {
+        model->domain_count = count;
+        for (int d = 0; d < count; d++) {
+            model->domains[d].primitives = malloc(sizeof(int) * (size_t)model->primitive_count);
+            model->domains[d].images = malloc(sizeof(int) * (size_t)(n_img > 0 ? n_img : 1));
+            model->domains[d].wrap_s = model->domains[d].wrap_t = TEXOPT_WRAP_REPEAT;
+            if (!model->domains[d].primitives || !model->domains[d].images)
+                st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for texture domains");
+        }
+    }
+    if (st == TEXOPT_OK) {
+        for (int p = 0; p < model->primitive_count; p++) {
+            int d = model->primitives[p].domain;
+            if (d < 0)
+                continue;
+            texopt_domain *dom = &model->domains[d];
+            int n = primitive_images(model, &model->primitives[p], imgs, refs);
+            if (dom->primitive_count == 0) {
+                /* The base colour binding (slot 0) comes first when present. */
+                dom->wrap_s = refs[0]->wrap_s;
+                dom->wrap_t = refs[0]->wrap_t;
+            }
+            dom->primitives[dom->primitive_count++] = p;
+            for (int k = 0; k < n; k++)
+                domain_add_image(dom, imgs[k]);
+        }
+        for (int d = 0; d < count; d++)
+            domain_set_frame(&model->domains[d], model);
+    } else {
+        free_domains(model);
+        for (int p = 0; p < model->primitive_count; p++)
+            model->primitives[p].domain = -1;
+    }
+    free(parent);
+    free(domain_of_root);
+    return st;
+}
+
+void texopt_model_destroy(texopt_model *model)
+{
+    if (!model)
+        return;
+    free(model->positions);
+    free(model->uvs);
+    free(model->triangles);
+    free(model->primitives);
+    free(model->materials);
+    for (int i = 0; i < model->image_count; i++) {
+        texopt_image_destroy(&model->images[i]);
+        if (model->image_names)
+            free(model->image_names[i]);
+    }
+    free(model->images);
+    free(model->image_names);
+    free_domains(model);
+    if (model->document && model->destroy_document)
+        model->destroy_document(model->document);
+    free(model);
+}
