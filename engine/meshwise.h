@@ -1,0 +1,87 @@
+/* meshwise.h - stage 2: the mesh-wise local-global solve for new texel positions.
+ *
+ * Implements the mesh-wise optimisation of Sun et al. 2022, "Efficient Texture
+ * Parameterization Driven by Perceptual-Loss-on-Screen" (section 4.2, eq. 19 and 28,
+ * appendix B), with the locally injective barrier of Schueller, Kavan, Panozzo and
+ * Sorkine-Hornung 2013. It turns the per-triangle targets of stage 1 (target.h) into one
+ * conforming layout: same cuts, same charts, seams stay split.
+ *
+ * The energy, for the Jacobian G_i = grad phi_i of triangle i relative to its INPUT texel
+ * triangle (so the unchanged layout has G_i = I and det G_i = +1 everywhere, mirrored input
+ * charts included), summed with the input texel area a_i of each triangle:
+ *
+ *   E = sum_i a_i ( w_rs |G_i - R_i S_i|^2 + w_R,i |R_i - Rbar_i R(k_i pi/2)|^2
+ *                   + w_S,i |S_i - Sbar_i|^2 ) + w_b sum_i a_i B(det G_i)
+ *
+ * with Rbar = R(alpha), Sbar = V(beta) diag(lambda1, lambda2) V(beta)^T from the target.
+ * Local step (per triangle, exact block minimisation, so E never increases): k_i from the
+ * closest of Rbar R(k pi/2) to R_i; R_i = closest rotation (2x2 polar) of
+ * w_R Rbar R^k + w_rs G_i S_i; S_i = (w_S Sbar + w_rs sym(R_i^T G_i)) / (w_S + w_rs).
+ * Global step: one damped Newton step on the new texel positions (CHOLMOD: symbolic
+ * analysis once, numeric factorisation only when the matrix changed), a line search whose
+ * largest step keeps every determinant > 0; w_b /= 20 whenever the fitting part falls below
+ * the barrier part (eq. 28).
+ *
+ * Choices the paper leaves open (documented in meshwise.c):
+ *  - Translation: one vertex per chart is pinned at its input position (exact, no bias).
+ *  - Weights: w_R and w_S are divided by the mean w_S of the counted triangles (or mean w_R
+ *    when every w_S is 0), so their ratios follow stage 1 while their absolute size (a
+ *    variance of a loss, ~1e-4) does not vanish against w_rs; all-ones weights stay ones.
+ *  - Degenerate triangles (TEXOPT_TRI_DEGENERATE_3D/UV) add no fitting energy; those with a
+ *    non-zero input texel area still carry the barrier, so they never flip either. Their
+ *    vertices move with their neighbours.
+ *
+ * Overlapping / mirrored input charts (Duck, DamagedHelmet): the solve does NOT keep shared
+ * texels shared. Every chart is solved on its own; two charts that overlapped in the input
+ * (mirrored halves) generally get different deformations and must be packed apart by the
+ * packer, and the cost then counts both. This is the honest choice: shared texels would
+ * force one deformation onto two surface regions whose perceptual targets differ.
+ *
+ * Not here: the perceptual targets (stage 1), packing and scaling to the budget (the
+ * output layout is in texel units of the input frame, not yet packed), re-baking. */
+#ifndef TEXOPT_MESHWISE_H
+#define TEXOPT_MESHWISE_H
+
+#include <stddef.h>
+
+#include "mesh.h"
+#include "monitor.h"
+#include "status.h"
+#include "target.h"
+
+#define TEXOPT_MESHWISE_MAX_REPORTED 256
+
+typedef struct texopt_meshwise_options {
+    int max_iterations;    /* local-global iterations; 0 -> 50 */
+    double tolerance;      /* stop when the relative energy change falls below; 0 -> 1e-4 */
+    double barrier_weight; /* initial w_b; 0 -> 1.0 (barrier is 0 above its threshold) */
+    int threads;           /* worker threads for the per-triangle steps; 0 -> 1 */
+    double fit_weight;     /* w_rs of eq. 19; 0 -> 1.0 */
+} texopt_meshwise_options;
+
+typedef struct texopt_meshwise_report {
+    int iterations;        /* local-global iterations run */
+    double energy_initial; /* E after the first local step on the initial layout */
+    double energy_final;
+    double seconds;        /* wall clock of the whole solve */
+    int flipped;           /* triangles with det G <= 0 after the solve: always 0 on success */
+    double energy[TEXOPT_MESHWISE_MAX_REPORTED]; /* E after each iteration (non-increasing) */
+    int energy_count;
+    double barrier_weight_final; /* w_b after the eq. 28 reductions */
+    int factorizations;    /* numeric CHOLMOD factorisations done */
+} texopt_meshwise_report;
+
+/* Computes new texel positions of every mesh vertex (2 per vertex, texel units of the input
+ * frame) into texel_out[0 .. 2 * mesh->vertex_count). targets has mesh->triangle_count
+ * entries. initial_texel: the starting layout (NULL = mesh->texel); it must have no
+ * triangle with det G <= 0 relative to mesh->texel (else TEXOPT_E_INVALID_ARGUMENT).
+ * opt and report may be NULL. The monitor gets stage "stage2" progress per iteration and is
+ * checked for cancellation between iterations. Returns TEXOPT_E_NUMERIC when CHOLMOD fails
+ * or values become non-finite. texel_out is written only on success. */
+texopt_status texopt_meshwise_solve(const texopt_mesh *mesh, const texopt_triangle_target *targets,
+                                    const double *initial_texel,
+                                    const texopt_meshwise_options *opt, double *texel_out,
+                                    texopt_meshwise_report *report,
+                                    const texopt_monitor *monitor, char *err, size_t err_len);
+
+#endif
