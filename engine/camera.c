@@ -1,0 +1,108 @@
+/* camera.c - builds the per-triangle orthographic camera of Sun et al. 2022, appendix A.
+ *
+ * Only geometry: a frame (C, R, U, N) and a square window fitted to the one-ring. It does
+ * not rasterise (uvraster.c) and never touches textures. */
+#include "camera.h"
+
+#include <math.h>
+
+static void sub3(const double a[3], const double b[3], double out[3])
+{
+    out[0] = a[0] - b[0];
+    out[1] = a[1] - b[1];
+    out[2] = a[2] - b[2];
+}
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static void cross3(const double a[3], const double b[3], double out[3])
+{
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static int normalize3(double v[3])
+{
+    double n = sqrt(dot3(v, v));
+    if (!(n > 0.0) || !isfinite(n))
+        return 0;
+    v[0] /= n;
+    v[1] /= n;
+    v[2] /= n;
+    return 1;
+}
+
+/* Grows the (R, U) bounding box by one point. */
+static void include_point(const texopt_camera *camera, const double p[3], double box[4])
+{
+    double d[3];
+    sub3(p, camera->center, d);
+    double x = dot3(d, camera->right), y = dot3(d, camera->up);
+    if (x < box[0]) box[0] = x;
+    if (y < box[1]) box[1] = y;
+    if (x > box[2]) box[2] = x;
+    if (y > box[3]) box[3] = y;
+}
+
+/* Pads the bounding box on its short side, symmetrically, so the window is square: the
+ * whole one-ring stays visible and pixels stay square. A hair of margin keeps vertices on the
+ * window border inside the last pixel. */
+static void fit_square_window(texopt_camera *camera, const double box[4])
+{
+    double w = box[2] - box[0], h = box[3] - box[1];
+    double side = (w > h ? w : h) * (1.0 + 1e-6);
+    camera->window_side = side;
+    camera->window_x0 = 0.5 * (box[0] + box[2]) - 0.5 * side;
+    camera->window_y0 = 0.5 * (box[1] + box[3]) - 0.5 * side;
+}
+
+texopt_status texopt_camera_create(texopt_camera *camera, const double a[3], const double b[3],
+                                   const double c[3], const double *ring_points,
+                                   size_t point_count, int size, char *err, size_t err_len)
+{
+    if (!camera || !a || !b || !c || (point_count > 0 && !ring_points))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "camera: NULL argument");
+    if (size < 2)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "camera: viewport size %d is below 2", size);
+    for (int k = 0; k < 3; k++)
+        camera->center[k] = (a[k] + b[k] + c[k]) / 3.0;
+    double ab[3], ac[3];
+    sub3(b, a, ab);
+    sub3(c, a, ac);
+    cross3(ab, ac, camera->normal);
+    sub3(a, camera->center, camera->right);
+    if (!normalize3(camera->normal) || !normalize3(camera->right))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "camera: degenerate triangle has no normal");
+    cross3(camera->normal, camera->right, camera->up);
+    camera->size = size;
+
+    double box[4] = {INFINITY, INFINITY, -INFINITY, -INFINITY};
+    include_point(camera, a, box);
+    include_point(camera, b, box);
+    include_point(camera, c, box);
+    for (size_t i = 0; i < point_count; i++)
+        include_point(camera, ring_points + 3 * i, box);
+    if (!(box[2] - box[0] > 0.0) || !isfinite(box[2] - box[0] + box[3] - box[1]))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "camera: one-ring has no extent on screen");
+    fit_square_window(camera, box);
+    return TEXOPT_OK;
+}
+
+void texopt_camera_project(const texopt_camera *camera, const double point[3], double screen[2],
+                           double *depth)
+{
+    double d[3];
+    sub3(point, camera->center, d);
+    double scale = camera->size / camera->window_side;
+    screen[0] = (dot3(d, camera->right) - camera->window_x0) * scale;
+    screen[1] = (camera->window_y0 + camera->window_side - dot3(d, camera->up)) * scale;
+    if (depth)
+        *depth = dot3(d, camera->normal);
+}

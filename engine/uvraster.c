@@ -1,0 +1,163 @@
+/* uvraster.c - rasterises a triangle's one-ring into input texel positions (Sun et al. 2022,
+ * section 4.1.1 and appendix A, with the render-once reformulation of DESIGN.md 3.1).
+ *
+ * It does not sample textures or evaluate losses (triloss.c). */
+#include "uvraster.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+texopt_status texopt_uvraster_create(texopt_uvraster **out, int size, char *err, size_t err_len)
+{
+    if (!out)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "uvraster: NULL output");
+    *out = NULL;
+    if (size < 2 || size > 4096)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "uvraster: viewport size %d outside [2, 4096]", size);
+    texopt_uvraster *r = calloc(1, sizeof *r);
+    size_t n = (size_t)size * (size_t)size;
+    if (r) {
+        r->size = size;
+        r->texel = calloc(2 * n, sizeof *r->texel);
+        r->face = malloc(n * sizeof *r->face);
+        r->depth = malloc(n * sizeof *r->depth);
+    }
+    if (!r || !r->texel || !r->face || !r->depth) {
+        texopt_uvraster_destroy(r);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "uvraster: out of memory for %dx%d",
+                           size, size);
+    }
+    *out = r;
+    return TEXOPT_OK;
+}
+
+void texopt_uvraster_destroy(texopt_uvraster *raster)
+{
+    if (!raster)
+        return;
+    free(raster->texel);
+    free(raster->face);
+    free(raster->depth);
+    free(raster->ring);
+    free(raster->ring_points);
+    free(raster);
+}
+
+static const double *point_of_vertex(const texopt_mesh *mesh, uint32_t vertex)
+{
+    return mesh->position + 3 * (size_t)mesh->point_of[vertex];
+}
+
+/* Fetches the one-ring into raster->ring, growing the scratch when a larger ring appears. */
+static texopt_status gather_one_ring(texopt_uvraster *r, const texopt_mesh *mesh,
+                                     uint32_t triangle, size_t *count, char *err,
+                                     size_t err_len)
+{
+    size_t n = texopt_mesh_one_ring(mesh, triangle, r->ring, r->ring_cap);
+    if (n > r->ring_cap) {
+        size_t cap = n + 16;
+        uint32_t *ring = realloc(r->ring, cap * sizeof *ring);
+        if (!ring)
+            return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "uvraster: one-ring of %zu", n);
+        r->ring = ring;
+        double *points = realloc(r->ring_points, 9 * cap * sizeof *points);
+        if (!points)
+            return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "uvraster: one-ring of %zu", n);
+        r->ring_points = points;
+        r->ring_cap = cap;
+        n = texopt_mesh_one_ring(mesh, triangle, r->ring, r->ring_cap);
+    }
+    *count = n;
+    return TEXOPT_OK;
+}
+
+static void clear_buffer(texopt_uvraster *r)
+{
+    size_t n = (size_t)r->size * (size_t)r->size;
+    memset(r->texel, 0, 2 * n * sizeof *r->texel);
+    for (size_t i = 0; i < n; i++) {
+        r->face[i] = -1;
+        r->depth[i] = -INFINITY;
+    }
+    r->covered = 0;
+}
+
+/* Rasterises one face: every pixel centre inside its projection (edges inclusive) whose depth
+ * is strictly closer than what is there takes the face's interpolated texel position. */
+static void rasterise_face(texopt_uvraster *r, const texopt_mesh *mesh, uint32_t face)
+{
+    double s[3][2], z[3], t[3][2];
+    for (int k = 0; k < 3; k++) {
+        uint32_t v = mesh->triangle[3 * (size_t)face + k];
+        texopt_camera_project(&r->camera, point_of_vertex(mesh, v), s[k], &z[k]);
+        t[k][0] = mesh->texel[2 * (size_t)v];
+        t[k][1] = mesh->texel[2 * (size_t)v + 1];
+    }
+    double area = (s[1][0] - s[0][0]) * (s[2][1] - s[0][1]) -
+                  (s[2][0] - s[0][0]) * (s[1][1] - s[0][1]);
+    /* Seen edge-on it covers no pixel centre in a stable way; its neighbours cover the area. */
+    if (!(fabs(area) > 1e-12))
+        return;
+    double inv = 1.0 / area;
+    double xmin = fmin(s[0][0], fmin(s[1][0], s[2][0]));
+    double xmax = fmax(s[0][0], fmax(s[1][0], s[2][0]));
+    double ymin = fmin(s[0][1], fmin(s[1][1], s[2][1]));
+    double ymax = fmax(s[0][1], fmax(s[1][1], s[2][1]));
+    int i0 = (int)fmax(0.0, ceil(xmin - 0.5)), i1 = (int)fmin(r->size - 1.0, floor(xmax - 0.5));
+    int j0 = (int)fmax(0.0, ceil(ymin - 0.5)), j1 = (int)fmin(r->size - 1.0, floor(ymax - 0.5));
+    const double tol = -1e-9;
+    for (int j = j0; j <= j1; j++) {
+        double y = j + 0.5;
+        for (int i = i0; i <= i1; i++) {
+            double x = i + 0.5;
+            double w0 = ((s[1][0] - x) * (s[2][1] - y) - (s[2][0] - x) * (s[1][1] - y)) * inv;
+            double w1 = ((s[2][0] - x) * (s[0][1] - y) - (s[0][0] - x) * (s[2][1] - y)) * inv;
+            double w2 = 1.0 - w0 - w1;
+            if (w0 < tol || w1 < tol || w2 < tol)
+                continue;
+            size_t q = (size_t)j * (size_t)r->size + (size_t)i;
+            double depth = w0 * z[0] + w1 * z[1] + w2 * z[2];
+            if (!(depth > r->depth[q]))
+                continue;
+            if (r->face[q] < 0)
+                r->covered++;
+            r->depth[q] = depth;
+            r->face[q] = (int32_t)face;
+            r->texel[2 * q] = w0 * t[0][0] + w1 * t[1][0] + w2 * t[2][0];
+            r->texel[2 * q + 1] = w0 * t[0][1] + w1 * t[1][1] + w2 * t[2][1];
+        }
+    }
+}
+
+texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh *mesh,
+                                     uint32_t triangle, char *err, size_t err_len)
+{
+    if (!raster || !mesh)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "uvraster: NULL argument");
+    if (triangle >= mesh->triangle_count)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "uvraster: triangle %u past triangle count %zu", triangle,
+                           mesh->triangle_count);
+    size_t n = 0;
+    texopt_status st = gather_one_ring(raster, mesh, triangle, &n, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    for (size_t f = 0; f < n; f++)
+        for (int k = 0; k < 3; k++)
+            memcpy(raster->ring_points + 9 * f + 3 * k,
+                   point_of_vertex(mesh, mesh->triangle[3 * (size_t)raster->ring[f] + k]),
+                   3 * sizeof(double));
+    const uint32_t *tri = mesh->triangle + 3 * (size_t)triangle;
+    st = texopt_camera_create(&raster->camera, point_of_vertex(mesh, tri[0]),
+                              point_of_vertex(mesh, tri[1]), point_of_vertex(mesh, tri[2]),
+                              raster->ring_points, 3 * n, raster->size, err, err_len);
+    if (st != TEXOPT_OK)
+        return texopt_fail(err, err_len, st, "uvraster: triangle %u is degenerate in 3D",
+                           triangle);
+    clear_buffer(raster);
+    for (size_t f = 0; f < n; f++)
+        rasterise_face(raster, mesh, raster->ring[f]);
+    return TEXOPT_OK;
+}

@@ -1,0 +1,50 @@
+/* uvraster.h - the one-ring of a triangle rasterised once into a buffer of input texel
+ * positions, the "render once, transform per candidate" buffer of the triangle-wise stage.
+ *
+ * Sun et al. 2022 render the deformed one-ring for every candidate Jacobian J. Because J is
+ * one linear map on the whole one-ring and the camera does not move, the screen position of
+ * a surface point never changes: only the texel it reads does, p(q) = J p_hat(q). So we store
+ * per pixel q the input texel position p_hat(q) and the face covering q, and every candidate
+ * is arithmetic on this buffer (see triloss.h).
+ *
+ * The rasteriser is plain C (pixel centres, barycentric coverage, depth test with the point
+ * closest to the camera winning, ties to the earlier face of the one-ring with the triangle
+ * itself first). Each face interpolates its own UV vertices, so a UV seam inside the one-ring
+ * shows each side's own texels. BENCHMARKS.md, "Stage 1", compares it with an OSMesa
+ * float-target render of the same buffer. */
+#ifndef TEXOPT_UVRASTER_H
+#define TEXOPT_UVRASTER_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "camera.h"
+#include "mesh.h"
+#include "status.h"
+
+typedef struct texopt_uvraster {
+    int size;           /* viewport side */
+    texopt_camera camera;
+    size_t covered;     /* pixels covered by the one-ring */
+    double *texel;      /* 2 per pixel, row-major from the top: p_hat(q); 0 where uncovered */
+    int32_t *face;      /* per pixel: covering mesh triangle, -1 where uncovered */
+    /* scratch, reused across triangles */
+    double *depth;
+    uint32_t *ring;
+    size_t ring_cap;
+    double *ring_points;
+} texopt_uvraster;
+
+/* Allocates a raster of size x size pixels (2 <= size <= 4096). Free with
+ * texopt_uvraster_destroy. */
+texopt_status texopt_uvraster_create(texopt_uvraster **out, int size, char *err, size_t err_len);
+
+void texopt_uvraster_destroy(texopt_uvraster *raster);
+
+/* Builds the camera of `triangle` and rasterises its one-ring (texopt_mesh_one_ring) into
+ * the buffer. Fails with TEXOPT_E_INVALID_ARGUMENT for a triangle index out of range or a
+ * degenerate triangle; allocates only when a one-ring is larger than any seen before. */
+texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh *mesh,
+                                     uint32_t triangle, char *err, size_t err_len);
+
+#endif

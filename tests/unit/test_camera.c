@@ -1,0 +1,97 @@
+/* test_camera.c - the per-triangle orthographic camera (Sun et al. 2022, appendix A). */
+#include "camera.h"
+#include "test.h"
+
+static double dot(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+TEST(camera_frame_follows_appendix_a)
+{
+    /* A triangle in the plane z = 2, counter-clockwise seen from +z. */
+    double a[3] = {3, 0, 2}, b[3] = {0, 3, 2}, c[3] = {0, 0, 2};
+    texopt_camera cam;
+    char err[256] = "";
+    CHECK_OK(texopt_camera_create(&cam, a, b, c, NULL, 0, 64, err, sizeof err), err);
+    CHECK_NEAR(cam.center[0], 1.0, 1e-12);
+    CHECK_NEAR(cam.center[1], 1.0, 1e-12);
+    CHECK_NEAR(cam.center[2], 2.0, 1e-12);
+    CHECK_NEAR(cam.normal[2], 1.0, 1e-12);
+    /* R points from the centroid to a = (3,0): direction (2,-1)/sqrt(5). */
+    CHECK_NEAR(cam.right[0], 2 / sqrt(5.0), 1e-12);
+    CHECK_NEAR(cam.right[1], -1 / sqrt(5.0), 1e-12);
+    /* U = N x R = (1/sqrt5, 2/sqrt5, 0). */
+    CHECK_NEAR(cam.up[0], 1 / sqrt(5.0), 1e-12);
+    CHECK_NEAR(cam.up[1], 2 / sqrt(5.0), 1e-12);
+    CHECK_NEAR(dot(cam.right, cam.up), 0.0, 1e-12);
+    CHECK_NEAR(dot(cam.right, cam.normal), 0.0, 1e-12);
+}
+
+TEST(camera_window_is_square_and_shows_the_one_ring)
+{
+    double a[3] = {1, 0, 0}, b[3] = {0, 1, 0}, c[3] = {-1, -1, 0};
+    /* A one-ring point far along -x: the window must grow to show it. */
+    double ring[6] = {-5, 0, 0, 0.5, 0.5, 0};
+    texopt_camera cam;
+    char err[256] = "";
+    CHECK_OK(texopt_camera_create(&cam, a, b, c, ring, 2, 32, err, sizeof err), err);
+    double pts[5][3] = {{1, 0, 0}, {0, 1, 0}, {-1, -1, 0}, {-5, 0, 0}, {0.5, 0.5, 0}};
+    double minx = 1e9, maxx = -1e9, miny = 1e9, maxy = -1e9;
+    for (int i = 0; i < 5; i++) {
+        double s[2], d;
+        texopt_camera_project(&cam, pts[i], s, &d);
+        CHECK(s[0] >= 0 && s[0] <= 32 && s[1] >= 0 && s[1] <= 32);
+        CHECK_NEAR(d, 0.0, 1e-12);
+        minx = fmin(minx, s[0]);
+        maxx = fmax(maxx, s[0]);
+        miny = fmin(miny, s[1]);
+        maxy = fmax(maxy, s[1]);
+    }
+    /* The longer side of the box fills the viewport; the shorter one is centred. */
+    double w = maxx - minx, h = maxy - miny;
+    CHECK_NEAR(fmax(w, h), 32.0, 1e-3);
+    if (w < h)
+        CHECK_NEAR(minx, 32.0 - maxx, 1e-6);
+    else
+        CHECK_NEAR(miny, 32.0 - maxy, 1e-6);
+    /* Square pixels: equal world distances along R and U project to equal pixel lengths. */
+    double o[3] = {0, 0, 0}, pr[3], pu[3], so[2], sr[2], su[2];
+    for (int k = 0; k < 3; k++) {
+        pr[k] = cam.right[k];
+        pu[k] = cam.up[k];
+    }
+    texopt_camera_project(&cam, o, so, NULL);
+    texopt_camera_project(&cam, pr, sr, NULL);
+    texopt_camera_project(&cam, pu, su, NULL);
+    CHECK_NEAR(sr[0] - so[0], 32.0 / cam.window_side, 1e-9);
+    CHECK_NEAR(sr[1] - so[1], 0.0, 1e-9);
+    /* Up is up: rows grow downwards. */
+    CHECK_NEAR(su[1] - so[1], -32.0 / cam.window_side, 1e-9);
+}
+
+TEST(camera_depth_grows_towards_the_camera)
+{
+    double a[3] = {1, 0, 0}, b[3] = {0, 1, 0}, c[3] = {0, 0, 0};
+    texopt_camera cam;
+    char err[256] = "";
+    CHECK_OK(texopt_camera_create(&cam, a, b, c, NULL, 0, 16, err, sizeof err), err);
+    double above[3] = {0.3, 0.3, 0.5}, below[3] = {0.3, 0.3, -0.5}, s[2], d1, d2;
+    texopt_camera_project(&cam, above, s, &d1);
+    texopt_camera_project(&cam, below, s, &d2);
+    CHECK_NEAR(d1, 0.5, 1e-12);
+    CHECK_NEAR(d2, -0.5, 1e-12);
+}
+
+TEST(camera_rejects_degenerate_input)
+{
+    double a[3] = {0, 0, 0}, b[3] = {1, 1, 1}, c[3] = {2, 2, 2};
+    texopt_camera cam;
+    char err[256] = "";
+    CHECK(texopt_camera_create(&cam, a, b, c, NULL, 0, 64, err, sizeof err) ==
+          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(err[0] != '\0');
+    double d[3] = {0, 1, 0};
+    CHECK(texopt_camera_create(&cam, a, b, d, NULL, 0, 1, err, sizeof err) ==
+          TEXOPT_E_INVALID_ARGUMENT);
+}
