@@ -1,0 +1,52 @@
+/* bake.h - the least-squares bake of a candidate texture (Sun et al. 2022, eq. 11).
+ *
+ * Given screen pixels that look up the candidate texture at texel positions p(q) (with
+ * bilinear weights, see sample.h) and the reference colours I_hat(q) those pixels should
+ * show, find the texel values x that reproduce the reference best:
+ *     x = argmin |A x - I_hat|^2 + ridge |x - mean(I_hat)|^2
+ * A = bilinear weight matrix (pixels x touched texels, 4 non-zeros a row). The unknowns are
+ * only the texels touched by some footprint; the ridge pulls directions no pixel constrains
+ * toward the mean reference colour, so the system is always positive definite. All channels
+ * share one factorisation (several right-hand sides). Returns the reconstruction A x, i.e.
+ * what the screen shows with the baked texture (DESIGN.md 3.1).
+ *
+ * Speed: the touched texels are numbered in texture row-major order, so A^T A is banded
+ * (bandwidth about one patch row) and is solved with banded Cholesky (LAPACK dpbtrf/dpbtrs).
+ * The workspace owns every buffer and only grows, so the hot loop does not allocate once it
+ * has seen its largest problem. A workspace is for one thread at a time.
+ *
+ * Not here: rendering, colour conversion, choosing the ridge (callers pass e.g. 1e-6). */
+#ifndef TEXOPT_BAKE_H
+#define TEXOPT_BAKE_H
+
+#include "model.h"
+#include "status.h"
+
+typedef struct texopt_bake_workspace texopt_bake_workspace;
+
+/* A workspace sized for up to max_pixels pixels of up to max_channels channels (1..4).
+ * Returns NULL on bad arguments or out of memory. */
+texopt_bake_workspace *texopt_bake_workspace_create(int max_pixels, int max_channels);
+
+/* Accepts NULL. */
+void texopt_bake_workspace_destroy(texopt_bake_workspace *ws);
+
+/* Fits the texels and writes the reconstruction.
+ *   pixel_count   number of pixels (<= max_pixels); 0 is allowed and does nothing
+ *   texel_pos     2 doubles per pixel: the candidate texel position p(q) = J p_hat(q)
+ *   reference     channels floats per pixel: the colour the pixel should show
+ *   channels      1..max_channels
+ *   width, height the candidate texture grid the positions refer to (> 0)
+ *   wrap_s/wrap_t its wrap modes
+ *   ridge         > 0 (tiny, e.g. 1e-6: the fit stays almost pure least squares)
+ *   reconstruction channels floats per pixel (A x); may not alias reference
+ * err/err_len: optional message buffer. TEXOPT_E_NUMERIC when the solve fails. */
+texopt_status texopt_bake_fit(texopt_bake_workspace *ws, int pixel_count, const double *texel_pos,
+                              const float *reference, int channels, int width, int height,
+                              texopt_wrap wrap_s, texopt_wrap wrap_t, double ridge,
+                              float *reconstruction, char *err, size_t err_len);
+
+/* Number of unknown texels of the last successful fit (for benchmarks and tests). */
+int texopt_bake_last_texel_count(const texopt_bake_workspace *ws);
+
+#endif

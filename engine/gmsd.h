@@ -1,0 +1,44 @@
+/* gmsd.h - Gradient Magnitude Similarity Deviation (Xue, Zhang, Mou, Bovik 2013, "Gradient
+ * Magnitude Similarity Deviation: A Highly Efficient Perceptual Image Quality Index").
+ *
+ * Exactly the authors' MATLAB reference on luma images in [0, 1] (values on the 0..255
+ * scale give the same result, T is scaled accordingly):
+ *   1. 2x2 mean filter, conv2 'same' (zero beyond the last row/column), keep every second
+ *      pixel starting with the first: the downsampled image has ceil(w/2) x ceil(h/2)
+ *      pixels, pixel (i, j) = mean of source pixels (2i..2i+1, 2j..2j+1), zeros outside.
+ *   2. Prewitt gradients dx = [1 0 -1; 1 0 -1; 1 0 -1]/3, dy = dx', conv2 'same' with zero
+ *      padding; gradient magnitude m = sqrt(gx^2 + gy^2).
+ *   3. GMS = (2 m1 m2 + T) / (m1^2 + m2^2 + T), T = 170 / 255^2.
+ *   4. GMSD = standard deviation of the GMS map with N-1 normalisation (MATLAB std2).
+ *
+ * Mask rule (our extension; the reference has none). mask[i] != 0 marks a covered source
+ * pixel. A downsampled pixel is "covered" when all of its in-image 2x2 source pixels are
+ * covered. A downsampled pixel enters the deviation when it and every in-image pixel of its
+ * 3x3 Prewitt support are covered. So a GMS value never sees an uncovered pixel: background
+ * cannot create fake edges. Out-of-image neighbours are zero padding exactly as in the
+ * reference, so an all-covered mask gives the same value as mask == NULL. Fewer than two
+ * counted pixels give 0 (no deviation to measure). GMSD(x, x) is exactly 0.
+ *
+ * Not here: colour to luma (sample.h texopt_luma), rendering. */
+#ifndef TEXOPT_GMSD_H
+#define TEXOPT_GMSD_H
+
+typedef struct texopt_gmsd_workspace texopt_gmsd_workspace;
+
+/* A workspace for images of up to max_width x max_height; NULL on bad size or no memory. */
+texopt_gmsd_workspace *texopt_gmsd_workspace_create(int max_width, int max_height);
+
+/* Accepts NULL. */
+void texopt_gmsd_workspace_destroy(texopt_gmsd_workspace *ws);
+
+/* GMSD of two width x height luma images (row-major) with an optional mask (NULL = every
+ * pixel). Uses ws's buffers (the image must fit the workspace). Returns NaN on bad
+ * arguments (NULL images, sizes <= 0 or beyond the workspace). */
+double texopt_gmsd_ws(texopt_gmsd_workspace *ws, const float *reference, const float *distorted,
+                      const unsigned char *mask, int width, int height);
+
+/* The same with a temporary workspace (allocates; NaN also when out of memory). */
+double texopt_gmsd(const float *reference, const float *distorted, const unsigned char *mask,
+                   int width, int height);
+
+#endif
