@@ -21,13 +21,14 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "image.h"
-#include "model.h"
-#include "status.h"
-
+/* The engine's C headers carry no linkage guards; wrap them for the C++ shims. */
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+#include "image.h"
+#include "model.h"
+#include "status.h"
 
 /* Limits and choices for loading. A zero-initialised struct gives the defaults. */
 typedef struct texopt_load_options {

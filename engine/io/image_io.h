@@ -19,12 +19,13 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "image.h"
-#include "status.h"
-
+/* The engine's C headers carry no linkage guards; wrap them for the C++ shims. */
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+#include "image.h"
+#include "status.h"
 
 /* What an image header says, read without decoding the pixels. */
 typedef struct texopt_image_info {

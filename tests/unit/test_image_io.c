@@ -1,0 +1,144 @@
+/* test_image_io.c - PNG encode/decode through OpenImageIO: exact 8-bit round trip, straight
+ * (unassociated) alpha, header probing, the pixel cap and refusal of garbage. */
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "image_io.h"
+#include "test.h"
+
+/* A w x h image whose every 8-bit value differs, so a swapped channel or row shows. */
+static texopt_status make_pattern(texopt_image *img, int w, int h, int c)
+{
+    texopt_status st = texopt_image_create(img, w, h, c, NULL, 0);
+    if (st != TEXOPT_OK)
+        return st;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            for (int k = 0; k < c; k++)
+                texopt_image_at(img, x, y)[k] = (float)((x * 7 + y * 31 + k * 59) % 256) / 255.0f;
+    return TEXOPT_OK;
+}
+
+TEST(png_round_trip_is_exact_for_8bit_values)
+{
+    char err[256] = "";
+    for (int c = 1; c <= 4; c++) {
+        texopt_image img, back;
+        CHECK_OK(make_pattern(&img, 13, 7, c), err);
+        unsigned char *png = NULL;
+        size_t len = 0;
+        CHECK_OK(texopt_image_encode_png(&img, &png, &len, err, sizeof err), err);
+        CHECK(len > 8 && memcmp(png, "\x89PNG", 4) == 0);
+        texopt_image_info info;
+        CHECK_OK(texopt_image_probe_memory(&info, png, len, "p.png", err, sizeof err), err);
+        CHECK_EQ_INT(info.width, 13);
+        CHECK_EQ_INT(info.height, 7);
+        CHECK_EQ_INT(info.channels, c);
+        CHECK_EQ_INT(info.bits_per_channel, 8);
+        CHECK(strcmp(info.format, "png") == 0);
+        CHECK_OK(texopt_image_decode_memory(&back, png, len, 0, "p.png", err, sizeof err), err);
+        free(png);
+        CHECK_EQ_INT(back.width, 13);
+        CHECK_EQ_INT(back.height, 7);
+        CHECK_EQ_INT(back.channels, c);
+        for (size_t i = 0; i < (size_t)13 * 7 * (size_t)c; i++)
+            CHECK_NEAR(back.pixels[i], img.pixels[i], 1e-6);
+        texopt_image_destroy(&img);
+        texopt_image_destroy(&back);
+    }
+}
+
+TEST(half_transparent_pixel_keeps_its_colour)
+{
+    char err[256] = "";
+    texopt_image img, back;
+    CHECK_OK(texopt_image_create(&img, 2, 1, 4, err, sizeof err), err);
+    float px[8] = {200 / 255.0f, 100 / 255.0f, 40 / 255.0f, 128 / 255.0f,
+                   1.0f, 1.0f, 1.0f, 0.0f};
+    memcpy(img.pixels, px, sizeof px);
+    unsigned char *png = NULL;
+    size_t len = 0;
+    CHECK_OK(texopt_image_encode_png(&img, &png, &len, err, sizeof err), err);
+    CHECK_OK(texopt_image_decode_memory(&back, png, len, 0, NULL, err, sizeof err), err);
+    free(png);
+    /* Premultiplication would turn 200 into about 100 and the invisible white into black. */
+    for (int i = 0; i < 8; i++)
+        CHECK_NEAR(back.pixels[i], px[i], 0.5 / 255.0);
+    texopt_image_destroy(&img);
+    texopt_image_destroy(&back);
+}
+
+TEST(write_and_read_png_file)
+{
+    char err[256] = "";
+    char dir[] = "/tmp/texopt_imgio_XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    char path[512];
+    snprintf(path, sizeof path, "%s/out.png", dir);
+    texopt_image img, back;
+    CHECK_OK(make_pattern(&img, 5, 9, 3), err);
+    CHECK_OK(texopt_image_write_png(&img, path, err, sizeof err), err);
+    CHECK_OK(texopt_image_read(&back, path, err, sizeof err), err);
+    CHECK_EQ_INT(back.width, 5);
+    CHECK_EQ_INT(back.height, 9);
+    /* Row 0 is the top row of the file: pixel (1, 8) has value (7 + 248 + 59) % 256. */
+    CHECK_NEAR(texopt_image_at(&back, 1, 8)[1], ((7 + 8 * 31 + 59) % 256) / 255.0, 1e-6);
+    texopt_image_destroy(&img);
+    texopt_image_destroy(&back);
+    unlink(path);
+    rmdir(dir);
+}
+
+TEST(pixel_cap_is_checked_before_decoding)
+{
+    char err[256] = "";
+    texopt_image img, back;
+    CHECK_OK(make_pattern(&img, 20, 10, 3), err);
+    unsigned char *png = NULL;
+    size_t len = 0;
+    CHECK_OK(texopt_image_encode_png(&img, &png, &len, err, sizeof err), err);
+    texopt_status st = texopt_image_decode_memory(&back, png, len, 199, "big.png", err, sizeof err);
+    CHECK_EQ_INT(st, TEXOPT_E_LIMIT);
+    CHECK(strstr(err, "big.png") && strstr(err, "20x10"));
+    CHECK(back.pixels == NULL);
+    CHECK_OK(texopt_image_decode_memory(&back, png, len, 200, "big.png", err, sizeof err), err);
+    free(png);
+    texopt_image_destroy(&img);
+    texopt_image_destroy(&back);
+}
+
+TEST(garbage_and_truncated_images_are_refused)
+{
+    char err[256] = "";
+    texopt_image back;
+    const char junk[] = "this is not an image at all, just text";
+    texopt_status st = texopt_image_decode_memory(&back, junk, sizeof junk, 0, "junk.png", err, sizeof err);
+    CHECK_EQ_INT(st, TEXOPT_E_MALFORMED);
+    CHECK(strstr(err, "junk.png") != NULL);
+
+    texopt_image img;
+    CHECK_OK(make_pattern(&img, 64, 64, 3), err);
+    unsigned char *png = NULL;
+    size_t len = 0;
+    CHECK_OK(texopt_image_encode_png(&img, &png, &len, err, sizeof err), err);
+    st = texopt_image_decode_memory(&back, png, len / 2, 0, "half.png", err, sizeof err);
+    CHECK_EQ_INT(st, TEXOPT_E_MALFORMED);
+    CHECK(back.pixels == NULL);
+    st = texopt_image_decode_memory(&back, png, 0, 0, "empty.png", err, sizeof err);
+    CHECK_EQ_INT(st, TEXOPT_E_MALFORMED);
+    free(png);
+    texopt_image_destroy(&img);
+}
+
+TEST(encoding_an_empty_image_is_an_argument_error)
+{
+    char err[256] = "";
+    texopt_image empty = {0, 0, 0, NULL};
+    unsigned char *png = (unsigned char *)1;
+    size_t len = 1;
+    CHECK_EQ_INT(texopt_image_encode_png(&empty, &png, &len, err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(png == NULL && len == 0);
+}
