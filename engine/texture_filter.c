@@ -1,0 +1,218 @@
+/* texture_filter.c - box mip pyramid and anisotropic trilinear lookups (see texture_filter.h).
+ *
+ * Level l + 1 is the 2x2 box average of level l (an odd last row or column averages with
+ * itself), sized max(1, ceil(w / 2)). A level-0 position x maps to x * w_l / w_0 at level l,
+ * which for power-of-two sizes puts each coarse texel exactly over its 2x2 parents, so a
+ * texel-aligned 2x reduction reads level 1 at its texel centres: an exact box filter.
+ * Level 0 is not copied: the filter keeps a pointer to the caller's image. */
+#include "texture_filter.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_LEVELS 32
+#define MAX_PROBES 16
+
+struct texopt_texture_filter {
+    int level_count;
+    texopt_image level[MAX_LEVELS]; /* level[0] borrows the caller's pixels */
+    texopt_wrap wrap_s, wrap_t;
+};
+
+static int wrap_index(int i, int n, texopt_wrap mode)
+{
+    if (mode == TEXOPT_WRAP_CLAMP)
+        return i < 0 ? 0 : (i >= n ? n - 1 : i);
+    if (mode == TEXOPT_WRAP_MIRROR) {
+        int period = 2 * n;
+        int m = ((i % period) + period) % period;
+        return m < n ? m : period - 1 - m;
+    }
+    return ((i % n) + n) % n;
+}
+
+static void bilinear(const texopt_image *img, texopt_wrap ws, texopt_wrap wt, double x, double y,
+                     float *out)
+{
+    double fx = x - 0.5, fy = y - 0.5;
+    double flx = floor(fx), fly = floor(fy);
+    double tx = fx - flx, ty = fy - fly;
+    /* Positions far outside the texture (wrapped UVs) stay exact in double before the cast. */
+    int ix = (int)fmod(flx, 1 << 30), iy = (int)fmod(fly, 1 << 30);
+    int x0 = wrap_index(ix, img->width, ws), x1 = wrap_index(ix + 1, img->width, ws);
+    int y0 = wrap_index(iy, img->height, wt), y1 = wrap_index(iy + 1, img->height, wt);
+    const float *p00 = texopt_image_at(img, x0, y0), *p10 = texopt_image_at(img, x1, y0);
+    const float *p01 = texopt_image_at(img, x0, y1), *p11 = texopt_image_at(img, x1, y1);
+    double w00 = (1 - tx) * (1 - ty), w10 = tx * (1 - ty), w01 = (1 - tx) * ty, w11 = tx * ty;
+    for (int c = 0; c < img->channels; c++)
+        out[c] = (float)(w00 * p00[c] + w10 * p10[c] + w01 * p01[c] + w11 * p11[c]);
+}
+
+static texopt_status build_next_level(const texopt_image *src, texopt_image *dst, char *err,
+                                      size_t err_len)
+{
+    int w = src->width > 1 ? (src->width + 1) / 2 : 1;
+    int h = src->height > 1 ? (src->height + 1) / 2 : 1;
+    texopt_status st = texopt_image_create(dst, w, h, src->channels, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    int ch = src->channels;
+    for (int y = 0; y < h; y++) {
+        int sy0 = src->height > 1 ? 2 * y : 0;
+        int sy1 = sy0 + 1 < src->height ? sy0 + 1 : sy0;
+        for (int x = 0; x < w; x++) {
+            int sx0 = src->width > 1 ? 2 * x : 0;
+            int sx1 = sx0 + 1 < src->width ? sx0 + 1 : sx0;
+            const float *a = texopt_image_at(src, sx0, sy0), *b = texopt_image_at(src, sx1, sy0);
+            const float *c = texopt_image_at(src, sx0, sy1), *d = texopt_image_at(src, sx1, sy1);
+            float *o = texopt_image_at(dst, x, y);
+            for (int k = 0; k < ch; k++)
+                o[k] = 0.25f * (a[k] + b[k] + c[k] + d[k]);
+        }
+    }
+    return TEXOPT_OK;
+}
+
+texopt_status texopt_texture_filter_create(texopt_texture_filter **out, const texopt_image *img,
+                                           texopt_wrap wrap_s, texopt_wrap wrap_t, char *err,
+                                           size_t err_len)
+{
+    *out = NULL;
+    if (!img || !img->pixels || img->width < 1 || img->height < 1 || img->channels < 1 ||
+        img->channels > 4)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "texture filter: the image is empty or has a bad channel count");
+    texopt_texture_filter *f = calloc(1, sizeof *f);
+    if (!f)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a texture filter");
+    f->wrap_s = wrap_s;
+    f->wrap_t = wrap_t;
+    f->level[0] = *img;
+    f->level_count = 1;
+    while (f->level_count < MAX_LEVELS) {
+        const texopt_image *prev = &f->level[f->level_count - 1];
+        if (prev->width == 1 && prev->height == 1)
+            break;
+        texopt_status st = build_next_level(prev, &f->level[f->level_count], err, err_len);
+        if (st != TEXOPT_OK) {
+            texopt_texture_filter_destroy(f);
+            return st;
+        }
+        f->level_count++;
+    }
+    *out = f;
+    return TEXOPT_OK;
+}
+
+void texopt_texture_filter_destroy(texopt_texture_filter *filter)
+{
+    if (!filter)
+        return;
+    for (int l = 1; l < filter->level_count; l++)
+        texopt_image_destroy(&filter->level[l]);
+    free(filter);
+}
+
+int texopt_texture_filter_levels(const texopt_texture_filter *filter)
+{
+    return filter->level_count;
+}
+
+static void sample_level(const texopt_texture_filter *f, int l, double x, double y, float *out)
+{
+    const texopt_image *lv = &f->level[l];
+    double sx = (double)lv->width / f->level[0].width, sy = (double)lv->height / f->level[0].height;
+    bilinear(lv, f->wrap_s, f->wrap_t, x * sx, y * sy, out);
+}
+
+static void sample_trilinear(const texopt_texture_filter *f, double lod, double x, double y,
+                             float *out)
+{
+    int ch = f->level[0].channels;
+    if (lod <= 0) {
+        sample_level(f, 0, x, y, out);
+        return;
+    }
+    int l0 = (int)floor(lod);
+    if (l0 >= f->level_count - 1) {
+        sample_level(f, f->level_count - 1, x, y, out);
+        return;
+    }
+    double t = lod - l0;
+    float a[4], b[4];
+    sample_level(f, l0, x, y, a);
+    sample_level(f, l0 + 1, x, y, b);
+    for (int c = 0; c < ch; c++)
+        out[c] = (float)((1 - t) * a[c] + t * b[c]);
+}
+
+/* Singular values (s1 >= s2) of the 2x2 jacobian and the unit input-space direction of s1. */
+static void footprint_axes(const double j[4], double *s1, double *s2, double dir[2])
+{
+    double p = j[0] * j[0] + j[1] * j[1]; /* J J^T */
+    double q = j[2] * j[2] + j[3] * j[3];
+    double r = j[0] * j[2] + j[1] * j[3];
+    double mean = 0.5 * (p + q);
+    double dev = sqrt(0.25 * (p - q) * (p - q) + r * r);
+    double e1 = mean + dev, e2 = mean - dev;
+    *s1 = sqrt(e1 > 0 ? e1 : 0);
+    *s2 = sqrt(e2 > 0 ? e2 : 0);
+    double theta = 0.5 * atan2(2 * r, p - q);
+    dir[0] = cos(theta);
+    dir[1] = sin(theta);
+}
+
+void texopt_texture_filter_sample(const texopt_texture_filter *filter, double x, double y,
+                                  const double jacobian[4], float *out)
+{
+    double s1, s2, dir[2];
+    footprint_axes(jacobian, &s1, &s2, dir);
+    if (!(s1 > 1.0)) {
+        sample_level(filter, 0, x, y, out);
+        return;
+    }
+    double minor = s2 > 1.0 ? s2 : 1.0;
+    int n = (int)ceil(s1 / minor - 1e-9);
+    if (n > MAX_PROBES)
+        n = MAX_PROBES;
+    if (n < 1)
+        n = 1;
+    double width = s1 / n > s2 ? s1 / n : s2;
+    double lod = log2(width > 1 ? width : 1);
+    int ch = filter->level[0].channels;
+    if (n == 1) {
+        sample_trilinear(filter, lod, x, y, out);
+        return;
+    }
+    double acc[4] = {0, 0, 0, 0};
+    float probe[4];
+    for (int k = 0; k < n; k++) {
+        double o = ((k + 0.5) / n - 0.5) * s1;
+        sample_trilinear(filter, lod, x + o * dir[0], y + o * dir[1], probe);
+        for (int c = 0; c < ch; c++)
+            acc[c] += probe[c];
+    }
+    for (int c = 0; c < ch; c++)
+        out[c] = (float)(acc[c] / n);
+}
+
+texopt_status texopt_texture_resize(const texopt_image *src, texopt_wrap wrap_s, texopt_wrap wrap_t,
+                                    texopt_image *dst, char *err, size_t err_len)
+{
+    if (!dst || !dst->pixels || dst->channels != src->channels)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "resize: destination must be allocated with %d channels", src->channels);
+    texopt_texture_filter *f;
+    texopt_status st = texopt_texture_filter_create(&f, src, wrap_s, wrap_t, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    double kx = (double)src->width / dst->width, ky = (double)src->height / dst->height;
+    const double jac[4] = {kx, 0, 0, ky};
+    for (int y = 0; y < dst->height; y++)
+        for (int x = 0; x < dst->width; x++)
+            texopt_texture_filter_sample(f, (x + 0.5) * kx, (y + 0.5) * ky, jac,
+                                         texopt_image_at(dst, x, y));
+    texopt_texture_filter_destroy(f);
+    return TEXOPT_OK;
+}

@@ -1,0 +1,243 @@
+/* Tests of rebake.c, texture_filter.c and dilate.c: exact reproduction under the identity,
+ * prefiltering on reduction, normal-map rotation, gutters. Images are generated in code. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dilate.h"
+#include "rebake.h"
+#include "test.h"
+#include "texture_filter.h"
+
+/* A pseudo-random image with detail at every texel (hash of x, y, c). */
+static int make_noise(texopt_image *img, int w, int h, int ch)
+{
+    if (texopt_image_create(img, w, h, ch, NULL, 0) != TEXOPT_OK)
+        return -1;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            for (int c = 0; c < ch; c++) {
+                unsigned v = (unsigned)(x * 73856093u) ^ (unsigned)(y * 19349663u) ^ (unsigned)(c * 83492791u);
+                v = v * 2654435761u;
+                texopt_image_at(img, x, y)[c] = (float)((v >> 8) & 0xffff) / 65535.0f;
+            }
+    return 0;
+}
+
+/* Texel checkerboard: squares of `side` texels, 0 and 1. */
+static int make_checker(texopt_image *img, int w, int h, int side)
+{
+    if (texopt_image_create(img, w, h, 1, NULL, 0) != TEXOPT_OK)
+        return -1;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            texopt_image_at(img, x, y)[0] = (float)(((x / side) + (y / side)) & 1);
+    return 0;
+}
+
+static const uint32_t quad_tris[6] = {0, 1, 2, 0, 2, 3};
+static const double unit_quad[8] = {0, 0, 1, 0, 1, 1, 0, 1};
+
+static double image_mean(const texopt_image *img, int c)
+{
+    double s = 0;
+    for (int y = 0; y < img->height; y++)
+        for (int x = 0; x < img->width; x++)
+            s += texopt_image_at(img, x, y)[c];
+    return s / ((double)img->width * img->height);
+}
+
+TEST(identity_layout_reproduces_texture_exactly)
+{
+    texopt_image in, out;
+    CHECK(make_noise(&in, 37, 29, 3) == 0);
+    CHECK(texopt_image_create(&out, 37, 29, 3, NULL, 0) == TEXOPT_OK);
+    texopt_rebake_layout layout = {2, quad_tris, unit_quad, unit_quad};
+    char err[256] = "";
+    size_t covered = 0;
+    CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 0, &layout, &out,
+                                 &covered, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(covered, 37 * 29);
+    double max_err = 0;
+    for (size_t i = 0; i < (size_t)37 * 29 * 3; i++)
+        max_err = fmax(max_err, fabs(in.pixels[i] - out.pixels[i]));
+    CHECK(max_err < 1e-6);
+    texopt_image_destroy(&in);
+    texopt_image_destroy(&out);
+}
+
+TEST(half_size_bake_of_texel_checker_is_prefiltered_grey)
+{
+    /* A one-texel checker reduced 2x: point sampling would give pure black or white,
+     * a box prefilter gives 0.5 everywhere. */
+    texopt_image in, out;
+    CHECK(make_checker(&in, 64, 64, 1) == 0);
+    CHECK(texopt_image_create(&out, 32, 32, 1, NULL, 0) == TEXOPT_OK);
+    texopt_rebake_layout layout = {2, quad_tris, unit_quad, unit_quad};
+    char err[256] = "";
+    CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 0, &layout, &out,
+                                 NULL, NULL, err, sizeof err), err);
+    double lo = 1, hi = 0;
+    for (int i = 0; i < 32 * 32; i++) {
+        lo = fmin(lo, out.pixels[i]);
+        hi = fmax(hi, out.pixels[i]);
+    }
+    CHECK_NEAR(lo, 0.5, 1e-6);
+    CHECK_NEAR(hi, 0.5, 1e-6);
+    texopt_image_destroy(&in);
+    texopt_image_destroy(&out);
+}
+
+TEST(coarse_checker_reduction_keeps_edges_and_mean)
+{
+    /* 8-texel squares reduced 2x are 4-texel squares of pure 0 and 1: the filter must not
+     * blur across the square edges that stay texel-aligned, and the mean stays 0.5. */
+    texopt_image in, out;
+    CHECK(make_checker(&in, 64, 64, 8) == 0);
+    CHECK(texopt_image_create(&out, 32, 32, 1, NULL, 0) == TEXOPT_OK);
+    char err[256] = "";
+    CHECK_OK(texopt_texture_resize(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, &out, err, sizeof err), err);
+    for (int y = 0; y < 32; y++)
+        for (int x = 0; x < 32; x++)
+            CHECK_NEAR(texopt_image_at(&out, x, y)[0], (float)(((x / 4) + (y / 4)) & 1), 1e-6);
+    CHECK_NEAR(image_mean(&out, 0), 0.5, 1e-9);
+    texopt_image_destroy(&in);
+    texopt_image_destroy(&out);
+}
+
+TEST(anisotropic_reduction_averages_along_the_squeezed_axis)
+{
+    /* Vertical one-texel stripes squeezed 4x in x only: every output texel is grey; a
+     * horizontal-stripe image squeezed the same way keeps its stripes (no blur along y). */
+    texopt_image in, out;
+    CHECK(texopt_image_create(&in, 64, 16, 1, NULL, 0) == TEXOPT_OK);
+    for (int y = 0; y < 16; y++)
+        for (int x = 0; x < 64; x++)
+            texopt_image_at(&in, x, y)[0] = (float)(x & 1);
+    CHECK(texopt_image_create(&out, 16, 16, 1, NULL, 0) == TEXOPT_OK);
+    char err[256] = "";
+    CHECK_OK(texopt_texture_resize(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, &out, err, sizeof err), err);
+    for (int i = 0; i < 16 * 16; i++)
+        CHECK_NEAR(out.pixels[i], 0.5, 1e-6);
+    for (int y = 0; y < 16; y++)
+        for (int x = 0; x < 64; x++)
+            texopt_image_at(&in, x, y)[0] = (float)(y & 1);
+    CHECK_OK(texopt_texture_resize(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, &out, err, sizeof err), err);
+    for (int y = 0; y < 16; y++)
+        CHECK_NEAR(texopt_image_at(&out, 5, y)[0], (float)(y & 1), 1e-6);
+    texopt_image_destroy(&in);
+    texopt_image_destroy(&out);
+}
+
+TEST(wrap_modes_decide_lookups_outside_the_texture)
+{
+    /* A 4x1 ramp read through UVs shifted by one whole texture: REPEAT reads the same texels,
+     * CLAMP reads the last column everywhere. */
+    texopt_image in, out;
+    CHECK(texopt_image_create(&in, 4, 1, 1, NULL, 0) == TEXOPT_OK);
+    for (int x = 0; x < 4; x++)
+        in.pixels[x] = 0.1f + 0.2f * x;
+    CHECK(texopt_image_create(&out, 4, 1, 1, NULL, 0) == TEXOPT_OK);
+    const double shifted[8] = {1, 0, 2, 0, 2, 1, 1, 1};
+    texopt_rebake_layout layout = {2, quad_tris, shifted, unit_quad};
+    char err[256] = "";
+    CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_CLAMP, 0, &layout, &out,
+                                 NULL, NULL, err, sizeof err), err);
+    for (int x = 0; x < 4; x++)
+        CHECK_NEAR(out.pixels[x], in.pixels[x], 1e-6);
+    CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 0, &layout, &out,
+                                 NULL, NULL, err, sizeof err), err);
+    for (int x = 0; x < 4; x++)
+        CHECK_NEAR(out.pixels[x], in.pixels[3], 1e-6);
+    texopt_image_destroy(&in);
+    texopt_image_destroy(&out);
+}
+
+TEST(quarter_turn_rotates_normal_map_xy)
+{
+    /* The output layout turns the quad by +90 degrees in the image frame (x right, y down):
+     * input corner (u, v) goes to (1 - v, u). A normal tilted towards +u (map X = 1) now
+     * tilts towards output +y, which is map -Y. */
+    texopt_image in, out;
+    CHECK(texopt_image_create(&in, 8, 8, 3, NULL, 0) == TEXOPT_OK);
+    for (int i = 0; i < 64; i++) {
+        in.pixels[3 * i] = 1.0f;   /* X = +1 */
+        in.pixels[3 * i + 1] = 0.5f; /* Y = 0 */
+        in.pixels[3 * i + 2] = 0.5f;
+    }
+    CHECK(texopt_image_create(&out, 8, 8, 3, NULL, 0) == TEXOPT_OK);
+    const double turned[8] = {1, 0, 1, 1, 0, 1, 0, 0};
+    texopt_rebake_layout layout = {2, quad_tris, unit_quad, turned};
+    char err[256] = "";
+    CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 1, &layout, &out,
+                                 NULL, NULL, err, sizeof err), err);
+    const float *p = texopt_image_at(&out, 3, 4);
+    CHECK_NEAR(p[0], 0.5, 1e-6);
+    CHECK_NEAR(p[1], 0.0, 1e-6);
+    CHECK_NEAR(p[2], 0.5, 1e-6);
+    /* The same bake without the normal flag copies the values. */
+    CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 0, &layout, &out,
+                                 NULL, NULL, err, sizeof err), err);
+    CHECK_NEAR(texopt_image_at(&out, 3, 4)[0], 1.0, 1e-6);
+    texopt_image_destroy(&in);
+    texopt_image_destroy(&out);
+}
+
+TEST(gutter_takes_the_colour_of_the_nearest_chart)
+{
+    /* Two small charts of flat colours in a 32x32 output: every texel ends up with one of
+     * the two colours, and texels next to each chart carry that chart's colour. */
+    texopt_image in, out;
+    CHECK(texopt_image_create(&in, 16, 16, 1, NULL, 0) == TEXOPT_OK);
+    for (int y = 0; y < 16; y++)
+        for (int x = 0; x < 16; x++)
+            texopt_image_at(&in, x, y)[0] = x < 8 ? 0.2f : 0.9f;
+    const double uv_in[16] = {0.1, 0.1, 0.4, 0.1, 0.4, 0.9, 0.1, 0.9,
+                              0.6, 0.1, 0.9, 0.1, 0.9, 0.9, 0.6, 0.9};
+    const double uv_out[16] = {0.1, 0.1, 0.3, 0.1, 0.3, 0.4, 0.1, 0.4,
+                               0.6, 0.6, 0.9, 0.6, 0.9, 0.9, 0.6, 0.9};
+    const uint32_t tris[12] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
+    texopt_rebake_layout layout = {4, tris, uv_in, uv_out};
+    CHECK(texopt_image_create(&out, 32, 32, 1, NULL, 0) == TEXOPT_OK);
+    char err[256] = "";
+    CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 0, &layout, &out,
+                                 NULL, NULL, err, sizeof err), err);
+    CHECK_NEAR(texopt_image_at(&out, 1, 1)[0], 0.2, 1e-6);   /* outside chart 1, near it */
+    CHECK_NEAR(texopt_image_at(&out, 10, 14)[0], 0.2, 1e-6); /* just past chart 1's corner */
+    CHECK_NEAR(texopt_image_at(&out, 30, 30)[0], 0.9, 1e-6); /* near chart 2 */
+    texopt_image_destroy(&in);
+    texopt_image_destroy(&out);
+}
+
+TEST(dilate_fills_rings_from_covered_texels_only)
+{
+    texopt_image img;
+    CHECK(texopt_image_create(&img, 5, 1, 1, NULL, 0) == TEXOPT_OK);
+    uint8_t covered[5] = {1, 0, 0, 0, 1};
+    img.pixels[0] = 0.0f;
+    img.pixels[4] = 1.0f;
+    img.pixels[2] = 123.0f; /* garbage in an uncovered texel must not leak */
+    char err[128] = "";
+    CHECK_OK(texopt_dilate(&img, covered, 1, err, sizeof err), err);
+    CHECK_NEAR(img.pixels[1], 0.0, 0);
+    CHECK_NEAR(img.pixels[3], 1.0, 0);
+    CHECK(covered[2] == 0);
+    CHECK_OK(texopt_dilate(&img, covered, 0, err, sizeof err), err);
+    CHECK_NEAR(img.pixels[2], 0.5, 1e-7);
+    CHECK(covered[2] == 1);
+    texopt_image_destroy(&img);
+}
+
+TEST(rebake_refuses_mismatched_channels)
+{
+    texopt_image in, out;
+    CHECK(texopt_image_create(&in, 4, 4, 3, NULL, 0) == TEXOPT_OK);
+    CHECK(texopt_image_create(&out, 4, 4, 4, NULL, 0) == TEXOPT_OK);
+    texopt_rebake_layout layout = {2, quad_tris, unit_quad, unit_quad};
+    char err[256] = "";
+    CHECK(texopt_rebake_image(&in, 0, 0, 0, &layout, &out, NULL, NULL, err, sizeof err) ==
+          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "channels") != NULL);
+    texopt_image_destroy(&in);
+    texopt_image_destroy(&out);
+}
