@@ -186,7 +186,10 @@ texopt_model *fixture_grid(int n, int tex_size, const char *pattern)
 
 texopt_model *fixture_textured_quad(int tex_size, const char *pattern)
 {
-    return fixture_grid(1, tex_size, pattern);
+    static const float pos[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    static const float uv[] = {0, 0, 1, 0, 1, 1, 0, 1};
+    static const uint32_t tri[] = {0, 1, 2, 0, 2, 3};
+    return fixture_model_from_arrays(pos, uv, 4, tri, 2, tex_size, tex_size, pattern);
 }
 
 /* A cube face: corner = origin + s * a + t * b with a x b the outward normal, and its UV

@@ -44,8 +44,9 @@ texopt_model *fixture_model_from_arrays(const float *positions, const float *uvs
                                         size_t triangle_count, int tex_w, int tex_h,
                                         const char *pattern);
 
-/* The unit square z = 0, positions (x, y, 0) with UV = (x, y): 4 vertices, 2 triangles
- * (0,1,2) and (0,2,3), covering the whole tex_size x tex_size texture. */
+/* The unit square z = 0, positions (x, y, 0) with UV = (x, y): 4 vertices (0,0), (1,0),
+ * (1,1), (0,1) in that order, 2 triangles (0,1,2) and (0,2,3), covering the whole
+ * tex_size x tex_size texture. */
 texopt_model *fixture_textured_quad(int tex_size, const char *pattern);
 
 /* An n x n grid of quads over [0,1]^2 (z = 0, UV = (x, y)): (n+1)^2 vertices, 2 n^2
