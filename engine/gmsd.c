@@ -1,0 +1,170 @@
+/* gmsd.c - Gradient Magnitude Similarity Deviation, Xue et al. 2013, following the
+ * authors' MATLAB reference step by step (see gmsd.h for the definition and the mask rule).
+ * Works on luma only; does not convert colour or resize beyond the reference's 2x2 step. */
+#include "gmsd.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+/* The reference's T = 170 is on the 0..255 scale; GMS is invariant when T scales with the
+ * square of the intensity scale, so on 0..1 it is 170 / 255^2. */
+#define GMSD_T (170.0 / (255.0 * 255.0))
+
+struct texopt_gmsd_workspace {
+    int max_width, max_height;
+    double *down_ref, *down_dist; /* ceil(w/2) x ceil(h/2) */
+    unsigned char *down_covered;
+    double *gms;                  /* counted GMS values */
+};
+
+texopt_gmsd_workspace *texopt_gmsd_workspace_create(int max_width, int max_height)
+{
+    if (max_width <= 0 || max_height <= 0 || max_width > 65536 || max_height > 65536)
+        return NULL;
+    texopt_gmsd_workspace *ws = calloc(1, sizeof *ws);
+    if (!ws)
+        return NULL;
+    size_t n = (size_t)((max_width + 1) / 2) * (size_t)((max_height + 1) / 2);
+    ws->max_width = max_width;
+    ws->max_height = max_height;
+    ws->down_ref = malloc(n * sizeof *ws->down_ref);
+    ws->down_dist = malloc(n * sizeof *ws->down_dist);
+    ws->down_covered = malloc(n);
+    ws->gms = malloc(n * sizeof *ws->gms);
+    if (!ws->down_ref || !ws->down_dist || !ws->down_covered || !ws->gms) {
+        texopt_gmsd_workspace_destroy(ws);
+        return NULL;
+    }
+    return ws;
+}
+
+void texopt_gmsd_workspace_destroy(texopt_gmsd_workspace *ws)
+{
+    if (!ws)
+        return;
+    free(ws->down_ref);
+    free(ws->down_dist);
+    free(ws->down_covered);
+    free(ws->gms);
+    free(ws);
+}
+
+/* conv2(Y, ones(2)/4, 'same') sampled at odd MATLAB indices: the mean of a 2x2 block whose
+ * missing row/column (odd sizes) counts as zero, still divided by 4. */
+static void average_downsample(const float *src, int width, int height, double *dst)
+{
+    int dw = (width + 1) / 2, dh = (height + 1) / 2;
+    for (int i = 0; i < dh; i++) {
+        int r0 = 2 * i, r1 = 2 * i + 1;
+        for (int j = 0; j < dw; j++) {
+            int c0 = 2 * j, c1 = 2 * j + 1;
+            double sum = src[(size_t)r0 * width + c0];
+            if (c1 < width)
+                sum += src[(size_t)r0 * width + c1];
+            if (r1 < height) {
+                sum += src[(size_t)r1 * width + c0];
+                if (c1 < width)
+                    sum += src[(size_t)r1 * width + c1];
+            }
+            dst[(size_t)i * dw + j] = sum / 4.0;
+        }
+    }
+}
+
+static void downsample_mask(const unsigned char *mask, int width, int height, unsigned char *dst)
+{
+    int dw = (width + 1) / 2, dh = (height + 1) / 2;
+    for (int i = 0; i < dh; i++) {
+        for (int j = 0; j < dw; j++) {
+            int covered = 1;
+            for (int r = 2 * i; r < 2 * i + 2 && r < height; r++)
+                for (int c = 2 * j; c < 2 * j + 2 && c < width; c++)
+                    covered &= mask[(size_t)r * width + c] != 0;
+            dst[(size_t)i * dw + j] = (unsigned char)covered;
+        }
+    }
+}
+
+/* A downsampled pixel counts when it and its in-image 3x3 neighbours are covered. */
+static int support_covered(const unsigned char *covered, int dw, int dh, int i, int j)
+{
+    for (int r = i - 1; r <= i + 1; r++) {
+        if (r < 0 || r >= dh)
+            continue;
+        for (int c = j - 1; c <= j + 1; c++) {
+            if (c >= 0 && c < dw && !covered[(size_t)r * dw + c])
+                return 0;
+        }
+    }
+    return 1;
+}
+
+static double at_or_zero(const double *img, int dw, int dh, int r, int c)
+{
+    return (r < 0 || r >= dh || c < 0 || c >= dw) ? 0.0 : img[(size_t)r * dw + c];
+}
+
+/* Prewitt gradient magnitude with the reference's /3 and zero padding. */
+static double prewitt_magnitude(const double *img, int dw, int dh, int i, int j)
+{
+    double gx = 0.0, gy = 0.0;
+    for (int k = -1; k <= 1; k++) {
+        gx += at_or_zero(img, dw, dh, i + k, j - 1) - at_or_zero(img, dw, dh, i + k, j + 1);
+        gy += at_or_zero(img, dw, dh, i - 1, j + k) - at_or_zero(img, dw, dh, i + 1, j + k);
+    }
+    gx /= 3.0;
+    gy /= 3.0;
+    return sqrt(gx * gx + gy * gy);
+}
+
+/* MATLAB std2: sample standard deviation with N-1. */
+static double sample_deviation(const double *v, size_t n)
+{
+    if (n < 2)
+        return 0.0;
+    double mean = 0.0;
+    for (size_t i = 0; i < n; i++)
+        mean += v[i];
+    mean /= (double)n;
+    double ss = 0.0;
+    for (size_t i = 0; i < n; i++)
+        ss += (v[i] - mean) * (v[i] - mean);
+    return sqrt(ss / (double)(n - 1));
+}
+
+double texopt_gmsd_ws(texopt_gmsd_workspace *ws, const float *reference, const float *distorted,
+                      const unsigned char *mask, int width, int height)
+{
+    if (!ws || !reference || !distorted || width <= 0 || height <= 0 || width > ws->max_width ||
+        height > ws->max_height)
+        return NAN;
+    int dw = (width + 1) / 2, dh = (height + 1) / 2;
+    average_downsample(reference, width, height, ws->down_ref);
+    average_downsample(distorted, width, height, ws->down_dist);
+    if (mask)
+        downsample_mask(mask, width, height, ws->down_covered);
+    size_t counted = 0;
+    for (int i = 0; i < dh; i++) {
+        for (int j = 0; j < dw; j++) {
+            if (mask && !support_covered(ws->down_covered, dw, dh, i, j))
+                continue;
+            double m1 = prewitt_magnitude(ws->down_ref, dw, dh, i, j);
+            double m2 = prewitt_magnitude(ws->down_dist, dw, dh, i, j);
+            ws->gms[counted++] = (2.0 * m1 * m2 + GMSD_T) / (m1 * m1 + m2 * m2 + GMSD_T);
+        }
+    }
+    return sample_deviation(ws->gms, counted);
+}
+
+double texopt_gmsd(const float *reference, const float *distorted, const unsigned char *mask,
+                   int width, int height)
+{
+    if (width <= 0 || height <= 0)
+        return NAN;
+    texopt_gmsd_workspace *ws = texopt_gmsd_workspace_create(width, height);
+    if (!ws)
+        return NAN;
+    double result = texopt_gmsd_ws(ws, reference, distorted, mask, width, height);
+    texopt_gmsd_workspace_destroy(ws);
+    return result;
+}

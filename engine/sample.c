@@ -1,0 +1,93 @@
+/* sample.c - bilinear lookup in texel coordinates with glTF wrap modes (sample.h).
+ * Implements the GL_LINEAR filter the glTF spec prescribes; no mipmapping, no colour
+ * conversion. Weights feed the least-squares bake of Sun et al. 2022, eq. 11. */
+#include "sample.h"
+
+#include <math.h>
+
+/* Beyond this, positions carry no sub-texel information in a double and floor() would
+ * overflow an int; such lookups are clamped (they are bugs upstream, not crashes here). */
+#define TEXOPT_SAMPLE_COORD_LIMIT 1.0e8
+
+static int wrap_index(int i, int n, texopt_wrap wrap)
+{
+    switch (wrap) {
+    case TEXOPT_WRAP_CLAMP:
+        return i < 0 ? 0 : (i >= n ? n - 1 : i);
+    case TEXOPT_WRAP_MIRROR: {
+        int period = 2 * n;
+        int m = i % period;
+        if (m < 0)
+            m += period;
+        return m < n ? m : period - 1 - m;
+    }
+    case TEXOPT_WRAP_REPEAT:
+    default: {
+        int m = i % n;
+        return m < 0 ? m + n : m;
+    }
+    }
+}
+
+static double sanitize_coordinate(double v)
+{
+    if (!isfinite(v))
+        return 0.0;
+    if (v > TEXOPT_SAMPLE_COORD_LIMIT)
+        return TEXOPT_SAMPLE_COORD_LIMIT;
+    if (v < -TEXOPT_SAMPLE_COORD_LIMIT)
+        return -TEXOPT_SAMPLE_COORD_LIMIT;
+    return v;
+}
+
+void texopt_bilinear_cells(int width, int height, texopt_wrap wrap_s, texopt_wrap wrap_t,
+                           double x, double y, int col[2], int row[2], double weight[4])
+{
+    /* Texel centres sit at half-integers: shift so that they sit at integers. */
+    double xs = sanitize_coordinate(x) - 0.5;
+    double ys = sanitize_coordinate(y) - 0.5;
+    double fx0 = floor(xs), fy0 = floor(ys);
+    double fx = xs - fx0, fy = ys - fy0;
+    int x0 = (int)fx0, y0 = (int)fy0;
+    col[0] = wrap_index(x0, width, wrap_s);
+    col[1] = wrap_index(x0 + 1, width, wrap_s);
+    row[0] = wrap_index(y0, height, wrap_t);
+    row[1] = wrap_index(y0 + 1, height, wrap_t);
+    weight[0] = (1.0 - fx) * (1.0 - fy);
+    weight[1] = fx * (1.0 - fy);
+    weight[2] = (1.0 - fx) * fy;
+    weight[3] = fx * fy;
+}
+
+void texopt_bilinear_footprint(int width, int height, texopt_wrap wrap_s, texopt_wrap wrap_t,
+                               double x, double y, int index[4], double weight[4])
+{
+    int col[2], row[2];
+    texopt_bilinear_cells(width, height, wrap_s, wrap_t, x, y, col, row, weight);
+    index[0] = row[0] * width + col[0];
+    index[1] = row[0] * width + col[1];
+    index[2] = row[1] * width + col[0];
+    index[3] = row[1] * width + col[1];
+}
+
+void texopt_sample_bilinear(const texopt_image *img, texopt_wrap ws, texopt_wrap wt, double x,
+                            double y, float *out)
+{
+    int index[4];
+    double weight[4];
+    int channels = img->channels;
+    texopt_bilinear_footprint(img->width, img->height, ws, wt, x, y, index, weight);
+    for (int c = 0; c < channels; c++) {
+        double sum = 0.0;
+        for (int k = 0; k < 4; k++)
+            sum += weight[k] * (double)img->pixels[(size_t)index[k] * (size_t)channels + (size_t)c];
+        out[c] = (float)sum;
+    }
+}
+
+float texopt_luma(const float *rgb, int channels)
+{
+    if (channels >= 3)
+        return 0.299f * rgb[0] + 0.587f * rgb[1] + 0.114f * rgb[2];
+    return rgb[0];
+}
