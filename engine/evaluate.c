@@ -1,0 +1,304 @@
+/* evaluate.c - whole-mesh loss q: 20 views, GMSD on covered luma, mean (Sun et al. 2022, 5.1).
+ *
+ * Each view is rasterised once from the reference geometry and shaded twice (meshrender.h),
+ * so both images cover exactly the same pixels; the GMSD mask is that coverage. Views are
+ * independent and run on `threads` workers, each with its own raster, images and GMSD
+ * workspace; results are written to per-view slots, so the sum is the same for any thread
+ * count. Does not: render with OSMesa (see meshrender.c for why), evaluate other textures
+ * than base colour. */
+#include "evaluate.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "gmsd.h"
+#include "sample.h"
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+texopt_status texopt_evaluate_covered_texels(const texopt_model *model, double *texels, char *err,
+                                             size_t err_len)
+{
+    if (!model || !texels)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "missing model");
+    if (!model->uvs)
+        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "model has no TEXCOORD_0");
+    double sum = 0;
+    for (int p = 0; p < model->primitive_count; p++) {
+        const texopt_primitive *prim = &model->primitives[p];
+        if (prim->domain < 0 || prim->domain >= model->domain_count)
+            continue;
+        const texopt_domain *dom = &model->domains[prim->domain];
+        for (size_t t = prim->first_triangle;
+             t < prim->first_triangle + prim->triangle_count && t < model->triangle_count; t++) {
+            const uint32_t *c = model->triangles + 3 * t;
+            if (c[0] >= model->vertex_count || c[1] >= model->vertex_count || c[2] >= model->vertex_count)
+                return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                                   "triangle %zu names a vertex past the vertex count", t);
+            const float *a = model->uvs + 2 * (size_t)c[0], *b = model->uvs + 2 * (size_t)c[1],
+                        *d = model->uvs + 2 * (size_t)c[2];
+            double area = 0.5 * fabs((double)(b[0] - a[0]) * (d[1] - a[1]) - (double)(d[0] - a[0]) * (b[1] - a[1]));
+            sum += area * dom->width * dom->height;
+        }
+    }
+    *texels = sum;
+    return TEXOPT_OK;
+}
+
+texopt_status texopt_evaluate_default_resolution(const texopt_model *model, int *side, char *err,
+                                                 size_t err_len)
+{
+    double texels = 0;
+    texopt_status st = texopt_evaluate_covered_texels(model, &texels, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    double s = floor(1.25 * sqrt(texels) + 0.5);
+    *side = (int)fmin(4096, fmax(64, s));
+    return TEXOPT_OK;
+}
+
+typedef struct eval_job {
+    const texopt_model *reference, *candidate;
+    const texopt_view *views;
+    int side;
+    int threads;
+    atomic_int next_view;
+    atomic_int failed;
+    texopt_evaluation *out;
+    double *triangle_error_sum; /* threads x triangle_count, NULL when not asked */
+    size_t *triangle_error_count;
+    texopt_status status;
+    char err[256];
+    pthread_mutex_t lock; /* guards status/err and the monitor callback */
+    int views_done;
+    const texopt_monitor *monitor;
+} eval_job;
+
+typedef struct eval_worker {
+    eval_job *job;
+    int index;
+} eval_worker;
+
+static void job_fail(eval_job *job, texopt_status st, const char *msg)
+{
+    pthread_mutex_lock(&job->lock);
+    if (job->status == TEXOPT_OK) {
+        job->status = st;
+        snprintf(job->err, sizeof job->err, "%s", msg);
+    }
+    pthread_mutex_unlock(&job->lock);
+    atomic_store(&job->failed, 1);
+}
+
+static void luma_of(const texopt_image *img, float *luma)
+{
+    size_t n = (size_t)img->width * (size_t)img->height;
+    for (size_t i = 0; i < n; i++)
+        luma[i] = texopt_luma(img->pixels + 3 * i, 3);
+}
+
+/* Renders, compares and accounts one view; returns a status with the message in msg. */
+static texopt_status evaluate_view(eval_job *job, int worker, int v, texopt_gmsd_workspace *ws,
+                                   float *luma_ref, float *luma_cand, unsigned char *mask,
+                                   char *msg, size_t msg_len)
+{
+    texopt_raster raster;
+    texopt_image ref_img = {0}, cand_img = {0};
+    texopt_status st = texopt_meshrender_rasterize(job->reference, &job->views[v], job->side,
+                                                   &raster, msg, msg_len);
+    if (st == TEXOPT_OK)
+        st = texopt_meshrender_shade(job->reference, &raster, &ref_img, msg, msg_len);
+    if (st == TEXOPT_OK)
+        st = texopt_meshrender_shade(job->candidate, &raster, &cand_img, msg, msg_len);
+    if (st == TEXOPT_OK) {
+        size_t n = (size_t)job->side * (size_t)job->side;
+        luma_of(&ref_img, luma_ref);
+        luma_of(&cand_img, luma_cand);
+        for (size_t i = 0; i < n; i++)
+            mask[i] = raster.triangle[i] >= 0;
+        double g = texopt_gmsd_ws(ws, luma_ref, luma_cand, mask, job->side, job->side);
+        if (!isfinite(g))
+            st = texopt_fail(msg, msg_len, TEXOPT_E_NUMERIC, "GMSD of view %d is not finite", v);
+        job->out->view_gmsd[v] = g;
+        job->out->view_pixels[v] = raster.covered;
+        if (st == TEXOPT_OK && job->triangle_error_sum) {
+            size_t tc = job->reference->triangle_count;
+            double *sum = job->triangle_error_sum + (size_t)worker * tc;
+            size_t *cnt = job->triangle_error_count + (size_t)worker * tc;
+            for (size_t i = 0; i < n; i++)
+                if (raster.triangle[i] >= 0) {
+                    sum[raster.triangle[i]] += fabs((double)luma_ref[i] - luma_cand[i]);
+                    cnt[raster.triangle[i]]++;
+                }
+        }
+    }
+    texopt_image_destroy(&ref_img);
+    texopt_image_destroy(&cand_img);
+    texopt_raster_destroy(&raster);
+    return st;
+}
+
+static void report_view_done(eval_job *job)
+{
+    pthread_mutex_lock(&job->lock);
+    job->views_done++;
+    texopt_progress p = {.stage = "evaluate",
+                         .stage_fraction = (double)job->views_done / TEXOPT_VIEW_COUNT,
+                         .fraction = -1,
+                         .eta_seconds = -1};
+    texopt_monitor_report(job->monitor, &p);
+    pthread_mutex_unlock(&job->lock);
+}
+
+static void *eval_worker_run(void *arg)
+{
+    eval_worker *w = arg;
+    eval_job *job = w->job;
+    size_t n = (size_t)job->side * (size_t)job->side;
+    texopt_gmsd_workspace *ws = texopt_gmsd_workspace_create(job->side, job->side);
+    float *luma_ref = malloc(n * sizeof(float)), *luma_cand = malloc(n * sizeof(float));
+    unsigned char *mask = malloc(n);
+    if (!ws || !luma_ref || !luma_cand || !mask) {
+        job_fail(job, TEXOPT_E_NOMEM, "no memory for the evaluation views");
+    } else {
+        char msg[256];
+        for (;;) {
+            if (atomic_load(&job->failed))
+                break;
+            if (texopt_monitor_canceled(job->monitor)) {
+                job_fail(job, TEXOPT_E_CANCELED, "evaluation canceled");
+                break;
+            }
+            int v = atomic_fetch_add(&job->next_view, 1);
+            if (v >= TEXOPT_VIEW_COUNT)
+                break;
+            msg[0] = 0;
+            texopt_status st = evaluate_view(job, w->index, v, ws, luma_ref, luma_cand, mask, msg, sizeof msg);
+            if (st != TEXOPT_OK) {
+                job_fail(job, st, msg);
+                break;
+            }
+            report_view_done(job);
+        }
+    }
+    texopt_gmsd_workspace_destroy(ws);
+    free(luma_ref);
+    free(luma_cand);
+    free(mask);
+    return NULL;
+}
+
+static texopt_status run_views(eval_job *job)
+{
+    int threads = job->threads;
+    eval_worker workers[TEXOPT_VIEW_COUNT];
+    pthread_t tids[TEXOPT_VIEW_COUNT];
+    int started = 0;
+    for (int i = 0; i < threads; i++) {
+        workers[i].job = job;
+        workers[i].index = i;
+    }
+    /* Worker 0 runs on the calling thread; the others are extra. */
+    for (int i = 1; i < threads; i++) {
+        if (pthread_create(&tids[i], NULL, eval_worker_run, &workers[i]) != 0)
+            break;
+        started = i;
+    }
+    eval_worker_run(&workers[0]);
+    for (int i = 1; i <= started; i++)
+        pthread_join(tids[i], NULL);
+    return job->status;
+}
+
+texopt_status texopt_evaluate(const texopt_model *reference, const texopt_model *candidate,
+                              const texopt_evaluate_options *opt, texopt_evaluation *out,
+                              char *err, size_t err_len)
+{
+    texopt_evaluate_options defaults = {0};
+    if (!opt)
+        opt = &defaults;
+    if (!reference || !candidate || !out)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "missing model or output");
+    if (opt->resolution < 0 || opt->resolution > 16384 || (opt->resolution > 0 && opt->resolution < 8))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "resolution %d is outside [8, 16384]", opt->resolution);
+    texopt_status st = texopt_meshrender_same_geometry(reference, candidate, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    if (!reference->uvs || !candidate->uvs)
+        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "both models need TEXCOORD_0");
+    double t0 = now_seconds();
+    texopt_view views[TEXOPT_VIEW_COUNT];
+    st = texopt_meshrender_views(reference, views, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    int side = opt->resolution;
+    if (side == 0) {
+        st = texopt_evaluate_default_resolution(reference, &side, err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
+    }
+    texopt_evaluation result;
+    memset(&result, 0, sizeof result);
+    result.resolution = side;
+
+    eval_job job;
+    memset(&job, 0, sizeof job);
+    job.reference = reference;
+    job.candidate = candidate;
+    job.views = views;
+    job.side = side;
+    job.threads = opt->threads <= 0 ? 1 : (opt->threads > TEXOPT_VIEW_COUNT ? TEXOPT_VIEW_COUNT : opt->threads);
+    job.out = &result;
+    job.monitor = opt->monitor;
+    atomic_init(&job.next_view, 0);
+    atomic_init(&job.failed, 0);
+    pthread_mutex_init(&job.lock, NULL);
+    size_t tc = reference->triangle_count;
+    if (opt->triangle_error) {
+        job.triangle_error_sum = calloc((size_t)job.threads * tc, sizeof(double));
+        job.triangle_error_count = calloc((size_t)job.threads * tc, sizeof(size_t));
+        if (!job.triangle_error_sum || !job.triangle_error_count) {
+            free(job.triangle_error_sum);
+            free(job.triangle_error_count);
+            pthread_mutex_destroy(&job.lock);
+            return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for per-triangle errors");
+        }
+    }
+    st = run_views(&job);
+    if (st != TEXOPT_OK)
+        texopt_fail(err, err_len, st, "%s", job.err);
+    if (st == TEXOPT_OK && opt->triangle_error) {
+        for (size_t t = 0; t < tc; t++) {
+            double s = 0;
+            size_t c = 0;
+            for (int w = 0; w < job.threads; w++) {
+                s += job.triangle_error_sum[(size_t)w * tc + t];
+                c += job.triangle_error_count[(size_t)w * tc + t];
+            }
+            opt->triangle_error[t] = c ? s / (double)c : 0.0;
+        }
+    }
+    free(job.triangle_error_sum);
+    free(job.triangle_error_count);
+    pthread_mutex_destroy(&job.lock);
+    if (st != TEXOPT_OK)
+        return st;
+    double sum = 0;
+    for (int v = 0; v < TEXOPT_VIEW_COUNT; v++)
+        sum += result.view_gmsd[v];
+    result.q = sum / TEXOPT_VIEW_COUNT;
+    result.seconds = now_seconds() - t0;
+    *out = result;
+    return TEXOPT_OK;
+}

@@ -1,0 +1,57 @@
+/* evaluate.h - the whole-mesh perceptual loss q of a candidate layout against the input.
+ *
+ * Sun et al. 2022, "Efficient Texture Parameterization Driven by Perceptual-Loss-on-Screen",
+ * section 5.1: render the reference (input UVs, input textures) and the candidate (new UVs,
+ * new textures) from the 20 dodecahedron cameras of meshrender.h with bilinear lookups,
+ * compute GMSD (gmsd.h) on the luma of the pixels covered in both, and average over the
+ * views. q(input, input) is exactly 0; larger is worse.
+ *
+ * Resolution: rendered far smaller than the texture, every layout looks perfect. The
+ * default screen side is 1.25 sqrt(covered texels of the reference) rounded, i.e. the input
+ * texture seen at about one texel per pixel (DESIGN.md 3.5), clamped to [64, 4096].
+ *
+ * Does not: optimise, bake or compute cost (coverage.h), and only looks at base colour. */
+#ifndef TEXOPT_EVALUATE_H
+#define TEXOPT_EVALUATE_H
+
+#include <stddef.h>
+
+#include "meshrender.h"
+#include "model.h"
+#include "monitor.h"
+#include "status.h"
+
+typedef struct texopt_evaluate_options {
+    int resolution; /* screen side in pixels; 0 -> texopt_evaluate_default_resolution */
+    int threads;    /* views rendered in parallel; 0 -> 1 */
+    /* When not NULL: per reference triangle (triangle_count entries, caller-owned), the mean
+     * absolute luma difference over the pixels it covers in all views (0 where never seen).
+     * The report colours the UV layout by it. */
+    double *triangle_error;
+    const texopt_monitor *monitor; /* stage "evaluate", checked between views; may be NULL */
+} texopt_evaluate_options;
+
+typedef struct texopt_evaluation {
+    double q;                                /* mean of view_gmsd */
+    double view_gmsd[TEXOPT_VIEW_COUNT];
+    size_t view_pixels[TEXOPT_VIEW_COUNT];   /* covered pixels per view */
+    int resolution;                          /* screen side used */
+    double seconds;                          /* wall clock */
+} texopt_evaluation;
+
+/* Covered texels of the reference summed over its texture domains, each texel counted once
+ * (coverage.h), or the sum of texel areas when coverage cannot be computed. */
+texopt_status texopt_evaluate_covered_texels(const texopt_model *model, double *texels, char *err,
+                                             size_t err_len);
+
+/* 1.25 sqrt(covered texels) rounded, clamped to [64, 4096]. */
+texopt_status texopt_evaluate_default_resolution(const texopt_model *model, int *side, char *err,
+                                                 size_t err_len);
+
+/* Whole-mesh loss of candidate against reference (same triangles: checked with
+ * texopt_meshrender_same_geometry). opt may be NULL. *out is written only on success. */
+texopt_status texopt_evaluate(const texopt_model *reference, const texopt_model *candidate,
+                              const texopt_evaluate_options *opt, texopt_evaluation *out,
+                              char *err, size_t err_len);
+
+#endif

@@ -1,0 +1,74 @@
+/* meshrender.h - renders a whole textured model from the evaluation's cameras.
+ *
+ * Sun et al. 2022, "Efficient Texture Parameterization Driven by Perceptual-Loss-on-Screen",
+ * section 5.1: the whole-mesh loss looks at the model from 20 cameras on the vertices of a
+ * regular dodecahedron around its bounding sphere, all looking at the centre. The cameras
+ * here are orthographic (the window is the bounding sphere's diameter), so screen-space
+ * interpolation of texture coordinates is exact and needs no perspective division.
+ *
+ * Rendering is split in two so that a reference and a candidate with the same geometry are
+ * seen through exactly the same pixels: texopt_meshrender_rasterize depth-tests the geometry
+ * once and keeps, per pixel, the model triangle and its barycentrics; texopt_meshrender_shade
+ * then looks each pixel up in any model with those triangles (its own UVs and images). This
+ * header does not compare images (evaluate.h does). */
+#ifndef TEXOPT_MESHRENDER_H
+#define TEXOPT_MESHRENDER_H
+
+#include <stdint.h>
+
+#include "image.h"
+#include "model.h"
+#include "status.h"
+
+#define TEXOPT_VIEW_COUNT 20
+
+/* An orthographic view of the model: the camera looks along -direction at `centre`;
+ * right/up span the screen; the window is [-half_extent, half_extent]^2 around the centre. */
+typedef struct texopt_view {
+    double centre[3];
+    double direction[3]; /* unit, from the centre towards the camera */
+    double right[3];     /* unit */
+    double up[3];        /* unit */
+    double half_extent;  /* world units, > 0 */
+} texopt_view;
+
+/* Per pixel of a side x side screen: the model triangle covering it (-1: background) and the
+ * barycentric weights of the triangle's second and third corners (the first's is 1 - b1 - b2). */
+typedef struct texopt_raster {
+    int side;
+    int32_t *triangle; /* side * side, row 0 on top */
+    float *bary;       /* 2 per pixel */
+    size_t covered;    /* pixels with a triangle */
+} texopt_raster;
+
+/* Fills views[0..TEXOPT_VIEW_COUNT) with the 20 dodecahedron cameras around the bounding
+ * sphere of the model's vertices (centre = bounding-box centre). Fails on a model with no
+ * triangles or a zero-size bounding box. */
+texopt_status texopt_meshrender_views(const texopt_model *model, texopt_view *views, char *err,
+                                      size_t err_len);
+
+/* Rasterises every triangle of the model into *out (allocated here; free with
+ * texopt_raster_destroy), depth-tested, pixel centres sampled. side in [8, 16384]. */
+texopt_status texopt_meshrender_rasterize(const texopt_model *model, const texopt_view *view,
+                                          int side, texopt_raster *out, char *err,
+                                          size_t err_len);
+
+void texopt_raster_destroy(texopt_raster *raster);
+
+/* Shades a raster made from a model with the same triangles as `model`: each covered pixel
+ * gets the base colour of `model` at the interpolated TEXCOORD_0, bilinear, with the
+ * texture's wrap modes; a triangle whose material has no base colour texture is mid grey;
+ * background pixels are 0. *out becomes a side x side RGB image (allocated here).
+ * Fails when the model's triangle count is not the raster's model's (checked by the caller
+ * through texopt_meshrender_same_geometry) or it has no UVs. */
+texopt_status texopt_meshrender_shade(const texopt_model *model, const texopt_raster *raster,
+                                      texopt_image *out, char *err, size_t err_len);
+
+/* Succeeds when candidate has the same triangles as reference: equal triangle count and every
+ * corner at the same position (within 1e-5 of the bounding-box diagonal). The message names
+ * the first triangle that differs. */
+texopt_status texopt_meshrender_same_geometry(const texopt_model *reference,
+                                              const texopt_model *candidate, char *err,
+                                              size_t err_len);
+
+#endif

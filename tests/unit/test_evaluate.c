@@ -1,0 +1,154 @@
+/* test_evaluate.c - whole-mesh loss q (engine/evaluate.h) and the renderer under it. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "evaluate.h"
+#include "fixtures.h"
+#include "meshrender.h"
+#include "resize.h"
+#include "test.h"
+
+/* A sphere whose texture is the "half" pattern: flat on one side, text-like detail on the
+ * other, so downscaling has something to destroy. */
+static texopt_model *detailed_sphere(void)
+{
+    texopt_model *m = fixture_uv_sphere(48, 24, 256);
+    if (m && fixture_fill_pattern(&m->images[0], "half") != 0) {
+        texopt_model_destroy(m);
+        return NULL;
+    }
+    return m;
+}
+
+/* Replaces image 0 of m by its resize to side x side. */
+static int shrink_texture(texopt_model *m, int image, int side)
+{
+    texopt_image small;
+    char err[256];
+    if (texopt_image_resize(&m->images[image], side, side, &small, err, sizeof err) != TEXOPT_OK)
+        return -1;
+    texopt_image_destroy(&m->images[image]);
+    m->images[image] = small;
+    return 0;
+}
+
+TEST(identical_models_have_zero_loss)
+{
+    texopt_model *a = detailed_sphere(), *b = detailed_sphere();
+    CHECK(a && b);
+    char err[256] = "";
+    texopt_evaluate_options opt = {.resolution = 256, .threads = 2};
+    texopt_evaluation ev;
+    CHECK_OK(texopt_evaluate(a, b, &opt, &ev, err, sizeof err), err);
+    CHECK(ev.q == 0.0);
+    CHECK_EQ_INT(ev.resolution, 256);
+    for (int v = 0; v < TEXOPT_VIEW_COUNT; v++) {
+        CHECK(ev.view_gmsd[v] == 0.0);
+        /* The unit sphere fills pi/4 of a window 2.02 wide: 0.77 of the pixels. */
+        CHECK_NEAR((double)ev.view_pixels[v] / (256.0 * 256.0), 3.14159265358979 / 4 / (1.01 * 1.01), 0.01);
+    }
+    texopt_model_destroy(a);
+    texopt_model_destroy(b);
+}
+
+TEST(loss_grows_as_the_texture_is_downscaled)
+{
+    texopt_model *ref = detailed_sphere();
+    CHECK(ref);
+    char err[256] = "";
+    const int sides[] = {192, 128, 64, 32};
+    double last = 0;
+    for (size_t i = 0; i < sizeof sides / sizeof sides[0]; i++) {
+        texopt_model *cand = detailed_sphere();
+        CHECK(cand);
+        CHECK(shrink_texture(cand, 0, sides[i]) == 0);
+        texopt_evaluate_options opt = {.resolution = 320, .threads = 2};
+        texopt_evaluation ev;
+        texopt_status st = texopt_evaluate(ref, cand, &opt, &ev, err, sizeof err);
+        texopt_model_destroy(cand);
+        CHECK_OK(st, err);
+        CHECK_MSG(ev.q > last + 0.005, "side %d: q %.4f not above %.4f", sides[i], ev.q, last);
+        last = ev.q;
+    }
+    CHECK(last > 0.1); /* 1/8 of the texels is far from invisible */
+    texopt_model_destroy(ref);
+}
+
+TEST(flat_texture_survives_any_downscale)
+{
+    texopt_model *ref = fixture_uv_sphere(24, 12, 128), *cand = fixture_uv_sphere(24, 12, 128);
+    CHECK(ref && cand);
+    CHECK(fixture_fill_pattern(&ref->images[0], "flat") == 0);
+    CHECK(fixture_fill_pattern(&cand->images[0], "flat") == 0);
+    CHECK(shrink_texture(cand, 0, 8) == 0);
+    char err[256] = "";
+    texopt_evaluate_options opt = {.resolution = 128};
+    texopt_evaluation ev;
+    CHECK_OK(texopt_evaluate(ref, cand, &opt, &ev, err, sizeof err), err);
+    CHECK(ev.q < 1e-4);
+    texopt_model_destroy(ref);
+    texopt_model_destroy(cand);
+}
+
+TEST(thread_count_does_not_change_the_result)
+{
+    texopt_model *ref = detailed_sphere(), *cand = detailed_sphere();
+    CHECK(ref && cand);
+    CHECK(shrink_texture(cand, 0, 64) == 0);
+    char err[256] = "";
+    texopt_evaluation one, two;
+    double *tri_err = calloc(ref->triangle_count, sizeof(double));
+    CHECK(tri_err);
+    texopt_evaluate_options o1 = {.resolution = 200, .threads = 1};
+    texopt_evaluate_options o2 = {.resolution = 200, .threads = 3, .triangle_error = tri_err};
+    CHECK_OK(texopt_evaluate(ref, cand, &o1, &one, err, sizeof err), err);
+    CHECK_OK(texopt_evaluate(ref, cand, &o2, &two, err, sizeof err), err);
+    CHECK(one.q == two.q);
+    /* Triangles on the flat half (u < 0.5, the texture's left half, away from the u = 0 seam where REPEAT wraps onto the detail) lose nothing; those on
+     * the detailed half do. */
+    double flat = 0, detail = 0;
+    for (size_t t = 0; t < ref->triangle_count; t++) {
+        const uint32_t *c = ref->triangles + 3 * t;
+        double u = (ref->uvs[2 * c[0]] + ref->uvs[2 * c[1]] + ref->uvs[2 * c[2]]) / 3;
+        if (u > 0.05 && u < 0.45)
+            flat = fmax(flat, tri_err[t]);
+        else if (u > 0.55)
+            detail += tri_err[t];
+    }
+    free(tri_err);
+    CHECK_MSG(flat < 0.02, "flat %g", flat);
+    CHECK_MSG(detail > 1.0, "detail %g", detail);
+    texopt_model_destroy(ref);
+    texopt_model_destroy(cand);
+}
+
+TEST(different_geometry_is_refused)
+{
+    texopt_model *a = fixture_uv_sphere(24, 12, 64), *b = fixture_uv_sphere(24, 12, 64);
+    texopt_model *c = fixture_uv_sphere(20, 12, 64);
+    CHECK(a && b && c);
+    b->positions[3 * b->triangles[3 * 7 + 1]] += 0.1f;
+    char err[256] = "";
+    texopt_evaluation ev;
+    CHECK(texopt_evaluate(a, b, NULL, &ev, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "triangle") != NULL);
+    CHECK(texopt_evaluate(a, c, NULL, &ev, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    texopt_evaluate_options bad = {.resolution = 3};
+    CHECK(texopt_evaluate(a, a, &bad, &ev, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    texopt_model_destroy(a);
+    texopt_model_destroy(b);
+    texopt_model_destroy(c);
+}
+
+TEST(default_resolution_shows_a_texel_per_pixel)
+{
+    /* The quad covers its whole 200^2 texture: 1.25 * 200 = 250. */
+    texopt_model *quad = fixture_textured_quad(200, "checker");
+    CHECK(quad);
+    int side = 0;
+    char err[256] = "";
+    CHECK_OK(texopt_evaluate_default_resolution(quad, &side, err, sizeof err), err);
+    CHECK_EQ_INT(side, 250);
+    texopt_model_destroy(quad);
+}
