@@ -1,0 +1,173 @@
+/* test_uvraster.c - one-ring rasterisation into input texel positions. */
+#include <stdlib.h>
+
+#include "fixtures.h"
+#include "mesh.h"
+#include "test.h"
+#include "uvraster.h"
+
+/* The world point seen at the centre of pixel (i, j). */
+static void pixel_to_world(const texopt_camera *cam, int i, int j, double out[3])
+{
+    double pix = cam->window_side / cam->size;
+    double x = cam->window_x0 + (i + 0.5) * pix;
+    double y = cam->window_y0 + cam->window_side - (j + 0.5) * pix;
+    for (int k = 0; k < 3; k++)
+        out[k] = cam->center[k] + x * cam->right[k] + y * cam->up[k];
+}
+
+/* Barycentric coordinates of 2D point p in triangle (a, b, c). */
+static void barycentric2(const double *a, const double *b, const double *c, const double *p,
+                         double w[3])
+{
+    double d = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+    w[1] = ((p[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (p[1] - a[1])) / d;
+    w[2] = ((b[0] - a[0]) * (p[1] - a[1]) - (p[0] - a[0]) * (b[1] - a[1])) / d;
+    w[0] = 1.0 - w[1] - w[2];
+}
+
+TEST(uvraster_texel_positions_match_the_surface_point)
+{
+    char err[256] = "";
+    texopt_model *model = fixture_grid(4, 64, "flat");
+    CHECK(model);
+    texopt_mesh *mesh = NULL;
+    texopt_uvraster *r = NULL;
+    CHECK_OK(texopt_mesh_create(&mesh, model, 0, err, sizeof err), err);
+    CHECK_OK(texopt_uvraster_create(&r, 64, err, sizeof err), err);
+    /* Quad (1, 1), its first triangle: an interior triangle with a full one-ring. */
+    uint32_t t = 2 * (1 * 4 + 1);
+    CHECK_OK(texopt_uvraster_render(r, mesh, t, err, sizeof err), err);
+    size_t covered = 0;
+    int own = 0;
+    for (int j = 0; j < 64; j++)
+        for (int i = 0; i < 64; i++) {
+            size_t q = (size_t)j * 64 + (size_t)i;
+            if (r->face[q] < 0)
+                continue;
+            covered++;
+            own += r->face[q] == (int32_t)t;
+            double w[3];
+            pixel_to_world(&r->camera, i, j, w);
+            /* Grid: position (x, y, 0), UV (x, y), 64 x 64 texels. */
+            CHECK_NEAR(r->texel[2 * q], 64.0 * w[0], 1e-9);
+            CHECK_NEAR(r->texel[2 * q + 1], 64.0 * w[1], 1e-9);
+        }
+    CHECK_EQ_INT(covered, r->covered);
+    CHECK(own > 100); /* the triangle itself is well visible */
+    /* The one-ring of an interior grid triangle: three stars of 6 triangles, each edge's two
+     * triangles counted twice, the triangle itself three times: 18 - 6 + 1 = 13 triangles
+     * of area 1/32. Coverage in pixels is area / pixel area up to the rasterised border. */
+    double pix = r->camera.window_side / 64.0;
+    double expected = 13.0 / 32.0 / (pix * pix);
+    CHECK(fabs((double)covered - expected) < 0.05 * expected);
+    texopt_uvraster_destroy(r);
+    texopt_mesh_destroy(mesh);
+    texopt_model_destroy(model);
+}
+
+TEST(uvraster_each_face_uses_its_own_uvs_across_a_seam)
+{
+    char err[256] = "";
+    texopt_model *model = fixture_cube_with_seams(64);
+    CHECK(model);
+    texopt_mesh *mesh = NULL;
+    texopt_uvraster *r = NULL;
+    CHECK_OK(texopt_mesh_create(&mesh, model, 0, err, sizeof err), err);
+    CHECK_OK(texopt_uvraster_create(&r, 32, err, sizeof err), err);
+    for (uint32_t t = 0; t < mesh->triangle_count; t++) {
+        CHECK_OK(texopt_uvraster_render(r, mesh, t, err, sizeof err), err);
+        CHECK(r->covered > 0);
+        for (int j = 0; j < 32; j++)
+            for (int i = 0; i < 32; i++) {
+                size_t q = (size_t)j * 32 + (size_t)i;
+                int32_t f = r->face[q];
+                if (f < 0)
+                    continue;
+                /* The texel position lies inside the covering face's own UV triangle and
+                 * matches the barycentrics of the 3D point seen there. */
+                const uint32_t *tri = mesh->triangle + 3 * (size_t)f;
+                double world[3], w[3];
+                pixel_to_world(&r->camera, i, j, world);
+                barycentric2(mesh->texel + 2 * tri[0], mesh->texel + 2 * tri[1],
+                             mesh->texel + 2 * tri[2], r->texel + 2 * q, w);
+                CHECK(w[0] > -1e-9 && w[1] > -1e-9 && w[2] > -1e-9);
+                double p[3] = {0, 0, 0};
+                for (int k = 0; k < 3; k++)
+                    for (int d = 0; d < 3; d++)
+                        p[d] += w[k] * mesh->position[3 * (size_t)mesh->point_of[tri[k]] + d];
+                /* Seen along the normal: the in-plane coordinates agree. */
+                for (int d = 0; d < 3; d++)
+                    if (fabs(r->camera.normal[d]) < 0.5)
+                        CHECK_NEAR(p[d], world[d], 1e-9);
+            }
+    }
+    texopt_uvraster_destroy(r);
+    texopt_mesh_destroy(mesh);
+    texopt_model_destroy(model);
+}
+
+TEST(uvraster_closest_face_wins)
+{
+    /* Triangle 0 in z = 0; triangle 1 shares its corner 0 and hovers above it (z = 0.5);
+     * triangle 2 shares corner 0 and lies below it (z = -0.5), hidden by triangle 0. */
+    const float pos[] = {0, 0, 0,     1, 0, 0,       0, 1, 0,
+                         0, 0, 0,     0.8f, 0.1f, 0.5f, 0.1f, 0.8f, 0.5f,
+                         0, 0, 0,     0.5f, 0.1f, -0.5f, 0.1f, 0.5f, -0.5f};
+    const float uv[] = {0.0f, 0.0f, 0.3f, 0.0f, 0.0f, 0.3f,
+                        0.5f, 0.5f, 0.8f, 0.5f, 0.5f, 0.8f,
+                        0.0f, 0.6f, 0.3f, 0.6f, 0.0f, 0.9f};
+    const uint32_t tris[] = {0, 1, 2, 3, 4, 5, 6, 7, 8};
+    texopt_model *model = fixture_model_from_arrays(pos, uv, 9, tris, 3, 64, 64, "flat");
+    CHECK(model);
+    char err[256] = "";
+    texopt_mesh *mesh = NULL;
+    texopt_uvraster *r = NULL;
+    CHECK_OK(texopt_mesh_create(&mesh, model, 0, err, sizeof err), err);
+    CHECK_OK(texopt_uvraster_create(&r, 64, err, sizeof err), err);
+    CHECK_OK(texopt_uvraster_render(r, mesh, 0, err, sizeof err), err);
+    int seen[3] = {0, 0, 0}, upper_inside = 0;
+    double a[2], b[2], c[2], depth;
+    const float *p1 = pos + 9;
+    double v0[3] = {p1[0], p1[1], p1[2]}, v1[3] = {p1[3], p1[4], p1[5]},
+           v2[3] = {p1[6], p1[7], p1[8]};
+    texopt_camera_project(&r->camera, v0, a, &depth);
+    texopt_camera_project(&r->camera, v1, b, &depth);
+    texopt_camera_project(&r->camera, v2, c, &depth);
+    for (int j = 0; j < 64; j++)
+        for (int i = 0; i < 64; i++) {
+            size_t q = (size_t)j * 64 + (size_t)i;
+            if (r->face[q] >= 0)
+                seen[r->face[q]]++;
+            double p[2] = {i + 0.5, j + 0.5}, w[3];
+            barycentric2(a, b, c, p, w);
+            if (w[0] > 1e-6 && w[1] > 1e-6 && w[2] > 1e-6) {
+                upper_inside++;
+                CHECK_EQ_INT(r->face[q], 1);
+            }
+        }
+    CHECK(upper_inside > 50);
+    CHECK(seen[0] > 50);
+    CHECK_EQ_INT(seen[2], 0);
+    texopt_uvraster_destroy(r);
+    texopt_mesh_destroy(mesh);
+    texopt_model_destroy(model);
+}
+
+TEST(uvraster_rejects_bad_arguments)
+{
+    char err[256] = "";
+    texopt_uvraster *r = NULL;
+    CHECK(texopt_uvraster_create(&r, 1, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(r == NULL);
+    texopt_model *model = fixture_textured_quad(16, "flat");
+    texopt_mesh *mesh = NULL;
+    CHECK_OK(texopt_mesh_create(&mesh, model, 0, err, sizeof err), err);
+    CHECK_OK(texopt_uvraster_create(&r, 16, err, sizeof err), err);
+    CHECK(texopt_uvraster_render(r, mesh, 2, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(err[0] != '\0');
+    texopt_uvraster_destroy(r);
+    texopt_uvraster_destroy(NULL);
+    texopt_mesh_destroy(mesh);
+    texopt_model_destroy(model);
+}
