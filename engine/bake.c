@@ -1,0 +1,316 @@
+/* bake.c - least-squares bake of the texels a candidate parameterization shows on screen
+ * (Sun et al. 2022, "Efficient Texture Parameterization Driven by Perceptual-Loss-on-
+ * Screen", eq. 11; DESIGN.md 3.1). Solves the ridge-regularised normal equations
+ * (A^T A + r I) x = A^T ref + r mean(ref) with banded Cholesky, all channels at once.
+ * Does not render, convert colour or measure the loss.
+ *
+ * Why banded: the footprints of a 64x64 screen window mapped by one linear J form a dense
+ * patch of texels. Numbered in texture row-major order, a footprint's four texels are at
+ * most about one patch row apart, so A^T A has a band of that width and Cholesky costs
+ * n kd^2 instead of n^3 / 3. Texels are numbered through a dense map over the patch's
+ * bounding box (no hashing, no sorting) when the box is small, which is the normal case;
+ * footprints that straddle a wrap seam or scatter over a huge texture go through a hash
+ * map and a sort instead. */
+#include "bake.h"
+
+#include <lapacke.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sample.h"
+
+/* The dense map may be this many times larger than the footprint entries. */
+#define BAKE_BOX_FACTOR 16
+
+struct texopt_bake_workspace {
+    int max_pixels, max_channels;
+    int *cell;         /* 4 per pixel: texel index (row * width + col), then local unknown */
+    double *weight;    /* 4 per pixel */
+    int *texel;        /* per unknown: texel index, ascending */
+    int last_unknowns;
+    /* dense map over a bounding box: local unknown + 1, 0 = untouched */
+    int *box;
+    size_t box_capacity;
+    /* hash map for the scattered case: texel -> unknown, open addressing */
+    int *hash_key, *hash_value;
+    size_t hash_mask;
+    /* normal equations */
+    double *band;      /* (kd + 1) x n, LAPACK upper band storage */
+    size_t band_capacity;
+    double *rhs;       /* n x channels, column-major */
+};
+
+texopt_bake_workspace *texopt_bake_workspace_create(int max_pixels, int max_channels)
+{
+    if (max_pixels <= 0 || max_pixels > (1 << 24) || max_channels < 1 || max_channels > 4)
+        return NULL;
+    texopt_bake_workspace *ws = calloc(1, sizeof *ws);
+    if (!ws)
+        return NULL;
+    size_t entries = 4 * (size_t)max_pixels;
+    size_t hash_size = 1;
+    while (hash_size < 2 * entries)
+        hash_size <<= 1;
+    ws->max_pixels = max_pixels;
+    ws->max_channels = max_channels;
+    ws->box_capacity = BAKE_BOX_FACTOR * entries + 1024;
+    ws->hash_mask = hash_size - 1;
+    ws->cell = malloc(entries * sizeof *ws->cell);
+    ws->weight = malloc(entries * sizeof *ws->weight);
+    ws->texel = malloc(entries * sizeof *ws->texel);
+    ws->box = calloc(ws->box_capacity, sizeof *ws->box);
+    ws->hash_key = malloc(hash_size * sizeof *ws->hash_key);
+    ws->hash_value = malloc(hash_size * sizeof *ws->hash_value);
+    ws->rhs = malloc(entries * (size_t)max_channels * sizeof *ws->rhs);
+    if (!ws->cell || !ws->weight || !ws->texel || !ws->box || !ws->hash_key || !ws->hash_value ||
+        !ws->rhs) {
+        texopt_bake_workspace_destroy(ws);
+        return NULL;
+    }
+    memset(ws->hash_key, 0xff, hash_size * sizeof *ws->hash_key); /* all -1: empty */
+    return ws;
+}
+
+void texopt_bake_workspace_destroy(texopt_bake_workspace *ws)
+{
+    if (!ws)
+        return;
+    free(ws->cell);
+    free(ws->weight);
+    free(ws->texel);
+    free(ws->box);
+    free(ws->hash_key);
+    free(ws->hash_value);
+    free(ws->band);
+    free(ws->rhs);
+    free(ws);
+}
+
+int texopt_bake_last_texel_count(const texopt_bake_workspace *ws)
+{
+    return ws ? ws->last_unknowns : 0;
+}
+
+typedef struct cell_box {
+    int col0, row0, cols, rows;
+} cell_box;
+
+/* Footprints of every pixel as texel indices; returns the bounding box of their cells. */
+static cell_box gather_footprints(texopt_bake_workspace *ws, int pixel_count,
+                                  const double *texel_pos, int width, int height,
+                                  texopt_wrap wrap_s, texopt_wrap wrap_t)
+{
+    int cmin = width, cmax = -1, rmin = height, rmax = -1;
+    for (int q = 0; q < pixel_count; q++) {
+        int col[2], row[2];
+        int *cell = ws->cell + 4 * (size_t)q;
+        texopt_bilinear_cells(width, height, wrap_s, wrap_t, texel_pos[2 * q], texel_pos[2 * q + 1],
+                              col, row, ws->weight + 4 * (size_t)q);
+        for (int k = 0; k < 2; k++) {
+            cmin = col[k] < cmin ? col[k] : cmin;
+            cmax = col[k] > cmax ? col[k] : cmax;
+            rmin = row[k] < rmin ? row[k] : rmin;
+            rmax = row[k] > rmax ? row[k] : rmax;
+        }
+        cell[0] = row[0] * width + col[0];
+        cell[1] = row[0] * width + col[1];
+        cell[2] = row[1] * width + col[0];
+        cell[3] = row[1] * width + col[1];
+    }
+    cell_box box = {cmin, rmin, cmax - cmin + 1, rmax - rmin + 1};
+    return box;
+}
+
+/* Numbers the touched texels in row-major order through a dense map over the box. */
+static int number_through_box(texopt_bake_workspace *ws, int entries, int width, cell_box b)
+{
+    int *box = ws->box;
+    for (int e = 0; e < entries; e++) {
+        int t = ws->cell[e];
+        int r = t / width - b.row0, c = t % width - b.col0;
+        box[(size_t)r * b.cols + c] = 1;
+    }
+    int n = 0;
+    for (int r = 0; r < b.rows; r++) {
+        int *line = box + (size_t)r * b.cols;
+        for (int c = 0; c < b.cols; c++) {
+            if (line[c]) {
+                ws->texel[n] = (b.row0 + r) * width + b.col0 + c;
+                line[c] = ++n;
+            }
+        }
+    }
+    for (int e = 0; e < entries; e++) {
+        int t = ws->cell[e];
+        int *slot = box + (size_t)(t / width - b.row0) * b.cols + (t % width - b.col0);
+        ws->cell[e] = *slot - 1;
+    }
+    for (int i = 0; i < n; i++) {
+        int t = ws->texel[i];
+        box[(size_t)(t / width - b.row0) * b.cols + (t % width - b.col0)] = 0;
+    }
+    return n;
+}
+
+static size_t hash_slot(const texopt_bake_workspace *ws, int key)
+{
+    size_t h = ((uint32_t)key * 2654435761u) & ws->hash_mask;
+    while (ws->hash_key[h] != -1 && ws->hash_key[h] != key)
+        h = (h + 1) & ws->hash_mask;
+    return h;
+}
+
+static int compare_int(const void *a, const void *b)
+{
+    int x = *(const int *)a, y = *(const int *)b;
+    return (x > y) - (x < y);
+}
+
+/* The scattered case: unique texels through a hash map, sorted into row-major order. */
+static int number_through_hash(texopt_bake_workspace *ws, int entries)
+{
+    int n = 0;
+    for (int e = 0; e < entries; e++) {
+        size_t h = hash_slot(ws, ws->cell[e]);
+        if (ws->hash_key[h] == -1) {
+            ws->hash_key[h] = ws->cell[e];
+            ws->texel[n++] = ws->cell[e];
+        }
+    }
+    qsort(ws->texel, (size_t)n, sizeof *ws->texel, compare_int);
+    for (int i = 0; i < n; i++)
+        ws->hash_value[hash_slot(ws, ws->texel[i])] = i;
+    for (int e = 0; e < entries; e++)
+        ws->cell[e] = ws->hash_value[hash_slot(ws, ws->cell[e])];
+    /* Empty the table again: every key sits in the run of occupied slots that starts at its
+     * home slot, and the table held only our keys, so wiping those runs empties it. */
+    for (int i = 0; i < n; i++) {
+        size_t h = ((uint32_t)ws->texel[i] * 2654435761u) & ws->hash_mask;
+        while (ws->hash_key[h] != -1) {
+            ws->hash_key[h] = -1;
+            h = (h + 1) & ws->hash_mask;
+        }
+    }
+    return n;
+}
+
+static int band_width(const texopt_bake_workspace *ws, int pixel_count)
+{
+    int kd = 0;
+    for (int q = 0; q < pixel_count; q++) {
+        const int *c = ws->cell + 4 * (size_t)q;
+        int lo = c[0], hi = c[0];
+        for (int k = 1; k < 4; k++) {
+            lo = c[k] < lo ? c[k] : lo;
+            hi = c[k] > hi ? c[k] : hi;
+        }
+        kd = hi - lo > kd ? hi - lo : kd;
+    }
+    return kd;
+}
+
+static int reserve_band(texopt_bake_workspace *ws, size_t needed)
+{
+    if (needed <= ws->band_capacity)
+        return 1;
+    double *band = realloc(ws->band, needed * sizeof *band);
+    if (!band)
+        return 0;
+    ws->band = band;
+    ws->band_capacity = needed;
+    return 1;
+}
+
+/* A^T A + ridge I in upper band storage and A^T ref + ridge mean as right-hand sides. */
+static void assemble_normal_equations(texopt_bake_workspace *ws, int pixel_count, int n, int kd,
+                                      const float *reference, int channels, double ridge)
+{
+    int ld = kd + 1;
+    double *band = ws->band, *rhs = ws->rhs;
+    memset(band, 0, (size_t)ld * (size_t)n * sizeof *band);
+    memset(rhs, 0, (size_t)n * (size_t)channels * sizeof *rhs);
+    double mean[4] = {0, 0, 0, 0};
+    for (int q = 0; q < pixel_count; q++) {
+        const int *c = ws->cell + 4 * (size_t)q;
+        const double *w = ws->weight + 4 * (size_t)q;
+        const float *ref = reference + (size_t)q * channels;
+        for (int a = 0; a < 4; a++) {
+            for (int b = 0; b < 4; b++) {
+                if (c[a] <= c[b])
+                    band[(size_t)(kd + c[a] - c[b]) + (size_t)c[b] * ld] += w[a] * w[b];
+            }
+            for (int ch = 0; ch < channels; ch++)
+                rhs[(size_t)c[a] + (size_t)ch * n] += w[a] * ref[ch];
+        }
+        for (int ch = 0; ch < channels; ch++)
+            mean[ch] += ref[ch];
+    }
+    for (int ch = 0; ch < channels; ch++) {
+        double m = mean[ch] / pixel_count;
+        for (int i = 0; i < n; i++)
+            rhs[(size_t)i + (size_t)ch * n] += ridge * m;
+    }
+    for (int i = 0; i < n; i++)
+        band[(size_t)kd + (size_t)i * ld] += ridge;
+}
+
+static void reconstruct(const texopt_bake_workspace *ws, int pixel_count, int n, int channels,
+                        float *out)
+{
+    for (int q = 0; q < pixel_count; q++) {
+        const int *c = ws->cell + 4 * (size_t)q;
+        const double *w = ws->weight + 4 * (size_t)q;
+        for (int ch = 0; ch < channels; ch++) {
+            const double *x = ws->rhs + (size_t)ch * n;
+            out[(size_t)q * channels + ch] =
+                (float)(w[0] * x[c[0]] + w[1] * x[c[1]] + w[2] * x[c[2]] + w[3] * x[c[3]]);
+        }
+    }
+}
+
+texopt_status texopt_bake_fit(texopt_bake_workspace *ws, int pixel_count, const double *texel_pos,
+                              const float *reference, int channels, int width, int height,
+                              texopt_wrap wrap_s, texopt_wrap wrap_t, double ridge,
+                              float *reconstruction, char *err, size_t err_len)
+{
+    if (!ws)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "bake: no workspace");
+    if (pixel_count < 0 || pixel_count > ws->max_pixels)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "bake: %d pixels, workspace holds %d", pixel_count, ws->max_pixels);
+    if (channels < 1 || channels > ws->max_channels)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "bake: %d channels, workspace holds 1..%d", channels, ws->max_channels);
+    if (width <= 0 || height <= 0 || (long long)width * height > 0x7fffffffLL)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "bake: texture %dx%d",
+                           width, height);
+    if (!(ridge > 0.0) || !isfinite(ridge))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "bake: ridge %g must be positive", ridge);
+    ws->last_unknowns = 0;
+    if (pixel_count == 0)
+        return TEXOPT_OK;
+    if (!texel_pos || !reference || !reconstruction)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "bake: NULL buffer");
+
+    int entries = 4 * pixel_count;
+    cell_box box = gather_footprints(ws, pixel_count, texel_pos, width, height, wrap_s, wrap_t);
+    int n = (size_t)box.rows * (size_t)box.cols <= ws->box_capacity
+                ? number_through_box(ws, entries, width, box)
+                : number_through_hash(ws, entries);
+    int kd = band_width(ws, pixel_count);
+    if (!reserve_band(ws, (size_t)(kd + 1) * (size_t)n))
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "bake: band of %d x %d", kd + 1, n);
+    assemble_normal_equations(ws, pixel_count, n, kd, reference, channels, ridge);
+    lapack_int info = LAPACKE_dpbtrf_work(LAPACK_COL_MAJOR, 'U', n, kd, ws->band, kd + 1);
+    if (info == 0)
+        info = LAPACKE_dpbtrs_work(LAPACK_COL_MAJOR, 'U', n, kd, channels, ws->band, kd + 1,
+                                   ws->rhs, n);
+    if (info != 0)
+        return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
+                           "bake: Cholesky of %d texels failed (info %d)", n, (int)info);
+    reconstruct(ws, pixel_count, n, channels, reconstruction);
+    ws->last_unknowns = n;
+    return TEXOPT_OK;
+}

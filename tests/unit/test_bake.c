@@ -1,0 +1,286 @@
+/* test_bake.c - the least-squares bake (Sun et al. 2022, eq. 11): exact reconstructions,
+ * agreement with a dense textbook solve, error falling with more texels, wrap seams and
+ * scattered footprints, bad arguments. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "bake.h"
+#include "sample.h"
+#include "test.h"
+
+static double pattern(double x, double y, int channel)
+{
+    return 0.5 + 0.25 * sin(1.3 * x + 0.7 * channel) * cos(0.9 * y - 0.4 * channel) +
+           0.2 * ((int)floor(x / 3.0 + y / 5.0) % 2 == 0 ? 1.0 : -1.0) * (channel == 0);
+}
+
+TEST(texture_sampled_at_its_own_texel_centres_is_reconstructed_exactly)
+{
+    enum { W = 12, H = 9, C = 3 };
+    double pos[2 * W * H];
+    float ref[C * W * H], out[C * W * H];
+    for (int j = 0; j < H; j++) {
+        for (int i = 0; i < W; i++) {
+            int q = j * W + i;
+            pos[2 * q] = i + 0.5;
+            pos[2 * q + 1] = j + 0.5;
+            for (int c = 0; c < C; c++)
+                ref[C * q + c] = (float)pattern(i, j, c);
+        }
+    }
+    texopt_bake_workspace *ws = texopt_bake_workspace_create(W * H, 4);
+    CHECK(ws != NULL);
+    char err[256] = "";
+    CHECK_OK(texopt_bake_fit(ws, W * H, pos, ref, C, W, H, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP,
+                             1e-9, out, err, sizeof err),
+             err);
+    CHECK_EQ_INT(texopt_bake_last_texel_count(ws), W * H);
+    for (int k = 0; k < C * W * H; k++)
+        CHECK_NEAR(out[k], ref[k], 1e-6);
+    texopt_bake_workspace_destroy(ws);
+}
+
+/* Dense normal equations solved by textbook Cholesky: the independent check. */
+static int dense_reference_fit(int pixels, const double *pos, const float *ref, int channels,
+                               int w, int h, texopt_wrap ws_, texopt_wrap wt, double ridge,
+                               double *out)
+{
+    int texels = w * h;
+    double *m = calloc((size_t)texels * texels, sizeof *m);
+    double *b = calloc((size_t)texels * channels, sizeof *b);
+    int *used = calloc((size_t)texels, sizeof *used);
+    if (!m || !b || !used)
+        return 0;
+    double mean[4] = {0};
+    for (int q = 0; q < pixels; q++) {
+        int idx[4];
+        double wt4[4];
+        texopt_bilinear_footprint(w, h, ws_, wt, pos[2 * q], pos[2 * q + 1], idx, wt4);
+        for (int a = 0; a < 4; a++) {
+            used[idx[a]] = 1;
+            for (int c = 0; c < 4; c++)
+                m[(size_t)idx[a] * texels + idx[c]] += wt4[a] * wt4[c];
+            for (int c = 0; c < channels; c++)
+                b[(size_t)idx[a] * channels + c] += wt4[a] * ref[q * channels + c];
+        }
+        for (int c = 0; c < channels; c++)
+            mean[c] += ref[q * channels + c] / pixels;
+    }
+    /* Untouched texels are not unknowns: give them an identity row so the system stays
+     * solvable without changing the touched block. */
+    for (int t = 0; t < texels; t++) {
+        m[(size_t)t * texels + t] += used[t] ? ridge : 1.0;
+        for (int c = 0; c < channels; c++)
+            b[(size_t)t * channels + c] += used[t] ? ridge * mean[c] : 0.0;
+    }
+    for (int k = 0; k < texels; k++) { /* Gaussian elimination, SPD so no pivoting */
+        for (int i = k + 1; i < texels; i++) {
+            double f = m[(size_t)i * texels + k] / m[(size_t)k * texels + k];
+            if (f == 0.0)
+                continue;
+            for (int j = k; j < texels; j++)
+                m[(size_t)i * texels + j] -= f * m[(size_t)k * texels + j];
+            for (int c = 0; c < channels; c++)
+                b[(size_t)i * channels + c] -= f * b[(size_t)k * channels + c];
+        }
+    }
+    for (int k = texels - 1; k >= 0; k--) {
+        for (int c = 0; c < channels; c++) {
+            double s = b[(size_t)k * channels + c];
+            for (int j = k + 1; j < texels; j++)
+                s -= m[(size_t)k * texels + j] * b[(size_t)j * channels + c];
+            b[(size_t)k * channels + c] = s / m[(size_t)k * texels + k];
+        }
+    }
+    for (int q = 0; q < pixels; q++) {
+        int idx[4];
+        double wt4[4];
+        texopt_bilinear_footprint(w, h, ws_, wt, pos[2 * q], pos[2 * q + 1], idx, wt4);
+        for (int c = 0; c < channels; c++) {
+            double s = 0.0;
+            for (int a = 0; a < 4; a++)
+                s += wt4[a] * b[(size_t)idx[a] * channels + c];
+            out[q * channels + c] = s;
+        }
+    }
+    free(m);
+    free(b);
+    free(used);
+    return 1;
+}
+
+/* Pixels of a side x side screen mapped by p = J q + t. */
+static void screen_positions(int side, const double jac[4], double tx, double ty, double *pos)
+{
+    for (int j = 0; j < side; j++) {
+        for (int i = 0; i < side; i++) {
+            double qx = i + 0.5, qy = j + 0.5;
+            pos[2 * (j * side + i)] = jac[0] * qx + jac[1] * qy + tx;
+            pos[2 * (j * side + i) + 1] = jac[2] * qx + jac[3] * qy + ty;
+        }
+    }
+}
+
+static void reference_on_screen(int side, int channels, float *ref)
+{
+    for (int j = 0; j < side; j++)
+        for (int i = 0; i < side; i++)
+            for (int c = 0; c < channels; c++)
+                ref[(j * side + i) * channels + c] = (float)pattern(i + 0.5, j + 0.5, c);
+}
+
+static void check_against_dense(texopt_wrap wrap, const double jac[4], double tx, double ty,
+                                double ridge, int tex_w, int tex_h)
+{
+    enum { S = 20, C = 2 };
+    double pos[2 * S * S], expect[C * S * S];
+    float ref[C * S * S], out[C * S * S];
+    screen_positions(S, jac, tx, ty, pos);
+    reference_on_screen(S, C, ref);
+    texopt_bake_workspace *ws = texopt_bake_workspace_create(S * S, C);
+    CHECK(ws != NULL);
+    char err[256] = "";
+    CHECK_OK(texopt_bake_fit(ws, S * S, pos, ref, C, tex_w, tex_h, wrap, wrap, ridge, out, err,
+                             sizeof err),
+             err);
+    CHECK(dense_reference_fit(S * S, pos, ref, C, tex_w, tex_h, wrap, wrap, ridge, expect));
+    for (int k = 0; k < C * S * S; k++)
+        CHECK_NEAR(out[k], expect[k], 2e-5);
+    texopt_bake_workspace_destroy(ws);
+}
+
+TEST(bake_equals_a_dense_normal_equation_solve)
+{
+    const double shrink_rotate[4] = {0.45, -0.2, 0.15, 0.55};
+    check_against_dense(TEXOPT_WRAP_CLAMP, shrink_rotate, 3.3, 2.7, 1e-3, 24, 20);
+    check_against_dense(TEXOPT_WRAP_REPEAT, shrink_rotate, 3.3, 2.7, 1e-2, 24, 20);
+    /* Straddles the texture's corner under REPEAT: footprints wrap across both seams. */
+    check_against_dense(TEXOPT_WRAP_REPEAT, shrink_rotate, -4.1, -3.2, 1e-3, 16, 12);
+    check_against_dense(TEXOPT_WRAP_MIRROR, shrink_rotate, -4.1, -3.2, 1e-3, 16, 12);
+    /* A strong ridge pulls toward the mean: the dense solve includes it the same way. */
+    const double identity[4] = {1, 0, 0, 1};
+    check_against_dense(TEXOPT_WRAP_CLAMP, identity, 0.25, 0.1, 0.5, 24, 24);
+}
+
+static double bake_rms_error(double scale, int *texels)
+{
+    enum { S = 64, C = 1 };
+    static double pos[2 * S * S];
+    static float ref[C * S * S], out[C * S * S];
+    const double jac[4] = {scale, 0.1 * scale, -0.05 * scale, scale};
+    screen_positions(S, jac, 1.0, 1.0, pos);
+    reference_on_screen(S, C, ref);
+    texopt_bake_workspace *ws = texopt_bake_workspace_create(S * S, C);
+    char err[256] = "";
+    if (!ws || texopt_bake_fit(ws, S * S, pos, ref, C, 256, 256, TEXOPT_WRAP_CLAMP,
+                               TEXOPT_WRAP_CLAMP, 1e-6, out, err, sizeof err) != TEXOPT_OK) {
+        texopt_bake_workspace_destroy(ws);
+        return NAN;
+    }
+    *texels = texopt_bake_last_texel_count(ws);
+    texopt_bake_workspace_destroy(ws);
+    double ss = 0.0;
+    for (int k = 0; k < S * S; k++)
+        ss += (out[k] - ref[k]) * (out[k] - ref[k]);
+    return sqrt(ss / (S * S));
+}
+
+TEST(reconstruction_error_falls_as_texels_grow)
+{
+    const double scales[] = {0.15, 0.3, 0.6, 1.0};
+    double previous = INFINITY;
+    int previous_texels = 0;
+    for (int i = 0; i < 4; i++) {
+        int texels = 0;
+        double e = bake_rms_error(scales[i], &texels);
+        CHECK(isfinite(e));
+        CHECK(texels > previous_texels);
+        CHECK_MSG(e < 0.95 * previous, "scale %g: rms %g, previous %g", scales[i], e, previous);
+        previous = e;
+        previous_texels = texels;
+    }
+    /* At scale 1 the screen pixels sample the texels one to one (slightly sheared): still
+     * an inexact fit of a non-bilinear pattern, but a close one. */
+    CHECK(previous < 0.05);
+}
+
+TEST(bilinear_reference_in_the_range_of_a_is_reproduced)
+{
+    /* The reference is itself a bilinear lookup of a texture on the candidate grid, so the
+     * least-squares fit is exact whatever the sampling (here 3 pixels per texel). */
+    enum { S = 48, W = 20, H = 20 };
+    texopt_image tex;
+    char err[256] = "";
+    CHECK_OK(texopt_image_create(&tex, W, H, 1, err, sizeof err), err);
+    for (int k = 0; k < W * H; k++)
+        tex.pixels[k] = (float)pattern(k % W, k / W, 0);
+    static double pos[2 * S * S];
+    static float ref[S * S], out[S * S];
+    const double jac[4] = {0.3, 0.05, -0.04, 0.31};
+    screen_positions(S, jac, 2.0, 3.0, pos);
+    for (int q = 0; q < S * S; q++)
+        texopt_sample_bilinear(&tex, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, pos[2 * q],
+                               pos[2 * q + 1], ref + q);
+    texopt_bake_workspace *ws = texopt_bake_workspace_create(S * S, 1);
+    CHECK_OK(texopt_bake_fit(ws, S * S, pos, ref, 1, W, H, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT,
+                             1e-9, out, err, sizeof err),
+             err);
+    for (int q = 0; q < S * S; q++)
+        CHECK_NEAR(out[q], ref[q], 1e-5);
+    texopt_bake_workspace_destroy(ws);
+    texopt_image_destroy(&tex);
+}
+
+TEST(scattered_footprints_over_a_huge_texture_fit_each_pixel)
+{
+    /* Pixels far apart on a 4096^2 texture: the bounding box is too big for the dense
+     * map, every footprint is its own little system, so each pixel is matched exactly. */
+    enum { P = 300 };
+    double pos[2 * P];
+    float ref[P], out[P];
+    for (int q = 0; q < P; q++) {
+        pos[2 * q] = 13.7 * q + 0.3 + (q % 7);
+        pos[2 * q + 1] = 4095.0 - 13.1 * q;
+        ref[q] = (float)(0.1 + 0.8 * ((q * 37) % 11) / 10.0);
+    }
+    texopt_bake_workspace *ws = texopt_bake_workspace_create(P, 1);
+    char err[256] = "";
+    CHECK_OK(texopt_bake_fit(ws, P, pos, ref, 1, 4096, 4096, TEXOPT_WRAP_REPEAT,
+                             TEXOPT_WRAP_REPEAT, 1e-9, out, err, sizeof err),
+             err);
+    CHECK_EQ_INT(texopt_bake_last_texel_count(ws), 4 * P);
+    for (int q = 0; q < P; q++)
+        CHECK_NEAR(out[q], ref[q], 1e-6);
+    /* The workspace is reusable: a second, small fit after the scattered one. */
+    CHECK_OK(texopt_bake_fit(ws, 1, pos, ref, 1, 8, 8, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 1e-9,
+                             out, err, sizeof err),
+             err);
+    CHECK_NEAR(out[0], ref[0], 1e-6);
+    texopt_bake_workspace_destroy(ws);
+}
+
+TEST(bake_rejects_bad_arguments_with_messages)
+{
+    texopt_bake_workspace *ws = texopt_bake_workspace_create(4, 3);
+    double pos[2] = {0.5, 0.5};
+    float ref[3] = {0}, out[3];
+    char err[256] = "";
+    CHECK(texopt_bake_fit(ws, 5, pos, ref, 1, 4, 4, 0, 0, 1e-6, out, err, sizeof err) ==
+          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "5 pixels") != NULL);
+    CHECK(texopt_bake_fit(ws, 1, pos, ref, 4, 4, 4, 0, 0, 1e-6, out, err, sizeof err) ==
+          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_bake_fit(ws, 1, pos, ref, 1, 4, 4, 0, 0, 0.0, out, err, sizeof err) ==
+          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_bake_fit(ws, 1, pos, ref, 1, 0, 4, 0, 0, 1e-6, out, err, sizeof err) ==
+          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_bake_fit(ws, 1, NULL, ref, 1, 4, 4, 0, 0, 1e-6, out, err, sizeof err) ==
+          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_bake_fit(NULL, 1, pos, ref, 1, 4, 4, 0, 0, 1e-6, out, err, sizeof err) ==
+          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_bake_fit(ws, 0, pos, ref, 1, 4, 4, 0, 0, 1e-6, out, NULL, 0) == TEXOPT_OK);
+    CHECK(texopt_bake_workspace_create(0, 1) == NULL);
+    CHECK(texopt_bake_workspace_create(4, 5) == NULL);
+    texopt_bake_workspace_destroy(ws);
+    texopt_bake_workspace_destroy(NULL);
+}
