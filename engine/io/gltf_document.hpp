@@ -1,0 +1,20 @@
+/* gltf_document.hpp - the parsed glTF a texopt_model keeps so that saving can write the same
+ * document back (model->document). Internal to engine/io.
+ *
+ * Holds the tinygltf model as loaded, with every image's original encoded bytes in
+ * Image::image (as_is), and the MIME type found by sniffing those bytes. Does not hold
+ * decoded pixels (those are in texopt_model.images). */
+#ifndef TEXOPT_GLTF_DOCUMENT_HPP
+#define TEXOPT_GLTF_DOCUMENT_HPP
+
+#include <string>
+#include <vector>
+
+#include <tiny_gltf.h>
+
+struct texopt_gltf_document {
+    tinygltf::Model gltf;
+    std::vector<std::string> image_mime; /* per image: "image/png", "image/jpeg", ... */
+};
+
+#endif

@@ -1,0 +1,922 @@
+/* gltf_load.cpp - texopt_model_load / texopt_model_load_memory (see gltf_io.h).
+ *
+ * Order of work, each step refusing with a message that names the element:
+ *   1. tinygltf parses the JSON / GLB container. Its file-system callbacks are ours: only
+ *      files inside the model's directory are read (no "..", no absolute paths, no URI
+ *      schemes, symlinks resolved), each under the size limit; nothing is ever fetched.
+ *      Its image callback only keeps the encoded bytes (after checking the buffer view
+ *      range, which tinygltf does not), so no image is decoded by stb.
+ *   2. Every buffer view and accessor is checked against the real buffer sizes.
+ *   3. Triangle primitives are flattened into texopt_model (world-space positions).
+ *   4. Image headers are probed, the total pixel count checked, then images decoded.
+ *   5. Texture domains are built; a model without any is unsupported.
+ * The format is the Khronos glTF 2.0 specification; the data feeds Sun et al. 2022. */
+#include "gltf_io.h"
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <new>
+#include <string>
+#include <vector>
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "gltf_access.hpp"
+#include "gltf_document.hpp"
+#include "image_io.h"
+
+namespace {
+
+const uint64_t DEFAULT_MAX_FILE_BYTES = 1ull << 30;
+const uint64_t DEFAULT_MAX_TOTAL_PIXELS = 1ull << 28;
+
+struct load_limits {
+    uint64_t max_file_bytes;
+    uint64_t max_total_pixels;
+    bool skip_images;
+};
+
+load_limits limits_from(const texopt_load_options *opt)
+{
+    load_limits l;
+    l.max_file_bytes = opt && opt->max_file_bytes ? opt->max_file_bytes : DEFAULT_MAX_FILE_BYTES;
+    l.max_total_pixels = opt && opt->max_total_pixels ? opt->max_total_pixels : DEFAULT_MAX_TOTAL_PIXELS;
+    l.skip_images = opt && opt->skip_images;
+    return l;
+}
+
+/* What tinygltf's callbacks found wrong; tinygltf treats a missing image as a warning, so
+ * the first refusal is kept here and wins over whatever tinygltf reports. */
+struct load_context {
+    std::string base_dir; /* absolute, no trailing slash; empty: no external files at all */
+    uint64_t max_file_bytes = 0;
+    tinygltf::Model *model = nullptr;
+    texopt_status status = TEXOPT_OK;
+    std::string message;
+
+    void refuse(texopt_status st, const std::string &msg)
+    {
+        if (status == TEXOPT_OK) {
+            status = st;
+            message = msg;
+        }
+    }
+};
+
+int hex_value(char c)
+{
+    if (c >= '0' && c <= '9')
+        return c - '0';
+    if (c >= 'a' && c <= 'f')
+        return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F')
+        return c - 'A' + 10;
+    return -1;
+}
+
+/* URIs are percent-encoded (glTF 2.0 section 3.2); "my%20tex.png" names "my tex.png". */
+bool percent_decode(const std::string &in, std::string *out)
+{
+    out->clear();
+    for (size_t i = 0; i < in.size(); i++) {
+        if (in[i] == '%') {
+            if (i + 2 >= in.size())
+                return false;
+            int hi = hex_value(in[i + 1]), lo = hex_value(in[i + 2]);
+            if (hi < 0 || lo < 0)
+                return false;
+            char c = (char)(hi * 16 + lo);
+            if (c == '\0')
+                return false;
+            out->push_back(c);
+            i += 2;
+        } else {
+            out->push_back(in[i]);
+        }
+    }
+    return true;
+}
+
+bool has_scheme(const std::string &uri)
+{
+    size_t colon = uri.find(':');
+    if (colon == std::string::npos || colon == 0)
+        return false;
+    for (size_t i = 0; i < colon; i++) {
+        char c = uri[i];
+        bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+                  (i > 0 && ((c >= '0' && c <= '9') || c == '+' || c == '-' || c == '.'));
+        if (!ok)
+            return false;
+    }
+    return true;
+}
+
+bool has_parent_component(const std::string &rel)
+{
+    size_t start = 0;
+    while (start <= rel.size()) {
+        size_t end = rel.find('/', start);
+        if (end == std::string::npos)
+            end = rel.size();
+        if (rel.compare(start, end - start, "..") == 0)
+            return true;
+        start = end + 1;
+    }
+    return false;
+}
+
+/* Maps the path tinygltf built (search directory + "/" + URI) to a real file inside the
+ * model's directory, or records why it may not be read. tinygltf also tries "./URI" after
+ * the base directory; that second candidate is silently not found. */
+bool resolve_inside(load_context *ctx, const std::string &joined, std::string *real_out)
+{
+    std::string prefix = ctx->base_dir + "/";
+    if (ctx->base_dir.empty() || joined.compare(0, prefix.size(), prefix) != 0) {
+        if (ctx->base_dir.empty()) {
+            std::string uri = joined.compare(0, 2, "./") == 0 ? joined.substr(2) : joined;
+            ctx->refuse(TEXOPT_E_MALFORMED, "external URI \"" + uri +
+                        "\" cannot be resolved: the model was given without a directory");
+        }
+        return false;
+    }
+    std::string uri = joined.substr(prefix.size());
+    std::string rel;
+    if (uri.compare(0, 5, "http:") == 0 || uri.compare(0, 6, "https:") == 0 || uri.compare(0, 4, "ftp:") == 0 ||
+        uri.compare(0, 2, "//") == 0) {
+        ctx->refuse(TEXOPT_E_MALFORMED, "URI \"" + uri + "\" points to the network; texopt never fetches it");
+        return false;
+    }
+    if (has_scheme(uri)) {
+        ctx->refuse(TEXOPT_E_MALFORMED, "URI \"" + uri + "\" has a scheme; only relative file names are read");
+        return false;
+    }
+    if (uri.empty() || uri[0] == '/' || !percent_decode(uri, &rel) || rel.empty() || rel[0] == '/' ||
+        rel.find('\\') != std::string::npos || has_parent_component(rel)) {
+        ctx->refuse(TEXOPT_E_MALFORMED, "URI \"" + uri + "\" leaves the model's directory");
+        return false;
+    }
+    std::string candidate = prefix + rel;
+    char *real = realpath(candidate.c_str(), nullptr);
+    if (!real)
+        return false; /* not found: tinygltf reports it, or we do for images */
+    std::string resolved(real);
+    free(real);
+    if (resolved.compare(0, prefix.size(), prefix) != 0) {
+        ctx->refuse(TEXOPT_E_MALFORMED, "URI \"" + uri + "\" resolves (through a link) outside the model's directory");
+        return false;
+    }
+    *real_out = resolved;
+    return true;
+}
+
+bool fs_file_exists(const std::string &path, void *user)
+{
+    std::string real;
+    if (!resolve_inside(static_cast<load_context *>(user), path, &real))
+        return false;
+    struct stat sb;
+    return stat(real.c_str(), &sb) == 0 && S_ISREG(sb.st_mode);
+}
+
+std::string fs_expand_path(const std::string &path, void *)
+{
+    return path; /* tinygltf's default runs wordexp() on file names: never */
+}
+
+/* Reads a whole regular file if it is at most max_bytes long. */
+texopt_status read_file_limited(const std::string &path, uint64_t max_bytes, std::vector<unsigned char> *out,
+                                std::string *why)
+{
+    FILE *f = fopen(path.c_str(), "rb");
+    if (!f) {
+        *why = "cannot open " + path + ": " + strerror(errno);
+        return TEXOPT_E_IO;
+    }
+    struct stat sb;
+    if (fstat(fileno(f), &sb) != 0 || !S_ISREG(sb.st_mode)) {
+        fclose(f);
+        *why = path + " is not a regular file";
+        return TEXOPT_E_IO;
+    }
+    if ((uint64_t)sb.st_size > max_bytes) {
+        fclose(f);
+        *why = path + " has " + std::to_string((long long)sb.st_size) + " bytes, more than the limit of " +
+               std::to_string((unsigned long long)max_bytes);
+        return TEXOPT_E_LIMIT;
+    }
+    try {
+        out->resize((size_t)sb.st_size);
+    } catch (const std::bad_alloc &) {
+        fclose(f);
+        *why = "no memory to read " + path;
+        return TEXOPT_E_NOMEM;
+    }
+    size_t got = out->empty() ? 0 : fread(out->data(), 1, out->size(), f);
+    fclose(f);
+    if (got != out->size()) {
+        *why = "cannot read " + path;
+        return TEXOPT_E_IO;
+    }
+    return TEXOPT_OK;
+}
+
+bool fs_read_whole_file(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *user)
+{
+    load_context *ctx = static_cast<load_context *>(user);
+    std::string real, why;
+    if (!resolve_inside(ctx, path, &real))
+        return false;
+    texopt_status st = read_file_limited(real, ctx->max_file_bytes, out, &why);
+    if (st != TEXOPT_OK) {
+        ctx->refuse(st, why);
+        if (err)
+            *err += why;
+        return false;
+    }
+    return true;
+}
+
+bool fs_write_whole_file(std::string *err, const std::string &, const std::vector<unsigned char> &, void *)
+{
+    if (err)
+        *err += "texopt never writes through tinygltf";
+    return false;
+}
+
+/* Keeps the encoded bytes; decoding happens later, after the pixel budget is checked. */
+bool keep_image_bytes(tinygltf::Image *image, const int index, std::string *err, std::string *, int, int,
+                      const unsigned char *bytes, int size, void *user)
+{
+    load_context *ctx = static_cast<load_context *>(user);
+    if (image->bufferView >= 0) {
+        char msg[256];
+        if (gltf_check_buffer_view(*ctx->model, image->bufferView, msg, sizeof msg) != TEXOPT_OK) {
+            ctx->refuse(TEXOPT_E_MALFORMED, "image " + std::to_string(index) + ": " + msg);
+            if (err)
+                *err += msg;
+            return false;
+        }
+    }
+    if (size <= 0 || !bytes) {
+        ctx->refuse(TEXOPT_E_MALFORMED, "image " + std::to_string(index) + " has no data");
+        return false;
+    }
+    image->image.assign(bytes, bytes + size);
+    image->as_is = true;
+    return true;
+}
+
+std::string first_line(const std::string &s)
+{
+    size_t nl = s.find('\n');
+    return nl == std::string::npos ? s : s.substr(0, nl);
+}
+
+texopt_status parse_document(tinygltf::Model *gltf, const unsigned char *bytes, size_t len,
+                             const std::string &base_dir, const load_limits &lim, char *err, size_t err_len)
+{
+    if (len > lim.max_file_bytes)
+        return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "model has %zu bytes, more than the limit of %llu",
+                           len, (unsigned long long)lim.max_file_bytes);
+    if (len < 2)
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "file is empty or truncated (%zu bytes)", len);
+    if (len > UINT_MAX)
+        return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "model of %zu bytes is too large to parse", len);
+    load_context ctx;
+    ctx.base_dir = base_dir;
+    ctx.max_file_bytes = lim.max_file_bytes;
+    ctx.model = gltf;
+    tinygltf::TinyGLTF loader;
+    tinygltf::FsCallbacks fs = {&fs_file_exists, &fs_expand_path, &fs_read_whole_file, &fs_write_whole_file, &ctx};
+    loader.SetFsCallbacks(fs);
+    loader.SetImageLoader(&keep_image_bytes, &ctx);
+    std::string terr, twarn;
+    bool binary = len >= 4 && memcmp(bytes, "glTF", 4) == 0;
+    bool ok;
+    try {
+        ok = binary ? loader.LoadBinaryFromMemory(gltf, &terr, &twarn, bytes, (unsigned int)len, base_dir)
+                    : loader.LoadASCIIFromString(gltf, &terr, &twarn, reinterpret_cast<const char *>(bytes),
+                                                 (unsigned int)len, base_dir);
+    } catch (const std::bad_alloc &) {
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory to parse the model");
+    } catch (const std::exception &e) {
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "cannot parse the model: %s", e.what());
+    }
+    if (ctx.status != TEXOPT_OK)
+        return texopt_fail(err, err_len, ctx.status, "%s", ctx.message.c_str());
+    if (!ok)
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "not a valid %s file: %s", binary ? "glb" : "glTF",
+                           terr.empty() ? "parse error" : first_line(terr).c_str());
+    return TEXOPT_OK;
+}
+
+/* ---- structure checks ------------------------------------------------------------------ */
+
+texopt_status check_required_extensions(const tinygltf::Model &g, char *err, size_t err_len)
+{
+    static const char *const unsupported[] = {"KHR_draco_mesh_compression", "EXT_meshopt_compression",
+                                              "KHR_meshopt_compression"};
+    for (const std::string &ext : g.extensionsRequired)
+        for (const char *u : unsupported)
+            if (ext == u)
+                return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                                   "extension %s (compressed geometry) is not supported", u);
+    return TEXOPT_OK;
+}
+
+texopt_status check_all_views_and_accessors(const tinygltf::Model &g, char *err, size_t err_len)
+{
+    for (size_t i = 0; i < g.bufferViews.size(); i++) {
+        texopt_status st = gltf_check_buffer_view(g, (int)i, err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
+    }
+    for (size_t i = 0; i < g.accessors.size(); i++) {
+        texopt_status st = gltf_check_accessor(g, (int)i, err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
+    }
+    return TEXOPT_OK;
+}
+
+/* ---- node transforms ------------------------------------------------------------------- */
+
+typedef std::array<double, 16> mat4; /* column-major, as glTF */
+
+mat4 identity()
+{
+    mat4 m{};
+    m[0] = m[5] = m[10] = m[15] = 1.0;
+    return m;
+}
+
+mat4 multiply(const mat4 &a, const mat4 &b)
+{
+    mat4 r{};
+    for (int c = 0; c < 4; c++)
+        for (int row = 0; row < 4; row++) {
+            double s = 0;
+            for (int k = 0; k < 4; k++)
+                s += a[k * 4 + row] * b[c * 4 + k];
+            r[c * 4 + row] = s;
+        }
+    return r;
+}
+
+/* T * R * S, or the node's matrix. */
+mat4 local_transform(const tinygltf::Node &n)
+{
+    if (n.matrix.size() == 16) {
+        mat4 m;
+        for (int i = 0; i < 16; i++)
+            m[i] = n.matrix[(size_t)i];
+        return m;
+    }
+    double t[3] = {0, 0, 0}, s[3] = {1, 1, 1}, q[4] = {0, 0, 0, 1};
+    if (n.translation.size() == 3)
+        for (int i = 0; i < 3; i++)
+            t[i] = n.translation[(size_t)i];
+    if (n.scale.size() == 3)
+        for (int i = 0; i < 3; i++)
+            s[i] = n.scale[(size_t)i];
+    if (n.rotation.size() == 4)
+        for (int i = 0; i < 4; i++)
+            q[i] = n.rotation[(size_t)i];
+    double x = q[0], y = q[1], z = q[2], w = q[3];
+    double r[9] = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),
+                   2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),
+                   2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y)};
+    mat4 m{};
+    for (int c = 0; c < 3; c++)
+        for (int row = 0; row < 3; row++)
+            m[c * 4 + row] = r[c * 3 + row] * s[c];
+    m[12] = t[0];
+    m[13] = t[1];
+    m[14] = t[2];
+    m[15] = 1.0;
+    return m;
+}
+
+/* World matrices of all nodes; refuses children out of range, two parents, cycles. */
+texopt_status world_transforms(const tinygltf::Model &g, std::vector<mat4> *world, char *err, size_t err_len)
+{
+    size_t n = g.nodes.size();
+    std::vector<int> parent(n, -1);
+    for (size_t i = 0; i < n; i++)
+        for (int c : g.nodes[i].children) {
+            if (c < 0 || (size_t)c >= n)
+                return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "node %zu: child %d does not exist", i, c);
+            if (parent[(size_t)c] >= 0 || (size_t)c == i)
+                return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "node %d has more than one parent", c);
+            parent[(size_t)c] = (int)i;
+        }
+    world->assign(n, identity());
+    std::vector<char> done(n, 0);
+    for (size_t i = 0; i < n; i++) {
+        /* Walk up to a computed ancestor (or a root), then down again; a walk longer than
+         * the node count means a cycle. */
+        std::vector<size_t> chain;
+        size_t cur = i;
+        while (!done[cur]) {
+            chain.push_back(cur);
+            if (chain.size() > n)
+                return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "node %zu is part of a cycle", i);
+            if (parent[cur] < 0)
+                break;
+            cur = (size_t)parent[cur];
+        }
+        for (size_t k = chain.size(); k-- > 0;) {
+            size_t node = chain[k];
+            mat4 local = local_transform(g.nodes[node]);
+            (*world)[node] = parent[node] >= 0 ? multiply((*world)[(size_t)parent[node]], local) : local;
+            done[node] = 1;
+        }
+    }
+    return TEXOPT_OK;
+}
+
+double determinant3(const mat4 &m)
+{
+    return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) +
+           m[8] * (m[1] * m[6] - m[5] * m[2]);
+}
+
+/* ---- materials ------------------------------------------------------------------------- */
+
+texopt_wrap wrap_from_gl(int gl)
+{
+    switch (gl) {
+    case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return TEXOPT_WRAP_CLAMP;
+    case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return TEXOPT_WRAP_MIRROR;
+    default: return TEXOPT_WRAP_REPEAT;
+    }
+}
+
+/* The image a texture shows: its source, or the source of an image-format extension. */
+int texture_source(const tinygltf::Texture &t)
+{
+    if (t.source >= 0)
+        return t.source;
+    for (const char *ext : {"EXT_texture_webp", "KHR_texture_basisu", "MSFT_texture_dds"}) {
+        auto it = t.extensions.find(ext);
+        if (it != t.extensions.end() && it->second.IsObject() && it->second.Has("source") &&
+            it->second.Get("source").IsInt())
+            return it->second.Get("source").GetNumberAsInt();
+    }
+    return -1;
+}
+
+texopt_status bind_texture(const tinygltf::Model &g, int material, const char *slot_name, int texture,
+                           int texcoord, texopt_texture_ref *ref, char *err, size_t err_len)
+{
+    ref->image = -1;
+    ref->texcoord = 0;
+    ref->wrap_s = ref->wrap_t = TEXOPT_WRAP_REPEAT;
+    if (texture < 0)
+        return TEXOPT_OK;
+    if ((size_t)texture >= g.textures.size())
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "material %d: %s names texture %d of %zu",
+                           material, slot_name, texture, g.textures.size());
+    const tinygltf::Texture &t = g.textures[(size_t)texture];
+    int image = texture_source(t);
+    if (image < 0 || (size_t)image >= g.images.size())
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "texture %d (used by material %d %s): image %d does not exist",
+                           texture, material, slot_name, image);
+    if (t.sampler >= 0) {
+        if ((size_t)t.sampler >= g.samplers.size())
+            return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "texture %d: sampler %d does not exist", texture, t.sampler);
+        ref->wrap_s = wrap_from_gl(g.samplers[(size_t)t.sampler].wrapS);
+        ref->wrap_t = wrap_from_gl(g.samplers[(size_t)t.sampler].wrapT);
+    }
+    if (texcoord < 0)
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "material %d: %s has texCoord %d", material, slot_name, texcoord);
+    ref->image = image;
+    ref->texcoord = texcoord;
+    return TEXOPT_OK;
+}
+
+texopt_status convert_materials(const tinygltf::Model &g, texopt_model *model, char *err, size_t err_len)
+{
+    size_t n = g.materials.size();
+    model->materials = static_cast<texopt_material *>(calloc(n ? n : 1, sizeof(texopt_material)));
+    if (!model->materials)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for %zu materials", n);
+    model->material_count = (int)n;
+    for (size_t i = 0; i < n; i++) {
+        const tinygltf::Material &m = g.materials[i];
+        texopt_material *out = &model->materials[i];
+        struct {
+            texopt_slot slot;
+            const char *name;
+            int index, texcoord;
+        } slots[] = {
+            {TEXOPT_SLOT_BASE_COLOR, "baseColorTexture", m.pbrMetallicRoughness.baseColorTexture.index,
+             m.pbrMetallicRoughness.baseColorTexture.texCoord},
+            {TEXOPT_SLOT_NORMAL, "normalTexture", m.normalTexture.index, m.normalTexture.texCoord},
+            {TEXOPT_SLOT_METALLIC_ROUGHNESS, "metallicRoughnessTexture",
+             m.pbrMetallicRoughness.metallicRoughnessTexture.index, m.pbrMetallicRoughness.metallicRoughnessTexture.texCoord},
+            {TEXOPT_SLOT_OCCLUSION, "occlusionTexture", m.occlusionTexture.index, m.occlusionTexture.texCoord},
+            {TEXOPT_SLOT_EMISSIVE, "emissiveTexture", m.emissiveTexture.index, m.emissiveTexture.texCoord},
+        };
+        for (const auto &s : slots) {
+            texopt_status st = bind_texture(g, (int)i, s.name, s.index, s.texcoord, &out->slot[s.slot], err, err_len);
+            if (st != TEXOPT_OK)
+                return st;
+        }
+    }
+    return TEXOPT_OK;
+}
+
+bool material_uses_texcoord0(const texopt_model *model, int material)
+{
+    if (material < 0 || material >= model->material_count)
+        return false;
+    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++) {
+        const texopt_texture_ref &r = model->materials[material].slot[s];
+        if (r.image >= 0 && r.texcoord == 0)
+            return true;
+    }
+    return false;
+}
+
+bool material_is_textured(const texopt_model *model, int material)
+{
+    if (material < 0 || material >= model->material_count)
+        return false;
+    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++)
+        if (model->materials[material].slot[s].image >= 0)
+            return true;
+    return false;
+}
+
+/* ---- geometry -------------------------------------------------------------------------- */
+
+struct flat_geometry {
+    std::vector<float> positions, uvs;
+    std::vector<uint32_t> triangles;
+    std::vector<texopt_primitive> primitives;
+    bool any_uvs = false;
+};
+
+int attribute(const tinygltf::Primitive &p, const char *name)
+{
+    auto it = p.attributes.find(name);
+    return it == p.attributes.end() ? -1 : it->second;
+}
+
+texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model, int mesh, int prim_index,
+                            const mat4 *world, flat_geometry *geo, char *err, size_t err_len)
+{
+    const tinygltf::Primitive &p = g.meshes[(size_t)mesh].primitives[(size_t)prim_index];
+    char what[96];
+    if (p.material >= 0 && (size_t)p.material >= g.materials.size())
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "mesh %d primitive %d: material %d does not exist",
+                           mesh, prim_index, p.material);
+    bool textured = material_is_textured(model, p.material);
+    int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
+    if (mode != TINYGLTF_MODE_TRIANGLES) {
+        if (textured)
+            return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                               "mesh %d primitive %d: textured primitive has mode %d; only TRIANGLES (4) is supported",
+                               mesh, prim_index, mode);
+        return TEXOPT_OK; /* untextured points, lines, strips: nothing to optimise */
+    }
+    int pos_acc = attribute(p, "POSITION");
+    int uv_acc = attribute(p, "TEXCOORD_0");
+    if (pos_acc < 0)
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "mesh %d primitive %d has no POSITION", mesh, prim_index);
+    if (uv_acc < 0 && material_uses_texcoord0(model, p.material))
+        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                           "mesh %d primitive %d: material %d is textured but the primitive has no TEXCOORD_0",
+                           mesh, prim_index, p.material);
+    std::vector<float> pos, uv;
+    snprintf(what, sizeof what, "mesh %d primitive %d POSITION", mesh, prim_index);
+    texopt_status st = gltf_read_floats(g, pos_acc, TINYGLTF_TYPE_VEC3, what, &pos, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    size_t nv = pos.size() / 3;
+    if (uv_acc >= 0) {
+        snprintf(what, sizeof what, "mesh %d primitive %d TEXCOORD_0", mesh, prim_index);
+        st = gltf_read_floats(g, uv_acc, TINYGLTF_TYPE_VEC2, what, &uv, err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
+        if (uv.size() / 2 != nv)
+            return texopt_fail(err, err_len, TEXOPT_E_MALFORMED,
+                               "mesh %d primitive %d: TEXCOORD_0 has %zu elements but POSITION has %zu",
+                               mesh, prim_index, uv.size() / 2, nv);
+        geo->any_uvs = true;
+    } else {
+        uv.assign(nv * 2, 0.0f);
+    }
+    std::vector<uint32_t> idx;
+    if (p.indices >= 0) {
+        snprintf(what, sizeof what, "mesh %d primitive %d indices", mesh, prim_index);
+        st = gltf_read_indices(g, p.indices, what, &idx, err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
+        for (size_t i = 0; i < idx.size(); i++)
+            if (idx[i] >= nv)
+                return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "accessor %d: index %u past vertex count %zu",
+                                   p.indices, idx[i], nv);
+    } else {
+        idx.resize(nv);
+        for (size_t i = 0; i < nv; i++)
+            idx[i] = (uint32_t)i;
+    }
+    if (idx.size() % 3 != 0)
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "mesh %d primitive %d: %zu indices do not make whole triangles",
+                           mesh, prim_index, idx.size());
+    size_t first_vertex = geo->positions.size() / 3;
+    if (first_vertex + nv > UINT32_MAX)
+        return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "model has more than 2^32 vertices");
+    bool flip = false;
+    if (world) {
+        const mat4 &m = *world;
+        for (size_t v = 0; v < nv; v++) {
+            double x = pos[v * 3], y = pos[v * 3 + 1], z = pos[v * 3 + 2];
+            for (int r = 0; r < 3; r++) {
+                double w = m[r] * x + m[4 + r] * y + m[8 + r] * z + m[12 + r];
+                if (!std::isfinite((float)w))
+                    return texopt_fail(err, err_len, TEXOPT_E_MALFORMED,
+                                       "mesh %d: its node transform makes positions non-finite", mesh);
+                pos[v * 3 + (size_t)r] = (float)w;
+            }
+        }
+        /* A mirroring transform reverses the winding (glTF 2.0, section 3.7.4). */
+        flip = determinant3(m) < 0;
+    }
+    texopt_primitive tp;
+    memset(&tp, 0, sizeof tp);
+    tp.gltf_mesh = mesh;
+    tp.gltf_primitive = prim_index;
+    tp.material = p.material;
+    tp.domain = -1;
+    tp.first_vertex = first_vertex;
+    tp.vertex_count = nv;
+    tp.first_triangle = geo->triangles.size() / 3;
+    tp.triangle_count = idx.size() / 3;
+    geo->positions.insert(geo->positions.end(), pos.begin(), pos.end());
+    geo->uvs.insert(geo->uvs.end(), uv.begin(), uv.end());
+    for (size_t t = 0; t < idx.size(); t += 3) {
+        uint32_t a = idx[t], b = idx[t + 1], c = idx[t + 2];
+        if (flip)
+            std::swap(b, c);
+        geo->triangles.push_back((uint32_t)first_vertex + a);
+        geo->triangles.push_back((uint32_t)first_vertex + b);
+        geo->triangles.push_back((uint32_t)first_vertex + c);
+    }
+    geo->primitives.push_back(tp);
+    return TEXOPT_OK;
+}
+
+/* The node whose transform places each mesh: the first in node order; NULL for skinned
+ * meshes (bind pose) and for meshes no node uses. */
+texopt_status mesh_placements(const tinygltf::Model &g, const std::vector<mat4> &world,
+                              std::vector<const mat4 *> *placement, char *err, size_t err_len)
+{
+    placement->assign(g.meshes.size(), nullptr);
+    std::vector<char> seen(g.meshes.size(), 0);
+    for (size_t i = 0; i < g.nodes.size(); i++) {
+        int mesh = g.nodes[i].mesh;
+        if (mesh < 0)
+            continue;
+        if ((size_t)mesh >= g.meshes.size())
+            return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "node %zu: mesh %d does not exist", i, mesh);
+        if (seen[(size_t)mesh])
+            continue;
+        seen[(size_t)mesh] = 1;
+        if (g.nodes[i].skin < 0)
+            (*placement)[(size_t)mesh] = &world[i];
+    }
+    return TEXOPT_OK;
+}
+
+template <typename T> T *copy_out(const std::vector<T> &v)
+{
+    T *p = static_cast<T *>(malloc(v.empty() ? 1 : v.size() * sizeof(T)));
+    if (p && !v.empty())
+        memcpy(p, v.data(), v.size() * sizeof(T));
+    return p;
+}
+
+texopt_status convert_geometry(const tinygltf::Model &g, texopt_model *model, char *err, size_t err_len)
+{
+    std::vector<mat4> world;
+    texopt_status st = world_transforms(g, &world, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    std::vector<const mat4 *> placement;
+    st = mesh_placements(g, world, &placement, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    flat_geometry geo;
+    for (size_t m = 0; m < g.meshes.size(); m++)
+        for (size_t p = 0; p < g.meshes[m].primitives.size(); p++) {
+            st = add_primitive(g, model, (int)m, (int)p, placement[m], &geo, err, err_len);
+            if (st != TEXOPT_OK)
+                return st;
+        }
+    if (geo.primitives.size() > INT_MAX)
+        return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "too many primitives");
+    model->vertex_count = geo.positions.size() / 3;
+    model->triangle_count = geo.triangles.size() / 3;
+    model->primitive_count = (int)geo.primitives.size();
+    model->positions = copy_out(geo.positions);
+    model->uvs = geo.any_uvs ? copy_out(geo.uvs) : nullptr;
+    model->triangles = copy_out(geo.triangles);
+    model->primitives = copy_out(geo.primitives);
+    if (!model->positions || (geo.any_uvs && !model->uvs) || !model->triangles || !model->primitives)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for %zu vertices", model->vertex_count);
+    return TEXOPT_OK;
+}
+
+/* ---- images ---------------------------------------------------------------------------- */
+
+std::string sniff_mime(const std::vector<unsigned char> &b, const std::string &declared)
+{
+    if (b.size() >= 8 && memcmp(b.data(), "\x89PNG\r\n\x1a\n", 8) == 0)
+        return "image/png";
+    if (b.size() >= 3 && b[0] == 0xFF && b[1] == 0xD8 && b[2] == 0xFF)
+        return "image/jpeg";
+    if (b.size() >= 12 && memcmp(b.data(), "RIFF", 4) == 0 && memcmp(b.data() + 8, "WEBP", 4) == 0)
+        return "image/webp";
+    if (b.size() >= 12 && memcmp(b.data(), "\xABKTX 20\xBB\r\n\x1A\n", 12) == 0)
+        return "image/ktx2";
+    return declared;
+}
+
+std::string image_label(const tinygltf::Image &im, size_t i)
+{
+    if (!im.uri.empty() && im.uri.compare(0, 5, "data:") != 0)
+        return im.uri;
+    if (!im.name.empty())
+        return im.name;
+    return "image " + std::to_string(i);
+}
+
+texopt_status convert_images(texopt_gltf_document *doc, texopt_model *model, const load_limits &lim,
+                             char *err, size_t err_len)
+{
+    const tinygltf::Model &g = doc->gltf;
+    size_t n = g.images.size();
+    model->images = static_cast<texopt_image *>(calloc(n ? n : 1, sizeof(texopt_image)));
+    model->image_names = static_cast<char **>(calloc(n ? n : 1, sizeof(char *)));
+    if (!model->images || !model->image_names)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for %zu images", n);
+    model->image_count = (int)n;
+    doc->image_mime.assign(n, std::string());
+    std::vector<texopt_image_info> info(n);
+    uint64_t total = 0;
+    for (size_t i = 0; i < n; i++) {
+        const tinygltf::Image &im = g.images[i];
+        std::string label = image_label(im, i);
+        model->image_names[i] = strdup(label.c_str());
+        if (!model->image_names[i])
+            return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for image names");
+        if (im.image.empty())
+            return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "image %zu (%s): file not found or empty",
+                               i, label.c_str());
+        doc->image_mime[i] = sniff_mime(im.image, im.mimeType);
+        char name[300];
+        snprintf(name, sizeof name, "image %zu (%s)", i, label.c_str());
+        texopt_status st = texopt_image_probe_memory(&info[i], im.image.data(), im.image.size(), name, err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
+        total += (uint64_t)info[i].width * (uint64_t)info[i].height;
+        if (total > lim.max_total_pixels)
+            return texopt_fail(err, err_len, TEXOPT_E_LIMIT,
+                               "image %zu (%s, %dx%d) brings the total to %llu pixels, more than the limit of %llu",
+                               i, label.c_str(), info[i].width, info[i].height, (unsigned long long)total,
+                               (unsigned long long)lim.max_total_pixels);
+    }
+    for (size_t i = 0; i < n; i++) {
+        texopt_image *img = &model->images[i];
+        if (lim.skip_images) {
+            img->width = info[i].width;
+            img->height = info[i].height;
+            img->channels = info[i].channels;
+            continue;
+        }
+        char name[300];
+        snprintf(name, sizeof name, "image %zu (%s)", i, model->image_names[i]);
+        const std::vector<unsigned char> &b = g.images[i].image;
+        texopt_status st = texopt_image_decode_memory(img, b.data(), b.size(), lim.max_total_pixels, name, err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
+    }
+    return TEXOPT_OK;
+}
+
+void destroy_document(texopt_gltf_document *doc)
+{
+    delete doc;
+}
+
+texopt_status load_into(texopt_model *model, const unsigned char *bytes, size_t len, const std::string &base_dir,
+                        const load_limits &lim, char *err, size_t err_len)
+{
+    texopt_gltf_document *doc = new (std::nothrow) texopt_gltf_document;
+    if (!doc)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the document");
+    model->document = doc;
+    model->destroy_document = &destroy_document;
+    texopt_status st = parse_document(&doc->gltf, bytes, len, base_dir, lim, err, err_len);
+    if (st == TEXOPT_OK)
+        st = check_required_extensions(doc->gltf, err, err_len);
+    if (st == TEXOPT_OK)
+        st = check_all_views_and_accessors(doc->gltf, err, err_len);
+    if (st == TEXOPT_OK)
+        st = convert_materials(doc->gltf, model, err, err_len);
+    if (st == TEXOPT_OK)
+        st = convert_geometry(doc->gltf, model, err, err_len);
+    if (st == TEXOPT_OK)
+        st = convert_images(doc, model, lim, err, err_len);
+    if (st == TEXOPT_OK)
+        st = texopt_model_build_domains(model, err, err_len);
+    if (st == TEXOPT_OK && model->domain_count == 0)
+        st = texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                         "no triangle primitive has a material with a texture read through TEXCOORD_0");
+    return st;
+}
+
+texopt_status load_common(texopt_model **out, const unsigned char *bytes, size_t len, const std::string &base_dir,
+                          const texopt_load_options *opt, char *err, size_t err_len)
+{
+    texopt_model *model = static_cast<texopt_model *>(calloc(1, sizeof(texopt_model)));
+    if (!model)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a model");
+    texopt_status st;
+    try {
+        st = load_into(model, bytes, len, base_dir, limits_from(opt), err, err_len);
+    } catch (const std::bad_alloc &) {
+        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "out of memory while loading the model");
+    } catch (const std::exception &e) {
+        st = texopt_fail(err, err_len, TEXOPT_E_INTERNAL, "unexpected error while loading: %s", e.what());
+    }
+    if (st != TEXOPT_OK) {
+        texopt_model_destroy(model);
+        return st;
+    }
+    *out = model;
+    return TEXOPT_OK;
+}
+
+std::string absolute_directory(const char *dir)
+{
+    char *real = realpath(dir, nullptr);
+    if (!real)
+        return std::string();
+    std::string r(real);
+    free(real);
+    while (r.size() > 1 && r.back() == '/')
+        r.pop_back();
+    return r == "/" ? std::string() : r; /* a model at the root may not read the whole disk */
+}
+
+} // namespace
+
+extern "C" texopt_status texopt_model_load_memory(texopt_model **out, const void *bytes, size_t len,
+                                                  const char *base_dir, const texopt_load_options *opt,
+                                                  char *err, size_t err_len)
+{
+    if (!out)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "no place for the model");
+    *out = nullptr;
+    if (!bytes && len > 0)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "no bytes to load");
+    std::string dir;
+    if (base_dir) {
+        dir = absolute_directory(base_dir);
+        if (dir.empty())
+            return texopt_fail(err, err_len, TEXOPT_E_IO, "base directory %s does not exist", base_dir);
+    }
+    return load_common(out, static_cast<const unsigned char *>(bytes), len, dir, opt, err, err_len);
+}
+
+extern "C" texopt_status texopt_model_load(texopt_model **out, const char *path, const texopt_load_options *opt,
+                                           char *err, size_t err_len)
+{
+    if (!out)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "no place for the model");
+    *out = nullptr;
+    if (!path || !*path)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "no model path");
+    std::vector<unsigned char> bytes;
+    std::string why;
+    texopt_status st = read_file_limited(path, limits_from(opt).max_file_bytes, &bytes, &why);
+    if (st != TEXOPT_OK)
+        return texopt_fail(err, err_len, st, "%s", why.c_str());
+    std::string p(path);
+    size_t slash = p.find_last_of('/');
+    std::string dir = absolute_directory(slash == std::string::npos ? "." : slash == 0 ? "/" : p.substr(0, slash).c_str());
+    return load_common(out, bytes.data(), bytes.size(), dir, opt, err, err_len);
+}
