@@ -1,0 +1,421 @@
+/* pipeline.c - one whole job: load, optimise every texture domain, re-bake, save, report.
+ *
+ * Implements engine/pipeline.h, the product of Sun et al. 2022, "Efficient Texture
+ * Parameterization Driven by Perceptual-Loss-on-Screen", end to end:
+ *   load (io/gltf_io) -> per texture domain: mesh -> layout by method -> budget + pack ->
+ *   re-bake every image of the domain -> save .glb (io/gltf_io) -> statistics JSON (stats.h).
+ * Methods:
+ *   "perceptual": stage 1 (triopt.h) + stage 2 (meshwise.h), then budget.h scales the layout
+ *     to the requested cost and packs the charts anew (pack.h).
+ *   "input": the input layout kept as it is (UVs untouched, seams, overlaps and wrapping
+ *     included) and each texture resampled with the prefilter of texture_filter.h to the
+ *     budget: a relative cost c_r scales both sides by sqrt(c_r) (rounded to whole texels),
+ *     a texture size is taken as given. This is the paper's "input parameterization"
+ *     baseline and a useful product on its own (a well-filtered downscale).
+ *   others (ssp, tewari, arap): refused with TEXOPT_E_UNSUPPORTED until their targets exist.
+ * Progress: every stage's own stage_fraction is mapped into a fixed share of the job (load,
+ * then per domain in proportion to its triangles (perceptual) or texels (input), then save);
+ * the ETA extrapolates the elapsed time over that fraction. Cancellation is checked between
+ * stages here and inside stages by the stages themselves.
+ * Does not: parse command lines or HTTP, print, or evaluate the whole-mesh loss. */
+#include "pipeline.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "gltf_io.h"
+#include "mesh.h"
+#include "model.h"
+#include "stats.h"
+#include "texture_filter.h"
+
+/* Shares of the job per stage, per method, in order: load, [per domain stages], save. */
+typedef struct stage_weights {
+    double load, stage1, stage2, pack, bake, save;
+} stage_weights;
+
+static const stage_weights input_weights = {0.15, 0, 0, 0, 0.70, 0.15};
+static const stage_weights perceptual_weights = {0.02, 0.78, 0.08, 0.03, 0.06, 0.03};
+
+/* Wraps the caller's monitor: inner stages report their own stage_fraction, this maps it
+ * into [from, to] of the job and adds the ETA. */
+typedef struct job_monitor {
+    const texopt_monitor *outer;
+    texopt_monitor inner;
+    double start;
+    double from, to;
+} job_monitor;
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void forward_progress(void *user, const texopt_progress *p)
+{
+    job_monitor *jm = user;
+    texopt_progress q = *p;
+    double sf = p->stage_fraction < 0 ? 0 : (p->stage_fraction > 1 ? 1 : p->stage_fraction);
+    q.fraction = jm->from + (jm->to - jm->from) * sf;
+    double elapsed = now_seconds() - jm->start;
+    q.eta_seconds = q.fraction > 0.01 ? elapsed * (1 - q.fraction) / q.fraction : -1;
+    texopt_monitor_report(jm->outer, &q);
+}
+
+static void job_monitor_init(job_monitor *jm, const texopt_monitor *outer)
+{
+    memset(jm, 0, sizeof *jm);
+    jm->outer = outer;
+    jm->start = now_seconds();
+    jm->inner.on_progress = forward_progress;
+    jm->inner.user = jm;
+    jm->inner.cancel = outer ? outer->cancel : NULL;
+}
+
+/* Sets the job range of the next stage and reports its start. */
+static void job_stage(job_monitor *jm, const char *stage, double from, double to)
+{
+    jm->from = from;
+    jm->to = to;
+    texopt_progress p = {.stage = stage, .stage_fraction = 0, .eta_seconds = -1};
+    forward_progress(jm, &p);
+}
+
+static void job_stage_done(job_monitor *jm, const char *stage)
+{
+    texopt_progress p = {.stage = stage, .stage_fraction = 1, .eta_seconds = -1};
+    forward_progress(jm, &p);
+}
+
+static texopt_status check_cancel(const job_monitor *jm, char *err, size_t err_len)
+{
+    if (texopt_monitor_canceled(&jm->inner))
+        return texopt_fail(err, err_len, TEXOPT_E_CANCELED, "job canceled");
+    return TEXOPT_OK;
+}
+
+static const char *slot_name(int slot)
+{
+    static const char *const names[TEXOPT_SLOT_COUNT] = {"baseColor", "normal", "metallicRoughness",
+                                                         "occlusion", "emissive"};
+    return slot >= 0 && slot < TEXOPT_SLOT_COUNT ? names[slot] : NULL;
+}
+
+/* The first material slot (through TEXCOORD_0) that reads image, or -1. */
+static int image_slot(const texopt_model *model, int image)
+{
+    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++)
+        for (int m = 0; m < model->material_count; m++) {
+            const texopt_texture_ref *r = &model->materials[m].slot[s];
+            if (r->image == image && r->texcoord == 0)
+                return s;
+        }
+    return -1;
+}
+
+/* Wrap modes the image is read with (of the first slot that binds it). */
+static void image_wrap(const texopt_model *model, int image, texopt_wrap *ws, texopt_wrap *wt)
+{
+    *ws = *wt = TEXOPT_WRAP_REPEAT;
+    for (int m = 0; m < model->material_count; m++)
+        for (int s = 0; s < TEXOPT_SLOT_COUNT; s++) {
+            const texopt_texture_ref *r = &model->materials[m].slot[s];
+            if (r->image == image && r->texcoord == 0) {
+                *ws = r->wrap_s;
+                *wt = r->wrap_t;
+                return;
+            }
+        }
+}
+
+static int scaled_side(int side, double factor)
+{
+    long v = lround(side * factor);
+    return v < 1 ? 1 : (v > 16384 ? 16384 : (int)v);
+}
+
+/* Everything one domain's processing produces for the save step. */
+typedef struct job_output {
+    texopt_image *images;        /* per model image; empty when kept */
+    const texopt_image **edit_images;
+    float *uvs;                  /* new TEXCOORD_0 of every model vertex, NULL when unchanged */
+} job_output;
+
+static void job_output_destroy(job_output *o, int image_count)
+{
+    if (o->images)
+        for (int i = 0; i < image_count; i++)
+            texopt_image_destroy(&o->images[i]);
+    free(o->images);
+    free(o->edit_images);
+    free(o->uvs);
+}
+
+static texopt_status record_images(const texopt_model *model, const texopt_domain *dom,
+                                   texopt_domain_stats *ds, char *err, size_t err_len)
+{
+    ds->images = calloc((size_t)(dom->image_count > 0 ? dom->image_count : 1), sizeof *ds->images);
+    if (!ds->images)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for image statistics");
+    ds->image_count = dom->image_count;
+    for (int i = 0; i < dom->image_count; i++) {
+        int im = dom->images[i];
+        texopt_image_stats *s = &ds->images[i];
+        s->image = im;
+        s->name = model->image_names ? model->image_names[im] : NULL;
+        s->slot = slot_name(image_slot(model, im));
+        s->input_width = model->images[im].width;
+        s->input_height = model->images[im].height;
+    }
+    return TEXOPT_OK;
+}
+
+/* Output size of one image of the domain: proportional to the domain frame's new size. */
+static void image_output_size(const texopt_image *img, const texopt_domain *dom, int out_w,
+                              int out_h, int *w, int *h)
+{
+    *w = scaled_side(img->width, (double)out_w / dom->width);
+    *h = scaled_side(img->height, (double)out_h / dom->height);
+}
+
+/* Method "input": same UVs, every image of the domain resampled to the budget. */
+static texopt_status run_input_method(const texopt_model *model, const texopt_mesh *mesh,
+                                      const texopt_params *params, job_output *out,
+                                      texopt_domain_stats *ds, job_monitor *jm, double from,
+                                      double to, char *err, size_t err_len)
+{
+    const texopt_domain *dom = &model->domains[mesh->domain];
+    int ow, oh;
+    if (params->budget == TEXOPT_BUDGET_TEXTURE_SIZE) {
+        ow = params->texture_width;
+        oh = params->texture_height;
+    } else {
+        double s = sqrt(params->relative_cost);
+        ow = scaled_side(dom->width, s);
+        oh = scaled_side(dom->height, s);
+    }
+    ds->output_width = ow;
+    ds->output_height = oh;
+    double t0 = now_seconds();
+    for (int i = 0; i < dom->image_count; i++) {
+        int im = dom->images[i];
+        const texopt_image *src = &model->images[im];
+        texopt_image_stats *is = &ds->images[i];
+        job_stage(jm, "bake", from + (to - from) * i / dom->image_count,
+                  from + (to - from) * (i + 1) / dom->image_count);
+        texopt_status st = check_cancel(jm, err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
+        int w, h;
+        image_output_size(src, dom, ow, oh, &w, &h);
+        is->output_width = w;
+        is->output_height = h;
+        if (w == src->width && h == src->height)
+            continue; /* the identity: keep the file's own bytes */
+        if (!src->pixels)
+            return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "image %d (%s) was not decoded", im,
+                               is->name ? is->name : "unnamed");
+        texopt_wrap ws, wt;
+        image_wrap(model, im, &ws, &wt);
+        st = texopt_image_create(&out->images[im], w, h, src->channels, err, err_len);
+        if (st == TEXOPT_OK)
+            st = texopt_texture_resize(src, ws, wt, &out->images[im], err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
+        out->edit_images[im] = &out->images[im];
+        is->rewritten = 1;
+    }
+    ds->seconds_bake = now_seconds() - t0;
+    (void)mesh;
+    return TEXOPT_OK;
+}
+
+/* A copy of the model's TEXCOORD_0 (zeros where it has none) that domains overwrite. */
+static texopt_status alloc_uvs(const texopt_model *model, float **uvs, char *err, size_t err_len)
+{
+    size_t n = 2 * (model->vertex_count > 0 ? model->vertex_count : 1);
+    *uvs = calloc(n, sizeof **uvs);
+    if (!*uvs)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for new UVs");
+    if (model->uvs)
+        memcpy(*uvs, model->uvs, 2 * model->vertex_count * sizeof **uvs);
+    return TEXOPT_OK;
+}
+
+/* Method "perceptual": stage 1, stage 2, budget + pack, re-bake. */
+static texopt_status run_perceptual_method(const texopt_model *model, const texopt_mesh *mesh,
+                                           const texopt_params *params, job_output *out,
+                                           texopt_domain_stats *ds, job_monitor *jm, double from,
+                                           double to, char *err, size_t err_len)
+{
+    (void)model, (void)mesh, (void)params, (void)out, (void)ds, (void)jm, (void)from, (void)to;
+    return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                       "method 'perceptual' is not wired into the pipeline yet; use --method input");
+}
+
+static texopt_status run_domain(const texopt_model *model, int d, const texopt_params *params,
+                                job_output *out, texopt_domain_stats *ds, job_monitor *jm,
+                                double from, double to, char *err, size_t err_len)
+{
+    const texopt_domain *dom = &model->domains[d];
+    ds->domain = d;
+    ds->input_width = dom->width;
+    ds->input_height = dom->height;
+    ds->relative_cost_requested = params->budget == TEXOPT_BUDGET_RELATIVE_COST ? params->relative_cost : -1;
+    texopt_status st = record_images(model, dom, ds, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    double t0 = now_seconds();
+    texopt_mesh *mesh = NULL;
+    st = texopt_mesh_create(&mesh, model, d, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    ds->seconds_mesh = now_seconds() - t0;
+    ds->triangles = mesh->triangle_count;
+    ds->charts = mesh->chart_count;
+    if (params->method == TEXOPT_METHOD_INPUT)
+        st = run_input_method(model, mesh, params, out, ds, jm, from, to, err, err_len);
+    else
+        st = run_perceptual_method(model, mesh, params, out, ds, jm, from, to, err, err_len);
+    texopt_mesh_destroy(mesh);
+    return st;
+}
+
+static texopt_status prepare(const texopt_params *in, texopt_params *p, char *err, size_t err_len)
+{
+    if (!in)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "params missing");
+    *p = *in;
+    texopt_params_resolve(p);
+    texopt_status st = texopt_params_validate(p, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    if (p->budget == TEXOPT_BUDGET_TARGET_LOSS)
+        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                           "budget target_loss is not implemented yet; use relative_cost or texture_size");
+    if (p->method != TEXOPT_METHOD_INPUT && p->method != TEXOPT_METHOD_PERCEPTUAL)
+        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                           "method '%s' is not available in the pipeline yet; use 'perceptual' or 'input'",
+                           texopt_method_name(p->method));
+    return TEXOPT_OK;
+}
+
+static void fill_job_params(texopt_job_stats *js, const texopt_params *p)
+{
+    js->method = texopt_method_name(p->method);
+    js->budget = p->budget == TEXOPT_BUDGET_TEXTURE_SIZE ? "texture_size" : "relative_cost";
+    js->relative_cost = p->relative_cost;
+    if (p->budget == TEXOPT_BUDGET_TEXTURE_SIZE) {
+        js->texture_width = p->texture_width;
+        js->texture_height = p->texture_height;
+    }
+    js->epsilon = p->epsilon;
+    js->lambda_min = p->lambda_min;
+    js->iterations = p->iterations;
+    js->threads = p->threads;
+    js->seed = (unsigned long long)p->seed;
+}
+
+/* The domains' share of the middle of the job: by triangles (perceptual) or texels (input). */
+static double domain_weight(const texopt_model *model, int d, int method)
+{
+    if (method == TEXOPT_METHOD_INPUT)
+        return (double)model->domains[d].width * model->domains[d].height;
+    double n = 0;
+    for (int i = 0; i < model->domains[d].primitive_count; i++)
+        n += (double)model->primitives[model->domains[d].primitives[i]].triangle_count;
+    return n;
+}
+
+static texopt_status alloc_output(const texopt_model *model, job_output *out, char *err, size_t err_len)
+{
+    size_t n = (size_t)(model->image_count > 0 ? model->image_count : 1);
+    out->images = calloc(n, sizeof *out->images);
+    out->edit_images = calloc(n, sizeof *out->edit_images);
+    if (!out->images || !out->edit_images)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the output images");
+    return TEXOPT_OK;
+}
+
+static texopt_status run_domains(const texopt_model *model, const texopt_params *p, job_output *out,
+                                 texopt_job_stats *js, job_monitor *jm, const stage_weights *w,
+                                 char *err, size_t err_len)
+{
+    js->domains = calloc((size_t)(model->domain_count > 0 ? model->domain_count : 1), sizeof *js->domains);
+    if (!js->domains)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for domain statistics");
+    js->domain_count = model->domain_count;
+    double total = 0;
+    for (int d = 0; d < model->domain_count; d++)
+        total += domain_weight(model, d, p->method);
+    double middle = 1.0 - w->load - w->save, at = w->load;
+    for (int d = 0; d < model->domain_count; d++) {
+        double share = total > 0 ? middle * domain_weight(model, d, p->method) / total : 0;
+        texopt_status st = check_cancel(jm, err, err_len);
+        if (st == TEXOPT_OK) {
+            jm->from = at;
+            jm->to = at + share;
+            st = run_domain(model, d, p, out, &js->domains[d], jm, at, at + share, err, err_len);
+        }
+        if (st != TEXOPT_OK)
+            return st;
+        at += share;
+    }
+    return TEXOPT_OK;
+}
+
+texopt_status texopt_optimize_file(const char *input_path, const char *output_glb,
+                                   const char *stats_json, const texopt_params *params,
+                                   const texopt_monitor *monitor, char *err, size_t err_len)
+{
+    if (!input_path || !output_glb)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "input and output paths are required");
+    texopt_params p;
+    texopt_status st = prepare(params, &p, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    const stage_weights *w = p.method == TEXOPT_METHOD_INPUT ? &input_weights : &perceptual_weights;
+    job_monitor jm;
+    job_monitor_init(&jm, monitor);
+    texopt_job_stats js = {0};
+    fill_job_params(&js, &p);
+    texopt_model *model = NULL;
+    job_output out = {0};
+
+    job_stage(&jm, "load", 0, w->load);
+    double t0 = now_seconds();
+    st = texopt_model_load(&model, input_path, NULL, err, err_len);
+    js.seconds_load = now_seconds() - t0;
+    if (st == TEXOPT_OK && model->domain_count == 0)
+        st = texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "%s has no textured primitive", input_path);
+    if (st == TEXOPT_OK) {
+        job_stage_done(&jm, "load");
+        st = alloc_output(model, &out, err, err_len);
+    }
+    if (st == TEXOPT_OK && p.method != TEXOPT_METHOD_INPUT)
+        st = alloc_uvs(model, &out.uvs, err, err_len);
+    if (st == TEXOPT_OK)
+        st = run_domains(model, &p, &out, &js, &jm, w, err, err_len);
+    if (st == TEXOPT_OK)
+        st = check_cancel(&jm, err, err_len);
+    if (st == TEXOPT_OK) {
+        job_stage(&jm, "save", 1.0 - w->save, 1.0);
+        t0 = now_seconds();
+        texopt_model_edit edit = {out.uvs, out.edit_images};
+        st = texopt_model_save_glb(model, &edit, output_glb, err, err_len);
+        js.seconds_save = now_seconds() - t0;
+    }
+    js.seconds_total = now_seconds() - jm.start;
+    if (st == TEXOPT_OK && stats_json)
+        st = texopt_stats_write(&js, stats_json, err, err_len);
+    if (st == TEXOPT_OK)
+        job_stage_done(&jm, "save");
+    job_output_destroy(&out, model ? model->image_count : 0);
+    texopt_job_stats_destroy(&js);
+    texopt_model_destroy(model);
+    return st;
+}

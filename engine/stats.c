@@ -1,0 +1,146 @@
+/* stats.c - the job statistics as JSON with cJSON (see stats.h for what each field means). */
+#include "stats.h"
+
+#include <cjson/cJSON.h>
+#include <stdlib.h>
+
+#include "atomic_file.h"
+
+void texopt_job_stats_destroy(texopt_job_stats *stats)
+{
+    if (!stats)
+        return;
+    for (int d = 0; d < stats->domain_count; d++)
+        free(stats->domains[d].images);
+    free(stats->domains);
+    stats->domains = NULL;
+    stats->domain_count = 0;
+}
+
+static cJSON *size_array(int w, int h)
+{
+    int v[2] = {w, h};
+    return cJSON_CreateIntArray(v, 2);
+}
+
+static void add_images(cJSON *dom, const texopt_domain_stats *d)
+{
+    cJSON *arr = cJSON_AddArrayToObject(dom, "images");
+    for (int i = 0; i < d->image_count; i++) {
+        const texopt_image_stats *s = &d->images[i];
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddNumberToObject(o, "image", s->image);
+        if (s->name)
+            cJSON_AddStringToObject(o, "name", s->name);
+        if (s->slot)
+            cJSON_AddStringToObject(o, "slot", s->slot);
+        cJSON_AddItemToObject(o, "input_size", size_array(s->input_width, s->input_height));
+        cJSON_AddItemToObject(o, "output_size", size_array(s->output_width, s->output_height));
+        cJSON_AddBoolToObject(o, "rewritten", s->rewritten);
+        cJSON_AddItemToArray(arr, o);
+    }
+}
+
+static void add_stage_stats(cJSON *dom, const texopt_domain_stats *d)
+{
+    if (d->has_stage1) {
+        cJSON *s1 = cJSON_AddObjectToObject(dom, "stage1");
+        cJSON_AddNumberToObject(s1, "loss_mean", d->loss_mean);
+        cJSON_AddNumberToObject(s1, "loss_max", d->loss_max);
+        cJSON_AddNumberToObject(s1, "area_scale_mean", d->area_scale_mean);
+        cJSON_AddNumberToObject(s1, "within_epsilon_share", d->within_epsilon_share);
+        cJSON_AddNumberToObject(s1, "evaluations", (double)d->evaluations);
+    }
+    if (d->has_stage2) {
+        cJSON *s2 = cJSON_AddObjectToObject(dom, "stage2");
+        cJSON_AddNumberToObject(s2, "iterations", d->stage2_iterations);
+        cJSON_AddNumberToObject(s2, "energy_initial", d->energy_initial);
+        cJSON_AddNumberToObject(s2, "energy_final", d->energy_final);
+        cJSON_AddNumberToObject(s2, "flipped_triangles", (double)d->flipped);
+    }
+    if (d->has_distortion) {
+        cJSON *ds = cJSON_AddObjectToObject(dom, "distortion");
+        cJSON_AddNumberToObject(ds, "symmetric_dirichlet_input", d->distortion_input);
+        cJSON_AddNumberToObject(ds, "symmetric_dirichlet_output", d->distortion_output);
+    }
+}
+
+static cJSON *domain_json(const texopt_domain_stats *d)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddNumberToObject(o, "domain", d->domain);
+    cJSON_AddNumberToObject(o, "triangles", (double)d->triangles);
+    cJSON_AddNumberToObject(o, "charts", (double)d->charts);
+    cJSON_AddItemToObject(o, "input_size", size_array(d->input_width, d->input_height));
+    cJSON_AddItemToObject(o, "output_size", size_array(d->output_width, d->output_height));
+    cJSON_AddNumberToObject(o, "cost_input", d->cost_input);
+    cJSON_AddNumberToObject(o, "cost_output", d->cost_output);
+    if (d->relative_cost_requested > 0)
+        cJSON_AddNumberToObject(o, "relative_cost_requested", d->relative_cost_requested);
+    cJSON_AddNumberToObject(o, "relative_cost", d->relative_cost);
+    cJSON_AddNumberToObject(o, "packing_efficiency_input", d->packing_efficiency_input);
+    cJSON_AddNumberToObject(o, "packing_efficiency", d->packing_efficiency);
+    cJSON_AddBoolToObject(o, "repacked", d->repacked);
+    add_stage_stats(o, d);
+    cJSON *t = cJSON_AddObjectToObject(o, "seconds");
+    cJSON_AddNumberToObject(t, "mesh", d->seconds_mesh);
+    cJSON_AddNumberToObject(t, "stage1", d->seconds_stage1);
+    cJSON_AddNumberToObject(t, "stage2", d->seconds_stage2);
+    cJSON_AddNumberToObject(t, "pack", d->seconds_pack);
+    cJSON_AddNumberToObject(t, "bake", d->seconds_bake);
+    add_images(o, d);
+    return o;
+}
+
+static cJSON *job_json(const texopt_job_stats *s)
+{
+    cJSON *root = cJSON_CreateObject();
+    cJSON_AddStringToObject(root, "method", s->method ? s->method : "unknown");
+    cJSON *p = cJSON_AddObjectToObject(root, "params");
+    cJSON_AddStringToObject(p, "budget", s->budget ? s->budget : "unknown");
+    if (s->texture_width > 0)
+        cJSON_AddItemToObject(p, "texture_size", size_array(s->texture_width, s->texture_height));
+    else
+        cJSON_AddNumberToObject(p, "relative_cost", s->relative_cost);
+    cJSON_AddNumberToObject(p, "epsilon", s->epsilon);
+    cJSON_AddNumberToObject(p, "lambda_min", s->lambda_min);
+    cJSON_AddNumberToObject(p, "iterations", s->iterations);
+    cJSON_AddNumberToObject(p, "threads", s->threads);
+    cJSON_AddNumberToObject(p, "seed", (double)s->seed);
+    cJSON *t = cJSON_AddObjectToObject(root, "seconds");
+    cJSON_AddNumberToObject(t, "load", s->seconds_load);
+    cJSON_AddNumberToObject(t, "save", s->seconds_save);
+    cJSON_AddNumberToObject(t, "total", s->seconds_total);
+    cJSON *arr = cJSON_AddArrayToObject(root, "domains");
+    for (int d = 0; d < s->domain_count; d++)
+        cJSON_AddItemToArray(arr, domain_json(&s->domains[d]));
+    return root;
+}
+
+texopt_status texopt_stats_to_json(const texopt_job_stats *stats, char **json, char *err,
+                                   size_t err_len)
+{
+    *json = NULL;
+    cJSON *root = job_json(stats);
+    char *text = root ? cJSON_Print(root) : NULL;
+    cJSON_Delete(root);
+    if (!text)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the statistics JSON");
+    *json = text;
+    return TEXOPT_OK;
+}
+
+texopt_status texopt_stats_write(const texopt_job_stats *stats, const char *path, char *err,
+                                 size_t err_len)
+{
+    char *text;
+    texopt_status st = texopt_stats_to_json(stats, &text, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    size_t len = 0;
+    while (text[len])
+        len++;
+    st = texopt_write_file_atomic(path, text, len, err, err_len);
+    free(text);
+    return st;
+}

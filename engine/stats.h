@@ -1,0 +1,81 @@
+/* stats.h - the statistics of one optimisation job and their JSON form.
+ *
+ * Does: hold what the pipeline measured (stage timings, costs in and out, relative cost
+ * reached, packing efficiency, texture sizes, stage-1 loss statistics, stage-2 energy and
+ * distortion) and write them as one JSON document with cJSON, atomically.
+ * Does not: measure anything itself (pipeline.c fills the struct).
+ *
+ * The numbers are those Sun et al. 2022, "Efficient Texture Parameterization Driven by
+ * Perceptual-Loss-on-Screen", report: cost c = covered texels (eq. 20), relative cost c_r
+ * (eq. 21), symmetric Dirichlet distortion (eq. 24), share of triangles with E <= eps
+ * (Fig. 16). A value that was not measured (for example stage 1 under method "input") is
+ * left out of the JSON rather than written as 0. */
+#ifndef TEXOPT_STATS_H
+#define TEXOPT_STATS_H
+
+#include <stddef.h>
+
+#include "status.h"
+
+typedef struct texopt_image_stats {
+    int image;                 /* index into the model's images */
+    const char *name;          /* URI or name, may be NULL */
+    const char *slot;          /* "baseColor", "normal", ... (first material slot using it) */
+    int input_width, input_height;
+    int output_width, output_height;
+    int rewritten;             /* 0 when the original bytes were kept */
+} texopt_image_stats;
+
+typedef struct texopt_domain_stats {
+    int domain;
+    size_t triangles, charts;
+    int input_width, input_height;   /* texel frame */
+    int output_width, output_height;
+    double cost_input, cost_output;  /* unique covered texels */
+    double relative_cost_requested;  /* < 0 when the budget was a texture size */
+    double relative_cost;            /* cost_output / cost_input */
+    double packing_efficiency_input; /* covered texels / frame texels */
+    double packing_efficiency;
+    int repacked;                    /* 1 when charts were packed anew */
+    int image_count;
+    texopt_image_stats *images;
+
+    int has_stage1;
+    double loss_mean, loss_max, area_scale_mean, within_epsilon_share;
+    long long evaluations;
+
+    int has_stage2;
+    int stage2_iterations;
+    double energy_initial, energy_final;
+    size_t flipped;
+    int has_distortion;
+    double distortion_input, distortion_output; /* symmetric Dirichlet, mean */
+
+    double seconds_mesh, seconds_stage1, seconds_stage2, seconds_pack, seconds_bake;
+} texopt_domain_stats;
+
+typedef struct texopt_job_stats {
+    const char *method;
+    const char *budget;          /* "relative_cost" or "texture_size" */
+    double relative_cost;        /* requested, with the relative_cost budget */
+    int texture_width, texture_height; /* requested, with the texture_size budget */
+    double epsilon, lambda_min;
+    int iterations, threads;
+    unsigned long long seed;
+    double seconds_load, seconds_save, seconds_total;
+    int domain_count;
+    texopt_domain_stats *domains;
+} texopt_job_stats;
+
+/* Frees the per-domain arrays the pipeline allocated. Accepts NULL. */
+void texopt_job_stats_destroy(texopt_job_stats *stats);
+
+/* The JSON document as a malloc'ed NUL-terminated string (caller frees with free()). */
+texopt_status texopt_stats_to_json(const texopt_job_stats *stats, char **json, char *err,
+                                   size_t err_len);
+
+/* Writes the JSON document to path (temporary file, fsync, rename). */
+texopt_status texopt_stats_write(const texopt_job_stats *stats, const char *path, char *err,
+                                 size_t err_len);
+
+#endif
