@@ -1,0 +1,364 @@
+/* triloss.c - perceptual loss of one candidate Jacobian on one triangle's one-ring
+ * (Sun et al. 2022, section 4.1.1; GMSD of Xue et al. 2013), on the render-once buffer.
+ *
+ * Not here: choosing candidates (triopt.c), rasterising (uvraster.c), the bake solver
+ * (bake.c) and GMSD itself (gmsd.c). */
+#include "triloss.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bake.h"
+#include "gmsd.h"
+#include "sample.h"
+
+#define TRILOSS_RIDGE 1e-6
+#define TRILOSS_BATCH_MAX 4
+
+typedef struct loss_signal {
+    int image;   /* model image index */
+    int channel; /* -1: luma, else the channel compared */
+} loss_signal;
+
+/* Signals of textures of one size, baked together. */
+typedef struct loss_batch {
+    int first_signal, signal_count;
+    int tex_w, tex_h;  /* the texture grid */
+    double sx, sy;     /* domain texel frame -> this texture's texels */
+} loss_batch;
+
+struct texopt_triloss {
+    const texopt_model *model;
+    const texopt_mesh *mesh;
+    int size;
+    texopt_wrap wrap_s, wrap_t;
+    texopt_uvraster *raster;
+    int signal_count;
+    loss_signal *signals;
+    int batch_count;
+    loss_batch *batches;
+
+    /* the prepared triangle */
+    size_t n;            /* covered pixels */
+    int32_t *pixel;      /* per covered pixel: its index in the viewport */
+    double *phat;        /* 2 per covered pixel, domain texels */
+    double centroid[2];  /* the triangle's texel centroid */
+    double radius;       /* max |p_hat - c| over covered pixels (infinity norm) */
+    float *reference;    /* per batch: n x signal_count values, at n * first_signal */
+    float *ref_img;      /* per signal: size x size image, 0 where uncovered */
+    unsigned char *mask; /* size x size */
+
+    /* per-candidate scratch */
+    double *pos;
+    float *recon;
+    float *dist_img;
+    texopt_bake_workspace *bake;
+    texopt_gmsd_workspace *gmsd;
+};
+
+void texopt_jacobian_from_params(double alpha, double lambda1, double lambda2, double beta,
+                                 double jacobian[4])
+{
+    double ca = cos(alpha), sa = sin(alpha), cb = cos(beta), sb = sin(beta);
+    /* S = V diag(l1, l2) V^T is symmetric. */
+    double s00 = lambda1 * cb * cb + lambda2 * sb * sb;
+    double s11 = lambda1 * sb * sb + lambda2 * cb * cb;
+    double s01 = (lambda1 - lambda2) * cb * sb;
+    jacobian[0] = ca * s00 - sa * s01;
+    jacobian[1] = ca * s01 - sa * s11;
+    jacobian[2] = sa * s00 + ca * s01;
+    jacobian[3] = sa * s01 + ca * s11;
+}
+
+/* Whether the materials of the domain use `image` as a data texture (normal, metallic-
+ * roughness, occlusion), whose channels are compared one by one. */
+static int image_is_data(const texopt_model *model, const texopt_domain *dom, int image)
+{
+    for (int p = 0; p < dom->primitive_count; p++) {
+        int m = model->primitives[dom->primitives[p]].material;
+        if (m < 0 || m >= model->material_count)
+            continue;
+        const texopt_material *mat = &model->materials[m];
+        if (mat->slot[TEXOPT_SLOT_NORMAL].image == image ||
+            mat->slot[TEXOPT_SLOT_METALLIC_ROUGHNESS].image == image ||
+            mat->slot[TEXOPT_SLOT_OCCLUSION].image == image)
+            return 1;
+    }
+    return 0;
+}
+
+/* Orders images by (width, height, index), so equal sizes end up next to each other. */
+static int image_before(const texopt_model *model, int ia, int ib)
+{
+    const texopt_image *x = &model->images[ia], *y = &model->images[ib];
+    if (x->width != y->width)
+        return x->width < y->width;
+    if (x->height != y->height)
+        return x->height < y->height;
+    return ia < ib;
+}
+
+/* Lists the signals, grouped by texture size so equal-size textures share bake calls. */
+static texopt_status build_signals(texopt_triloss *tl, char *err, size_t err_len)
+{
+    const texopt_model *model = tl->model;
+    const texopt_domain *dom = &model->domains[tl->mesh->domain];
+    int count = 0;
+    for (int i = 0; i < dom->image_count; i++)
+        if (model->images[dom->images[i]].pixels)
+            count += 3;
+    if (count == 0)
+        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                           "triloss: domain %d has no decoded texture", tl->mesh->domain);
+    tl->signals = calloc((size_t)count, sizeof *tl->signals);
+    tl->batches = calloc((size_t)count, sizeof *tl->batches);
+    if (!tl->signals || !tl->batches)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "triloss: no memory for signals");
+
+    int *order = malloc(sizeof(int) * (size_t)dom->image_count);
+    if (!order)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "triloss: no memory for signals");
+    int used = 0;
+    for (int i = 0; i < dom->image_count; i++)
+        if (model->images[dom->images[i]].pixels)
+            order[used++] = dom->images[i];
+    for (int i = 1; i < used; i++)
+        for (int j = i; j > 0 && image_before(model, order[j], order[j - 1]); j--) {
+            int t = order[j];
+            order[j] = order[j - 1];
+            order[j - 1] = t;
+        }
+
+    for (int i = 0; i < used; i++) {
+        const texopt_image *img = &model->images[order[i]];
+        int data = image_is_data(model, dom, order[i]);
+        int channels = data ? (img->channels >= 3 ? 3 : 1) : 1;
+        for (int c = 0; c < channels; c++) {
+            loss_batch *last = tl->batch_count ? &tl->batches[tl->batch_count - 1] : NULL;
+            if (!last || last->tex_w != img->width || last->tex_h != img->height ||
+                last->signal_count == TRILOSS_BATCH_MAX) {
+                last = &tl->batches[tl->batch_count++];
+                last->first_signal = tl->signal_count;
+                last->tex_w = img->width;
+                last->tex_h = img->height;
+                last->sx = (double)img->width / tl->mesh->width;
+                last->sy = (double)img->height / tl->mesh->height;
+            }
+            last->signal_count++;
+            tl->signals[tl->signal_count].image = order[i];
+            tl->signals[tl->signal_count].channel = data ? (img->channels >= 3 ? c : 0) : -1;
+            tl->signal_count++;
+        }
+    }
+    free(order);
+    return TEXOPT_OK;
+}
+
+texopt_status texopt_triloss_create(texopt_triloss **out, const texopt_model *model,
+                                    const texopt_mesh *mesh, int viewport, char *err,
+                                    size_t err_len)
+{
+    if (!out)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "triloss: NULL output");
+    *out = NULL;
+    if (!model || !mesh)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "triloss: NULL model or mesh");
+    if (mesh->domain < 0 || mesh->domain >= model->domain_count || mesh->width <= 0 ||
+        mesh->height <= 0)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "triloss: mesh domain %d is not a domain of the model", mesh->domain);
+    texopt_triloss *tl = calloc(1, sizeof *tl);
+    if (!tl)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "triloss: out of memory");
+    tl->model = model;
+    tl->mesh = mesh;
+    tl->size = viewport;
+    tl->wrap_s = model->domains[mesh->domain].wrap_s;
+    tl->wrap_t = model->domains[mesh->domain].wrap_t;
+    texopt_status st = texopt_uvraster_create(&tl->raster, viewport, err, err_len);
+    if (st == TEXOPT_OK)
+        st = build_signals(tl, err, err_len);
+    if (st == TEXOPT_OK) {
+        size_t px = (size_t)viewport * (size_t)viewport;
+        tl->pixel = malloc(px * sizeof *tl->pixel);
+        tl->phat = malloc(2 * px * sizeof *tl->phat);
+        tl->reference = malloc(px * (size_t)tl->signal_count * sizeof *tl->reference);
+        tl->ref_img = calloc(px * (size_t)tl->signal_count, sizeof *tl->ref_img);
+        tl->mask = calloc(px, 1);
+        tl->pos = malloc(2 * px * sizeof *tl->pos);
+        tl->recon = malloc(px * TRILOSS_BATCH_MAX * sizeof *tl->recon);
+        tl->dist_img = calloc(px, sizeof *tl->dist_img);
+        tl->bake = texopt_bake_workspace_create((int)px, TRILOSS_BATCH_MAX);
+        tl->gmsd = texopt_gmsd_workspace_create(viewport, viewport);
+        if (!tl->pixel || !tl->phat || !tl->reference || !tl->ref_img || !tl->mask ||
+            !tl->pos || !tl->recon || !tl->dist_img || !tl->bake || !tl->gmsd)
+            st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "triloss: out of memory for a %dx%d view",
+                             viewport, viewport);
+    }
+    if (st != TEXOPT_OK) {
+        texopt_triloss_destroy(tl);
+        return st;
+    }
+    *out = tl;
+    return TEXOPT_OK;
+}
+
+void texopt_triloss_destroy(texopt_triloss *tl)
+{
+    if (!tl)
+        return;
+    texopt_uvraster_destroy(tl->raster);
+    free(tl->signals);
+    free(tl->batches);
+    free(tl->pixel);
+    free(tl->phat);
+    free(tl->reference);
+    free(tl->ref_img);
+    free(tl->mask);
+    free(tl->pos);
+    free(tl->recon);
+    free(tl->dist_img);
+    texopt_bake_workspace_destroy(tl->bake);
+    texopt_gmsd_workspace_destroy(tl->gmsd);
+    free(tl);
+}
+
+/* Copies the covered pixels of the raster into a compact list and sets the mask. */
+static void collect_covered(texopt_triloss *tl)
+{
+    const texopt_uvraster *r = tl->raster;
+    size_t px = (size_t)tl->size * (size_t)tl->size, n = 0;
+    double radius = 0.0;
+    for (size_t q = 0; q < px; q++) {
+        tl->mask[q] = r->face[q] >= 0;
+        tl->dist_img[q] = 0.0f;
+        if (!tl->mask[q])
+            continue;
+        tl->pixel[n] = (int32_t)q;
+        tl->phat[2 * n] = r->texel[2 * q];
+        tl->phat[2 * n + 1] = r->texel[2 * q + 1];
+        radius = fmax(radius, fmax(fabs(tl->phat[2 * n] - tl->centroid[0]),
+                                   fabs(tl->phat[2 * n + 1] - tl->centroid[1])));
+        n++;
+    }
+    tl->n = n;
+    tl->radius = radius;
+}
+
+/* I_hat: the input textures looked up at p_hat, as signals. */
+static void sample_references(texopt_triloss *tl)
+{
+    size_t px = (size_t)tl->size * (size_t)tl->size;
+    memset(tl->ref_img, 0, px * (size_t)tl->signal_count * sizeof *tl->ref_img);
+    for (int b = 0; b < tl->batch_count; b++) {
+        const loss_batch *batch = &tl->batches[b];
+        float *block = tl->reference + tl->n * (size_t)batch->first_signal;
+        for (int s = 0; s < batch->signal_count; s++) {
+            const loss_signal *sig = &tl->signals[batch->first_signal + s];
+            const texopt_image *img = &tl->model->images[sig->image];
+            float *image_out = tl->ref_img + px * (size_t)(batch->first_signal + s);
+            for (size_t k = 0; k < tl->n; k++) {
+                float v[4];
+                texopt_sample_bilinear(img, tl->wrap_s, tl->wrap_t, tl->phat[2 * k] * batch->sx,
+                                       tl->phat[2 * k + 1] * batch->sy, v);
+                float value = sig->channel < 0 ? texopt_luma(v, img->channels) : v[sig->channel];
+                block[k * (size_t)batch->signal_count + (size_t)s] = value;
+                image_out[tl->pixel[k]] = value;
+            }
+        }
+    }
+}
+
+texopt_status texopt_triloss_prepare(texopt_triloss *tl, uint32_t triangle, char *err,
+                                     size_t err_len)
+{
+    if (!tl)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "triloss: NULL evaluator");
+    texopt_status st = texopt_uvraster_render(tl->raster, tl->mesh, triangle, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    const uint32_t *tri = tl->mesh->triangle + 3 * (size_t)triangle;
+    for (int d = 0; d < 2; d++)
+        tl->centroid[d] = (tl->mesh->texel[2 * (size_t)tri[0] + d] +
+                           tl->mesh->texel[2 * (size_t)tri[1] + d] +
+                           tl->mesh->texel[2 * (size_t)tri[2] + d]) / 3.0;
+    collect_covered(tl);
+    sample_references(tl);
+    return TEXOPT_OK;
+}
+
+/* Candidate grid side along one axis: the texture's, or more when the one-ring would wrap. */
+static int candidate_grid(int tex, double radius_texels)
+{
+    double need = 2.0 * ceil(radius_texels) + 8.0;
+    return need > tex ? (int)need : tex;
+}
+
+/* p(q) = c + J (p_hat - c) in the batch's texels, shifted by whole texels to the grid centre. */
+static void candidate_positions(texopt_triloss *tl, const loss_batch *batch, const double J[4],
+                                int grid_w, int grid_h)
+{
+    double cx = tl->centroid[0], cy = tl->centroid[1];
+    double ox = floor(0.5 * grid_w) - floor(cx * batch->sx);
+    double oy = floor(0.5 * grid_h) - floor(cy * batch->sy);
+    for (size_t k = 0; k < tl->n; k++) {
+        double dx = tl->phat[2 * k] - cx, dy = tl->phat[2 * k + 1] - cy;
+        tl->pos[2 * k] = (cx + J[0] * dx + J[1] * dy) * batch->sx + ox;
+        tl->pos[2 * k + 1] = (cy + J[2] * dx + J[3] * dy) * batch->sy + oy;
+    }
+}
+
+texopt_status texopt_triloss_eval(texopt_triloss *tl, const double jacobian[4],
+                                  double stop_above, double *out_loss, char *err,
+                                  size_t err_len)
+{
+    if (!tl || !jacobian || !out_loss)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "triloss: NULL argument");
+    *out_loss = 0.0;
+    if (tl->n == 0)
+        return TEXOPT_OK;
+    size_t px = (size_t)tl->size * (size_t)tl->size;
+    double worst = 0.0;
+    for (int b = 0; b < tl->batch_count; b++) {
+        const loss_batch *batch = &tl->batches[b];
+        int grid_w = candidate_grid(batch->tex_w, tl->radius * batch->sx);
+        int grid_h = candidate_grid(batch->tex_h, tl->radius * batch->sy);
+        candidate_positions(tl, batch, jacobian, grid_w, grid_h);
+        const float *block = tl->reference + tl->n * (size_t)batch->first_signal;
+        texopt_status st = texopt_bake_fit(tl->bake, (int)tl->n, tl->pos, block,
+                                           batch->signal_count, grid_w, grid_h,
+                                           TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT,
+                                           TRILOSS_RIDGE, tl->recon, err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
+        for (int s = 0; s < batch->signal_count; s++) {
+            for (size_t k = 0; k < tl->n; k++)
+                tl->dist_img[tl->pixel[k]] = tl->recon[k * (size_t)batch->signal_count + (size_t)s];
+            const float *ref = tl->ref_img + px * (size_t)(batch->first_signal + s);
+            double e = texopt_gmsd_ws(tl->gmsd, ref, tl->dist_img, tl->mask, tl->size, tl->size);
+            if (!isfinite(e))
+                return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
+                                   "triloss: GMSD is not finite for signal %d",
+                                   batch->first_signal + s);
+            if (e > worst)
+                worst = e;
+            if (worst >= stop_above) {
+                *out_loss = worst;
+                return TEXOPT_OK;
+            }
+        }
+    }
+    *out_loss = worst;
+    return TEXOPT_OK;
+}
+
+const texopt_uvraster *texopt_triloss_raster(const texopt_triloss *tl)
+{
+    return tl ? tl->raster : NULL;
+}
+
+int texopt_triloss_signal_count(const texopt_triloss *tl)
+{
+    return tl ? tl->signal_count : 0;
+}

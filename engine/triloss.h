@@ -1,0 +1,74 @@
+/* triloss.h - the perceptual loss E of one candidate Jacobian for one triangle.
+ *
+ * Sun et al. 2022, section 4.1.1 (eqs. 9-12): render the triangle's one-ring with the input
+ * texture (reference I_hat) and with the texture re-baked under the deformation J
+ * (candidate I), and compare them with GMSD (Xue et al. 2013) on the covered pixels.
+ * Here the one-ring is rasterised once per triangle (uvraster.h) and each candidate is:
+ *   p(q) = c + J (p_hat(q) - c)        c = the triangle's texel centroid, so it stays put
+ *   x    = LS bake of I_hat on the bilinear footprints of p(q) (bake.h, eq. 11, ridge 1e-6)
+ *   I(q) = A x                          what the screen shows with the baked texture
+ *   E    = max over the domain's textures and their signals of GMSD(I_hat, I, covered mask)
+ *
+ * Signals of a texture: colour textures (base colour, emissive, or an image of no known
+ * role) contribute their luma (BT.601, as the GMSD reference); data textures (normal,
+ * metallic-roughness, occlusion) contribute each of their first three channels as its own
+ * signal in their stored encoding, because luma would mix unrelated quantities (ORM) or
+ * cancel opposite tilts of a normal. Alpha is not compared. The bake is linear and shares
+ * its matrix across channels, so baking luma equals taking the luma of the baked colour:
+ * one signal per colour texture is exact, not an approximation. Signals of textures of equal
+ * size share bake calls (up to four right-hand sides each).
+ *
+ * The candidate grid: J moves texels to a new layout whose wrap mode does not matter, so
+ * positions are shifted by a whole number of texels to the middle of a grid large enough
+ * that the one-ring never wraps (the sub-texel phase, which decides the bilinear weights,
+ * is kept).
+ *
+ * A texopt_triloss holds every buffer (raster, references, bake and GMSD workspaces) and is
+ * for one thread at a time; after texopt_triloss_prepare, texopt_triloss_eval does not
+ * allocate (the bake workspace grows only on a larger problem than any seen before). */
+#ifndef TEXOPT_TRILOSS_H
+#define TEXOPT_TRILOSS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "mesh.h"
+#include "model.h"
+#include "status.h"
+#include "uvraster.h"
+
+typedef struct texopt_triloss texopt_triloss;
+
+/* A loss evaluator for the triangles of `mesh` (built from `model`'s domain mesh->domain),
+ * viewport x viewport pixels (paper: 64). model and mesh must outlive it. Fails with
+ * TEXOPT_E_UNSUPPORTED when the domain has no decoded image. */
+texopt_status texopt_triloss_create(texopt_triloss **out, const texopt_model *model,
+                                    const texopt_mesh *mesh, int viewport, char *err,
+                                    size_t err_len);
+
+/* Accepts NULL. */
+void texopt_triloss_destroy(texopt_triloss *loss);
+
+/* Rasterises the one-ring of `triangle` and samples the reference signals. Fails with
+ * TEXOPT_E_INVALID_ARGUMENT for an index out of range or a triangle degenerate in 3D. */
+texopt_status texopt_triloss_prepare(texopt_triloss *loss, uint32_t triangle, char *err,
+                                     size_t err_len);
+
+/* E for the 2x2 Jacobian J (row-major: J[0] J[1] / J[2] J[3]) of the prepared triangle.
+ * Stops early and returns a value >= stop_above as soon as one signal reaches stop_above
+ * (pass INFINITY for the exact maximum). Same inputs, same E, bit for bit. */
+texopt_status texopt_triloss_eval(texopt_triloss *loss, const double jacobian[4],
+                                  double stop_above, double *out_loss, char *err,
+                                  size_t err_len);
+
+/* The raster of the prepared triangle (covered pixels, camera). */
+const texopt_uvraster *texopt_triloss_raster(const texopt_triloss *loss);
+
+/* Number of signals compared per candidate (for reports and tests). */
+int texopt_triloss_signal_count(const texopt_triloss *loss);
+
+/* J = R(alpha) V(beta) diag(lambda1, lambda2) V(beta)^T, R and V rotations (paper eq. 13). */
+void texopt_jacobian_from_params(double alpha, double lambda1, double lambda2, double beta,
+                                 double jacobian[4]);
+
+#endif

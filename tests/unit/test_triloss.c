@@ -1,0 +1,198 @@
+/* test_triloss.c - the one-ring perceptual loss of a candidate Jacobian. */
+#include <stdlib.h>
+
+#include "fixtures.h"
+#include "mesh.h"
+#include "test.h"
+#include "triloss.h"
+
+#define PI 3.14159265358979323846
+
+typedef struct loss_fixture {
+    texopt_model *model;
+    texopt_mesh *mesh;
+    texopt_triloss *loss;
+} loss_fixture;
+
+static int fixture_open(loss_fixture *f, int n, int tex, const char *pattern, int viewport)
+{
+    char err[256] = "";
+    f->model = fixture_grid(n, tex, pattern);
+    f->mesh = NULL;
+    f->loss = NULL;
+    if (!f->model || texopt_mesh_create(&f->mesh, f->model, 0, err, sizeof err) != TEXOPT_OK)
+        return 0;
+    return texopt_triloss_create(&f->loss, f->model, f->mesh, viewport, err, sizeof err) ==
+           TEXOPT_OK;
+}
+
+static void fixture_close(loss_fixture *f)
+{
+    texopt_triloss_destroy(f->loss);
+    texopt_mesh_destroy(f->mesh);
+    texopt_model_destroy(f->model);
+}
+
+static double loss_of(loss_fixture *f, uint32_t t, double a, double l1, double l2, double b)
+{
+    char err[256] = "";
+    double J[4], e = -1.0;
+    texopt_jacobian_from_params(a, l1, l2, b, J);
+    if (texopt_triloss_prepare(f->loss, t, err, sizeof err) != TEXOPT_OK)
+        return NAN;
+    if (texopt_triloss_eval(f->loss, J, INFINITY, &e, err, sizeof err) != TEXOPT_OK)
+        return NAN;
+    return e;
+}
+
+TEST(jacobian_matches_its_factors)
+{
+    double J[4];
+    /* Pure rotation by 30 degrees. */
+    texopt_jacobian_from_params(PI / 6, 1, 1, 0.7, J);
+    CHECK_NEAR(J[0], cos(PI / 6), 1e-15);
+    CHECK_NEAR(J[1], -sin(PI / 6), 1e-15);
+    CHECK_NEAR(J[2], sin(PI / 6), 1e-15);
+    CHECK_NEAR(J[3], cos(PI / 6), 1e-15);
+    /* Stretch along the axis at beta = 90 degrees: diag(l2, l1). */
+    texopt_jacobian_from_params(0, 0.5, 0.25, PI / 2, J);
+    CHECK_NEAR(J[0], 0.25, 1e-15);
+    CHECK_NEAR(J[3], 0.5, 1e-15);
+    CHECK_NEAR(J[1], 0.0, 1e-15);
+    /* det J = l1 l2 whatever the angles. */
+    texopt_jacobian_from_params(0.3, 0.8, 0.4, 1.1, J);
+    CHECK_NEAR(J[0] * J[3] - J[1] * J[2], 0.32, 1e-14);
+}
+
+TEST(identity_has_zero_loss)
+{
+    const char *patterns[] = {"half", "stripes0", "stripes45", "checker"};
+    for (int p = 0; p < 4; p++) {
+        loss_fixture f;
+        CHECK(fixture_open(&f, 8, 64, patterns[p], 64));
+        for (uint32_t t = 0; t < 128; t += 9) {
+            double e = loss_of(&f, t, 0, 1, 1, 0);
+            CHECK_MSG(e >= 0 && e < 1e-6, "%s triangle %u: E(I) = %g", patterns[p], t, e);
+        }
+        fixture_close(&f);
+    }
+}
+
+TEST(flat_texture_survives_any_shrink)
+{
+    loss_fixture f;
+    CHECK(fixture_open(&f, 8, 64, "flat", 64));
+    double e = loss_of(&f, 2 * (3 * 8 + 3), 0.4, 0.1, 0.1, 0.2);
+    CHECK(e >= 0 && e < 1e-6);
+    fixture_close(&f);
+}
+
+TEST(detail_breaks_under_shrink_flat_half_does_not)
+{
+    /* "half" on 128 texels: x < 64 flat, x >= 64 text-like strokes; quads are 8 texels.
+     * Quad (3, 7) has its one-ring in x in [16, 40] (flat, and away from the wrap at x = 0
+     * whose bilinear lookups see the strokes of the last column); quad (11, 7) sits in the
+     * strokes. */
+    loss_fixture f;
+    CHECK(fixture_open(&f, 16, 128, "half", 64));
+    double flat = loss_of(&f, 2 * (7 * 16 + 3), 0, 0.2, 0.2, 0);
+    double detail = loss_of(&f, 2 * (7 * 16 + 11), 0, 0.2, 0.2, 0);
+    double detail_mild = loss_of(&f, 2 * (7 * 16 + 11), 0, 0.9, 0.9, 0);
+    CHECK_MSG(flat < 1e-6, "flat half E = %g", flat);
+    CHECK_MSG(detail > 0.05, "strokes at 0.2x: E = %g", detail);
+    CHECK_MSG(detail_mild < detail, "mild %g vs strong %g", detail_mild, detail);
+    fixture_close(&f);
+}
+
+TEST(stripes_tolerate_shrink_along_them_not_across)
+{
+    /* Vertical stripes vary along x only: squeezing y loses nothing a bilinear texture can
+     * show, squeezing x blurs them. */
+    loss_fixture f;
+    CHECK(fixture_open(&f, 8, 64, "stripes0", 64));
+    uint32_t t = 2 * (4 * 8 + 4);
+    double along = loss_of(&f, t, 0, 1.0, 0.3, 0);
+    double across = loss_of(&f, t, 0, 0.3, 1.0, 0);
+    CHECK_MSG(along < 1e-3, "squeeze along stripes: E = %g", along);
+    CHECK_MSG(across > 0.05, "squeeze across stripes: E = %g", across);
+    fixture_close(&f);
+}
+
+TEST(loss_is_deterministic_and_stop_above_is_honoured)
+{
+    loss_fixture f;
+    CHECK(fixture_open(&f, 8, 64, "checker", 64));
+    char err[256] = "";
+    double J[4], e1, e2, e3, e4;
+    texopt_jacobian_from_params(0.3, 0.6, 0.45, 0.9, J);
+    CHECK_OK(texopt_triloss_prepare(f.loss, 20, err, sizeof err), err);
+    CHECK_OK(texopt_triloss_eval(f.loss, J, INFINITY, &e1, err, sizeof err), err);
+    CHECK_OK(texopt_triloss_prepare(f.loss, 77, err, sizeof err), err);
+    CHECK_OK(texopt_triloss_eval(f.loss, J, INFINITY, &e3, err, sizeof err), err);
+    CHECK_OK(texopt_triloss_prepare(f.loss, 20, err, sizeof err), err);
+    CHECK_OK(texopt_triloss_eval(f.loss, J, INFINITY, &e2, err, sizeof err), err);
+    CHECK(e1 == e2);
+    CHECK(e1 > 0.0);
+    CHECK_OK(texopt_triloss_eval(f.loss, J, 0.5 * e1, &e4, err, sizeof err), err);
+    CHECK(e4 >= 0.5 * e1);
+    CHECK(e3 >= 0.0);
+    fixture_close(&f);
+}
+
+TEST(normal_map_adds_three_channel_signals)
+{
+    /* A second texture used as the normal map: colour gives one luma signal, the normal map
+     * one per channel; a normal map that varies only in its blue channel must still count. */
+    texopt_model *m = fixture_grid(8, 64, "flat");
+    CHECK(m);
+    texopt_image *images = realloc(m->images, 2 * sizeof *images);
+    CHECK(images);
+    m->images = images;
+    char **names = realloc(m->image_names, 2 * sizeof *names);
+    CHECK(names);
+    m->image_names = names;
+    names[1] = NULL;
+    char err[256] = "";
+    CHECK_OK(texopt_image_create(&m->images[1], 64, 64, 3, err, sizeof err), err);
+    m->image_count = 2;
+    for (int y = 0; y < 64; y++)
+        for (int x = 0; x < 64; x++) {
+            float *px = texopt_image_at(&m->images[1], x, y);
+            px[0] = 0.5f;
+            px[1] = 0.5f;
+            px[2] = ((x / 2) % 2) ? 1.0f : 0.2f; /* fine vertical stripes in blue only */
+        }
+    m->materials[0].slot[TEXOPT_SLOT_NORMAL] = m->materials[0].slot[TEXOPT_SLOT_BASE_COLOR];
+    m->materials[0].slot[TEXOPT_SLOT_NORMAL].image = 1;
+    CHECK_OK(texopt_model_build_domains(m, err, sizeof err), err);
+    texopt_mesh *mesh = NULL;
+    texopt_triloss *loss = NULL;
+    CHECK_OK(texopt_mesh_create(&mesh, m, 0, err, sizeof err), err);
+    CHECK_OK(texopt_triloss_create(&loss, m, mesh, 64, err, sizeof err), err);
+    CHECK_EQ_INT(texopt_triloss_signal_count(loss), 4);
+    double J[4], e;
+    texopt_jacobian_from_params(0, 0.3, 1.0, 0, J);
+    CHECK_OK(texopt_triloss_prepare(loss, 2 * (4 * 8 + 4), err, sizeof err), err);
+    CHECK_OK(texopt_triloss_eval(loss, J, INFINITY, &e, err, sizeof err), err);
+    CHECK_MSG(e > 0.05, "blue-only normal detail squeezed across: E = %g", e);
+    texopt_jacobian_from_params(0, 1.0, 1.0, 0, J);
+    CHECK_OK(texopt_triloss_eval(loss, J, INFINITY, &e, err, sizeof err), err);
+    CHECK(e < 1e-6);
+    texopt_triloss_destroy(loss);
+    texopt_mesh_destroy(mesh);
+    texopt_model_destroy(m);
+}
+
+TEST(triloss_rejects_bad_input)
+{
+    loss_fixture f;
+    CHECK(fixture_open(&f, 2, 16, "flat", 16));
+    char err[256] = "";
+    CHECK(texopt_triloss_prepare(f.loss, 8, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    texopt_triloss *l = NULL;
+    CHECK(texopt_triloss_create(&l, f.model, f.mesh, 1, err, sizeof err) ==
+          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(l == NULL);
+    texopt_triloss_destroy(NULL);
+    fixture_close(&f);
+}
