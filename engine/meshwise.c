@@ -1,0 +1,905 @@
+/* meshwise.c - stage 2: local-global solve of Sun et al. 2022, eq. 19 (section 4.2, app. B).
+ *
+ * Turns per-triangle target Jacobians into one conforming layout of the same charts. The
+ * local step is closed form per triangle; the global step is a damped Newton step on the
+ * texel positions with the locally injective barrier of Schueller et al. 2013, "Locally
+ * Injective Mappings", and a line search bounded by the first step at which some
+ * determinant would reach zero. It does not pack, scale to a budget or re-bake.
+ *
+ * Decisions the paper leaves open (see also meshwise.h):
+ *  - Energy per triangle is weighted by its input texel area: G is a map from input texels
+ *    to output texels, so that is the measure the integral is taken over.
+ *  - Translation: one vertex per chart is pinned at its starting position. A tiny
+ *    Levenberg-Marquardt term mu |x - x_k|^2 (mu = 1e-9 of the mean diagonal) keeps parts
+ *    that are held together only by degenerate triangles solvable; it is zero at the accepted
+ *    point and not part of E.
+ *  - The fitting term has a constant Hessian (M_i = R_i S_i is fixed during the global
+ *    step), so the matrix changes only through the barrier. The barrier Hessian is its
+ *    Gauss-Newton part B''(det) grad(det) grad(det)^T (positive semi-definite; the
+ *    indefinite B'(det) hess(det) part is dropped), and the numeric factorisation is redone
+ *    only when some barrier is active, or was active at the last factorisation.
+ *  - Barrier: B(d) = 1/g(d/s) - 1 for 0 < d < s, 0 for d >= s, g(t) = t^3 - 3t^2 + 3t, with
+ *    the threshold s_i = 0.5 * lambda1 * lambda2 of the triangle's target (at most 0.5): a
+ *    triangle pays nothing until it is squeezed to half the area its target asks for.
+ *  - w_R rotation targets are matched up to the 90-degree symmetry of the texel grid:
+ *    k_i is chosen each local step. */
+#include "meshwise.h"
+
+#include <cholmod.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "distortion.h"
+
+#define PI 3.14159265358979323846
+#define BARRIER_FRACTION 0.5
+#define BARRIER_REDUCTION 20.0 /* eq. 28 */
+#define DAMPING 1e-9
+#define ARMIJO 1e-4
+#define MAX_HALVINGS 40
+#define STEP_SAFETY 0.8 /* fraction of the largest step that keeps every det > 0 */
+
+typedef struct mat2 {
+    double a, b, c, d; /* [[a b] [c d]] */
+} mat2;
+
+/* Per triangle data fixed for the whole solve. */
+typedef struct tri_frame {
+    uint32_t v[3];
+    double grad[3][2];  /* gradients of the barycentric functions in input texel space */
+    double inv_det;     /* 1 / (doubled signed input area) */
+    double area;        /* input texel area, > 0 */
+    double threshold;   /* barrier threshold s_i */
+    double w_r, w_s;    /* normalised weights */
+    mat2 rbar, sbar;
+    int fitted;         /* contributes the fitting, rotation and stretch terms */
+    int barrier;        /* carries the barrier */
+} tri_frame;
+
+typedef struct tri_state {
+    mat2 r, s;
+    int k;
+} tri_state;
+
+typedef struct solver {
+    const texopt_mesh *mesh;
+    size_t tri_count, vertex_count;
+    tri_frame *tri;
+    tri_state *st;
+    double w_rs, w_b;
+
+    int *var;         /* per vertex: index of its x unknown / 2, or -1 when held fixed */
+    size_t unknowns;  /* 2 per free vertex */
+    int32_t *slot;    /* 36 per triangle: value index of (row, col) in the upper CSC, or -1 */
+    int32_t *diag;    /* per unknown: value index of its diagonal entry */
+    double *fit_values; /* constant part of the Hessian (fitting term + damping) */
+
+    cholmod_common cm;
+    cholmod_sparse *A;
+    cholmod_factor *L;
+    int factor_has_barrier;
+    int factorized;
+    int factorizations;
+
+    double *x, *trial, *grad, *step;
+} solver;
+
+/* ---- 2x2 algebra ------------------------------------------------------------------- */
+
+static mat2 rotation(double angle)
+{
+    mat2 m = {cos(angle), -sin(angle), sin(angle), cos(angle)};
+    return m;
+}
+
+static mat2 mul(mat2 p, mat2 q)
+{
+    mat2 m = {p.a * q.a + p.b * q.c, p.a * q.b + p.b * q.d, p.c * q.a + p.d * q.c,
+              p.c * q.b + p.d * q.d};
+    return m;
+}
+
+static mat2 transpose(mat2 p)
+{
+    mat2 m = {p.a, p.c, p.b, p.d};
+    return m;
+}
+
+static mat2 sym(mat2 p)
+{
+    double off = 0.5 * (p.b + p.c);
+    mat2 m = {p.a, off, off, p.d};
+    return m;
+}
+
+static double frob2(mat2 p)
+{
+    return p.a * p.a + p.b * p.b + p.c * p.c + p.d * p.d;
+}
+
+static mat2 sub(mat2 p, mat2 q)
+{
+    mat2 m = {p.a - q.a, p.b - q.b, p.c - q.c, p.d - q.d};
+    return m;
+}
+
+static double rotation_angle(mat2 r)
+{
+    return atan2(r.c, r.a);
+}
+
+/* The rotation R maximising tr(R^T A): the rotation factor of A's 2x2 polar decomposition
+ * (for det A > 0; the closest proper rotation otherwise). */
+static mat2 closest_rotation(mat2 A)
+{
+    return rotation(atan2(A.c - A.b, A.a + A.d));
+}
+
+/* ---- per-triangle quantities ------------------------------------------------------- */
+
+static mat2 jacobian(const tri_frame *f, const double *x)
+{
+    mat2 g = {0, 0, 0, 0};
+    for (int j = 0; j < 3; j++) {
+        const double *p = x + 2 * (size_t)f->v[j];
+        g.a += p[0] * f->grad[j][0];
+        g.b += p[0] * f->grad[j][1];
+        g.c += p[1] * f->grad[j][0];
+        g.d += p[1] * f->grad[j][1];
+    }
+    return g;
+}
+
+static double det2(mat2 m)
+{
+    return m.a * m.d - m.b * m.c;
+}
+
+/* Schueller et al. 2013 barrier and its first two derivatives in d = det G. */
+static double barrier_value(double d, double s)
+{
+    if (!(d > 0.0))
+        return INFINITY;
+    if (d >= s)
+        return 0.0;
+    double t = d / s;
+    double g = t * t * t - 3.0 * t * t + 3.0 * t;
+    return 1.0 / g - 1.0;
+}
+
+static void barrier_derivatives(double d, double s, double *first, double *second)
+{
+    *first = *second = 0.0;
+    if (!(d > 0.0) || d >= s)
+        return;
+    double t = d / s;
+    double g = t * t * t - 3.0 * t * t + 3.0 * t;
+    double g1 = 3.0 * (1.0 - t) * (1.0 - t);
+    double g2 = 6.0 * t - 6.0;
+    *first = -g1 / (g * g) / s;
+    *second = (2.0 * g1 * g1 - g * g2) / (g * g * g) / (s * s);
+}
+
+/* d det G / d x for the 6 local coordinates (vertex j, axis c) -> out[2 j + c]. */
+static void det_gradient(const tri_frame *f, mat2 g, double out[6])
+{
+    /* det G = g.a g.d - g.b g.c; g.a = sum x_j grad_j0, g.b = sum x_j grad_j1 (u row),
+     * g.c, g.d the same with the v coordinates. */
+    for (int j = 0; j < 3; j++) {
+        out[2 * j + 0] = f->grad[j][0] * g.d - f->grad[j][1] * g.c;
+        out[2 * j + 1] = f->grad[j][1] * g.a - f->grad[j][0] * g.b;
+    }
+}
+
+static mat2 target_fit(const tri_state *s)
+{
+    return mul(s->r, s->s);
+}
+
+/* The non-barrier energy of one fitted triangle (without its area). */
+static double fit_energy(const solver *sv, const tri_frame *f, const tri_state *s, mat2 g)
+{
+    mat2 rk = mul(f->rbar, rotation(s->k * PI / 2));
+    return sv->w_rs * frob2(sub(g, target_fit(s))) + f->w_r * frob2(sub(s->r, rk)) +
+           f->w_s * frob2(sub(s->s, f->sbar));
+}
+
+/* Energy at positions x split into its fitting part and its (weighted) barrier part. */
+static void total_energy(const solver *sv, const double *x, double *fit, double *barrier)
+{
+    double e_fit = 0.0, e_bar = 0.0;
+    for (size_t t = 0; t < sv->tri_count; t++) {
+        const tri_frame *f = &sv->tri[t];
+        if (!f->fitted && !f->barrier)
+            continue;
+        mat2 g = jacobian(f, x);
+        if (f->fitted)
+            e_fit += f->area * fit_energy(sv, f, &sv->st[t], g);
+        if (f->barrier)
+            e_bar += f->area * barrier_value(det2(g), f->threshold);
+    }
+    *fit = e_fit;
+    *barrier = sv->w_b * e_bar;
+}
+
+/* ---- local step ---------------------------------------------------------------------- */
+
+static int closest_symmetry(const tri_frame *f, const tri_state *s)
+{
+    double diff = rotation_angle(s->r) - rotation_angle(f->rbar);
+    int best = 0;
+    double best_cost = INFINITY;
+    for (int k = 0; k < 4; k++) {
+        double c = 1.0 - cos(diff - k * PI / 2);
+        if (c < best_cost) {
+            best_cost = c;
+            best = k;
+        }
+    }
+    return best;
+}
+
+/* Exact block minimisation in the order k, R (given S), S (given R): E never increases. */
+static void local_step(solver *sv, const double *x)
+{
+    for (size_t t = 0; t < sv->tri_count; t++) {
+        const tri_frame *f = &sv->tri[t];
+        tri_state *s = &sv->st[t];
+        if (!f->fitted)
+            continue;
+        mat2 g = jacobian(f, x);
+        s->k = closest_symmetry(f, s);
+        mat2 rk = mul(f->rbar, rotation(s->k * PI / 2));
+        mat2 gs = mul(g, s->s);
+        mat2 A = {f->w_r * rk.a + sv->w_rs * gs.a, f->w_r * rk.b + sv->w_rs * gs.b,
+                  f->w_r * rk.c + sv->w_rs * gs.c, f->w_r * rk.d + sv->w_rs * gs.d};
+        s->r = closest_rotation(A);
+        mat2 fitted = sym(mul(transpose(s->r), g));
+        double w = f->w_s + sv->w_rs;
+        mat2 S = {(f->w_s * f->sbar.a + sv->w_rs * fitted.a) / w,
+                  (f->w_s * f->sbar.b + sv->w_rs * fitted.b) / w,
+                  (f->w_s * f->sbar.c + sv->w_rs * fitted.c) / w,
+                  (f->w_s * f->sbar.d + sv->w_rs * fitted.d) / w};
+        s->s = S;
+    }
+}
+
+/* The state a triangle starts from: its own polar factors, so the fitting term is 0. */
+static void initial_state(solver *sv, const double *x)
+{
+    for (size_t t = 0; t < sv->tri_count; t++) {
+        const tri_frame *f = &sv->tri[t];
+        tri_state *s = &sv->st[t];
+        mat2 g = jacobian(f, x);
+        s->r = closest_rotation(g);
+        s->s = sym(mul(transpose(s->r), g));
+        s->k = 0;
+        (void)f;
+    }
+}
+
+/* ---- setup ----------------------------------------------------------------------------- */
+
+static texopt_status check_target(const texopt_triangle_target *tg, size_t t, char *err,
+                                  size_t err_len)
+{
+    if (!isfinite(tg->alpha) || !isfinite(tg->beta) || !(tg->lambda1 > 0.0) ||
+        !(tg->lambda2 > 0.0) || !isfinite(tg->lambda1) || !isfinite(tg->lambda2))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "meshwise: target of triangle %zu has a non-finite angle or a "
+                           "non-positive singular value (%g, %g)",
+                           t, tg->lambda1, tg->lambda2);
+    if (!(tg->w_rotation >= 0.0) || !(tg->w_stretch >= 0.0) || !isfinite(tg->w_rotation) ||
+        !isfinite(tg->w_stretch))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "meshwise: target of triangle %zu has a negative or non-finite weight",
+                           t);
+    return TEXOPT_OK;
+}
+
+static mat2 target_stretch(const texopt_triangle_target *tg)
+{
+    mat2 v = rotation(tg->beta);
+    mat2 l = {tg->lambda1, 0, 0, tg->lambda2};
+    return mul(mul(v, l), transpose(v));
+}
+
+static texopt_status build_frames(solver *sv, const texopt_triangle_target *targets, char *err,
+                                  size_t err_len)
+{
+    const texopt_mesh *m = sv->mesh;
+    for (size_t t = 0; t < sv->tri_count; t++) {
+        tri_frame *f = &sv->tri[t];
+        texopt_status st = check_target(&targets[t], t, err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
+        for (int j = 0; j < 3; j++) {
+            f->v[j] = m->triangle[3 * t + j];
+            if (f->v[j] >= m->vertex_count)
+                return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                                   "meshwise: triangle %zu uses vertex %u past vertex count %zu",
+                                   t, f->v[j], m->vertex_count);
+        }
+        const double *p0 = m->texel + 2 * (size_t)f->v[0];
+        const double *p1 = m->texel + 2 * (size_t)f->v[1];
+        const double *p2 = m->texel + 2 * (size_t)f->v[2];
+        double e1x = p1[0] - p0[0], e1y = p1[1] - p0[1];
+        double e2x = p2[0] - p0[0], e2y = p2[1] - p0[1];
+        double det = e1x * e2y - e1y * e2x;
+        int degenerate_uv = (m->flags[t] & TEXOPT_TRI_DEGENERATE_UV) || !(fabs(det) > 0.0) ||
+                            !isfinite(det);
+        f->barrier = !degenerate_uv;
+        f->fitted = f->barrier && !(m->flags[t] & TEXOPT_TRI_DEGENERATE_3D);
+        if (!f->barrier)
+            continue;
+        /* Rows of [e1 e2]^-1 are the gradients of barycentrics 1 and 2. */
+        f->inv_det = 1.0 / det;
+        f->grad[1][0] = e2y / det;
+        f->grad[1][1] = -e2x / det;
+        f->grad[2][0] = -e1y / det;
+        f->grad[2][1] = e1x / det;
+        f->grad[0][0] = -f->grad[1][0] - f->grad[2][0];
+        f->grad[0][1] = -f->grad[1][1] - f->grad[2][1];
+        f->area = 0.5 * fabs(det);
+        double target_det = targets[t].lambda1 * targets[t].lambda2;
+        f->threshold = BARRIER_FRACTION * fmin(1.0, target_det);
+        f->rbar = rotation(targets[t].alpha);
+        f->sbar = target_stretch(&targets[t]);
+        f->w_r = targets[t].w_rotation;
+        f->w_s = targets[t].w_stretch;
+    }
+    return TEXOPT_OK;
+}
+
+/* Divides w_R and w_S by the mean w_S (or mean w_R when no triangle has a w_S) of the fitted
+ * triangles, so that stage 1's variances keep their ratios but do not vanish against w_rs. */
+static void normalise_weights(solver *sv)
+{
+    double sum_s = 0.0, sum_r = 0.0;
+    size_t n = 0;
+    for (size_t t = 0; t < sv->tri_count; t++) {
+        if (!sv->tri[t].fitted)
+            continue;
+        sum_s += sv->tri[t].w_s;
+        sum_r += sv->tri[t].w_r;
+        n++;
+    }
+    double scale = sum_s > 0.0 ? sum_s / (double)n : sum_r > 0.0 ? sum_r / (double)n : 1.0;
+    for (size_t t = 0; t < sv->tri_count; t++) {
+        sv->tri[t].w_s /= scale;
+        sv->tri[t].w_r /= scale;
+    }
+}
+
+/* Free unknowns: every vertex used by a triangle with an input area, except one pinned
+ * vertex per chart (the first vertex of the chart's first such triangle). */
+static texopt_status number_unknowns(solver *sv, char *err, size_t err_len)
+{
+    const texopt_mesh *m = sv->mesh;
+    unsigned char *pinned_chart = calloc(m->chart_count ? m->chart_count : 1, 1);
+    if (!pinned_chart)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory");
+    for (size_t v = 0; v < sv->vertex_count; v++)
+        sv->var[v] = -2; /* unused */
+    for (size_t t = 0; t < sv->tri_count; t++) {
+        const tri_frame *f = &sv->tri[t];
+        if (!f->barrier)
+            continue;
+        uint32_t chart = m->chart_of[t];
+        if (chart >= m->chart_count) {
+            free(pinned_chart);
+            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                               "meshwise: triangle %zu in chart %u past chart count %zu", t, chart,
+                               m->chart_count);
+        }
+        if (!pinned_chart[chart]) {
+            pinned_chart[chart] = 1;
+            sv->var[f->v[0]] = -1;
+        }
+        for (int j = 0; j < 3; j++)
+            if (sv->var[f->v[j]] == -2)
+                sv->var[f->v[j]] = 0;
+    }
+    free(pinned_chart);
+    size_t n = 0;
+    for (size_t v = 0; v < sv->vertex_count; v++) {
+        if (sv->var[v] == 0)
+            sv->var[v] = (int)n++;
+        else
+            sv->var[v] = -1;
+    }
+    sv->unknowns = 2 * n;
+    return TEXOPT_OK;
+}
+
+static int64_t unknown_of(const solver *sv, uint32_t vertex, int axis)
+{
+    int v = sv->var[vertex];
+    return v < 0 ? -1 : 2 * (int64_t)v + axis;
+}
+
+static int compare_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Index of entry (row, col) among the sorted rows of column col. */
+static int32_t find_slot(const cholmod_sparse *A, int64_t row, int64_t col)
+{
+    const int *p = A->p, *i = A->i;
+    int lo = p[col], hi = p[col + 1] - 1;
+    while (lo <= hi) {
+        int mid = (lo + hi) / 2;
+        if (i[mid] == row)
+            return mid;
+        if (i[mid] < row)
+            lo = mid + 1;
+        else
+            hi = mid - 1;
+    }
+    return -1;
+}
+
+/* The upper-triangular pattern: a full 6x6 block per triangle (the barrier couples u and v)
+ * plus every diagonal. Analysed by CHOLMOD once. */
+static texopt_status build_pattern(solver *sv, char *err, size_t err_len)
+{
+    size_t cap = sv->unknowns + 21 * sv->tri_count;
+    uint64_t *keys = malloc(cap * sizeof *keys);
+    if (!keys)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory");
+    size_t n = 0;
+    for (size_t u = 0; u < sv->unknowns; u++)
+        keys[n++] = ((uint64_t)u << 32) | u;
+    for (size_t t = 0; t < sv->tri_count; t++) {
+        const tri_frame *f = &sv->tri[t];
+        if (!f->barrier)
+            continue;
+        for (int l1 = 0; l1 < 6; l1++)
+            for (int l2 = 0; l2 < 6; l2++) {
+                int64_t r = unknown_of(sv, f->v[l1 / 2], l1 % 2);
+                int64_t c = unknown_of(sv, f->v[l2 / 2], l2 % 2);
+                if (r < 0 || c < 0 || r >= c)
+                    continue;
+                keys[n++] = ((uint64_t)c << 32) | (uint64_t)r;
+            }
+    }
+    qsort(keys, n, sizeof *keys, compare_u64);
+    size_t unique = 0;
+    for (size_t k = 0; k < n; k++)
+        if (unique == 0 || keys[unique - 1] != keys[k])
+            keys[unique++] = keys[k];
+
+    sv->A = cholmod_allocate_sparse(sv->unknowns, sv->unknowns, unique, 1, 1, 1, CHOLMOD_REAL,
+                                    &sv->cm);
+    if (!sv->A) {
+        free(keys);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: cannot allocate the %zu x %zu matrix",
+                           sv->unknowns, sv->unknowns);
+    }
+    int *p = sv->A->p, *i = sv->A->i;
+    size_t col = 0;
+    p[0] = 0;
+    for (size_t k = 0; k < unique; k++) {
+        size_t c = (size_t)(keys[k] >> 32);
+        while (col < c)
+            p[++col] = (int)k;
+        i[k] = (int)(keys[k] & 0xffffffffu);
+    }
+    while (col < sv->unknowns)
+        p[++col] = (int)unique;
+    free(keys);
+
+    for (size_t u = 0; u < sv->unknowns; u++)
+        sv->diag[u] = find_slot(sv->A, (int64_t)u, (int64_t)u);
+    for (size_t t = 0; t < sv->tri_count; t++) {
+        const tri_frame *f = &sv->tri[t];
+        for (int l = 0; l < 36; l++) {
+            int l1 = l / 6, l2 = l % 6;
+            int64_t r = f->barrier ? unknown_of(sv, f->v[l1 / 2], l1 % 2) : -1;
+            int64_t c = f->barrier ? unknown_of(sv, f->v[l2 / 2], l2 % 2) : -1;
+            sv->slot[36 * t + l] = (r < 0 || c < 0 || r > c) ? -1 : find_slot(sv->A, r, c);
+        }
+    }
+    return TEXOPT_OK;
+}
+
+/* The constant Hessian of sum a w_rs |G - M|^2: 2 a w_rs (grad_j . grad_k) on each axis. */
+static void build_fit_hessian(solver *sv)
+{
+    size_t nnz = ((int *)sv->A->p)[sv->unknowns];
+    memset(sv->fit_values, 0, nnz * sizeof *sv->fit_values);
+    for (size_t t = 0; t < sv->tri_count; t++) {
+        const tri_frame *f = &sv->tri[t];
+        if (!f->fitted)
+            continue;
+        double w = 2.0 * f->area * sv->w_rs;
+        for (int j = 0; j < 3; j++)
+            for (int k = 0; k < 3; k++)
+                for (int c = 0; c < 2; c++) {
+                    int32_t s = sv->slot[36 * t + (2 * j + c) * 6 + (2 * k + c)];
+                    if (s >= 0)
+                        sv->fit_values[s] += w * (f->grad[j][0] * f->grad[k][0] +
+                                                  f->grad[j][1] * f->grad[k][1]);
+                }
+    }
+    double mean_diag = 0.0;
+    for (size_t u = 0; u < sv->unknowns; u++)
+        mean_diag += sv->fit_values[sv->diag[u]];
+    mean_diag = sv->unknowns ? mean_diag / (double)sv->unknowns : 1.0;
+    /* Barrier-only parts have no fitting curvature; keep the damping meaningful there. */
+    double mu = DAMPING * (mean_diag > 0.0 ? mean_diag : 1.0);
+    for (size_t u = 0; u < sv->unknowns; u++)
+        sv->fit_values[sv->diag[u]] += mu;
+}
+
+/* ---- global step ----------------------------------------------------------------------- */
+
+/* Gradient of the global-step objective into sv->grad (free unknowns only); adds the barrier
+ * Gauss-Newton Hessian to the matrix values when `values` is not NULL. Returns the number
+ * of triangles whose barrier is active. */
+static size_t gradient_and_barrier(solver *sv, double *values)
+{
+    memset(sv->grad, 0, sv->unknowns * sizeof *sv->grad);
+    size_t active = 0;
+    for (size_t t = 0; t < sv->tri_count; t++) {
+        const tri_frame *f = &sv->tri[t];
+        if (!f->barrier)
+            continue;
+        mat2 g = jacobian(f, sv->x);
+        double local[6] = {0};
+        if (f->fitted) {
+            mat2 r = sub(g, target_fit(&sv->st[t]));
+            double w = 2.0 * f->area * sv->w_rs;
+            for (int j = 0; j < 3; j++) {
+                local[2 * j + 0] += w * (r.a * f->grad[j][0] + r.b * f->grad[j][1]);
+                local[2 * j + 1] += w * (r.c * f->grad[j][0] + r.d * f->grad[j][1]);
+            }
+        }
+        double b1, b2;
+        barrier_derivatives(det2(g), f->threshold, &b1, &b2);
+        if (b1 != 0.0 || b2 != 0.0) {
+            double dd[6];
+            det_gradient(f, g, dd);
+            double w = sv->w_b * f->area;
+            for (int l = 0; l < 6; l++)
+                local[l] += w * b1 * dd[l];
+            if (values)
+                for (int l = 0; l < 36; l++) {
+                    int32_t s = sv->slot[36 * t + l];
+                    if (s >= 0)
+                        values[s] += w * b2 * dd[l / 6] * dd[l % 6];
+                }
+            active++;
+        }
+        for (int l = 0; l < 6; l++) {
+            int64_t u = unknown_of(sv, f->v[l / 2], l % 2);
+            if (u >= 0)
+                sv->grad[u] += local[l];
+        }
+    }
+    return active;
+}
+
+/* Smallest t > 0 with c0 + c1 t + c2 t^2 = 0 (c0 > 0), or +inf. */
+static double first_positive_root(double c0, double c1, double c2)
+{
+    double best = INFINITY;
+    if (fabs(c2) <= 1e-14 * (fabs(c1) + fabs(c0))) {
+        if (c1 < 0.0)
+            best = -c0 / c1;
+        return best;
+    }
+    double disc = c1 * c1 - 4.0 * c2 * c0;
+    if (disc < 0.0)
+        return best;
+    double q = -0.5 * (c1 + (c1 >= 0.0 ? sqrt(disc) : -sqrt(disc)));
+    double r1 = q / c2, r2 = q != 0.0 ? c0 / q : INFINITY;
+    if (r1 > 0.0 && r1 < best)
+        best = r1;
+    if (r2 > 0.0 && r2 < best)
+        best = r2;
+    return best;
+}
+
+/* Largest step along dx (per vertex, full layout) before some det G reaches zero. */
+static double max_feasible_step(const solver *sv, const double *dx)
+{
+    double t_max = INFINITY;
+    for (size_t t = 0; t < sv->tri_count; t++) {
+        const tri_frame *f = &sv->tri[t];
+        if (!f->barrier)
+            continue;
+        mat2 g = jacobian(f, sv->x);
+        mat2 dg = jacobian(f, dx);
+        /* det(G + t dG) = det G + t (g.a dg.d + dg.a g.d - g.b dg.c - dg.b g.c) + t^2 det dG */
+        double c0 = det2(g);
+        double c1 = g.a * dg.d + dg.a * g.d - g.b * dg.c - dg.b * g.c;
+        double c2 = det2(dg);
+        double r = first_positive_root(c0, c1, c2);
+        if (r < t_max)
+            t_max = r;
+    }
+    return t_max;
+}
+
+static texopt_status factorize(solver *sv, int with_barrier, char *err, size_t err_len)
+{
+    if (!sv->L) {
+        sv->L = cholmod_analyze(sv->A, &sv->cm);
+        if (!sv->L || sv->cm.status < CHOLMOD_OK)
+            return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
+                               "meshwise: CHOLMOD analysis failed (status %d)", sv->cm.status);
+    }
+    if (!cholmod_factorize(sv->A, sv->L, &sv->cm) || sv->cm.status != CHOLMOD_OK)
+        return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
+                           "meshwise: CHOLMOD factorisation failed (status %d, the system is "
+                           "not positive definite)",
+                           sv->cm.status);
+    sv->factorized = 1;
+    sv->factor_has_barrier = with_barrier;
+    sv->factorizations++;
+    return TEXOPT_OK;
+}
+
+/* Newton direction -H^-1 grad scattered to a per-vertex step (fixed vertices: 0). */
+static texopt_status newton_direction(solver *sv, char *err, size_t err_len)
+{
+    double *values = sv->A->x;
+    memcpy(values, sv->fit_values, ((int *)sv->A->p)[sv->unknowns] * sizeof *values);
+    size_t active = gradient_and_barrier(sv, values);
+    if (!sv->factorized || active > 0 || sv->factor_has_barrier) {
+        texopt_status st = factorize(sv, active > 0, err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
+    }
+    cholmod_dense *b = cholmod_allocate_dense(sv->unknowns, 1, sv->unknowns, CHOLMOD_REAL, &sv->cm);
+    if (!b)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory");
+    double *bx = b->x;
+    for (size_t u = 0; u < sv->unknowns; u++)
+        bx[u] = -sv->grad[u];
+    cholmod_dense *sol = cholmod_solve(CHOLMOD_A, sv->L, b, &sv->cm);
+    cholmod_free_dense(&b, &sv->cm);
+    if (!sol)
+        return texopt_fail(err, err_len, TEXOPT_E_NUMERIC, "meshwise: CHOLMOD solve failed");
+    const double *sx = sol->x;
+    for (size_t v = 0; v < sv->vertex_count; v++) {
+        int k = sv->var[v];
+        sv->step[2 * v] = k < 0 ? 0.0 : sx[2 * k];
+        sv->step[2 * v + 1] = k < 0 ? 0.0 : sx[2 * k + 1];
+    }
+    cholmod_free_dense(&sol, &sv->cm);
+    return TEXOPT_OK;
+}
+
+/* Backtracking from the largest safe step; accepts only a decrease. Returns the step taken. */
+static double line_search(solver *sv, double energy)
+{
+    double slope = 0.0;
+    for (size_t v = 0; v < sv->vertex_count; v++) {
+        int k = sv->var[v];
+        if (k >= 0)
+            slope += sv->grad[2 * k] * sv->step[2 * v] + sv->grad[2 * k + 1] * sv->step[2 * v + 1];
+    }
+    if (!(slope < 0.0))
+        return 0.0;
+    double t = fmin(1.0, STEP_SAFETY * max_feasible_step(sv, sv->step));
+    for (int h = 0; h < MAX_HALVINGS; h++, t *= 0.5) {
+        for (size_t i = 0; i < 2 * sv->vertex_count; i++)
+            sv->trial[i] = sv->x[i] + t * sv->step[i];
+        double fit, bar;
+        total_energy(sv, sv->trial, &fit, &bar);
+        if (fit + bar <= energy + ARMIJO * t * slope) {
+            memcpy(sv->x, sv->trial, 2 * sv->vertex_count * sizeof *sv->x);
+            return t;
+        }
+    }
+    return 0.0;
+}
+
+/* ---- driver ---------------------------------------------------------------------------- */
+
+static void solver_free(solver *sv)
+{
+    if (sv->L)
+        cholmod_free_factor(&sv->L, &sv->cm);
+    if (sv->A)
+        cholmod_free_sparse(&sv->A, &sv->cm);
+    cholmod_finish(&sv->cm);
+    free(sv->tri);
+    free(sv->st);
+    free(sv->var);
+    free(sv->slot);
+    free(sv->diag);
+    free(sv->fit_values);
+    free(sv->x);
+    free(sv->trial);
+    free(sv->grad);
+    free(sv->step);
+}
+
+static texopt_status check_start(const solver *sv, const double *x, char *err, size_t err_len)
+{
+    for (size_t i = 0; i < 2 * sv->vertex_count; i++)
+        if (!isfinite(x[i]))
+            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                               "meshwise: starting texel position of vertex %zu is not finite",
+                               i / 2);
+    for (size_t t = 0; t < sv->tri_count; t++)
+        if (sv->tri[t].barrier && !(det2(jacobian(&sv->tri[t], x)) > 0.0))
+            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                               "meshwise: triangle %zu of the starting layout is flipped or "
+                               "collapsed relative to the input",
+                               t);
+    return TEXOPT_OK;
+}
+
+static texopt_status solver_init(solver *sv, const texopt_mesh *mesh,
+                                 const texopt_triangle_target *targets, const double *start,
+                                 const texopt_meshwise_options *opt, char *err, size_t err_len)
+{
+    memset(sv, 0, sizeof *sv);
+    cholmod_start(&sv->cm);
+    sv->cm.print = 0;
+    sv->cm.error_handler = NULL;
+    sv->mesh = mesh;
+    sv->tri_count = mesh->triangle_count;
+    sv->vertex_count = mesh->vertex_count;
+    sv->w_rs = opt && opt->fit_weight > 0.0 ? opt->fit_weight : 1.0;
+    sv->w_b = opt && opt->barrier_weight > 0.0 ? opt->barrier_weight : 1.0;
+    size_t nt = sv->tri_count ? sv->tri_count : 1, nv = sv->vertex_count ? sv->vertex_count : 1;
+    sv->tri = calloc(nt, sizeof *sv->tri);
+    sv->st = calloc(nt, sizeof *sv->st);
+    sv->var = calloc(nv, sizeof *sv->var);
+    sv->slot = calloc(36 * nt, sizeof *sv->slot);
+    sv->diag = calloc(2 * nv, sizeof *sv->diag);
+    sv->x = calloc(2 * nv, sizeof *sv->x);
+    sv->trial = calloc(2 * nv, sizeof *sv->trial);
+    sv->grad = calloc(2 * nv, sizeof *sv->grad);
+    sv->step = calloc(2 * nv, sizeof *sv->step);
+    if (!sv->tri || !sv->st || !sv->var || !sv->slot || !sv->diag || !sv->x || !sv->trial ||
+        !sv->grad || !sv->step)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory for %zu triangles",
+                           sv->tri_count);
+    texopt_status st = build_frames(sv, targets, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    normalise_weights(sv);
+    memcpy(sv->x, start, 2 * sv->vertex_count * sizeof *sv->x);
+    if ((st = check_start(sv, sv->x, err, err_len)) != TEXOPT_OK)
+        return st;
+    if ((st = number_unknowns(sv, err, err_len)) != TEXOPT_OK)
+        return st;
+    if (sv->unknowns == 0)
+        return TEXOPT_OK;
+    if ((st = build_pattern(sv, err, err_len)) != TEXOPT_OK)
+        return st;
+    sv->fit_values = malloc(((int *)sv->A->p)[sv->unknowns] * sizeof *sv->fit_values);
+    if (!sv->fit_values)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory");
+    build_fit_hessian(sv);
+    return TEXOPT_OK;
+}
+
+static double seconds_since(const struct timespec *start)
+{
+    struct timespec now;
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    return (double)(now.tv_sec - start->tv_sec) + 1e-9 * (double)(now.tv_nsec - start->tv_nsec);
+}
+
+static void report_progress(const texopt_monitor *monitor, int iteration, int max_iterations)
+{
+    texopt_progress p = {0};
+    p.stage = "stage2";
+    p.stage_fraction = (double)iteration / (double)max_iterations;
+    p.fraction = p.stage_fraction;
+    p.eta_seconds = -1.0;
+    texopt_monitor_report(monitor, &p);
+}
+
+static int is_finite_layout(const double *x, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite(x[i]))
+            return 0;
+    return 1;
+}
+
+/* The local-global loop; fills the report's energy trace. */
+static texopt_status iterate(solver *sv, int max_iterations, double tolerance,
+                             texopt_meshwise_report *rep, const texopt_monitor *monitor,
+                             char *err, size_t err_len)
+{
+    double fit, bar;
+    initial_state(sv, sv->x);
+    local_step(sv, sv->x);
+    total_energy(sv, sv->x, &fit, &bar);
+    rep->energy_initial = fit + bar;
+    double energy = fit + bar;
+    for (int it = 0; it < max_iterations; it++) {
+        if (texopt_monitor_canceled(monitor))
+            return texopt_fail(err, err_len, TEXOPT_E_CANCELED, "meshwise: canceled at iteration %d", it);
+        if (it > 0) {
+            local_step(sv, sv->x);
+            total_energy(sv, sv->x, &fit, &bar);
+        }
+        double before = fit + bar;
+        if (sv->unknowns > 0) {
+            texopt_status st = newton_direction(sv, err, err_len);
+            if (st != TEXOPT_OK)
+                return st;
+            line_search(sv, before);
+        }
+        if (!is_finite_layout(sv->x, 2 * sv->vertex_count))
+            return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
+                               "meshwise: non-finite texel position at iteration %d", it);
+        total_energy(sv, sv->x, &fit, &bar);
+        if (fit < bar) { /* eq. 28 */
+            bar /= BARRIER_REDUCTION;
+            sv->w_b /= BARRIER_REDUCTION;
+        }
+        double previous = energy;
+        energy = fit + bar;
+        if (rep->energy_count < TEXOPT_MESHWISE_MAX_REPORTED)
+            rep->energy[rep->energy_count++] = energy;
+        rep->iterations = it + 1;
+        report_progress(monitor, it + 1, max_iterations);
+        if (fabs(previous - energy) <= tolerance * fmax(previous, 1e-300))
+            break;
+    }
+    rep->energy_final = energy;
+    return TEXOPT_OK;
+}
+
+texopt_status texopt_meshwise_solve(const texopt_mesh *mesh, const texopt_triangle_target *targets,
+                                    const double *initial_texel,
+                                    const texopt_meshwise_options *opt, double *texel_out,
+                                    texopt_meshwise_report *report,
+                                    const texopt_monitor *monitor, char *err, size_t err_len)
+{
+    if (!mesh || !targets || !texel_out)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "meshwise: NULL mesh, targets or output");
+    if (!mesh->texel || (mesh->triangle_count && (!mesh->triangle || !mesh->flags || !mesh->chart_of)))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "meshwise: the mesh lacks texels, triangles, flags or charts");
+    if (opt && (opt->max_iterations < 0 || opt->tolerance < 0.0 || opt->barrier_weight < 0.0 ||
+                opt->fit_weight < 0.0 || opt->threads < 0))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "meshwise: negative option (iterations, tolerance, weights or threads)");
+    int max_iterations = opt && opt->max_iterations > 0 ? opt->max_iterations : 50;
+    double tolerance = opt && opt->tolerance > 0.0 ? opt->tolerance : 1e-4;
+
+    struct timespec start;
+    clock_gettime(CLOCK_MONOTONIC, &start);
+    texopt_meshwise_report rep;
+    memset(&rep, 0, sizeof rep);
+
+    solver sv;
+    texopt_status st = solver_init(&sv, mesh, targets, initial_texel ? initial_texel : mesh->texel,
+                                   opt, err, err_len);
+    if (st == TEXOPT_OK)
+        st = iterate(&sv, max_iterations, tolerance, &rep, monitor, err, err_len);
+    if (st == TEXOPT_OK) {
+        rep.flipped = (int)texopt_count_flipped(mesh, sv.x);
+        if (rep.flipped > 0)
+            st = texopt_fail(err, err_len, TEXOPT_E_INTERNAL,
+                             "meshwise: %d triangles flipped despite the barrier", rep.flipped);
+    }
+    if (st == TEXOPT_OK) {
+        memcpy(texel_out, sv.x, 2 * mesh->vertex_count * sizeof *texel_out);
+        rep.barrier_weight_final = sv.w_b;
+        rep.factorizations = sv.factorizations;
+        rep.seconds = seconds_since(&start);
+        if (report)
+            *report = rep;
+    }
+    solver_free(&sv);
+    return st;
+}

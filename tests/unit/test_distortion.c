@@ -1,0 +1,184 @@
+/* test_distortion.c - symmetric Dirichlet distortion and flip counting (engine/distortion.c)
+ * on hand-built meshes whose exact values follow from the definition. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "distortion.h"
+#include "test.h"
+
+static void free_mesh(texopt_mesh *m)
+{
+    if (!m)
+        return;
+    free(m->texel);
+    free(m->point_of);
+    free(m->position);
+    free(m->triangle);
+    free(m->area_3d);
+    free(m->area_texel);
+    free(m->flags);
+    free(m->chart_of);
+    free(m);
+}
+
+static double doubled_area(const double *p, const uint32_t *t, int stride)
+{
+    const double *a = p + stride * t[0], *b = p + stride * t[1], *c = p + stride * t[2];
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+static double area_3d(const double *p, const uint32_t *t)
+{
+    const double *a = p + 3 * t[0], *b = p + 3 * t[1], *c = p + 3 * t[2];
+    double e[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, f[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double x = e[1] * f[2] - e[2] * f[1], y = e[2] * f[0] - e[0] * f[2], z = e[0] * f[1] - e[1] * f[0];
+    return 0.5 * sqrt(x * x + y * y + z * z);
+}
+
+/* An n x n grid on a tilted plane in 3D (so the 3D frame is not the texel frame), texels
+ * = 10 x the in-plane coordinates: an isometry up to scale. */
+static texopt_mesh *tilted_grid(int n)
+{
+    size_t nv = (size_t)(n + 1) * (n + 1), nt = 2 * (size_t)n * n;
+    texopt_mesh *m = calloc(1, sizeof *m);
+    m->vertex_count = m->point_count = nv;
+    m->triangle_count = nt;
+    m->texel = calloc(2 * nv, sizeof(double));
+    m->point_of = calloc(nv, sizeof(uint32_t));
+    m->position = calloc(3 * nv, sizeof(double));
+    m->triangle = calloc(3 * nt, sizeof(uint32_t));
+    m->area_3d = calloc(nt, sizeof(double));
+    m->area_texel = calloc(nt, sizeof(double));
+    m->flags = calloc(nt, 1);
+    m->chart_of = calloc(nt, sizeof(uint32_t));
+    m->chart_count = 1;
+    double c = cos(0.7), s = sin(0.7);
+    for (int j = 0; j <= n; j++)
+        for (int i = 0; i <= n; i++) {
+            size_t v = (size_t)j * (n + 1) + i;
+            double x = i * 0.1 + 0.013 * ((i * 7 + j * 3) % 5), y = j * 0.1 + 0.011 * ((i * 2 + j * 5) % 4);
+            m->point_of[v] = (uint32_t)v;
+            m->texel[2 * v] = 10.0 * x;
+            m->texel[2 * v + 1] = 10.0 * y;
+            m->position[3 * v] = x;
+            m->position[3 * v + 1] = c * y; /* plane rotated about the x axis */
+            m->position[3 * v + 2] = s * y;
+        }
+    for (int j = 0; j < n; j++)
+        for (int i = 0; i < n; i++) {
+            size_t t = 2 * ((size_t)j * n + i);
+            uint32_t a = (uint32_t)((size_t)j * (n + 1) + i), b = a + 1, d = a + (uint32_t)(n + 1), e = d + 1;
+            uint32_t tris[6] = {a, b, e, a, e, d};
+            memcpy(m->triangle + 3 * t, tris, sizeof tris);
+        }
+    for (size_t t = 0; t < nt; t++) {
+        m->area_3d[t] = area_3d(m->position, m->triangle + 3 * t);
+        m->area_texel[t] = 0.5 * doubled_area(m->texel, m->triangle + 3 * t, 2);
+    }
+    return m;
+}
+
+TEST(isometric_layout_measures_four_at_any_resolution)
+{
+    texopt_mesh *m = tilted_grid(6);
+    texopt_distortion d;
+    char err[256] = "";
+    CHECK_OK(texopt_distortion_measure(m, NULL, &d, err, sizeof err), err);
+    CHECK_NEAR(d.symmetric_dirichlet, 4.0, 1e-9);
+    CHECK_NEAR(d.max_symmetric_dirichlet, 4.0, 1e-9);
+    CHECK_EQ_INT(d.counted, m->triangle_count);
+    CHECK_EQ_INT(d.flipped, 0);
+    /* A rotated, 3x smaller copy of the layout is still an isometry up to scale. */
+    double *out = malloc(2 * m->vertex_count * sizeof *out);
+    for (size_t v = 0; v < m->vertex_count; v++) {
+        double x = m->texel[2 * v], y = m->texel[2 * v + 1];
+        out[2 * v] = (0.6 * x - 0.8 * y) / 3.0 + 50.0;
+        out[2 * v + 1] = (0.8 * x + 0.6 * y) / 3.0;
+    }
+    CHECK_OK(texopt_distortion_measure(m, out, &d, err, sizeof err), err);
+    CHECK_NEAR(d.symmetric_dirichlet, 4.0, 1e-9);
+    free(out);
+    free_mesh(m);
+}
+
+TEST(two_to_one_stretch_measures_five)
+{
+    /* Stretch x by 2: after area normalisation J = diag(sqrt 2, 1/sqrt 2), so
+     * |J|^2 + |J^-1|^2 = (2 + 1/2) + (1/2 + 2) = 5 on every triangle. */
+    texopt_mesh *m = tilted_grid(5);
+    double *out = malloc(2 * m->vertex_count * sizeof *out);
+    for (size_t v = 0; v < m->vertex_count; v++) {
+        out[2 * v] = 2.0 * m->texel[2 * v];
+        out[2 * v + 1] = m->texel[2 * v + 1];
+    }
+    texopt_distortion d;
+    char err[256] = "";
+    CHECK_OK(texopt_distortion_measure(m, out, &d, err, sizeof err), err);
+    CHECK_NEAR(d.symmetric_dirichlet, 5.0, 1e-9);
+    /* Stretch 2x only on one half: area normalisation makes it uneven; the mean lies
+     * strictly between the two pure cases and above 4. */
+    for (size_t v = 0; v < m->vertex_count; v++)
+        out[2 * v] = m->texel[2 * v] < 2.5 ? m->texel[2 * v] : 2.5 + 2.0 * (m->texel[2 * v] - 2.5);
+    CHECK_OK(texopt_distortion_measure(m, out, &d, err, sizeof err), err);
+    CHECK(d.symmetric_dirichlet > 4.05);
+    CHECK(d.max_symmetric_dirichlet > d.symmetric_dirichlet);
+    free(out);
+    free_mesh(m);
+}
+
+TEST(flips_are_judged_against_the_input_orientation)
+{
+    texopt_mesh *m = tilted_grid(4);
+    double *out = malloc(2 * m->vertex_count * sizeof *out);
+    /* A mirrored copy of the layout flips every triangle. */
+    for (size_t v = 0; v < m->vertex_count; v++) {
+        out[2 * v] = -m->texel[2 * v];
+        out[2 * v + 1] = m->texel[2 * v + 1];
+    }
+    CHECK_EQ_INT(texopt_count_flipped(m, out), m->triangle_count);
+    /* Now make the mirrored layout the input: the same positions are then unflipped. */
+    double *mirrored = malloc(2 * m->vertex_count * sizeof *mirrored);
+    memcpy(mirrored, out, 2 * m->vertex_count * sizeof *out);
+    memcpy(out, m->texel, 2 * m->vertex_count * sizeof *out);
+    memcpy(m->texel, mirrored, 2 * m->vertex_count * sizeof *out);
+    CHECK_EQ_INT(texopt_count_flipped(m, NULL), 0);
+    CHECK_EQ_INT(texopt_count_flipped(m, mirrored), 0);
+    CHECK_EQ_INT(texopt_count_flipped(m, out), m->triangle_count);
+    /* Push interior vertex 6 (i=1, j=1) past its neighbours: exactly the triangles around it
+     * that turn over are counted. */
+    memcpy(out, mirrored, 2 * m->vertex_count * sizeof *out);
+    out[2 * 6] -= 15.0;
+    size_t flipped = texopt_count_flipped(m, out);
+    CHECK(flipped >= 1 && flipped < 6);
+    texopt_distortion d;
+    char err[256] = "";
+    CHECK_OK(texopt_distortion_measure(m, out, &d, err, sizeof err), err);
+    CHECK_EQ_INT(d.flipped, flipped);
+    CHECK(isinf(d.symmetric_dirichlet));
+    free(mirrored);
+    free(out);
+    free_mesh(m);
+}
+
+TEST(degenerate_triangles_are_not_counted_and_bad_input_fails)
+{
+    texopt_mesh *m = tilted_grid(3);
+    m->flags[0] = TEXOPT_TRI_DEGENERATE_3D;
+    m->flags[1] = TEXOPT_TRI_DEGENERATE_UV;
+    double *out = malloc(2 * m->vertex_count * sizeof *out);
+    memcpy(out, m->texel, 2 * m->vertex_count * sizeof *out);
+    texopt_distortion d;
+    char err[256] = "";
+    CHECK_OK(texopt_distortion_measure(m, out, &d, err, sizeof err), err);
+    CHECK_EQ_INT(d.counted, m->triangle_count - 2);
+    CHECK_NEAR(d.symmetric_dirichlet, 4.0, 1e-9);
+    out[3] = NAN;
+    CHECK_EQ_INT(texopt_distortion_measure(m, out, &d, err, sizeof err), TEXOPT_E_NUMERIC);
+    for (size_t t = 0; t < m->triangle_count; t++)
+        m->flags[t] = TEXOPT_TRI_DEGENERATE_3D;
+    CHECK_EQ_INT(texopt_distortion_measure(m, NULL, &d, err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
+    CHECK_EQ_INT(texopt_distortion_measure(NULL, NULL, &d, err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
+    free(out);
+    free_mesh(m);
+}

@@ -1,0 +1,456 @@
+/* test_meshwise.c - the mesh-wise local-global solve (engine/meshwise.c) on generated grids.
+ *
+ * Meshes are built by hand (texopt_mesh filled directly) so that each test controls the
+ * layout exactly: jittered grids, two charts, mirrored charts, degenerate triangles. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "distortion.h"
+#include "meshwise.h"
+#include "test.h"
+
+#define PI 3.14159265358979323846
+
+static void free_mesh(texopt_mesh *m)
+{
+    if (!m)
+        return;
+    free(m->texel);
+    free(m->point_of);
+    free(m->position);
+    free(m->triangle);
+    free(m->area_3d);
+    free(m->area_texel);
+    free(m->flags);
+    free(m->chart_of);
+    free(m);
+}
+
+static double doubled_area(const double *p, const uint32_t *t, int stride)
+{
+    const double *a = p + stride * t[0], *b = p + stride * t[1], *c = p + stride * t[2];
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+/* Fills areas and flags the way mesh.c documents them; every vertex is its own point and the
+ * 3D surface is the plane z = 0 with (x, y) = texel / 16 unless the test edits it. */
+static void finish_mesh(texopt_mesh *m)
+{
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        const uint32_t *tri = m->triangle + 3 * t;
+        double a3 = 0.5 * fabs(doubled_area(m->position, tri, 3));
+        double at = 0.5 * doubled_area(m->texel, tri, 2);
+        m->area_3d[t] = a3;
+        m->area_texel[t] = at;
+        m->flags[t] = (uint8_t)((a3 < 1e-14 ? TEXOPT_TRI_DEGENERATE_3D : 0) |
+                                (fabs(at) < 1e-12 ? TEXOPT_TRI_DEGENERATE_UV : 0) |
+                                (at < 0 ? TEXOPT_TRI_FLIPPED : 0));
+    }
+}
+
+static texopt_mesh *alloc_mesh(size_t nv, size_t nt)
+{
+    texopt_mesh *m = calloc(1, sizeof *m);
+    m->vertex_count = nv;
+    m->point_count = nv;
+    m->triangle_count = nt;
+    m->width = m->height = 256;
+    m->texel = calloc(2 * nv, sizeof(double));
+    m->point_of = calloc(nv, sizeof(uint32_t));
+    m->position = calloc(3 * nv, sizeof(double));
+    m->triangle = calloc(3 * nt, sizeof(uint32_t));
+    m->area_3d = calloc(nt, sizeof(double));
+    m->area_texel = calloc(nt, sizeof(double));
+    m->flags = calloc(nt, 1);
+    m->chart_of = calloc(nt, sizeof(uint32_t));
+    m->chart_count = 1;
+    for (size_t v = 0; v < nv; v++)
+        m->point_of[v] = (uint32_t)v;
+    return m;
+}
+
+/* `charts` side-by-side n x n grids of cell `cell` texels, vertices jittered by up to
+ * jitter * cell (deterministic), one chart each. */
+static texopt_mesh *grid_mesh(int n, double cell, double jitter, int charts)
+{
+    size_t per_v = (size_t)(n + 1) * (n + 1), per_t = 2 * (size_t)n * n;
+    texopt_mesh *m = alloc_mesh(per_v * charts, per_t * charts);
+    m->chart_count = (size_t)charts;
+    unsigned state = 12345;
+    for (int c = 0; c < charts; c++) {
+        double x0 = c * (n + 4) * cell;
+        for (int j = 0; j <= n; j++)
+            for (int i = 0; i <= n; i++) {
+                size_t v = per_v * c + (size_t)j * (n + 1) + i;
+                state = state * 1103515245u + 12345u;
+                double jx = jitter * cell * (((state >> 8) & 0xffff) / 65535.0 - 0.5);
+                state = state * 1103515245u + 12345u;
+                double jy = jitter * cell * (((state >> 8) & 0xffff) / 65535.0 - 0.5);
+                m->texel[2 * v] = x0 + i * cell + jx;
+                m->texel[2 * v + 1] = j * cell + jy;
+                m->position[3 * v] = m->texel[2 * v] / 16.0;
+                m->position[3 * v + 1] = m->texel[2 * v + 1] / 16.0;
+            }
+        for (int j = 0; j < n; j++)
+            for (int i = 0; i < n; i++) {
+                size_t t = per_t * c + 2 * ((size_t)j * n + i);
+                uint32_t a = (uint32_t)(per_v * c + (size_t)j * (n + 1) + i);
+                uint32_t b = a + 1, d = a + (uint32_t)(n + 1), e = d + 1;
+                uint32_t tris[6] = {a, b, e, a, e, d};
+                memcpy(m->triangle + 3 * t, tris, sizeof tris);
+                m->chart_of[t] = m->chart_of[t + 1] = (uint32_t)c;
+            }
+    }
+    finish_mesh(m);
+    return m;
+}
+
+static texopt_triangle_target *uniform_targets(size_t n, double l1, double l2, double alpha,
+                                               double beta, double w_r, double w_s)
+{
+    texopt_triangle_target *t = calloc(n, sizeof *t);
+    for (size_t i = 0; i < n; i++) {
+        t[i].lambda1 = l1;
+        t[i].lambda2 = l2;
+        t[i].alpha = alpha;
+        t[i].beta = beta;
+        t[i].w_rotation = w_r;
+        t[i].w_stretch = w_s;
+    }
+    return t;
+}
+
+/* Jacobian of triangle t from the input layout to `out`, as [a b; c d]. */
+static void jacobian_of(const texopt_mesh *m, const double *out, size_t t, double J[4])
+{
+    const uint32_t *tri = m->triangle + 3 * t;
+    double e[4], f[4]; /* columns: edges 1 and 2 */
+    for (int r = 0; r < 2; r++) {
+        e[2 * r] = m->texel[2 * tri[1] + r] - m->texel[2 * tri[0] + r];
+        e[2 * r + 1] = m->texel[2 * tri[2] + r] - m->texel[2 * tri[0] + r];
+        f[2 * r] = out[2 * tri[1] + r] - out[2 * tri[0] + r];
+        f[2 * r + 1] = out[2 * tri[2] + r] - out[2 * tri[0] + r];
+    }
+    double det = e[0] * e[3] - e[1] * e[2];
+    double inv[4] = {e[3] / det, -e[1] / det, -e[2] / det, e[0] / det};
+    J[0] = f[0] * inv[0] + f[1] * inv[2];
+    J[1] = f[0] * inv[1] + f[1] * inv[3];
+    J[2] = f[2] * inv[0] + f[3] * inv[2];
+    J[3] = f[2] * inv[1] + f[3] * inv[3];
+}
+
+static double rotation_degrees(const double J[4])
+{
+    return atan2(J[2] - J[1], J[0] + J[3]) * 180.0 / PI;
+}
+
+static int energies_non_increasing(const texopt_meshwise_report *r)
+{
+    if (r->energy_count > 0 && r->energy[0] > r->energy_initial * (1 + 1e-12) + 1e-12)
+        return 0;
+    for (int i = 1; i < r->energy_count; i++)
+        if (r->energy[i] > r->energy[i - 1] * (1 + 1e-12) + 1e-12)
+            return 0;
+    return 1;
+}
+
+TEST(identity_targets_keep_the_layout)
+{
+    texopt_mesh *m = grid_mesh(10, 8.0, 0.4, 1);
+    texopt_triangle_target *tg = uniform_targets(m->triangle_count, 1, 1, 0, 0, 1, 1);
+    double *out = calloc(2 * m->vertex_count, sizeof *out);
+    texopt_meshwise_report rep;
+    char err[256] = "";
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, out, &rep, NULL, err, sizeof err), err);
+    double worst = 0.0;
+    for (size_t i = 0; i < 2 * m->vertex_count; i++)
+        worst = fmax(worst, fabs(out[i] - m->texel[i]));
+    CHECK_NEAR(worst, 0.0, 1e-6);
+    CHECK_EQ_INT(rep.flipped, 0);
+    CHECK_NEAR(rep.energy_final, 0.0, 1e-9);
+    free(out);
+    free(tg);
+    free_mesh(m);
+}
+
+TEST(uniform_half_scale_quarters_every_area)
+{
+    texopt_mesh *m = grid_mesh(12, 8.0, 0.4, 1);
+    texopt_triangle_target *tg = uniform_targets(m->triangle_count, 0.5, 0.5, 0, 0, 1, 1);
+    double *out = calloc(2 * m->vertex_count, sizeof *out);
+    texopt_meshwise_report rep;
+    char err[256] = "";
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, out, &rep, NULL, err, sizeof err), err);
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        double ratio = 0.5 * doubled_area(out, m->triangle + 3 * t, 2) / m->area_texel[t];
+        CHECK_NEAR(ratio, 0.25, 0.0025);
+    }
+    CHECK(rep.iterations > 1);
+    CHECK(energies_non_increasing(&rep));
+    CHECK(rep.energy_final < 1e-6 * rep.energy_initial);
+    free(out);
+    free(tg);
+    free_mesh(m);
+}
+
+TEST(anisotropic_target_shrinks_along_its_axis)
+{
+    texopt_mesh *m = grid_mesh(10, 8.0, 0.3, 1);
+    /* lambda1 = 0.4 along V(beta) e1: with beta = 0 that is the texel x axis. */
+    texopt_triangle_target *tg = uniform_targets(m->triangle_count, 0.4, 1.0, 0, 0, 1, 1);
+    double *out = calloc(2 * m->vertex_count, sizeof *out);
+    char err[256] = "";
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, out, NULL, NULL, err, sizeof err), err);
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        double J[4];
+        jacobian_of(m, out, t, J);
+        CHECK_NEAR(J[0], 0.4, 0.01);
+        CHECK_NEAR(J[3], 1.0, 0.01);
+        CHECK_NEAR(J[1], 0.0, 0.01);
+        CHECK_NEAR(J[2], 0.0, 0.01);
+    }
+    /* beta = 45 degrees: the shrink is along the diagonal, J = V diag(0.4, 1) V^T. */
+    free(tg);
+    tg = uniform_targets(m->triangle_count, 0.4, 1.0, 0, PI / 4, 1, 1);
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, out, NULL, NULL, err, sizeof err), err);
+    double J[4];
+    jacobian_of(m, out, 7, J);
+    CHECK_NEAR(J[0], 0.7, 0.01);
+    CHECK_NEAR(J[1], -0.3, 0.01);
+    CHECK_NEAR(J[2], -0.3, 0.01);
+    CHECK_NEAR(J[3], 0.7, 0.01);
+    free(out);
+    free(tg);
+    free_mesh(m);
+}
+
+TEST(rotation_target_rotates_only_when_weighted)
+{
+    texopt_mesh *m = grid_mesh(8, 8.0, 0.3, 1);
+    double *out = calloc(2 * m->vertex_count, sizeof *out);
+    char err[256] = "";
+    texopt_triangle_target *tg = uniform_targets(m->triangle_count, 1, 1, 30 * PI / 180, 0, 100, 1);
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, out, NULL, NULL, err, sizeof err), err);
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        double J[4];
+        jacobian_of(m, out, t, J);
+        CHECK_NEAR(rotation_degrees(J), 30.0, 0.5);
+        CHECK_NEAR(J[0] * J[3] - J[1] * J[2], 1.0, 0.01);
+    }
+    for (size_t t = 0; t < m->triangle_count; t++)
+        tg[t].w_rotation = 0.0;
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, out, NULL, NULL, err, sizeof err), err);
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        double J[4];
+        jacobian_of(m, out, t, J);
+        CHECK_NEAR(rotation_degrees(J), 0.0, 1e-6);
+    }
+    free(out);
+    free(tg);
+    free_mesh(m);
+}
+
+TEST(rotation_target_uses_the_ninety_degree_symmetry)
+{
+    texopt_mesh *m = grid_mesh(8, 8.0, 0.3, 1);
+    double *out = calloc(2 * m->vertex_count, sizeof *out);
+    char err[256] = "";
+    texopt_meshwise_report rep;
+    /* A quarter turn is the texel grid's own symmetry: it costs nothing, nothing moves. */
+    texopt_triangle_target *tg = uniform_targets(m->triangle_count, 1, 1, PI / 2, 0, 100, 1);
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, out, &rep, NULL, err, sizeof err), err);
+    CHECK_NEAR(rep.energy_final, 0.0, 1e-9);
+    for (size_t i = 0; i < 2 * m->vertex_count; i++)
+        CHECK_NEAR(out[i], m->texel[i], 1e-6);
+    /* 60 degrees is reached more cheaply as -30 (k = 3) than as +60. */
+    for (size_t t = 0; t < m->triangle_count; t++)
+        tg[t].alpha = 60 * PI / 180;
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, out, NULL, NULL, err, sizeof err), err);
+    double J[4];
+    jacobian_of(m, out, 5, J);
+    CHECK_NEAR(rotation_degrees(J), -30.0, 0.5);
+    free(out);
+    free(tg);
+    free_mesh(m);
+}
+
+TEST(conflicting_targets_never_flip)
+{
+    texopt_mesh *m = grid_mesh(16, 8.0, 0.45, 1);
+    texopt_triangle_target *tg = uniform_targets(m->triangle_count, 1, 1, 0, 0, 1, 1);
+    unsigned s = 99;
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        int quad = (int)(t / 2), qi = quad % 16, qj = quad / 16;
+        double l = ((qi / 2 + qj / 2) % 2) ? 0.05 : 1.0; /* 2x2-quad checkerboard */
+        s = s * 1103515245u + 12345u;
+        tg[t].lambda1 = l;
+        tg[t].lambda2 = l * (0.5 + 0.5 * ((s >> 8) & 0xff) / 255.0);
+        s = s * 1103515245u + 12345u;
+        tg[t].alpha = ((s >> 8) & 0xffff) / 65536.0 * PI / 2;
+        s = s * 1103515245u + 12345u;
+        tg[t].beta = ((s >> 8) & 0xffff) / 65536.0 * PI / 2;
+        tg[t].w_rotation = 50.0;
+        tg[t].w_stretch = 50.0;
+    }
+    double *out = calloc(2 * m->vertex_count, sizeof *out);
+    texopt_meshwise_report rep;
+    char err[256] = "";
+    texopt_meshwise_options opt = {.max_iterations = 100, .tolerance = 1e-7};
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, &opt, out, &rep, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(rep.flipped, 0);
+    CHECK_EQ_INT(texopt_count_flipped(m, out), 0);
+    double min_det = INFINITY;
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        double J[4];
+        jacobian_of(m, out, t, J);
+        min_det = fmin(min_det, J[0] * J[3] - J[1] * J[2]);
+    }
+    CHECK(min_det > 0.0);
+    CHECK(energies_non_increasing(&rep));
+    CHECK(rep.energy_final < rep.energy_initial);
+    CHECK(rep.energy_count == rep.iterations);
+    free(out);
+    free(tg);
+    free_mesh(m);
+}
+
+TEST(two_charts_keep_their_own_translation)
+{
+    texopt_mesh *m = grid_mesh(6, 8.0, 0.2, 2);
+    texopt_triangle_target *tg = uniform_targets(m->triangle_count, 0.5, 0.5, 0, 0, 1, 1);
+    double *out = calloc(2 * m->vertex_count, sizeof *out);
+    char err[256] = "";
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, out, NULL, NULL, err, sizeof err), err);
+    size_t per_t = m->triangle_count / 2;
+    for (int c = 0; c < 2; c++) {
+        /* The pinned vertex is the first vertex of the chart's first triangle. */
+        uint32_t pin = m->triangle[3 * per_t * c];
+        CHECK_NEAR(out[2 * pin], m->texel[2 * pin], 1e-9);
+        CHECK_NEAR(out[2 * pin + 1], m->texel[2 * pin + 1], 1e-9);
+        double J[4];
+        jacobian_of(m, out, per_t * c + 3, J);
+        CHECK_NEAR(J[0], 0.5, 1e-4);
+        CHECK_NEAR(J[3], 0.5, 1e-4);
+    }
+    free(out);
+    free(tg);
+    free_mesh(m);
+}
+
+TEST(mirrored_chart_stays_mirrored_and_unflipped)
+{
+    texopt_mesh *m = grid_mesh(6, 8.0, 0.2, 1);
+    for (size_t v = 0; v < m->vertex_count; v++)
+        m->texel[2 * v] = 200.0 - m->texel[2 * v]; /* mirror the layout, not the surface */
+    finish_mesh(m);
+    CHECK(m->area_texel[0] < 0.0);
+    texopt_triangle_target *tg = uniform_targets(m->triangle_count, 0.5, 0.5, 0, 0, 1, 1);
+    double *out = calloc(2 * m->vertex_count, sizeof *out);
+    texopt_meshwise_report rep;
+    char err[256] = "";
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, out, &rep, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(rep.flipped, 0);
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        double ratio = 0.5 * doubled_area(out, m->triangle + 3 * t, 2) / m->area_texel[t];
+        CHECK_NEAR(ratio, 0.25, 0.0025); /* same sign: still mirrored */
+    }
+    free(out);
+    free(tg);
+    free_mesh(m);
+}
+
+TEST(degenerate_triangles_are_carried_through)
+{
+    /* Grid plus a zero-area texel sliver on three collinear grid vertices and a second copy
+     * of interior triangle 28; both copies of 28 are flagged 3D-degenerate the way mesh.c
+     * flags a face of zero 3D area (they keep their texel area, so only the barrier holds
+     * them). */
+    texopt_mesh *g = grid_mesh(6, 8.0, 0.0, 1);
+    texopt_mesh *m = alloc_mesh(g->vertex_count, g->triangle_count + 2);
+    memcpy(m->texel, g->texel, 2 * g->vertex_count * sizeof(double));
+    memcpy(m->position, g->position, 3 * g->vertex_count * sizeof(double));
+    memcpy(m->triangle, g->triangle, 3 * g->triangle_count * sizeof(uint32_t));
+    size_t T = g->triangle_count;
+    uint32_t sliver[3] = {0, 1, 2}; /* collinear along the bottom row */
+    memcpy(m->triangle + 3 * T, sliver, sizeof sliver);
+    memcpy(m->triangle + 3 * (T + 1), g->triangle + 3 * 28, 3 * sizeof(uint32_t));
+    finish_mesh(m);
+    m->flags[T + 1] |= TEXOPT_TRI_DEGENERATE_3D; /* as mesh.c flags a 3D-degenerate face */
+    m->flags[28] |= TEXOPT_TRI_DEGENERATE_3D; /* interior: its vertices have fitted neighbours */
+    CHECK(m->flags[T] & TEXOPT_TRI_DEGENERATE_UV);
+    texopt_triangle_target *tg = uniform_targets(m->triangle_count, 0.5, 0.5, 0, 0, 1, 1);
+    double *out = calloc(2 * m->vertex_count, sizeof *out);
+    texopt_meshwise_report rep;
+    char err[256] = "";
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, out, &rep, NULL, err, sizeof err), err);
+    for (size_t i = 0; i < 2 * m->vertex_count; i++)
+        CHECK(isfinite(out[i]));
+    CHECK_EQ_INT(rep.flipped, 0);
+    /* The degenerate face's vertices moved with their neighbours (the whole grid halves). */
+    double J[4];
+    jacobian_of(m, out, 28, J);
+    CHECK_NEAR(J[0], 0.5, 1e-3);
+    CHECK_NEAR(J[3], 0.5, 1e-3);
+    free(out);
+    free(tg);
+    free_mesh(g);
+    free_mesh(m);
+}
+
+TEST(bad_input_is_refused_with_a_message)
+{
+    texopt_mesh *m = grid_mesh(3, 8.0, 0.0, 1);
+    texopt_triangle_target *tg = uniform_targets(m->triangle_count, 1, 1, 0, 0, 1, 1);
+    double *out = calloc(2 * m->vertex_count, sizeof *out);
+    char err[256] = "";
+    tg[4].lambda1 = NAN;
+    CHECK_EQ_INT(texopt_meshwise_solve(m, tg, NULL, NULL, out, NULL, NULL, err, sizeof err),
+                 TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "triangle 4") != NULL);
+    tg[4].lambda1 = 1.0;
+    tg[2].w_stretch = -1.0;
+    CHECK_EQ_INT(texopt_meshwise_solve(m, tg, NULL, NULL, out, NULL, NULL, err, sizeof err),
+                 TEXOPT_E_INVALID_ARGUMENT);
+    tg[2].w_stretch = 1.0;
+    /* A starting layout with a flipped triangle. */
+    double *start = malloc(2 * m->vertex_count * sizeof *start);
+    memcpy(start, m->texel, 2 * m->vertex_count * sizeof *start);
+    start[2 * 5] += 20.0; /* vertex 5 (interior) pushed across its neighbours */
+    CHECK_EQ_INT(texopt_meshwise_solve(m, tg, start, NULL, out, NULL, NULL, err, sizeof err),
+                 TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "flipped") != NULL);
+    CHECK_EQ_INT(texopt_meshwise_solve(NULL, tg, NULL, NULL, out, NULL, NULL, err, sizeof err),
+                 TEXOPT_E_INVALID_ARGUMENT);
+    free(start);
+    free(out);
+    free(tg);
+    free_mesh(m);
+}
+
+static void count_progress(void *user, const texopt_progress *p)
+{
+    int *calls = user;
+    if (strcmp(p->stage, "stage2") == 0 && p->stage_fraction > 0.0 && p->stage_fraction <= 1.0)
+        (*calls)++;
+}
+
+TEST(progress_is_reported_and_cancel_stops)
+{
+    texopt_mesh *m = grid_mesh(6, 8.0, 0.2, 1);
+    texopt_triangle_target *tg = uniform_targets(m->triangle_count, 0.5, 0.5, 0, 0, 1, 1);
+    double *out = calloc(2 * m->vertex_count, sizeof *out);
+    char err[256] = "";
+    int calls = 0;
+    atomic_int cancel = 0;
+    texopt_monitor mon = {count_progress, &calls, &cancel};
+    texopt_meshwise_report rep;
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, out, &rep, &mon, err, sizeof err), err);
+    CHECK_EQ_INT(calls, rep.iterations);
+    atomic_store(&cancel, 1);
+    CHECK_EQ_INT(texopt_meshwise_solve(m, tg, NULL, NULL, out, NULL, &mon, err, sizeof err),
+                 TEXOPT_E_CANCELED);
+    free(out);
+    free(tg);
+    free_mesh(m);
+}
