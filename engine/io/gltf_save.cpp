@@ -1,0 +1,297 @@
+/* gltf_save.cpp - texopt_model_save_glb (see gltf_io.h).
+ *
+ * Writes the loaded document back with three changes and nothing else:
+ *   - TEXCOORD_0 of each primitive that had one becomes a tightly packed float accessor with
+ *     exact min/max (in place when no one else reads the old accessor, else a new one);
+ *   - replaced images are PNG-encoded; untouched images keep their original bytes (and
+ *     MIME type) byte for byte;
+ *   - all bytes go into the one GLB BIN buffer, images in buffer views. Buffer views no
+ *     one reads any more (the old UVs, replaced images) are dropped and the rest renumbered.
+ * Each copied view keeps its offset modulo 4, so every accessor stays aligned.
+ * Does not: re-encode untouched images, touch animations, skins, extensions or extras.
+ * Format: Khronos glTF 2.0 (GLB container, section 4.4); output of Sun et al. 2022. */
+#include "gltf_io.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <new>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "atomic_file.h"
+#include "gltf_document.hpp"
+#include "image_io.h"
+
+namespace {
+
+/* One growing BIN chunk. */
+struct bin_writer {
+    std::vector<unsigned char> bytes;
+
+    /* Appends data so that its offset is congruent to `phase` modulo 4; returns the offset. */
+    size_t append(const unsigned char *data, size_t len, size_t phase)
+    {
+        while (bytes.size() % 4 != phase % 4)
+            bytes.push_back(0);
+        size_t at = bytes.size();
+        bytes.insert(bytes.end(), data, data + len);
+        return at;
+    }
+};
+
+/* How many places read each accessor as anything other than one primitive's TEXCOORD_0. */
+std::vector<int> accessor_readers(const tinygltf::Model &g)
+{
+    std::vector<int> readers(g.accessors.size(), 0);
+    auto count = [&](int a) {
+        if (a >= 0 && (size_t)a < readers.size())
+            readers[(size_t)a]++;
+    };
+    for (const tinygltf::Mesh &mesh : g.meshes)
+        for (const tinygltf::Primitive &p : mesh.primitives) {
+            count(p.indices);
+            for (const auto &kv : p.attributes)
+                count(kv.second);
+            for (const auto &target : p.targets)
+                for (const auto &kv : target)
+                    count(kv.second);
+        }
+    for (const tinygltf::Skin &s : g.skins)
+        count(s.inverseBindMatrices);
+    for (const tinygltf::Animation &an : g.animations)
+        for (const tinygltf::AnimationSampler &s : an.samplers) {
+            count(s.input);
+            count(s.output);
+        }
+    return readers;
+}
+
+texopt_status check_edit(const texopt_model *model, const texopt_model_edit *edit, char *err, size_t err_len)
+{
+    if (!edit)
+        return TEXOPT_OK;
+    if (edit->uvs)
+        for (size_t i = 0; i < model->vertex_count * 2; i++)
+            if (!std::isfinite(edit->uvs[i]))
+                return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "new UV of vertex %zu is not finite", i / 2);
+    if (edit->images)
+        for (int i = 0; i < model->image_count; i++) {
+            const texopt_image *img = edit->images[i];
+            if (img && (!img->pixels || img->width <= 0 || img->height <= 0 || img->channels < 1 || img->channels > 4))
+                return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "replacement for image %d (%s) is empty",
+                                   i, model->image_names && model->image_names[i] ? model->image_names[i] : "?");
+        }
+    return TEXOPT_OK;
+}
+
+/* Points every primitive that had TEXCOORD_0 at a float accessor holding its slice of uvs.
+ * The data goes into a new buffer view appended to g; made[view] holds its bytes (the view
+ * is placed in the BIN chunk later). */
+void replace_texcoords(tinygltf::Model &g, const texopt_model *model, const float *uvs,
+                       std::vector<std::vector<unsigned char>> *made)
+{
+    std::vector<int> readers = accessor_readers(g);
+    for (int pi = 0; pi < model->primitive_count; pi++) {
+        const texopt_primitive &tp = model->primitives[pi];
+        tinygltf::Primitive &p = g.meshes[(size_t)tp.gltf_mesh].primitives[(size_t)tp.gltf_primitive];
+        auto it = p.attributes.find("TEXCOORD_0");
+        if (it == p.attributes.end())
+            continue;
+        const float *src = uvs + tp.first_vertex * 2;
+        std::vector<unsigned char> data(tp.vertex_count * 2 * sizeof(float));
+        if (!data.empty())
+            memcpy(data.data(), src, data.size());
+        tinygltf::BufferView view;
+        view.buffer = 0;
+        view.byteLength = data.size();
+        view.target = TINYGLTF_TARGET_ARRAY_BUFFER;
+        int view_index = (int)g.bufferViews.size();
+        g.bufferViews.push_back(view);
+        made->resize(g.bufferViews.size());
+        made->back() = std::move(data);
+
+        tinygltf::Accessor acc;
+        acc.bufferView = view_index;
+        acc.byteOffset = 0;
+        acc.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+        acc.normalized = false;
+        acc.type = TINYGLTF_TYPE_VEC2;
+        acc.count = tp.vertex_count;
+        double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+        for (size_t v = 0; v < tp.vertex_count; v++)
+            for (int k = 0; k < 2; k++) {
+                double x = src[v * 2 + (size_t)k];
+                lo[k] = x < lo[k] ? x : lo[k];
+                hi[k] = x > hi[k] ? x : hi[k];
+            }
+        if (tp.vertex_count > 0) {
+            acc.minValues = {lo[0], lo[1]};
+            acc.maxValues = {hi[0], hi[1]};
+        }
+        int old = it->second;
+        if (old >= 0 && (size_t)old < readers.size() && readers[(size_t)old] == 1) {
+            acc.name = g.accessors[(size_t)old].name;
+            acc.extras = g.accessors[(size_t)old].extras;
+            g.accessors[(size_t)old] = acc; /* no one else reads it: replace in place */
+        } else {
+            if (old >= 0 && (size_t)old < readers.size())
+                readers[(size_t)old]--;
+            it->second = (int)g.accessors.size();
+            g.accessors.push_back(acc);
+        }
+    }
+}
+
+texopt_status encode_replacements(const texopt_model *model, const texopt_model_edit *edit,
+                                  std::vector<std::vector<unsigned char>> *png, char *err, size_t err_len)
+{
+    png->assign((size_t)model->image_count, std::vector<unsigned char>());
+    if (!edit || !edit->images)
+        return TEXOPT_OK;
+    for (int i = 0; i < model->image_count; i++) {
+        if (!edit->images[i])
+            continue;
+        unsigned char *bytes = nullptr;
+        size_t len = 0;
+        texopt_status st = texopt_image_encode_png(edit->images[i], &bytes, &len, err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
+        (*png)[(size_t)i].assign(bytes, bytes + len);
+        free(bytes);
+    }
+    return TEXOPT_OK;
+}
+
+/* Builds the output document: new UVs, images in views, one buffer, unused views dropped. */
+texopt_status build_output(const texopt_model *model, const texopt_model_edit *edit, tinygltf::Model *out,
+                           char *err, size_t err_len)
+{
+    const texopt_gltf_document *doc = model->document;
+    const tinygltf::Model &src = doc->gltf;
+    *out = src;
+    tinygltf::Model &g = *out;
+
+    std::vector<std::vector<unsigned char>> png;
+    texopt_status st = encode_replacements(model, edit, &png, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+
+    /* Data of the views that will exist, by old index; views made here carry their bytes. */
+    size_t old_views = g.bufferViews.size();
+    std::vector<std::vector<unsigned char>> made(old_views);
+    if (edit && edit->uvs)
+        replace_texcoords(g, model, edit->uvs, &made);
+    for (size_t i = 0; i < g.images.size(); i++) {
+        tinygltf::Image &im = g.images[i];
+        bool replaced = !png[i].empty();
+        bool keeps_view = !replaced && im.bufferView >= 0;
+        if (!keeps_view) {
+            tinygltf::BufferView view;
+            view.buffer = 0;
+            view.byteLength = replaced ? png[i].size() : im.image.size();
+            im.bufferView = (int)g.bufferViews.size();
+            g.bufferViews.push_back(view);
+            made.push_back(replaced ? std::move(png[i]) : im.image);
+        }
+        im.mimeType = replaced ? "image/png" : doc->image_mime[i];
+        im.uri.clear();
+        im.image.clear();
+        im.as_is = false;
+        im.width = im.height = im.component = im.bits = im.pixel_type = -1;
+    }
+
+    /* Keep only views someone reads, in their old order. */
+    std::vector<char> used(g.bufferViews.size(), 0);
+    for (const tinygltf::Accessor &a : g.accessors) {
+        if (a.bufferView >= 0)
+            used[(size_t)a.bufferView] = 1;
+        if (a.sparse.isSparse) {
+            used[(size_t)a.sparse.indices.bufferView] = 1;
+            used[(size_t)a.sparse.values.bufferView] = 1;
+        }
+    }
+    for (const tinygltf::Image &im : g.images)
+        used[(size_t)im.bufferView] = 1;
+    std::vector<int> renumber(g.bufferViews.size(), -1);
+    std::vector<tinygltf::BufferView> views;
+    bin_writer bin;
+    for (size_t v = 0; v < g.bufferViews.size(); v++) {
+        if (!used[v])
+            continue;
+        tinygltf::BufferView view = g.bufferViews[v];
+        const unsigned char *data;
+        size_t phase;
+        if (v < old_views) {
+            data = src.buffers[(size_t)view.buffer].data.data() + view.byteOffset;
+            phase = view.byteOffset % 4;
+        } else {
+            data = made[v].data();
+            phase = 0;
+        }
+        view.byteOffset = bin.append(data, view.byteLength, phase);
+        view.buffer = 0;
+        renumber[v] = (int)views.size();
+        views.push_back(view);
+    }
+    for (tinygltf::Accessor &a : g.accessors) {
+        if (a.bufferView >= 0)
+            a.bufferView = renumber[(size_t)a.bufferView];
+        if (a.sparse.isSparse) {
+            a.sparse.indices.bufferView = renumber[(size_t)a.sparse.indices.bufferView];
+            a.sparse.values.bufferView = renumber[(size_t)a.sparse.values.bufferView];
+        }
+    }
+    for (tinygltf::Image &im : g.images)
+        im.bufferView = renumber[(size_t)im.bufferView];
+    g.bufferViews = views;
+    while (bin.bytes.size() % 4 != 0)
+        bin.bytes.push_back(0);
+
+    tinygltf::Buffer buffer;
+    if (!src.buffers.empty()) {
+        buffer.name = src.buffers[0].name;
+        buffer.extras = src.buffers[0].extras;
+    }
+    buffer.data = std::move(bin.bytes);
+    g.buffers.clear();
+    if (!buffer.data.empty())
+        g.buffers.push_back(std::move(buffer));
+    return TEXOPT_OK;
+}
+
+} // namespace
+
+extern "C" texopt_status texopt_model_save_glb(const texopt_model *model, const texopt_model_edit *edit,
+                                               const char *path, char *err, size_t err_len)
+{
+    if (!model || !path || !*path)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "no model or no path to save to");
+    if (!model->document)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "model was not loaded from a glTF file; there is no document to save");
+    const tinygltf::Model &src = model->document->gltf;
+    if ((size_t)model->image_count != src.images.size())
+        return texopt_fail(err, err_len, TEXOPT_E_INTERNAL, "model has %d images but its document %zu",
+                           model->image_count, src.images.size());
+    texopt_status st = check_edit(model, edit, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    std::string glb;
+    try {
+        tinygltf::Model out;
+        st = build_output(model, edit, &out, err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
+        std::ostringstream stream;
+        tinygltf::TinyGLTF writer;
+        if (!writer.WriteGltfSceneToStream(&out, stream, false, true))
+            return texopt_fail(err, err_len, TEXOPT_E_INTERNAL, "tinygltf could not serialise the model");
+        glb = stream.str();
+    } catch (const std::bad_alloc &) {
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "out of memory while writing %s", path);
+    }
+    return texopt_write_file_atomic(path, glb.data(), glb.size(), err, err_len);
+}
