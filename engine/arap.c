@@ -1,0 +1,102 @@
+/* arap.c - isometric (ARAP, Liu et al. 2008) targets for the mesh-wise solver; see arap.h.
+ *
+ * Per triangle: the 3D edges in a 2D frame of the triangle's plane, the input texel edges,
+ * J = s P T^-1, S = sqrt(J^T J) by the closed-form 2x2 symmetric eigen-decomposition.
+ * Does not: solve (meshwise.c does, with these targets and wR = 0). */
+#include "arap.h"
+
+#include <math.h>
+#include <string.h>
+
+#define PI 3.14159265358979323846
+
+static int counted(const texopt_mesh *mesh, size_t t)
+{
+    return !(mesh->flags[t] & (TEXOPT_TRI_DEGENERATE_3D | TEXOPT_TRI_DEGENERATE_UV));
+}
+
+/* Columns of P: edges b - a and c - a of the 3D triangle in an orthonormal frame of its
+ * plane with x along b - a; mirrored (y negated) when the texel triangle is mirrored. */
+static int plane_edges(const texopt_mesh *mesh, size_t t, double mirror, double P[2][2])
+{
+    const uint32_t *v = mesh->triangle + 3 * t;
+    const double *a = mesh->position + 3 * (size_t)mesh->point_of[v[0]];
+    const double *b = mesh->position + 3 * (size_t)mesh->point_of[v[1]];
+    const double *c = mesh->position + 3 * (size_t)mesh->point_of[v[2]];
+    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double l1 = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    if (!(l1 > 0))
+        return -1;
+    double x2 = (e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]) / l1;
+    double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+           cz = e1[0] * e2[1] - e1[1] * e2[0];
+    double y2 = sqrt(cx * cx + cy * cy + cz * cz) / l1;
+    P[0][0] = l1;
+    P[1][0] = 0;
+    P[0][1] = x2;
+    P[1][1] = mirror * y2;
+    return y2 > 0 ? 0 : -1;
+}
+
+static void isometric_target(const texopt_mesh *mesh, size_t t, double scale,
+                             texopt_triangle_target *g)
+{
+    const uint32_t *v = mesh->triangle + 3 * t;
+    const double *p0 = mesh->texel + 2 * (size_t)v[0], *p1 = mesh->texel + 2 * (size_t)v[1],
+                 *p2 = mesh->texel + 2 * (size_t)v[2];
+    double T[2][2] = {{p1[0] - p0[0], p2[0] - p0[0]}, {p1[1] - p0[1], p2[1] - p0[1]}};
+    double det = T[0][0] * T[1][1] - T[0][1] * T[1][0];
+    double P[2][2];
+    if (!(fabs(det) > 0) || plane_edges(mesh, t, det < 0 ? -1.0 : 1.0, P) != 0)
+        return;
+    double Ti[2][2] = {{T[1][1] / det, -T[0][1] / det}, {-T[1][0] / det, T[0][0] / det}};
+    double J[2][2];
+    for (int r = 0; r < 2; r++)
+        for (int c = 0; c < 2; c++)
+            J[r][c] = scale * (P[r][0] * Ti[0][c] + P[r][1] * Ti[1][c]);
+    /* J^T J = [[a, b], [b, c]]; S has its eigenvectors and the square roots of its eigenvalues. */
+    double a = J[0][0] * J[0][0] + J[1][0] * J[1][0];
+    double b = J[0][0] * J[0][1] + J[1][0] * J[1][1];
+    double c = J[0][1] * J[0][1] + J[1][1] * J[1][1];
+    double mean = 0.5 * (a + c), half = 0.5 * (a - c), d = sqrt(half * half + b * b);
+    double s1 = sqrt(fmax(0, mean + d)), s2 = sqrt(fmax(0, mean - d));
+    double theta = 0.5 * atan2(2 * b, a - c);
+    if (theta < 0)
+        theta += PI;
+    if (theta < PI / 2) {
+        g->beta = theta;
+        g->lambda1 = s1;
+        g->lambda2 = s2;
+    } else {
+        g->beta = theta - PI / 2;
+        g->lambda1 = s2;
+        g->lambda2 = s1;
+    }
+    g->w_stretch = 1;
+}
+
+texopt_status texopt_arap_targets(const texopt_mesh *mesh, texopt_triangle_target *targets,
+                                  char *err, size_t err_len)
+{
+    if (!mesh || !targets)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "arap: missing argument");
+    double texel_area = 0, area_3d = 0;
+    for (size_t t = 0; t < mesh->triangle_count; t++)
+        if (counted(mesh, t)) {
+            texel_area += fabs(mesh->area_texel[t]);
+            area_3d += mesh->area_3d[t];
+        }
+    if (!(texel_area > 0 && area_3d > 0) || !isfinite(texel_area) || !isfinite(area_3d))
+        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                           "domain %d has no triangle with both 3D and texel area", mesh->domain);
+    double scale = sqrt(texel_area / area_3d);
+    for (size_t t = 0; t < mesh->triangle_count; t++) {
+        texopt_triangle_target *g = &targets[t];
+        memset(g, 0, sizeof *g);
+        g->lambda1 = g->lambda2 = 1;
+        if (counted(mesh, t))
+            isometric_target(mesh, t, scale, g);
+    }
+    return TEXOPT_OK;
+}
