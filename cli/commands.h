@@ -15,5 +15,6 @@ typedef struct cli_command {
 } cli_command;
 
 /* int cmd_NAME(int argc, char **argv); one line per cmd_*.c */
+int cmd_evaluate(int argc, char **argv);
 
 #endif

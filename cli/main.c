@@ -6,6 +6,7 @@
 
 static const cli_command commands[] = {
     /* {"name", "summary", cmd_name}, one line per cmd_*.c */
+    {"evaluate", "whole-mesh perceptual loss and cost of OUT against IN", cmd_evaluate},
     {NULL, NULL, NULL},
 };
 
