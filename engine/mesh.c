@@ -511,6 +511,8 @@ texopt_status texopt_mesh_create(texopt_mesh **out, const texopt_model *model, i
     mesh->domain = domain;
     mesh->width = dom->width;
     mesh->height = dom->height;
+    mesh->wrap_s = dom->wrap_s;
+    mesh->wrap_t = dom->wrap_t;
     float *keys = NULL;
     size_t count = 0;
     texopt_status st = gather_vertices(model, dom, &keys, &count, err, err_len);

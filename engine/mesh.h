@@ -16,7 +16,9 @@
  * mirrored chart (every triangle negative, as exporters make for symmetric halves) has
  * chart_sign -1 and no flipped triangle. A triangle is FLIPPED when it is not degenerate in
  * UV and its signed texel area has the sign opposite to its chart's: a fold-over inside a
- * chart. Stages that need "the input orientation" of a triangle use the sign of area_texel.
+ * chart. Mirrored halves that meet at the mirror line with equal UVs there weld into one
+ * chart folded along that line: the half with less area is FLIPPED (it is a fold). Stages
+ * that need "the input orientation" of a triangle use the sign of area_texel.
  *
  * Built in texopt_mesh_create from exact float equality (what glTF exporters produce; -0 and
  * +0 are equal), with hash maps: linear time (about 30 ms for 130k triangles). */
@@ -42,6 +44,7 @@ enum texopt_triangle_flag {
 typedef struct texopt_mesh {
     int domain;        /* index into the model's domains */
     int width, height; /* texel frame of the domain */
+    texopt_wrap wrap_s, wrap_t; /* the domain's wrap modes (how UVs outside [0,1] read) */
 
     size_t vertex_count;
     double *texel;          /* 2 per vertex: (width * u, height * v) */
