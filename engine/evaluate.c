@@ -16,7 +16,10 @@
 #include <string.h>
 #include <time.h>
 
+#include "coverage.h"
+#include "distortion.h"
 #include "gmsd.h"
+#include "mesh.h"
 #include "sample.h"
 
 static double now_seconds(void)
@@ -26,43 +29,67 @@ static double now_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-texopt_status texopt_evaluate_covered_texels(const texopt_model *model, double *texels, char *err,
-                                             size_t err_len)
+/* Distortion of every domain, weighted by its counted triangles. */
+static texopt_status domains_distortion(const texopt_model *model, double *out, char *err,
+                                        size_t err_len)
 {
-    if (!model || !texels)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "missing model");
-    if (!model->uvs)
-        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "model has no TEXCOORD_0");
     double sum = 0;
-    for (int p = 0; p < model->primitive_count; p++) {
-        const texopt_primitive *prim = &model->primitives[p];
-        if (prim->domain < 0 || prim->domain >= model->domain_count)
-            continue;
-        const texopt_domain *dom = &model->domains[prim->domain];
-        for (size_t t = prim->first_triangle;
-             t < prim->first_triangle + prim->triangle_count && t < model->triangle_count; t++) {
-            const uint32_t *c = model->triangles + 3 * t;
-            if (c[0] >= model->vertex_count || c[1] >= model->vertex_count || c[2] >= model->vertex_count)
-                return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                                   "triangle %zu names a vertex past the vertex count", t);
-            const float *a = model->uvs + 2 * (size_t)c[0], *b = model->uvs + 2 * (size_t)c[1],
-                        *d = model->uvs + 2 * (size_t)c[2];
-            double area = 0.5 * fabs((double)(b[0] - a[0]) * (d[1] - a[1]) - (double)(d[0] - a[0]) * (b[1] - a[1]));
-            sum += area * dom->width * dom->height;
-        }
+    size_t counted = 0;
+    for (int d = 0; d < model->domain_count; d++) {
+        texopt_mesh *mesh = NULL;
+        texopt_status st = texopt_mesh_create(&mesh, model, d, err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
+        texopt_distortion dist;
+        st = texopt_distortion_measure(mesh, NULL, &dist, err, err_len);
+        texopt_mesh_destroy(mesh);
+        if (st == TEXOPT_E_INVALID_ARGUMENT)
+            continue; /* a domain with nothing to measure adds nothing */
+        if (st != TEXOPT_OK)
+            return st;
+        sum += dist.symmetric_dirichlet * (double)dist.counted;
+        counted += dist.counted;
     }
-    *texels = sum;
+    *out = counted ? sum / (double)counted : 0;
+    return TEXOPT_OK;
+}
+
+texopt_status texopt_evaluate_cost(const texopt_model *model, texopt_cost *out, char *err,
+                                   size_t err_len)
+{
+    if (!model || !out)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "missing model");
+    texopt_cost c;
+    memset(&c, 0, sizeof c);
+    texopt_status st = texopt_coverage_model_texels(model, &c.covered_texels, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    for (int d = 0; d < model->domain_count; d++)
+        c.frame_texels += (uint64_t)model->domains[d].width * (uint64_t)model->domains[d].height;
+    for (int i = 0; i < model->image_count; i++) {
+        int used = 0;
+        for (int d = 0; d < model->domain_count && !used; d++)
+            for (int k = 0; k < model->domains[d].image_count; k++)
+                used |= model->domains[d].images[k] == i;
+        if (used)
+            c.texture_pixels += (uint64_t)model->images[i].width * (uint64_t)model->images[i].height;
+    }
+    c.packing_efficiency = c.frame_texels ? (double)c.covered_texels / (double)c.frame_texels : 0;
+    st = domains_distortion(model, &c.symmetric_dirichlet, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    *out = c;
     return TEXOPT_OK;
 }
 
 texopt_status texopt_evaluate_default_resolution(const texopt_model *model, int *side, char *err,
                                                  size_t err_len)
 {
-    double texels = 0;
-    texopt_status st = texopt_evaluate_covered_texels(model, &texels, err, err_len);
+    uint64_t texels = 0;
+    texopt_status st = texopt_coverage_model_texels(model, &texels, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    double s = floor(1.25 * sqrt(texels) + 0.5);
+    double s = floor(1.25 * sqrt((double)texels) + 0.5);
     *side = (int)fmin(4096, fmax(64, s));
     return TEXOPT_OK;
 }

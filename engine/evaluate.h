@@ -15,6 +15,7 @@
 #define TEXOPT_EVALUATE_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "meshrender.h"
 #include "model.h"
@@ -39,10 +40,20 @@ typedef struct texopt_evaluation {
     double seconds;                          /* wall clock */
 } texopt_evaluation;
 
-/* Covered texels of the reference summed over its texture domains, each texel counted once
- * (coverage.h), or the sum of texel areas when coverage cannot be computed. */
-texopt_status texopt_evaluate_covered_texels(const texopt_model *model, double *texels, char *err,
-                                             size_t err_len);
+/* What a layout costs (DESIGN.md 3.4): cost c = unique covered texels summed over the
+ * texture domains (coverage.h), the texture memory it sits in, and its distortion. */
+typedef struct texopt_cost {
+    uint64_t covered_texels;     /* c: unique covered texels, all domains */
+    uint64_t frame_texels;       /* sum of the domains' frame sizes (width x height) */
+    uint64_t texture_pixels;     /* sum of width x height of every image the domains use */
+    double packing_efficiency;   /* covered_texels / frame_texels */
+    double symmetric_dirichlet;  /* eq. 24 (distortion.h), mean over domains weighted by
+                                    counted triangles; +inf with a flipped triangle */
+} texopt_cost;
+
+/* Measures model's layout cost. */
+texopt_status texopt_evaluate_cost(const texopt_model *model, texopt_cost *out, char *err,
+                                   size_t err_len);
 
 /* 1.25 sqrt(covered texels) rounded, clamped to [64, 4096]. */
 texopt_status texopt_evaluate_default_resolution(const texopt_model *model, int *side, char *err,

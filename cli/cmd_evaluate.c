@@ -1,0 +1,152 @@
+/* cmd_evaluate.c - `texopt evaluate IN OUT.glb [--resolution N] [--threads T] [--json]`.
+ *
+ * Compares any two models with the same triangles (an input and texopt's output, or the
+ * output of another tool): the whole-mesh perceptual loss q of Sun et al. 2022, section 5.1
+ * (engine/evaluate.h), and what each layout costs: covered texels, texture pixels, packing
+ * efficiency, symmetric Dirichlet distortion, and the relative cost c_r = covered texels of
+ * OUT / of IN. Text on stdout, or one JSON object with --json. */
+#include <cjson/cJSON.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "commands.h"
+#include "evaluate.h"
+#include "gltf_io.h"
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: texopt evaluate IN OUT.glb [--resolution N] [--threads T] [--json]\n"
+            "\n"
+            "Renders IN and OUT from 20 cameras around the model and prints their whole-mesh\n"
+            "perceptual loss q (GMSD, 0 = identical; Sun et al. 2022, section 5.1) and the cost\n"
+            "of both layouts. Both models must have the same triangles.\n"
+            "\n"
+            "options:\n"
+            "  --resolution N   render side in pixels (default: 1.25 sqrt(covered texels of IN),\n"
+            "                   the input texture at about one texel per pixel)\n"
+            "  --threads T      views rendered in parallel (default 2)\n"
+            "  --json           print one JSON object instead of text\n"
+            "  -h, --help       this text\n");
+}
+
+static int parse_int(const char *s, int lo, int hi, int *out)
+{
+    char *end = NULL;
+    long v = strtol(s, &end, 10);
+    if (!s[0] || *end || v < lo || v > hi)
+        return -1;
+    *out = (int)v;
+    return 0;
+}
+
+static cJSON *cost_json(const texopt_cost *c)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddNumberToObject(o, "covered_texels", (double)c->covered_texels);
+    cJSON_AddNumberToObject(o, "frame_texels", (double)c->frame_texels);
+    cJSON_AddNumberToObject(o, "texture_pixels", (double)c->texture_pixels);
+    cJSON_AddNumberToObject(o, "packing_efficiency", c->packing_efficiency);
+    if (c->symmetric_dirichlet < 1e300)
+        cJSON_AddNumberToObject(o, "symmetric_dirichlet", c->symmetric_dirichlet);
+    else
+        cJSON_AddNullToObject(o, "symmetric_dirichlet");
+    return o;
+}
+
+static void print_json(const texopt_evaluation *ev, const texopt_cost *in, const texopt_cost *out)
+{
+    cJSON *root = cJSON_CreateObject();
+    cJSON_AddNumberToObject(root, "q", ev->q);
+    cJSON_AddNumberToObject(root, "resolution", ev->resolution);
+    cJSON *views = cJSON_AddArrayToObject(root, "view_gmsd");
+    for (int v = 0; v < TEXOPT_VIEW_COUNT; v++)
+        cJSON_AddItemToArray(views, cJSON_CreateNumber(ev->view_gmsd[v]));
+    cJSON_AddNumberToObject(root, "relative_cost",
+                            in->covered_texels ? (double)out->covered_texels / (double)in->covered_texels : 0);
+    cJSON_AddItemToObject(root, "input", cost_json(in));
+    cJSON_AddItemToObject(root, "output", cost_json(out));
+    cJSON_AddNumberToObject(root, "seconds", ev->seconds);
+    char *text = cJSON_Print(root);
+    if (text)
+        printf("%s\n", text);
+    free(text);
+    cJSON_Delete(root);
+}
+
+static void print_text(const texopt_evaluation *ev, const texopt_cost *in, const texopt_cost *out)
+{
+    printf("q (whole-mesh GMSD, 20 views at %d px): %.6f\n", ev->resolution, ev->q);
+    printf("relative cost c_r: %.4f\n",
+           in->covered_texels ? (double)out->covered_texels / (double)in->covered_texels : 0);
+    printf("%-22s %14s %14s\n", "", "input", "output");
+    printf("%-22s %14llu %14llu\n", "covered texels", (unsigned long long)in->covered_texels,
+           (unsigned long long)out->covered_texels);
+    printf("%-22s %14llu %14llu\n", "texture pixels", (unsigned long long)in->texture_pixels,
+           (unsigned long long)out->texture_pixels);
+    printf("%-22s %14.4f %14.4f\n", "packing efficiency", in->packing_efficiency, out->packing_efficiency);
+    printf("%-22s %14.4f %14.4f\n", "symmetric Dirichlet", in->symmetric_dirichlet, out->symmetric_dirichlet);
+    printf("evaluated in %.2f s\n", ev->seconds);
+}
+
+int cmd_evaluate(int argc, char **argv)
+{
+    const char *paths[2] = {NULL, NULL};
+    int npaths = 0, json = 0;
+    texopt_evaluate_options opt = {.threads = 2};
+    for (int i = 0; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            usage(stdout);
+            return EXIT_OK;
+        } else if (!strcmp(a, "--json")) {
+            json = 1;
+        } else if (!strcmp(a, "--resolution") || !strcmp(a, "--threads")) {
+            int *dst = a[2] == 'r' ? &opt.resolution : &opt.threads;
+            int hi = a[2] == 'r' ? 16384 : 64, lo = a[2] == 'r' ? 8 : 1;
+            if (i + 1 >= argc || parse_int(argv[i + 1], lo, hi, dst) != 0) {
+                fprintf(stderr, "texopt evaluate: %s needs an integer in [%d, %d]\n", a, lo, hi);
+                return EXIT_USAGE;
+            }
+            i++;
+        } else if (a[0] == '-' && a[1]) {
+            fprintf(stderr, "texopt evaluate: unknown option '%s'\n", a);
+            usage(stderr);
+            return EXIT_USAGE;
+        } else if (npaths < 2) {
+            paths[npaths++] = a;
+        } else {
+            fprintf(stderr, "texopt evaluate: too many arguments\n");
+            return EXIT_USAGE;
+        }
+    }
+    if (npaths != 2) {
+        usage(stderr);
+        return EXIT_USAGE;
+    }
+    char err[512] = "";
+    texopt_model *in = NULL, *out = NULL;
+    texopt_status st = texopt_model_load(&in, paths[0], NULL, err, sizeof err);
+    if (st == TEXOPT_OK)
+        st = texopt_model_load(&out, paths[1], NULL, err, sizeof err);
+    texopt_evaluation ev;
+    texopt_cost cin, cout;
+    if (st == TEXOPT_OK)
+        st = texopt_evaluate(in, out, &opt, &ev, err, sizeof err);
+    if (st == TEXOPT_OK)
+        st = texopt_evaluate_cost(in, &cin, err, sizeof err);
+    if (st == TEXOPT_OK)
+        st = texopt_evaluate_cost(out, &cout, err, sizeof err);
+    if (st == TEXOPT_OK) {
+        if (json)
+            print_json(&ev, &cin, &cout);
+        else
+            print_text(&ev, &cin, &cout);
+    } else {
+        fprintf(stderr, "texopt evaluate: %s: %s\n", texopt_strerror(st), err);
+    }
+    texopt_model_destroy(in);
+    texopt_model_destroy(out);
+    return st == TEXOPT_OK ? EXIT_OK : EXIT_ENGINE;
+}
