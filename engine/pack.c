@@ -1,0 +1,480 @@
+/* pack.c - footprint bottom-left packing of charts with quarter-turn rotations (see pack.h).
+ *
+ * Each chart, in each of its four rotations, becomes a footprint on a grid of cells: the
+ * cells touched by its triangles grown by pad = gutter / 2 texels (conservative: a triangle
+ * clipped to a row band of height cell + 2 pad, its x-range grown by pad). The texture is a
+ * bitset of occupied cells. A chart is tested at (x, y) against the per-row hull of its
+ * footprint (cheap, conservative) and marks its exact footprint when placed, so a later
+ * small chart can still use the bays of a concave one. Finding the first fit in a row jumps
+ * x past each occupied run it hits, so a row costs a few bit scans, not one test per cell. */
+#include "pack.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct footprint {
+    int w, h;        /* cells */
+    int *lo, *hi;    /* per row: hull span, lo > hi for an empty row */
+    uint8_t *bits;   /* w * h exact footprint */
+    double origin[2]; /* texel position (after rotation) of cell (0, 0) */
+} footprint;
+
+typedef struct chart_set {
+    size_t count;
+    uint32_t *start;    /* count + 1 offsets into tris */
+    uint32_t *tris;     /* triangles grouped by chart */
+    double *area;       /* per chart, sum of |texel area| */
+} chart_set;
+
+typedef struct occupancy {
+    int w, h, words;
+    uint64_t *bits;     /* h rows of `words` words */
+    int *free_cells;    /* per row */
+} occupancy;
+
+static void rotate(int k, double x, double y, double *ox, double *oy)
+{
+    switch (k & 3) {
+    case 0: *ox = x; *oy = y; break;
+    case 1: *ox = -y; *oy = x; break;
+    case 2: *ox = -x; *oy = -y; break;
+    default: *ox = y; *oy = -x; break;
+    }
+}
+
+static void chart_set_destroy(chart_set *cs)
+{
+    free(cs->start);
+    free(cs->tris);
+    free(cs->area);
+}
+
+static texopt_status group_charts(const texopt_mesh *mesh, const double *texel, chart_set *cs,
+                                  char *err, size_t err_len)
+{
+    memset(cs, 0, sizeof *cs);
+    cs->count = mesh->chart_count;
+    cs->start = calloc(cs->count + 1, sizeof *cs->start);
+    cs->tris = malloc(sizeof *cs->tris * (mesh->triangle_count ? mesh->triangle_count : 1));
+    cs->area = calloc(cs->count ? cs->count : 1, sizeof *cs->area);
+    if (!cs->start || !cs->tris || !cs->area) {
+        chart_set_destroy(cs);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory to group charts");
+    }
+    for (size_t t = 0; t < mesh->triangle_count; t++) {
+        uint32_t c = mesh->chart_of[t];
+        if (c >= cs->count) {
+            chart_set_destroy(cs);
+            return texopt_fail(err, err_len, TEXOPT_E_INTERNAL, "triangle %zu: chart %u out of range", t, c);
+        }
+        cs->start[c + 1]++;
+        const uint32_t *v = mesh->triangle + 3 * t;
+        const double *a = texel + 2 * v[0], *b = texel + 2 * v[1], *d = texel + 2 * v[2];
+        cs->area[c] += 0.5 * fabs((b[0] - a[0]) * (d[1] - a[1]) - (d[0] - a[0]) * (b[1] - a[1]));
+    }
+    for (size_t c = 0; c < cs->count; c++)
+        cs->start[c + 1] += cs->start[c];
+    uint32_t *fill = malloc(sizeof *fill * (cs->count ? cs->count : 1));
+    if (!fill) {
+        chart_set_destroy(cs);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory to group charts");
+    }
+    memcpy(fill, cs->start, sizeof *fill * cs->count);
+    for (size_t t = 0; t < mesh->triangle_count; t++)
+        cs->tris[fill[mesh->chart_of[t]]++] = (uint32_t)t;
+    free(fill);
+    return TEXOPT_OK;
+}
+
+static void footprint_destroy(footprint *f)
+{
+    free(f->lo);
+    free(f->hi);
+    free(f->bits);
+    memset(f, 0, sizeof *f);
+}
+
+/* x-range of the triangle (3 points) inside the band y0 <= y <= y1; 0 when it misses. */
+static int band_x_range(const double p[3][2], double y0, double y1, double *xl, double *xr)
+{
+    double lo = INFINITY, hi = -INFINITY;
+    for (int i = 0; i < 3; i++) {
+        const double *a = p[i], *b = p[(i + 1) % 3];
+        if (a[1] >= y0 && a[1] <= y1) {
+            lo = fmin(lo, a[0]);
+            hi = fmax(hi, a[0]);
+        }
+        const double ys[2] = {y0, y1};
+        for (int k = 0; k < 2; k++)
+            if ((a[1] - ys[k]) * (b[1] - ys[k]) < 0) {
+                double t = (ys[k] - a[1]) / (b[1] - a[1]);
+                double x = a[0] + t * (b[0] - a[0]);
+                lo = fmin(lo, x);
+                hi = fmax(hi, x);
+            }
+    }
+    if (!(lo <= hi))
+        return 0;
+    *xl = lo;
+    *xr = hi;
+    return 1;
+}
+
+static void mark_triangle(footprint *f, const double p[3][2], double pad, double cell)
+{
+    double ymin = fmin(p[0][1], fmin(p[1][1], p[2][1])), ymax = fmax(p[0][1], fmax(p[1][1], p[2][1]));
+    int r0 = (int)floor((ymin - pad) / cell), r1 = (int)floor((ymax + pad) / cell);
+    for (int r = r0 < 0 ? 0 : r0; r <= r1 && r < f->h; r++) {
+        double xl, xr;
+        if (!band_x_range(p, r * cell - pad, (r + 1) * cell + pad, &xl, &xr))
+            continue;
+        int c0 = (int)floor((xl - pad) / cell), c1 = (int)floor((xr + pad) / cell);
+        if (c0 < 0)
+            c0 = 0;
+        if (c1 >= f->w)
+            c1 = f->w - 1;
+        for (int c = c0; c <= c1; c++)
+            f->bits[(size_t)r * f->w + c] = 1;
+        if (c0 < f->lo[r])
+            f->lo[r] = c0;
+        if (c1 > f->hi[r])
+            f->hi[r] = c1;
+    }
+}
+
+/* The footprint of chart c in rotation k. */
+static int build_footprint(const texopt_mesh *mesh, const double *texel, const chart_set *cs,
+                           size_t c, int k, double pad, double cell, footprint *f)
+{
+    memset(f, 0, sizeof *f);
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (uint32_t i = cs->start[c]; i < cs->start[c + 1]; i++)
+        for (int j = 0; j < 3; j++) {
+            uint32_t v = mesh->triangle[3 * cs->tris[i] + j];
+            double x, y;
+            rotate(k, texel[2 * v], texel[2 * v + 1], &x, &y);
+            lo[0] = fmin(lo[0], x);
+            lo[1] = fmin(lo[1], y);
+            hi[0] = fmax(hi[0], x);
+            hi[1] = fmax(hi[1], y);
+        }
+    f->origin[0] = lo[0] - pad;
+    f->origin[1] = lo[1] - pad;
+    f->w = (int)floor((hi[0] - lo[0] + 2 * pad) / cell) + 1;
+    f->h = (int)floor((hi[1] - lo[1] + 2 * pad) / cell) + 1;
+    f->lo = malloc(sizeof(int) * (size_t)f->h);
+    f->hi = malloc(sizeof(int) * (size_t)f->h);
+    f->bits = calloc((size_t)f->w * (size_t)f->h, 1);
+    if (!f->lo || !f->hi || !f->bits)
+        return -1;
+    for (int r = 0; r < f->h; r++) {
+        f->lo[r] = f->w;
+        f->hi[r] = -1;
+    }
+    for (uint32_t i = cs->start[c]; i < cs->start[c + 1]; i++) {
+        double p[3][2];
+        for (int j = 0; j < 3; j++) {
+            uint32_t v = mesh->triangle[3 * cs->tris[i] + j];
+            rotate(k, texel[2 * v], texel[2 * v + 1], &p[j][0], &p[j][1]);
+            p[j][0] -= f->origin[0];
+            p[j][1] -= f->origin[1];
+        }
+        mark_triangle(f, p, pad, cell);
+    }
+    return 0;
+}
+
+static uint64_t *occ_row(const occupancy *o, int y)
+{
+    return o->bits + (size_t)y * (size_t)o->words;
+}
+
+/* First occupied cell in [from, to] of row, or -1. */
+static int first_set(const uint64_t *row, int from, int to)
+{
+    int w = from >> 6;
+    uint64_t m = row[w] & (~0ULL << (from & 63));
+    while (1) {
+        if (m) {
+            int p = (w << 6) + __builtin_ctzll(m);
+            return p <= to ? p : -1;
+        }
+        if (++w > (to >> 6))
+            return -1;
+        m = row[w];
+    }
+}
+
+/* First free cell at or after from, or limit. */
+static int first_clear(const uint64_t *row, int from, int limit)
+{
+    int w = from >> 6;
+    uint64_t m = ~row[w] & (~0ULL << (from & 63));
+    int words = (limit + 63) >> 6;
+    while (1) {
+        if (m) {
+            int p = (w << 6) + __builtin_ctzll(m);
+            return p < limit ? p : limit;
+        }
+        if (++w >= words)
+            return limit;
+        m = ~row[w];
+    }
+}
+
+/* Lowest-then-leftmost position of f, below row `below` (exclusive bound on y + h). */
+static int find_position(const occupancy *o, const footprint *f, int below, int *px, int *py)
+{
+    for (int y = 0; y + f->h <= o->h && y + f->h < below; y++) {
+        int ok = 1;
+        for (int r = 0; r < f->h && ok; r++)
+            ok = f->hi[r] < f->lo[r] || o->free_cells[y + r] >= f->hi[r] - f->lo[r] + 1;
+        if (!ok)
+            continue;
+        int x = 0;
+        while (x + f->w <= o->w) {
+            int conflict = 0;
+            for (int r = 0; r < f->h; r++) {
+                if (f->hi[r] < f->lo[r])
+                    continue;
+                const uint64_t *row = occ_row(o, y + r);
+                int p = first_set(row, x + f->lo[r], x + f->hi[r]);
+                if (p >= 0) {
+                    x = first_clear(row, p, o->w) - f->lo[r];
+                    conflict = 1;
+                    break;
+                }
+            }
+            if (!conflict) {
+                *px = x;
+                *py = y;
+                return 1;
+            }
+        }
+    }
+    return 0;
+}
+
+static void place(occupancy *o, const footprint *f, int x, int y)
+{
+    for (int r = 0; r < f->h; r++) {
+        uint64_t *row = occ_row(o, y + r);
+        for (int c = f->lo[r]; c <= f->hi[r]; c++)
+            if (f->bits[(size_t)r * f->w + c]) {
+                int cc = x + c;
+                row[cc >> 6] |= 1ULL << (cc & 63);
+                o->free_cells[y + r]--;
+            }
+    }
+}
+
+
+typedef struct sort_item {
+    double area;
+    uint32_t chart;
+} sort_item;
+
+static int compare_items(const void *a, const void *b)
+{
+    const sort_item *x = a, *y = b;
+    if (x->area != y->area)
+        return x->area > y->area ? -1 : 1;
+    return x->chart < y->chart ? -1 : (x->chart > y->chart);
+}
+
+static int choose_cell(int width, int height, const texopt_pack_options *opt)
+{
+    if (opt && opt->cell > 0)
+        return opt->cell;
+    int side = width > height ? width : height;
+    return side <= 1024 ? 1 : (side + 1023) / 1024;
+}
+
+static void move_chart(const texopt_mesh *mesh, const double *texel, const chart_set *cs, size_t c,
+                       int k, const footprint *f, double dx, double dy, double *texel_out,
+                       uint8_t *moved)
+{
+    for (uint32_t i = cs->start[c]; i < cs->start[c + 1]; i++)
+        for (int j = 0; j < 3; j++) {
+            uint32_t v = mesh->triangle[3 * cs->tris[i] + j];
+            if (moved[v])
+                continue;
+            double x, y;
+            rotate(k, texel[2 * v], texel[2 * v + 1], &x, &y);
+            texel_out[2 * v] = x - f->origin[0] + dx;
+            texel_out[2 * v + 1] = y - f->origin[1] + dy;
+            moved[v] = 1;
+        }
+}
+
+typedef struct pack_state {
+    const texopt_mesh *mesh;
+    const double *texel;
+    chart_set cs;
+    occupancy occ;
+    double pad, cell;
+    uint8_t *moved;
+    int top; /* highest occupied row + 1 */
+} pack_state;
+
+/* Places chart c at its best rotation; returns 1 placed, 0 no room, -1 out of memory. */
+static int place_chart(pack_state *s, size_t c, double *texel_out, uint8_t *rotation)
+{
+    footprint best = {0};
+    int best_k = -1, bx = 0, by = 0, bound = s->occ.h + 1;
+    for (int k = 0; k < 4; k++) {
+        footprint f;
+        if (build_footprint(s->mesh, s->texel, &s->cs, c, k, s->pad, s->cell, &f) != 0) {
+            footprint_destroy(&f);
+            footprint_destroy(&best);
+            return -1;
+        }
+        int x, y;
+        if (find_position(&s->occ, &f, bound, &x, &y) &&
+            (best_k < 0 || y + f.h < by + best.h || (y + f.h == by + best.h && x < bx))) {
+            footprint_destroy(&best);
+            best = f;
+            best_k = k;
+            bx = x;
+            by = y;
+            bound = y + f.h + 1;
+        } else {
+            footprint_destroy(&f);
+        }
+    }
+    if (best_k < 0)
+        return 0;
+    place(&s->occ, &best, bx, by);
+    if (by + best.h > s->top)
+        s->top = by + best.h;
+    move_chart(s->mesh, s->texel, &s->cs, c, best_k, &best, bx * s->cell, by * s->cell, texel_out,
+               s->moved);
+    rotation[c] = (uint8_t)best_k;
+    footprint_destroy(&best);
+    return 1;
+}
+
+static texopt_status check_inputs(const texopt_mesh *mesh, const double *texel, int width, int height,
+                                  char *err, size_t err_len)
+{
+    if (!mesh || !texel)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "pack: mesh and layout are required");
+    if (width < 1 || width > 65536 || height < 0 || height > 65536)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "pack: texture size %dx%d is out of range",
+                           width, height);
+    for (size_t i = 0; i < 2 * mesh->vertex_count; i++)
+        if (!isfinite(texel[i]))
+            return texopt_fail(err, err_len, TEXOPT_E_NUMERIC, "pack: vertex %zu has a non-finite position", i / 2);
+    return TEXOPT_OK;
+}
+
+/* Rows enough to stack every chart by its longer side (the "as tall as needed" mode). */
+static int unbounded_rows(const chart_set *cs, const texopt_mesh *mesh, const double *texel,
+                          double pad, double cell)
+{
+    double rows = 1;
+    for (size_t c = 0; c < cs->count; c++) {
+        double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+        for (uint32_t i = cs->start[c]; i < cs->start[c + 1]; i++)
+            for (int j = 0; j < 3; j++) {
+                uint32_t v = mesh->triangle[3 * cs->tris[i] + j];
+                for (int a = 0; a < 2; a++) {
+                    lo[a] = fmin(lo[a], texel[2 * v + a]);
+                    hi[a] = fmax(hi[a], texel[2 * v + a]);
+                }
+            }
+        if (cs->start[c + 1] > cs->start[c])
+            rows += (fmax(hi[0] - lo[0], hi[1] - lo[1]) + 2 * pad) / cell + 2;
+    }
+    return rows > 1 << 20 ? 1 << 20 : (int)rows;
+}
+
+static texopt_status pack_all(pack_state *s, int width, int height, double *texel_out,
+                              texopt_pack_result *result, int *fits, char *err, size_t err_len)
+{
+    sort_item *items = malloc(sizeof *items * (s->cs.count ? s->cs.count : 1));
+    if (!items)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory to sort charts");
+    for (size_t c = 0; c < s->cs.count; c++) {
+        items[c].area = s->cs.area[c];
+        items[c].chart = (uint32_t)c;
+    }
+    qsort(items, s->cs.count, sizeof *items, compare_items);
+    *fits = 1;
+    for (size_t i = 0; i < s->cs.count && *fits; i++) {
+        size_t c = items[i].chart;
+        if (s->cs.start[c + 1] == s->cs.start[c])
+            continue;
+        int r = place_chart(s, c, texel_out, result->rotation);
+        if (r < 0) {
+            free(items);
+            return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for chart footprints");
+        }
+        *fits = r;
+    }
+    free(items);
+    result->width = width;
+    result->used_height = (int)ceil(s->top * s->cell);
+    result->height = height > 0 ? height : ((result->used_height + 3) / 4) * 4;
+    if (result->height < 1)
+        result->height = 4;
+    double area = 0;
+    for (size_t c = 0; c < s->cs.count; c++)
+        area += s->cs.area[c];
+    result->area_efficiency = area / ((double)result->width * result->height);
+    return TEXOPT_OK;
+}
+
+texopt_status texopt_pack_charts(const texopt_mesh *mesh, const double *texel, int width, int height,
+                                 const texopt_pack_options *opt, double *texel_out,
+                                 texopt_pack_result *result, int *fits, char *err, size_t err_len)
+{
+    memset(result, 0, sizeof *result);
+    *fits = 0;
+    texopt_status st = check_inputs(mesh, texel, width, height, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    pack_state s;
+    memset(&s, 0, sizeof s);
+    s.mesh = mesh;
+    s.texel = texel;
+    int gutter = opt && opt->gutter > 0 ? opt->gutter : 4;
+    s.pad = 0.5 * gutter;
+    s.cell = choose_cell(width, height, opt);
+    st = group_charts(mesh, texel, &s.cs, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    s.occ.w = (int)(width / s.cell);
+    s.occ.h = height > 0 ? (int)(height / s.cell) : unbounded_rows(&s.cs, mesh, texel, s.pad, s.cell);
+    s.occ.words = (s.occ.w + 63) / 64;
+    s.occ.bits = calloc((size_t)s.occ.h * (size_t)(s.occ.words ? s.occ.words : 1), sizeof(uint64_t));
+    s.occ.free_cells = malloc(sizeof(int) * (size_t)(s.occ.h ? s.occ.h : 1));
+    s.moved = calloc(mesh->vertex_count ? mesh->vertex_count : 1, 1);
+    result->rotation = calloc(s.cs.count ? s.cs.count : 1, 1);
+    result->chart_count = s.cs.count;
+    if (!s.occ.bits || !s.occ.free_cells || !s.moved || !result->rotation)
+        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %dx%d packing grid", s.occ.w, s.occ.h);
+    if (st == TEXOPT_OK) {
+        for (int y = 0; y < s.occ.h; y++)
+            s.occ.free_cells[y] = s.occ.w;
+        for (size_t v = 0; v < mesh->vertex_count; v++)
+            texel_out[2 * v] = texel_out[2 * v + 1] = 0; /* vertices of no triangle */
+        st = pack_all(&s, width, height, texel_out, result, fits, err, err_len);
+    }
+    free(s.occ.bits);
+    free(s.occ.free_cells);
+    free(s.moved);
+    chart_set_destroy(&s.cs);
+    if (st != TEXOPT_OK)
+        texopt_pack_result_destroy(result);
+    return st;
+}
+
+void texopt_pack_result_destroy(texopt_pack_result *result)
+{
+    if (!result)
+        return;
+    free(result->rotation);
+    result->rotation = NULL;
+}
