@@ -1,0 +1,462 @@
+/* test_gltf_io.c - loading and saving glTF (engine/io/gltf_io.h): a generated textured quad
+ * in every container (GLB, .gltf with data URIs, .gltf with external files), index and UV
+ * encodings, node transforms, load -> save -> load round trips on spot.glb and Fox.glb, and
+ * the Khronos validator on saved files (0 errors, no warnings the input did not have). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "gltf_builder.h"
+#include "gltf_io.h"
+#include "image_io.h"
+#include "test.h"
+
+static texopt_model *load_quad_json(const quad_doc *doc, const char *json, char *err, size_t err_len,
+                                    texopt_status *st)
+{
+    size_t len = 0;
+    unsigned char *glb = builder_glb(json, doc->bin, doc->bin_len, &len);
+    texopt_model *m = NULL;
+    *st = texopt_model_load_memory(&m, glb, len, NULL, NULL, err, err_len);
+    free(glb);
+    return m;
+}
+
+/* The quad as placed by its node: translation (1, 2, 3). */
+static int quad_positions_match(const texopt_model *m, float dx, float dy, float dz)
+{
+    for (int v = 0; v < 4; v++) {
+        if (fabsf(m->positions[v * 3] - (quad_positions[v * 3] + dx)) > 1e-6f ||
+            fabsf(m->positions[v * 3 + 1] - (quad_positions[v * 3 + 1] + dy)) > 1e-6f ||
+            fabsf(m->positions[v * 3 + 2] - (quad_positions[v * 3 + 2] + dz)) > 1e-6f)
+            return 0;
+    }
+    return 1;
+}
+
+static int image_matches_builder(const texopt_image *img, int w, int h)
+{
+    texopt_image ref;
+    if (!builder_texture(&ref, w, h))
+        return 0;
+    int ok = img->width == w && img->height == h && img->channels == 3 && img->pixels;
+    for (size_t i = 0; ok && i < (size_t)w * h * 3; i++)
+        ok = fabsf(img->pixels[i] - ref.pixels[i]) < 1e-6f;
+    texopt_image_destroy(&ref);
+    return ok;
+}
+
+TEST(glb_quad_loads_completely)
+{
+    char err[512] = "";
+    quad_doc doc;
+    CHECK(quad_doc_init(&doc, 8, 4));
+    texopt_status st;
+    texopt_model *m = load_quad_json(&doc, doc.json, err, sizeof err, &st);
+    CHECK_OK(st, err);
+    CHECK_EQ_INT(m->vertex_count, 4);
+    CHECK_EQ_INT(m->triangle_count, 2);
+    CHECK(quad_positions_match(m, 1, 2, 3));
+    for (int i = 0; i < 8; i++)
+        CHECK_NEAR(m->uvs[i], quad_uvs[i], 0);
+    for (int i = 0; i < 6; i++)
+        CHECK_EQ_INT(m->triangles[i], quad_indices[i]);
+    CHECK_EQ_INT(m->primitive_count, 1);
+    CHECK_EQ_INT(m->primitives[0].gltf_mesh, 0);
+    CHECK_EQ_INT(m->primitives[0].material, 0);
+    CHECK_EQ_INT(m->primitives[0].domain, 0);
+    CHECK_EQ_INT(m->material_count, 1);
+    const texopt_texture_ref *base = &m->materials[0].slot[TEXOPT_SLOT_BASE_COLOR];
+    CHECK_EQ_INT(base->image, 0);
+    CHECK_EQ_INT(base->texcoord, 0);
+    CHECK_EQ_INT(base->wrap_s, TEXOPT_WRAP_CLAMP);
+    CHECK_EQ_INT(base->wrap_t, TEXOPT_WRAP_MIRROR);
+    CHECK_EQ_INT(m->materials[0].slot[TEXOPT_SLOT_NORMAL].image, -1);
+    CHECK_EQ_INT(m->image_count, 1);
+    CHECK(image_matches_builder(&m->images[0], 8, 4));
+    CHECK(m->image_names[0] && strcmp(m->image_names[0], "image 0") == 0);
+    CHECK_EQ_INT(m->domain_count, 1);
+    CHECK_EQ_INT(m->domains[0].width, 8);
+    CHECK_EQ_INT(m->domains[0].height, 4);
+    CHECK_EQ_INT(m->domains[0].wrap_s, TEXOPT_WRAP_CLAMP);
+    CHECK(m->document != NULL && m->destroy_document != NULL);
+    texopt_model_destroy(m);
+    quad_doc_free(&doc);
+}
+
+TEST(skip_images_reads_sizes_without_pixels)
+{
+    char err[512] = "";
+    quad_doc doc;
+    CHECK(quad_doc_init(&doc, 16, 8));
+    size_t len = 0;
+    unsigned char *glb = builder_glb(doc.json, doc.bin, doc.bin_len, &len);
+    texopt_load_options opt = {0, 0, 1};
+    texopt_model *m = NULL;
+    CHECK_OK(texopt_model_load_memory(&m, glb, len, NULL, &opt, err, sizeof err), err);
+    free(glb);
+    CHECK(m->images[0].pixels == NULL);
+    CHECK_EQ_INT(m->images[0].width, 16);
+    CHECK_EQ_INT(m->images[0].height, 8);
+    CHECK_EQ_INT(m->images[0].channels, 3);
+    CHECK_EQ_INT(m->domains[0].width, 16);
+    texopt_model_destroy(m);
+    quad_doc_free(&doc);
+}
+
+TEST(gltf_with_data_uris_loads)
+{
+    char err[512] = "";
+    quad_doc doc;
+    CHECK(quad_doc_init(&doc, 8, 4));
+    char *b64 = builder_base64(doc.bin, doc.bin_len);
+    char *uri = malloc(strlen(b64) + 64);
+    sprintf(uri, "{\"byteLength\":%zu,\"uri\":\"data:application/octet-stream;base64,%s\"}", doc.bin_len, b64);
+    char old[64];
+    snprintf(old, sizeof old, "{\"byteLength\":%zu}", doc.bin_len);
+    CHECK(builder_replace(&doc.json, old, uri));
+    texopt_model *m = NULL;
+    CHECK_OK(texopt_model_load_memory(&m, doc.json, strlen(doc.json), NULL, NULL, err, sizeof err), err);
+    CHECK(quad_positions_match(m, 1, 2, 3));
+    CHECK(image_matches_builder(&m->images[0], 8, 4));
+    texopt_model_destroy(m);
+    free(b64);
+    free(uri);
+    quad_doc_free(&doc);
+}
+
+TEST(gltf_with_external_files_loads_and_saves_self_contained)
+{
+    char err[512] = "", dir[64], path[160], out[160];
+    CHECK(builder_tempdir(dir));
+    quad_doc doc;
+    CHECK(quad_doc_init(&doc, 8, 4));
+    snprintf(path, sizeof path, "%s/quad data.bin", dir);
+    CHECK(builder_write(path, doc.bin, doc.bin_len));
+    snprintf(path, sizeof path, "%s/tex.png", dir);
+    CHECK(builder_write(path, doc.bin + QUAD_PNG_OFFSET, doc.png_len));
+    char old[64], repl[96];
+    snprintf(old, sizeof old, "{\"byteLength\":%zu}", doc.bin_len);
+    snprintf(repl, sizeof repl, "{\"byteLength\":%zu,\"uri\":\"quad%%20data.bin\"}", doc.bin_len);
+    CHECK(builder_replace(&doc.json, old, repl));
+    CHECK(builder_replace(&doc.json, "{\"bufferView\":3,\"mimeType\":\"image/png\"}", "{\"uri\":\"tex.png\"}"));
+    snprintf(path, sizeof path, "%s/quad.gltf", dir);
+    CHECK(builder_write(path, doc.json, strlen(doc.json)));
+    texopt_model *m = NULL, *back = NULL;
+    CHECK_OK(texopt_model_load(&m, path, NULL, err, sizeof err), err);
+    CHECK(quad_positions_match(m, 1, 2, 3));
+    CHECK(image_matches_builder(&m->images[0], 8, 4));
+    CHECK(strcmp(m->image_names[0], "tex.png") == 0);
+    snprintf(out, sizeof out, "%s/out.glb", dir);
+    CHECK_OK(texopt_model_save_glb(m, NULL, out, err, sizeof err), err);
+    /* The saved file must stand alone: load it from memory, where external URIs are refused. */
+    FILE *f = fopen(out, "rb");
+    CHECK(f != NULL);
+    unsigned char buf[8192];
+    size_t len = fread(buf, 1, sizeof buf, f);
+    fclose(f);
+    CHECK(len > 0 && len < sizeof buf);
+    CHECK(builder_contains(buf, len, doc.bin + QUAD_PNG_OFFSET, doc.png_len)); /* original PNG bytes */
+    CHECK(!builder_contains(buf, len, "\"uri\"", 5));
+    CHECK_OK(texopt_model_load_memory(&back, buf, len, NULL, NULL, err, sizeof err), err);
+    CHECK(quad_positions_match(back, 1, 2, 3));
+    CHECK(image_matches_builder(&back->images[0], 8, 4));
+    texopt_model_destroy(m);
+    texopt_model_destroy(back);
+    quad_doc_free(&doc);
+    builder_rmdir(dir);
+}
+
+TEST(index_encodings_u8_u32_and_non_indexed)
+{
+    char err[512] = "";
+    quad_doc doc;
+    CHECK(quad_doc_init(&doc, 4, 4));
+    /* u8 indices in the u16 slot. */
+    const unsigned char idx8[6] = {3, 2, 1, 3, 1, 0};
+    memcpy(doc.bin + QUAD_IDX_OFFSET, idx8, 6);
+    char *json = strdup(doc.json);
+    CHECK(builder_replace(&json, "\"componentType\":5123,\"count\":6", "\"componentType\":5121,\"count\":6"));
+    texopt_status st;
+    texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
+    CHECK_OK(st, err);
+    for (int i = 0; i < 6; i++)
+        CHECK_EQ_INT(m->triangles[i], idx8[i]);
+    texopt_model_destroy(m);
+    free(json);
+
+    /* u32 indices in a view of their own. */
+    const uint32_t idx32[6] = {2, 3, 0, 2, 0, 1};
+    int view = quad_doc_add_view(&doc, idx32, sizeof idx32);
+    CHECK_EQ_INT(view, 4);
+    json = strdup(doc.json);
+    CHECK(builder_replace(&json, "{\"bufferView\":2,\"componentType\":5123", "{\"bufferView\":4,\"componentType\":5125"));
+    m = load_quad_json(&doc, json, err, sizeof err, &st);
+    CHECK_OK(st, err);
+    for (int i = 0; i < 6; i++)
+        CHECK_EQ_INT(m->triangles[i], idx32[i]);
+    texopt_model_destroy(m);
+    free(json);
+
+    /* Non-indexed: the first three vertices make one triangle. */
+    json = strdup(doc.json);
+    CHECK(builder_replace(&json, "\"indices\":2,", ""));
+    CHECK(builder_replace(&json, "\"count\":4,\"type\":\"VEC3\"", "\"count\":3,\"type\":\"VEC3\""));
+    CHECK(builder_replace(&json, "\"max\":[1,1,0]", "\"max\":[1,1,0]"));
+    CHECK(builder_replace(&json, "\"count\":4,\"type\":\"VEC2\"", "\"count\":3,\"type\":\"VEC2\""));
+    m = load_quad_json(&doc, json, err, sizeof err, &st);
+    CHECK_OK(st, err);
+    CHECK_EQ_INT(m->vertex_count, 3);
+    CHECK_EQ_INT(m->triangle_count, 1);
+    CHECK(m->triangles[0] == 0 && m->triangles[1] == 1 && m->triangles[2] == 2);
+    texopt_model_destroy(m);
+    free(json);
+    quad_doc_free(&doc);
+}
+
+TEST(normalized_texcoords_are_converted)
+{
+    char err[512] = "";
+    quad_doc doc;
+    CHECK(quad_doc_init(&doc, 4, 4));
+    const uint16_t uv16[8] = {0, 65535, 65535, 65535, 65535, 0, 0, 32768};
+    memcpy(doc.bin + QUAD_UV_OFFSET, uv16, sizeof uv16);
+    char *json = strdup(doc.json);
+    CHECK(builder_replace(&json, "{\"bufferView\":1,\"componentType\":5126",
+                          "{\"bufferView\":1,\"normalized\":true,\"componentType\":5123"));
+    texopt_status st;
+    texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
+    CHECK_OK(st, err);
+    for (int i = 0; i < 8; i++)
+        CHECK_NEAR(m->uvs[i], uv16[i] / 65535.0, 1e-7);
+    texopt_model_destroy(m);
+    free(json);
+
+    const unsigned char uv8[8] = {0, 255, 255, 255, 255, 0, 0, 51};
+    memcpy(doc.bin + QUAD_UV_OFFSET, uv8, sizeof uv8);
+    json = strdup(doc.json);
+    CHECK(builder_replace(&json, "{\"bufferView\":1,\"componentType\":5126",
+                          "{\"bufferView\":1,\"normalized\":true,\"componentType\":5121"));
+    m = load_quad_json(&doc, json, err, sizeof err, &st);
+    CHECK_OK(st, err);
+    CHECK_NEAR(m->uvs[7], 0.2, 1e-7);
+    CHECK_NEAR(m->uvs[1], 1.0, 0);
+    texopt_model_destroy(m);
+    free(json);
+    quad_doc_free(&doc);
+}
+
+TEST(node_hierarchy_instancing_and_mirroring)
+{
+    char err[512] = "";
+    quad_doc doc;
+    CHECK(quad_doc_init(&doc, 4, 4));
+    /* Root scales by 2 around a child that translates by (1,0,0); a second user of the mesh
+     * far away must not matter (the first node in node order places an instanced mesh). */
+    char *json = strdup(doc.json);
+    CHECK(builder_replace(&json, "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0,\"translation\":[1,2,3]}]",
+                          "\"scenes\":[{\"nodes\":[0,2]}],\"nodes\":[{\"children\":[1],\"scale\":[2,2,2]},"
+                          "{\"mesh\":0,\"translation\":[1,0,0]},{\"mesh\":0,\"translation\":[100,0,0]}]"));
+    texopt_status st;
+    texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
+    CHECK_OK(st, err);
+    CHECK_EQ_INT(m->primitive_count, 1);
+    CHECK_NEAR(m->positions[2 * 3 + 0], 4.0, 1e-6); /* vertex 2 = (1,1,0) -> 2 * (2,1,0) */
+    CHECK_NEAR(m->positions[2 * 3 + 1], 2.0, 1e-6);
+    CHECK(m->triangles[1] == 1 && m->triangles[2] == 2);
+    texopt_model_destroy(m);
+    free(json);
+
+    /* A rotation of 90 degrees about z by quaternion, and a mirror that reverses winding. */
+    json = strdup(doc.json);
+    CHECK(builder_replace(&json, "\"translation\":[1,2,3]", "\"rotation\":[0,0,0.70710678,0.70710678]"));
+    m = load_quad_json(&doc, json, err, sizeof err, &st);
+    CHECK_OK(st, err);
+    CHECK_NEAR(m->positions[1 * 3 + 0], 0.0, 1e-6); /* (1,0,0) -> (0,1,0) */
+    CHECK_NEAR(m->positions[1 * 3 + 1], 1.0, 1e-6);
+    texopt_model_destroy(m);
+    free(json);
+
+    json = strdup(doc.json);
+    CHECK(builder_replace(&json, "\"translation\":[1,2,3]", "\"matrix\":[-1,0,0,0, 0,1,0,0, 0,0,1,0, 5,0,0,1]"));
+    m = load_quad_json(&doc, json, err, sizeof err, &st);
+    CHECK_OK(st, err);
+    CHECK_NEAR(m->positions[1 * 3 + 0], 4.0, 1e-6); /* (1,0,0) -> (-1+5, 0, 0) */
+    CHECK(m->triangles[0] == 0 && m->triangles[1] == 2 && m->triangles[2] == 1);
+    texopt_model_destroy(m);
+    free(json);
+    quad_doc_free(&doc);
+}
+
+/* Loads path, saves it (with edit when uv_shift != 0: UVs shifted, image 0 replaced) and
+ * reloads; checks what must be identical and what must have changed. */
+static void check_round_trip(const char *path, float uv_shift, const char *out)
+{
+    char err[512] = "";
+    texopt_model *m = NULL, *back = NULL;
+    CHECK_OK(texopt_model_load(&m, path, NULL, err, sizeof err), err);
+    float *uvs = NULL;
+    texopt_image repl = {0, 0, 0, NULL};
+    const texopt_image **imgs = NULL;
+    texopt_model_edit edit = {NULL, NULL};
+    if (uv_shift != 0) {
+        uvs = malloc(sizeof(float) * 2 * m->vertex_count);
+        for (size_t i = 0; i < 2 * m->vertex_count; i++)
+            uvs[i] = m->uvs[i] * 0.5f + uv_shift;
+        CHECK(builder_texture(&repl, 24, 16));
+        imgs = calloc((size_t)m->image_count, sizeof *imgs);
+        imgs[0] = &repl;
+        edit.uvs = uvs;
+        edit.images = imgs;
+    }
+    CHECK_OK(texopt_model_save_glb(m, &edit, out, err, sizeof err), err);
+    CHECK_OK(texopt_model_load(&back, out, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(back->vertex_count, m->vertex_count);
+    CHECK_EQ_INT(back->triangle_count, m->triangle_count);
+    CHECK_EQ_INT(back->primitive_count, m->primitive_count);
+    CHECK_EQ_INT(back->material_count, m->material_count);
+    CHECK_EQ_INT(back->image_count, m->image_count);
+    CHECK(memcmp(back->positions, m->positions, sizeof(float) * 3 * m->vertex_count) == 0);
+    CHECK(memcmp(back->triangles, m->triangles, sizeof(uint32_t) * 3 * m->triangle_count) == 0);
+    const float *want_uv = uvs ? uvs : m->uvs;
+    CHECK(memcmp(back->uvs, want_uv, sizeof(float) * 2 * m->vertex_count) == 0);
+    CHECK(memcmp(back->materials, m->materials, sizeof(texopt_material) * (size_t)m->material_count) == 0);
+    for (int p = 0; p < m->primitive_count; p++) {
+        CHECK_EQ_INT(back->primitives[p].material, m->primitives[p].material);
+        CHECK_EQ_INT(back->primitives[p].domain, m->primitives[p].domain);
+    }
+    for (int i = 0; i < m->image_count; i++) {
+        const texopt_image *want = (imgs && imgs[i]) ? imgs[i] : &m->images[i];
+        const texopt_image *got = &back->images[i];
+        CHECK_EQ_INT(got->width, want->width);
+        CHECK_EQ_INT(got->height, want->height);
+        CHECK_EQ_INT(got->channels, want->channels);
+        for (size_t k = 0; k < (size_t)want->width * want->height * want->channels; k++)
+            CHECK_NEAR(got->pixels[k], want->pixels[k], 1e-6);
+    }
+    texopt_model_destroy(m);
+    texopt_model_destroy(back);
+    texopt_image_destroy(&repl);
+    free(uvs);
+    free(imgs);
+}
+
+TEST(spot_and_fox_round_trip_unchanged_and_edited)
+{
+    char dir[64], out[128], in[512];
+    CHECK(builder_tempdir(dir));
+    const char *models[] = {"spot/spot.glb", "Fox/Fox.glb"};
+    for (int i = 0; i < 2; i++) {
+        snprintf(in, sizeof in, "%s/%s", TEXOPT_TEST_DATA_DIR, models[i]);
+        snprintf(out, sizeof out, "%s/same%d.glb", dir, i);
+        check_round_trip(in, 0.0f, out);
+        if (test_failed_now())
+            break;
+        snprintf(out, sizeof out, "%s/edit%d.glb", dir, i);
+        check_round_trip(in, 0.25f, out);
+        if (test_failed_now())
+            break;
+    }
+    builder_rmdir(dir);
+}
+
+TEST(saving_refuses_bad_edits_and_keeps_the_old_file)
+{
+    char err[512] = "", dir[64], out[128];
+    CHECK(builder_tempdir(dir));
+    quad_doc doc;
+    CHECK(quad_doc_init(&doc, 4, 4));
+    texopt_status st;
+    texopt_model *m = load_quad_json(&doc, doc.json, err, sizeof err, &st);
+    CHECK_OK(st, err);
+    snprintf(out, sizeof out, "%s/q.glb", dir);
+    CHECK(builder_write(out, "old", 3));
+    float uvs[8] = {0, 0, 1, 0, 1, 1, 0, NAN};
+    texopt_model_edit edit = {uvs, NULL};
+    CHECK_EQ_INT(texopt_model_save_glb(m, &edit, out, err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "vertex 3") != NULL);
+    FILE *f = fopen(out, "rb");
+    char buf[8] = "";
+    CHECK(f && fread(buf, 1, sizeof buf, f) == 3 && memcmp(buf, "old", 3) == 0);
+    fclose(f);
+    texopt_image empty = {0, 0, 0, NULL};
+    const texopt_image *imgs[1] = {&empty};
+    texopt_model_edit edit2 = {NULL, imgs};
+    CHECK_EQ_INT(texopt_model_save_glb(m, &edit2, out, err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
+    snprintf(out, sizeof out, "%s/no/such/dir/q.glb", dir);
+    CHECK_EQ_INT(texopt_model_save_glb(m, NULL, out, err, sizeof err), TEXOPT_E_IO);
+    texopt_model_destroy(m);
+    quad_doc_free(&doc);
+    builder_rmdir(dir);
+}
+
+/* ---- the Khronos validator on what we write ---------------------------------------------- */
+
+/* Runs tools/validate-gltf.mjs on file against baseline; returns its exit status. */
+static int run_validator(const char *file, const char *baseline, const char *log)
+{
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "node '%s/tools/validate-gltf.mjs' '%s' --baseline '%s' > '%s' 2>&1", TEXOPT_SOURCE_DIR,
+             file, baseline, log);
+    int rc = system(cmd);
+    return rc == -1 ? -1 : WEXITSTATUS(rc);
+}
+
+static void print_file(const char *path)
+{
+    FILE *f = fopen(path, "r");
+    char line[512];
+    while (f && fgets(line, sizeof line, f))
+        fputs(line, stderr);
+    if (f)
+        fclose(f);
+}
+
+TEST(validator_accepts_saved_files_with_new_uvs_and_images)
+{
+    char err[512] = "", dir[64], in[512], out[128], log[128];
+    CHECK(builder_tempdir(dir));
+    snprintf(log, sizeof log, "%s/report.json", dir);
+
+    /* The generated quad, as a GLB on disk, is one of the inputs. */
+    quad_doc doc;
+    CHECK(quad_doc_init(&doc, 8, 4));
+    size_t len = 0;
+    unsigned char *glb = builder_glb(doc.json, doc.bin, doc.bin_len, &len);
+    char quad_path[128];
+    snprintf(quad_path, sizeof quad_path, "%s/quad.glb", dir);
+    CHECK(builder_write(quad_path, glb, len));
+    free(glb);
+
+    const char *inputs[3] = {"spot/spot.glb", "Fox/Fox.glb", NULL};
+    for (int i = 0; i < 3; i++) {
+        if (inputs[i])
+            snprintf(in, sizeof in, "%s/%s", TEXOPT_TEST_DATA_DIR, inputs[i]);
+        else
+            snprintf(in, sizeof in, "%s", quad_path);
+        snprintf(out, sizeof out, "%s/out%d.glb", dir, i);
+        check_round_trip(in, 0.125f, out);
+        if (test_failed_now())
+            break;
+        int rc = run_validator(out, in, log);
+        if (rc != 0)
+            print_file(log);
+        CHECK_MSG(rc == 0, "validator exit %d for %s (saved from %s)", rc, out, in);
+    }
+
+    /* The check can fail: a file whose POSITION max is wrong is an error for the validator. */
+    char *bad = strdup(doc.json);
+    CHECK(builder_replace(&bad, "\"max\":[1,1,0]", "\"max\":[5,5,5]"));
+    glb = builder_glb(bad, doc.bin, doc.bin_len, &len);
+    snprintf(out, sizeof out, "%s/bad.glb", dir);
+    CHECK(builder_write(out, glb, len));
+    free(glb);
+    free(bad);
+    CHECK_EQ_INT(run_validator(out, quad_path, log), 1);
+    (void)err;
+    quad_doc_free(&doc);
+    builder_rmdir(dir);
+}
