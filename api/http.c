@@ -1,0 +1,281 @@
+/* http.c - the libmicrohttpd daemon and request dispatch of texoptd.
+ *
+ * Threading model: MHD_USE_THREAD_PER_CONNECTION (with its internal polling thread for
+ * accepting). Chosen because two kinds of request legitimately wait: an event stream
+ * waits on the store's condition variable (with a timeout, no busy loop) inside its
+ * content-reader callback, and an upload writes its body to disk and loads the model once
+ * to validate it. With a thread per connection such a wait holds only its own connection;
+ * polling clients are never behind it. (libmicrohttpd cannot combine thread-per-connection
+ * with epoll or a thread pool; the cost is one thread per open connection, bounded by
+ * --max-connections.) The engine itself never runs here: jobs go to the queue.
+ *
+ * Order of checks, after systemd-journal-remote: route, method (405 + Allow), auth (401),
+ * then for uploads Content-Type (415), Content-Length (413) and queue room (503) before
+ * a byte of the body is read. */
+#define _DEFAULT_SOURCE
+#include "http_internal.h"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "log.h"
+#include "problem.h"
+
+static double monotonic_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static void add_cors(const api_service *svc, struct MHD_Response *r)
+{
+    if (!svc->config.cors_origin[0])
+        return;
+    MHD_add_response_header(r, "Access-Control-Allow-Origin", svc->config.cors_origin);
+    MHD_add_response_header(r, "Access-Control-Expose-Headers",
+                            "Location, Retry-After, Content-Disposition, Idempotent-Replayed");
+    if (strcmp(svc->config.cors_origin, "*") != 0)
+        MHD_add_response_header(r, "Vary", "Origin");
+}
+
+enum MHD_Result http_send(request_ctx *rq, struct MHD_Connection *c, int status, struct MHD_Response *r)
+{
+    if (!r)
+        return MHD_NO;
+    add_cors(rq->svc, r);
+    enum MHD_Result ok = MHD_queue_response(c, (unsigned)status, r);
+    MHD_destroy_response(r);
+    if (ok == MHD_YES)
+        rq->status = status;
+    return ok;
+}
+
+enum MHD_Result http_send_text(request_ctx *rq, struct MHD_Connection *c, int status, const char *content_type,
+                               const char *body, size_t len)
+{
+    struct MHD_Response *r = MHD_create_response_from_buffer(len, (void *)body, MHD_RESPMEM_MUST_COPY);
+    if (!r)
+        return MHD_NO;
+    if (content_type)
+        MHD_add_response_header(r, "Content-Type", content_type);
+    return http_send(rq, c, status, r);
+}
+
+enum MHD_Result http_send_problem(request_ctx *rq, struct MHD_Connection *c, int status, const char *slug,
+                                  int retry_after, const char *fmt, ...)
+{
+    char detail[600];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(detail, sizeof detail, fmt, ap);
+    va_end(ap);
+    char *body = api_problem_json(status, slug, detail, rq->path);
+    if (!body)
+        return MHD_NO;
+    struct MHD_Response *r = MHD_create_response_from_buffer(strlen(body), body, MHD_RESPMEM_MUST_FREE);
+    if (!r) {
+        free(body);
+        return MHD_NO;
+    }
+    MHD_add_response_header(r, "Content-Type", "application/problem+json");
+    if (retry_after > 0) {
+        char seconds[16];
+        snprintf(seconds, sizeof seconds, "%d", retry_after);
+        MHD_add_response_header(r, "Retry-After", seconds);
+    }
+    if (status == 405)
+        MHD_add_response_header(r, "Allow", api_route_allow(rq->match.route));
+    if (status == 401)
+        MHD_add_response_header(r, "WWW-Authenticate", "Bearer realm=\"texopt\"");
+    return http_send(rq, c, status, r);
+}
+
+/* Compares without an early exit, so response time does not reveal a token prefix. */
+static int same_secret(const char *a, const char *b)
+{
+    size_t n = strlen(a), m = strlen(b);
+    unsigned char diff = (unsigned char)(n != m);
+    for (size_t i = 0; i < n; i++)
+        diff |= (unsigned char)(a[i] ^ b[i % (m ? m : 1)]);
+    return diff == 0;
+}
+
+static int authorized(const api_service *svc, struct MHD_Connection *c)
+{
+    if (!svc->config.api_token[0])
+        return 1;
+    const char *h = MHD_lookup_connection_value(c, MHD_HEADER_KIND, "Authorization");
+    if (!h || strncasecmp(h, "Bearer ", 7) != 0)
+        return 0;
+    return same_secret(h + 7, svc->config.api_token);
+}
+
+static enum MHD_Result answer_options(request_ctx *rq, struct MHD_Connection *c)
+{
+    struct MHD_Response *r = MHD_create_response_from_buffer(0, (void *)"", MHD_RESPMEM_PERSISTENT);
+    if (!r)
+        return MHD_NO;
+    MHD_add_response_header(r, "Allow", api_route_allow(rq->match.route));
+    if (rq->svc->config.cors_origin[0]) {
+        MHD_add_response_header(r, "Access-Control-Allow-Methods", api_route_allow(rq->match.route));
+        MHD_add_response_header(r, "Access-Control-Allow-Headers",
+                                "Authorization, Content-Type, Idempotency-Key, Last-Event-ID");
+        MHD_add_response_header(r, "Access-Control-Max-Age", "600");
+    }
+    return http_send(rq, c, 204, r);
+}
+
+static enum MHD_Result dispatch(request_ctx *rq, struct MHD_Connection *c)
+{
+    switch (rq->match.route) {
+    case ROUTE_JOBS:
+        return jobs_list(rq, c);
+    case ROUTE_JOB:
+        return strcmp(rq->method, "DELETE") == 0 ? jobs_delete(rq, c) : jobs_get(rq, c);
+    case ROUTE_JOB_EVENTS:
+        return jobs_events(rq, c);
+    case ROUTE_JOB_RESULT:
+    case ROUTE_JOB_STATS:
+    case ROUTE_JOB_REPORT:
+        return jobs_file(rq, c);
+    default:
+        return probes_answer(rq, c);
+    }
+}
+
+/* The first call for a request: everything that can be decided from the headers. */
+static enum MHD_Result first_call(request_ctx *rq, struct MHD_Connection *c)
+{
+    if (rq->match.route == ROUTE_NOT_FOUND)
+        return http_send_problem(rq, c, 404, "not-found", 0, "no resource at %s", rq->path);
+    if (strcmp(rq->method, "OPTIONS") == 0)
+        return answer_options(rq, c);
+    if (!api_route_allows(rq->match.route, rq->method))
+        return http_send_problem(rq, c, 405, "method-not-allowed", 0, "%s is not allowed on %s (allowed: %s)",
+                                 rq->method, api_route_template(rq->match.route),
+                                 api_route_allow(rq->match.route));
+    if (!api_route_is_health(rq->match.route) && !authorized(rq->svc, c))
+        return http_send_problem(rq, c, 401, "unauthorized", 0, "a valid 'Authorization: Bearer <token>' is required");
+    if (strcmp(rq->method, "POST") == 0)
+        return jobs_post_headers(rq, c);
+    return dispatch(rq, c);
+}
+
+static enum MHD_Result on_request(void *cls, struct MHD_Connection *c, const char *url, const char *method,
+                                  const char *version, const char *upload_data, size_t *upload_data_size,
+                                  void **con_cls)
+{
+    (void)version;
+    request_ctx *rq = *con_cls;
+    if (!rq) {
+        rq = calloc(1, sizeof *rq);
+        if (!rq)
+            return MHD_NO;
+        *con_cls = rq;
+        rq->svc = cls;
+        rq->started = monotonic_seconds();
+        snprintf(rq->method, sizeof rq->method, "%s", method);
+        snprintf(rq->path, sizeof rq->path, "%s", url);
+        rq->match = api_route_match(url);
+        return first_call(rq, c);
+    }
+    if (rq->status) {
+        /* Answered already (an early refusal): the rest of the body is not wanted. */
+        *upload_data_size = 0;
+        return MHD_YES;
+    }
+    if (*upload_data_size > 0)
+        return jobs_post_body(rq, c, upload_data, upload_data_size);
+    return jobs_post_complete(rq, c);
+}
+
+static void on_completed(void *cls, struct MHD_Connection *c, void **con_cls, enum MHD_RequestTerminationCode toe)
+{
+    (void)c;
+    api_service *svc = cls;
+    request_ctx *rq = *con_cls;
+    if (!rq)
+        return;
+    const char *route = api_route_template(rq->match.route);
+    metrics_count_request(svc->metrics, route, rq->status);
+    if (rq->upload || rq->job_id[0])
+        metrics_add_upload_bytes(svc->metrics, rq->upload ? api_upload_bytes(rq->upload) : 0);
+    char path[300];
+    log_event("level=info event=request method=%s path=%s route=%s status=%d duration_ms=%.3f%s", rq->method,
+              log_quote(path, sizeof path, rq->path), route, rq->status,
+              (monotonic_seconds() - rq->started) * 1e3,
+              toe == MHD_REQUEST_TERMINATED_COMPLETED_OK ? "" : " aborted=true");
+    jobs_post_abandon(rq);
+    api_upload_destroy(rq->upload);
+    free(rq);
+    *con_cls = NULL;
+}
+
+static void on_mhd_log(void *cls, const char *fmt, va_list ap)
+{
+    (void)cls;
+    char text[400], quoted[420];
+    vsnprintf(text, sizeof text, fmt, ap);
+    log_event("level=warn event=http message=%s", log_quote(quoted, sizeof quoted, text));
+}
+
+struct MHD_Daemon *api_http_start(api_service *svc, int *port_out, char *err, size_t err_len)
+{
+    struct sockaddr_storage addr;
+    memset(&addr, 0, sizeof addr);
+    unsigned int flags = MHD_USE_THREAD_PER_CONNECTION | MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_ITC |
+                         MHD_USE_ERROR_LOG;
+    struct sockaddr_in *v4 = (struct sockaddr_in *)&addr;
+    struct sockaddr_in6 *v6 = (struct sockaddr_in6 *)&addr;
+    if (inet_pton(AF_INET, svc->config.bind, &v4->sin_addr) == 1) {
+        v4->sin_family = AF_INET;
+        v4->sin_port = htons((uint16_t)svc->config.port);
+    } else if (inet_pton(AF_INET6, svc->config.bind, &v6->sin6_addr) == 1) {
+        v6->sin6_family = AF_INET6;
+        v6->sin6_port = htons((uint16_t)svc->config.port);
+        flags |= MHD_USE_IPv6;
+    } else {
+        texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "bind: '%s' is not an IPv4 or IPv6 address",
+                    svc->config.bind);
+        return NULL;
+    }
+    struct MHD_Daemon *d = MHD_start_daemon(
+        flags, (uint16_t)svc->config.port, NULL, NULL, on_request, svc,
+        MHD_OPTION_EXTERNAL_LOGGER, on_mhd_log, NULL,
+        MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&addr,
+        MHD_OPTION_NOTIFY_COMPLETED, on_completed, svc,
+        MHD_OPTION_CONNECTION_LIMIT, (unsigned int)svc->config.max_connections,
+        MHD_OPTION_CONNECTION_TIMEOUT, (unsigned int)120,
+        MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)(256 * 1024),
+        MHD_OPTION_END);
+    if (!d) {
+        texopt_fail(err, err_len, TEXOPT_E_IO, "cannot listen on %s:%d (address in use or not permitted)",
+                    svc->config.bind, svc->config.port);
+        return NULL;
+    }
+    const union MHD_DaemonInfo *info = MHD_get_daemon_info(d, MHD_DAEMON_INFO_BIND_PORT);
+    *port_out = info ? info->port : svc->config.port;
+    return d;
+}
+
+void api_http_quiesce(struct MHD_Daemon *daemon)
+{
+    MHD_socket s = MHD_quiesce_daemon(daemon);
+    if (s != MHD_INVALID_SOCKET)
+        close(s);
+}
+
+void api_http_stop(struct MHD_Daemon *daemon)
+{
+    if (daemon)
+        MHD_stop_daemon(daemon);
+}

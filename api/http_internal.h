@@ -1,0 +1,58 @@
+/* http_internal.h - what the request handlers (jobs.c, events.c, probes.c) share with the
+ * libmicrohttpd glue in http.c. Not a public interface. */
+#ifndef TEXOPT_API_HTTP_INTERNAL_H
+#define TEXOPT_API_HTTP_INTERNAL_H
+
+#include <limits.h>
+#include <microhttpd.h>
+#include <stdint.h>
+
+#include "routes.h"
+#include "service.h"
+#include "upload.h"
+
+/* Per-request state, kept in libmicrohttpd's connection-context pointer and freed in the
+ * completion callback. */
+typedef struct request_ctx {
+    api_service *svc;
+    api_match match;
+    char method[16];
+    char path[256];
+    double started;         /* monotonic seconds */
+    int status;             /* the status answered, 0 until then */
+    /* POST /v1/jobs only: */
+    api_upload *upload;
+    char job_id[JOB_ID_LEN + 1];
+    char job_dir[PATH_MAX - 512];
+    int job_accepted;       /* keep the directory: it belongs to a job now */
+    uint64_t discarded;     /* body bytes thrown away after a failure */
+} request_ctx;
+
+/* Queues response with the status, adds the CORS headers, records the status and frees
+ * the response. Returns libmicrohttpd's verdict. */
+enum MHD_Result http_send(request_ctx *rq, struct MHD_Connection *c, int status, struct MHD_Response *r);
+
+/* A body from memory (copied). */
+enum MHD_Result http_send_text(request_ctx *rq, struct MHD_Connection *c, int status, const char *content_type,
+                               const char *body, size_t len);
+
+/* An application/problem+json answer with the same status. retry_after > 0 adds Retry-After;
+ * 405 adds Allow, 401 WWW-Authenticate. */
+enum MHD_Result http_send_problem(request_ctx *rq, struct MHD_Connection *c, int status, const char *slug,
+                                  int retry_after, const char *fmt, ...) __attribute__((format(printf, 6, 7)));
+
+/* Route handlers. */
+enum MHD_Result jobs_post_headers(request_ctx *rq, struct MHD_Connection *c);  /* first call */
+enum MHD_Result jobs_post_body(request_ctx *rq, struct MHD_Connection *c, const char *data, size_t *size);
+enum MHD_Result jobs_post_complete(request_ctx *rq, struct MHD_Connection *c);
+enum MHD_Result jobs_list(request_ctx *rq, struct MHD_Connection *c);
+enum MHD_Result jobs_get(request_ctx *rq, struct MHD_Connection *c);
+enum MHD_Result jobs_delete(request_ctx *rq, struct MHD_Connection *c);
+enum MHD_Result jobs_file(request_ctx *rq, struct MHD_Connection *c);  /* result, stats, report */
+enum MHD_Result jobs_events(request_ctx *rq, struct MHD_Connection *c);
+enum MHD_Result probes_answer(request_ctx *rq, struct MHD_Connection *c); /* healthz, readyz, metrics, openapi */
+
+/* Removes the directory of an upload that did not become a job. */
+void jobs_post_abandon(request_ctx *rq);
+
+#endif

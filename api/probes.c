@@ -1,0 +1,60 @@
+/* probes.c - /healthz, /readyz, /metrics and /openapi.yaml.
+ * healthz: the process answers. readyz: it would accept a job now (not shutting down,
+ * queue not full) — what a load balancer should route uploads by. */
+#include "http_internal.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "workers.h"
+
+static enum MHD_Result answer_ready(request_ctx *rq, struct MHD_Connection *c)
+{
+    api_service *svc = rq->svc;
+    if (atomic_load(&svc->draining))
+        return http_send_problem(rq, c, 503, "shutting-down", 5, "the service is shutting down");
+    int depth = queue_depth(svc->queue), limit = queue_limit(svc->queue);
+    if (depth >= limit)
+        return http_send_problem(rq, c, 503, "queue-full", 30, "the job queue is full (%d of %d)", depth, limit);
+    char body[128];
+    int n = snprintf(body, sizeof body, "{\"status\":\"ready\",\"queue_depth\":%d,\"queue_limit\":%d}", depth, limit);
+    return http_send_text(rq, c, 200, "application/json", body, (size_t)n);
+}
+
+static enum MHD_Result answer_metrics(request_ctx *rq, struct MHD_Connection *c)
+{
+    api_service *svc = rq->svc;
+    int counts[JOB_STATE_COUNT];
+    store_counts(svc->store, counts);
+    int busy = svc->workers ? workers_busy(svc->workers) : 0;
+    int workers = svc->workers ? workers_count(svc->workers) : 0;
+    char *text = metrics_render(svc->metrics, counts, queue_depth(svc->queue), queue_limit(svc->queue), busy, workers);
+    if (!text)
+        return MHD_NO;
+    struct MHD_Response *r = MHD_create_response_from_buffer(strlen(text), text, MHD_RESPMEM_MUST_FREE);
+    if (!r) {
+        free(text);
+        return MHD_NO;
+    }
+    MHD_add_response_header(r, "Content-Type", "text/plain; version=0.0.4; charset=utf-8");
+    return http_send(rq, c, 200, r);
+}
+
+enum MHD_Result probes_answer(request_ctx *rq, struct MHD_Connection *c)
+{
+    switch (rq->match.route) {
+    case ROUTE_HEALTHZ:
+        return http_send_text(rq, c, 200, "application/json", "{\"status\":\"ok\"}", 15);
+    case ROUTE_READYZ:
+        return answer_ready(rq, c);
+    case ROUTE_METRICS:
+        return answer_metrics(rq, c);
+    case ROUTE_OPENAPI:
+        if (!rq->svc->openapi)
+            return http_send_problem(rq, c, 404, "not-found", 0, "this build has no openapi.yaml");
+        return http_send_text(rq, c, 200, "application/yaml", rq->svc->openapi, rq->svc->openapi_len);
+    default:
+        return http_send_problem(rq, c, 404, "not-found", 0, "no resource at %s", rq->path);
+    }
+}

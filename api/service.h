@@ -1,0 +1,43 @@
+/* service.h - what the HTTP layer shares with the rest of texoptd.
+ *
+ * One api_service is made by server/main.c and outlives the HTTP daemon; the HTTP threads
+ * read the configuration and call into the store, the queue and the metrics, which do
+ * their own locking. No globals: libmicrohttpd hands this pointer to every callback. */
+#ifndef TEXOPT_API_SERVICE_H
+#define TEXOPT_API_SERVICE_H
+
+#include <stdatomic.h>
+#include <stddef.h>
+
+#include "config.h"
+#include "metrics.h"
+#include "queue.h"
+#include "store.h"
+
+struct worker_pool;
+
+typedef struct api_service {
+    service_config config;
+    job_store *store;
+    job_queue *queue;
+    service_metrics *metrics;
+    struct worker_pool *workers; /* NULL in tests without workers */
+    atomic_int draining;         /* set at SIGTERM: no new jobs, /readyz fails */
+    const char *openapi;         /* the contents of openapi.yaml, served as is */
+    size_t openapi_len;
+} api_service;
+
+struct MHD_Daemon;
+
+/* Starts the HTTP daemon on config.bind:config.port (thread per connection, see http.c).
+ * *port_out gets the bound port (useful with port 0). NULL with a message on failure. */
+struct MHD_Daemon *api_http_start(api_service *svc, int *port_out, char *err, size_t err_len);
+
+/* Stops accepting connections; requests already connected finish. */
+void api_http_quiesce(struct MHD_Daemon *daemon);
+
+/* Waits for every connection to end and frees the daemon (event streams end when the store
+ * is woken with store_wake_all first). Accepts NULL. */
+void api_http_stop(struct MHD_Daemon *daemon);
+
+#endif

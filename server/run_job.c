@@ -1,0 +1,78 @@
+/* run_job.c - runs one job with texopt_optimize_file (see run_job.h). The pipeline is
+ * Sun et al. 2022; this file only wires its monitor to the store and the metrics. */
+#include "run_job.h"
+
+#include <limits.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+#include "pipeline.h"
+#include "problem.h"
+
+typedef struct job_watch {
+    job_store *store;
+    service_metrics *metrics;
+    store_job *job;
+    char stage[16];
+    double stage_started; /* monotonic seconds */
+} job_watch;
+
+static double monotonic_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* A stage ends when the next one reports or the job ends: that is its duration. */
+static void close_stage(job_watch *w)
+{
+    if (w->stage[0])
+        metrics_observe_stage(w->metrics, w->stage, monotonic_seconds() - w->stage_started);
+    w->stage[0] = '\0';
+}
+
+static void on_progress(void *user, const texopt_progress *p)
+{
+    job_watch *w = user;
+    const char *stage = p->stage ? p->stage : "";
+    if (strncmp(w->stage, stage, sizeof w->stage - 1) != 0) {
+        close_stage(w);
+        snprintf(w->stage, sizeof w->stage, "%s", stage);
+        w->stage_started = monotonic_seconds();
+    }
+    store_progress(w->store, w->job, stage, p->fraction, p->eta_seconds, p->mean_loss, p->mean_area_scale);
+}
+
+void run_job(job_store *store, service_metrics *metrics, store_job *job, const job_record *record,
+             const atomic_int *cancel, const atomic_int *stopping)
+{
+    char dir[PATH_MAX - 400], input[PATH_MAX], result[PATH_MAX], stats[PATH_MAX];
+    store_job_dir(store, record->id, dir, sizeof dir);
+    snprintf(input, sizeof input, "%s/%s", dir, record->input_rel);
+    snprintf(result, sizeof result, "%s/result.glb", dir);
+    snprintf(stats, sizeof stats, "%s/stats.json", dir);
+
+    job_watch watch = {store, metrics, job, "", 0};
+    texopt_monitor monitor = {on_progress, &watch, cancel};
+    char err[512] = "";
+    texopt_status status = texopt_optimize_file(input, result, stats, &record->params, &monitor, err, sizeof err);
+    close_stage(&watch);
+
+    if (status == TEXOPT_OK) {
+        store_finish(store, job, JOB_SUCCEEDED, NULL);
+    } else if (status == TEXOPT_E_CANCELED && atomic_load(stopping)) {
+        store_requeue(store, job);
+    } else if (status == TEXOPT_E_CANCELED) {
+        store_finish(store, job, JOB_CANCELED, NULL);
+    } else {
+        job_problem problem;
+        memset(&problem, 0, sizeof problem);
+        problem.status = api_status_from_engine(status);
+        snprintf(problem.type, sizeof problem.type, "urn:texopt:problem:%s", api_slug_from_engine(status));
+        snprintf(problem.title, sizeof problem.title, "%s", texopt_strerror(status));
+        snprintf(problem.detail, sizeof problem.detail, "%s", err[0] ? err : texopt_strerror(status));
+        store_finish(store, job, JOB_FAILED, &problem);
+    }
+}

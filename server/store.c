@@ -1,0 +1,651 @@
+/* store.c - jobs in memory and on disk (see the DESIGN comment in store.h). */
+#define _DEFAULT_SOURCE
+#include "store.h"
+
+#include <cjson/cJSON.h>
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "fsutil.h"
+#include "log.h"
+#include "params_json.h"
+#include "status.h"
+
+struct store_job {
+    job_record rec;
+    atomic_int cancel;
+    int64_t published_ms;
+    double published_progress;
+};
+
+struct job_store {
+    pthread_mutex_t mu;
+    pthread_cond_t changed;
+    pthread_mutex_t persist_mu; /* orders job.json writes; never taken while holding mu */
+    char jobs_dir[2048];
+    store_job **jobs; /* creation order: oldest first */
+    int count, capacity;
+    int closing;
+};
+
+static const char *const state_names[JOB_STATE_COUNT] = {"queued", "running", "succeeded", "failed", "canceled"};
+
+const char *job_state_name(job_state state)
+{
+    return (unsigned)state < JOB_STATE_COUNT ? state_names[state] : "unknown";
+}
+
+int job_state_finished(job_state state)
+{
+    return state == JOB_SUCCEEDED || state == JOB_FAILED || state == JOB_CANCELED;
+}
+
+int64_t store_now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
+}
+
+void store_job_dir(const job_store *store, const char *id, char *dir, size_t dir_len)
+{
+    snprintf(dir, dir_len, "%s/%s", store->jobs_dir, id);
+}
+
+/* ---- job.json ---------------------------------------------------------------------- */
+
+static char *record_to_json(const job_record *r)
+{
+    cJSON *o = cJSON_CreateObject();
+    if (!o)
+        return NULL;
+    cJSON_AddNumberToObject(o, "version", 1);
+    cJSON_AddStringToObject(o, "id", r->id);
+    cJSON_AddStringToObject(o, "state", job_state_name(r->state));
+    cJSON_AddNumberToObject(o, "created_ms", (double)r->created_ms);
+    cJSON_AddNumberToObject(o, "started_ms", (double)r->started_ms);
+    cJSON_AddNumberToObject(o, "finished_ms", (double)r->finished_ms);
+    cJSON_AddNumberToObject(o, "attempts", r->attempts);
+    cJSON_AddNumberToObject(o, "event_seq", (double)r->event_seq);
+    cJSON_AddStringToObject(o, "model_name", r->model_name);
+    cJSON_AddStringToObject(o, "input", r->input_rel);
+    cJSON_AddStringToObject(o, "idempotency_key", r->idempotency_key);
+    cJSON_AddNumberToObject(o, "upload_bytes", (double)r->upload_bytes);
+    cJSON_AddItemToObject(o, "params", api_params_to_json(&r->params));
+    if (r->state == JOB_FAILED) {
+        cJSON *p = cJSON_AddObjectToObject(o, "problem");
+        cJSON_AddNumberToObject(p, "status", r->problem.status);
+        cJSON_AddStringToObject(p, "type", r->problem.type);
+        cJSON_AddStringToObject(p, "title", r->problem.title);
+        cJSON_AddStringToObject(p, "detail", r->problem.detail);
+    }
+    char *text = cJSON_PrintUnformatted(o);
+    cJSON_Delete(o);
+    return text;
+}
+
+static void copy_string(char *dst, size_t dst_len, const cJSON *obj, const char *key)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    snprintf(dst, dst_len, "%s", cJSON_IsString(v) ? v->valuestring : "");
+}
+
+static double get_double(const cJSON *obj, const char *key)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    return cJSON_IsNumber(v) ? v->valuedouble : 0;
+}
+
+static int record_from_json(const char *text, job_record *r, char *err, size_t err_len)
+{
+    cJSON *o = cJSON_Parse(text);
+    if (!o)
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "not JSON"), -1;
+    memset(r, 0, sizeof *r);
+    copy_string(r->id, sizeof r->id, o, "id");
+    char state[16];
+    copy_string(state, sizeof state, o, "state");
+    r->state = JOB_STATE_COUNT;
+    for (int s = 0; s < JOB_STATE_COUNT; s++)
+        if (strcmp(state, state_names[s]) == 0)
+            r->state = (job_state)s;
+    r->created_ms = (int64_t)get_double(o, "created_ms");
+    r->started_ms = (int64_t)get_double(o, "started_ms");
+    r->finished_ms = (int64_t)get_double(o, "finished_ms");
+    r->attempts = (int)get_double(o, "attempts");
+    r->event_seq = (long long)get_double(o, "event_seq");
+    r->upload_bytes = (uint64_t)get_double(o, "upload_bytes");
+    r->eta_seconds = -1;
+    copy_string(r->model_name, sizeof r->model_name, o, "model_name");
+    copy_string(r->input_rel, sizeof r->input_rel, o, "input");
+    copy_string(r->idempotency_key, sizeof r->idempotency_key, o, "idempotency_key");
+    const cJSON *problem = cJSON_GetObjectItemCaseSensitive(o, "problem");
+    if (problem) {
+        r->problem.status = (int)get_double(problem, "status");
+        copy_string(r->problem.type, sizeof r->problem.type, problem, "type");
+        copy_string(r->problem.title, sizeof r->problem.title, problem, "title");
+        copy_string(r->problem.detail, sizeof r->problem.detail, problem, "detail");
+    }
+    texopt_status s = api_params_from_json(cJSON_GetObjectItemCaseSensitive(o, "params"), &r->params, err, err_len);
+    cJSON_Delete(o);
+    if (s != TEXOPT_OK)
+        return -1;
+    if (r->state == JOB_STATE_COUNT || strlen(r->id) != JOB_ID_LEN || !r->input_rel[0])
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "missing id, state or input"), -1;
+    return 0;
+}
+
+/* Writes the job's current record. The caller holds persist_mu, which orders the writes (an
+ * older record never overwrites a newer) and keeps store_delete from freeing the job
+ * meanwhile. Serialised under mu, written outside it: the fsync must not stall readers. */
+static int persist_held(job_store *store, store_job *job)
+{
+    pthread_mutex_lock(&store->mu);
+    job_record copy = job->rec;
+    pthread_mutex_unlock(&store->mu);
+    int rc = -1;
+    char *text = record_to_json(&copy);
+    if (text) {
+        char path[PATH_MAX];
+        snprintf(path, sizeof path, "%s/%s/job.json", store->jobs_dir, copy.id);
+        rc = fs_write_atomic(path, text, strlen(text));
+        if (rc != 0) {
+            char why[128];
+            log_event("level=error event=persist job=%s error=%s", copy.id,
+                      log_quote(why, sizeof why, strerror(errno)));
+        }
+        free(text);
+    }
+    return rc;
+}
+
+static void log_state(const job_record *r)
+{
+    char detail[600];
+    if (r->state == JOB_FAILED)
+        log_event("level=info event=job job=%s state=%s attempt=%d status=%d detail=%s", r->id,
+                  job_state_name(r->state), r->attempts, r->problem.status,
+                  log_quote(detail, sizeof detail, r->problem.detail));
+    else
+        log_event("level=info event=job job=%s state=%s attempt=%d", r->id, job_state_name(r->state),
+                  r->attempts);
+}
+
+/* ---- in-memory table (caller holds mu) ---------------------------------------------- */
+
+static store_job *find(job_store *store, const char *id)
+{
+    for (int i = 0; i < store->count; i++)
+        if (strcmp(store->jobs[i]->rec.id, id) == 0)
+            return store->jobs[i];
+    return NULL;
+}
+
+static int append(job_store *store, store_job *job)
+{
+    if (store->count == store->capacity) {
+        int capacity = store->capacity ? store->capacity * 2 : 64;
+        store_job **jobs = realloc(store->jobs, (size_t)capacity * sizeof *jobs);
+        if (!jobs)
+            return -1;
+        store->jobs = jobs;
+        store->capacity = capacity;
+    }
+    store->jobs[store->count++] = job;
+    return 0;
+}
+
+static void remove_at(job_store *store, int index)
+{
+    free(store->jobs[index]);
+    memmove(&store->jobs[index], &store->jobs[index + 1], (size_t)(store->count - index - 1) * sizeof *store->jobs);
+    store->count--;
+}
+
+/* A new event: everything watching this job wakes and sends the latest record. */
+static void publish(job_store *store, store_job *job)
+{
+    job->rec.event_seq++;
+    job->published_ms = store_now_ms();
+    job->published_progress = job->rec.progress;
+    pthread_cond_broadcast(&store->changed);
+}
+
+/* ---- open / close ------------------------------------------------------------------ */
+
+static int by_creation(const void *a, const void *b)
+{
+    const store_job *x = *(store_job *const *)a, *y = *(store_job *const *)b;
+    if (x->rec.created_ms != y->rec.created_ms)
+        return x->rec.created_ms < y->rec.created_ms ? -1 : 1;
+    return strcmp(x->rec.id, y->rec.id);
+}
+
+static void load_one(job_store *store, const char *name)
+{
+    char dir[PATH_MAX], path[PATH_MAX + 16], err[256] = "";
+    snprintf(dir, sizeof dir, "%s/%s", store->jobs_dir, name);
+    snprintf(path, sizeof path, "%s/job.json", dir);
+    char *text = fs_read_small(path, 1 << 20, NULL);
+    if (!text) {
+        /* An upload cut off before it was accepted: nobody was promised this job. */
+        log_event("level=info event=recover dir=%s action=remove reason=no-job-json", name);
+        fs_remove_tree(dir);
+        return;
+    }
+    store_job *job = calloc(1, sizeof *job);
+    if (!job || record_from_json(text, &job->rec, err, sizeof err) != 0 || strcmp(job->rec.id, name) != 0) {
+        char why[300];
+        log_event("level=error event=recover dir=%s action=skip error=%s", name,
+                  log_quote(why, sizeof why, err[0] ? err : "id does not match directory"));
+        free(job);
+        free(text);
+        return;
+    }
+    free(text);
+    int interrupted = job->rec.state == JOB_RUNNING;
+    if (interrupted) {
+        job->rec.state = JOB_QUEUED;
+        job->rec.cancel_requested = 0;
+    }
+    if (append(store, job) != 0) {
+        free(job);
+        return;
+    }
+    if (interrupted) {
+        log_event("level=info event=recover job=%s action=requeue reason=interrupted", name);
+        persist_held(store, job);
+    }
+}
+
+job_store *store_open(const char *data_dir, char *err, size_t err_len)
+{
+    job_store *store = calloc(1, sizeof *store);
+    if (!store) {
+        texopt_fail(err, err_len, TEXOPT_E_NOMEM, "out of memory");
+        return NULL;
+    }
+    pthread_mutex_init(&store->mu, NULL);
+    pthread_mutex_init(&store->persist_mu, NULL);
+    pthread_cond_init(&store->changed, NULL);
+    snprintf(store->jobs_dir, sizeof store->jobs_dir, "%s/jobs", data_dir);
+    if (fs_mkdir_p(store->jobs_dir) != 0) {
+        texopt_fail(err, err_len, TEXOPT_E_IO, "cannot create %s: %s", store->jobs_dir, strerror(errno));
+        store_close(store);
+        return NULL;
+    }
+    DIR *d = opendir(store->jobs_dir);
+    if (!d) {
+        texopt_fail(err, err_len, TEXOPT_E_IO, "cannot read %s: %s", store->jobs_dir, strerror(errno));
+        store_close(store);
+        return NULL;
+    }
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL)
+        if (e->d_name[0] != '.')
+            load_one(store, e->d_name);
+    closedir(d);
+    if (store->count > 1)
+        qsort(store->jobs, (size_t)store->count, sizeof *store->jobs, by_creation);
+    return store;
+}
+
+void store_close(job_store *store)
+{
+    if (!store)
+        return;
+    for (int i = 0; i < store->count; i++)
+        free(store->jobs[i]);
+    free(store->jobs);
+    pthread_mutex_destroy(&store->mu);
+    pthread_mutex_destroy(&store->persist_mu);
+    pthread_cond_destroy(&store->changed);
+    free(store);
+}
+
+/* ---- jobs -------------------------------------------------------------------------- */
+
+static int random_id(char *id)
+{
+    unsigned char bytes[JOB_ID_LEN / 2];
+    int fd = open("/dev/urandom", O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return -1;
+    ssize_t n = read(fd, bytes, sizeof bytes);
+    close(fd);
+    if (n != (ssize_t)sizeof bytes)
+        return -1;
+    for (size_t i = 0; i < sizeof bytes; i++)
+        snprintf(id + 2 * i, 3, "%02x", bytes[i]);
+    return 0;
+}
+
+int store_new_job_dir(job_store *store, char *id, char *dir, size_t dir_len)
+{
+    if (random_id(id) != 0)
+        return -1;
+    store_job_dir(store, id, dir, dir_len);
+    return mkdir(dir, 0750);
+}
+
+int store_add(job_store *store, const job_record *record, job_record *existing)
+{
+    store_job *job = calloc(1, sizeof *job);
+    if (!job)
+        return STORE_IO;
+    job->rec = *record;
+    job->rec.state = JOB_QUEUED;
+    job->rec.event_seq = 1;
+    pthread_mutex_lock(&store->persist_mu);
+    pthread_mutex_lock(&store->mu);
+    if (record->idempotency_key[0]) {
+        for (int i = 0; i < store->count; i++) {
+            if (strcmp(store->jobs[i]->rec.idempotency_key, record->idempotency_key) == 0) {
+                *existing = store->jobs[i]->rec;
+                pthread_mutex_unlock(&store->mu);
+                pthread_mutex_unlock(&store->persist_mu);
+                free(job);
+                return STORE_DUPLICATE;
+            }
+        }
+    }
+    int rc = append(store, job);
+    pthread_mutex_unlock(&store->mu);
+    if (rc != 0) {
+        pthread_mutex_unlock(&store->persist_mu);
+        free(job);
+        return STORE_IO;
+    }
+    if (persist_held(store, job) != 0) {
+        pthread_mutex_lock(&store->mu);
+        for (int i = store->count - 1; i >= 0; i--)
+            if (store->jobs[i] == job)
+                remove_at(store, i);
+        pthread_mutex_unlock(&store->mu);
+        pthread_mutex_unlock(&store->persist_mu);
+        return STORE_IO;
+    }
+    pthread_mutex_unlock(&store->persist_mu);
+    log_state(record);
+    return STORE_OK;
+}
+
+int store_get(job_store *store, const char *id, job_record *out)
+{
+    pthread_mutex_lock(&store->mu);
+    store_job *job = find(store, id);
+    if (job)
+        *out = job->rec;
+    pthread_mutex_unlock(&store->mu);
+    return job ? STORE_OK : STORE_NOT_FOUND;
+}
+
+int store_find_key(job_store *store, const char *key, job_record *out)
+{
+    int rc = STORE_NOT_FOUND;
+    pthread_mutex_lock(&store->mu);
+    for (int i = 0; i < store->count && rc != STORE_OK; i++)
+        if (strcmp(store->jobs[i]->rec.idempotency_key, key) == 0) {
+            *out = store->jobs[i]->rec;
+            rc = STORE_OK;
+        }
+    pthread_mutex_unlock(&store->mu);
+    return rc;
+}
+
+int store_list(job_store *store, const char *after, job_record *out, int max, int *more)
+{
+    pthread_mutex_lock(&store->mu);
+    int start = store->count - 1;
+    if (after && *after) {
+        start = -1;
+        for (int i = store->count - 1; i >= 0; i--)
+            if (strcmp(store->jobs[i]->rec.id, after) == 0)
+                start = i - 1;
+    }
+    int n = 0;
+    int i = start;
+    for (; i >= 0 && n < max; i--)
+        out[n++] = store->jobs[i]->rec;
+    *more = i >= 0;
+    pthread_mutex_unlock(&store->mu);
+    return n;
+}
+
+int store_queued_ids(job_store *store, char (**ids)[JOB_ID_LEN + 1])
+{
+    pthread_mutex_lock(&store->mu);
+    *ids = calloc((size_t)store->count + 1, sizeof **ids);
+    int n = 0;
+    for (int i = 0; *ids && i < store->count; i++)
+        if (store->jobs[i]->rec.state == JOB_QUEUED)
+            memcpy((*ids)[n++], store->jobs[i]->rec.id, JOB_ID_LEN + 1);
+    pthread_mutex_unlock(&store->mu);
+    return *ids ? n : -1;
+}
+
+store_job *store_begin(job_store *store, const char *id, job_record *out, const atomic_int **cancel)
+{
+    pthread_mutex_lock(&store->persist_mu);
+    pthread_mutex_lock(&store->mu);
+    store_job *job = find(store, id);
+    if (!job || job->rec.state != JOB_QUEUED) {
+        pthread_mutex_unlock(&store->mu);
+        pthread_mutex_unlock(&store->persist_mu);
+        return NULL;
+    }
+    job->rec.state = JOB_RUNNING;
+    job->rec.attempts++;
+    job->rec.started_ms = store_now_ms();
+    job->rec.progress = 0;
+    job->rec.stage[0] = '\0';
+    job->rec.eta_seconds = -1;
+    atomic_store(&job->cancel, 0);
+    publish(store, job);
+    *out = job->rec;
+    *cancel = &job->cancel;
+    pthread_mutex_unlock(&store->mu);
+    persist_held(store, job);
+    pthread_mutex_unlock(&store->persist_mu);
+    log_state(out);
+    return job;
+}
+
+void store_progress(job_store *store, store_job *job, const char *stage, double progress,
+                    double eta_seconds, double mean_loss, double mean_area_scale)
+{
+    pthread_mutex_lock(&store->mu);
+    int new_stage = strncmp(job->rec.stage, stage, sizeof job->rec.stage - 1) != 0;
+    snprintf(job->rec.stage, sizeof job->rec.stage, "%s", stage);
+    job->rec.progress = progress < 0 ? 0 : progress > 1 ? 1 : progress;
+    job->rec.eta_seconds = eta_seconds;
+    job->rec.mean_loss = mean_loss;
+    job->rec.mean_area_scale = mean_area_scale;
+    if (new_stage || job->rec.progress >= job->published_progress + 0.005 ||
+        store_now_ms() >= job->published_ms + 250)
+        publish(store, job);
+    pthread_mutex_unlock(&store->mu);
+}
+
+static void end_run(job_store *store, store_job *job, job_state state, const job_problem *problem)
+{
+    pthread_mutex_lock(&store->persist_mu);
+    pthread_mutex_lock(&store->mu);
+    job->rec.state = state;
+    if (state == JOB_SUCCEEDED)
+        job->rec.progress = 1;
+    if (job_state_finished(state))
+        job->rec.finished_ms = store_now_ms();
+    if (state == JOB_FAILED && problem)
+        job->rec.problem = *problem;
+    job->rec.eta_seconds = state == JOB_SUCCEEDED ? 0 : -1;
+    job->rec.cancel_requested = 0;
+    publish(store, job);
+    job_record copy = job->rec;
+    pthread_mutex_unlock(&store->mu);
+    persist_held(store, job);
+    pthread_mutex_unlock(&store->persist_mu);
+    log_state(&copy);
+}
+
+void store_finish(job_store *store, store_job *job, job_state state, const job_problem *problem)
+{
+    end_run(store, job, state, problem);
+}
+
+void store_requeue(job_store *store, store_job *job)
+{
+    end_run(store, job, JOB_QUEUED, NULL);
+}
+
+cancel_outcome store_cancel(job_store *store, const char *id, job_record *out)
+{
+    pthread_mutex_lock(&store->persist_mu);
+    pthread_mutex_lock(&store->mu);
+    store_job *job = find(store, id);
+    cancel_outcome outcome = CANCEL_NOT_FOUND;
+    if (job && job->rec.state == JOB_QUEUED) {
+        job->rec.state = JOB_CANCELED;
+        job->rec.finished_ms = store_now_ms();
+        publish(store, job);
+        outcome = CANCEL_DONE;
+    } else if (job && job->rec.state == JOB_RUNNING) {
+        atomic_store(&job->cancel, 1);
+        job->rec.cancel_requested = 1;
+        publish(store, job);
+        outcome = CANCEL_REQUESTED;
+    } else if (job) {
+        outcome = CANCEL_FINISHED;
+    }
+    if (job)
+        *out = job->rec;
+    pthread_mutex_unlock(&store->mu);
+    if (outcome == CANCEL_DONE)
+        persist_held(store, job);
+    pthread_mutex_unlock(&store->persist_mu);
+    if (outcome == CANCEL_DONE)
+        log_state(out);
+    return outcome;
+}
+
+void store_cancel_running(job_store *store)
+{
+    pthread_mutex_lock(&store->mu);
+    for (int i = 0; i < store->count; i++)
+        if (store->jobs[i]->rec.state == JOB_RUNNING)
+            atomic_store(&store->jobs[i]->cancel, 1);
+    pthread_mutex_unlock(&store->mu);
+}
+
+static int delete_locked(job_store *store, int index)
+{
+    char dir[PATH_MAX];
+    store_job_dir(store, store->jobs[index]->rec.id, dir, sizeof dir);
+    log_event("level=info event=job job=%s state=deleted", store->jobs[index]->rec.id);
+    remove_at(store, index);
+    pthread_cond_broadcast(&store->changed);
+    return fs_remove_tree(dir);
+}
+
+int store_delete(job_store *store, const char *id)
+{
+    /* persist_mu first: a job.json write of this job may not be under way while its
+     * directory goes away. */
+    pthread_mutex_lock(&store->persist_mu);
+    pthread_mutex_lock(&store->mu);
+    int rc = STORE_NOT_FOUND;
+    for (int i = 0; i < store->count; i++) {
+        if (strcmp(store->jobs[i]->rec.id, id) != 0)
+            continue;
+        rc = job_state_finished(store->jobs[i]->rec.state) ? STORE_OK : STORE_CONFLICT;
+        if (rc == STORE_OK && delete_locked(store, i) != 0)
+            rc = STORE_IO;
+        break;
+    }
+    pthread_mutex_unlock(&store->mu);
+    pthread_mutex_unlock(&store->persist_mu);
+    return rc;
+}
+
+int store_expire(job_store *store, int64_t now_ms, int64_t retention_ms)
+{
+    pthread_mutex_lock(&store->persist_mu);
+    pthread_mutex_lock(&store->mu);
+    int n = 0;
+    for (int i = store->count - 1; i >= 0; i--) {
+        const job_record *r = &store->jobs[i]->rec;
+        if (job_state_finished(r->state) && r->finished_ms + retention_ms < now_ms) {
+            delete_locked(store, i);
+            n++;
+        }
+    }
+    pthread_mutex_unlock(&store->mu);
+    pthread_mutex_unlock(&store->persist_mu);
+    return n;
+}
+
+int store_wait_event(job_store *store, const char *id, long long after_seq, int timeout_ms,
+                     job_record *out)
+{
+    struct timespec deadline;
+    clock_gettime(CLOCK_REALTIME, &deadline);
+    deadline.tv_sec += timeout_ms / 1000;
+    deadline.tv_nsec += (long)(timeout_ms % 1000) * 1000000L;
+    if (deadline.tv_nsec >= 1000000000L) {
+        deadline.tv_sec++;
+        deadline.tv_nsec -= 1000000000L;
+    }
+    pthread_mutex_lock(&store->mu);
+    int rc;
+    for (;;) {
+        store_job *job = find(store, id);
+        if (store->closing) {
+            rc = -4;
+            break;
+        }
+        if (!job) {
+            rc = STORE_NOT_FOUND;
+            break;
+        }
+        *out = job->rec;
+        if (job->rec.event_seq > after_seq) {
+            rc = 1;
+            break;
+        }
+        if (pthread_cond_timedwait(&store->changed, &store->mu, &deadline) == ETIMEDOUT) {
+            job = find(store, id);
+            if (job)
+                *out = job->rec;
+            rc = job ? 0 : STORE_NOT_FOUND;
+            break;
+        }
+    }
+    pthread_mutex_unlock(&store->mu);
+    return rc;
+}
+
+void store_wake_all(job_store *store)
+{
+    pthread_mutex_lock(&store->mu);
+    store->closing = 1;
+    pthread_cond_broadcast(&store->changed);
+    pthread_mutex_unlock(&store->mu);
+}
+
+void store_counts(job_store *store, int counts[JOB_STATE_COUNT])
+{
+    memset(counts, 0, sizeof(int) * JOB_STATE_COUNT);
+    pthread_mutex_lock(&store->mu);
+    for (int i = 0; i < store->count; i++)
+        counts[store->jobs[i]->rec.state]++;
+    pthread_mutex_unlock(&store->mu);
+}

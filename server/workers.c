@@ -1,0 +1,100 @@
+/* workers.c - the worker threads (see the DESIGN comment in workers.h). */
+#include "workers.h"
+
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+
+#include "log.h"
+#include "run_job.h"
+#include "status.h"
+
+struct worker_pool {
+    job_store *store;
+    job_queue *queue;
+    service_metrics *metrics;
+    pthread_t *threads;
+    int count;
+    atomic_int busy;
+    atomic_int stopping;
+    int stopped;
+};
+
+static void *worker_main(void *arg)
+{
+    worker_pool *pool = arg;
+    char id[JOB_ID_LEN + 1];
+    while (queue_pop(pool->queue, id) == QUEUE_OK) {
+        job_record record;
+        const atomic_int *cancel = NULL;
+        store_job *job = store_begin(pool->store, id, &record, &cancel);
+        if (!job)
+            continue; /* canceled or deleted while it waited */
+        if (atomic_load(&pool->stopping)) {
+            store_requeue(pool->store, job); /* taken just as the service stops */
+            continue;
+        }
+        atomic_fetch_add(&pool->busy, 1);
+        run_job(pool->store, pool->metrics, job, &record, cancel, &pool->stopping);
+        atomic_fetch_sub(&pool->busy, 1);
+    }
+    return NULL;
+}
+
+worker_pool *workers_start(job_store *store, job_queue *queue, service_metrics *metrics,
+                           const service_config *config, char *err, size_t err_len)
+{
+    worker_pool *pool = calloc(1, sizeof *pool);
+    if (pool)
+        pool->threads = calloc((size_t)config->workers, sizeof *pool->threads);
+    if (!pool || !pool->threads) {
+        free(pool);
+        texopt_fail(err, err_len, TEXOPT_E_NOMEM, "out of memory");
+        return NULL;
+    }
+    pool->store = store;
+    pool->queue = queue;
+    pool->metrics = metrics;
+    for (int i = 0; i < config->workers; i++) {
+        if (pthread_create(&pool->threads[i], NULL, worker_main, pool) != 0) {
+            texopt_fail(err, err_len, TEXOPT_E_INTERNAL, "cannot start worker thread %d", i);
+            workers_destroy(pool);
+            return NULL;
+        }
+        pool->count++;
+    }
+    log_event("level=info event=workers started=%d", pool->count);
+    return pool;
+}
+
+int workers_busy(const worker_pool *pool)
+{
+    return atomic_load(&pool->busy);
+}
+
+int workers_count(const worker_pool *pool)
+{
+    return pool->count;
+}
+
+void workers_stop(worker_pool *pool)
+{
+    if (pool->stopped)
+        return;
+    /* This order leaves no gap: a job begun after the cancel sweep sees `stopping`. */
+    atomic_store(&pool->stopping, 1);
+    queue_close(pool->queue);
+    store_cancel_running(pool->store);
+    for (int i = 0; i < pool->count; i++)
+        pthread_join(pool->threads[i], NULL);
+    pool->stopped = 1;
+}
+
+void workers_destroy(worker_pool *pool)
+{
+    if (!pool)
+        return;
+    workers_stop(pool);
+    free(pool->threads);
+    free(pool);
+}
