@@ -5,6 +5,7 @@
 
 #include "evaluate.h"
 #include "fixtures.h"
+#include "gltf_io.h"
 #include "meshrender.h"
 #include "resize.h"
 #include "test.h"
@@ -151,4 +152,30 @@ TEST(default_resolution_shows_a_texel_per_pixel)
     CHECK_OK(texopt_evaluate_default_resolution(quad, &side, err, sizeof err), err);
     CHECK_EQ_INT(side, 250);
     texopt_model_destroy(quad);
+}
+TEST(spot_loss_grows_with_downscale)
+{
+    char path[1024], err[256] = "";
+    snprintf(path, sizeof path, "%s/spot/spot.glb", TEXOPT_TEST_DATA_DIR);
+    texopt_model *ref = NULL;
+    CHECK_OK(texopt_model_load(&ref, path, NULL, err, sizeof err), err);
+    int side = 0;
+    CHECK_OK(texopt_evaluate_default_resolution(ref, &side, err, sizeof err), err);
+    CHECK(side > 300 && side < 1400);
+    double last = 0;
+    const int sizes[] = {512, 256, 128};
+    for (size_t i = 0; i < 3; i++) {
+        texopt_model *cand = NULL;
+        CHECK_OK(texopt_model_load(&cand, path, NULL, err, sizeof err), err);
+        int image = cand->materials[cand->primitives[0].material].slot[TEXOPT_SLOT_BASE_COLOR].image;
+        CHECK(shrink_texture(cand, image, sizes[i]) == 0);
+        texopt_evaluate_options opt = {.resolution = 512, .threads = 2};
+        texopt_evaluation ev;
+        texopt_status st = texopt_evaluate(ref, cand, &opt, &ev, err, sizeof err);
+        texopt_model_destroy(cand);
+        CHECK_OK(st, err);
+        CHECK_MSG(ev.q > last, "texture %d: q %.4f not above %.4f", sizes[i], ev.q, last);
+        last = ev.q;
+    }
+    texopt_model_destroy(ref);
 }

@@ -1,0 +1,393 @@
+/* compare.c - q_r-c_r curves per method through the real pipeline, and the target_loss
+ * search (Sun et al. 2022, section 5.1; DESIGN.md 3.4 "a target whole-mesh loss").
+ *
+ * Each point is one texopt_optimize_file run into a private temporary directory, the output
+ * loaded back, measured (evaluate.h) and deleted; only the showcase cost's outputs stay in
+ * memory for the report. Points run one after the other: the pipeline itself uses the
+ * cores. The target search brackets log(c_r) because q changes by similar amounts per
+ * halving of the cost, not per fixed step.
+ * Does not: draw (report.c), decide which methods exist (the pipeline refuses unknown ones). */
+#include "compare.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "atomic_file.h"
+#include "gltf_io.h"
+#include "pipeline.h"
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void texopt_compare_result_destroy(texopt_compare_result *r)
+{
+    if (!r)
+        return;
+    for (int c = 0; c < r->curve_count; c++) {
+        texopt_model_destroy(r->curves[c].showcase);
+        free(r->curves[c].showcase_triangle_error);
+    }
+    texopt_model_destroy(r->input);
+    memset(r, 0, sizeof *r);
+}
+
+static texopt_status check_options(const texopt_compare_options *opt, char *err, size_t err_len)
+{
+    if (!opt || !opt->methods || !opt->costs)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "compare: methods and costs are required");
+    if (opt->method_count < 1 || opt->method_count > TEXOPT_METHOD_COUNT)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "compare: %d methods (1..%d allowed)",
+                           opt->method_count, TEXOPT_METHOD_COUNT);
+    if (opt->cost_count < 1 || opt->cost_count > TEXOPT_COMPARE_MAX_COSTS)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "compare: %d costs (1..%d allowed)",
+                           opt->cost_count, TEXOPT_COMPARE_MAX_COSTS);
+    for (int m = 0; m < opt->method_count; m++)
+        if ((unsigned)opt->methods[m] >= TEXOPT_METHOD_COUNT)
+            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "compare: unknown method %d",
+                               (int)opt->methods[m]);
+    for (int c = 0; c < opt->cost_count; c++)
+        if (!(opt->costs[c] > 0 && opt->costs[c] <= 4))
+            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                               "compare: cost %g is outside (0, 4]", opt->costs[c]);
+    return TEXOPT_OK;
+}
+
+static double pick_showcase(const texopt_compare_options *opt)
+{
+    if (opt->showcase_cost > 0)
+        return opt->showcase_cost;
+    double best = opt->costs[0];
+    for (int c = 1; c < opt->cost_count; c++)
+        if (fabs(log(opt->costs[c] / 0.3)) < fabs(log(best / 0.3)))
+            best = opt->costs[c];
+    return best;
+}
+
+/* One method at one cost: optimise into tmp_glb, load, evaluate. On success *model holds the
+ * loaded output when keep is set (else it is freed). Failures land in the point. */
+static texopt_status run_point(const char *input_path, const texopt_model *input,
+                               const texopt_cost *input_cost, const texopt_compare_options *opt,
+                               texopt_method method, double cost, const char *tmp_glb, int keep,
+                               texopt_compare_point *pt, texopt_model **model, double *tri_err)
+{
+    texopt_params p = opt->params;
+    p.method = method;
+    p.budget = TEXOPT_BUDGET_RELATIVE_COST;
+    p.relative_cost = cost;
+    p.evaluate = 0;
+    memset(pt, 0, sizeof *pt);
+    pt->cost_requested = cost;
+    pt->q = NAN;
+    char *msg = pt->message;
+    size_t len = sizeof pt->message;
+    double t0 = now_seconds();
+    texopt_status st = texopt_optimize_file(input_path, tmp_glb, NULL, &p, opt->monitor, msg, len);
+    pt->seconds_optimize = now_seconds() - t0;
+    texopt_model *out = NULL;
+    if (st == TEXOPT_OK)
+        st = texopt_model_load(&out, tmp_glb, NULL, msg, len);
+    unlink(tmp_glb);
+    texopt_evaluation ev;
+    texopt_cost cost_out;
+    t0 = now_seconds();
+    if (st == TEXOPT_OK) {
+        texopt_evaluate_options eo = opt->evaluate;
+        eo.triangle_error = keep ? tri_err : NULL;
+        eo.monitor = opt->monitor;
+        st = texopt_evaluate(input, out, &eo, &ev, msg, len);
+    }
+    if (st == TEXOPT_OK)
+        st = texopt_evaluate_cost(out, &cost_out, msg, len);
+    pt->seconds_evaluate = now_seconds() - t0;
+    pt->status = st;
+    if (st == TEXOPT_OK) {
+        pt->q = ev.q;
+        pt->cost_achieved = input_cost->covered_texels
+                                ? (double)cost_out.covered_texels / (double)input_cost->covered_texels
+                                : 0;
+        pt->texture_pixels = cost_out.texture_pixels;
+        pt->packing_efficiency = cost_out.packing_efficiency;
+        msg[0] = 0;
+    }
+    if (st == TEXOPT_OK && keep)
+        *model = out;
+    else
+        texopt_model_destroy(out);
+    return st;
+}
+
+static void report_progress(const texopt_compare_options *opt, int done, int total)
+{
+    texopt_progress p = {.stage = "compare",
+                         .stage_fraction = (double)done / total,
+                         .fraction = (double)done / total,
+                         .eta_seconds = -1};
+    texopt_monitor_report(opt->monitor, &p);
+}
+
+static texopt_status make_work_dir(const texopt_compare_options *opt, char *dir, size_t len,
+                                   char *err, size_t err_len)
+{
+    const char *base = opt->work_dir ? opt->work_dir : getenv("TMPDIR");
+    if (!base || !base[0])
+        base = "/tmp";
+    if ((size_t)snprintf(dir, len, "%s/texopt-compare-XXXXXX", base) >= len)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "work directory path too long");
+    if (!mkdtemp(dir))
+        return texopt_fail(err, err_len, TEXOPT_E_IO, "cannot create a directory under %s", base);
+    return TEXOPT_OK;
+}
+
+texopt_status texopt_compare(const char *input_path, const texopt_compare_options *opt,
+                             texopt_compare_result *out, char *err, size_t err_len)
+{
+    if (!input_path || !out)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "compare: missing input or result");
+    memset(out, 0, sizeof *out);
+    texopt_status st = check_options(opt, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    texopt_compare_result r;
+    memset(&r, 0, sizeof r);
+    r.showcase_cost = pick_showcase(opt);
+    st = texopt_model_load(&r.input, input_path, NULL, err, err_len);
+    if (st == TEXOPT_OK)
+        st = texopt_evaluate_cost(r.input, &r.input_cost, err, err_len);
+    r.resolution = opt->evaluate.resolution;
+    if (st == TEXOPT_OK && r.resolution == 0)
+        st = texopt_evaluate_default_resolution(r.input, &r.resolution, err, err_len);
+    char dir[1024] = "", tmp_glb[1100];
+    if (st == TEXOPT_OK)
+        st = make_work_dir(opt, dir, sizeof dir, err, err_len);
+    if (st != TEXOPT_OK) {
+        texopt_compare_result_destroy(&r);
+        return st;
+    }
+    snprintf(tmp_glb, sizeof tmp_glb, "%s/run.glb", dir);
+    texopt_compare_options o = *opt;
+    o.evaluate.resolution = r.resolution;
+    int total = opt->method_count * opt->cost_count, done = 0;
+    r.curve_count = opt->method_count;
+    for (int m = 0; m < opt->method_count && st == TEXOPT_OK; m++) {
+        texopt_compare_curve *curve = &r.curves[m];
+        curve->method = opt->methods[m];
+        curve->point_count = opt->cost_count;
+        for (int c = 0; c < opt->cost_count && st == TEXOPT_OK; c++) {
+            int keep = fabs(opt->costs[c] - r.showcase_cost) < 1e-12 && !curve->showcase;
+            double *tri_err = NULL;
+            if (keep && !(tri_err = calloc(r.input->triangle_count ? r.input->triangle_count : 1, sizeof *tri_err)))
+                st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for triangle errors");
+            if (st != TEXOPT_OK)
+                break;
+            texopt_status pst = run_point(input_path, r.input, &r.input_cost, &o, curve->method,
+                                          opt->costs[c], tmp_glb, keep, &curve->points[c],
+                                          &curve->showcase, tri_err);
+            if (keep && pst == TEXOPT_OK)
+                curve->showcase_triangle_error = tri_err;
+            else
+                free(tri_err);
+            /* A point may fail on its own; running out of memory or a cancel stops everything. */
+            if (pst == TEXOPT_E_CANCELED || pst == TEXOPT_E_NOMEM)
+                st = texopt_fail(err, err_len, pst, "%s", curve->points[c].message);
+            report_progress(opt, ++done, total);
+        }
+    }
+    rmdir(dir);
+    if (st != TEXOPT_OK) {
+        texopt_compare_result_destroy(&r);
+        return st;
+    }
+    *out = r;
+    return TEXOPT_OK;
+}
+
+static cJSON *point_json(const texopt_compare_point *pt)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddNumberToObject(o, "cost_requested", pt->cost_requested);
+    if (pt->status == TEXOPT_OK) {
+        cJSON_AddNumberToObject(o, "cost_achieved", pt->cost_achieved);
+        cJSON_AddNumberToObject(o, "q", pt->q);
+        cJSON_AddNumberToObject(o, "texture_pixels", (double)pt->texture_pixels);
+        cJSON_AddNumberToObject(o, "packing_efficiency", pt->packing_efficiency);
+        cJSON_AddNumberToObject(o, "seconds_optimize", pt->seconds_optimize);
+        cJSON_AddNumberToObject(o, "seconds_evaluate", pt->seconds_evaluate);
+    } else {
+        cJSON_AddStringToObject(o, "error", texopt_strerror(pt->status));
+        cJSON_AddStringToObject(o, "message", pt->message);
+    }
+    return o;
+}
+
+texopt_status texopt_compare_write_json(const texopt_compare_result *r, const char *path,
+                                        char *err, size_t err_len)
+{
+    if (!r || !path)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "compare json: missing argument");
+    cJSON *root = cJSON_CreateObject();
+    if (!root)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for JSON");
+    cJSON_AddNumberToObject(root, "resolution", r->resolution);
+    cJSON_AddNumberToObject(root, "input_covered_texels", (double)r->input_cost.covered_texels);
+    cJSON_AddNumberToObject(root, "input_texture_pixels", (double)r->input_cost.texture_pixels);
+    cJSON *curves = cJSON_AddObjectToObject(root, "curves");
+    for (int c = 0; c < r->curve_count; c++) {
+        cJSON *arr = cJSON_AddArrayToObject(curves, texopt_method_name(r->curves[c].method));
+        for (int i = 0; i < r->curves[c].point_count; i++)
+            cJSON_AddItemToArray(arr, point_json(&r->curves[c].points[i]));
+    }
+    char *text = cJSON_Print(root);
+    cJSON_Delete(root);
+    if (!text)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for JSON");
+    texopt_status st = texopt_write_file_atomic(path, text, strlen(text), err, err_len);
+    free(text);
+    return st;
+}
+
+double texopt_compare_cost_at_loss(const texopt_compare_curve *curve, double q_goal)
+{
+    double c[TEXOPT_COMPARE_MAX_COSTS], q[TEXOPT_COMPARE_MAX_COSTS];
+    int n = 0;
+    for (int i = 0; i < curve->point_count; i++) {
+        const texopt_compare_point *pt = &curve->points[i];
+        if (pt->status != TEXOPT_OK || !(pt->cost_achieved > 0) || !isfinite(pt->q))
+            continue;
+        int k = n++;
+        while (k > 0 && c[k - 1] > pt->cost_achieved) {
+            c[k] = c[k - 1];
+            q[k] = q[k - 1];
+            k--;
+        }
+        c[k] = pt->cost_achieved;
+        q[k] = pt->q;
+    }
+    if (n == 0)
+        return -1;
+    if (q[0] <= q_goal)
+        return c[0]; /* already there at the cheapest point measured */
+    for (int i = 1; i < n; i++)
+        if (q[i] <= q_goal) {
+            double t = (q[i - 1] - q_goal) / (q[i - 1] - q[i]);
+            return exp(log(c[i - 1]) + t * (log(c[i]) - log(c[i - 1])));
+        }
+    return -1;
+}
+
+texopt_status texopt_search_target_loss(texopt_loss_at_cost_fn loss_at, void *user, double target,
+                                        double cost_min, double cost_max, double tolerance,
+                                        int max_evaluations, texopt_target_search *out, char *err,
+                                        size_t err_len)
+{
+    if (!loss_at || !out)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "target search: missing callback or result");
+    if (!(target > 0) || !(cost_min > 0 && cost_min < cost_max && cost_max <= 4))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "target search: target %g and cost range [%g, %g] must be positive, "
+                           "increasing and at most 4", target, cost_min, cost_max);
+    if (tolerance <= 0)
+        tolerance = 0.05;
+    if (max_evaluations <= 0)
+        max_evaluations = 12;
+    texopt_target_search s = {.relative_cost = cost_max, .q = NAN};
+    double q = 0;
+    texopt_status st = loss_at(user, cost_max, &q, err, err_len);
+    s.evaluations = 1;
+    if (st != TEXOPT_OK)
+        return st;
+    s.q = q;
+    s.reached = q <= target;
+    /* Invariant: hi meets the target (s holds it), lo does not or is the untested floor. */
+    double lo = cost_min, hi = cost_max;
+    int lo_tested = 0;
+    while (s.reached && s.evaluations < max_evaluations) {
+        if (lo_tested && hi / lo <= 1 + tolerance)
+            break;
+        double mid = lo_tested ? sqrt(lo * hi) : lo;
+        st = loss_at(user, mid, &q, err, err_len);
+        s.evaluations++;
+        if (st != TEXOPT_OK)
+            return st;
+        if (q <= target) {
+            hi = mid;
+            s.relative_cost = mid;
+            s.q = q;
+            if (!lo_tested)
+                break; /* even the floor is good enough */
+        } else {
+            lo = mid;
+            lo_tested = 1;
+        }
+    }
+    *out = s;
+    return TEXOPT_OK;
+}
+
+typedef struct file_search {
+    const char *input_path, *output_glb;
+    char try_glb[1100];
+    const texopt_params *params;
+    const texopt_evaluate_options *eval;
+    const texopt_model *input;
+    double target;
+    int kept;
+} file_search;
+
+static texopt_status file_loss_at(void *user, double cost, double *q, char *err, size_t err_len)
+{
+    file_search *fs = user;
+    texopt_params p = *fs->params;
+    p.budget = TEXOPT_BUDGET_RELATIVE_COST;
+    p.relative_cost = cost;
+    p.evaluate = 0;
+    texopt_status st = texopt_optimize_file(fs->input_path, fs->try_glb, NULL, &p, NULL, err, err_len);
+    texopt_model *out = NULL;
+    if (st == TEXOPT_OK)
+        st = texopt_model_load(&out, fs->try_glb, NULL, err, err_len);
+    texopt_evaluation ev;
+    if (st == TEXOPT_OK)
+        st = texopt_evaluate(fs->input, out, fs->eval, &ev, err, err_len);
+    texopt_model_destroy(out);
+    /* The first run (the largest cost) is kept whatever its loss; later ones only when they
+     * meet the target, and each of those is cheaper than the one it replaces. */
+    if (st == TEXOPT_OK && (!fs->kept || ev.q <= fs->target)) {
+        if (rename(fs->try_glb, fs->output_glb) != 0)
+            st = texopt_fail(err, err_len, TEXOPT_E_IO, "cannot rename %s to %s", fs->try_glb, fs->output_glb);
+        fs->kept = 1;
+    }
+    unlink(fs->try_glb);
+    if (st == TEXOPT_OK)
+        *q = ev.q;
+    return st;
+}
+
+texopt_status texopt_search_target_loss_file(const char *input_path, const char *output_glb,
+                                             const texopt_params *params,
+                                             const texopt_evaluate_options *eval,
+                                             texopt_target_search *out, char *err, size_t err_len)
+{
+    if (!input_path || !output_glb || !params || !out)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "target search: missing argument");
+    file_search fs = {.input_path = input_path, .output_glb = output_glb, .params = params,
+                      .eval = eval, .target = params->target_loss};
+    if ((size_t)snprintf(fs.try_glb, sizeof fs.try_glb, "%s.try.glb", output_glb) >= sizeof fs.try_glb)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "output path too long");
+    texopt_model *input = NULL;
+    texopt_status st = texopt_model_load(&input, input_path, NULL, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    fs.input = input;
+    st = texopt_search_target_loss(file_loss_at, &fs, params->target_loss, 0.02, 1.0, 0.05, 10, out,
+                                   err, err_len);
+    texopt_model_destroy(input);
+    return st;
+}

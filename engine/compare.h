@@ -1,0 +1,121 @@
+/* compare.h - q_r-c_r curves of several layout methods, and the target_loss budget search.
+ *
+ * Sun et al. 2022, "Efficient Texture Parameterization Driven by Perceptual-Loss-on-Screen",
+ * section 5.1 (figures of loss against relative cost): every method (params.h: perceptual,
+ * input, ssp, tewari, arap) is run through the product's own pipeline (pipeline.h) at every
+ * requested relative cost c_r, its output is loaded back and evaluated against the input
+ * with the whole-mesh loss q (evaluate.h). A method the pipeline refuses (not available yet,
+ * unsupported model) leaves its points marked failed with the pipeline's message; the other
+ * methods still run.
+ *
+ * texopt_search_target_loss is the target_loss budget (TEXOPT_BUDGET_TARGET_LOSS): the
+ * smallest relative cost whose q is at most a target, by bisection on log(c_r) assuming q
+ * falls as the cost grows. It takes a callback "q at this cost", so the pipeline can answer
+ * it without re-running the stages that do not depend on the budget;
+ * texopt_search_target_loss_file answers it with whole pipeline runs.
+ *
+ * Does not: draw anything (report.h), parse command lines. */
+#ifndef TEXOPT_COMPARE_H
+#define TEXOPT_COMPARE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "evaluate.h"
+#include "model.h"
+#include "monitor.h"
+#include "params.h"
+#include "status.h"
+
+#define TEXOPT_COMPARE_MAX_COSTS 16
+
+typedef struct texopt_compare_point {
+    double cost_requested;    /* c_r asked of the pipeline */
+    double cost_achieved;     /* covered texels of the output / of the input */
+    double q;                 /* whole-mesh loss against the input */
+    uint64_t texture_pixels;  /* texture memory of the output */
+    double packing_efficiency;
+    double seconds_optimize, seconds_evaluate;
+    texopt_status status;     /* TEXOPT_OK, or why this point is missing */
+    char message[200];
+} texopt_compare_point;
+
+typedef struct texopt_compare_curve {
+    texopt_method method;
+    int point_count;
+    texopt_compare_point points[TEXOPT_COMPARE_MAX_COSTS];
+    /* The output at the showcase cost, loaded (NULL when that run failed), and its
+     * per-triangle mean absolute luma error (evaluate.h triangle_error), for the report. */
+    texopt_model *showcase;
+    double *showcase_triangle_error;
+} texopt_compare_curve;
+
+typedef struct texopt_compare_options {
+    texopt_params params;          /* base parameters; method and budget are set per run */
+    const texopt_method *methods;  /* method_count entries */
+    int method_count;
+    const double *costs;           /* cost_count relative costs in (0, 4] */
+    int cost_count;
+    double showcase_cost;          /* the cost whose outputs are kept for the report; 0 ->
+                                      the listed cost closest to 0.3 */
+    texopt_evaluate_options evaluate; /* resolution and threads (triangle_error ignored) */
+    const char *work_dir;          /* temporary outputs; NULL -> $TMPDIR or /tmp */
+    const texopt_monitor *monitor; /* cancel flag; progress as stage "compare" */
+} texopt_compare_options;
+
+typedef struct texopt_compare_result {
+    int curve_count;
+    texopt_compare_curve curves[TEXOPT_METHOD_COUNT];
+    int resolution;           /* evaluation screen side */
+    double showcase_cost;
+    texopt_cost input_cost;
+    texopt_model *input;      /* the input, loaded */
+} texopt_compare_result;
+
+/* Runs every method at every cost on the model at input_path. *out is filled on success
+ * (even when some points failed: see their status) and freed with
+ * texopt_compare_result_destroy. Fails only on bad options, an input that cannot be loaded,
+ * cancellation or memory. */
+texopt_status texopt_compare(const char *input_path, const texopt_compare_options *opt,
+                             texopt_compare_result *out, char *err, size_t err_len);
+
+void texopt_compare_result_destroy(texopt_compare_result *result);
+
+/* Writes the curves as JSON (temp + fsync + rename). */
+texopt_status texopt_compare_write_json(const texopt_compare_result *result, const char *path,
+                                        char *err, size_t err_len);
+
+/* The relative cost at which a curve reaches loss q_goal, by linear interpolation of q in
+ * log(c_r) between its successful points (sorted by achieved cost); -1 when the curve never
+ * gets that low or has fewer than one point. The "pixels at equal loss" figure. */
+double texopt_compare_cost_at_loss(const texopt_compare_curve *curve, double q_goal);
+
+/* q at relative cost c (run the layout at that budget, evaluate it); non-OK stops the search. */
+typedef texopt_status (*texopt_loss_at_cost_fn)(void *user, double relative_cost, double *q,
+                                                char *err, size_t err_len);
+
+typedef struct texopt_target_search {
+    double relative_cost; /* smallest cost found with q <= target (or cost_max if none) */
+    double q;             /* q at that cost */
+    int reached;          /* 0 when even cost_max has q > target */
+    int evaluations;      /* calls of the callback */
+} texopt_target_search;
+
+/* Bisection on log(c_r) in [cost_min, cost_max] (0 < cost_min < cost_max <= 4) until the
+ * bracket's ratio is below 1 + tolerance (tolerance 0 -> 0.05) or max_evaluations (0 -> 12)
+ * calls were made. Evaluates cost_max first: when it misses the target the search stops
+ * with reached = 0. */
+texopt_status texopt_search_target_loss(texopt_loss_at_cost_fn loss_at, void *user, double target,
+                                        double cost_min, double cost_max, double tolerance,
+                                        int max_evaluations, texopt_target_search *out, char *err,
+                                        size_t err_len);
+
+/* The same with whole pipeline runs: params->method at each relative cost, evaluated against
+ * the input (eval options may be NULL); the output of the chosen cost is left at output_glb
+ * (temp + rename). params->target_loss is the target. */
+texopt_status texopt_search_target_loss_file(const char *input_path, const char *output_glb,
+                                             const texopt_params *params,
+                                             const texopt_evaluate_options *eval,
+                                             texopt_target_search *out, char *err, size_t err_len);
+
+#endif
