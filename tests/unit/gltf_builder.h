@@ -35,7 +35,7 @@ typedef struct quad_doc {
 } quad_doc;
 
 /* Replaces the first occurrence of `from` in *s by `to`; returns 0 when `from` is absent. */
-static int builder_replace(char **s, const char *from, const char *to)
+static inline int builder_replace(char **s, const char *from, const char *to)
 {
     char *at = strstr(*s, from);
     if (!at)
@@ -51,7 +51,7 @@ static int builder_replace(char **s, const char *from, const char *to)
 }
 
 /* A w x h RGB texture where every texel differs. */
-static int builder_texture(texopt_image *img, int w, int h)
+static inline int builder_texture(texopt_image *img, int w, int h)
 {
     if (texopt_image_create(img, w, h, 3, NULL, 0) != TEXOPT_OK)
         return 0;
@@ -66,7 +66,7 @@ static int builder_texture(texopt_image *img, int w, int h)
 }
 
 /* Fills doc with the textured quad (texture tex_w x tex_h). Returns 0 on failure. */
-static int quad_doc_init(quad_doc *doc, int tex_w, int tex_h)
+static inline int quad_doc_init(quad_doc *doc, int tex_w, int tex_h)
 {
     memset(doc, 0, sizeof *doc);
     texopt_image tex;
@@ -111,7 +111,7 @@ static int quad_doc_init(quad_doc *doc, int tex_w, int tex_h)
     return 1;
 }
 
-static void quad_doc_free(quad_doc *doc)
+static inline void quad_doc_free(quad_doc *doc)
 {
     free(doc->json);
     free(doc->bin);
@@ -120,7 +120,7 @@ static void quad_doc_free(quad_doc *doc)
 
 /* Appends bytes to the binary buffer (4-aligned) as a new buffer view; returns its index
  * (4 for the first one added), or -1 on failure. */
-static int quad_doc_add_view(quad_doc *doc, const void *bytes, size_t len)
+static inline int quad_doc_add_view(quad_doc *doc, const void *bytes, size_t len)
 {
     size_t at = doc->bin_len, new_len = (at + len + 3) / 4 * 4;
     unsigned char *bin = realloc(doc->bin, new_len);
@@ -143,7 +143,7 @@ static int quad_doc_add_view(quad_doc *doc, const void *bytes, size_t len)
 }
 
 /* Whether needle occurs in hay (memmem is not C11). */
-static int builder_contains(const unsigned char *hay, size_t n, const void *needle, size_t m)
+static inline int builder_contains(const unsigned char *hay, size_t n, const void *needle, size_t m)
 {
     for (size_t i = 0; m <= n && i + m <= n; i++)
         if (memcmp(hay + i, needle, m) == 0)
@@ -151,7 +151,7 @@ static int builder_contains(const unsigned char *hay, size_t n, const void *need
     return 0;
 }
 
-static void put_u32(unsigned char *p, uint32_t v)
+static inline void put_u32(unsigned char *p, uint32_t v)
 {
     p[0] = (unsigned char)v;
     p[1] = (unsigned char)(v >> 8);
@@ -160,7 +160,7 @@ static void put_u32(unsigned char *p, uint32_t v)
 }
 
 /* A GLB container around json and bin (bin may be NULL); malloc'ed, length in *len. */
-static unsigned char *builder_glb(const char *json, const unsigned char *bin, size_t bin_len, size_t *len)
+static inline unsigned char *builder_glb(const char *json, const unsigned char *bin, size_t bin_len, size_t *len)
 {
     size_t jlen = strlen(json), jpad = (jlen + 3) / 4 * 4, bpad = (bin_len + 3) / 4 * 4;
     size_t total = 12 + 8 + jpad + (bin ? 8 + bpad : 0);
@@ -182,7 +182,7 @@ static unsigned char *builder_glb(const char *json, const unsigned char *bin, si
     return out;
 }
 
-static int builder_write(const char *path, const void *bytes, size_t len)
+static inline int builder_write(const char *path, const void *bytes, size_t len)
 {
     FILE *f = fopen(path, "wb");
     if (!f)
@@ -191,7 +191,7 @@ static int builder_write(const char *path, const void *bytes, size_t len)
     return fclose(f) == 0 && ok;
 }
 
-static char *builder_base64(const unsigned char *b, size_t n)
+static inline char *builder_base64(const unsigned char *b, size_t n)
 {
     static const char t[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     char *out = malloc((n + 2) / 3 * 4 + 1), *o = out;
@@ -207,14 +207,14 @@ static char *builder_base64(const unsigned char *b, size_t n)
 }
 
 /* A fresh temporary directory (mkdtemp) in dir[64]; returns 0 on failure. */
-static int builder_tempdir(char dir[64])
+static inline int builder_tempdir(char dir[64])
 {
     snprintf(dir, 64, "/tmp/texopt_io_test_XXXXXX");
     return mkdtemp(dir) != NULL;
 }
 
 /* Removes a flat temporary directory made by builder_tempdir. */
-static void builder_rmdir(const char *dir)
+static inline void builder_rmdir(const char *dir)
 {
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
