@@ -186,7 +186,17 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *c, const cha
         snprintf(rq->method, sizeof rq->method, "%s", method);
         snprintf(rq->path, sizeof rq->path, "%s", url);
         rq->match = api_route_match(url);
-        return first_call(rq, c);
+        /* Only an upload is answered from the headers alone (its refusals must come before
+         * the body). Other requests are answered on the next call, once libmicrohttpd has
+         * the whole request: answering earlier makes it close the connection, and pollers
+         * lose keep-alive. */
+        if (strcmp(method, "POST") == 0)
+            return first_call(rq, c);
+        return MHD_YES;
+    }
+    if (strcmp(rq->method, "POST") != 0) {
+        *upload_data_size = 0; /* a body on GET/DELETE means nothing here */
+        return rq->status ? MHD_YES : first_call(rq, c);
     }
     if (rq->status) {
         /* Answered already (an early refusal): the rest of the body is not wanted. */
