@@ -48,6 +48,7 @@ typedef struct texopt_bo_options {
     int polish_evaluations;  /* NLopt BOBYQA steps on the acquisition; 0 -> 40, < 0 -> off */
     int refit_every;         /* refit the length scale every k samples; 0 -> 5 */
     texopt_acquisition acquisition;
+    int isotropic;           /* non-zero: one length scale; 0 -> per-dimension (ARD) fit */
     double lcb_beta;         /* 0 -> 2.0 */
     double early_stop_ei;    /* stop when the best expected improvement is below this... */
     int early_stop_patience; /* ...for this many iterations in a row; 0 -> never stop early */

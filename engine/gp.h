@@ -2,8 +2,8 @@
  *
  * Rasmussen and Williams 2006, "Gaussian Processes for Machine Learning", algorithm 2.1
  * (Cholesky-based prediction) and eq. 4.17 (Matern nu = 5/2). Inputs live in the unit box.
- * The kernel is k(r) = (1 + sqrt5 r/l + 5r^2/(3l^2)) exp(-sqrt5 r/l), isotropic length
- * scale l, unit signal variance, plus a small relative noise (jitter) on the diagonal; the
+ * The kernel is k(r) = (1 + sqrt5 r + 5r^2/3) exp(-sqrt5 r), r the distance scaled by the
+ * length scale l (isotropic, or per dimension l * m_k with ARD), unit signal variance, plus a small relative noise (jitter) on the diagonal; the
  * targets are standardised internally (mean 0, variance 1) and predictions are returned on
  * the original scale, so the kernel matrix depends only on the inputs and l.
  *
@@ -54,7 +54,18 @@ double texopt_gp_log_likelihood(texopt_gp *gp);
  * likelihood (a cheap, robust stand-in for gradient-based fitting). */
 texopt_status texopt_gp_fit_length_scale(texopt_gp *gp, const double *candidates, int count);
 
-/* Posterior mean and variance at m points (m <= max_batch; x is m * dim, row-major).
+/* Automatic relevance determination: per-dimension length-scale multipliers m_k (the
+ * effective length scale of dimension k is length_scale * m_k; 1 = isotropic, the start).
+ * Refactors. */
+texopt_status texopt_gp_set_dimension_scales(texopt_gp *gp, const double *multipliers);
+void texopt_gp_dimension_scales(const texopt_gp *gp, double *multipliers);
+
+/* One coordinate pass: each multiplier is halved or doubled (within [1/16, 16]) when that
+ * raises the marginal likelihood. 2 * dim refactorisations. */
+texopt_status texopt_gp_fit_dimension_scales(texopt_gp *gp);
+
+/* Posterior mean and variance at m points (x is m * dim, row-major), computed in chunks
+ * of max_batch.
  * var may be NULL. With no samples: the prior (mean 0, variance 1). */
 void texopt_gp_predict(texopt_gp *gp, int m, const double *x, double *mean, double *var);
 
