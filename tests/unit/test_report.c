@@ -1,0 +1,139 @@
+/* test_report.c - the self-contained HTML report (engine/report.h), on a comparison built
+ * in memory (no pipeline run). */
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "evaluate.h"
+#include "fixtures.h"
+#include "report.h"
+#include "resize.h"
+#include "test.h"
+
+static size_t count(const char *hay, const char *needle)
+{
+    size_t n = 0;
+    for (const char *p = strstr(hay, needle); p; p = strstr(p + 1, needle))
+        n++;
+    return n;
+}
+
+static texopt_model *sphere(int tex_side)
+{
+    texopt_model *m = fixture_uv_sphere(24, 12, 128);
+    if (!m)
+        return NULL;
+    fixture_fill_pattern(&m->images[0], "half");
+    if (tex_side != 128) {
+        texopt_image small;
+        if (texopt_image_resize(&m->images[0], tex_side, tex_side, &small, NULL, 0) != TEXOPT_OK) {
+            texopt_model_destroy(m);
+            return NULL;
+        }
+        texopt_image_destroy(&m->images[0]);
+        m->images[0] = small;
+    }
+    return m;
+}
+
+/* Three methods: input and ssp with points (ssp with a kept output), tewari all failed. */
+static int build_result(texopt_compare_result *r)
+{
+    memset(r, 0, sizeof *r);
+    r->input = sphere(128);
+    if (!r->input)
+        return -1;
+    r->resolution = 96;
+    r->showcase_cost = 0.25;
+    if (texopt_evaluate_cost(r->input, &r->input_cost, NULL, 0) != TEXOPT_OK)
+        return -1;
+    const texopt_method methods[3] = {TEXOPT_METHOD_INPUT, TEXOPT_METHOD_SSP, TEXOPT_METHOD_TEWARI};
+    const double costs[3] = {0.25, 1.0, 0.5};
+    r->curve_count = 3;
+    for (int c = 0; c < 3; c++) {
+        texopt_compare_curve *curve = &r->curves[c];
+        curve->method = methods[c];
+        curve->point_count = 3;
+        for (int i = 0; i < 3; i++) {
+            texopt_compare_point *p = &curve->points[i];
+            p->cost_requested = costs[i];
+            if (methods[c] == TEXOPT_METHOD_TEWARI) {
+                p->status = TEXOPT_E_UNSUPPORTED;
+                snprintf(p->message, sizeof p->message, "method <b>tewari</b> not wired");
+                continue;
+            }
+            p->status = TEXOPT_OK;
+            p->cost_achieved = costs[i] * (c ? 0.98 : 1.0);
+            p->q = 0.2 * (1 - costs[i]) + 0.01 * c;
+            p->texture_pixels = (uint64_t)(costs[i] * 16384);
+        }
+    }
+    r->curves[1].showcase = sphere(64);
+    r->curves[1].showcase_triangle_error = calloc(r->input->triangle_count, sizeof(double));
+    if (!r->curves[1].showcase || !r->curves[1].showcase_triangle_error)
+        return -1;
+    for (size_t t = 0; t < r->input->triangle_count; t++)
+        r->curves[1].showcase_triangle_error[t] = (double)(t % 7) / 7;
+    return 0;
+}
+
+TEST(report_is_self_contained_with_one_curve_per_method)
+{
+    texopt_compare_result r;
+    CHECK(build_result(&r) == 0);
+    char *html = NULL, err[256] = "";
+    texopt_report_options opt = {.title = "sphere & <friends>"};
+    CHECK_OK(texopt_report_html(&r, &opt, &html, err, sizeof err), err);
+    /* Nothing comes from the network: every image is a data URI, no link leaves the file. */
+    CHECK(strstr(html, "http://") == NULL && strstr(html, "https://") == NULL);
+    CHECK(strstr(html, "href=") == NULL);
+    size_t imgs = count(html, "<img ");
+    CHECK_EQ_INT(count(html, "src=\"data:image/png;base64,iVBORw0KGgo"), imgs); /* PNG signature */
+    CHECK_EQ_INT(count(html, "src="), imgs);
+    /* 3 views x (input + ssp) renders, ssp's texture thumbnail and its two UV maps. */
+    CHECK_EQ_INT(imgs, 3 * 2 + 3);
+    /* One polyline per method with points; tewari has none and says so. */
+    CHECK_EQ_INT(count(html, "class=\"curve\""), 2);
+    CHECK_EQ_INT(count(html, "data-method=\"input\""), 1);
+    CHECK_EQ_INT(count(html, "data-method=\"ssp\""), 1);
+    CHECK_EQ_INT(count(html, "data-method=\"tewari\""), 0);
+    CHECK(strstr(html, "tewari (no points)") != NULL);
+    /* Messages and titles are escaped. */
+    CHECK(strstr(html, "&lt;b&gt;tewari&lt;/b&gt;") != NULL);
+    CHECK(strstr(html, "sphere &amp; &lt;friends&gt;") != NULL);
+    CHECK(strstr(html, "<friends>") == NULL);
+    /* Points are drawn in order of achieved cost: x grows along the input polyline. */
+    const char *pl = strstr(strstr(html, "data-method=\"input\""), "points=\"");
+    CHECK(pl);
+    double x[3], y[3];
+    CHECK(sscanf(pl, "points=\"%lf,%lf %lf,%lf %lf,%lf", &x[0], &y[0], &x[1], &y[1], &x[2], &y[2]) == 6);
+    CHECK(x[0] < x[1] && x[1] < x[2]);
+    CHECK(y[0] < y[1] && y[1] < y[2]); /* q falls with cost and SVG y grows downwards */
+    CHECK_EQ_INT(count(html, "<svg"), count(html, "</svg>"));
+    CHECK_EQ_INT(count(html, "<table"), count(html, "</table>"));
+    CHECK_EQ_INT(count(html, "<tr>"), count(html, "</tr>"));
+    free(html);
+    texopt_compare_result_destroy(&r);
+}
+
+TEST(report_writes_a_file_and_refuses_bad_input)
+{
+    texopt_compare_result r;
+    CHECK(build_result(&r) == 0);
+    char err[256] = "", path[256];
+    snprintf(path, sizeof path, "%s/texopt_report_test_%d.html", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp",
+             (int)getpid());
+    CHECK_OK(texopt_report_write_html(&r, NULL, path, err, sizeof err), err);
+    FILE *f = fopen(path, "rb");
+    CHECK(f);
+    char head[16] = {0};
+    CHECK(fread(head, 1, 15, f) == 15);
+    fclose(f);
+    remove(path);
+    CHECK(strncmp(head, "<!DOCTYPE html>", 15) == 0);
+    texopt_report_options bad = {.render_side = 3};
+    char *html = NULL;
+    CHECK(texopt_report_html(&r, &bad, &html, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_report_html(NULL, NULL, &html, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    texopt_compare_result_destroy(&r);
+}
