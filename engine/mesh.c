@@ -20,6 +20,10 @@
 /* A UV counts as wrapped when it leaves [0,1] by more than this many texels: exporters write
  * values like -1e-7 that rely on no wrap mode. */
 #define WRAP_TOLERANCE_TEXELS 1e-3
+/* A reversed orientation patch smaller than this share of its chart's area is a fold-over
+ * (FLIPPED); a larger one is a mirrored part of the chart. Fold-overs from bad unwraps are a
+ * few triangles; mirrored halves welded at the mirror line are about half their chart. */
+#define FOLD_PATCH_FRACTION 0.2
 
 /* ---- exact-equality hash map over float tuples ---------------------------------------- */
 
@@ -355,7 +359,7 @@ static void measure_triangle(texopt_mesh *mesh, size_t t)
 }
 
 /* Charts by union-find over the UV vertices of each triangle, numbered by first triangle;
- * then each chart's orientation and the flipped triangles. */
+ * then each chart's orientation. */
 static texopt_status find_charts(texopt_mesh *mesh, char *err, size_t err_len)
 {
     size_t nv = mesh->vertex_count, nt = mesh->triangle_count;
@@ -397,12 +401,6 @@ static texopt_status find_charts(texopt_mesh *mesh, char *err, size_t err_len)
     for (size_t c = 0; c < charts; c++)
         mesh->chart_sign[c] = balance[c] < 0 ? -1 : 1;
     free(balance);
-    for (size_t t = 0; t < nt; t++) {
-        if (mesh->flags[t] & TEXOPT_TRI_DEGENERATE_UV)
-            continue;
-        if (mesh->area_texel[t] * (double)mesh->chart_sign[mesh->chart_of[t]] < 0)
-            mesh->flags[t] |= TEXOPT_TRI_FLIPPED;
-    }
     return TEXOPT_OK;
 }
 
@@ -443,44 +441,126 @@ static texopt_status build_point_triangles(texopt_mesh *mesh, char *err, size_t 
     return TEXOPT_OK;
 }
 
-static int compare_u64(const void *a, const void *b)
+/* An edge (pair of UV vertices, smaller index in the high half) and one triangle using it. */
+typedef struct tri_edge {
+    uint64_t key;
+    uint32_t triangle;
+} tri_edge;
+
+static int compare_edges(const void *a, const void *b)
 {
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return (x > y) - (x < y);
+    const tri_edge *x = a, *y = b;
+    if (x->key != y->key)
+        return (x->key > y->key) - (x->key < y->key);
+    return (x->triangle > y->triangle) - (x->triangle < y->triangle);
 }
 
-/* Vertices on an edge (pair of UV vertices) that only one triangle uses. */
-static texopt_status find_boundary(texopt_mesh *mesh, char *err, size_t err_len)
+/* Every (edge, triangle) pair sorted by edge, so the triangles of an edge are adjacent. */
+static tri_edge *sorted_edges(const texopt_mesh *mesh, size_t *count)
 {
-    size_t nt = mesh->triangle_count, nv = mesh->vertex_count;
-    mesh->vertex_on_boundary = calloc(nv > 0 ? nv : 1, 1);
-    uint64_t *edges = malloc(sizeof(uint64_t) * (3 * nt > 0 ? 3 * nt : 1));
-    if (!mesh->vertex_on_boundary || !edges) {
-        free(edges);
-        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for chart boundaries");
-    }
-    size_t ne = 0;
+    size_t nt = mesh->triangle_count, ne = 0;
+    tri_edge *edges = malloc(sizeof(tri_edge) * (3 * nt > 0 ? 3 * nt : 1));
+    if (!edges)
+        return NULL;
     for (size_t t = 0; t < nt; t++)
         for (int c = 0; c < 3; c++) {
             uint32_t a = mesh->triangle[3 * t + (size_t)c], b = mesh->triangle[3 * t + (size_t)(c + 1) % 3];
             if (a == b)
                 continue;
             uint32_t lo = a < b ? a : b, hi = a < b ? b : a;
-            edges[ne++] = ((uint64_t)lo << 32) | hi;
+            edges[ne++] = (tri_edge){((uint64_t)lo << 32) | hi, (uint32_t)t};
         }
-    qsort(edges, ne, sizeof *edges, compare_u64);
+    qsort(edges, ne, sizeof *edges, compare_edges);
+    *count = ne;
+    return edges;
+}
+
+/* Vertices on an edge that only one triangle uses. */
+static texopt_status find_boundary(texopt_mesh *mesh, const tri_edge *edges, size_t ne, char *err,
+                                   size_t err_len)
+{
+    mesh->vertex_on_boundary = calloc(mesh->vertex_count > 0 ? mesh->vertex_count : 1, 1);
+    if (!mesh->vertex_on_boundary)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for chart boundaries");
     for (size_t i = 0; i < ne;) {
         size_t j = i;
-        while (j < ne && edges[j] == edges[i])
+        while (j < ne && edges[j].key == edges[i].key)
             j++;
         if (j - i == 1) {
-            mesh->vertex_on_boundary[edges[i] >> 32] = 1;
-            mesh->vertex_on_boundary[edges[i] & 0xffffffffu] = 1;
+            mesh->vertex_on_boundary[edges[i].key >> 32] = 1;
+            mesh->vertex_on_boundary[edges[i].key & 0xffffffffu] = 1;
         }
         i = j;
     }
-    free(edges);
     return TEXOPT_OK;
+}
+
+static int orientation(const texopt_mesh *mesh, uint32_t t)
+{
+    if (mesh->flags[t] & TEXOPT_TRI_DEGENERATE_UV)
+        return 0;
+    return mesh->area_texel[t] < 0 ? -1 : 1;
+}
+
+/* Flipped triangles: orientation patches are the triangles joined through shared UV edges
+ * with equal orientation; a patch against its chart's orientation holding less than
+ * FOLD_PATCH_FRACTION of the chart's area is a fold-over, and its triangles are FLIPPED. A
+ * larger one is a deliberately mirrored part (halves welded at their mirror line). */
+static texopt_status mark_flipped(texopt_mesh *mesh, const tri_edge *edges, size_t ne, char *err,
+                                  size_t err_len)
+{
+    size_t nt = mesh->triangle_count, nc = mesh->chart_count;
+    uint32_t *parent = malloc(sizeof(uint32_t) * (nt > 0 ? nt : 1));
+    double *patch_area = calloc(nt > 0 ? nt : 1, sizeof(double));
+    double *chart_area = calloc(nc > 0 ? nc : 1, sizeof(double));
+    if (!parent || !patch_area || !chart_area) {
+        free(parent);
+        free(patch_area);
+        free(chart_area);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for orientation patches");
+    }
+    for (size_t t = 0; t < nt; t++)
+        parent[t] = (uint32_t)t;
+    for (size_t i = 0; i + 1 < ne; i++)
+        if (edges[i].key == edges[i + 1].key) {
+            uint32_t a = edges[i].triangle, b = edges[i + 1].triangle;
+            int oa = orientation(mesh, a);
+            if (oa != 0 && oa == orientation(mesh, b))
+                uf_union(parent, a, b);
+        }
+    for (size_t t = 0; t < nt; t++) {
+        if (orientation(mesh, (uint32_t)t) == 0)
+            continue;
+        double a = fabs(mesh->area_texel[t]);
+        patch_area[uf_find(parent, (uint32_t)t)] += a;
+        chart_area[mesh->chart_of[t]] += a;
+    }
+    for (size_t t = 0; t < nt; t++) {
+        int o = orientation(mesh, (uint32_t)t);
+        uint32_t c = mesh->chart_of[t];
+        if (o != 0 && o != mesh->chart_sign[c] &&
+            patch_area[uf_find(parent, (uint32_t)t)] < FOLD_PATCH_FRACTION * chart_area[c])
+            mesh->flags[t] |= TEXOPT_TRI_FLIPPED;
+    }
+    free(parent);
+    free(patch_area);
+    free(chart_area);
+    return TEXOPT_OK;
+}
+
+/* Boundary vertices and flipped triangles, which both need the triangles of each edge. */
+static texopt_status analyse_edges(texopt_mesh *mesh, char *err, size_t err_len)
+{
+    size_t ne = 0;
+    tri_edge *edges = sorted_edges(mesh, &ne);
+    if (!edges)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for %zu edges",
+                           3 * mesh->triangle_count);
+    texopt_status st = find_boundary(mesh, edges, ne, err, err_len);
+    if (st == TEXOPT_OK)
+        st = mark_flipped(mesh, edges, ne, err, err_len);
+    free(edges);
+    return st;
 }
 
 texopt_status texopt_mesh_create(texopt_mesh **out, const texopt_model *model, int domain,
@@ -531,7 +611,7 @@ texopt_status texopt_mesh_create(texopt_mesh **out, const texopt_model *model, i
     if (st == TEXOPT_OK)
         st = build_point_triangles(mesh, err, err_len);
     if (st == TEXOPT_OK)
-        st = find_boundary(mesh, err, err_len);
+        st = analyse_edges(mesh, err, err_len);
     if (st != TEXOPT_OK) {
         texopt_mesh_destroy(mesh);
         return st;

@@ -1,0 +1,48 @@
+/* info.h - the `texopt info` document: what a model's texture domains look like before any
+ * optimisation (counts, textures, covered texels, packing, overlaps, flips, wraps).
+ *
+ * Shared by the command line (cli/cmd_info.c) and the service, so both describe a model the
+ * same way. The covered-texel cost is that of Sun et al. 2022, "Efficient Texture
+ * Parameterization Driven by Perceptual-Loss-on-Screen" (eq. 20), counted once per texel
+ * (coverage.h). Works on a model loaded with or without decoded pixels (image sizes and
+ * channel counts are enough).
+ *
+ * Document (every count an integer, areas in texels or world units squared):
+ *   { "vertices", "triangles", "primitives", "materials", "untextured_primitives",
+ *     "images": [ { "index", "name", "width", "height", "channels" } ],
+ *     "domains": [ {
+ *        "index", "primitives": [..], "triangles", "model_vertices", "uv_vertices", "points",
+ *        "charts", "mirrored_charts", "folded_charts",
+ *        "frame": { "width", "height" }, "wrap": { "s", "t" },       ("repeat"|"clamp"|"mirror")
+ *        "textures": [ { "slot", "image", "name", "width", "height", "channels",
+ *                        "wrap_s", "wrap_t" } ],          (slot: "baseColor", "normal", ...)
+ *        "covered_texels", "overlap_texels", "packing_efficiency", "texel_area", "area_3d",
+ *        "degenerate", "degenerate_3d", "degenerate_uv", "flipped", "overlapping", "wrapped"
+ *     } ] }
+ * "degenerate" counts triangles with either degenerate flag; the others are mesh.h flags.
+ * "mirrored_charts" counts charts whose orientation (mesh.h chart_sign) is opposite to the
+ * area-weighted majority of the domain; "folded_charts" those holding a mirrored part welded
+ * to the rest at its mirror line (reversed triangles that are not FLIPPED, see mesh.h). */
+#ifndef TEXOPT_INFO_H
+#define TEXOPT_INFO_H
+
+#include <cjson/cJSON.h>
+#include <stddef.h>
+
+#include "model.h"
+#include "status.h"
+
+/* Builds the document. On success *out is a new cJSON object the caller frees with
+ * cJSON_Delete; on failure *out is NULL and err names the domain that failed. */
+texopt_status texopt_info_json(const texopt_model *model, cJSON **out, char *err, size_t err_len);
+
+/* The document as text (pretty: indented; else one line), malloc'd, caller frees with free(). */
+texopt_status texopt_info_string(const texopt_model *model, int pretty, char **out, char *err,
+                                 size_t err_len);
+
+/* The glTF name of a wrap mode ("repeat", "clamp", "mirror") and of a material slot
+ * ("baseColor", "normal", "metallicRoughness", "occlusion", "emissive"). */
+const char *texopt_wrap_name(texopt_wrap wrap);
+const char *texopt_slot_name(texopt_slot slot);
+
+#endif
