@@ -109,6 +109,9 @@ static texopt_status best_width(work *w, double s, double area, double aspect, d
     return TEXOPT_OK;
 }
 
+/* Cost depends on scale squared but also on how the scaled charts fall on the texel grid,
+ * so each round repacks at the corrected scale and measures again; the round closest to the
+ * target wins. */
 static texopt_status fit_relative_cost(work *w, const texopt_budget_request *req, double area,
                                        double *texel_out, texopt_budget_result *res, char *err,
                                        size_t err_len)
@@ -118,11 +121,16 @@ static texopt_status fit_relative_cost(work *w, const texopt_budget_request *req
     double aspect = (double)req->input_width / req->input_height;
     int width = 0, height = 0;
     texopt_status st = best_width(w, s, area, aspect, texel_out, &width, &height, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
     double cost = 0;
-    for (int round = 0; st == TEXOPT_OK && round < COST_ROUNDS; round++) {
-        st = measure_cost(w->mesh, texel_out, width, height, &cost, err, err_len);
-        if (st != TEXOPT_OK || fabs(target / cost - 1) <= COST_TOLERANCE || !(cost > 0))
-            break;
+    st = measure_cost(w->mesh, texel_out, width, height, &cost, err, err_len);
+    double best_miss = fabs(cost / target - 1);
+    res->width = width;
+    res->height = height;
+    res->scale = s;
+    res->cost = cost;
+    for (int round = 0; st == TEXOPT_OK && round < COST_ROUNDS && best_miss > COST_TOLERANCE && cost > 0; round++) {
         double k = sqrt(target / cost);
         int fits, h, next_w = round_up4(width * k);
         if (next_w > MAX_SIDE)
@@ -132,20 +140,22 @@ static texopt_status fit_relative_cost(work *w, const texopt_budget_request *req
         if (st == TEXOPT_OK && !fits)
             return texopt_fail(err, err_len, TEXOPT_E_LIMIT,
                                "budget: the layout needs a texture taller than %d texels", MAX_SIDE);
-        if (st == TEXOPT_OK) {
-            s *= k;
-            width = next_w;
-            height = h;
+        if (st == TEXOPT_OK)
+            st = measure_cost(w->mesh, w->packed, next_w, h, &cost, err, err_len);
+        if (st != TEXOPT_OK)
+            break;
+        s *= k;
+        width = next_w;
+        if (fabs(cost / target - 1) < best_miss) {
+            best_miss = fabs(cost / target - 1);
+            res->width = next_w;
+            res->height = h;
+            res->scale = s;
+            res->cost = cost;
             memcpy(texel_out, w->packed, sizeof(double) * 2 * w->mesh->vertex_count);
         }
     }
-    if (st != TEXOPT_OK)
-        return st;
-    res->width = width;
-    res->height = height;
-    res->scale = s;
-    res->cost = cost;
-    return TEXOPT_OK;
+    return st;
 }
 
 static texopt_status fit_texture_size(work *w, const texopt_budget_request *req, double area,
