@@ -8,6 +8,7 @@ static const cli_command commands[] = {
     /* {"name", "summary", cmd_name}, one line per cmd_*.c */
     {"evaluate", "whole-mesh perceptual loss and cost of OUT against IN", cmd_evaluate},
     {"info", "describe a model's texture domains and UV layout as JSON", cmd_info},
+    {"optimize", "optimise a model's UV layout and re-bake its textures to a budget", cmd_optimize},
     {NULL, NULL, NULL},
 };
 

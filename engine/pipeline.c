@@ -25,11 +25,17 @@
 #include <string.h>
 #include <time.h>
 
+#include "budget.h"
+#include "coverage.h"
+#include "distortion.h"
 #include "gltf_io.h"
 #include "mesh.h"
+#include "meshwise.h"
 #include "model.h"
+#include "rebake.h"
 #include "stats.h"
 #include "texture_filter.h"
+#include "triopt.h"
 
 /* Shares of the job per stage, per method, in order: load, [per domain stages], save. */
 typedef struct stage_weights {
@@ -182,6 +188,39 @@ static void image_output_size(const texopt_image *img, const texopt_domain *dom,
     *h = scaled_side(img->height, (double)out_h / dom->height);
 }
 
+/* Cost of the unchanged layout in its input frame and in the resized frame (the same UVs
+ * seen on the new texel grid), with the domain's wrap modes. */
+static texopt_status input_layout_costs(const texopt_mesh *mesh, int ow, int oh,
+                                        texopt_domain_stats *ds, char *err, size_t err_len)
+{
+    texopt_coverage in, out;
+    texopt_status st = texopt_coverage_measure(mesh, NULL, &in, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    double *texel = malloc(sizeof(double) * 2 * (mesh->vertex_count ? mesh->vertex_count : 1));
+    if (!texel)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the resized layout");
+    double kx = (double)ow / mesh->width, ky = (double)oh / mesh->height;
+    for (size_t v = 0; v < mesh->vertex_count; v++) {
+        texel[2 * v] = mesh->texel[2 * v] * kx;
+        texel[2 * v + 1] = mesh->texel[2 * v + 1] * ky;
+    }
+    texopt_coverage_options o = {0};
+    o.texel = texel;
+    o.width = ow;
+    o.height = oh;
+    st = texopt_coverage_measure(mesh, &o, &out, err, err_len);
+    free(texel);
+    if (st != TEXOPT_OK)
+        return st;
+    ds->cost_input = (double)in.covered_texels;
+    ds->cost_output = (double)out.covered_texels;
+    ds->relative_cost = in.covered_texels ? (double)out.covered_texels / (double)in.covered_texels : 0;
+    ds->packing_efficiency_input = in.packing_efficiency;
+    ds->packing_efficiency = out.packing_efficiency;
+    return TEXOPT_OK;
+}
+
 /* Method "input": same UVs, every image of the domain resampled to the budget. */
 static texopt_status run_input_method(const texopt_model *model, const texopt_mesh *mesh,
                                       const texopt_params *params, job_output *out,
@@ -230,8 +269,7 @@ static texopt_status run_input_method(const texopt_model *model, const texopt_me
         is->rewritten = 1;
     }
     ds->seconds_bake = now_seconds() - t0;
-    (void)mesh;
-    return TEXOPT_OK;
+    return input_layout_costs(mesh, ow, oh, ds, err, err_len);
 }
 
 /* A copy of the model's TEXCOORD_0 (zeros where it has none) that domains overwrite. */
@@ -246,15 +284,224 @@ static texopt_status alloc_uvs(const texopt_model *model, float **uvs, char *err
     return TEXOPT_OK;
 }
 
+/* Stage-1 statistics from the targets: loss at the optimum, area scale, share within eps. */
+static void record_stage1(const texopt_mesh *mesh, const texopt_triangle_target *targets,
+                          const texopt_triopt_report *rep, double epsilon, texopt_domain_stats *ds)
+{
+    double sum = 0, max = 0, area = 0;
+    size_t n = 0, within = 0;
+    for (size_t t = 0; t < mesh->triangle_count; t++) {
+        if (targets[t].evaluations <= 0)
+            continue;
+        n++;
+        sum += targets[t].loss;
+        max = fmax(max, targets[t].loss);
+        area += targets[t].lambda1 * targets[t].lambda2;
+        within += targets[t].loss <= epsilon;
+    }
+    ds->has_stage1 = 1;
+    ds->loss_mean = n ? sum / n : 0;
+    ds->loss_max = max;
+    ds->area_scale_mean = n ? area / n : 0;
+    ds->within_epsilon_share = n ? (double)within / n : 0;
+    ds->evaluations = rep->evaluations;
+}
+
+static void record_stage2(const texopt_meshwise_report *rep, texopt_domain_stats *ds)
+{
+    ds->has_stage2 = 1;
+    ds->stage2_iterations = rep->iterations;
+    ds->energy_initial = rep->energy_initial;
+    ds->energy_final = rep->energy_final;
+    ds->flipped = (size_t)rep->flipped;
+}
+
+static void record_distortion(const texopt_mesh *mesh, const double *texel, texopt_domain_stats *ds)
+{
+    texopt_distortion in, out;
+    /* Distortion is a report, not a product: a layout it cannot measure (every triangle
+     * degenerate) still bakes, and the JSON then leaves the field out. */
+    if (texopt_distortion_measure(mesh, NULL, &in, NULL, 0) == TEXOPT_OK &&
+        texopt_distortion_measure(mesh, texel, &out, NULL, 0) == TEXOPT_OK) {
+        ds->has_distortion = 1;
+        ds->distortion_input = in.symmetric_dirichlet;
+        ds->distortion_output = out.symmetric_dirichlet;
+    }
+}
+
+/* Stage 1 then stage 2: the new layout in input texel units (texel_new). */
+static texopt_status optimise_layout(const texopt_model *model, const texopt_mesh *mesh,
+                                     const texopt_params *params, double *texel_new,
+                                     texopt_domain_stats *ds, job_monitor *jm, double from,
+                                     double to, char *err, size_t err_len)
+{
+    const stage_weights *w = &perceptual_weights;
+    double span = (to - from) / (w->stage1 + w->stage2 + w->pack + w->bake);
+    texopt_triangle_target *targets = calloc(mesh->triangle_count ? mesh->triangle_count : 1, sizeof *targets);
+    if (!targets)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for %zu triangle targets", mesh->triangle_count);
+    texopt_triopt_options topt = {0};
+    topt.epsilon = params->epsilon;
+    topt.iterations = params->iterations;
+    topt.lambda_min = params->lambda_min;
+    topt.threads = params->threads;
+    topt.seed = params->seed;
+    texopt_triopt_report trep = {0};
+    job_stage(jm, "stage1", from, from + span * w->stage1);
+    double t0 = now_seconds();
+    texopt_status st = texopt_triopt_run(model, mesh, &topt, targets, &trep, &jm->inner, err, err_len);
+    ds->seconds_stage1 = now_seconds() - t0;
+    if (st == TEXOPT_OK) {
+        record_stage1(mesh, targets, &trep, params->epsilon, ds);
+        st = check_cancel(jm, err, err_len);
+    }
+    if (st == TEXOPT_OK) {
+        texopt_meshwise_options mopt = {0};
+        mopt.threads = params->threads > 0 ? params->threads : 2;
+        texopt_meshwise_report mrep;
+        job_stage(jm, "stage2", from + span * w->stage1, from + span * (w->stage1 + w->stage2));
+        t0 = now_seconds();
+        st = texopt_meshwise_solve(mesh, targets, NULL, &mopt, texel_new, &mrep, &jm->inner, err, err_len);
+        ds->seconds_stage2 = now_seconds() - t0;
+        if (st == TEXOPT_OK)
+            record_stage2(&mrep, ds);
+    }
+    free(targets);
+    return st;
+}
+
+/* Writes the new UVs of the domain's model vertices (output texels / output size). */
+static void write_domain_uvs(const texopt_model *model, const texopt_mesh *mesh, const double *texel,
+                             int width, int height, float *uvs)
+{
+    const texopt_domain *dom = &model->domains[mesh->domain];
+    size_t local = 0;
+    for (int i = 0; i < dom->primitive_count; i++) {
+        const texopt_primitive *prim = &model->primitives[dom->primitives[i]];
+        for (size_t k = 0; k < prim->vertex_count && local < mesh->model_vertex_count; k++, local++) {
+            uint32_t v = mesh->vertex_of_model_vertex[local];
+            uvs[2 * (prim->first_vertex + k)] = (float)(texel[2 * v] / width);
+            uvs[2 * (prim->first_vertex + k) + 1] = (float)(texel[2 * v + 1] / height);
+        }
+    }
+}
+
+static int image_is_normal_map(const texopt_model *model, int image)
+{
+    for (int m = 0; m < model->material_count; m++)
+        if (model->materials[m].slot[TEXOPT_SLOT_NORMAL].image == image)
+            return 1;
+    return 0;
+}
+
+/* Re-bakes every image of the domain from the input layout into the packed one. */
+static texopt_status rebake_domain(const texopt_model *model, const texopt_mesh *mesh,
+                                   const double *packed, int width, int height, job_output *out,
+                                   texopt_domain_stats *ds, job_monitor *jm, double from, double to,
+                                   char *err, size_t err_len)
+{
+    const texopt_domain *dom = &model->domains[mesh->domain];
+    size_t n = 2 * (mesh->vertex_count ? mesh->vertex_count : 1);
+    double *uv_in = malloc(n * sizeof *uv_in), *uv_out = malloc(n * sizeof *uv_out);
+    if (!uv_in || !uv_out) {
+        free(uv_in);
+        free(uv_out);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the bake layouts");
+    }
+    for (size_t v = 0; v < mesh->vertex_count; v++) {
+        uv_in[2 * v] = mesh->texel[2 * v] / mesh->width;
+        uv_in[2 * v + 1] = mesh->texel[2 * v + 1] / mesh->height;
+        uv_out[2 * v] = packed[2 * v] / width;
+        uv_out[2 * v + 1] = packed[2 * v + 1] / height;
+    }
+    texopt_rebake_layout layout = {mesh->triangle_count, mesh->triangle, uv_in, uv_out};
+    texopt_status st = TEXOPT_OK;
+    for (int i = 0; i < dom->image_count && st == TEXOPT_OK; i++) {
+        int im = dom->images[i];
+        const texopt_image *src = &model->images[im];
+        texopt_image_stats *is = &ds->images[i];
+        job_stage(jm, "bake", from + (to - from) * i / dom->image_count,
+                  from + (to - from) * (i + 1) / dom->image_count);
+        if (!src->pixels) {
+            st = texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "image %d (%s) was not decoded", im,
+                             is->name ? is->name : "unnamed");
+            break;
+        }
+        int w, h;
+        image_output_size(src, dom, width, height, &w, &h);
+        is->output_width = w;
+        is->output_height = h;
+        texopt_wrap ws, wt;
+        image_wrap(model, im, &ws, &wt);
+        st = texopt_image_create(&out->images[im], w, h, src->channels, err, err_len);
+        if (st == TEXOPT_OK)
+            st = texopt_rebake_image(src, ws, wt, image_is_normal_map(model, im), &layout,
+                                     &out->images[im], NULL, &jm->inner, err, err_len);
+        if (st == TEXOPT_OK) {
+            out->edit_images[im] = &out->images[im];
+            is->rewritten = 1;
+        }
+    }
+    free(uv_in);
+    free(uv_out);
+    return st;
+}
+
 /* Method "perceptual": stage 1, stage 2, budget + pack, re-bake. */
 static texopt_status run_perceptual_method(const texopt_model *model, const texopt_mesh *mesh,
                                            const texopt_params *params, job_output *out,
                                            texopt_domain_stats *ds, job_monitor *jm, double from,
                                            double to, char *err, size_t err_len)
 {
-    (void)model, (void)mesh, (void)params, (void)out, (void)ds, (void)jm, (void)from, (void)to;
-    return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
-                       "method 'perceptual' is not wired into the pipeline yet; use --method input");
+    const stage_weights *w = &perceptual_weights;
+    double span = (to - from) / (w->stage1 + w->stage2 + w->pack + w->bake);
+    double pack_from = from + span * (w->stage1 + w->stage2), bake_from = pack_from + span * w->pack;
+    size_t n = 2 * (mesh->vertex_count ? mesh->vertex_count : 1);
+    double *texel_new = malloc(n * sizeof(double)), *packed = malloc(n * sizeof(double));
+    texopt_coverage in_cov;
+    texopt_status st = texel_new && packed ? TEXOPT_OK
+                                           : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the new layout");
+    if (st == TEXOPT_OK)
+        st = texopt_coverage_measure(mesh, NULL, &in_cov, err, err_len);
+    if (st == TEXOPT_OK)
+        st = optimise_layout(model, mesh, params, texel_new, ds, jm, from, pack_from, err, err_len);
+    if (st == TEXOPT_OK)
+        st = check_cancel(jm, err, err_len);
+    texopt_budget_result br = {0};
+    if (st == TEXOPT_OK) {
+        job_stage(jm, "pack", pack_from, bake_from);
+        record_distortion(mesh, texel_new, ds);
+        texopt_budget_request req = {0};
+        req.kind = params->budget;
+        req.relative_cost = params->relative_cost;
+        req.texture_width = params->texture_width;
+        req.texture_height = params->texture_height;
+        req.input_cost = (double)in_cov.covered_texels;
+        req.input_width = mesh->width;
+        req.input_height = mesh->height;
+        double t0 = now_seconds();
+        st = texopt_budget_fit(mesh, texel_new, &req, packed, &br, err, err_len);
+        ds->seconds_pack = now_seconds() - t0;
+        job_stage_done(jm, "pack");
+    }
+    if (st == TEXOPT_OK) {
+        ds->output_width = br.width;
+        ds->output_height = br.height;
+        ds->cost_input = (double)in_cov.covered_texels;
+        ds->cost_output = br.cost;
+        ds->relative_cost = br.relative_cost;
+        ds->packing_efficiency_input = in_cov.packing_efficiency;
+        ds->packing_efficiency = br.packing_efficiency;
+        ds->repacked = 1;
+        double t0 = now_seconds();
+        st = rebake_domain(model, mesh, packed, br.width, br.height, out, ds, jm, bake_from, to, err, err_len);
+        ds->seconds_bake = now_seconds() - t0;
+    }
+    if (st == TEXOPT_OK)
+        write_domain_uvs(model, mesh, packed, br.width, br.height, out->uvs);
+    free(texel_new);
+    free(packed);
+    return st;
 }
 
 static texopt_status run_domain(const texopt_model *model, int d, const texopt_params *params,

@@ -1,0 +1,244 @@
+/* cmd_optimize.c - `texopt optimize IN -o OUT.glb [options]`: the whole job on one model.
+ *
+ * Parses the options into texopt_params, runs texopt_optimize_file (engine/pipeline.h) and
+ * shows progress on stderr: a redrawn bar (stage, percent, ETA) on a terminal, one plain line
+ * per stage and per 10% otherwise, nothing with --quiet. SIGINT/SIGTERM raise the engine's
+ * cancel flag; the job stops at its next checkpoint and the command exits 3. Implements no
+ * part of Sun et al. 2022 itself; it is the asset-pipeline front end of the engine. */
+#include <errno.h>
+#include <signal.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "commands.h"
+#include "params.h"
+#include "pipeline.h"
+
+/* The one piece of process state a signal handler may touch. */
+static atomic_int cancel_requested;
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    atomic_store(&cancel_requested, 1);
+}
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: texopt optimize IN -o OUT.glb [options]\n"
+            "\n"
+            "Computes a new UV layout of IN (.glb or .gltf) that spends texels where the rendered\n"
+            "look needs them, re-bakes its textures and writes OUT.glb.\n"
+            "\n"
+            "options:\n"
+            "  -o, --output PATH        output .glb (required)\n"
+            "  --method M               perceptual (default) or input (same layout, textures\n"
+            "                           resampled to the budget)\n"
+            "  --relative-cost C        covered texels of the output / of the input, (0, 4]\n"
+            "                           (default 1)\n"
+            "  --texture-size WxH       output texture size instead of a relative cost\n"
+            "  --epsilon E              perceptual loss threshold of stage 1 (default 0.01)\n"
+            "  --iterations N           Bayesian-optimisation iterations per triangle (default 100)\n"
+            "  --lambda-min L           smallest per-axis scale stage 1 may choose (default 0.1)\n"
+            "  --threads T              worker threads (default: every core)\n"
+            "  --seed S                 random seed (default 0)\n"
+            "  --stats PATH             write the job statistics as JSON\n"
+            "  --quiet                  no progress on stderr\n"
+            "  -h, --help               this text\n"
+            "\n"
+            "exit codes: 0 success, 1 the engine refused or failed, 2 usage error, 3 canceled\n");
+}
+
+typedef struct progress_view {
+    int tty;
+    const char *last_stage;
+    int last_decile;
+    int drew;
+} progress_view;
+
+static void show_progress(void *user, const texopt_progress *p)
+{
+    progress_view *v = user;
+    int percent = (int)(p->fraction * 100.0 + 0.5);
+    if (v->tty) {
+        char eta[32] = "";
+        if (p->eta_seconds >= 0)
+            snprintf(eta, sizeof eta, " ETA %4.0fs", p->eta_seconds);
+        int filled = (int)(p->fraction * 30.0);
+        char bar[31];
+        for (int i = 0; i < 30; i++)
+            bar[i] = i < filled ? '#' : '.';
+        bar[30] = '\0';
+        fprintf(stderr, "\r%-7s [%s] %3d%%%s   ", p->stage, bar, percent, eta);
+        v->drew = 1;
+        return;
+    }
+    int decile = percent / 10;
+    if (v->last_stage && strcmp(v->last_stage, p->stage) == 0 && decile == v->last_decile)
+        return;
+    v->last_stage = p->stage;
+    v->last_decile = decile;
+    if (p->eta_seconds >= 0)
+        fprintf(stderr, "texopt: %s %d%% (ETA %.0f s)\n", p->stage, percent, p->eta_seconds);
+    else
+        fprintf(stderr, "texopt: %s %d%%\n", p->stage, percent);
+}
+
+static int parse_double(const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    *out = strtod(s, &end);
+    return errno == 0 && end != s && *end == '\0';
+}
+
+static int parse_long(const char *s, long long *out)
+{
+    char *end;
+    errno = 0;
+    *out = strtoll(s, &end, 10);
+    return errno == 0 && end != s && *end == '\0';
+}
+
+static int parse_size(const char *s, int *w, int *h)
+{
+    char tail;
+    return sscanf(s, "%dx%d%c", w, h, &tail) == 2 && *w > 0 && *h > 0;
+}
+
+typedef struct optimize_args {
+    const char *input, *output, *stats;
+    int quiet;
+    texopt_params params;
+} optimize_args;
+
+/* Returns -1 on success (continue), else the exit code to return. */
+static int parse_option(optimize_args *a, const char *opt, const char *val)
+{
+    double d;
+    long long n;
+    if (strcmp(opt, "-o") == 0 || strcmp(opt, "--output") == 0)
+        a->output = val;
+    else if (strcmp(opt, "--stats") == 0)
+        a->stats = val;
+    else if (strcmp(opt, "--method") == 0) {
+        a->params.method = texopt_method_from_name(val);
+        if (a->params.method == TEXOPT_METHOD_COUNT) {
+            fprintf(stderr, "texopt optimize: unknown method '%s'\n", val);
+            return EXIT_USAGE;
+        }
+    } else if (strcmp(opt, "--relative-cost") == 0 && parse_double(val, &d)) {
+        a->params.budget = TEXOPT_BUDGET_RELATIVE_COST;
+        a->params.relative_cost = d;
+        if (!(d > 0)) {
+            fprintf(stderr, "texopt optimize: --relative-cost must be > 0\n");
+            return EXIT_USAGE;
+        }
+    } else if (strcmp(opt, "--texture-size") == 0 &&
+               parse_size(val, &a->params.texture_width, &a->params.texture_height))
+        a->params.budget = TEXOPT_BUDGET_TEXTURE_SIZE;
+    else if (strcmp(opt, "--epsilon") == 0 && parse_double(val, &d) && d > 0)
+        a->params.epsilon = d;
+    else if (strcmp(opt, "--lambda-min") == 0 && parse_double(val, &d) && d > 0)
+        a->params.lambda_min = d;
+    else if (strcmp(opt, "--iterations") == 0 && parse_long(val, &n) && n > 0 && n < 1000000)
+        a->params.iterations = (int)n;
+    else if (strcmp(opt, "--threads") == 0 && parse_long(val, &n) && n > 0 && n < 100000)
+        a->params.threads = (int)n;
+    else if (strcmp(opt, "--seed") == 0 && parse_long(val, &n) && n >= 0)
+        a->params.seed = (uint64_t)n;
+    else {
+        fprintf(stderr, "texopt optimize: bad option or value: %s %s\n", opt, val);
+        return EXIT_USAGE;
+    }
+    return -1;
+}
+
+static int parse_args(int argc, char **argv, optimize_args *a)
+{
+    int budget_options = 0;
+    for (int i = 0; i < argc; i++) {
+        const char *arg = argv[i];
+        if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0) {
+            usage(stdout);
+            return EXIT_OK;
+        }
+        if (strcmp(arg, "--quiet") == 0) {
+            a->quiet = 1;
+            continue;
+        }
+        if (arg[0] == '-' && arg[1] != '\0') {
+            if (i + 1 >= argc) {
+                fprintf(stderr, "texopt optimize: %s needs a value\n", arg);
+                return EXIT_USAGE;
+            }
+            budget_options += strcmp(arg, "--relative-cost") == 0 || strcmp(arg, "--texture-size") == 0;
+            int rc = parse_option(a, arg, argv[++i]);
+            if (rc >= 0)
+                return rc;
+            continue;
+        }
+        if (a->input) {
+            fprintf(stderr, "texopt optimize: more than one input (%s, %s)\n", a->input, arg);
+            return EXIT_USAGE;
+        }
+        a->input = arg;
+    }
+    if (budget_options > 1) {
+        fprintf(stderr, "texopt optimize: give either --relative-cost or --texture-size, not both\n");
+        return EXIT_USAGE;
+    }
+    if (!a->input || !a->output) {
+        usage(stderr);
+        return EXIT_USAGE;
+    }
+    return -1;
+}
+
+static void install_signal_handlers(void)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+}
+
+int cmd_optimize(int argc, char **argv)
+{
+    optimize_args a;
+    memset(&a, 0, sizeof a);
+    int rc = parse_args(argc, argv, &a);
+    if (rc >= 0)
+        return rc;
+    texopt_params check = a.params;
+    texopt_params_resolve(&check);
+    char err[1024] = "";
+    if (texopt_params_validate(&check, err, sizeof err) != TEXOPT_OK) {
+        fprintf(stderr, "texopt optimize: %s\n", err);
+        return EXIT_USAGE;
+    }
+    install_signal_handlers();
+    progress_view view = {isatty(STDERR_FILENO), NULL, -1, 0};
+    texopt_monitor monitor = {a.quiet ? NULL : show_progress, &view, &cancel_requested};
+    texopt_status st = texopt_optimize_file(a.input, a.output, a.stats, &a.params, &monitor, err,
+                                            sizeof err);
+    if (view.drew)
+        fputc('\n', stderr);
+    if (st == TEXOPT_E_CANCELED) {
+        fprintf(stderr, "texopt optimize: canceled\n");
+        return EXIT_CANCELED;
+    }
+    if (st != TEXOPT_OK) {
+        fprintf(stderr, "texopt optimize: %s: %s\n", texopt_strerror(st), err);
+        return EXIT_ENGINE;
+    }
+    if (!a.quiet)
+        fprintf(stderr, "texopt: wrote %s%s%s\n", a.output, a.stats ? " and " : "", a.stats ? a.stats : "");
+    return EXIT_OK;
+}
