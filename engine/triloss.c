@@ -43,7 +43,7 @@ struct texopt_triloss {
     size_t n;            /* covered pixels */
     int32_t *pixel;      /* per covered pixel: its index in the viewport */
     double *phat;        /* 2 per covered pixel, domain texels */
-    double centroid[2];  /* the triangle's texel centroid */
+    double centroid[2];  /* pivot of J: the texel centre nearest the triangle's centroid */
     double radius;       /* max |p_hat - c| over covered pixels (infinity norm) */
     float *reference;    /* per batch: n x signal_count values, at n * first_signal */
     float *ref_img;      /* per signal: size x size image, 0 where uncovered */
@@ -279,10 +279,16 @@ texopt_status texopt_triloss_prepare(texopt_triloss *tl, uint32_t triangle, char
     if (st != TEXOPT_OK)
         return st;
     const uint32_t *tri = tl->mesh->triangle + 3 * (size_t)triangle;
-    for (int d = 0; d < 2; d++)
-        tl->centroid[d] = (tl->mesh->texel[2 * (size_t)tri[0] + d] +
-                           tl->mesh->texel[2 * (size_t)tri[1] + d] +
-                           tl->mesh->texel[2 * (size_t)tri[2] + d]) / 3.0;
+    /* J pivots about the texel centre nearest the centroid: a quarter turn about a texel
+     * centre maps the texel lattice onto itself, so the loss keeps the 90-degree symmetry of
+     * the pixel grid (paper Fig. 7) instead of charging a sub-texel phase shift to every
+     * rotation. */
+    for (int d = 0; d < 2; d++) {
+        double c = (tl->mesh->texel[2 * (size_t)tri[0] + d] +
+                    tl->mesh->texel[2 * (size_t)tri[1] + d] +
+                    tl->mesh->texel[2 * (size_t)tri[2] + d]) / 3.0;
+        tl->centroid[d] = floor(c) + 0.5;
+    }
     collect_covered(tl);
     sample_references(tl);
     return TEXOPT_OK;

@@ -4,7 +4,9 @@
  * texture (reference I_hat) and with the texture re-baked under the deformation J
  * (candidate I), and compare them with GMSD (Xue et al. 2013) on the covered pixels.
  * Here the one-ring is rasterised once per triangle (uvraster.h) and each candidate is:
- *   p(q) = c + J (p_hat(q) - c)        c = the triangle's texel centroid, so it stays put
+ *   p(q) = c + J (p_hat(q) - c)        c = the texel centre nearest the triangle's centroid,
+ *                                       so the triangle stays put and a quarter turn maps the
+ *                                       texel lattice onto itself (the grid's 90-degree symmetry)
  *   x    = LS bake of I_hat on the bilinear footprints of p(q) (bake.h, eq. 11, ridge 1e-6)
  *   I(q) = A x                          what the screen shows with the baked texture
  *   E    = max over the domain's textures and their signals of GMSD(I_hat, I, covered mask)

@@ -118,6 +118,28 @@ TEST(stripes_tolerate_shrink_along_them_not_across)
     fixture_close(&f);
 }
 
+TEST(quarter_turn_symmetry_of_the_pixel_grid)
+{
+    /* Paper Fig. 7: turning the new texels by 90 degrees costs nothing, by 45 it does. */
+    const char *patterns[] = {"stripes0", "stripes45", "checker", "half"};
+    for (int p = 0; p < 4; p++) {
+        loss_fixture f;
+        CHECK(fixture_open(&f, 8, 64, patterns[p], 64));
+        for (uint32_t t = 36; t < 100; t += 21) {
+            double e0 = loss_of(&f, t, 0, 1.0, 0.6, 0.3);
+            double e90 = loss_of(&f, t, PI / 2, 1.0, 0.6, 0.3);
+            CHECK_MSG(fabs(e0 - e90) < 1e-9, "%s t %u: E(0) %g E(90) %g", patterns[p], t, e0, e90);
+        }
+        fixture_close(&f);
+    }
+    loss_fixture f;
+    CHECK(fixture_open(&f, 8, 64, "stripes0", 64));
+    double e0 = loss_of(&f, 2 * (4 * 8 + 4), 0, 1.0, 0.6, 0);
+    double e45 = loss_of(&f, 2 * (4 * 8 + 4), PI / 4, 1.0, 0.6, 0);
+    CHECK_MSG(e0 < 1e-6 && e45 > 0.01, "stripes0: E(0) %g, E(45) %g", e0, e45);
+    fixture_close(&f);
+}
+
 TEST(loss_is_deterministic_and_stop_above_is_honoured)
 {
     loss_fixture f;
