@@ -1,0 +1,482 @@
+/* triopt.c - the triangle-wise stage of Sun et al. 2022 (section 4.1.2, eqs. 14 and 17):
+ * a Bayesian optimisation of each triangle's Jacobian over the one-ring perceptual loss,
+ * run over all cores.
+ *
+ * DESIGN. The caller's thread starts `threads` POSIX threads. Each owns a loss evaluator
+ * (triloss: raster, references, bake and GMSD buffers) and a BO workspace, created once and
+ * reused for every triangle it takes. Threads take the next triangle index from an atomic
+ * counter and write only out[t], computed from (seed, t) alone, so the schedule never shows
+ * in the output. One mutex guards the running statistics, the progress callback and the
+ * first error. The cancel flag is read before each triangle.
+ *
+ * Not here: the loss itself (triloss.c), the optimiser (bayesopt.c), what the mesh-wise
+ * stage does with the targets (meshwise.c). */
+#include "triopt.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "bayesopt.h"
+#include "rng.h"
+#include "triloss.h"
+
+#define TRIOPT_DIM 4
+#define QUARTER_TURN 1.57079632679489661923 /* pi / 2 */
+#define TRIOPT_ERR_LEN 256
+/* Objective values within this of the lower bound count as reaching it (GMSD of a flat
+ * region is 0 up to float rounding, and -log(eps - E) moves by E / eps). */
+#define TRIOPT_BOUND_TOLERANCE 1e-6
+
+typedef struct resolved_options {
+    double epsilon, lambda_min;
+    int iterations, threads, viewport, weight_samples, initial_design;
+    int lower_bound_stop;
+    double early_stop_ei;
+    int early_stop_patience;
+    uint32_t stride;
+    uint64_t seed;
+    int max_evaluations;
+} resolved_options;
+
+typedef struct stage_shared {
+    const texopt_model *model;
+    const texopt_mesh *mesh;
+    resolved_options opt;
+    texopt_triangle_target *out;
+    const texopt_monitor *monitor;
+    atomic_size_t next;
+    atomic_int stop;
+    size_t total; /* triangles to optimise */
+    double start_seconds;
+
+    pthread_mutex_t lock; /* guards everything below */
+    size_t done;
+    double sum_loss, sum_area_scale;
+    size_t report_every;
+    texopt_status status;
+    size_t failed_triangle;
+    char err[TRIOPT_ERR_LEN];
+} stage_shared;
+
+typedef struct worker {
+    stage_shared *sh;
+    texopt_triloss *loss;
+    texopt_bo *bo;
+    pthread_t thread;
+} worker;
+
+/* State of one triangle's search, seen by the objective. */
+typedef struct triangle_search {
+    texopt_triloss *loss;
+    double epsilon, lambda_min, area;
+    int evaluations;
+    double best_f, best_loss, best_x[TRIOPT_DIM];
+    texopt_status status;
+    char err[TRIOPT_ERR_LEN];
+} triangle_search;
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* splitmix64 finaliser: a well-spread 64-bit seed per (seed, triangle, stream). */
+static uint64_t mix_seed(uint64_t seed, uint64_t triangle, uint64_t stream)
+{
+    uint64_t z = seed ^ (triangle * 0x9E3779B97F4A7C15ull) ^ (stream * 0xD1B54A32D192ED03ull);
+    z += 0x9E3779B97F4A7C15ull;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+/* The unit box's upper face x = 1 maps to pi/2, which the paper's domain [0, pi/2) names 0:
+ * a quarter turn of the texel grid maps the grid onto itself (the 90-degree symmetry). */
+static double wrap_quarter(double angle)
+{
+    return angle >= QUARTER_TURN ? angle - QUARTER_TURN : angle;
+}
+
+static void params_from_unit(const double *x, double lambda_min, double p[4])
+{
+    p[0] = x[0] * QUARTER_TURN;
+    p[1] = lambda_min + (1.0 - lambda_min) * x[1];
+    p[2] = lambda_min + (1.0 - lambda_min) * x[2];
+    p[3] = x[3] * QUARTER_TURN;
+}
+
+static double objective_value(double area_scale, double area, double loss, double epsilon)
+{
+    return area_scale * area - log(epsilon - loss);
+}
+
+static double search_objective(void *user, const double *x)
+{
+    triangle_search *s = user;
+    if (s->status != TEXOPT_OK)
+        return INFINITY;
+    double p[4], J[4], e = 0.0;
+    params_from_unit(x, s->lambda_min, p);
+    texopt_jacobian_from_params(p[0], p[1], p[2], p[3], J);
+    s->evaluations++;
+    s->status = texopt_triloss_eval(s->loss, J, s->epsilon, &e, s->err, sizeof s->err);
+    if (s->status != TEXOPT_OK || !(e < s->epsilon))
+        return INFINITY;
+    double f = objective_value(p[1] * p[2], s->area, e, s->epsilon);
+    /* Strictly smaller only: the first of equal optima wins, as in the BO's own record. */
+    if (f < s->best_f) {
+        s->best_f = f;
+        s->best_loss = e;
+        memcpy(s->best_x, x, sizeof s->best_x);
+    }
+    return f;
+}
+
+static double variance(const double *v, int n)
+{
+    double mean = 0.0, var = 0.0;
+    for (int i = 0; i < n; i++)
+        mean += v[i];
+    mean /= n;
+    for (int i = 0; i < n; i++)
+        var += (v[i] - mean) * (v[i] - mean);
+    return var / n;
+}
+
+/* Eq. 17: how much E moves when only the rotation, or only the stretch, changes. */
+static texopt_status sensitivity_weights(worker *w, uint32_t t, texopt_triangle_target *o,
+                                         char *err, size_t err_len)
+{
+    const resolved_options *opt = &w->sh->opt;
+    int n = opt->weight_samples;
+    if (n <= 0)
+        return TEXOPT_OK;
+    double values[64];
+    if (n > 64)
+        n = 64;
+    texopt_rng rng;
+    texopt_rng_seed(&rng, mix_seed(opt->seed, t, 2));
+    double J[4];
+    for (int k = 0; k < n; k++) {
+        double alpha = (k + texopt_rng_uniform(&rng)) / n * QUARTER_TURN;
+        texopt_jacobian_from_params(alpha, o->lambda1, o->lambda2, o->beta, J);
+        texopt_status st = texopt_triloss_eval(w->loss, J, INFINITY, &values[k], err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
+    }
+    o->w_rotation = variance(values, n);
+    double span = 1.0 - opt->lambda_min;
+    for (int k = 0; k < n; k++) {
+        double l1 = opt->lambda_min + span * texopt_rng_uniform(&rng);
+        double l2 = opt->lambda_min + span * texopt_rng_uniform(&rng);
+        double beta = texopt_rng_uniform(&rng) * QUARTER_TURN;
+        texopt_jacobian_from_params(o->alpha, l1, l2, beta, J);
+        texopt_status st = texopt_triloss_eval(w->loss, J, INFINITY, &values[k], err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
+    }
+    o->w_stretch = variance(values, n);
+    o->evaluations += 2 * n;
+    return TEXOPT_OK;
+}
+
+static texopt_status optimise_triangle(worker *w, uint32_t t, texopt_triangle_target *o,
+                                       char *err, size_t err_len)
+{
+    const stage_shared *sh = w->sh;
+    const resolved_options *opt = &sh->opt;
+    texopt_status st = texopt_triloss_prepare(w->loss, t, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    triangle_search s = {.loss = w->loss, .epsilon = opt->epsilon,
+                         .lambda_min = opt->lambda_min, .area = fabs(sh->mesh->area_texel[t]),
+                         .best_f = INFINITY, .status = TEXOPT_OK};
+    /* J = I first (E = 0, always feasible), then the smallest isotropic shrink. */
+    static const double initial[2 * TRIOPT_DIM] = {0, 1, 1, 0, 0, 0, 0, 0};
+    texopt_bo_options bo = {.iterations = opt->iterations,
+                            .initial_design = opt->initial_design,
+                            .initial_points = initial,
+                            .initial_point_count = 2,
+                            .early_stop_ei = opt->early_stop_ei,
+                            .early_stop_patience = opt->early_stop_patience,
+                            .seed = mix_seed(opt->seed, t, 1)};
+    if (opt->lower_bound_stop) {
+        double lm = opt->lambda_min;
+        bo.has_target = 1;
+        bo.target = objective_value(lm * lm, s.area, 0.0, opt->epsilon) + TRIOPT_BOUND_TOLERANCE;
+    }
+    st = texopt_bo_minimize(w->bo, &bo, search_objective, &s, NULL, NULL, NULL, err, err_len);
+    if (st == TEXOPT_OK && s.status != TEXOPT_OK) {
+        snprintf(err, err_len, "%s", s.err);
+        st = s.status;
+    }
+    if (st == TEXOPT_OK && !isfinite(s.best_f))
+        st = texopt_fail(err, err_len, TEXOPT_E_INTERNAL,
+                         "triopt: triangle %u has no feasible sample although J = I is", t);
+    if (st != TEXOPT_OK)
+        return st;
+    double p[4];
+    params_from_unit(s.best_x, opt->lambda_min, p);
+    o->alpha = wrap_quarter(p[0]);
+    o->lambda1 = p[1];
+    o->lambda2 = p[2];
+    o->beta = wrap_quarter(p[3]);
+    o->loss = s.best_loss;
+    o->w_rotation = o->w_stretch = 0.0;
+    o->evaluations = s.evaluations;
+    return sensitivity_weights(w, t, o, err, err_len);
+}
+
+static int triangle_selected(const stage_shared *sh, size_t t)
+{
+    if (sh->mesh->flags[t] & (TEXOPT_TRI_DEGENERATE_3D | TEXOPT_TRI_DEGENERATE_UV))
+        return 0;
+    return t % sh->opt.stride == 0;
+}
+
+static void identity_target(texopt_triangle_target *o)
+{
+    memset(o, 0, sizeof *o);
+    o->lambda1 = o->lambda2 = 1.0;
+}
+
+static void record_failure(stage_shared *sh, size_t t, texopt_status st, const char *msg)
+{
+    pthread_mutex_lock(&sh->lock);
+    /* Keep the failure of the lowest triangle index: the same message whatever the schedule
+     * (among the triangles that ran). */
+    if (sh->status == TEXOPT_OK || t < sh->failed_triangle) {
+        sh->status = st;
+        sh->failed_triangle = t;
+        snprintf(sh->err, sizeof sh->err, "triangle %zu: %s", t, msg);
+    }
+    pthread_mutex_unlock(&sh->lock);
+    atomic_store(&sh->stop, 1);
+}
+
+static void record_done(stage_shared *sh, const texopt_triangle_target *o)
+{
+    pthread_mutex_lock(&sh->lock);
+    sh->done++;
+    sh->sum_loss += o->loss;
+    sh->sum_area_scale += o->lambda1 * o->lambda2;
+    if (sh->monitor && (sh->done % sh->report_every == 0 || sh->done == sh->total)) {
+        double fraction = (double)sh->done / (double)sh->total;
+        double elapsed = now_seconds() - sh->start_seconds;
+        texopt_progress p = {.stage = "stage1",
+                             .stage_fraction = fraction,
+                             .fraction = fraction,
+                             .mean_loss = sh->sum_loss / (double)sh->done,
+                             .mean_area_scale = sh->sum_area_scale / (double)sh->done,
+                             .eta_seconds = elapsed * (1.0 - fraction) / fraction};
+        texopt_monitor_report(sh->monitor, &p);
+    }
+    pthread_mutex_unlock(&sh->lock);
+}
+
+static void *worker_main(void *arg)
+{
+    worker *w = arg;
+    stage_shared *sh = w->sh;
+    char err[TRIOPT_ERR_LEN];
+    for (;;) {
+        if (atomic_load(&sh->stop))
+            break;
+        if (texopt_monitor_canceled(sh->monitor)) {
+            record_failure(sh, 0, TEXOPT_E_CANCELED, "stage 1 canceled");
+            break;
+        }
+        size_t t = atomic_fetch_add(&sh->next, 1);
+        if (t >= sh->mesh->triangle_count)
+            break;
+        texopt_triangle_target *o = &sh->out[t];
+        identity_target(o);
+        if (!triangle_selected(sh, t))
+            continue;
+        err[0] = '\0';
+        texopt_status st = optimise_triangle(w, (uint32_t)t, o, err, sizeof err);
+        if (st != TEXOPT_OK) {
+            record_failure(sh, t, st, err);
+            break;
+        }
+        record_done(sh, o);
+    }
+    return NULL;
+}
+
+static texopt_status resolve_options(const texopt_triopt_options *in, const texopt_mesh *mesh,
+                                     resolved_options *o, char *err, size_t err_len)
+{
+    texopt_triopt_options d = {0};
+    if (!in)
+        in = &d;
+    o->epsilon = in->epsilon != 0.0 ? in->epsilon : 0.01;
+    o->iterations = in->iterations != 0 ? in->iterations : 100;
+    o->lambda_min = in->lambda_min != 0.0 ? in->lambda_min : 0.1;
+    o->viewport = in->viewport != 0 ? in->viewport : 64;
+    o->weight_samples = in->weight_samples != 0 ? in->weight_samples : 8;
+    o->initial_design = in->initial_design;
+    o->lower_bound_stop = !in->no_lower_bound_stop;
+    o->early_stop_ei = in->early_stop_ei;
+    o->early_stop_patience = in->early_stop_patience;
+    o->stride = in->stride > 1 ? in->stride : 1;
+    o->seed = in->seed;
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    o->threads = in->threads > 0 ? in->threads : (cores > 0 ? (int)cores : 1);
+    if (!(o->epsilon > 0.0 && o->epsilon <= 1.0))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "triopt: epsilon %g outside (0, 1]", o->epsilon);
+    if (o->iterations < 0 || o->iterations > 10000)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "triopt: iterations %d outside [0, 10000]", o->iterations);
+    if (!(o->lambda_min > 0.0 && o->lambda_min < 1.0))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "triopt: lambda_min %g outside (0, 1)", o->lambda_min);
+    if (o->viewport < 8 || o->viewport > 1024)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "triopt: viewport %d outside [8, 1024]", o->viewport);
+    if (o->weight_samples > 64)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "triopt: weight_samples %d above 64", o->weight_samples);
+    if (o->threads > 256)
+        o->threads = 256;
+    if ((size_t)o->threads > mesh->triangle_count)
+        o->threads = mesh->triangle_count > 0 ? (int)mesh->triangle_count : 1;
+    int design = o->initial_design > 0 ? o->initial_design : (o->initial_design < 0 ? 0 : 2 * TRIOPT_DIM + 2);
+    o->max_evaluations = 2 + design + o->iterations;
+    return TEXOPT_OK;
+}
+
+static void destroy_workers(worker *workers, int count)
+{
+    if (!workers)
+        return;
+    for (int i = 0; i < count; i++) {
+        texopt_triloss_destroy(workers[i].loss);
+        texopt_bo_destroy(workers[i].bo);
+    }
+    free(workers);
+}
+
+static texopt_status create_workers(stage_shared *sh, worker **out, char *err, size_t err_len)
+{
+    int n = sh->opt.threads;
+    worker *workers = calloc((size_t)n, sizeof *workers);
+    if (!workers)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "triopt: no memory for %d workers", n);
+    for (int i = 0; i < n; i++) {
+        workers[i].sh = sh;
+        texopt_status st = texopt_triloss_create(&workers[i].loss, sh->model, sh->mesh,
+                                                 sh->opt.viewport, err, err_len);
+        if (st == TEXOPT_OK) {
+            workers[i].bo = texopt_bo_create(TRIOPT_DIM, sh->opt.max_evaluations);
+            if (!workers[i].bo)
+                st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "triopt: no memory for the optimiser");
+        }
+        if (st != TEXOPT_OK) {
+            destroy_workers(workers, n);
+            return st;
+        }
+    }
+    *out = workers;
+    return TEXOPT_OK;
+}
+
+/* Means over the optimised triangles in index order, so they do not depend on the schedule. */
+static void fill_report(const stage_shared *sh, texopt_triopt_report *report)
+{
+    memset(report, 0, sizeof *report);
+    for (size_t t = 0; t < sh->mesh->triangle_count; t++) {
+        const texopt_triangle_target *o = &sh->out[t];
+        if (!triangle_selected(sh, t)) {
+            report->skipped++;
+            continue;
+        }
+        report->optimised++;
+        report->evaluations += o->evaluations;
+        report->mean_loss += o->loss;
+        report->mean_area_scale += o->lambda1 * o->lambda2;
+        report->mean_objective += objective_value(o->lambda1 * o->lambda2,
+                                                  fabs(sh->mesh->area_texel[t]), o->loss,
+                                                  sh->opt.epsilon);
+    }
+    if (report->optimised > 0) {
+        report->mean_loss /= (double)report->optimised;
+        report->mean_area_scale /= (double)report->optimised;
+        report->mean_objective /= (double)report->optimised;
+    }
+    report->seconds = now_seconds() - sh->start_seconds;
+}
+
+static size_t count_selected(const stage_shared *sh)
+{
+    size_t n = 0;
+    for (size_t t = 0; t < sh->mesh->triangle_count; t++)
+        n += triangle_selected(sh, t) != 0;
+    return n;
+}
+
+static texopt_status run_workers(stage_shared *sh, worker *workers)
+{
+    int n = sh->opt.threads, started = 0;
+    for (int i = 1; i < n; i++) {
+        if (pthread_create(&workers[i].thread, NULL, worker_main, &workers[i]) != 0)
+            break;
+        started++;
+    }
+    /* The caller's thread is worker 0; a thread that could not start only costs speed. */
+    worker_main(&workers[0]);
+    for (int i = 1; i <= started; i++)
+        pthread_join(workers[i].thread, NULL);
+    return sh->status;
+}
+
+texopt_status texopt_triopt_run(const texopt_model *model, const texopt_mesh *mesh,
+                                const texopt_triopt_options *opt, texopt_triangle_target *out,
+                                texopt_triopt_report *report, const texopt_monitor *monitor,
+                                char *err, size_t err_len)
+{
+    if (!model || !mesh || !out)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "triopt: NULL model, mesh or output");
+    stage_shared *sh = calloc(1, sizeof *sh);
+    if (!sh)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "triopt: out of memory");
+    texopt_status st = resolve_options(opt, mesh, &sh->opt, err, err_len);
+    if (st != TEXOPT_OK) {
+        free(sh);
+        return st;
+    }
+    sh->model = model;
+    sh->mesh = mesh;
+    sh->out = out;
+    sh->monitor = monitor;
+    sh->start_seconds = now_seconds();
+    sh->total = count_selected(sh);
+    sh->report_every = sh->total / 200 > 0 ? sh->total / 200 : 1;
+    atomic_init(&sh->next, 0);
+    atomic_init(&sh->stop, 0);
+    pthread_mutex_init(&sh->lock, NULL);
+
+    worker *workers = NULL;
+    st = create_workers(sh, &workers, err, err_len);
+    if (st == TEXOPT_OK) {
+        st = run_workers(sh, workers);
+        if (st != TEXOPT_OK)
+            texopt_fail(err, err_len, st, "triopt: %s", sh->err);
+        else if (report)
+            fill_report(sh, report);
+    }
+    destroy_workers(workers, sh->opt.threads);
+    pthread_mutex_destroy(&sh->lock);
+    free(sh);
+    return st;
+}

@@ -1,0 +1,76 @@
+/* triopt.h - the triangle-wise stage: per triangle, the Jacobian that minimises texel area
+ * under a perceptual-loss constraint, and how sensitive the loss is to rotation and stretch.
+ *
+ * Sun et al. 2022, section 4.1.2 (eq. 14) and eq. 17. For every non-degenerate triangle T
+ * of a texture domain's mesh, minimise over (alpha, lambda1, lambda2, beta) in
+ * [0, pi/2) x (lambda_min, 1]^2 x [0, pi/2)
+ *     f = lambda1 lambda2 |T| + L_eps(E(J)),   L_eps(x) = -log(eps - x) for x < eps,
+ * with |T| the triangle's area in texels and E the one-ring GMSD loss (triloss.h), by
+ * Bayesian optimisation (bayesopt.h) on the unit box, x -> (alpha, lambda1, lambda2, beta) =
+ * (x0 pi/2, lmin + (1 - lmin) x1, lmin + (1 - lmin) x2, x3 pi/2). E >= eps is infeasible: the
+ * objective returns +INFINITY and bayesopt.h's penalty rule applies.
+ *
+ * Evaluation plan per triangle: J = I (x = (0,1,1,0), E = 0: always feasible), then the
+ * smallest isotropic shrink J = lambda_min I (x = 0), then the BO design and iterations.
+ * The search stops as soon as a sample reaches the objective's lower bound
+ * lambda_min^2 |T| - log(eps) (E = 0 at the smallest area: nothing can beat it), which ends
+ * flat-coloured triangles after two evaluations without changing any optimum.
+ *
+ * Weights (eq. 17): w_rotation = variance of E over weight_samples stratified uniform
+ * alpha at (lambda1*, lambda2*, beta*); w_stretch = variance of E over weight_samples
+ * uniform (lambda1, lambda2, beta) at alpha*. Both are population variances (divide by the
+ * count) of the exact E (not clipped at eps).
+ *
+ * Determinism: triangle t draws from seed_t = mix(seed, t) and nothing else, and threads
+ * only decide who computes which triangle, so the output is identical for any thread count.
+ * Degenerate triangles (flags DEGENERATE_3D/UV) get J = I, zero weights, no evaluation. */
+#ifndef TEXOPT_TRIOPT_H
+#define TEXOPT_TRIOPT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "mesh.h"
+#include "model.h"
+#include "monitor.h"
+#include "status.h"
+#include "target.h"
+
+/* Zero-initialised = defaults. */
+typedef struct texopt_triopt_options {
+    double epsilon;      /* loss threshold; 0 -> 0.01 */
+    int iterations;      /* BO iterations after the design; 0 -> 100 */
+    double lambda_min;   /* 0 -> 0.1; must be in (0, 1) */
+    int threads;         /* 0 -> every online core */
+    uint64_t seed;
+    int viewport;        /* 0 -> 64 */
+    int weight_samples;  /* per weight; 0 -> 8, < 0 -> weights not computed (left 0) */
+    int initial_design;  /* BO Latin-hypercube points; 0 -> bayesopt default, < 0 -> none */
+    int no_lower_bound_stop; /* non-zero: run every iteration (for benchmarks) */
+    double early_stop_ei;    /* passed to bayesopt (0 with patience 0: never) */
+    int early_stop_patience;
+    uint32_t stride;     /* optimise triangles 0, stride, 2 stride, ...; 0 or 1 -> all.
+                            Others are left as J = I, zero weights, 0 evaluations. */
+} texopt_triopt_options;
+
+typedef struct texopt_triopt_report {
+    size_t optimised;         /* triangles searched */
+    size_t skipped;           /* degenerate or outside the stride */
+    long long evaluations;    /* loss evaluations, searches and weights */
+    double seconds;           /* wall clock */
+    double mean_loss;         /* mean E at the optimum over optimised triangles */
+    double mean_area_scale;   /* mean lambda1 lambda2 */
+    double mean_objective;    /* mean f at the optimum */
+} texopt_triopt_report;
+
+/* Runs the stage on every triangle of `mesh` (a domain mesh of `model`) and writes
+ * out[mesh->triangle_count]. opt and report may be NULL; monitor may be NULL (progress with
+ * stage "stage1", stage_fraction = fraction of triangles done; the callback is serialised by
+ * a mutex). A raised cancel flag stops at the next triangle with TEXOPT_E_CANCELED (out is
+ * then incomplete). */
+texopt_status texopt_triopt_run(const texopt_model *model, const texopt_mesh *mesh,
+                                const texopt_triopt_options *opt, texopt_triangle_target *out,
+                                texopt_triopt_report *report, const texopt_monitor *monitor,
+                                char *err, size_t err_len);
+
+#endif
