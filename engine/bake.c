@@ -25,9 +25,10 @@
 
 struct texopt_bake_workspace {
     int max_pixels, max_channels;
-    int *cell;         /* 4 per pixel: texel index (row * width + col), then local unknown */
+    int *rc;           /* 4 per pixel: wrapped columns c0, c1 and rows r0, r1 */
+    int *cell;         /* 4 per pixel: local unknown of each footprint texel */
     double *weight;    /* 4 per pixel */
-    int *texel;        /* per unknown: texel index, ascending */
+    int *texel;        /* per unknown: its box slot or texel index, ascending */
     int last_unknowns;
     /* dense map over a bounding box: local unknown + 1, 0 = untouched */
     int *box;
@@ -56,6 +57,7 @@ texopt_bake_workspace *texopt_bake_workspace_create(int max_pixels, int max_chan
     ws->max_channels = max_channels;
     ws->box_capacity = BAKE_BOX_FACTOR * entries + 1024;
     ws->hash_mask = hash_size - 1;
+    ws->rc = malloc(entries * sizeof *ws->rc);
     ws->cell = malloc(entries * sizeof *ws->cell);
     ws->weight = malloc(entries * sizeof *ws->weight);
     ws->texel = malloc(entries * sizeof *ws->texel);
@@ -63,7 +65,7 @@ texopt_bake_workspace *texopt_bake_workspace_create(int max_pixels, int max_chan
     ws->hash_key = malloc(hash_size * sizeof *ws->hash_key);
     ws->hash_value = malloc(hash_size * sizeof *ws->hash_value);
     ws->rhs = malloc(entries * (size_t)max_channels * sizeof *ws->rhs);
-    if (!ws->cell || !ws->weight || !ws->texel || !ws->box || !ws->hash_key || !ws->hash_value ||
+    if (!ws->rc || !ws->cell || !ws->weight || !ws->texel || !ws->box || !ws->hash_key || !ws->hash_value ||
         !ws->rhs) {
         texopt_bake_workspace_destroy(ws);
         return NULL;
@@ -76,6 +78,7 @@ void texopt_bake_workspace_destroy(texopt_bake_workspace *ws)
 {
     if (!ws)
         return;
+    free(ws->rc);
     free(ws->cell);
     free(ws->weight);
     free(ws->texel);
@@ -96,60 +99,52 @@ typedef struct cell_box {
     int col0, row0, cols, rows;
 } cell_box;
 
-/* Footprints of every pixel as texel indices; returns the bounding box of their cells. */
+/* Footprints of every pixel as wrapped columns and rows (ws->rc: c0, c1, r0, r1 per pixel);
+ * returns the bounding box of their cells. No division anywhere in the per-pixel work. */
 static cell_box gather_footprints(texopt_bake_workspace *ws, int pixel_count,
                                   const double *texel_pos, int width, int height,
                                   texopt_wrap wrap_s, texopt_wrap wrap_t)
 {
     int cmin = width, cmax = -1, rmin = height, rmax = -1;
     for (int q = 0; q < pixel_count; q++) {
-        int col[2], row[2];
-        int *cell = ws->cell + 4 * (size_t)q;
+        int *rc = ws->rc + 4 * (size_t)q;
         texopt_bilinear_cells(width, height, wrap_s, wrap_t, texel_pos[2 * q], texel_pos[2 * q + 1],
-                              col, row, ws->weight + 4 * (size_t)q);
+                              rc, rc + 2, ws->weight + 4 * (size_t)q);
         for (int k = 0; k < 2; k++) {
-            cmin = col[k] < cmin ? col[k] : cmin;
-            cmax = col[k] > cmax ? col[k] : cmax;
-            rmin = row[k] < rmin ? row[k] : rmin;
-            rmax = row[k] > rmax ? row[k] : rmax;
+            cmin = rc[k] < cmin ? rc[k] : cmin;
+            cmax = rc[k] > cmax ? rc[k] : cmax;
+            rmin = rc[2 + k] < rmin ? rc[2 + k] : rmin;
+            rmax = rc[2 + k] > rmax ? rc[2 + k] : rmax;
         }
-        cell[0] = row[0] * width + col[0];
-        cell[1] = row[0] * width + col[1];
-        cell[2] = row[1] * width + col[0];
-        cell[3] = row[1] * width + col[1];
     }
     cell_box box = {cmin, rmin, cmax - cmin + 1, rmax - rmin + 1};
     return box;
 }
 
 /* Numbers the touched texels in row-major order through a dense map over the box. */
-static int number_through_box(texopt_bake_workspace *ws, int entries, int width, cell_box b)
+static int number_through_box(texopt_bake_workspace *ws, int pixel_count, cell_box b)
 {
     int *box = ws->box;
-    for (int e = 0; e < entries; e++) {
-        int t = ws->cell[e];
-        int r = t / width - b.row0, c = t % width - b.col0;
-        box[(size_t)r * b.cols + c] = 1;
-    }
-    int n = 0;
-    for (int r = 0; r < b.rows; r++) {
-        int *line = box + (size_t)r * b.cols;
-        for (int c = 0; c < b.cols; c++) {
-            if (line[c]) {
-                ws->texel[n] = (b.row0 + r) * width + b.col0 + c;
-                line[c] = ++n;
-            }
+    for (int q = 0; q < pixel_count; q++) {
+        const int *rc = ws->rc + 4 * (size_t)q;
+        int *cell = ws->cell + 4 * (size_t)q;
+        for (int k = 0; k < 4; k++) {
+            int slot = (rc[2 + (k >> 1)] - b.row0) * b.cols + (rc[k & 1] - b.col0);
+            box[slot] = 1;
+            cell[k] = slot;
         }
     }
-    for (int e = 0; e < entries; e++) {
-        int t = ws->cell[e];
-        int *slot = box + (size_t)(t / width - b.row0) * b.cols + (t % width - b.col0);
-        ws->cell[e] = *slot - 1;
+    int n = 0, area = b.rows * b.cols;
+    for (int slot = 0; slot < area; slot++) {
+        if (box[slot]) {
+            ws->texel[n] = slot;
+            box[slot] = ++n;
+        }
     }
-    for (int i = 0; i < n; i++) {
-        int t = ws->texel[i];
-        box[(size_t)(t / width - b.row0) * b.cols + (t % width - b.col0)] = 0;
-    }
+    for (int e = 0; e < 4 * pixel_count; e++)
+        ws->cell[e] = box[ws->cell[e]] - 1;
+    for (int i = 0; i < n; i++)
+        box[ws->texel[i]] = 0;
     return n;
 }
 
@@ -168,9 +163,14 @@ static int compare_int(const void *a, const void *b)
 }
 
 /* The scattered case: unique texels through a hash map, sorted into row-major order. */
-static int number_through_hash(texopt_bake_workspace *ws, int entries)
+static int number_through_hash(texopt_bake_workspace *ws, int pixel_count, int width)
 {
-    int n = 0;
+    int n = 0, entries = 4 * pixel_count;
+    for (int q = 0; q < pixel_count; q++) {
+        const int *rc = ws->rc + 4 * (size_t)q;
+        for (int k = 0; k < 4; k++)
+            ws->cell[4 * q + k] = rc[2 + (k >> 1)] * width + rc[k & 1];
+    }
     for (int e = 0; e < entries; e++) {
         size_t h = hash_slot(ws, ws->cell[e]);
         if (ws->hash_key[h] == -1) {
@@ -294,11 +294,10 @@ texopt_status texopt_bake_fit(texopt_bake_workspace *ws, int pixel_count, const 
     if (!texel_pos || !reference || !reconstruction)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "bake: NULL buffer");
 
-    int entries = 4 * pixel_count;
     cell_box box = gather_footprints(ws, pixel_count, texel_pos, width, height, wrap_s, wrap_t);
     int n = (size_t)box.rows * (size_t)box.cols <= ws->box_capacity
-                ? number_through_box(ws, entries, width, box)
-                : number_through_hash(ws, entries);
+                ? number_through_box(ws, pixel_count, box)
+                : number_through_hash(ws, pixel_count, width);
     int kd = band_width(ws, pixel_count);
     if (!reserve_band(ws, (size_t)(kd + 1) * (size_t)n))
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "bake: band of %d x %d", kd + 1, n);

@@ -11,6 +11,8 @@
 
 static int wrap_index(int i, int n, texopt_wrap wrap)
 {
+    if (i >= 0 && i < n) /* inside: every mode agrees, and the hot loops skip the modulo */
+        return i;
     switch (wrap) {
     case TEXOPT_WRAP_CLAMP:
         return i < 0 ? 0 : (i >= n ? n - 1 : i);
