@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# service_hostile: every bad request is answered with the right 4xx problem+json (same
+# status in the body) and the server keeps serving: truncated .glb, wrong Content-Type,
+# oversized body, bad JSON params, unknown and out-of-range params, a .gltf whose buffer URI
+# leaves its directory, an unsafe multipart file name, a model without TEXCOORD_0, no model
+# part, an empty body, unknown routes and methods, unknown jobs; and nothing of a refused
+# upload stays on disk.
+source "$(dirname "$0")/service_common.bash"
+SPOT="$TEXOPT_SOURCE_DIR/tests/data/spot/spot.glb"
+make_fixtures "$WORK/fx"
+start_server --max-upload-bytes 400000
+
+head -c 5000 "$SPOT" >"$WORK/truncated.glb"
+expect_problem 400 "$(post_glb "$WORK/truncated.glb" "method=input")" malformed-model
+
+expect_problem 415 "$(curl -s -o "$WORK/resp" -D "$WORK/headers" -w '%{http_code}' -X POST \
+  -H 'Content-Type: text/plain' --data-binary "@$SPOT" "$BASE/v1/jobs")" unsupported-media-type
+expect_problem 415 "$(curl -s -o "$WORK/resp" -D "$WORK/headers" -w '%{http_code}' -X POST \
+  --data-binary "@$SPOT" "$BASE/v1/jobs")" unsupported-media-type
+
+head -c 500000 /dev/zero >"$WORK/big.glb"
+expect_problem 413 "$(post_glb "$WORK/big.glb" "")" body-too-large
+# Without Content-Length (chunked), the limit is enforced while streaming.
+expect_problem 413 "$(curl -s -o "$WORK/resp" -D "$WORK/headers" -w '%{http_code}' -X POST \
+  -H 'Content-Type: model/gltf-binary' -H 'Transfer-Encoding: chunked' --data-binary "@$WORK/big.glb" \
+  "$BASE/v1/jobs")" body-too-large
+
+multipart() {
+  curl -s -o "$WORK/resp" -D "$WORK/headers" -w '%{http_code}' "$@" "$BASE/v1/jobs"
+}
+expect_problem 400 "$(multipart -F "model=@$SPOT" -F 'params={"method": "input",')" invalid-params
+expect_problem 400 "$(multipart -F "model=@$SPOT" -F 'params={"method":"input","iteration":5}')" invalid-params
+grep -q "unknown key 'iteration'" "$WORK/resp" || fail "unknown key not named: $(cat "$WORK/resp")"
+expect_problem 400 "$(post_glb "$SPOT" "method=input&colour=red")" invalid-params
+expect_problem 400 "$(post_glb "$SPOT" "method=fastest")" invalid-params
+expect_problem 400 "$(post_glb "$SPOT" "relative_cost=9")" invalid-params
+expect_problem 400 "$(post_glb "$SPOT" "relative_cost=0.5&texture_width=64&texture_height=64")" invalid-params
+
+# A .gltf whose buffer URI is ../secret.bin: the loader refuses to leave the upload.
+echo secret >"$WORK/secret.bin"
+expect_problem 400 "$(multipart -F "model=@$WORK/fx/escape.gltf" -F "files=@$WORK/fx/tex.png")" malformed-model
+grep -q 'secret.bin' "$WORK/resp" || fail "escape refusal does not name the URI: $(cat "$WORK/resp")"
+# A multipart file name that climbs out of the job directory.
+expect_problem 400 "$(multipart -F "model=@$WORK/fx/quad.gltf" -F "files=@$WORK/fx/quad.bin;filename=../quad.bin")" unsafe-file-name
+expect_problem 400 "$(multipart -F "model=@$WORK/fx/quad.gltf" -F "files=@$WORK/fx/quad.bin;filename=/etc/quad.bin")" unsafe-file-name
+# The .gltf without its .bin: the missing file is named.
+expect_problem 400 "$(multipart -F "model=@$WORK/fx/quad.gltf" -F "files=@$WORK/fx/tex.png")"
+grep -q 'quad.bin' "$WORK/resp" || fail "missing file not named: $(cat "$WORK/resp")"
+expect_problem 400 "$(multipart -F 'params={"method":"input"}')" bad-multipart
+expect_problem 400 "$(multipart -F "model=@$SPOT" -F 'colour=red')" bad-multipart
+expect_problem 415 "$(multipart -F "model=@$WORK/fx/tex.png")" unsupported-media-type
+
+# Valid but unusable: no TEXCOORD_0 on a textured primitive.
+expect_problem 422 "$(post_glb "$WORK/fx/nouv.glb" "method=input")" unsupported-model
+grep -qi 'texcoord' "$WORK/resp" || fail "422 does not say what is missing: $(cat "$WORK/resp")"
+
+: >"$WORK/empty.glb"
+code=$(post_glb "$WORK/empty.glb" "")
+[ "$code" = 400 ] || fail "empty body answered $code"
+
+# Routes, methods, ids.
+expect_problem 404 "$(get /v1/nothing)" not-found
+expect_problem 404 "$(get /v1/jobs/0123456789abcdef0123456789abcdef)" job-not-found
+expect_problem 404 "$(get /v1/jobs/../../etc/passwd)"
+expect_problem 405 "$(curl -s -o "$WORK/resp" -D "$WORK/headers" -w '%{http_code}' -X PUT "$BASE/v1/jobs")" method-not-allowed
+grep -qi '^allow: GET, HEAD, POST, OPTIONS' "$WORK/headers" || fail "405 without Allow"
+expect_problem 405 "$(curl -s -o "$WORK/resp" -D "$WORK/headers" -w '%{http_code}' -X POST "$BASE/healthz")" method-not-allowed
+expect_problem 400 "$(get '/v1/jobs?limit=1000')" bad-query
+
+# Still serving, and nothing of the refused uploads was left behind.
+[ "$(get /healthz)" = 200 ] || fail "healthz after hostile input"
+[ "$(post_glb "$SPOT" "method=input")" = 202 ] || fail "a good upload after hostile input: $(cat "$WORK/resp")"
+id=$(json "$WORK/resp" 'd["id"]')
+wait_state "$id" succeeded 120
+left=$(ls "$DATA/jobs")
+[ "$left" = "$id" ] || fail "refused uploads left directories: $left"
+grep -q 'status="400"' <(curl -s "$BASE/metrics") || fail "metrics do not count the 400s"
+stop_server TERM || fail "texoptd did not exit cleanly"
+echo "service_hostile: ok"
