@@ -113,7 +113,7 @@ TEST(gltf_with_data_uris_loads)
     quad_doc doc;
     CHECK(quad_doc_init(&doc, 8, 4));
     char *b64 = builder_base64(doc.bin, doc.bin_len);
-    char *uri = malloc(strlen(b64) + 64);
+    char *uri = malloc(strlen(b64) + 128);
     sprintf(uri, "{\"byteLength\":%zu,\"uri\":\"data:application/octet-stream;base64,%s\"}", doc.bin_len, b64);
     char old[64];
     snprintf(old, sizeof old, "{\"byteLength\":%zu}", doc.bin_len);
