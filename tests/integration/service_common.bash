@@ -47,7 +47,7 @@ start_server() {
 stop_server() {
   local sig="${1:-TERM}" rc=0
   kill "-$sig" "$SERVER_PID"
-  wait "$SERVER_PID" || rc=$?
+  wait "$SERVER_PID" 2>/dev/null || rc=$?
   SERVER_PID=""
   return $rc
 }
