@@ -199,12 +199,16 @@ static texopt_status optimise_triangle(worker *w, uint32_t t, texopt_triangle_ta
     triangle_search s = {.loss = w->loss, .epsilon = opt->epsilon,
                          .lambda_min = opt->lambda_min, .area = fabs(sh->mesh->area_texel[t]),
                          .best_f = INFINITY, .status = TEXOPT_OK};
-    /* J = I first (E = 0, always feasible), then the smallest isotropic shrink. */
-    static const double initial[2 * TRIOPT_DIM] = {0, 1, 1, 0, 0, 0, 0, 0};
+    /* J = I first (E = 0, always feasible), then the smallest isotropic shrink, then the
+     * two grid-aligned extreme squeezes (detail aligned with the texel grid compresses along
+     * itself for free, paper Fig. 7: these corners are where such optima sit and a GP finds
+     * box corners late). */
+    static const double initial[4 * TRIOPT_DIM] = {0, 1, 1, 0, 0, 0, 0, 0,
+                                                   0, 0, 1, 0, 0, 1, 0, 0};
     texopt_bo_options bo = {.iterations = opt->iterations,
                             .initial_design = opt->initial_design,
                             .initial_points = initial,
-                            .initial_point_count = 2,
+                            .initial_point_count = 4,
                             .early_stop_ei = opt->early_stop_ei,
                             .early_stop_patience = opt->early_stop_patience,
                             .seed = mix_seed(opt->seed, t, 1)};
@@ -351,7 +355,7 @@ static texopt_status resolve_options(const texopt_triopt_options *in, const texo
     if ((size_t)o->threads > mesh->triangle_count)
         o->threads = mesh->triangle_count > 0 ? (int)mesh->triangle_count : 1;
     int design = o->initial_design > 0 ? o->initial_design : (o->initial_design < 0 ? 0 : 2 * TRIOPT_DIM + 2);
-    o->max_evaluations = 2 + design + o->iterations;
+    o->max_evaluations = 4 + design + o->iterations;
     return TEXOPT_OK;
 }
 

@@ -11,7 +11,8 @@
  * objective returns +INFINITY and bayesopt.h's penalty rule applies.
  *
  * Evaluation plan per triangle: J = I (x = (0,1,1,0), E = 0: always feasible), then the
- * smallest isotropic shrink J = lambda_min I (x = 0), then the BO design and iterations.
+ * smallest isotropic shrink J = lambda_min I (x = 0), then the grid-aligned extreme squeezes
+ * diag(lambda_min, 1) and diag(1, lambda_min), then the BO design and iterations.
  * The search stops as soon as a sample reaches the objective's lower bound
  * lambda_min^2 |T| - log(eps) (E = 0 at the smallest area: nothing can beat it), which ends
  * flat-coloured triangles after two evaluations without changing any optimum.

@@ -1,0 +1,277 @@
+/* test_triopt.c - the triangle-wise stage on generated strips of quads. */
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fixtures.h"
+#include "mesh.h"
+#include "test.h"
+#include "triopt.h"
+
+#define PI 3.14159265358979323846
+
+/* One row of `cols` quads across the texture at v in [0.375, 0.4375] (one quad tall),
+ * positions = UVs (z = 0). Quad i owns triangles 2i and 2i + 1. With transpose the image is
+ * mirrored across its diagonal, so vertical stripes become horizontal ones. */
+static texopt_model *strip_model(int cols, int tex, const char *pattern, int transpose)
+{
+    size_t nv = 2 * (size_t)(cols + 1);
+    float *pos = malloc(sizeof(float) * 3 * nv), *uv = malloc(sizeof(float) * 2 * nv);
+    uint32_t *tri = malloc(sizeof(uint32_t) * 6 * (size_t)cols);
+    texopt_model *m = NULL;
+    if (pos && uv && tri) {
+        for (int r = 0; r < 2; r++)
+            for (int i = 0; i <= cols; i++) {
+                size_t v = (size_t)r * (size_t)(cols + 1) + (size_t)i;
+                pos[3 * v] = uv[2 * v] = (float)i / (float)cols;
+                pos[3 * v + 1] = uv[2 * v + 1] = 0.375f + (float)r / (float)cols;
+                pos[3 * v + 2] = 0.0f;
+            }
+        for (int i = 0; i < cols; i++) {
+            uint32_t a = (uint32_t)i, b = a + 1, c = b + (uint32_t)(cols + 1), d = a + (uint32_t)(cols + 1);
+            uint32_t *t = tri + 6 * (size_t)i;
+            t[0] = a, t[1] = b, t[2] = c, t[3] = a, t[4] = c, t[5] = d;
+        }
+        m = fixture_model_from_arrays(pos, uv, nv, tri, 2 * (size_t)cols, tex, tex, pattern);
+    }
+    free(pos);
+    free(uv);
+    free(tri);
+    if (m && transpose) {
+        texopt_image *img = &m->images[0];
+        for (int y = 0; y < img->height; y++)
+            for (int x = 0; x < y; x++)
+                for (int c = 0; c < img->channels; c++) {
+                    float t = texopt_image_at(img, x, y)[c];
+                    texopt_image_at(img, x, y)[c] = texopt_image_at(img, y, x)[c];
+                    texopt_image_at(img, y, x)[c] = t;
+                }
+    }
+    return m;
+}
+
+typedef struct stage_run {
+    texopt_model *model;
+    texopt_mesh *mesh;
+    texopt_triangle_target *out;
+    texopt_triopt_report report;
+    texopt_status status;
+    char err[256];
+} stage_run;
+
+static int run_stage(stage_run *r, texopt_model *model, const texopt_triopt_options *opt,
+                     const texopt_monitor *monitor)
+{
+    memset(r, 0, sizeof *r);
+    r->model = model;
+    if (!model || texopt_mesh_create(&r->mesh, model, 0, r->err, sizeof r->err) != TEXOPT_OK)
+        return 0;
+    r->out = calloc(r->mesh->triangle_count, sizeof *r->out);
+    if (!r->out)
+        return 0;
+    r->status = texopt_triopt_run(model, r->mesh, opt, r->out, &r->report, monitor, r->err,
+                                  sizeof r->err);
+    return 1;
+}
+
+static void close_stage(stage_run *r)
+{
+    free(r->out);
+    texopt_mesh_destroy(r->mesh);
+    texopt_model_destroy(r->model);
+}
+
+/* Angle in [0, 180) degrees of the input direction J squeezes most. */
+static double squeeze_direction_degrees(const texopt_triangle_target *o)
+{
+    double b = o->lambda1 < o->lambda2 ? o->beta : o->beta + PI / 2;
+    double deg = fmod(b * 180.0 / PI, 180.0);
+    return deg < 0 ? deg + 180.0 : deg;
+}
+
+TEST(flat_half_gets_far_fewer_texels_than_detail)
+{
+    /* "half" on 256 texels, 16-texel quads: quads 2..5 see only the flat colour (their
+     * one-rings span x in [16, 96]), quads 10..13 only text-like strokes. */
+    texopt_triopt_options opt = {.iterations = 20, .threads = 2, .seed = 7};
+    stage_run r;
+    CHECK(run_stage(&r, strip_model(16, 256, "half", 0), &opt, NULL));
+    CHECK_OK(r.status, r.err);
+    double flat = 0, detail = 0;
+    for (int i = 0; i < 16; i++)
+        for (int k = 0; k < 2; k++) {
+            const texopt_triangle_target *o = &r.out[2 * i + k];
+            CHECK_MSG(o->loss >= 0 && o->loss < 0.01, "triangle %d: E = %g", 2 * i + k, o->loss);
+            CHECK(o->lambda1 >= 0.1 - 1e-12 && o->lambda1 <= 1 + 1e-12);
+            CHECK(o->lambda2 >= 0.1 - 1e-12 && o->lambda2 <= 1 + 1e-12);
+            CHECK(o->alpha >= 0 && o->alpha < PI / 2 && o->beta >= 0 && o->beta < PI / 2);
+            if (i >= 2 && i <= 5) {
+                flat += o->lambda1 * o->lambda2 / 8;
+                /* E = 0 at the smallest area is the objective's lower bound: J = I, then
+                 * lambda_min I, then 2 x 8 weight samples, nothing more. */
+                CHECK_NEAR(o->lambda1 * o->lambda2, 0.01, 1e-12);
+                CHECK_EQ_INT(o->evaluations, 2 + 16);
+                CHECK_NEAR(o->w_rotation, 0.0, 1e-12);
+            }
+            if (i >= 10 && i <= 13)
+                detail += o->lambda1 * o->lambda2 / 8;
+        }
+    CHECK_MSG(flat < 0.5 * detail, "flat %g vs detail %g", flat, detail);
+    CHECK_MSG(detail > 0.2, "detail %g", detail);
+    CHECK_EQ_INT(r.report.optimised, 32);
+    CHECK(r.report.evaluations > 32 * 18);
+    close_stage(&r);
+}
+
+/* Share of triangles whose squeeze direction lies within 15 degrees of `target` degrees
+ * among those with a clear anisotropy (ratio >= 2), and their mean area. */
+static void stripe_summary(const stage_run *r, double target, double *aligned, double *area)
+{
+    int n = 0, ok = 0;
+    *area = 0;
+    for (size_t t = 0; t < r->mesh->triangle_count; t++) {
+        const texopt_triangle_target *o = &r->out[t];
+        *area += o->lambda1 * o->lambda2 / (double)r->mesh->triangle_count;
+        double lo = fmin(o->lambda1, o->lambda2), hi = fmax(o->lambda1, o->lambda2);
+        if (hi < 2 * lo)
+            continue;
+        n++;
+        double d = fabs(squeeze_direction_degrees(o) - target);
+        ok += fmin(d, 180 - d) < 15;
+    }
+    *aligned = n ? (double)ok / n : 0;
+}
+
+TEST(stripes_squeeze_along_the_grid_with_the_quarter_turn_symmetry)
+{
+    /* Paper Fig. 7: detail aligned with the texel grid compresses along itself; turned by a
+     * quarter it compresses along the other axis; at 45 degrees (a staircase on the grid)
+     * it barely compresses at all. */
+    texopt_triopt_options opt = {.iterations = 30, .threads = 2, .seed = 3, .weight_samples = -1};
+    stage_run vertical, horizontal, diagonal;
+    CHECK(run_stage(&vertical, strip_model(8, 64, "stripes0", 0), &opt, NULL));
+    CHECK(run_stage(&horizontal, strip_model(8, 64, "stripes0", 1), &opt, NULL));
+    CHECK(run_stage(&diagonal, strip_model(8, 64, "stripes45", 0), &opt, NULL));
+    CHECK_OK(vertical.status, vertical.err);
+    CHECK_OK(horizontal.status, horizontal.err);
+    CHECK_OK(diagonal.status, diagonal.err);
+    double va, varea, ha, harea, da, darea;
+    stripe_summary(&vertical, 90, &va, &varea);
+    stripe_summary(&horizontal, 0, &ha, &harea);
+    stripe_summary(&diagonal, 0, &da, &darea);
+    CHECK_MSG(va >= 0.75, "vertical stripes: %.2f squeezed along y", va);
+    CHECK_MSG(ha >= 0.75, "horizontal stripes: %.2f squeezed along x", ha);
+    CHECK_MSG(varea < 0.3 && harea < 0.3, "areas %g %g", varea, harea);
+    CHECK_MSG(fabs(varea - harea) < 0.05, "quarter turn changes the area: %g vs %g", varea, harea);
+    CHECK_MSG(darea > 1.5 * varea && darea > 1.5 * harea, "diagonal %g vs %g, %g", darea, varea,
+              harea);
+    close_stage(&vertical);
+    close_stage(&horizontal);
+    close_stage(&diagonal);
+}
+
+TEST(output_does_not_depend_on_the_thread_count)
+{
+    texopt_triopt_options opt = {.iterations = 8, .threads = 1, .seed = 11};
+    stage_run one, two;
+    CHECK(run_stage(&one, strip_model(8, 64, "checker", 0), &opt, NULL));
+    opt.threads = 2;
+    CHECK(run_stage(&two, strip_model(8, 64, "checker", 0), &opt, NULL));
+    CHECK_OK(one.status, one.err);
+    CHECK_OK(two.status, two.err);
+    CHECK(memcmp(one.out, two.out, sizeof *one.out * one.mesh->triangle_count) == 0);
+    CHECK(one.report.mean_objective == two.report.mean_objective);
+    /* A different seed gives a different search. */
+    stage_run other;
+    opt.seed = 12;
+    CHECK(run_stage(&other, strip_model(8, 64, "checker", 0), &opt, NULL));
+    CHECK(memcmp(one.out, other.out, sizeof *one.out * one.mesh->triangle_count) != 0);
+    close_stage(&one);
+    close_stage(&two);
+    close_stage(&other);
+}
+
+typedef struct progress_log {
+    atomic_int cancel;
+    atomic_int inside;
+    int calls, overlapped, cancel_after;
+    double last_fraction, last_mean_loss, last_mean_area;
+} progress_log;
+
+static void on_progress(void *user, const texopt_progress *p)
+{
+    progress_log *log = user;
+    if (atomic_fetch_add(&log->inside, 1) != 0)
+        log->overlapped++;
+    log->calls++;
+    log->last_fraction = p->stage_fraction;
+    log->last_mean_loss = p->mean_loss;
+    log->last_mean_area = p->mean_area_scale;
+    if (log->cancel_after > 0 && log->calls >= log->cancel_after)
+        atomic_store(&log->cancel, 1);
+    atomic_fetch_sub(&log->inside, 1);
+}
+
+TEST(progress_reaches_one_and_cancel_stops)
+{
+    progress_log log = {.cancel_after = 0};
+    atomic_init(&log.cancel, 0);
+    atomic_init(&log.inside, 0);
+    texopt_monitor mon = {.on_progress = on_progress, .user = &log, .cancel = &log.cancel};
+    texopt_triopt_options opt = {.iterations = 4, .threads = 2, .weight_samples = -1};
+    stage_run r;
+    CHECK(run_stage(&r, strip_model(8, 64, "half", 0), &opt, &mon));
+    CHECK_OK(r.status, r.err);
+    CHECK_EQ_INT(log.calls, 16);
+    CHECK_EQ_INT(log.overlapped, 0);
+    CHECK_NEAR(log.last_fraction, 1.0, 1e-12);
+    CHECK_NEAR(log.last_mean_loss, r.report.mean_loss, 1e-9);
+    CHECK_NEAR(log.last_mean_area, r.report.mean_area_scale, 1e-9);
+    close_stage(&r);
+
+    progress_log stop = {.cancel_after = 2};
+    atomic_init(&stop.cancel, 0);
+    atomic_init(&stop.inside, 0);
+    texopt_monitor mon2 = {.on_progress = on_progress, .user = &stop, .cancel = &stop.cancel};
+    CHECK(run_stage(&r, strip_model(8, 64, "half", 0), &opt, &mon2));
+    CHECK_EQ_INT(r.status, TEXOPT_E_CANCELED);
+    CHECK(strstr(r.err, "cancel") != NULL);
+    CHECK(stop.calls < 16);
+    close_stage(&r);
+}
+
+TEST(degenerate_triangles_keep_the_identity)
+{
+    /* Triangle 1 is a sliver with three collinear corners. */
+    const float pos[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0.2f, 0.2f, 0, 0.4f, 0.4f, 0, 0.6f, 0.6f, 0};
+    const float uv[] = {0.1f, 0.1f, 0.6f, 0.1f, 0.1f, 0.6f, 0.2f, 0.2f, 0.3f, 0.3f, 0.4f, 0.4f};
+    const uint32_t tris[] = {0, 1, 2, 3, 4, 5};
+    texopt_triopt_options opt = {.iterations = 4, .threads = 1};
+    stage_run r;
+    CHECK(run_stage(&r, fixture_model_from_arrays(pos, uv, 6, tris, 2, 32, 32, "checker"), &opt,
+                    NULL));
+    CHECK_OK(r.status, r.err);
+    CHECK(r.mesh->flags[1] & (TEXOPT_TRI_DEGENERATE_3D | TEXOPT_TRI_DEGENERATE_UV));
+    CHECK_EQ_INT(r.out[1].evaluations, 0);
+    CHECK(r.out[1].lambda1 == 1.0 && r.out[1].lambda2 == 1.0 && r.out[1].alpha == 0.0);
+    CHECK(r.out[0].evaluations > 0);
+    CHECK_EQ_INT(r.report.optimised, 1);
+    CHECK_EQ_INT(r.report.skipped, 1);
+    close_stage(&r);
+}
+
+TEST(triopt_rejects_bad_options)
+{
+    texopt_triopt_options bad[] = {{.epsilon = -0.5}, {.lambda_min = 1.5}, {.iterations = -3},
+                                   {.viewport = 4}, {.weight_samples = 1000}};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        stage_run r;
+        CHECK(run_stage(&r, fixture_textured_quad(16, "flat"), &bad[i], NULL));
+        CHECK_EQ_INT(r.status, TEXOPT_E_INVALID_ARGUMENT);
+        CHECK(r.err[0] != '\0');
+        close_stage(&r);
+    }
+    char err[64];
+    CHECK(texopt_triopt_run(NULL, NULL, NULL, NULL, NULL, NULL, err, sizeof err) ==
+          TEXOPT_E_INVALID_ARGUMENT);
+}
