@@ -118,8 +118,8 @@ static texopt_status resolve_options(const texopt_bo *bo, const texopt_bo_option
     r->iterations = opt->iterations ? opt->iterations : 100;
     r->design = opt->initial_design == 0 ? 2 * bo->dim + 2
                                          : (opt->initial_design < 0 ? 0 : opt->initial_design);
-    r->candidates = opt->candidates ? opt->candidates : 512;
-    r->polish = opt->polish_evaluations == 0 ? 40
+    r->candidates = opt->candidates ? opt->candidates : 128;
+    r->polish = opt->polish_evaluations == 0 ? 10
                                              : (opt->polish_evaluations < 0 ? 0
                                                                              : opt->polish_evaluations);
     r->refit_every = opt->refit_every ? opt->refit_every : 5;
@@ -398,7 +398,10 @@ texopt_status texopt_bo_minimize(texopt_bo *bo, const texopt_bo_options *opt, te
     for (int it = 0; it < r.iterations && bo->count < budget && bo->count > 0; it++) {
         if (reached_target(bo, &r))
             break;
-        if (since_refit >= r.refit_every) {
+        /* Hyper-parameters settle as samples accumulate while a refit costs O(n^3): the
+         * interval grows with n (every refit_every samples, at least every n / 8). */
+        int interval = bo->count / 8 > r.refit_every ? bo->count / 8 : r.refit_every;
+        if (since_refit >= interval) {
             if (texopt_gp_fit_length_scale(bo->gp, grid, BO_LENGTH_SCALES) != TEXOPT_OK ||
                 (r.ard && texopt_gp_fit_dimension_scales(bo->gp) != TEXOPT_OK))
                 return numeric_failure(err, err_len, bo->count);

@@ -44,9 +44,9 @@ typedef struct texopt_bo_options {
     int initial_design;      /* Latin-hypercube points; 0 -> 2 * dim + 2, < 0 -> none */
     const double *initial_points; /* initial_point_count * dim, evaluated first; may be NULL */
     int initial_point_count;
-    int candidates;          /* acquisition batch size; 0 -> 512 */
-    int polish_evaluations;  /* NLopt BOBYQA steps on the acquisition; 0 -> 40, < 0 -> off */
-    int refit_every;         /* refit the length scale every k samples; 0 -> 5 */
+    int candidates;          /* acquisition batch size; 0 -> 128 */
+    int polish_evaluations;  /* NLopt BOBYQA steps on the acquisition; 0 -> 10, < 0 -> off */
+    int refit_every;         /* refit the length scales every max(k, n/8) samples; 0 -> 5 */
     texopt_acquisition acquisition;
     int isotropic;           /* non-zero: one length scale; 0 -> per-dimension (ARD) fit */
     double lcb_beta;         /* 0 -> 2.0 */

@@ -207,10 +207,10 @@ TEST(bench_bayesopt_iteration_cost_in_4d)
     printf("BO iteration cost, 4-D, microseconds per iteration at n samples\n");
     printf("%-34s %9s %9s %9s %9s %10s\n", "options", "n=20", "n=50", "n=100", "total_ms",
            "best");
-    bench_bo("default (512 cand, polish 40, ARD)", (texopt_bo_options){.seed = 1});
+    bench_bo("default (128 cand, polish 10, ARD)", (texopt_bo_options){.seed = 1});
+    bench_bo("512 cand, polish 40", (texopt_bo_options){.seed = 1, .candidates = 512,
+                                                        .polish_evaluations = 40});
     bench_bo("isotropic", (texopt_bo_options){.seed = 1, .isotropic = 1});
-    bench_bo("128 cand, polish 10", (texopt_bo_options){.seed = 1, .candidates = 128,
-                                                        .polish_evaluations = 10});
     bench_bo("128 cand, no polish", (texopt_bo_options){.seed = 1, .candidates = 128,
                                                         .polish_evaluations = -1});
     bench_bo("LCB", (texopt_bo_options){.seed = 1, .acquisition = TEXOPT_ACQ_LCB});
