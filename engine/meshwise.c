@@ -44,6 +44,7 @@
 #define DAMPING 1e-9
 #define ARMIJO 1e-4
 #define MAX_HALVINGS 40
+#define STRETCH_WEIGHT_FLOOR 0.1 /* relative to the mean w_S, see normalise_weights */
 #define STEP_SAFETY 0.8 /* fraction of the largest step that keeps every det > 0 */
 
 typedef struct mat2 {
@@ -359,7 +360,11 @@ static texopt_status build_frames(solver *sv, const texopt_triangle_target *targ
 }
 
 /* Divides w_R and w_S by the mean w_S (or mean w_R when no triangle has a w_S) of the fitted
- * triangles, so that stage 1's variances keep their ratios but do not vanish against w_rs. */
+ * triangles, so that stage 1's variances keep their ratios but do not vanish against w_rs.
+ * Then w_S is raised to at least STRETCH_WEIGHT_FLOOR: a triangle whose loss does not depend
+ * on its stretch (flat colour: variance 0) got its target from the area term of eq. 14 and
+ * should still move toward it, not stay wherever its neighbours leave it. w_R has no floor:
+ * a zero rotation weight means any rotation is as good. */
 static void normalise_weights(solver *sv)
 {
     double sum_s = 0.0, sum_r = 0.0;
@@ -373,7 +378,7 @@ static void normalise_weights(solver *sv)
     }
     double scale = sum_s > 0.0 ? sum_s / (double)n : sum_r > 0.0 ? sum_r / (double)n : 1.0;
     for (size_t t = 0; t < sv->tri_count; t++) {
-        sv->tri[t].w_s /= scale;
+        sv->tri[t].w_s = fmax(sv->tri[t].w_s / scale, STRETCH_WEIGHT_FLOOR);
         sv->tri[t].w_r /= scale;
     }
 }

@@ -454,3 +454,22 @@ TEST(progress_is_reported_and_cancel_stops)
     free(tg);
     free_mesh(m);
 }
+
+TEST(zero_stretch_weights_still_follow_a_consistent_target)
+{
+    /* Stage 1 gives w_S = 0 where the loss ignores the stretch (flat colour); the target
+     * (area-driven) must still be reached, slowly, through the weight floor. */
+    texopt_mesh *m = grid_mesh(6, 8.0, 0.2, 1);
+    texopt_triangle_target *tg = uniform_targets(m->triangle_count, 0.5, 0.5, 0, 0, 0, 0);
+    double *out = calloc(2 * m->vertex_count, sizeof *out);
+    char err[256] = "";
+    texopt_meshwise_options opt = {.max_iterations = 250, .tolerance = 1e-12};
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, &opt, out, NULL, NULL, err, sizeof err), err);
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        double ratio = 0.5 * doubled_area(out, m->triangle + 3 * t, 2) / m->area_texel[t];
+        CHECK_NEAR(ratio, 0.25, 0.0025);
+    }
+    free(out);
+    free(tg);
+    free_mesh(m);
+}
