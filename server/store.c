@@ -75,6 +75,8 @@ static char *record_to_json(const job_record *r)
     cJSON_AddNumberToObject(o, "started_ms", (double)r->started_ms);
     cJSON_AddNumberToObject(o, "finished_ms", (double)r->finished_ms);
     cJSON_AddNumberToObject(o, "attempts", r->attempts);
+    cJSON_AddStringToObject(o, "stage", r->stage);
+    cJSON_AddNumberToObject(o, "progress", r->progress);
     cJSON_AddNumberToObject(o, "event_seq", (double)r->event_seq);
     cJSON_AddStringToObject(o, "model_name", r->model_name);
     cJSON_AddStringToObject(o, "input", r->input_rel);
@@ -123,6 +125,8 @@ static int record_from_json(const char *text, job_record *r, char *err, size_t e
     r->finished_ms = (int64_t)get_double(o, "finished_ms");
     r->attempts = (int)get_double(o, "attempts");
     r->event_seq = (long long)get_double(o, "event_seq");
+    r->progress = get_double(o, "progress");
+    copy_string(r->stage, sizeof r->stage, o, "stage");
     r->upload_bytes = (uint64_t)get_double(o, "upload_bytes");
     r->eta_seconds = -1;
     copy_string(r->model_name, sizeof r->model_name, o, "model_name");
@@ -256,6 +260,8 @@ static void load_one(job_store *store, const char *name)
     if (interrupted) {
         job->rec.state = JOB_QUEUED;
         job->rec.cancel_requested = 0;
+        job->rec.progress = 0;
+        job->rec.stage[0] = '\0';
     }
     if (append(store, job) != 0) {
         free(job);
@@ -489,6 +495,10 @@ static void end_run(job_store *store, store_job *job, job_state state, const job
         job->rec.problem = *problem;
     job->rec.eta_seconds = state == JOB_SUCCEEDED ? 0 : -1;
     job->rec.cancel_requested = 0;
+    if (state == JOB_QUEUED) { /* re-queued at shutdown: the re-run starts from nothing */
+        job->rec.progress = 0;
+        job->rec.stage[0] = '\0';
+    }
     publish(store, job);
     job_record copy = job->rec;
     pthread_mutex_unlock(&store->mu);
