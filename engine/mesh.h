@@ -26,7 +26,7 @@
  * orientation" of a triangle use the sign of area_texel.
  *
  * Built in texopt_mesh_create from exact float equality (what glTF exporters produce; -0 and
- * +0 are equal), with hash maps: near-linear time (under 0.1 s for 130k triangles). */
+ * +0 are equal), with hash maps: linear time (about 0.05 s for 130k triangles, 0.5 s for a million). */
 #ifndef TEXOPT_MESH_H
 #define TEXOPT_MESH_H
 
