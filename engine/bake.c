@@ -235,13 +235,27 @@ static void assemble_normal_equations(texopt_bake_workspace *ws, int pixel_count
         const int *c = ws->cell + 4 * (size_t)q;
         const double *w = ws->weight + 4 * (size_t)q;
         const float *ref = reference + (size_t)q * channels;
-        for (int a = 0; a < 4; a++) {
+        if (c[0] < c[1] && c[1] < c[2] && c[2] < c[3]) {
+            /* The usual footprint (no wrap, no clamp): four distinct texels in ascending
+             * order, so the ten upper entries are known without tests. */
             for (int b = 0; b < 4; b++) {
-                if (c[a] <= c[b])
-                    band[(size_t)(kd + c[a] - c[b]) + (size_t)c[b] * ld] += w[a] * w[b];
+                double *col = band + (size_t)kd + (size_t)c[b] * ld - c[b];
+                for (int a = 0; a <= b; a++)
+                    col[c[a]] += w[a] * w[b];
             }
-            for (int ch = 0; ch < channels; ch++)
-                rhs[(size_t)c[a] + (size_t)ch * n] += w[a] * ref[ch];
+        } else {
+            for (int a = 0; a < 4; a++)
+                for (int b = 0; b < 4; b++)
+                    if (c[a] <= c[b])
+                        band[(size_t)(kd + c[a] - c[b]) + (size_t)c[b] * ld] += w[a] * w[b];
+        }
+        for (int ch = 0; ch < channels; ch++) {
+            double *r = rhs + (size_t)ch * n;
+            double v = ref[ch];
+            r[c[0]] += w[0] * v;
+            r[c[1]] += w[1] * v;
+            r[c[2]] += w[2] * v;
+            r[c[3]] += w[3] * v;
         }
         for (int ch = 0; ch < channels; ch++)
             mean[ch] += ref[ch];
