@@ -37,6 +37,7 @@ typedef struct resolved_options {
     double epsilon, lambda_min;
     int iterations, threads, viewport, weight_samples, initial_design;
     int lower_bound_stop;
+    int initial_points;
     double early_stop_ei;
     int early_stop_patience;
     uint32_t stride;
@@ -208,7 +209,7 @@ static texopt_status optimise_triangle(worker *w, uint32_t t, texopt_triangle_ta
     texopt_bo_options bo = {.iterations = opt->iterations,
                             .initial_design = opt->initial_design,
                             .initial_points = initial,
-                            .initial_point_count = 4,
+                            .initial_point_count = opt->initial_points,
                             .early_stop_ei = opt->early_stop_ei,
                             .early_stop_patience = opt->early_stop_patience,
                             .seed = mix_seed(opt->seed, t, 1)};
@@ -328,7 +329,8 @@ static texopt_status resolve_options(const texopt_triopt_options *in, const texo
     o->viewport = in->viewport != 0 ? in->viewport : 64;
     o->weight_samples = in->weight_samples != 0 ? in->weight_samples : 8;
     o->initial_design = in->initial_design;
-    o->lower_bound_stop = !in->no_lower_bound_stop;
+    o->lower_bound_stop = !in->no_lower_bound_stop && !in->plain;
+    o->initial_points = in->plain ? 1 : 4;
     o->early_stop_ei = in->early_stop_ei;
     o->early_stop_patience = in->early_stop_patience;
     o->stride = in->stride > 1 ? in->stride : 1;

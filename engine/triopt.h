@@ -48,6 +48,8 @@ typedef struct texopt_triopt_options {
     int weight_samples;  /* per weight; 0 -> 8, < 0 -> weights not computed (left 0) */
     int initial_design;  /* BO Latin-hypercube points; 0 -> bayesopt default, < 0 -> none */
     int no_lower_bound_stop; /* non-zero: run every iteration (for benchmarks) */
+    int plain;           /* non-zero: the paper's plan for benchmarks: only J = I before the
+                            design, no lower-bound stop */
     double early_stop_ei;    /* passed to bayesopt (0 with patience 0: never) */
     int early_stop_patience;
     uint32_t stride;     /* optimise triangles 0, stride, 2 stride, ...; 0 or 1 -> all.
