@@ -31,6 +31,7 @@
 
 #include <cholmod.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -50,6 +51,16 @@
 typedef struct mat2 {
     double a, b, c, d; /* [[a b] [c d]] */
 } mat2;
+
+/* One axis' n x n system. Each has its own CHOLMOD workspace (a cholmod_common is not
+ * shared between threads) and factor; both factors come from one symbolic analysis. */
+typedef struct axis_system {
+    cholmod_common cm;
+    int started;
+    cholmod_sparse *A; /* same pattern on both axes */
+    cholmod_factor *L;
+    int factorizations;
+} axis_system;
 
 /* Per triangle data fixed for the whole solve. */
 typedef struct tri_frame {
@@ -83,11 +94,9 @@ typedef struct solver {
     double *fit_values; /* constant part of the Hessian (fitting term + damping) */
     double *axis_values[2]; /* fit + barrier block of the u and the v system */
 
-    cholmod_common cm;
-    cholmod_sparse *A;
-    cholmod_factor *L;
-    int factor_is_fit;  /* L holds the factor of the fitting matrix alone */
-    int factorizations;
+    axis_system ax[2];  /* u and v; the fitting-only factor lives in ax[0] */
+    int factor_is_fit;  /* ax[0].L holds the factor of the fitting matrix alone */
+    int threads;        /* 2 or more: the two axes factorise in parallel */
 
     double *x, *trial, *grad, *step;
 } solver;
@@ -452,6 +461,27 @@ static int32_t find_slot(const cholmod_sparse *A, int64_t row, int64_t col)
     return -1;
 }
 
+static size_t pattern_nnz(const solver *sv)
+{
+    return (size_t)((const int *)sv->ax[0].A->p)[sv->unknowns];
+}
+
+/* The one symbolic analysis (fill-reducing ordering, supernodes) of the shared pattern; the
+ * v axis gets a copy of it and its own matrix. */
+static texopt_status analyse(solver *sv, char *err, size_t err_len)
+{
+    axis_system *u = &sv->ax[0], *v = &sv->ax[1];
+    u->L = cholmod_analyze(u->A, &u->cm);
+    if (!u->L || u->cm.status < CHOLMOD_OK)
+        return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
+                           "meshwise: CHOLMOD analysis failed (status %d)", u->cm.status);
+    v->A = cholmod_copy_sparse(u->A, &v->cm);
+    v->L = cholmod_copy_factor(u->L, &v->cm);
+    if (!v->A || !v->L)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory for the factor");
+    return TEXOPT_OK;
+}
+
 /* The upper-triangular pattern of one axis' system: a 3x3 block per triangle plus every
  * diagonal. Analysed by CHOLMOD once. */
 static texopt_status build_pattern(solver *sv, char *err, size_t err_len)
@@ -482,14 +512,15 @@ static texopt_status build_pattern(solver *sv, char *err, size_t err_len)
         if (unique == 0 || keys[unique - 1] != keys[k])
             keys[unique++] = keys[k];
 
-    sv->A = cholmod_allocate_sparse(sv->unknowns, sv->unknowns, unique, 1, 1, 1, CHOLMOD_REAL,
-                                    &sv->cm);
-    if (!sv->A) {
+    cholmod_sparse *A = cholmod_allocate_sparse(sv->unknowns, sv->unknowns, unique, 1, 1, 1,
+                                                CHOLMOD_REAL, &sv->ax[0].cm);
+    sv->ax[0].A = A;
+    if (!A) {
         free(keys);
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: cannot allocate the %zu x %zu matrix",
                            sv->unknowns, sv->unknowns);
     }
-    int *p = sv->A->p, *i = sv->A->i;
+    int *p = A->p, *i = A->i;
     size_t col = 0;
     p[0] = 0;
     for (size_t k = 0; k < unique; k++) {
@@ -503,13 +534,13 @@ static texopt_status build_pattern(solver *sv, char *err, size_t err_len)
     free(keys);
 
     for (size_t u = 0; u < sv->unknowns; u++)
-        sv->diag[u] = find_slot(sv->A, (int64_t)u, (int64_t)u);
+        sv->diag[u] = find_slot(A, (int64_t)u, (int64_t)u);
     for (size_t t = 0; t < sv->tri_count; t++) {
         const tri_frame *f = &sv->tri[t];
         for (int l = 0; l < 9; l++) {
             int64_t r = f->barrier ? unknown_of(sv, f->v[l / 3]) : -1;
             int64_t c = f->barrier ? unknown_of(sv, f->v[l % 3]) : -1;
-            sv->slot[9 * t + l] = (r < 0 || c < 0 || r > c) ? -1 : find_slot(sv->A, r, c);
+            sv->slot[9 * t + l] = (r < 0 || c < 0 || r > c) ? -1 : find_slot(A, r, c);
         }
     }
     return TEXOPT_OK;
@@ -519,7 +550,7 @@ static texopt_status build_pattern(solver *sv, char *err, size_t err_len)
  * axes. */
 static void build_fit_hessian(solver *sv)
 {
-    size_t nnz = ((int *)sv->A->p)[sv->unknowns];
+    size_t nnz = pattern_nnz(sv);
     memset(sv->fit_values, 0, nnz * sizeof *sv->fit_values);
     for (size_t t = 0; t < sv->tri_count; t++) {
         const tri_frame *f = &sv->tri[t];
@@ -636,35 +667,34 @@ static double max_feasible_step(const solver *sv, const double *dx)
     return t_max;
 }
 
-static texopt_status factorize(solver *sv, const double *values, char *err, size_t err_len)
+/* Loads `values` into the axis' matrix and refactorises it numerically. */
+static texopt_status factorize(solver *sv, int axis, const double *values, char *err,
+                               size_t err_len)
 {
-    memcpy(sv->A->x, values, ((int *)sv->A->p)[sv->unknowns] * sizeof *values);
-    if (!sv->L) {
-        sv->L = cholmod_analyze(sv->A, &sv->cm);
-        if (!sv->L || sv->cm.status < CHOLMOD_OK)
-            return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
-                               "meshwise: CHOLMOD analysis failed (status %d)", sv->cm.status);
-    }
-    if (!cholmod_factorize(sv->A, sv->L, &sv->cm) || sv->cm.status != CHOLMOD_OK)
+    axis_system *sys = &sv->ax[axis];
+    memcpy(sys->A->x, values, pattern_nnz(sv) * sizeof *values);
+    if (!cholmod_factorize(sys->A, sys->L, &sys->cm) || sys->cm.status != CHOLMOD_OK)
         return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
                            "meshwise: CHOLMOD factorisation failed (status %d, the system is "
                            "not positive definite)",
-                           sv->cm.status);
-    sv->factorizations++;
+                           sys->cm.status);
+    sys->factorizations++;
     return TEXOPT_OK;
 }
 
-/* Solves L x = -grad on one axis and scatters x into sv->step (fixed vertices: 0). */
-static texopt_status solve_axis(solver *sv, int axis, char *err, size_t err_len)
+/* Solves with the factor of system `sys` for -grad of `axis` and scatters the result into
+ * sv->step (fixed vertices: 0). */
+static texopt_status solve_axis(solver *sv, int sys_index, int axis, char *err, size_t err_len)
 {
-    cholmod_dense *b = cholmod_allocate_dense(sv->unknowns, 1, sv->unknowns, CHOLMOD_REAL, &sv->cm);
+    axis_system *sys = &sv->ax[sys_index];
+    cholmod_dense *b = cholmod_allocate_dense(sv->unknowns, 1, sv->unknowns, CHOLMOD_REAL, &sys->cm);
     if (!b)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory");
     double *bx = b->x;
     for (size_t u = 0; u < sv->unknowns; u++)
         bx[u] = -sv->grad[2 * u + axis];
-    cholmod_dense *sol = cholmod_solve(CHOLMOD_A, sv->L, b, &sv->cm);
-    cholmod_free_dense(&b, &sv->cm);
+    cholmod_dense *sol = cholmod_solve(CHOLMOD_A, sys->L, b, &sys->cm);
+    cholmod_free_dense(&b, &sys->cm);
     if (!sol)
         return texopt_fail(err, err_len, TEXOPT_E_NUMERIC, "meshwise: CHOLMOD solve failed");
     const double *sx = sol->x;
@@ -672,7 +702,43 @@ static texopt_status solve_axis(solver *sv, int axis, char *err, size_t err_len)
         int k = sv->var[v];
         sv->step[2 * v + axis] = k < 0 ? 0.0 : sx[k];
     }
-    cholmod_free_dense(&sol, &sv->cm);
+    cholmod_free_dense(&sol, &sys->cm);
+    return TEXOPT_OK;
+}
+
+/* Factorise-and-solve of one axis with its own fit + barrier matrix; runs in a thread. */
+typedef struct axis_job {
+    solver *sv;
+    int axis;
+    texopt_status status;
+    char err[256];
+} axis_job;
+
+static void *run_axis_job(void *arg)
+{
+    axis_job *job = arg;
+    job->status = factorize(job->sv, job->axis, job->sv->axis_values[job->axis], job->err,
+                            sizeof job->err);
+    if (job->status == TEXOPT_OK)
+        job->status = solve_axis(job->sv, job->axis, job->axis, job->err, sizeof job->err);
+    return NULL;
+}
+
+/* Both axes with their barrier blocks: the v axis in a second thread when allowed. The two
+ * jobs write disjoint entries of sv->step and only read the rest. */
+static texopt_status solve_both_axes(solver *sv, char *err, size_t err_len)
+{
+    axis_job jobs[2] = {{sv, 0, TEXOPT_OK, ""}, {sv, 1, TEXOPT_OK, ""}};
+    pthread_t thread;
+    int threaded = sv->threads > 1 && pthread_create(&thread, NULL, run_axis_job, &jobs[1]) == 0;
+    run_axis_job(&jobs[0]);
+    if (threaded)
+        pthread_join(thread, NULL);
+    else
+        run_axis_job(&jobs[1]);
+    for (int axis = 0; axis < 2; axis++)
+        if (jobs[axis].status != TEXOPT_OK)
+            return texopt_fail(err, err_len, jobs[axis].status, "%s", jobs[axis].err);
     return TEXOPT_OK;
 }
 
@@ -680,26 +746,21 @@ static texopt_status solve_axis(solver *sv, int axis, char *err, size_t err_len)
  * share the fitting matrix, whose factor is kept across iterations. */
 static texopt_status newton_direction(solver *sv, char *err, size_t err_len)
 {
-    size_t nnz = ((int *)sv->A->p)[sv->unknowns];
+    size_t nnz = pattern_nnz(sv);
     for (int axis = 0; axis < 2; axis++)
         memcpy(sv->axis_values[axis], sv->fit_values, nnz * sizeof *sv->fit_values);
     size_t active = gradient_and_barrier(sv);
     texopt_status st = TEXOPT_OK;
     if (active == 0) {
-        if (!sv->factor_is_fit && (st = factorize(sv, sv->fit_values, err, err_len)) != TEXOPT_OK)
+        if (!sv->factor_is_fit && (st = factorize(sv, 0, sv->fit_values, err, err_len)) != TEXOPT_OK)
             return st;
         sv->factor_is_fit = 1;
         for (int axis = 0; axis < 2 && st == TEXOPT_OK; axis++)
-            st = solve_axis(sv, axis, err, err_len);
+            st = solve_axis(sv, 0, axis, err, err_len);
         return st;
     }
     sv->factor_is_fit = 0;
-    for (int axis = 0; axis < 2 && st == TEXOPT_OK; axis++) {
-        st = factorize(sv, sv->axis_values[axis], err, err_len);
-        if (st == TEXOPT_OK)
-            st = solve_axis(sv, axis, err, err_len);
-    }
-    return st;
+    return solve_both_axes(sv, err, err_len);
 }
 
 /* Backtracking from the largest safe step; accepts only a decrease. Returns the step taken. */
@@ -731,11 +792,16 @@ static double line_search(solver *sv, double energy)
 
 static void solver_free(solver *sv)
 {
-    if (sv->L)
-        cholmod_free_factor(&sv->L, &sv->cm);
-    if (sv->A)
-        cholmod_free_sparse(&sv->A, &sv->cm);
-    cholmod_finish(&sv->cm);
+    for (int axis = 0; axis < 2; axis++) {
+        axis_system *sys = &sv->ax[axis];
+        if (!sys->started)
+            continue;
+        if (sys->L)
+            cholmod_free_factor(&sys->L, &sys->cm);
+        if (sys->A)
+            cholmod_free_sparse(&sys->A, &sys->cm);
+        cholmod_finish(&sys->cm);
+    }
     free(sv->tri);
     free(sv->st);
     free(sv->var);
@@ -771,9 +837,13 @@ static texopt_status solver_init(solver *sv, const texopt_mesh *mesh,
                                  const texopt_meshwise_options *opt, char *err, size_t err_len)
 {
     memset(sv, 0, sizeof *sv);
-    cholmod_start(&sv->cm);
-    sv->cm.print = 0;
-    sv->cm.error_handler = NULL;
+    for (int axis = 0; axis < 2; axis++) {
+        cholmod_start(&sv->ax[axis].cm);
+        sv->ax[axis].started = 1;
+        sv->ax[axis].cm.print = 0;
+        sv->ax[axis].cm.error_handler = NULL;
+    }
+    sv->threads = opt && opt->threads > 0 ? opt->threads : 1;
     sv->mesh = mesh;
     sv->tri_count = mesh->triangle_count;
     sv->vertex_count = mesh->vertex_count;
@@ -806,14 +876,14 @@ static texopt_status solver_init(solver *sv, const texopt_mesh *mesh,
         return TEXOPT_OK;
     if ((st = build_pattern(sv, err, err_len)) != TEXOPT_OK)
         return st;
-    size_t nnz = ((int *)sv->A->p)[sv->unknowns];
+    size_t nnz = pattern_nnz(sv);
     sv->fit_values = malloc(nnz * sizeof *sv->fit_values);
     sv->axis_values[0] = malloc(nnz * sizeof *sv->fit_values);
     sv->axis_values[1] = malloc(nnz * sizeof *sv->fit_values);
     if (!sv->fit_values || !sv->axis_values[0] || !sv->axis_values[1])
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory");
     build_fit_hessian(sv);
-    return TEXOPT_OK;
+    return analyse(sv, err, err_len);
 }
 
 static double seconds_since(const struct timespec *start)
@@ -925,7 +995,7 @@ texopt_status texopt_meshwise_solve(const texopt_mesh *mesh, const texopt_triang
     if (st == TEXOPT_OK) {
         memcpy(texel_out, sv.x, 2 * mesh->vertex_count * sizeof *texel_out);
         rep.barrier_weight_final = sv.w_b;
-        rep.factorizations = sv.factorizations;
+        rep.factorizations = sv.ax[0].factorizations + sv.ax[1].factorizations;
         rep.seconds = seconds_since(&start);
         if (report)
             *report = rep;

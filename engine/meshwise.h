@@ -57,7 +57,7 @@ typedef struct texopt_meshwise_options {
     int max_iterations;    /* local-global iterations; 0 -> 50 */
     double tolerance;      /* stop when the relative energy change falls below; 0 -> 1e-4 */
     double barrier_weight; /* initial w_b; 0 -> 1.0 (barrier is 0 above its threshold) */
-    int threads;           /* worker threads for the per-triangle steps; 0 -> 1 */
+    int threads;           /* >= 2: the u and v Newton systems factorise in parallel; 0 -> 1 */
     double fit_weight;     /* w_rs of eq. 19; 0 -> 1.0 */
 } texopt_meshwise_options;
 

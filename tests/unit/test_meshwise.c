@@ -310,6 +310,14 @@ TEST(conflicting_targets_never_flip)
     CHECK(energies_non_increasing(&rep));
     CHECK(rep.energy_final < rep.energy_initial);
     CHECK(rep.energy_count == rep.iterations);
+    CHECK(rep.factorizations > 2); /* the barrier was active: this test exercises it */
+    /* Two threads (u and v systems factorised in parallel) give the same layout. */
+    double *out2 = calloc(2 * m->vertex_count, sizeof *out2);
+    opt.threads = 2;
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, &opt, out2, NULL, NULL, err, sizeof err), err);
+    for (size_t i = 0; i < 2 * m->vertex_count; i++)
+        CHECK_NEAR(out2[i], out[i], 1e-9 * (1 + fabs(out[i])));
+    free(out2);
     free(out);
     free(tg);
     free_mesh(m);

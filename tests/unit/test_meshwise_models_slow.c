@@ -38,7 +38,7 @@ static texopt_triangle_target *random_targets(size_t n, uint64_t seed)
     return t;
 }
 
-static void solve_domain(const char *path, const texopt_model *model, int domain)
+static void solve_domain(const char *path, const texopt_model *model, int domain, int threads)
 {
     char err[512] = "";
     texopt_mesh *mesh = NULL;
@@ -51,7 +51,8 @@ static void solve_domain(const char *path, const texopt_model *model, int domain
     /* Process CPU time as well as wall time: on the shared machine the wall clock mostly
      * measures the other processes. */
     clock_t cpu0 = clock();
-    st = texopt_meshwise_solve(mesh, tg, NULL, NULL, out, &rep, NULL, err, sizeof err);
+    texopt_meshwise_options opt = {.threads = threads};
+    st = texopt_meshwise_solve(mesh, tg, NULL, &opt, out, &rep, NULL, err, sizeof err);
     double cpu = (double)(clock() - cpu0) / CLOCKS_PER_SEC;
     CHECK_MSG(st == TEXOPT_OK, "%s domain %d: solve: %s", path, domain, err);
     CHECK_EQ_INT(rep.flipped, 0);
@@ -65,9 +66,9 @@ static void solve_domain(const char *path, const texopt_model *model, int domain
     CHECK_OK(texopt_distortion_measure(mesh, NULL, &before, err, sizeof err), err);
     CHECK_OK(texopt_distortion_measure(mesh, out, &after, err, sizeof err), err);
     const char *name = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
-    printf("meshwise %s domain %d: %zu faces %zu vertices %zu charts: %.3f s wall, %.3f s cpu, %d iterations, "
+    printf("meshwise %s domain %d, %d thread%s: %zu faces %zu vertices %zu charts: %.3f s wall, %.3f s cpu, %d iterations, "
            "%d factorisations, E %.4g -> %.4g, symmetric Dirichlet %.4f -> %.4f\n",
-           name, domain, mesh->triangle_count, mesh->vertex_count, mesh->chart_count,
+           name, domain, threads, threads > 1 ? "s" : "", mesh->triangle_count, mesh->vertex_count, mesh->chart_count,
            rep.seconds, cpu, rep.iterations, rep.factorizations, rep.energy_initial,
            rep.energy_final, before.symmetric_dirichlet, after.symmetric_dirichlet);
     fflush(stdout);
@@ -87,7 +88,7 @@ static void solve_model(const char *path)
     CHECK(model->domain_count > 0);
     for (int d = 0; d < model->domain_count; d++) {
         int failed_before = test_failed_now();
-        solve_domain(path, model, d);
+        solve_domain(path, model, d, 1);
         if (test_failed_now() && !failed_before)
             break;
     }
@@ -115,6 +116,7 @@ TEST(generated_30k_face_sphere_solves_without_flips)
     texopt_model *model = fixture_uv_sphere(173, 88, 1024);
     CHECK(model);
     CHECK_EQ_INT(model->domain_count, 1);
-    solve_domain("uv_sphere_30k", model, 0);
+    solve_domain("uv_sphere_30k", model, 0, 1);
+    solve_domain("uv_sphere_30k", model, 0, 2);
     texopt_model_destroy(model);
 }
