@@ -8,6 +8,7 @@
 
 #include <cerrno>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
@@ -41,6 +42,88 @@ std::string pseudo_filename(const unsigned char *b, size_t len, const char *name
     if (dot != std::string::npos && n.find('/', dot) == std::string::npos)
         return "image" + n.substr(dot);
     return "image.png";
+}
+
+/* Image size read straight from a PNG IHDR or JPEG SOF header. OpenImageIO's open() of a
+ * progressive JPEG already decodes every scan (libjpeg's start_decompress), so the pixel cap
+ * must be checked before OpenImageIO sees the bytes, and probing a JPEG is cheaper here. */
+struct header_size {
+    int width = 0, height = 0;
+    int components = 0; /* JPEG only: colour components in the frame */
+    int precision = 0;  /* bits per sample */
+};
+
+uint32_t be16(const unsigned char *p)
+{
+    return (uint32_t)p[0] << 8 | p[1];
+}
+
+uint32_t be32(const unsigned char *p)
+{
+    return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3];
+}
+
+bool png_header_size(const unsigned char *b, size_t len, header_size *hs)
+{
+    if (len < 33 || memcmp(b, "\x89PNG\r\n\x1a\n", 8) != 0 || memcmp(b + 12, "IHDR", 4) != 0)
+        return false;
+    uint32_t w = be32(b + 16), h = be32(b + 20);
+    if (w == 0 || h == 0 || w > INT32_MAX || h > INT32_MAX)
+        return false;
+    hs->width = (int)w;
+    hs->height = (int)h;
+    hs->precision = b[24];
+    return true;
+}
+
+/* Walks the JPEG marker segments up to the first start-of-frame. */
+bool jpeg_header_size(const unsigned char *b, size_t len, header_size *hs)
+{
+    if (len < 4 || b[0] != 0xFF || b[1] != 0xD8)
+        return false;
+    size_t at = 2;
+    while (at + 4 <= len) {
+        if (b[at] != 0xFF)
+            return false;
+        unsigned char marker = b[at + 1];
+        if (marker == 0xFF) { /* fill byte */
+            at++;
+            continue;
+        }
+        if (marker == 0xD8 || (marker >= 0xD0 && marker <= 0xD7) || marker == 0x01) {
+            at += 2;
+            continue;
+        }
+        uint32_t seg = be16(b + at + 2);
+        if (seg < 2 || at + 2 + seg > len)
+            return false;
+        bool sof = marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC;
+        if (sof) {
+            if (seg < 8)
+                return false;
+            hs->precision = b[at + 4];
+            hs->height = (int)be16(b + at + 5);
+            hs->width = (int)be16(b + at + 7);
+            hs->components = b[at + 9];
+            return hs->width > 0 && hs->height > 0;
+        }
+        if (marker == 0xDA || marker == 0xD9)
+            return false; /* scan data before any frame header */
+        at += 2 + seg;
+    }
+    return false;
+}
+
+texopt_status check_header_cap(const unsigned char *b, size_t len, uint64_t max_pixels, const char *name,
+                               char *err, size_t err_len)
+{
+    header_size hs;
+    if (max_pixels == 0 || !(png_header_size(b, len, &hs) || jpeg_header_size(b, len, &hs)))
+        return TEXOPT_OK; /* OpenImageIO's own header is checked after open() */
+    if ((uint64_t)hs.width * (uint64_t)hs.height > max_pixels)
+        return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "%s: %dx%d image exceeds the limit of %llu pixels",
+                           name && *name ? name : "image", hs.width, hs.height, (unsigned long long)max_pixels);
+    return TEXOPT_OK;
 }
 
 /* Straight alpha: OpenImageIO would premultiply PNG/TGA alpha otherwise. */
@@ -103,6 +186,16 @@ extern "C" texopt_status texopt_image_probe_memory(texopt_image_info *info, cons
     if (!info)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "no image info to fill");
     memset(info, 0, sizeof *info);
+    header_size hs;
+    if (bytes && jpeg_header_size(static_cast<const unsigned char *>(bytes), len, &hs) &&
+        (hs.components == 1 || hs.components == 3) && hs.precision == 8) {
+        info->width = hs.width;
+        info->height = hs.height;
+        info->channels = hs.components;
+        info->bits_per_channel = 8;
+        snprintf(info->format, sizeof info->format, "jpeg");
+        return TEXOPT_OK;
+    }
     opened_image oi;
     texopt_status st = open_memory(&oi, bytes, len, name, err, err_len);
     if (st != TEXOPT_OK)
@@ -118,6 +211,11 @@ extern "C" texopt_status texopt_image_decode_memory(texopt_image *out, const voi
     if (!out)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "no image to fill");
     memset(out, 0, sizeof *out);
+    if (bytes) {
+        texopt_status cap = check_header_cap(static_cast<const unsigned char *>(bytes), len, max_pixels, name, err, err_len);
+        if (cap != TEXOPT_OK)
+            return cap;
+    }
     opened_image oi;
     texopt_status st = open_memory(&oi, bytes, len, name, err, err_len);
     if (st != TEXOPT_OK)

@@ -363,6 +363,50 @@ TEST(spot_and_fox_round_trip_unchanged_and_edited)
     builder_rmdir(dir);
 }
 
+TEST(jpeg_texture_keeps_its_bytes_and_unused_views_are_dropped)
+{
+    char err[512] = "", dir[64], out[128], path[512];
+    CHECK(builder_tempdir(dir));
+    snprintf(path, sizeof path, "%s/images/gradient_16x8_progressive.jpg", TEXOPT_TEST_DATA_DIR);
+    FILE *f = fopen(path, "rb");
+    CHECK(f != NULL);
+    unsigned char jpg[4096];
+    size_t jpg_len = fread(jpg, 1, sizeof jpg, f);
+    fclose(f);
+    CHECK(jpg_len > 100 && jpg_len < sizeof jpg);
+    quad_doc doc;
+    CHECK(quad_doc_init(&doc, 8, 4));
+    CHECK_EQ_INT(quad_doc_add_view(&doc, jpg, jpg_len), 4);
+    /* The image now reads view 4; view 3 (the PNG) is read by no one. */
+    CHECK(builder_replace(&doc.json, "{\"bufferView\":3,\"mimeType\":\"image/png\"}",
+                          "{\"bufferView\":4,\"mimeType\":\"image/jpeg\"}"));
+    texopt_status st;
+    texopt_model *m = load_quad_json(&doc, doc.json, err, sizeof err, &st), *back = NULL;
+    CHECK_OK(st, err);
+    CHECK_EQ_INT(m->images[0].width, 16);
+    float uvs[8] = {0, 0, 0.5f, 0, 0.5f, 0.5f, 0, 0.5f};
+    texopt_model_edit edit = {uvs, NULL};
+    snprintf(out, sizeof out, "%s/jpeg.glb", dir);
+    CHECK_OK(texopt_model_save_glb(m, &edit, out, err, sizeof err), err);
+    f = fopen(out, "rb");
+    CHECK(f != NULL);
+    unsigned char buf[16384];
+    size_t len = fread(buf, 1, sizeof buf, f);
+    fclose(f);
+    CHECK(len > 0 && len < sizeof buf);
+    CHECK(builder_contains(buf, len, jpg, jpg_len));
+    CHECK(builder_contains(buf, len, "image/jpeg", 10));
+    CHECK(!builder_contains(buf, len, doc.bin + QUAD_PNG_OFFSET, doc.png_len)); /* dropped */
+    CHECK(!builder_contains(buf, len, quad_uvs, sizeof quad_uvs));             /* old UVs dropped */
+    CHECK_OK(texopt_model_load(&back, out, NULL, err, sizeof err), err);
+    CHECK(memcmp(back->uvs, uvs, sizeof uvs) == 0);
+    CHECK(memcmp(back->images[0].pixels, m->images[0].pixels, sizeof(float) * 16 * 8 * 3) == 0);
+    texopt_model_destroy(m);
+    texopt_model_destroy(back);
+    quad_doc_free(&doc);
+    builder_rmdir(dir);
+}
+
 TEST(saving_refuses_bad_edits_and_keeps_the_old_file)
 {
     char err[512] = "", dir[64], out[128];

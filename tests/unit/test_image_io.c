@@ -142,3 +142,70 @@ TEST(encoding_an_empty_image_is_an_argument_error)
     CHECK_EQ_INT(texopt_image_encode_png(&empty, &png, &len, err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
     CHECK(png == NULL && len == 0);
 }
+
+/* Reads a file of tests/data into a malloc'ed buffer. */
+static unsigned char *read_test_file(const char *name, size_t *len)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", TEXOPT_TEST_DATA_DIR, name);
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    unsigned char *buf = malloc(1 << 16);
+    *len = fread(buf, 1, 1 << 16, f);
+    fclose(f);
+    return buf;
+}
+
+TEST(jpeg_probe_matches_decode_for_baseline_progressive_and_grey)
+{
+    char err[256] = "";
+    const char *files[3] = {"images/gradient_16x8.jpg", "images/gradient_16x8_progressive.jpg", "images/gray_16x8.jpg"};
+    const int channels[3] = {3, 3, 1};
+    for (int i = 0; i < 3; i++) {
+        size_t len = 0;
+        unsigned char *jpg = read_test_file(files[i], &len);
+        CHECK_MSG(jpg && len > 100, "cannot read %s", files[i]);
+        texopt_image_info info;
+        CHECK_OK(texopt_image_probe_memory(&info, jpg, len, files[i], err, sizeof err), err);
+        CHECK_EQ_INT(info.width, 16);
+        CHECK_EQ_INT(info.height, 8);
+        CHECK_EQ_INT(info.channels, channels[i]);
+        CHECK(strcmp(info.format, "jpeg") == 0);
+        texopt_image img;
+        CHECK_OK(texopt_image_decode_memory(&img, jpg, len, 128, files[i], err, sizeof err), err);
+        free(jpg);
+        CHECK_EQ_INT(img.width, 16);
+        CHECK_EQ_INT(img.height, 8);
+        CHECK_EQ_INT(img.channels, channels[i]);
+        /* Inside the image the gradient survives JPEG at quality 95 (with chroma subsampling)
+         * to within a few levels; a flipped row order or swapped channel is off by 32 or more. */
+        CHECK_NEAR(texopt_image_at(&img, 3, 4)[0], 48 / 255.0, 6 / 255.0);
+        CHECK_NEAR(texopt_image_at(&img, 9, 4)[0], 144 / 255.0, 6 / 255.0);
+        if (channels[i] == 3) {
+            CHECK_NEAR(texopt_image_at(&img, 4, 4)[1], 128 / 255.0, 6 / 255.0);
+            CHECK_NEAR(texopt_image_at(&img, 4, 4)[2], 128 / 255.0, 6 / 255.0);
+        }
+        texopt_image_destroy(&img);
+    }
+}
+
+TEST(forged_jpeg_header_is_capped_before_any_decoder_runs)
+{
+    char err[256] = "";
+    /* SOI, then a baseline frame header claiming 30000 x 30000 x 3, then EOI: no scan data,
+     * so a decoder could only fail on it; the cap must answer first. */
+    const unsigned char jpg[] = {0xFF, 0xD8, 0xFF, 0xC0, 0x00, 0x11, 0x08, 0x75, 0x30, 0x75, 0x30, 0x03,
+                                 0x01, 0x11, 0x00, 0x02, 0x11, 0x01, 0x03, 0x11, 0x01, 0xFF, 0xD9};
+    texopt_image img;
+    CHECK_EQ_INT(texopt_image_decode_memory(&img, jpg, sizeof jpg, 1u << 28, "forged.jpg", err, sizeof err),
+                 TEXOPT_E_LIMIT);
+    CHECK(strstr(err, "30000x30000") != NULL);
+    texopt_image_info info;
+    CHECK_OK(texopt_image_probe_memory(&info, jpg, sizeof jpg, "forged.jpg", err, sizeof err), err);
+    CHECK_EQ_INT(info.width, 30000);
+    CHECK_EQ_INT(info.channels, 3);
+    /* Without a cap the missing scan data makes it malformed, not a crash. */
+    CHECK_EQ_INT(texopt_image_decode_memory(&img, jpg, sizeof jpg, 100, "forged.jpg", err, sizeof err), TEXOPT_E_LIMIT);
+    CHECK_EQ_INT(texopt_image_decode_memory(&img, jpg, 10, 0, "cut.jpg", err, sizeof err), TEXOPT_E_MALFORMED);
+}
