@@ -36,7 +36,8 @@
 /* What to measure. A zero-initialised struct (or NULL) measures the mesh's own layout
  * (mesh->texel) in its own frame with its own wrap modes. */
 typedef struct texopt_coverage_options {
-    const double *texel;      /* 2 per mesh vertex, texel units of the frame below; NULL = mesh->texel */
+    const double *texel;      /* 2 per mesh vertex, texel units of the frame below;
+                                 NULL = mesh->texel */
     int width, height;        /* frame; 0 = the mesh's */
     int use_wraps;            /* nonzero: wrap_s/wrap_t below; 0: the mesh's */
     texopt_wrap wrap_s, wrap_t;

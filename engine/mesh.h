@@ -26,7 +26,8 @@
  * orientation" of a triangle use the sign of area_texel.
  *
  * Built in texopt_mesh_create from exact float equality (what glTF exporters produce; -0 and
- * +0 are equal), with hash maps: linear time (about 0.05 s for 130k triangles, 0.5 s for a million). */
+ * +0 are equal), with hash maps: linear time (about 0.05 s for 130k triangles, 0.5 s for a
+ * million). */
 #ifndef TEXOPT_MESH_H
 #define TEXOPT_MESH_H
 
@@ -41,8 +42,9 @@ enum texopt_triangle_flag {
     TEXOPT_TRI_DEGENERATE_UV = 1u << 1,
     TEXOPT_TRI_FLIPPED = 1u << 2,  /* a fold-over: reversed against its chart, in a small
                                       orientation patch (see above) */
-    TEXOPT_TRI_OVERLAPS = 1u << 3, /* shares texels with a non-adjacent triangle of the domain
-                                      (set by texopt_coverage_measure, coverage.h) */
+    TEXOPT_TRI_OVERLAPS = 1u << 3, /* covers a texel another triangle covers too (or itself
+                                      again through REPEAT); neighbours sharing an edge never
+                                      do. Set by texopt_coverage_measure (coverage.h) */
     TEXOPT_TRI_WRAPPED = 1u << 4   /* some UV outside [0,1] by more than 1e-3 texel: relies on
                                       the wrap mode */
 };
