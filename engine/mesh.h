@@ -4,7 +4,9 @@
  * position and equal UV are welded into one, so a vertex is split exactly where the UV
  * layout has a seam. Points are 3D vertices: all vertices with equal position share a
  * point, so one-rings cross UV seams. Charts are the connected components of triangles
- * through shared UV vertices.
+ * through shared UV vertices. Model vertices no triangle uses are kept (every model vertex
+ * of the domain maps to a mesh vertex, so new UVs can be written back to all of them); such a
+ * vertex belongs to no chart and no triangle.
  *
  * Degenerate triangles (zero area in 3D or in texels) are flagged and carried through; the
  * stages leave them alone. A triangle is degenerate when its doubled area is at most 1e-10

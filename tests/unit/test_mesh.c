@@ -322,6 +322,29 @@ TEST(duplicates_and_signed_zeros_weld_across_primitives)
     texopt_model_destroy(model);
 }
 
+TEST(unused_vertices_are_kept_and_mapped)
+{
+    const float pos[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 5, 5, 5};
+    const float uv[] = {0, 0, 1, 0, 0, 1, 0.5f, 0.5f};
+    const uint32_t tri[] = {0, 1, 2};
+    texopt_model *model = fixture_model_from_arrays(pos, uv, 4, tri, 1, 8, 8, "flat");
+    CHECK(model != NULL);
+    texopt_mesh *m = NULL;
+    char err[256] = "";
+    CHECK_OK(texopt_mesh_create(&m, model, 0, err, sizeof err), err);
+    CHECK_EQ_INT(m->vertex_count, 4);
+    CHECK_EQ_INT(m->point_count, 4);
+    CHECK_EQ_INT(m->chart_count, 1);
+    uint32_t v = m->vertex_of_model_vertex[3];
+    CHECK_EQ_INT(m->model_vertex[v], 3);
+    CHECK_NEAR(m->texel[2 * v], 4.0, 0);
+    CHECK_EQ_INT(m->vertex_on_boundary[v], 0);
+    uint32_t p = m->point_of[v];
+    CHECK_EQ_INT(m->point_triangle_start[p + 1] - m->point_triangle_start[p], 0);
+    texopt_mesh_destroy(m);
+    texopt_model_destroy(model);
+}
+
 TEST(bad_input_is_refused_with_a_named_element)
 {
     char err[256] = "";
