@@ -17,6 +17,7 @@ typedef struct cli_command {
 /* int cmd_NAME(int argc, char **argv); one line per cmd_*.c */
 int cmd_info(int argc, char **argv);
 int cmd_evaluate(int argc, char **argv);
+int cmd_compare(int argc, char **argv);
 int cmd_optimize(int argc, char **argv);
 
 #endif

@@ -6,6 +6,7 @@
 
 static const cli_command commands[] = {
     /* {"name", "summary", cmd_name}, one line per cmd_*.c */
+    {"compare", "q_r-c_r curves of several layout methods, JSON and HTML report", cmd_compare},
     {"evaluate", "whole-mesh perceptual loss and cost of OUT against IN", cmd_evaluate},
     {"info", "describe a model's texture domains and UV layout as JSON", cmd_info},
     {"optimize", "optimise a model's UV layout and re-bake its textures to a budget", cmd_optimize},
