@@ -37,7 +37,8 @@ typedef struct resolved_options {
     double epsilon, lambda_min;
     int iterations, threads, viewport, weight_samples, initial_design;
     int lower_bound_stop;
-    int initial_points;
+    int plain;
+    int isotropic_steps;
     double early_stop_ei;
     int early_stop_patience;
     uint32_t stride;
@@ -189,6 +190,61 @@ static texopt_status sensitivity_weights(worker *w, uint32_t t, texopt_triangle_
     return TEXOPT_OK;
 }
 
+/* The smallest isotropic shrink: when even lambda_min I loses nothing, no J can beat it
+ * (it reaches the objective's lower bound) and E is 0 all over the box, so the weights of
+ * eq. 17 are 0 without sampling them. Returns 1 for such a flat triangle. */
+static int flat_at_smallest_area(triangle_search *s, double lower_bound)
+{
+    static const double smallest[TRIOPT_DIM] = {0, 0, 0, 0};
+    double f = search_objective(s, smallest);
+    return s->status == TEXOPT_OK && f <= lower_bound;
+}
+
+/* Golden-section search of f over isotropic shrinks J = lambda I, x = (0, u, u, 0): E grows
+ * as lambda falls, so f is +INFINITY below the feasibility boundary and unimodal above it
+ * in practice. `evaluations` >= 2 points; the best one lands in s->best_x. */
+static void isotropic_search(triangle_search *s, int evaluations)
+{
+    const double g = 0.6180339887498949;
+    double a = 0.0, b = 1.0;
+    double xc[TRIOPT_DIM] = {0, 0, 0, 0}, xd[TRIOPT_DIM] = {0, 0, 0, 0};
+    double c = b - g * (b - a), d = a + g * (b - a);
+    xc[1] = xc[2] = c;
+    xd[1] = xd[2] = d;
+    double fc = search_objective(s, xc), fd = search_objective(s, xd);
+    for (int k = 2; k < evaluations && s->status == TEXOPT_OK; k++) {
+        /* Equal values (both infeasible) move right: infeasibility sits at small shrinks. */
+        if (fc < fd) {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - g * (b - a);
+            xc[1] = xc[2] = c;
+            fc = search_objective(s, xc);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + g * (b - a);
+            xd[1] = xd[2] = d;
+            fd = search_objective(s, xd);
+        }
+    }
+}
+
+static void store_optimum(const triangle_search *s, double lambda_min, texopt_triangle_target *o)
+{
+    double p[4];
+    params_from_unit(s->best_x, lambda_min, p);
+    o->alpha = wrap_quarter(p[0]);
+    o->lambda1 = p[1];
+    o->lambda2 = p[2];
+    o->beta = wrap_quarter(p[3]);
+    o->loss = s->best_loss;
+    o->w_rotation = o->w_stretch = 0.0;
+    o->evaluations = s->evaluations;
+}
+
 static texopt_status optimise_triangle(worker *w, uint32_t t, texopt_triangle_target *o,
                                        char *err, size_t err_len)
 {
@@ -200,25 +256,33 @@ static texopt_status optimise_triangle(worker *w, uint32_t t, texopt_triangle_ta
     triangle_search s = {.loss = w->loss, .epsilon = opt->epsilon,
                          .lambda_min = opt->lambda_min, .area = fabs(sh->mesh->area_texel[t]),
                          .best_f = INFINITY, .status = TEXOPT_OK};
-    /* J = I first (E = 0, always feasible), then the smallest isotropic shrink, then the
-     * two grid-aligned extreme squeezes (detail aligned with the texel grid compresses along
-     * itself for free, paper Fig. 7: these corners are where such optima sit and a GP finds
-     * box corners late). */
-    static const double initial[4 * TRIOPT_DIM] = {0, 1, 1, 0, 0, 0, 0, 0,
-                                                   0, 0, 1, 0, 0, 1, 0, 0};
-    texopt_bo_options bo = {.iterations = opt->iterations,
-                            .initial_design = opt->initial_design,
-                            .initial_points = initial,
-                            .initial_point_count = opt->initial_points,
-                            .early_stop_ei = opt->early_stop_ei,
-                            .early_stop_patience = opt->early_stop_patience,
-                            .seed = mix_seed(opt->seed, t, 1)};
-    if (opt->lower_bound_stop) {
-        double lm = opt->lambda_min;
-        bo.has_target = 1;
-        bo.target = objective_value(lm * lm, s.area, 0.0, opt->epsilon) + TRIOPT_BOUND_TOLERANCE;
+    double lm = opt->lambda_min;
+    double lower_bound = objective_value(lm * lm, s.area, 0.0, opt->epsilon) + TRIOPT_BOUND_TOLERANCE;
+    int flat = 0;
+    if (!opt->plain) {
+        flat = flat_at_smallest_area(&s, lower_bound);
+        if (!flat && opt->isotropic_steps > 0)
+            isotropic_search(&s, opt->isotropic_steps);
     }
-    st = texopt_bo_minimize(w->bo, &bo, search_objective, &s, NULL, NULL, NULL, err, err_len);
+    if (!flat && s.status == TEXOPT_OK) {
+        /* J = I (E = 0, always feasible), the best isotropic shrink so far, then the two
+         * grid-aligned extreme squeezes (detail aligned with the texel grid compresses along
+         * itself for free, paper Fig. 7: such optima sit in box corners, which a GP finds
+         * late). The plain plan starts from J = I alone. */
+        double initial[4 * TRIOPT_DIM] = {0, 1, 1, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 1, 0, 0};
+        if (isfinite(s.best_f))
+            memcpy(initial + TRIOPT_DIM, s.best_x, sizeof s.best_x);
+        texopt_bo_options bo = {.iterations = opt->iterations,
+                                .initial_design = opt->initial_design,
+                                .initial_points = initial,
+                                .initial_point_count = opt->plain ? 1 : 4,
+                                .early_stop_ei = opt->early_stop_ei,
+                                .early_stop_patience = opt->early_stop_patience,
+                                .seed = mix_seed(opt->seed, t, 1),
+                                .has_target = opt->lower_bound_stop,
+                                .target = lower_bound};
+        st = texopt_bo_minimize(w->bo, &bo, search_objective, &s, NULL, NULL, NULL, err, err_len);
+    }
     if (st == TEXOPT_OK && s.status != TEXOPT_OK) {
         snprintf(err, err_len, "%s", s.err);
         st = s.status;
@@ -228,16 +292,8 @@ static texopt_status optimise_triangle(worker *w, uint32_t t, texopt_triangle_ta
                          "triopt: triangle %u has no feasible sample although J = I is", t);
     if (st != TEXOPT_OK)
         return st;
-    double p[4];
-    params_from_unit(s.best_x, opt->lambda_min, p);
-    o->alpha = wrap_quarter(p[0]);
-    o->lambda1 = p[1];
-    o->lambda2 = p[2];
-    o->beta = wrap_quarter(p[3]);
-    o->loss = s.best_loss;
-    o->w_rotation = o->w_stretch = 0.0;
-    o->evaluations = s.evaluations;
-    return sensitivity_weights(w, t, o, err, err_len);
+    store_optimum(&s, lm, o);
+    return flat ? TEXOPT_OK : sensitivity_weights(w, t, o, err, err_len);
 }
 
 static int triangle_selected(const stage_shared *sh, size_t t)
@@ -330,7 +386,10 @@ static texopt_status resolve_options(const texopt_triopt_options *in, const texo
     o->weight_samples = in->weight_samples != 0 ? in->weight_samples : 8;
     o->initial_design = in->initial_design;
     o->lower_bound_stop = !in->no_lower_bound_stop && !in->plain;
-    o->initial_points = in->plain ? 1 : 4;
+    o->plain = in->plain != 0;
+    o->isotropic_steps = in->isotropic_steps != 0 ? in->isotropic_steps : 6;
+    if (o->isotropic_steps == 1)
+        o->isotropic_steps = 2;
     o->early_stop_ei = in->early_stop_ei;
     o->early_stop_patience = in->early_stop_patience;
     o->stride = in->stride > 1 ? in->stride : 1;

@@ -10,12 +10,18 @@
  * (x0 pi/2, lmin + (1 - lmin) x1, lmin + (1 - lmin) x2, x3 pi/2). E >= eps is infeasible: the
  * objective returns +INFINITY and bayesopt.h's penalty rule applies.
  *
- * Evaluation plan per triangle: J = I (x = (0,1,1,0), E = 0: always feasible), then the
- * smallest isotropic shrink J = lambda_min I (x = 0), then the grid-aligned extreme squeezes
- * diag(lambda_min, 1) and diag(1, lambda_min), then the BO design and iterations.
- * The search stops as soon as a sample reaches the objective's lower bound
- * lambda_min^2 |T| - log(eps) (E = 0 at the smallest area: nothing can beat it), which ends
- * flat-coloured triangles after two evaluations without changing any optimum.
+ * Evaluation plan per triangle (measured in BENCHMARKS.md, "Stage 1"):
+ *  1. J = lambda_min I. If it loses nothing (f within 1e-6 of the objective's lower bound
+ *     lambda_min^2 |T| - log(eps)), no J can do better: stop, with w_rotation = w_stretch = 0
+ *     (E is 0 over the whole box, so eq. 17's variances are 0; sampling them confirmed it).
+ *     Flat-coloured and smoothly shaded triangles end here after one evaluation.
+ *  2. A golden-section search over isotropic shrinks lambda I (isotropic_steps evaluations).
+ *  3. Bayesian optimisation from J = I (E = 0, always feasible), the best isotropic shrink
+ *     and the grid-aligned extreme squeezes diag(lambda_min, 1), diag(1, lambda_min), then
+ *     its Latin-hypercube design and `iterations` model-guided evaluations; it stops early
+ *     when a sample reaches the lower bound.
+ * The `plain` option runs the paper's plan instead (J = I, the design, the iterations), the
+ * reference the benchmark compares against.
  *
  * Weights (eq. 17): w_rotation = variance of E over weight_samples stratified uniform
  * alpha at (lambda1*, lambda2*, beta*); w_stretch = variance of E over weight_samples
@@ -49,7 +55,9 @@ typedef struct texopt_triopt_options {
     int initial_design;  /* BO Latin-hypercube points; 0 -> bayesopt default, < 0 -> none */
     int no_lower_bound_stop; /* non-zero: run every iteration (for benchmarks) */
     int plain;           /* non-zero: the paper's plan for benchmarks: only J = I before the
-                            design, no lower-bound stop */
+                            design, no flat test, no isotropic search, no lower-bound stop */
+    int isotropic_steps; /* evaluations of the isotropic golden-section search; 0 -> 6,
+                            < 0 -> none */
     double early_stop_ei;    /* passed to bayesopt (0 with patience 0: never) */
     int early_stop_patience;
     uint32_t stride;     /* optimise triangles 0, stride, 2 stride, ...; 0 or 1 -> all.

@@ -165,6 +165,8 @@ static void bench_model(const char *path, int subset)
         {"ours, 50 iterations", {.iterations = 50}},
         {"ours, 20 iterations", {.iterations = 20}},
         {"ours, 10 iterations", {.iterations = 10}},
+        {"ours, 5 iterations, design 4", {.iterations = 5, .initial_design = 4}},
+        {"ours, 1 iteration, no design", {.iterations = 1, .initial_design = -1}},
     };
     size_t nv = sizeof variants / sizeof variants[0];
     for (int d = 0; d < model->domain_count; d++) {
