@@ -1,9 +1,9 @@
 /* gltf_load.cpp - texopt_model_load / texopt_model_load_memory (see gltf_io.h).
  *
  * Order of work, each step refusing with a message that names the element:
- *   1. tinygltf parses the JSON / GLB container. Its file-system callbacks are ours: only
- *      files inside the model's directory are read (no "..", no absolute paths, no URI
- *      schemes, symlinks resolved), each under the size limit; nothing is ever fetched.
+ *   1. tinygltf parses the JSON / GLB container, reading files only through the confined
+ *      callbacks of gltf_files.hpp (inside the model's directory, under the size limit,
+ *      never from the network).
  *      Its image callback only keeps the encoded bytes (after checking the buffer view
  *      range, which tinygltf does not), so no image is decoded by stb.
  *   2. Every buffer view and accessor is checked against the real buffer sizes.
@@ -30,6 +30,8 @@
 #include <unistd.h>
 
 #include "gltf_access.hpp"
+#include "gltf_files.hpp"
+#include "gltf_nodes.hpp"
 #include "gltf_document.hpp"
 #include "image_io.h"
 
@@ -53,210 +55,11 @@ load_limits limits_from(const texopt_load_options *opt)
     return l;
 }
 
-/* What tinygltf's callbacks found wrong; tinygltf treats a missing image as a warning, so
- * the first refusal is kept here and wins over whatever tinygltf reports. */
-struct load_context {
-    std::string base_dir; /* absolute, no trailing slash; empty: no external files at all */
-    uint64_t max_file_bytes = 0;
-    tinygltf::Model *model = nullptr;
-    texopt_status status = TEXOPT_OK;
-    std::string message;
-
-    void refuse(texopt_status st, const std::string &msg)
-    {
-        if (status == TEXOPT_OK) {
-            status = st;
-            message = msg;
-        }
-    }
-};
-
-int hex_value(char c)
-{
-    if (c >= '0' && c <= '9')
-        return c - '0';
-    if (c >= 'a' && c <= 'f')
-        return c - 'a' + 10;
-    if (c >= 'A' && c <= 'F')
-        return c - 'A' + 10;
-    return -1;
-}
-
-/* URIs are percent-encoded (glTF 2.0 section 3.2); "my%20tex.png" names "my tex.png". */
-bool percent_decode(const std::string &in, std::string *out)
-{
-    out->clear();
-    for (size_t i = 0; i < in.size(); i++) {
-        if (in[i] == '%') {
-            if (i + 2 >= in.size())
-                return false;
-            int hi = hex_value(in[i + 1]), lo = hex_value(in[i + 2]);
-            if (hi < 0 || lo < 0)
-                return false;
-            char c = (char)(hi * 16 + lo);
-            if (c == '\0')
-                return false;
-            out->push_back(c);
-            i += 2;
-        } else {
-            out->push_back(in[i]);
-        }
-    }
-    return true;
-}
-
-bool has_scheme(const std::string &uri)
-{
-    size_t colon = uri.find(':');
-    if (colon == std::string::npos || colon == 0)
-        return false;
-    for (size_t i = 0; i < colon; i++) {
-        char c = uri[i];
-        bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
-                  (i > 0 && ((c >= '0' && c <= '9') || c == '+' || c == '-' || c == '.'));
-        if (!ok)
-            return false;
-    }
-    return true;
-}
-
-bool has_parent_component(const std::string &rel)
-{
-    size_t start = 0;
-    while (start <= rel.size()) {
-        size_t end = rel.find('/', start);
-        if (end == std::string::npos)
-            end = rel.size();
-        if (rel.compare(start, end - start, "..") == 0)
-            return true;
-        start = end + 1;
-    }
-    return false;
-}
-
-/* Maps the path tinygltf built (search directory + "/" + URI) to a real file inside the
- * model's directory, or records why it may not be read. tinygltf also tries "./URI" after
- * the base directory; that second candidate is silently not found. */
-bool resolve_inside(load_context *ctx, const std::string &joined, std::string *real_out)
-{
-    std::string prefix = ctx->base_dir + "/";
-    if (ctx->base_dir.empty() || joined.compare(0, prefix.size(), prefix) != 0) {
-        if (ctx->base_dir.empty()) {
-            std::string uri = joined.compare(0, 2, "./") == 0 ? joined.substr(2) : joined;
-            ctx->refuse(TEXOPT_E_MALFORMED, "external URI \"" + uri +
-                        "\" cannot be resolved: the model was given without a directory");
-        }
-        return false;
-    }
-    std::string uri = joined.substr(prefix.size());
-    std::string rel;
-    if (uri.compare(0, 5, "http:") == 0 || uri.compare(0, 6, "https:") == 0 || uri.compare(0, 4, "ftp:") == 0 ||
-        uri.compare(0, 2, "//") == 0) {
-        ctx->refuse(TEXOPT_E_MALFORMED, "URI \"" + uri + "\" points to the network; texopt never fetches it");
-        return false;
-    }
-    if (has_scheme(uri)) {
-        ctx->refuse(TEXOPT_E_MALFORMED, "URI \"" + uri + "\" has a scheme; only relative file names are read");
-        return false;
-    }
-    if (uri.empty() || uri[0] == '/' || !percent_decode(uri, &rel) || rel.empty() || rel[0] == '/' ||
-        rel.find('\\') != std::string::npos || has_parent_component(rel)) {
-        ctx->refuse(TEXOPT_E_MALFORMED, "URI \"" + uri + "\" leaves the model's directory");
-        return false;
-    }
-    std::string candidate = prefix + rel;
-    char *real = realpath(candidate.c_str(), nullptr);
-    if (!real)
-        return false; /* not found: tinygltf reports it, or we do for images */
-    std::string resolved(real);
-    free(real);
-    if (resolved.compare(0, prefix.size(), prefix) != 0) {
-        ctx->refuse(TEXOPT_E_MALFORMED, "URI \"" + uri + "\" resolves (through a link) outside the model's directory");
-        return false;
-    }
-    *real_out = resolved;
-    return true;
-}
-
-bool fs_file_exists(const std::string &path, void *user)
-{
-    std::string real;
-    if (!resolve_inside(static_cast<load_context *>(user), path, &real))
-        return false;
-    struct stat sb;
-    return stat(real.c_str(), &sb) == 0 && S_ISREG(sb.st_mode);
-}
-
-std::string fs_expand_path(const std::string &path, void *)
-{
-    return path; /* tinygltf's default runs wordexp() on file names: never */
-}
-
-/* Reads a whole regular file if it is at most max_bytes long. */
-texopt_status read_file_limited(const std::string &path, uint64_t max_bytes, std::vector<unsigned char> *out,
-                                std::string *why)
-{
-    FILE *f = fopen(path.c_str(), "rb");
-    if (!f) {
-        *why = "cannot open " + path + ": " + strerror(errno);
-        return TEXOPT_E_IO;
-    }
-    struct stat sb;
-    if (fstat(fileno(f), &sb) != 0 || !S_ISREG(sb.st_mode)) {
-        fclose(f);
-        *why = path + " is not a regular file";
-        return TEXOPT_E_IO;
-    }
-    if ((uint64_t)sb.st_size > max_bytes) {
-        fclose(f);
-        *why = path + " has " + std::to_string((long long)sb.st_size) + " bytes, more than the limit of " +
-               std::to_string((unsigned long long)max_bytes);
-        return TEXOPT_E_LIMIT;
-    }
-    try {
-        out->resize((size_t)sb.st_size);
-    } catch (const std::bad_alloc &) {
-        fclose(f);
-        *why = "no memory to read " + path;
-        return TEXOPT_E_NOMEM;
-    }
-    size_t got = out->empty() ? 0 : fread(out->data(), 1, out->size(), f);
-    fclose(f);
-    if (got != out->size()) {
-        *why = "cannot read " + path;
-        return TEXOPT_E_IO;
-    }
-    return TEXOPT_OK;
-}
-
-bool fs_read_whole_file(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *user)
-{
-    load_context *ctx = static_cast<load_context *>(user);
-    std::string real, why;
-    if (!resolve_inside(ctx, path, &real))
-        return false;
-    texopt_status st = read_file_limited(real, ctx->max_file_bytes, out, &why);
-    if (st != TEXOPT_OK) {
-        ctx->refuse(st, why);
-        if (err)
-            *err += why;
-        return false;
-    }
-    return true;
-}
-
-bool fs_write_whole_file(std::string *err, const std::string &, const std::vector<unsigned char> &, void *)
-{
-    if (err)
-        *err += "texopt never writes through tinygltf";
-    return false;
-}
-
 /* Keeps the encoded bytes; decoding happens later, after the pixel budget is checked. */
 bool keep_image_bytes(tinygltf::Image *image, const int index, std::string *err, std::string *, int, int,
                       const unsigned char *bytes, int size, void *user)
 {
-    load_context *ctx = static_cast<load_context *>(user);
+    gltf_load_context *ctx = static_cast<gltf_load_context *>(user);
     if (image->bufferView >= 0) {
         char msg[256];
         if (gltf_check_buffer_view(*ctx->model, image->bufferView, msg, sizeof msg) != TEXOPT_OK) {
@@ -291,13 +94,12 @@ texopt_status parse_document(tinygltf::Model *gltf, const unsigned char *bytes, 
         return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "file is empty or truncated (%zu bytes)", len);
     if (len > UINT_MAX)
         return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "model of %zu bytes is too large to parse", len);
-    load_context ctx;
+    gltf_load_context ctx;
     ctx.base_dir = base_dir;
     ctx.max_file_bytes = lim.max_file_bytes;
     ctx.model = gltf;
     tinygltf::TinyGLTF loader;
-    tinygltf::FsCallbacks fs = {&fs_file_exists, &fs_expand_path, &fs_read_whole_file, &fs_write_whole_file, &ctx};
-    loader.SetFsCallbacks(fs);
+    loader.SetFsCallbacks(gltf_confined_fs(&ctx));
     loader.SetImageLoader(&keep_image_bytes, &ctx);
     std::string terr, twarn;
     bool binary = len >= 4 && memcmp(bytes, "glTF", 4) == 0;
@@ -346,108 +148,6 @@ texopt_status check_all_views_and_accessors(const tinygltf::Model &g, char *err,
             return st;
     }
     return TEXOPT_OK;
-}
-
-/* ---- node transforms ------------------------------------------------------------------- */
-
-typedef std::array<double, 16> mat4; /* column-major, as glTF */
-
-mat4 identity()
-{
-    mat4 m{};
-    m[0] = m[5] = m[10] = m[15] = 1.0;
-    return m;
-}
-
-mat4 multiply(const mat4 &a, const mat4 &b)
-{
-    mat4 r{};
-    for (int c = 0; c < 4; c++)
-        for (int row = 0; row < 4; row++) {
-            double s = 0;
-            for (int k = 0; k < 4; k++)
-                s += a[k * 4 + row] * b[c * 4 + k];
-            r[c * 4 + row] = s;
-        }
-    return r;
-}
-
-/* T * R * S, or the node's matrix. */
-mat4 local_transform(const tinygltf::Node &n)
-{
-    if (n.matrix.size() == 16) {
-        mat4 m;
-        for (int i = 0; i < 16; i++)
-            m[i] = n.matrix[(size_t)i];
-        return m;
-    }
-    double t[3] = {0, 0, 0}, s[3] = {1, 1, 1}, q[4] = {0, 0, 0, 1};
-    if (n.translation.size() == 3)
-        for (int i = 0; i < 3; i++)
-            t[i] = n.translation[(size_t)i];
-    if (n.scale.size() == 3)
-        for (int i = 0; i < 3; i++)
-            s[i] = n.scale[(size_t)i];
-    if (n.rotation.size() == 4)
-        for (int i = 0; i < 4; i++)
-            q[i] = n.rotation[(size_t)i];
-    double x = q[0], y = q[1], z = q[2], w = q[3];
-    double r[9] = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),
-                   2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),
-                   2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y)};
-    mat4 m{};
-    for (int c = 0; c < 3; c++)
-        for (int row = 0; row < 3; row++)
-            m[c * 4 + row] = r[c * 3 + row] * s[c];
-    m[12] = t[0];
-    m[13] = t[1];
-    m[14] = t[2];
-    m[15] = 1.0;
-    return m;
-}
-
-/* World matrices of all nodes; refuses children out of range, two parents, cycles. */
-texopt_status world_transforms(const tinygltf::Model &g, std::vector<mat4> *world, char *err, size_t err_len)
-{
-    size_t n = g.nodes.size();
-    std::vector<int> parent(n, -1);
-    for (size_t i = 0; i < n; i++)
-        for (int c : g.nodes[i].children) {
-            if (c < 0 || (size_t)c >= n)
-                return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "node %zu: child %d does not exist", i, c);
-            if (parent[(size_t)c] >= 0 || (size_t)c == i)
-                return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "node %d has more than one parent", c);
-            parent[(size_t)c] = (int)i;
-        }
-    world->assign(n, identity());
-    std::vector<char> done(n, 0);
-    for (size_t i = 0; i < n; i++) {
-        /* Walk up to a computed ancestor (or a root), then down again; a walk longer than
-         * the node count means a cycle. */
-        std::vector<size_t> chain;
-        size_t cur = i;
-        while (!done[cur]) {
-            chain.push_back(cur);
-            if (chain.size() > n)
-                return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "node %zu is part of a cycle", i);
-            if (parent[cur] < 0)
-                break;
-            cur = (size_t)parent[cur];
-        }
-        for (size_t k = chain.size(); k-- > 0;) {
-            size_t node = chain[k];
-            mat4 local = local_transform(g.nodes[node]);
-            (*world)[node] = parent[node] >= 0 ? multiply((*world)[(size_t)parent[node]], local) : local;
-            done[node] = 1;
-        }
-    }
-    return TEXOPT_OK;
-}
-
-double determinant3(const mat4 &m)
-{
-    return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) +
-           m[8] * (m[1] * m[6] - m[5] * m[2]);
 }
 
 /* ---- materials ------------------------------------------------------------------------- */
@@ -574,7 +274,7 @@ int attribute(const tinygltf::Primitive &p, const char *name)
 }
 
 texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model, int mesh, int prim_index,
-                            const mat4 *world, flat_geometry *geo, char *err, size_t err_len)
+                            const gltf_mat4 *world, flat_geometry *geo, char *err, size_t err_len)
 {
     const tinygltf::Primitive &p = g.meshes[(size_t)mesh].primitives[(size_t)prim_index];
     char what[96];
@@ -640,7 +340,7 @@ texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model,
         return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "model has more than 2^32 vertices");
     bool flip = false;
     if (world) {
-        const mat4 &m = *world;
+        const gltf_mat4 &m = *world;
         for (size_t v = 0; v < nv; v++) {
             double x = pos[v * 3], y = pos[v * 3 + 1], z = pos[v * 3 + 2];
             for (int r = 0; r < 3; r++) {
@@ -652,7 +352,7 @@ texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model,
             }
         }
         /* A mirroring transform reverses the winding (glTF 2.0, section 3.7.4). */
-        flip = determinant3(m) < 0;
+        flip = gltf_determinant3(m) < 0;
     }
     texopt_primitive tp;
     memset(&tp, 0, sizeof tp);
@@ -680,8 +380,8 @@ texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model,
 
 /* The node whose transform places each mesh: the first in node order; NULL for skinned
  * meshes (bind pose) and for meshes no node uses. */
-texopt_status mesh_placements(const tinygltf::Model &g, const std::vector<mat4> &world,
-                              std::vector<const mat4 *> *placement, char *err, size_t err_len)
+texopt_status mesh_placements(const tinygltf::Model &g, const std::vector<gltf_mat4> &world,
+                              std::vector<const gltf_mat4 *> *placement, char *err, size_t err_len)
 {
     placement->assign(g.meshes.size(), nullptr);
     std::vector<char> seen(g.meshes.size(), 0);
@@ -710,11 +410,11 @@ template <typename T> T *copy_out(const std::vector<T> &v)
 
 texopt_status convert_geometry(const tinygltf::Model &g, texopt_model *model, char *err, size_t err_len)
 {
-    std::vector<mat4> world;
-    texopt_status st = world_transforms(g, &world, err, err_len);
+    std::vector<gltf_mat4> world;
+    texopt_status st = gltf_world_transforms(g, &world, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    std::vector<const mat4 *> placement;
+    std::vector<const gltf_mat4 *> placement;
     st = mesh_placements(g, world, &placement, err, err_len);
     if (st != TEXOPT_OK)
         return st;
@@ -870,17 +570,6 @@ texopt_status load_common(texopt_model **out, const unsigned char *bytes, size_t
     return TEXOPT_OK;
 }
 
-std::string absolute_directory(const char *dir)
-{
-    char *real = realpath(dir, nullptr);
-    if (!real)
-        return std::string();
-    std::string r(real);
-    free(real);
-    while (r.size() > 1 && r.back() == '/')
-        r.pop_back();
-    return r == "/" ? std::string() : r; /* a model at the root may not read the whole disk */
-}
 
 } // namespace
 
@@ -895,9 +584,10 @@ extern "C" texopt_status texopt_model_load_memory(texopt_model **out, const void
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "no bytes to load");
     std::string dir;
     if (base_dir) {
-        dir = absolute_directory(base_dir);
+        dir = gltf_absolute_directory(base_dir);
         if (dir.empty())
-            return texopt_fail(err, err_len, TEXOPT_E_IO, "base directory %s does not exist", base_dir);
+            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                               "base directory %s does not exist or is the root directory", base_dir);
     }
     return load_common(out, static_cast<const unsigned char *>(bytes), len, dir, opt, err, err_len);
 }
@@ -912,11 +602,11 @@ extern "C" texopt_status texopt_model_load(texopt_model **out, const char *path,
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "no model path");
     std::vector<unsigned char> bytes;
     std::string why;
-    texopt_status st = read_file_limited(path, limits_from(opt).max_file_bytes, &bytes, &why);
+    texopt_status st = gltf_read_file_limited(path, limits_from(opt).max_file_bytes, &bytes, &why);
     if (st != TEXOPT_OK)
         return texopt_fail(err, err_len, st, "%s", why.c_str());
     std::string p(path);
     size_t slash = p.find_last_of('/');
-    std::string dir = absolute_directory(slash == std::string::npos ? "." : slash == 0 ? "/" : p.substr(0, slash).c_str());
+    std::string dir = gltf_absolute_directory(slash == std::string::npos ? "." : slash == 0 ? "/" : p.substr(0, slash).c_str());
     return load_common(out, bytes.data(), bytes.size(), dir, opt, err, err_len);
 }
