@@ -252,6 +252,109 @@ TEST(mirror_and_clamp_wraps)
     CHECK_EQ_INT(cov.covered_texels, 32 * 32);
 }
 
+/* Independent reference: every texel centre of each triangle's unwrapped bounding box tested
+ * with edge functions, mapped through the wrap mode by plain arithmetic. Random coordinates
+ * put no centre exactly on an edge, so the half-open rule does not matter here. */
+static int64_t wrap_index(int64_t x, int64_t n, texopt_wrap wrap, int *clamped)
+{
+    *clamped = 0;
+    if (wrap == TEXOPT_WRAP_CLAMP) {
+        *clamped = x < 0 || x >= n;
+        return x < 0 ? 0 : x >= n ? n - 1 : x;
+    }
+    int64_t period = wrap == TEXOPT_WRAP_MIRROR ? 2 * n : n;
+    int64_t r = ((x % period) + period) % period;
+    return r < n ? r : 2 * n - 1 - r;
+}
+
+static void brute_force(const double *t, size_t count, int w, int h, texopt_wrap wrap,
+                        uint8_t *hits, uint8_t *clamped_hits)
+{
+    for (size_t k = 0; k < count; k++) {
+        const double *a = t + 6 * k, *b = a + 2, *c = a + 4;
+        double area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        double xmin = fmin(a[0], fmin(b[0], c[0])), xmax = fmax(a[0], fmax(b[0], c[0]));
+        double ymin = fmin(a[1], fmin(b[1], c[1])), ymax = fmax(a[1], fmax(b[1], c[1]));
+        for (int64_t y = (int64_t)floor(ymin) - 1; y <= (int64_t)ceil(ymax); y++)
+            for (int64_t x = (int64_t)floor(xmin) - 1; x <= (int64_t)ceil(xmax); x++) {
+                double px = (double)x + 0.5, py = (double)y + 0.5;
+                double e0 = (b[0] - a[0]) * (py - a[1]) - (b[1] - a[1]) * (px - a[0]);
+                double e1 = (c[0] - b[0]) * (py - b[1]) - (c[1] - b[1]) * (px - b[0]);
+                double e2 = (a[0] - c[0]) * (py - c[1]) - (a[1] - c[1]) * (px - c[0]);
+                if (!(area > 0 ? (e0 > 0 && e1 > 0 && e2 > 0) : (e0 < 0 && e1 < 0 && e2 < 0)))
+                    continue;
+                int cx, cy;
+                int64_t wx = wrap_index(x, w, wrap, &cx), wy = wrap_index(y, h, wrap, &cy);
+                size_t i = (size_t)wy * (size_t)w + (size_t)wx;
+                if (cx || cy)
+                    clamped_hits[i] = 1;
+                else if (hits[i] < 2)
+                    hits[i]++;
+            }
+    }
+}
+
+TEST(random_triangles_match_a_brute_force_count)
+{
+    enum { W = 37, H = 23, TRIS = 8 };
+    const texopt_wrap wraps[3] = {TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_MIRROR, TEXOPT_WRAP_CLAMP};
+    uint64_t state = 12345;
+    for (int trial = 0; trial < 30; trial++) {
+        /* disjoint triangles (no shared vertices): vertex 3k + i is corner i of triangle k,
+         * within 0.3 of a centre anywhere in [-1, 2]^2: they overlap sometimes, never all */
+        float pos[TRIS * 9], uv[TRIS * 6];
+        uint32_t tri[TRIS * 3];
+        double centre[2] = {0, 0};
+        for (int i = 0; i < TRIS * 3; i++) {
+            double r[2];
+            for (int c = 0; c < 2; c++) {
+                state = state * 6364136223846793005ull + 1442695040888963407ull;
+                r[c] = (double)(state >> 11) / 9007199254740992.0;
+            }
+            if (i % 3 == 0) {
+                centre[0] = -1.0 + 3.0 * r[0];
+                centre[1] = -1.0 + 3.0 * r[1];
+            }
+            state = state * 6364136223846793005ull + 1442695040888963407ull;
+            double r1 = (double)(state >> 11) / 9007199254740992.0 - 0.5;
+            state = state * 6364136223846793005ull + 1442695040888963407ull;
+            double r2 = (double)(state >> 11) / 9007199254740992.0 - 0.5;
+            uv[2 * i] = (float)(centre[0] + 0.6 * r1);
+            uv[2 * i + 1] = (float)(centre[1] + 0.6 * r2);
+            pos[3 * i] = (float)i, pos[3 * i + 1] = (float)(i * i % 7), pos[3 * i + 2] = (float)(i % 3);
+            tri[i] = (uint32_t)i;
+        }
+        texopt_model *model = fixture_model_from_arrays(pos, uv, TRIS * 3, tri, TRIS, W, H, "flat");
+        CHECK(model != NULL);
+        texopt_mesh *m = NULL;
+        char err[256] = "";
+        CHECK_OK(texopt_mesh_create(&m, model, 0, err, sizeof err), err);
+        double t[TRIS * 6];
+        for (size_t k = 0; k < TRIS * 3; k++) {
+            t[2 * k] = m->texel[2 * m->triangle[k]];
+            t[2 * k + 1] = m->texel[2 * m->triangle[k] + 1];
+        }
+        texopt_wrap wrap = wraps[trial % 3];
+        uint8_t hits[W * H] = {0}, clamped[W * H] = {0};
+        brute_force(t, TRIS, W, H, wrap, hits, clamped);
+        uint64_t covered = 0, multi = 0;
+        for (int i = 0; i < W * H; i++) {
+            covered += hits[i] > 0 || clamped[i];
+            multi += hits[i] > 1;
+        }
+        CHECK(covered > 0 && covered < (uint64_t)W * H);
+        texopt_coverage_options opt = {.use_wraps = 1, .wrap_s = wrap, .wrap_t = wrap};
+        texopt_coverage cov;
+        CHECK_OK(texopt_coverage_measure(m, &opt, &cov, err, sizeof err), err);
+        CHECK_MSG(cov.covered_texels == covered && cov.overlap_texels == multi,
+                  "trial %d wrap %d: covered %llu vs %llu, overlap %llu vs %llu", trial, (int)wrap,
+                  (unsigned long long)cov.covered_texels, (unsigned long long)covered,
+                  (unsigned long long)cov.overlap_texels, (unsigned long long)multi);
+        texopt_mesh_destroy(m);
+        texopt_model_destroy(model);
+    }
+}
+
 TEST(custom_layout_and_frame)
 {
     texopt_model *model = fixture_textured_quad(32, "flat");
