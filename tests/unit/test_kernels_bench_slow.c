@@ -294,6 +294,11 @@ TEST(bench_bayesopt_quality_against_evaluations)
     printf("%-34s %6d %10.5f %12.2f\n", "512 candidates, 40 polish", 100, wide, ms);
     double iso = family_mean(30, (texopt_bo_options){.isotropic = 1}, &ms);
     printf("%-34s %6d %10.5f %12.2f\n", "isotropic", 30, iso, ms);
+    double lcb = family_mean(30, (texopt_bo_options){.acquisition = TEXOPT_ACQ_LCB}, &ms);
+    printf("%-34s %6d %10.5f %12.2f\n", "LCB (beta 2)", 30, lcb, ms);
+    double bare = family_mean(30, (texopt_bo_options){.polish_evaluations = -1}, &ms);
+    printf("%-34s %6d %10.5f %12.2f\n", "no polish", 30, bare, ms);
+    CHECK(isfinite(iso) && isfinite(lcb) && isfinite(bare));
     /* More evaluations never find worse optima on average, and 100 is within 1% of the
      * expensive configuration. */
     CHECK(means[0] <= means[2] && means[2] <= means[4]);
