@@ -60,6 +60,7 @@ typedef struct stage_shared {
     pthread_mutex_t lock; /* guards everything below */
     size_t done;
     double sum_loss, sum_area_scale;
+    double cpu_seconds; /* summed thread CPU time of the workers */
     size_t report_every;
     texopt_status status;
     size_t failed_triangle;
@@ -343,11 +344,19 @@ static void record_done(stage_shared *sh, const texopt_triangle_target *o)
     pthread_mutex_unlock(&sh->lock);
 }
 
+static double thread_cpu_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 static void *worker_main(void *arg)
 {
     worker *w = arg;
     stage_shared *sh = w->sh;
     char err[TRIOPT_ERR_LEN];
+    double cpu_start = thread_cpu_seconds();
     for (;;) {
         if (atomic_load(&sh->stop))
             break;
@@ -370,6 +379,10 @@ static void *worker_main(void *arg)
         }
         record_done(sh, o);
     }
+    double cpu = thread_cpu_seconds() - cpu_start;
+    pthread_mutex_lock(&sh->lock);
+    sh->cpu_seconds += cpu;
+    pthread_mutex_unlock(&sh->lock);
     return NULL;
 }
 
@@ -479,6 +492,7 @@ static void fill_report(const stage_shared *sh, texopt_triopt_report *report)
         report->mean_objective /= (double)report->optimised;
     }
     report->seconds = now_seconds() - sh->start_seconds;
+    report->cpu_seconds = sh->cpu_seconds;
 }
 
 static size_t count_selected(const stage_shared *sh)

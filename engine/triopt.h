@@ -69,6 +69,7 @@ typedef struct texopt_triopt_report {
     size_t skipped;           /* degenerate or outside the stride */
     long long evaluations;    /* loss evaluations, searches and weights */
     double seconds;           /* wall clock */
+    double cpu_seconds;       /* CPU time summed over the worker threads (load-independent) */
     double mean_loss;         /* mean E at the optimum over optimised triangles */
     double mean_area_scale;   /* mean lambda1 lambda2 */
     double mean_objective;    /* mean f at the optimum */
