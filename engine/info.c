@@ -8,6 +8,7 @@
  * Does not: load files, print, or judge whether a model is worth optimising. */
 #include "info.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -107,7 +108,7 @@ static cJSON *textures_json(const texopt_model *model, const texopt_domain *dom)
 
 typedef struct flag_counts {
     size_t degenerate, degenerate_3d, degenerate_uv, flipped, overlapping, wrapped;
-    double area_3d;
+    double area_3d, texel_area;
 } flag_counts;
 
 static flag_counts count_flags(const texopt_mesh *mesh)
@@ -122,6 +123,8 @@ static flag_counts count_flags(const texopt_mesh *mesh)
         c.overlapping += (f & TEXOPT_TRI_OVERLAPS) != 0;
         c.wrapped += (f & TEXOPT_TRI_WRAPPED) != 0;
         c.area_3d += mesh->area_3d[t];
+        if (!(f & TEXOPT_TRI_DEGENERATE_UV))
+            c.texel_area += fabs(mesh->area_texel[t]);
     }
     return c;
 }
@@ -180,9 +183,15 @@ static texopt_status domain_json(const texopt_model *model, int d, cJSON **out, 
     texopt_mesh *mesh = NULL;
     texopt_status st = texopt_mesh_create(&mesh, model, d, err, err_len);
     texopt_coverage cov;
+    char coverage_err[256] = "";
+    texopt_status coverage_st = TEXOPT_OK;
     if (st == TEXOPT_OK) {
         texopt_coverage_options opt = {.triangle_flags = mesh->flags};
-        st = texopt_coverage_measure(mesh, &opt, &cov, err, err_len);
+        coverage_st = texopt_coverage_measure(mesh, &opt, &cov, coverage_err, sizeof coverage_err);
+        /* A layout too large to rasterise (a frame past the cap, UVs across thousands of
+         * repeats) still gets every other number; only a real failure stops the document. */
+        if (coverage_st != TEXOPT_OK && coverage_st != TEXOPT_E_LIMIT)
+            st = texopt_fail(err, err_len, coverage_st, "%s", coverage_err);
     }
     if (st != TEXOPT_OK) {
         /* name the domain in front of the module's message */
@@ -210,10 +219,17 @@ static texopt_status domain_json(const texopt_model *model, int d, cJSON **out, 
     cJSON_AddNumberToObject(o, "folded_charts", (double)folded_charts(mesh));
     add_frame_and_wrap(o, dom);
     cJSON_AddItemToObject(o, "textures", textures_json(model, dom));
-    cJSON_AddNumberToObject(o, "covered_texels", (double)cov.covered_texels);
-    cJSON_AddNumberToObject(o, "overlap_texels", (double)cov.overlap_texels);
-    cJSON_AddNumberToObject(o, "packing_efficiency", cov.packing_efficiency);
-    cJSON_AddNumberToObject(o, "texel_area", cov.texel_area);
+    if (coverage_st == TEXOPT_OK) {
+        cJSON_AddNumberToObject(o, "covered_texels", (double)cov.covered_texels);
+        cJSON_AddNumberToObject(o, "overlap_texels", (double)cov.overlap_texels);
+        cJSON_AddNumberToObject(o, "packing_efficiency", cov.packing_efficiency);
+    } else {
+        cJSON_AddNullToObject(o, "covered_texels");
+        cJSON_AddNullToObject(o, "overlap_texels");
+        cJSON_AddNullToObject(o, "packing_efficiency");
+        cJSON_AddStringToObject(o, "coverage_error", coverage_err);
+    }
+    cJSON_AddNumberToObject(o, "texel_area", fc.texel_area);
     cJSON_AddNumberToObject(o, "area_3d", fc.area_3d);
     cJSON_AddNumberToObject(o, "degenerate", (double)fc.degenerate);
     cJSON_AddNumberToObject(o, "degenerate_3d", (double)fc.degenerate_3d);

@@ -20,6 +20,9 @@
  *        "degenerate", "degenerate_3d", "degenerate_uv", "flipped", "overlapping", "wrapped"
  *     } ] }
  * "degenerate" counts triangles with either degenerate flag; the others are mesh.h flags.
+ * When coverage refuses the layout with TEXOPT_E_LIMIT (frame past its cap, a triangle over
+ * thousands of repeats), covered_texels, overlap_texels and packing_efficiency are null and
+ * "coverage_error" says why; every other field is still there.
  * "mirrored_charts" counts charts whose orientation (mesh.h chart_sign) is opposite to the
  * area-weighted majority of the domain; "folded_charts" those holding a mirrored part welded
  * to the rest at its mirror line (reversed triangles that are not FLIPPED, see mesh.h). */

@@ -117,6 +117,25 @@ TEST(pretty_text_parses_to_the_same_document)
     texopt_model_destroy(model);
 }
 
+TEST(layout_too_large_to_rasterise_still_gets_a_document)
+{
+    texopt_model *model = fixture_textured_quad(8, "flat");
+    CHECK(model != NULL);
+    model->uvs[2 * 2] = 6000.0f; /* vertex (1,1) -> u = 6000: thousands of repeats */
+    cJSON *doc = NULL;
+    char err[256] = "";
+    CHECK_OK(texopt_info_json(model, &doc, err, sizeof err), err);
+    const cJSON *d = domain(doc, 0);
+    CHECK(cJSON_IsNull(cJSON_GetObjectItemCaseSensitive(d, "covered_texels")));
+    CHECK(cJSON_IsNull(cJSON_GetObjectItemCaseSensitive(d, "packing_efficiency")));
+    CHECK(strstr(str(d, "coverage_error"), "repeats") != NULL);
+    CHECK_NEAR(num(d, "triangles"), 2, 0);
+    CHECK_NEAR(num(d, "wrapped"), 2, 0);
+    CHECK(num(d, "texel_area") > 8 * 8 * 1000);
+    cJSON_Delete(doc);
+    texopt_model_destroy(model);
+}
+
 TEST(failures_name_the_domain)
 {
     texopt_model *model = fixture_textured_quad(8, "flat");
