@@ -4,8 +4,9 @@
  * every accessor, buffer view and URI before reading it, flatten the triangle primitives
  * into engine/model.h, decode the images with OpenImageIO (io/image_io.h), group texture
  * domains; and write the same document back with replaced TEXCOORD_0 and images.
- * Does not: fetch anything from the network, decode Draco / meshopt compressed geometry,
- * apply KHR_texture_transform, or evaluate animations (a skinned mesh keeps its bind pose).
+ * Does not: fetch anything from the network, decode Draco / meshopt compressed geometry or
+ * sparse accessors, apply KHR_texture_transform (a binding with a non-identity transform is
+ * refused), or evaluate animations (a skinned mesh keeps its bind pose).
  * The format is the Khronos glTF 2.0 specification; the method that consumes the data is
  * Sun et al. 2022, "Efficient Texture Parameterization Driven by Perceptual-Loss-on-Screen".
  *
@@ -13,7 +14,8 @@
  * the vertex count, NaN/Inf data, URIs leaving the model's directory or naming the network),
  * TEXOPT_E_LIMIT for sizes past the load options, TEXOPT_E_UNSUPPORTED for valid input texopt
  * cannot use (no textured material, a textured primitive without TEXCOORD_0 or not made of
- * triangles, compressed geometry), TEXOPT_E_IO for files that cannot be read or written.
+ * triangles, compressed geometry, sparse accessors, texture transforms), TEXOPT_E_IO for
+ * files that cannot be read or written.
  * The message names the offending element ("accessor 3: index 812 past vertex count 800"). */
 #ifndef TEXOPT_GLTF_IO_H
 #define TEXOPT_GLTF_IO_H
@@ -48,7 +50,9 @@ typedef struct texopt_load_options {
  * (indexed u8/u16/u32 or non-indexed), primitives, materials (5 slots with texcoord set and
  * sampler wrap modes), decoded images with their names, and texture domains. Primitives
  * that are not triangles and not textured (points, lines) are skipped; an untextured
- * triangle primitive without TEXCOORD_0 is kept with UVs (0, 0). */
+ * triangle primitive without TEXCOORD_0 is kept with UVs (0, 0). Under a mirroring node
+ * transform (negative determinant) each triangle's last two vertices are swapped, so that
+ * model triangles wind counter-clockwise in world space as glTF means them to. */
 texopt_status texopt_model_load(texopt_model **out, const char *path,
                                 const texopt_load_options *opt, char *err, size_t err_len);
 

@@ -204,6 +204,34 @@ texopt_status bind_texture(const tinygltf::Model &g, int material, const char *s
     return TEXOPT_OK;
 }
 
+/* KHR_texture_transform changes which texel a UV reads (and may switch the texcoord set);
+ * texopt optimises UVs as they are, so a binding with a real transform is refused. An
+ * identity transform changes nothing and is accepted. */
+bool has_real_texture_transform(const tinygltf::ExtensionMap &ext)
+{
+    auto it = ext.find("KHR_texture_transform");
+    if (it == ext.end())
+        return false;
+    const tinygltf::Value &v = it->second;
+    if (!v.IsObject() || v.Has("texCoord"))
+        return true;
+    if (v.Has("rotation") && (!v.Get("rotation").IsNumber() || v.Get("rotation").GetNumberAsDouble() != 0.0))
+        return true;
+    const char *keys[2] = {"offset", "scale"};
+    const double identity[2] = {0.0, 1.0};
+    for (int k = 0; k < 2; k++) {
+        if (!v.Has(keys[k]))
+            continue;
+        const tinygltf::Value &a = v.Get(keys[k]);
+        if (!a.IsArray() || a.ArrayLen() != 2)
+            return true;
+        for (int c = 0; c < 2; c++)
+            if (!a.Get(c).IsNumber() || a.Get(c).GetNumberAsDouble() != identity[k])
+                return true;
+    }
+    return false;
+}
+
 texopt_status convert_materials(const tinygltf::Model &g, texopt_model *model, char *err, size_t err_len)
 {
     size_t n = g.materials.size();
@@ -214,20 +242,28 @@ texopt_status convert_materials(const tinygltf::Model &g, texopt_model *model, c
     for (size_t i = 0; i < n; i++) {
         const tinygltf::Material &m = g.materials[i];
         texopt_material *out = &model->materials[i];
+        const tinygltf::TextureInfo &base = m.pbrMetallicRoughness.baseColorTexture;
+        const tinygltf::TextureInfo &mr = m.pbrMetallicRoughness.metallicRoughnessTexture;
         struct {
             texopt_slot slot;
             const char *name;
             int index, texcoord;
+            const tinygltf::ExtensionMap *ext;
         } slots[] = {
-            {TEXOPT_SLOT_BASE_COLOR, "baseColorTexture", m.pbrMetallicRoughness.baseColorTexture.index,
-             m.pbrMetallicRoughness.baseColorTexture.texCoord},
-            {TEXOPT_SLOT_NORMAL, "normalTexture", m.normalTexture.index, m.normalTexture.texCoord},
-            {TEXOPT_SLOT_METALLIC_ROUGHNESS, "metallicRoughnessTexture",
-             m.pbrMetallicRoughness.metallicRoughnessTexture.index, m.pbrMetallicRoughness.metallicRoughnessTexture.texCoord},
-            {TEXOPT_SLOT_OCCLUSION, "occlusionTexture", m.occlusionTexture.index, m.occlusionTexture.texCoord},
-            {TEXOPT_SLOT_EMISSIVE, "emissiveTexture", m.emissiveTexture.index, m.emissiveTexture.texCoord},
+            {TEXOPT_SLOT_BASE_COLOR, "baseColorTexture", base.index, base.texCoord, &base.extensions},
+            {TEXOPT_SLOT_NORMAL, "normalTexture", m.normalTexture.index, m.normalTexture.texCoord,
+             &m.normalTexture.extensions},
+            {TEXOPT_SLOT_METALLIC_ROUGHNESS, "metallicRoughnessTexture", mr.index, mr.texCoord, &mr.extensions},
+            {TEXOPT_SLOT_OCCLUSION, "occlusionTexture", m.occlusionTexture.index, m.occlusionTexture.texCoord,
+             &m.occlusionTexture.extensions},
+            {TEXOPT_SLOT_EMISSIVE, "emissiveTexture", m.emissiveTexture.index, m.emissiveTexture.texCoord,
+             &m.emissiveTexture.extensions},
         };
         for (const auto &s : slots) {
+            if (s.index >= 0 && has_real_texture_transform(*s.ext))
+                return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                                   "material %zu: %s uses KHR_texture_transform, which texopt does not apply", i,
+                                   s.name);
             texopt_status st = bind_texture(g, (int)i, s.name, s.index, s.texcoord, &out->slot[s.slot], err, err_len);
             if (st != TEXOPT_OK)
                 return st;

@@ -333,6 +333,24 @@ TEST(valid_but_unusable_models_are_unsupported)
                        TEXOPT_E_UNSUPPORTED, "KHR_draco_mesh_compression");
 }
 
+TEST(texture_transforms_are_refused_unless_identity)
+{
+    CHECK_REFUSED_JSON("\"baseColorTexture\":{\"index\":0}",
+                       "\"baseColorTexture\":{\"index\":0,\"extensions\":{\"KHR_texture_transform\":{\"offset\":[0.5,0]}}}",
+                       TEXOPT_E_UNSUPPORTED, "KHR_texture_transform");
+    CHECK_REFUSED_JSON("\"baseColorTexture\":{\"index\":0}",
+                       "\"baseColorTexture\":{\"index\":0,\"extensions\":{\"KHR_texture_transform\":{\"rotation\":0.1}}}",
+                       TEXOPT_E_UNSUPPORTED, "baseColorTexture");
+    quad_doc d;
+    char err[512];
+    CHECK(quad_doc_init(&d, 4, 4));
+    CHECK(builder_replace(&d.json, "\"baseColorTexture\":{\"index\":0}",
+                          "\"baseColorTexture\":{\"index\":0,\"extensions\":{\"KHR_texture_transform\":"
+                          "{\"offset\":[0,0],\"scale\":[1,1],\"rotation\":0}}}"));
+    CHECK_OK(try_glb(&d, d.json, NULL, err, sizeof err), err);
+    quad_doc_free(&d);
+}
+
 TEST(broken_references_are_malformed)
 {
     CHECK_REFUSED_JSON("\"baseColorTexture\":{\"index\":0}", "\"baseColorTexture\":{\"index\":5}", TEXOPT_E_MALFORMED,
