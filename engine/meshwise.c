@@ -26,7 +26,10 @@
  *    the threshold s_i = 0.5 * lambda1 * lambda2 of the triangle's target (at most 0.5): a
  *    triangle pays nothing until it is squeezed to half the area its target asks for.
  *  - w_R rotation targets are matched up to the 90-degree symmetry of the texel grid:
- *    k_i is chosen each local step. */
+ *    k_i is chosen each local step.
+ *  - The rotation step takes the closest rotation of w_R Rbar R^k + w_rs G S (not G S^-1):
+ *    since |G - R S|^2 = |G|^2 - 2 tr(R^T G S) + |S|^2 for a rotation R and symmetric S,
+ *    that is the exact minimiser of eq. 19 over R, which keeps E non-increasing. */
 #include "meshwise.h"
 
 #include <cholmod.h>
