@@ -6,7 +6,8 @@
  * field, harder than stage 1's smooth ones), solves each texture domain and checks: no
  * flipped triangle, energy never increases, and it falls. Prints one line per domain with the
  * solve time, which the benchmark script collects. A generated UV sphere of 29,928 faces
- * gives the 30K-face figure of the issue's speed target. */
+ * gives the 30K-face figure of the issue's speed target. Last, stage 1 (triopt) and stage 2
+ * together on the half-flat/half-detailed grid: the flat half must shrink far more. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,6 +19,7 @@
 #include "mesh.h"
 #include "meshwise.h"
 #include "rng.h"
+#include "triopt.h"
 #include "test.h"
 
 #define PI 3.14159265358979323846
@@ -118,5 +120,43 @@ TEST(generated_30k_face_sphere_solves_without_flips)
     CHECK_EQ_INT(model->domain_count, 1);
     solve_domain("uv_sphere_30k", model, 0, 1);
     solve_domain("uv_sphere_30k", model, 0, 2);
+    texopt_model_destroy(model);
+}
+
+/* Stage 1 then stage 2 on the "half" grid (left half flat colour, right half one-texel
+ * strokes): the flat half must give up far more texels than the detailed half. */
+TEST(half_flat_grid_flat_half_shrinks_more)
+{
+    char err[512] = "";
+    texopt_model *model = fixture_grid(8, 128, "half");
+    CHECK(model);
+    texopt_mesh *mesh = NULL;
+    CHECK_OK(texopt_mesh_create(&mesh, model, 0, err, sizeof err), err);
+    size_t n = mesh->triangle_count;
+    texopt_triangle_target *tg = calloc(n, sizeof *tg);
+    double *out = calloc(2 * mesh->vertex_count, sizeof *out);
+    texopt_triopt_options topt = {.iterations = 20, .threads = 2};
+    CHECK_OK(texopt_triopt_run(model, mesh, &topt, tg, NULL, NULL, err, sizeof err), err);
+    texopt_meshwise_options mopt = {.threads = 2};
+    texopt_meshwise_report rep;
+    CHECK_OK(texopt_meshwise_solve(mesh, tg, NULL, &mopt, out, &rep, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(rep.flipped, 0);
+    double area_in[2] = {0, 0}, area_out[2] = {0, 0};
+    for (size_t t = 0; t < n; t++) {
+        const uint32_t *tri = mesh->triangle + 3 * t;
+        double cx = (mesh->texel[2 * tri[0]] + mesh->texel[2 * tri[1]] + mesh->texel[2 * tri[2]]) / 3;
+        int detailed = cx > 0.5 * mesh->width;
+        const double *a = out + 2 * tri[0], *b = out + 2 * tri[1], *c = out + 2 * tri[2];
+        area_out[detailed] += 0.5 * fabs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+        area_in[detailed] += fabs(mesh->area_texel[t]);
+    }
+    double flat_scale = area_out[0] / area_in[0], detail_scale = area_out[1] / area_in[1];
+    printf("half grid: flat half keeps %.3f of its texels, detailed half %.3f (%d iterations)\n",
+           flat_scale, detail_scale, rep.iterations);
+    CHECK(flat_scale < 0.5 * detail_scale);
+    CHECK(detail_scale > 0.3);
+    free(out);
+    free(tg);
+    texopt_mesh_destroy(mesh);
     texopt_model_destroy(model);
 }
