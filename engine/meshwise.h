@@ -17,13 +17,19 @@
  * Local step (per triangle, exact block minimisation, so E never increases): k_i from the
  * closest of Rbar R(k pi/2) to R_i; R_i = closest rotation (2x2 polar) of
  * w_R Rbar R^k + w_rs G_i S_i; S_i = (w_S Sbar + w_rs sym(R_i^T G_i)) / (w_S + w_rs).
- * Global step: one damped Newton step on the new texel positions (CHOLMOD: symbolic
- * analysis once, numeric factorisation only when the matrix changed), a line search whose
+ * Global step: one damped Newton step on the new texel positions, a line search whose
  * largest step keeps every determinant > 0; w_b /= 20 whenever the fitting part falls below
- * the barrier part (eq. 28).
+ * the barrier part (eq. 28). The Newton matrix is the constant fitting Hessian plus the u
+ * and v blocks of the barrier's Gauss-Newton term: two n x n sparse systems (CHOLMOD:
+ * symbolic analysis once, numeric factorisation only while a barrier is active).
+ * B(d) = 1/g(d/s) - 1 below the threshold s = 0.5 lambda1 lambda2 (at most 0.5), 0 above,
+ * g(t) = t^3 - 3t^2 + 3t (Schueller et al.): it costs nothing until a triangle is squeezed
+ * to half the area its target asks for.
  *
  * Choices the paper leaves open (documented in meshwise.c):
- *  - Translation: one vertex per chart is pinned at its input position (exact, no bias).
+ *  - Translation: one vertex per chart (the first vertex of its first triangle with a texel
+ *    area) is pinned at its starting position: exact, no bias. Vertices used only by
+ *    degenerate-UV triangles stay where they start.
  *  - Weights: w_R and w_S are divided by the mean w_S of the counted triangles (or mean w_R
  *    when every w_S is 0), so their ratios follow stage 1 while their absolute size (a
  *    variance of a loss, ~1e-4) does not vanish against w_rs; all-ones weights stay ones.
@@ -40,7 +46,8 @@
  * force one deformation onto two surface regions whose perceptual targets differ.
  *
  * Not here: the perceptual targets (stage 1), packing and scaling to the budget (the
- * output layout is in texel units of the input frame, not yet packed), re-baking. */
+ * output layout is in texel units of the input frame, not yet packed), re-baking, the loss
+ * of each triangle under the result (meshwise_loss.h: share with E <= eps, paper Fig. 16). */
 #ifndef TEXOPT_MESHWISE_H
 #define TEXOPT_MESHWISE_H
 
