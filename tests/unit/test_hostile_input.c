@@ -302,9 +302,11 @@ TEST(uris_leaving_the_directory_or_naming_the_network_are_refused)
     CHECK(symlink(secret, link) == 0);
     CHECK_EQ_INT(try_gltf_uris(sub, "quad.bin", "link.png", err, sizeof err), TEXOPT_E_MALFORMED);
     CHECK_MSG(strstr(err, "link") != NULL, "%s", err);
-    /* A missing image file is named. */
+    /* Missing files are named. */
     CHECK_EQ_INT(try_gltf_uris(sub, "quad.bin", "missing.png", err, sizeof err), TEXOPT_E_MALFORMED);
     CHECK_MSG(strstr(err, "missing.png") != NULL, "%s", err);
+    CHECK_EQ_INT(try_gltf_uris(sub, "missing.bin", "tex.png", err, sizeof err), TEXOPT_E_MALFORMED);
+    CHECK_MSG(strstr(err, "missing.bin") != NULL, "%s", err);
     builder_rmdir(dir);
 }
 
