@@ -11,7 +11,8 @@
  * what the screen shows with the baked texture (DESIGN.md 3.1).
  *
  * Speed: the touched texels are numbered in texture row-major order, so A^T A is banded
- * (bandwidth about one patch row) and is solved with banded Cholesky (LAPACK dpbtrf/dpbtrs).
+ * (bandwidth about one patch row) and is solved with banded Cholesky: an own vectorised
+ * loop for narrow bands, LAPACK dpbtrf for wide ones (bake.c says why).
  * The workspace owns every buffer and only grows, so the hot loop does not allocate once it
  * has seen its largest problem. A workspace is for one thread at a time.
  *

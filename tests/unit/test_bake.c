@@ -231,6 +231,40 @@ TEST(bilinear_reference_in_the_range_of_a_is_reproduced)
     texopt_image_destroy(&tex);
 }
 
+TEST(narrow_and_wide_bands_both_reproduce_a_bilinear_reference)
+{
+    /* Patches 29, 53 and 77 texels wide: band widths on both sides of the switch from the
+     * own factorisation to LAPACK dpbtrf (kd 56); the fit must be exact on both. */
+    enum { S = 96, W = 128, H = 128 };
+    texopt_image tex;
+    char err[256] = "";
+    CHECK_OK(texopt_image_create(&tex, W, H, 2, err, sizeof err), err);
+    for (int k = 0; k < W * H; k++) {
+        tex.pixels[2 * k] = (float)pattern(k % W, k / W, 0);
+        tex.pixels[2 * k + 1] = (float)pattern(k % W, k / W, 1);
+    }
+    static double pos[2 * S * S];
+    static float ref[2 * S * S], out[2 * S * S];
+    texopt_bake_workspace *ws = texopt_bake_workspace_create(S * S, 2);
+    CHECK(ws != NULL);
+    const double scales[3] = {0.3, 0.55, 0.8};
+    for (int i = 0; i < 3; i++) {
+        const double jac[4] = {scales[i], 0.02, -0.03, scales[i]};
+        screen_positions(S, jac, 10.0, 12.0, pos);
+        for (int q = 0; q < S * S; q++)
+            texopt_sample_bilinear(&tex, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, pos[2 * q],
+                                   pos[2 * q + 1], ref + 2 * q);
+        CHECK_OK(texopt_bake_fit(ws, S * S, pos, ref, 2, W, H, TEXOPT_WRAP_CLAMP,
+                                 TEXOPT_WRAP_CLAMP, 1e-9, out, err, sizeof err),
+                 err);
+        CHECK(texopt_bake_last_texel_count(ws) > (int)(0.9 * (S * scales[i]) * (S * scales[i])));
+        for (int k = 0; k < 2 * S * S; k++)
+            CHECK_NEAR(out[k], ref[k], 1e-5);
+    }
+    texopt_bake_workspace_destroy(ws);
+    texopt_image_destroy(&tex);
+}
+
 TEST(scattered_footprints_over_a_huge_texture_fit_each_pixel)
 {
     /* Pixels far apart on a 4096^2 texture: the bounding box is too big for the dense
