@@ -3,7 +3,9 @@
  *
  * Holds the tinygltf model as loaded, with every image's original encoded bytes in
  * Image::image (as_is), and the MIME type found by sniffing those bytes. Does not hold
- * decoded pixels (those are in texopt_model.images). */
+ * decoded pixels (those are in texopt_model.images) and is never changed after loading:
+ * saving works on a copy. Keeps the input of Sun et al. 2022 writable again; implements no
+ * part of the method. */
 #ifndef TEXOPT_GLTF_DOCUMENT_HPP
 #define TEXOPT_GLTF_DOCUMENT_HPP
 
