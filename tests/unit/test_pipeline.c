@@ -1,0 +1,334 @@
+/* Tests of pipeline.c (texopt_optimize_file) on small glTF files generated here: the input
+ * method's budget and identity, the perceptual method on a flat quad (same look at c_r = 1
+ * and at a far smaller texture), the half-flat/half-detailed grid (the flat half's texels
+ * shrink), progress, cancellation and refusals. Real models are in
+ * test_pipeline_models_slow.c. */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "fixtures.h"
+#include "gltf_io.h"
+#include "image_io.h"
+#include "pipeline.h"
+#include "test.h"
+
+static void put32(unsigned char *p, uint32_t v)
+{
+    for (int i = 0; i < 4; i++)
+        p[i] = (unsigned char)(v >> (8 * i));
+}
+
+/* Writes an n x n grid over [0,1]^2 (UV = (x, y)) with a tex x tex texture of `pattern` as
+ * a .glb at path. Returns 0 on success. */
+static int write_grid_glb(const char *path, int n, int tex, const char *pattern)
+{
+    texopt_image img;
+    if (texopt_image_create(&img, tex, tex, 3, NULL, 0) != TEXOPT_OK || fixture_fill_pattern(&img, pattern) != 0)
+        return -1;
+    unsigned char *png = NULL;
+    size_t png_len = 0;
+    texopt_status st = texopt_image_encode_png(&img, &png, &png_len, NULL, 0);
+    texopt_image_destroy(&img);
+    if (st != TEXOPT_OK)
+        return -1;
+    size_t nv = (size_t)(n + 1) * (n + 1), nt = 2 * (size_t)n * n;
+    size_t pos_len = nv * 12, uv_len = nv * 8, idx_len = nt * 12;
+    size_t png_at = pos_len + uv_len + idx_len, bin_len = (png_at + png_len + 3) / 4 * 4;
+    unsigned char *bin = calloc(1, bin_len);
+    float *pos = (float *)bin, *uv = (float *)(bin + pos_len);
+    uint32_t *idx = (uint32_t *)(bin + pos_len + uv_len);
+    for (int j = 0; j <= n; j++)
+        for (int i = 0; i <= n; i++) {
+            size_t v = (size_t)j * (n + 1) + i;
+            pos[3 * v] = (float)i / n;
+            pos[3 * v + 1] = (float)j / n;
+            pos[3 * v + 2] = 0;
+            uv[2 * v] = (float)i / n;
+            uv[2 * v + 1] = (float)j / n;
+        }
+    for (int j = 0; j < n; j++)
+        for (int i = 0; i < n; i++) {
+            uint32_t a = (uint32_t)(j * (n + 1) + i), b = a + 1, c = a + (uint32_t)n + 2, d = a + (uint32_t)n + 1;
+            uint32_t *t = idx + 6 * (size_t)(j * n + i);
+            t[0] = a, t[1] = b, t[2] = c, t[3] = a, t[4] = c, t[5] = d;
+        }
+    memcpy(bin + png_at, png, png_len);
+    free(png);
+    char json[4096];
+    int jl = snprintf(json, sizeof json,
+        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1},\"indices\":2,\"material\":0}]}],"
+        "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}],"
+        "\"textures\":[{\"source\":0}],\"images\":[{\"bufferView\":3,\"mimeType\":\"image/png\"}],"
+        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[1,1,0]},"
+        "{\"bufferView\":1,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC2\"},"
+        "{\"bufferView\":2,\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},"
+        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}],"
+        "\"buffers\":[{\"byteLength\":%zu}]}",
+        nv, nv, nt * 3, pos_len, pos_len, uv_len, pos_len + uv_len, idx_len, png_at, png_len, bin_len);
+    size_t jpad = ((size_t)jl + 3) / 4 * 4, total = 12 + 8 + jpad + 8 + bin_len;
+    unsigned char *glb = calloc(1, total);
+    memcpy(glb, "glTF", 4);
+    put32(glb + 4, 2);
+    put32(glb + 8, (uint32_t)total);
+    put32(glb + 12, (uint32_t)jpad);
+    memcpy(glb + 16, "JSON", 4);
+    memcpy(glb + 20, json, (size_t)jl);
+    memset(glb + 20 + jl, ' ', jpad - (size_t)jl);
+    put32(glb + 20 + jpad, (uint32_t)bin_len);
+    memcpy(glb + 24 + jpad, "BIN\0", 4);
+    memcpy(glb + 28 + jpad, bin, bin_len);
+    free(bin);
+    FILE *f = fopen(path, "wb");
+    int ok = f && fwrite(glb, 1, total, f) == total;
+    if (f && fclose(f) != 0)
+        ok = 0;
+    free(glb);
+    return ok ? 0 : -1;
+}
+
+typedef struct scratch {
+    char dir[64], in[128], out[128], stats[128];
+} scratch;
+
+static int scratch_init(scratch *s, int n, int tex, const char *pattern)
+{
+    snprintf(s->dir, sizeof s->dir, "/tmp/texopt_pipeline_XXXXXX");
+    if (!mkdtemp(s->dir))
+        return -1;
+    snprintf(s->in, sizeof s->in, "%s/in.glb", s->dir);
+    snprintf(s->out, sizeof s->out, "%s/out.glb", s->dir);
+    snprintf(s->stats, sizeof s->stats, "%s/stats.json", s->dir);
+    return write_grid_glb(s->in, n, tex, pattern);
+}
+
+static void scratch_free(scratch *s)
+{
+    unlink(s->in);
+    unlink(s->out);
+    unlink(s->stats);
+    rmdir(s->dir);
+}
+
+static cJSON *read_json(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    char buf[65536];
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = '\0';
+    return cJSON_Parse(buf);
+}
+
+static double domain_number(cJSON *root, const char *key)
+{
+    cJSON *d = cJSON_GetArrayItem(cJSON_GetObjectItem(root, "domains"), 0);
+    cJSON *v = cJSON_GetObjectItem(d, key);
+    return cJSON_IsNumber(v) ? v->valuedouble : NAN;
+}
+
+static texopt_model *load(const char *path)
+{
+    texopt_model *m = NULL;
+    char err[256];
+    if (texopt_model_load(&m, path, NULL, err, sizeof err) != TEXOPT_OK)
+        return NULL;
+    return m;
+}
+
+TEST(input_method_quarter_cost_halves_each_side)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 4, 64, "checker") == 0);
+    texopt_params p = {0};
+    p.method = TEXOPT_METHOD_INPUT;
+    p.relative_cost = 0.25;
+    char err[512] = "";
+    CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+    texopt_model *in = load(s.in), *out = load(s.out);
+    CHECK(in && out);
+    CHECK_EQ_INT(out->images[0].width, 32);
+    CHECK_EQ_INT(out->images[0].height, 32);
+    for (size_t i = 0; i < 2 * in->vertex_count; i++)
+        CHECK(out->uvs[i] == in->uvs[i]);
+    /* 8-texel checker squares become 4-texel squares of exactly 0 and 1 (box prefilter). */
+    for (int y = 0; y < 32; y++)
+        for (int x = 0; x < 32; x++)
+            CHECK_NEAR(texopt_image_at(&out->images[0], x, y)[0], (float)(((x / 4) + (y / 4)) & 1), 1.0 / 255);
+    cJSON *st = read_json(s.stats);
+    CHECK(st != NULL);
+    CHECK_NEAR(domain_number(st, "relative_cost"), 0.25, 0.02 * 0.25);
+    CHECK_NEAR(domain_number(st, "cost_input"), 64 * 64, 0);
+    CHECK(strcmp(cJSON_GetObjectItem(st, "method")->valuestring, "input") == 0);
+    cJSON_Delete(st);
+    texopt_model_destroy(in);
+    texopt_model_destroy(out);
+    scratch_free(&s);
+}
+
+TEST(input_method_at_full_cost_keeps_the_texture)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 2, 32, "half") == 0);
+    texopt_params p = {0};
+    p.method = TEXOPT_METHOD_INPUT;
+    char err[512] = "";
+    CHECK_OK(texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err), err);
+    texopt_model *in = load(s.in), *out = load(s.out);
+    CHECK(in && out);
+    CHECK(memcmp(in->images[0].pixels, out->images[0].pixels, sizeof(float) * 32 * 32 * 3) == 0);
+    texopt_model_destroy(in);
+    texopt_model_destroy(out);
+    scratch_free(&s);
+}
+
+TEST(input_method_texture_size_is_exact)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 2, 32, "gradient") == 0);
+    texopt_params p = {0};
+    p.method = TEXOPT_METHOD_INPUT;
+    p.budget = TEXOPT_BUDGET_TEXTURE_SIZE;
+    p.texture_width = 16;
+    p.texture_height = 8;
+    char err[512] = "";
+    CHECK_OK(texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err), err);
+    texopt_model *out = load(s.out);
+    CHECK(out != NULL);
+    CHECK_EQ_INT(out->images[0].width, 16);
+    CHECK_EQ_INT(out->images[0].height, 8);
+    /* gradient r = (x + 0.5) / W is linear: a box-filtered 2x / 4x reduction keeps it. */
+    CHECK_NEAR(texopt_image_at(&out->images[0], 5, 3)[0], 5.5 / 16, 1.0 / 255);
+    CHECK_NEAR(texopt_image_at(&out->images[0], 5, 3)[1], 3.5 / 8, 1.0 / 255);
+    texopt_model_destroy(out);
+    scratch_free(&s);
+}
+
+/* Largest deviation of any texel from the fixtures' flat colour (0.6, 0.4, 0.2). */
+static double flat_deviation(const texopt_image *img)
+{
+    static const float flat[3] = {0.6f, 0.4f, 0.2f};
+    double dev = 0;
+    for (int y = 0; y < img->height; y++)
+        for (int x = 0; x < img->width; x++)
+            for (int c = 0; c < 3; c++)
+                dev = fmax(dev, fabs(texopt_image_at(img, x, y)[c] - flat[c]));
+    return dev;
+}
+
+TEST(perceptual_flat_quad_keeps_its_look_at_full_and_tiny_cost)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 1, 256, "flat") == 0);
+    texopt_params p = {0};
+    p.threads = 1;
+    char err[512] = "";
+    CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+    texopt_model *out = load(s.out);
+    CHECK(out != NULL);
+    CHECK(flat_deviation(&out->images[0]) <= 1.0 / 255 + 1e-6);
+    for (size_t i = 0; i < 2 * out->vertex_count; i++)
+        CHECK(out->uvs[i] >= 0 && out->uvs[i] <= 1);
+    cJSON *st = read_json(s.stats);
+    CHECK(st != NULL);
+    CHECK_NEAR(domain_number(st, "relative_cost"), 1.0, 0.02);
+    cJSON_Delete(st);
+    texopt_model_destroy(out);
+
+    p.relative_cost = 0.1;
+    CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+    out = load(s.out);
+    CHECK(out != NULL);
+    CHECK((long)out->images[0].width * out->images[0].height <= 256 * 256 / 8);
+    CHECK(flat_deviation(&out->images[0]) <= 1.0 / 255 + 1e-6);
+    st = read_json(s.stats);
+    CHECK_NEAR(domain_number(st, "relative_cost"), 0.1, 0.02 * 0.1);
+    cJSON_Delete(st);
+    texopt_model_destroy(out);
+    scratch_free(&s);
+}
+
+typedef struct progress_log {
+    int calls, monotonic, bad_stage;
+    double last;
+    atomic_int cancel;
+    int cancel_at_stage1;
+} progress_log;
+
+static void on_progress(void *user, const texopt_progress *p)
+{
+    progress_log *log = user;
+    static const char *const stages[] = {"load", "stage1", "stage2", "pack", "bake", "evaluate", "save"};
+    int known = 0;
+    for (size_t i = 0; i < sizeof stages / sizeof stages[0]; i++)
+        known |= strcmp(p->stage, stages[i]) == 0;
+    log->bad_stage |= !known;
+    if (p->fraction + 1e-12 < log->last)
+        log->monotonic = 0;
+    log->last = p->fraction;
+    log->calls++;
+    if (log->cancel_at_stage1 && strcmp(p->stage, "stage1") == 0)
+        atomic_store(&log->cancel, 1);
+}
+
+TEST(progress_rises_to_one_through_known_stages)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 2, 32, "checker") == 0);
+    progress_log log = {0};
+    log.monotonic = 1;
+    texopt_monitor mon = {on_progress, &log, &log.cancel};
+    texopt_params p = {0};
+    p.threads = 1;
+    p.iterations = 10;
+    char err[512] = "";
+    CHECK_OK(texopt_optimize_file(s.in, s.out, NULL, &p, &mon, err, sizeof err), err);
+    CHECK(log.calls >= 6);
+    CHECK(log.monotonic);
+    CHECK(!log.bad_stage);
+    CHECK_NEAR(log.last, 1.0, 1e-12);
+    scratch_free(&s);
+}
+
+TEST(cancel_stops_the_job_and_writes_nothing)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 2, 32, "checker") == 0);
+    progress_log log = {0};
+    log.cancel_at_stage1 = 1;
+    texopt_monitor mon = {on_progress, &log, &log.cancel};
+    texopt_params p = {0};
+    p.threads = 1;
+    char err[512] = "";
+    CHECK(texopt_optimize_file(s.in, s.out, s.stats, &p, &mon, err, sizeof err) == TEXOPT_E_CANCELED);
+    CHECK(access(s.out, F_OK) != 0);
+    CHECK(access(s.stats, F_OK) != 0);
+    scratch_free(&s);
+}
+
+TEST(bad_requests_are_refused_with_a_message)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 1, 16, "flat") == 0);
+    texopt_params p = {0};
+    char err[512] = "";
+    char missing[160];
+    snprintf(missing, sizeof missing, "%s/nothing.glb", s.dir);
+    CHECK(texopt_optimize_file(missing, s.out, NULL, &p, NULL, err, sizeof err) == TEXOPT_E_IO);
+    p.method = TEXOPT_METHOD_ARAP;
+    CHECK(texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err) == TEXOPT_E_UNSUPPORTED);
+    CHECK(strstr(err, "arap") != NULL);
+    p.method = TEXOPT_METHOD_INPUT;
+    p.relative_cost = 7;
+    CHECK(texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "relative_cost") != NULL);
+    CHECK(access(s.out, F_OK) != 0);
+    scratch_free(&s);
+}
