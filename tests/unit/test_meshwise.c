@@ -466,7 +466,7 @@ TEST(progress_is_reported_and_cancel_stops)
 TEST(zero_stretch_weights_still_follow_a_consistent_target)
 {
     /* Stage 1 gives w_S = 0 where the loss ignores the stretch (flat colour); the target
-     * (area-driven) must still be reached, slowly, through the weight floor. */
+     * (area-driven) must still be reached, through the weight floor. */
     texopt_mesh *m = grid_mesh(6, 8.0, 0.2, 1);
     texopt_triangle_target *tg = uniform_targets(m->triangle_count, 0.5, 0.5, 0, 0, 0, 0);
     double *out = calloc(2 * m->vertex_count, sizeof *out);
