@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# texopt optimize end to end on the bundled spot model: method "input" at half cost writes a
+# .glb that loads again, passes the glTF validator (when tools/node_modules has it) and whose
+# stats say the cost is within 2% of the request; usage errors exit 2, engine failures 1,
+# SIGINT during the perceptual method exits 3 and leaves no output file.
+set -euo pipefail
+bin=${TEXOPT_BIN:?TEXOPT_BIN not set}
+src=${TEXOPT_SOURCE_DIR:?TEXOPT_SOURCE_DIR not set}
+spot="$src/tests/data/spot/spot.glb"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+"$bin" optimize --help | grep -q -- "--relative-cost" || fail "--help does not list the options"
+
+set +e
+"$bin" optimize "$spot" 2>/dev/null; rc=$?
+[ $rc -eq 2 ] || fail "missing -o: exit $rc, expected 2"
+"$bin" optimize "$spot" -o "$tmp/x.glb" --relative-cost 0.5 --texture-size 64x64 2>/dev/null; rc=$?
+[ $rc -eq 2 ] || fail "two budgets: exit $rc, expected 2"
+"$bin" optimize "$spot" -o "$tmp/x.glb" --method nonsense 2>/dev/null; rc=$?
+[ $rc -eq 2 ] || fail "unknown method: exit $rc, expected 2"
+"$bin" optimize "$tmp/missing.glb" -o "$tmp/x.glb" --quiet 2>"$tmp/err"; rc=$?
+[ $rc -eq 1 ] || fail "missing input: exit $rc, expected 1"
+grep -q "missing.glb" "$tmp/err" || fail "the error does not name the file: $(cat "$tmp/err")"
+set -e
+[ ! -e "$tmp/x.glb" ] || fail "a failed run left an output file"
+
+"$bin" optimize "$spot" -o "$tmp/half.glb" --method input --relative-cost 0.5 --stats "$tmp/half.json" 2>"$tmp/progress"
+grep -q "save 100%" "$tmp/progress" || fail "no final progress line: $(cat "$tmp/progress")"
+/usr/bin/python3 - "$tmp/half.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+d = s["domains"][0]
+assert s["method"] == "input", s["method"]
+assert abs(d["relative_cost"] - 0.5) <= 0.01, d["relative_cost"]
+assert d["output_size"] == [724, 724], d["output_size"]
+assert d["images"][0]["rewritten"] is True
+PY
+"$bin" info "$tmp/half.glb" > "$tmp/info.json" || fail "texopt info cannot read the output"
+if [ -f "$src/tools/node_modules/gltf-validator/package.json" ] && command -v node >/dev/null; then
+  node "$src/tools/validate-gltf.mjs" "$tmp/half.glb" > "$tmp/validate.json" || fail "validator: $(cat "$tmp/validate.json")"
+fi
+
+# SIGINT while stage 1 runs: exit 3, no output file.
+"$bin" optimize "$spot" -o "$tmp/canceled.glb" --quiet &
+pid=$!
+sleep 2
+kill -INT $pid
+set +e
+wait $pid; rc=$?
+set -e
+[ $rc -eq 3 ] || fail "SIGINT: exit $rc, expected 3"
+[ ! -e "$tmp/canceled.glb" ] || fail "a canceled run left an output file"
+echo "optimize_cli: ok"
