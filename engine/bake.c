@@ -30,6 +30,7 @@ struct texopt_bake_workspace {
     int *cell;         /* 4 per pixel: local unknown of each footprint texel */
     double *weight;    /* 4 per pixel */
     int *texel;        /* per unknown: its box slot or texel index, ascending */
+    int *first, *last; /* per unknown: envelope of A^T A (see envelope()) */
     int last_unknowns;
     /* dense map over a bounding box: local unknown + 1, 0 = untouched */
     int *box;
@@ -64,12 +65,14 @@ texopt_bake_workspace *texopt_bake_workspace_create(int max_pixels, int max_chan
     ws->cell = malloc(entries * sizeof *ws->cell);
     ws->weight = malloc(entries * sizeof *ws->weight);
     ws->texel = malloc(entries * sizeof *ws->texel);
+    ws->first = malloc(entries * sizeof *ws->first);
+    ws->last = malloc(entries * sizeof *ws->last);
     ws->box = calloc(ws->box_capacity, sizeof *ws->box);
     ws->hash_key = malloc(hash_size * sizeof *ws->hash_key);
     ws->hash_value = malloc(hash_size * sizeof *ws->hash_value);
     ws->rhs = malloc(entries * (size_t)max_channels * sizeof *ws->rhs);
-    if (!ws->rc || !ws->cell || !ws->weight || !ws->texel || !ws->box || !ws->hash_key || !ws->hash_value ||
-        !ws->rhs) {
+    if (!ws->rc || !ws->cell || !ws->weight || !ws->texel || !ws->first || !ws->last ||
+        !ws->box || !ws->hash_key || !ws->hash_value || !ws->rhs) {
         texopt_bake_workspace_destroy(ws);
         return NULL;
     }
@@ -85,6 +88,8 @@ void texopt_bake_workspace_destroy(texopt_bake_workspace *ws)
     free(ws->cell);
     free(ws->weight);
     free(ws->texel);
+    free(ws->first);
+    free(ws->last);
     free(ws->box);
     free(ws->hash_key);
     free(ws->hash_value);
@@ -199,17 +204,34 @@ static int number_through_hash(texopt_bake_workspace *ws, int pixel_count, int w
     return n;
 }
 
-static int band_width(const texopt_bake_workspace *ws, int pixel_count)
+/* The envelope of A^T A: first[i] = the smallest unknown coupled to unknown i, made
+ * non-decreasing (a suffix minimum) so that the rows reaching back to column j are exactly
+ * j+1 .. last[j]. Cholesky fill stays inside the envelope, so the factorisation and the
+ * solves skip the band's zeros outside it (~1/3 of the work for a round patch). Returns
+ * the bandwidth kd = max(i - first[i]). */
+static int envelope(texopt_bake_workspace *ws, int pixel_count, int n)
 {
-    int kd = 0;
+    int *first = ws->first, *last = ws->last;
+    for (int i = 0; i < n; i++)
+        first[i] = i;
     for (int q = 0; q < pixel_count; q++) {
         const int *c = ws->cell + 4 * (size_t)q;
-        int lo = c[0], hi = c[0];
-        for (int k = 1; k < 4; k++) {
+        int lo = c[0];
+        for (int k = 1; k < 4; k++)
             lo = c[k] < lo ? c[k] : lo;
-            hi = c[k] > hi ? c[k] : hi;
-        }
-        kd = hi - lo > kd ? hi - lo : kd;
+        for (int k = 0; k < 4; k++)
+            first[c[k]] = lo < first[c[k]] ? lo : first[c[k]];
+    }
+    int kd = 0;
+    for (int i = n - 1; i >= 0; i--) {
+        if (i + 1 < n && first[i + 1] < first[i])
+            first[i] = first[i + 1];
+        kd = i - first[i] > kd ? i - first[i] : kd;
+    }
+    for (int j = 0, i = 0; j < n; j++) {
+        while (i + 1 < n && first[i + 1] <= j)
+            i++;
+        last[j] = i > j ? i : j;
     }
     return kd;
 }
@@ -309,7 +331,7 @@ static void subtract_scaled(double *restrict row, const double *restrict column,
  * L(i, j) = band[i * (kd + 1) + kd - (i - j)] -- the same bytes as LAPACK's column-major
  * upper band of A (U = L^T), so assembly fills it directly and either factorisation can be
  * used. Returns 0 when not positive definite. */
-static int band_cholesky_small(double *band, int n, int kd, double *column)
+static int band_cholesky_small(double *band, int n, int kd, const int *last, double *column)
 {
     int ld = kd + 1;
     for (int j = 0; j < n; j++) {
@@ -319,7 +341,7 @@ static int band_cholesky_small(double *band, int n, int kd, double *column)
             return 0;
         double pivot = sqrt(d), inv = 1.0 / pivot;
         lj[j] = pivot;
-        int m = (j + kd < n - 1 ? j + kd : n - 1) - j;
+        int m = last[j] - j;
         for (int t = 0; t < m; t++) {
             double *li = band + (size_t)(j + 1 + t) * ld + kd - (j + 1 + t);
             li[j] *= inv;
@@ -336,34 +358,51 @@ static int band_cholesky_small(double *band, int n, int kd, double *column)
  * above it dpbtrf's blocked path wins (963 vs 1670 us at kd = 80). */
 #define BAKE_OWN_CHOLESKY_MAX_KD 56
 
-static int band_cholesky(double *band, int n, int kd, double *column)
+static int band_cholesky(double *band, int n, int kd, const int *last, double *column)
 {
     if (kd < BAKE_OWN_CHOLESKY_MAX_KD)
-        return band_cholesky_small(band, n, kd, column);
+        return band_cholesky_small(band, n, kd, last, column);
     return LAPACKE_dpbtrf_work(LAPACK_COL_MAJOR, 'U', n, kd, band, kd + 1) == 0;
 }
 
+/* Dot product two lanes at a time (independent partial sums shorten the dependency chain). */
+static double dot2(const double *a, const double *b, int count)
+{
+    bake_v2 acc0 = {0.0, 0.0}, acc1 = {0.0, 0.0};
+    int k = 0;
+    for (; k + 4 <= count; k += 4) {
+        bake_v2 a0, a1, b0, b1;
+        memcpy(&a0, a + k, sizeof a0);
+        memcpy(&a1, a + k + 2, sizeof a1);
+        memcpy(&b0, b + k, sizeof b0);
+        memcpy(&b1, b + k + 2, sizeof b1);
+        acc0 += a0 * b0;
+        acc1 += a1 * b1;
+    }
+    double s = (acc0[0] + acc1[0]) + (acc0[1] + acc1[1]);
+    for (; k < count; k++)
+        s += a[k] * b[k];
+    return s;
+}
+
 /* Solves L L^T x = b for each channel's column of rhs (n x channels), in place. */
-static void band_solve(const double *band, int n, int kd, double *rhs, int channels)
+static void band_solve(const double *band, int n, int kd, const int *envelope_first,
+                       double *rhs, int channels)
 {
     int ld = kd + 1;
     for (int c = 0; c < channels; c++) {
         double *x = rhs + (size_t)c * n;
         for (int i = 0; i < n; i++) {
             const double *li = band + (size_t)i * ld + kd - i;
-            int first = i - kd > 0 ? i - kd : 0;
-            double s = x[i];
-            for (int k = first; k < i; k++)
-                s -= li[k] * x[k];
-            x[i] = s / li[i];
+            int first = envelope_first[i];
+            x[i] = (x[i] - dot2(li + first, x + first, i - first)) / li[i];
         }
         for (int i = n - 1; i >= 0; i--) {
             const double *li = band + (size_t)i * ld + kd - i;
-            int first = i - kd > 0 ? i - kd : 0;
+            int first = envelope_first[i];
             double xi = x[i] / li[i];
             x[i] = xi;
-            for (int k = first; k < i; k++)
-                x[k] -= li[k] * xi;
+            subtract_scaled(x + first, li + first, xi, i - first);
         }
     }
 }
@@ -411,14 +450,14 @@ texopt_status texopt_bake_fit(texopt_bake_workspace *ws, int pixel_count, const 
     int n = (size_t)box.rows * (size_t)box.cols <= ws->box_capacity
                 ? number_through_box(ws, pixel_count, box)
                 : number_through_hash(ws, pixel_count, width);
-    int kd = band_width(ws, pixel_count);
+    int kd = envelope(ws, pixel_count, n);
     if (!reserve_band(ws, (size_t)(kd + 1) * (size_t)n, kd))
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "bake: band of %d x %d", kd + 1, n);
     assemble_normal_equations(ws, pixel_count, n, kd, reference, channels, ridge);
-    if (!band_cholesky(ws->band, n, kd, ws->column))
+    if (!band_cholesky(ws->band, n, kd, ws->last, ws->column))
         return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
                            "bake: normal equations of %d texels are not positive definite", n);
-    band_solve(ws->band, n, kd, ws->rhs, channels);
+    band_solve(ws->band, n, kd, ws->first, ws->rhs, channels);
     reconstruct(ws, pixel_count, n, channels, reconstruction);
     ws->last_unknowns = n;
     return TEXOPT_OK;
