@@ -1,0 +1,92 @@
+/* grid_glb.h - a textured n x n grid written as a small .glb, for the pipeline tests
+ * (header only; test_pipeline.c and test_pipeline_models_slow.c). The grid lies over
+ * [0,1]^2 with UV = (x, y), u32 indices, one material whose base colour is a tex x tex PNG
+ * of one of the fixtures' patterns (tests/support/fixtures.h), default sampler (REPEAT). */
+#ifndef TEXOPT_TEST_GRID_GLB_H
+#define TEXOPT_TEST_GRID_GLB_H
+
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fixtures.h"
+#include "image_io.h"
+
+static inline void grid_put32(unsigned char *p, uint32_t v)
+{
+    for (int i = 0; i < 4; i++)
+        p[i] = (unsigned char)(v >> (8 * i));
+}
+
+/* Writes an n x n grid over [0,1]^2 (UV = (x, y)) with a tex x tex texture of `pattern` as
+ * a .glb at path. Returns 0 on success. */
+static inline int write_grid_glb(const char *path, int n, int tex, const char *pattern)
+{
+    texopt_image img;
+    if (texopt_image_create(&img, tex, tex, 3, NULL, 0) != TEXOPT_OK || fixture_fill_pattern(&img, pattern) != 0)
+        return -1;
+    unsigned char *png = NULL;
+    size_t png_len = 0;
+    texopt_status st = texopt_image_encode_png(&img, &png, &png_len, NULL, 0);
+    texopt_image_destroy(&img);
+    if (st != TEXOPT_OK)
+        return -1;
+    size_t nv = (size_t)(n + 1) * (n + 1), nt = 2 * (size_t)n * n;
+    size_t pos_len = nv * 12, uv_len = nv * 8, idx_len = nt * 12;
+    size_t png_at = pos_len + uv_len + idx_len, bin_len = (png_at + png_len + 3) / 4 * 4;
+    unsigned char *bin = calloc(1, bin_len);
+    float *pos = (float *)bin, *uv = (float *)(bin + pos_len);
+    uint32_t *idx = (uint32_t *)(bin + pos_len + uv_len);
+    for (int j = 0; j <= n; j++)
+        for (int i = 0; i <= n; i++) {
+            size_t v = (size_t)j * (n + 1) + i;
+            pos[3 * v] = (float)i / n;
+            pos[3 * v + 1] = (float)j / n;
+            pos[3 * v + 2] = 0;
+            uv[2 * v] = (float)i / n;
+            uv[2 * v + 1] = (float)j / n;
+        }
+    for (int j = 0; j < n; j++)
+        for (int i = 0; i < n; i++) {
+            uint32_t a = (uint32_t)(j * (n + 1) + i), b = a + 1, c = a + (uint32_t)n + 2, d = a + (uint32_t)n + 1;
+            uint32_t *t = idx + 6 * (size_t)(j * n + i);
+            t[0] = a, t[1] = b, t[2] = c, t[3] = a, t[4] = c, t[5] = d;
+        }
+    memcpy(bin + png_at, png, png_len);
+    free(png);
+    char json[4096];
+    int jl = snprintf(json, sizeof json,
+        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1},\"indices\":2,\"material\":0}]}],"
+        "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}],"
+        "\"textures\":[{\"source\":0}],\"images\":[{\"bufferView\":3,\"mimeType\":\"image/png\"}],"
+        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[1,1,0]},"
+        "{\"bufferView\":1,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC2\"},"
+        "{\"bufferView\":2,\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},"
+        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}],"
+        "\"buffers\":[{\"byteLength\":%zu}]}",
+        nv, nv, nt * 3, pos_len, pos_len, uv_len, pos_len + uv_len, idx_len, png_at, png_len, bin_len);
+    size_t jpad = ((size_t)jl + 3) / 4 * 4, total = 12 + 8 + jpad + 8 + bin_len;
+    unsigned char *glb = calloc(1, total);
+    memcpy(glb, "glTF", 4);
+    grid_put32(glb + 4, 2);
+    grid_put32(glb + 8, (uint32_t)total);
+    grid_put32(glb + 12, (uint32_t)jpad);
+    memcpy(glb + 16, "JSON", 4);
+    memcpy(glb + 20, json, (size_t)jl);
+    memset(glb + 20 + jl, ' ', jpad - (size_t)jl);
+    grid_put32(glb + 20 + jpad, (uint32_t)bin_len);
+    memcpy(glb + 24 + jpad, "BIN\0", 4);
+    memcpy(glb + 28 + jpad, bin, bin_len);
+    free(bin);
+    FILE *f = fopen(path, "wb");
+    int ok = f && fwrite(glb, 1, total, f) == total;
+    if (f && fclose(f) != 0)
+        ok = 0;
+    free(glb);
+    return ok ? 0 : -1;
+}
+
+#endif
