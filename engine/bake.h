@@ -11,8 +11,9 @@
  * what the screen shows with the baked texture (DESIGN.md 3.1).
  *
  * Speed: the touched texels are numbered in texture row-major order, so A^T A is banded
- * (bandwidth about one patch row) and is solved with banded Cholesky: an own vectorised
- * loop for narrow bands, LAPACK dpbtrf for wide ones (bake.c says why).
+ * (bandwidth about one patch row, only its envelope is worked on) and is solved with
+ * banded Cholesky: an own vectorised loop for narrow bands, LAPACK dpbtrf for wide ones
+ * (bake.c says why).
  * The workspace owns every buffer and only grows, so the hot loop does not allocate once it
  * has seen its largest problem. A workspace is for one thread at a time.
  *
@@ -31,6 +32,19 @@ texopt_bake_workspace *texopt_bake_workspace_create(int max_pixels, int max_chan
 
 /* Accepts NULL. */
 void texopt_bake_workspace_destroy(texopt_bake_workspace *ws);
+
+/* How the normal equations are factored. AUTO (the default) picks by bandwidth and CPU; the
+ * others force one path (tests and benchmarks compare them). VECTOR4 needs AVX2 and FMA and
+ * falls back to VECTOR2 on CPUs without them. All give the same result to rounding. */
+typedef enum texopt_bake_solver {
+    TEXOPT_BAKE_SOLVER_AUTO = 0,
+    TEXOPT_BAKE_SOLVER_VECTOR2, /* own right-looking loop, two lanes (SSE2) */
+    TEXOPT_BAKE_SOLVER_VECTOR4, /* the same, four lanes with FMA */
+    TEXOPT_BAKE_SOLVER_LAPACK   /* LAPACK dpbtrf */
+} texopt_bake_solver;
+
+/* Ignores NULL workspaces and unknown values. */
+void texopt_bake_workspace_set_solver(texopt_bake_workspace *ws, texopt_bake_solver solver);
 
 /* Fits the texels and writes the reconstruction.
  *   pixel_count   number of pixels (<= max_pixels); 0 is allowed and does nothing

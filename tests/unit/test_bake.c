@@ -231,10 +231,10 @@ TEST(bilinear_reference_in_the_range_of_a_is_reproduced)
     texopt_image_destroy(&tex);
 }
 
-TEST(narrow_and_wide_bands_both_reproduce_a_bilinear_reference)
+TEST(every_factorisation_path_reproduces_a_bilinear_reference)
 {
-    /* Patches 29, 53 and 77 texels wide: band widths on both sides of the switch from the
-     * own factorisation to LAPACK dpbtrf (kd 56); the fit must be exact on both. */
+    /* Patches 29, 53 and 77 texels wide (bandwidths 32, 56, 80: both sides of the automatic
+     * switches), each factored by every path; the fit must be exact and the paths agree. */
     enum { S = 96, W = 128, H = 128 };
     texopt_image tex;
     char err[256] = "";
@@ -244,7 +244,7 @@ TEST(narrow_and_wide_bands_both_reproduce_a_bilinear_reference)
         tex.pixels[2 * k + 1] = (float)pattern(k % W, k / W, 1);
     }
     static double pos[2 * S * S];
-    static float ref[2 * S * S], out[2 * S * S];
+    static float ref[2 * S * S], out[2 * S * S], first_path[2 * S * S];
     texopt_bake_workspace *ws = texopt_bake_workspace_create(S * S, 2);
     CHECK(ws != NULL);
     const double scales[3] = {0.3, 0.55, 0.8};
@@ -254,12 +254,21 @@ TEST(narrow_and_wide_bands_both_reproduce_a_bilinear_reference)
         for (int q = 0; q < S * S; q++)
             texopt_sample_bilinear(&tex, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, pos[2 * q],
                                    pos[2 * q + 1], ref + 2 * q);
-        CHECK_OK(texopt_bake_fit(ws, S * S, pos, ref, 2, W, H, TEXOPT_WRAP_CLAMP,
-                                 TEXOPT_WRAP_CLAMP, 1e-9, out, err, sizeof err),
-                 err);
-        CHECK(texopt_bake_last_texel_count(ws) > (int)(0.9 * (S * scales[i]) * (S * scales[i])));
-        for (int k = 0; k < 2 * S * S; k++)
-            CHECK_NEAR(out[k], ref[k], 1e-5);
+        for (int solver = TEXOPT_BAKE_SOLVER_AUTO; solver <= TEXOPT_BAKE_SOLVER_LAPACK; solver++) {
+            texopt_bake_workspace_set_solver(ws, (texopt_bake_solver)solver);
+            CHECK_OK(texopt_bake_fit(ws, S * S, pos, ref, 2, W, H, TEXOPT_WRAP_CLAMP,
+                                     TEXOPT_WRAP_CLAMP, 1e-9, out, err, sizeof err),
+                     err);
+            CHECK(texopt_bake_last_texel_count(ws) >
+                  (int)(0.9 * (S * scales[i]) * (S * scales[i])));
+            for (int k = 0; k < 2 * S * S; k++) {
+                CHECK_NEAR(out[k], ref[k], 1e-5);
+                if (solver == TEXOPT_BAKE_SOLVER_AUTO)
+                    first_path[k] = out[k];
+                else
+                    CHECK_NEAR(out[k], first_path[k], 1e-6);
+            }
+        }
     }
     texopt_bake_workspace_destroy(ws);
     texopt_image_destroy(&tex);
