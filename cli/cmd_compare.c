@@ -42,6 +42,9 @@ static void usage(FILE *out)
             "  --resolution N      evaluation render side (default: 1.25 sqrt(covered texels))\n"
             "  --iterations N      stage-1 iterations per triangle (default 100)\n"
             "  --threads T         worker threads (default: every core)\n"
+            "  --full-runs         one whole pipeline run per method and cost (default: each\n"
+            "                      layout once at the largest cost, smaller costs by resampling\n"
+            "                      its re-baked textures; the layout does not depend on the budget)\n"
             "  --quiet             no progress on stderr\n"
             "  -h, --help          this text\n");
 }
@@ -98,7 +101,7 @@ static void show_progress(void *user, const texopt_progress *p)
 {
     (void)user;
     if (strcmp(p->stage, "compare") == 0)
-        fprintf(stderr, "compare: %3.0f%% of the runs done\n", 100.0 * p->stage_fraction);
+        fprintf(stderr, "compare: %3.0f%% of the methods done\n", 100.0 * p->stage_fraction);
 }
 
 static void print_table(const texopt_compare_result *r, const double *costs, int cost_count)
@@ -147,6 +150,9 @@ int cmd_compare(int argc, char **argv)
             return EXIT_OK;
         } else if (!strcmp(a, "--quiet")) {
             quiet = 1;
+            takes = 0;
+        } else if (!strcmp(a, "--full-runs")) {
+            opt.full_runs = 1;
             takes = 0;
         } else if (!strcmp(a, "--methods")) {
             bad = !v || parse_methods(v, methods, &method_count) != 0;

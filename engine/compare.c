@@ -72,33 +72,20 @@ static double pick_showcase(const texopt_compare_options *opt)
     return best;
 }
 
-/* One method at one cost: optimise into tmp_glb, load, evaluate. On success *model holds the
- * loaded output when keep is set (else it is freed). Failures land in the point. */
-static texopt_status run_point(const char *input_path, const texopt_model *input,
-                               const texopt_cost *input_cost, const texopt_compare_options *opt,
-                               texopt_method method, double cost, const char *tmp_glb, int keep,
-                               texopt_compare_point *pt, texopt_model **model, double *tri_err)
+/* Loads the output at glb, evaluates it against the input and fills pt (q, achieved cost,
+ * texture memory). With keep, the loaded model is handed to *model and the per-triangle
+ * errors written to tri_err. */
+static texopt_status measure_output(const texopt_model *input, const texopt_cost *input_cost,
+                                    const texopt_compare_options *opt, const char *glb, int keep,
+                                    texopt_compare_point *pt, texopt_model **model, double *tri_err)
 {
-    texopt_params p = opt->params;
-    p.method = method;
-    p.budget = TEXOPT_BUDGET_RELATIVE_COST;
-    p.relative_cost = cost;
-    p.evaluate = 0;
-    memset(pt, 0, sizeof *pt);
-    pt->cost_requested = cost;
-    pt->q = NAN;
     char *msg = pt->message;
     size_t len = sizeof pt->message;
-    double t0 = now_seconds();
-    texopt_status st = texopt_optimize_file(input_path, tmp_glb, NULL, &p, opt->monitor, msg, len);
-    pt->seconds_optimize = now_seconds() - t0;
     texopt_model *out = NULL;
-    if (st == TEXOPT_OK)
-        st = texopt_model_load(&out, tmp_glb, NULL, msg, len);
-    unlink(tmp_glb);
+    texopt_status st = texopt_model_load(&out, glb, NULL, msg, len);
     texopt_evaluation ev;
     texopt_cost cost_out;
-    t0 = now_seconds();
+    double t0 = now_seconds();
     if (st == TEXOPT_OK) {
         texopt_evaluate_options eo = opt->evaluate;
         eo.triangle_error = keep ? tri_err : NULL;
@@ -122,6 +109,120 @@ static texopt_status run_point(const char *input_path, const texopt_model *input
         *model = out;
     else
         texopt_model_destroy(out);
+    return st;
+}
+
+/* Runs the pipeline with `method` at relative cost `cost` from source to glb. */
+static texopt_status optimise(const char *source, const char *glb, const texopt_compare_options *opt,
+                              texopt_method method, double cost, texopt_compare_point *pt)
+{
+    texopt_params p = opt->params;
+    p.method = method;
+    p.budget = TEXOPT_BUDGET_RELATIVE_COST;
+    p.relative_cost = cost;
+    p.evaluate = 0;
+    double t0 = now_seconds();
+    texopt_status st = texopt_optimize_file(source, glb, NULL, &p, opt->monitor, pt->message,
+                                            sizeof pt->message);
+    pt->seconds_optimize += now_seconds() - t0;
+    pt->status = st;
+    return st;
+}
+
+static void point_init(texopt_compare_point *pt, double cost)
+{
+    memset(pt, 0, sizeof *pt);
+    pt->cost_requested = cost;
+    pt->q = NAN;
+}
+
+typedef struct run_ctx {
+    const char *input_path;
+    const texopt_model *input;
+    const texopt_cost *input_cost;
+    const texopt_compare_options *opt;
+    double showcase_cost;
+    const char *tmp_glb, *layout_glb;
+} run_ctx;
+
+/* Measures point c of the curve from glb, keeping the output when it is the showcase. */
+static texopt_status measure_point(const run_ctx *x, texopt_compare_curve *curve, int c,
+                                   const char *glb, char *err, size_t err_len)
+{
+    texopt_compare_point *pt = &curve->points[c];
+    int keep = fabs(pt->cost_requested - x->showcase_cost) < 1e-12 && !curve->showcase;
+    double *tri_err = NULL;
+    if (keep && !(tri_err = calloc(x->input->triangle_count ? x->input->triangle_count : 1, sizeof *tri_err)))
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for triangle errors");
+    texopt_status st = measure_output(x->input, x->input_cost, x->opt, glb, keep, pt, &curve->showcase, tri_err);
+    if (keep && st == TEXOPT_OK)
+        curve->showcase_triangle_error = tri_err;
+    else
+        free(tri_err);
+    return TEXOPT_OK;
+}
+
+/* A point's own failure is recorded in it; only cancellation and memory stop the comparison. */
+static texopt_status fatal(const texopt_compare_point *pt, char *err, size_t err_len)
+{
+    if (pt->status == TEXOPT_E_CANCELED || pt->status == TEXOPT_E_NOMEM)
+        return texopt_fail(err, err_len, pt->status, "%s", pt->message);
+    return TEXOPT_OK;
+}
+
+/* Every cost through its own pipeline run. */
+static texopt_status run_curve_full(const run_ctx *x, texopt_compare_curve *curve, char *err,
+                                    size_t err_len)
+{
+    texopt_status st = TEXOPT_OK;
+    for (int c = 0; c < curve->point_count && st == TEXOPT_OK; c++) {
+        texopt_compare_point *pt = &curve->points[c];
+        if (optimise(x->input_path, x->tmp_glb, x->opt, curve->method, pt->cost_requested, pt) == TEXOPT_OK)
+            st = measure_point(x, curve, c, x->tmp_glb, err, err_len);
+        unlink(x->tmp_glb);
+        if (st == TEXOPT_OK)
+            st = fatal(pt, err, err_len);
+    }
+    return st;
+}
+
+/* The layout once, at the largest cost; the other costs resample its re-baked textures
+ * (method "input" applied to that output). The method's layout does not depend on the
+ * budget (its targets are relative, the budget scales uniformly), so only the bake differs
+ * from a full run: filtered twice, and chart gutters scaled rather than re-padded. */
+static texopt_status run_curve_reusing_layout(const run_ctx *x, texopt_compare_curve *curve,
+                                              char *err, size_t err_len)
+{
+    int top = 0;
+    for (int c = 1; c < curve->point_count; c++)
+        if (curve->points[c].cost_requested > curve->points[top].cost_requested)
+            top = c;
+    texopt_compare_point *tp = &curve->points[top];
+    double top_cost = tp->cost_requested;
+    texopt_status st = TEXOPT_OK;
+    if (optimise(x->input_path, x->layout_glb, x->opt, curve->method, top_cost, tp) != TEXOPT_OK) {
+        for (int c = 0; c < curve->point_count; c++)
+            if (c != top) {
+                curve->points[c].status = tp->status;
+                snprintf(curve->points[c].message, sizeof curve->points[c].message, "%s", tp->message);
+            }
+        unlink(x->layout_glb);
+        return fatal(tp, err, err_len);
+    }
+    for (int c = 0; c < curve->point_count && st == TEXOPT_OK; c++) {
+        texopt_compare_point *pt = &curve->points[c];
+        if (c == top) {
+            st = measure_point(x, curve, c, x->layout_glb, err, err_len);
+        } else {
+            if (optimise(x->layout_glb, x->tmp_glb, x->opt, TEXOPT_METHOD_INPUT, pt->cost_requested / top_cost,
+                         pt) == TEXOPT_OK)
+                st = measure_point(x, curve, c, x->tmp_glb, err, err_len);
+            unlink(x->tmp_glb);
+        }
+        if (st == TEXOPT_OK)
+            st = fatal(pt, err, err_len);
+    }
+    unlink(x->layout_glb);
     return st;
 }
 
@@ -172,34 +273,24 @@ texopt_status texopt_compare(const char *input_path, const texopt_compare_option
         texopt_compare_result_destroy(&r);
         return st;
     }
+    char layout_glb[1100];
     snprintf(tmp_glb, sizeof tmp_glb, "%s/run.glb", dir);
+    snprintf(layout_glb, sizeof layout_glb, "%s/layout.glb", dir);
     texopt_compare_options o = *opt;
     o.evaluate.resolution = r.resolution;
-    int total = opt->method_count * opt->cost_count, done = 0;
+    run_ctx x = {input_path, r.input, &r.input_cost, &o, r.showcase_cost, tmp_glb, layout_glb};
     r.curve_count = opt->method_count;
     for (int m = 0; m < opt->method_count && st == TEXOPT_OK; m++) {
         texopt_compare_curve *curve = &r.curves[m];
         curve->method = opt->methods[m];
         curve->point_count = opt->cost_count;
-        for (int c = 0; c < opt->cost_count && st == TEXOPT_OK; c++) {
-            int keep = fabs(opt->costs[c] - r.showcase_cost) < 1e-12 && !curve->showcase;
-            double *tri_err = NULL;
-            if (keep && !(tri_err = calloc(r.input->triangle_count ? r.input->triangle_count : 1, sizeof *tri_err)))
-                st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for triangle errors");
-            if (st != TEXOPT_OK)
-                break;
-            texopt_status pst = run_point(input_path, r.input, &r.input_cost, &o, curve->method,
-                                          opt->costs[c], tmp_glb, keep, &curve->points[c],
-                                          &curve->showcase, tri_err);
-            if (keep && pst == TEXOPT_OK)
-                curve->showcase_triangle_error = tri_err;
-            else
-                free(tri_err);
-            /* A point may fail on its own; running out of memory or a cancel stops everything. */
-            if (pst == TEXOPT_E_CANCELED || pst == TEXOPT_E_NOMEM)
-                st = texopt_fail(err, err_len, pst, "%s", curve->points[c].message);
-            report_progress(opt, ++done, total);
-        }
+        for (int c = 0; c < opt->cost_count; c++)
+            point_init(&curve->points[c], opt->costs[c]);
+        if (opt->full_runs || curve->method == TEXOPT_METHOD_INPUT)
+            st = run_curve_full(&x, curve, err, err_len);
+        else
+            st = run_curve_reusing_layout(&x, curve, err, err_len);
+        report_progress(opt, m + 1, opt->method_count);
     }
     rmdir(dir);
     if (st != TEXOPT_OK) {

@@ -4,7 +4,11 @@
  * section 5.1 (figures of loss against relative cost): every method (params.h: perceptual,
  * input, ssp, tewari, arap) is run through the product's own pipeline (pipeline.h) at every
  * requested relative cost c_r, its output is loaded back and evaluated against the input
- * with the whole-mesh loss q (evaluate.h). A method the pipeline refuses (not available yet,
+ * with the whole-mesh loss q (evaluate.h). Unless full_runs is set, a layout method runs
+ * once, at the largest cost, and the smaller costs resample that output's re-baked textures
+ * (the "input" method applied to it): the layout of every method is independent of the
+ * budget (targets are relative; budget.h scales uniformly), so only the bake differs from a
+ * full run (filtered twice; gutters scaled, not re-padded), at a fraction of the time. A method the pipeline refuses (not available yet,
  * unsupported model) leaves its points marked failed with the pipeline's message; the other
  * methods still run.
  *
@@ -60,7 +64,8 @@ typedef struct texopt_compare_options {
                                       the listed cost closest to 0.3 */
     texopt_evaluate_options evaluate; /* resolution and threads (triangle_error ignored) */
     const char *work_dir;          /* temporary outputs; NULL -> $TMPDIR or /tmp */
-    const texopt_monitor *monitor; /* cancel flag; progress as stage "compare" */
+    int full_runs;                 /* nonzero: one whole pipeline run per method and cost */
+    const texopt_monitor *monitor; /* cancel flag; progress as stage "compare" (per method) */
 } texopt_compare_options;
 
 typedef struct texopt_compare_result {
