@@ -184,8 +184,10 @@ static enum MHD_Result accept_job(request_ctx *rq, struct MHD_Connection *c, con
         job_record gone;
         store_cancel(svc->store, job.id, &gone);
         store_delete(svc->store, job.id);
-        return http_send_problem(rq, c, 503, pushed == QUEUE_FULL ? "queue-full" : "shutting-down",
-                                 QUEUE_FULL_RETRY_SECONDS, "the job queue is full; retry later");
+        if (pushed == QUEUE_FULL)
+            return http_send_problem(rq, c, 503, "queue-full", QUEUE_FULL_RETRY_SECONDS,
+                                     "the job queue is full; retry later");
+        return http_send_problem(rq, c, 503, "shutting-down", 5, "the service is shutting down; retry shortly");
     }
     store_get(svc->store, job.id, &job);
     return send_job(rq, c, 202, &job, 1, 0);
