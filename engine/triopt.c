@@ -39,6 +39,8 @@ typedef struct resolved_options {
     int lower_bound_stop;
     int plain;
     int isotropic_steps;
+    int anisotropic_steps;
+    int anisotropic_passes;
     double early_stop_ei;
     int early_stop_patience;
     uint32_t stride;
@@ -233,6 +235,64 @@ static void isotropic_search(triangle_search *s, int evaluations)
     }
 }
 
+/* Grid-aligned anisotropic refinement of the best point so far (paper Fig. 7: detail
+ * aligned with the texel axes or diagonals compresses along itself). From the best point's
+ * x, each of 4 squeezes (beta = 0 or pi/4, squeezing lambda1 or lambda2 to 0.6 of its value)
+ * is probed once; the best one that improves f is refined by a golden-section search of the
+ * squeezed value over [lambda_min, its start] with `evaluations` - 4 further points. */
+static void anisotropic_search(triangle_search *s, int evaluations)
+{
+    if (!isfinite(s->best_f) || evaluations < 4)
+        return;
+    double start[TRIOPT_DIM];
+    memcpy(start, s->best_x, sizeof start);
+    double f_start = s->best_f;
+    int best_dir = -1;
+    double best_probe = f_start;
+    for (int dir = 0; dir < 4 && s->status == TEXOPT_OK; dir++) {
+        double x[TRIOPT_DIM];
+        memcpy(x, start, sizeof x);
+        int axis = 1 + (dir & 1);
+        x[3] = (dir & 2) ? 0.5 : 0.0;
+        x[axis] = 0.6 * start[axis];
+        double f = search_objective(s, x);
+        if (f < best_probe) {
+            best_probe = f;
+            best_dir = dir;
+        }
+    }
+    if (best_dir < 0)
+        return;
+    const double g = 0.6180339887498949;
+    int axis = 1 + (best_dir & 1);
+    double x[TRIOPT_DIM];
+    memcpy(x, start, sizeof x);
+    x[3] = (best_dir & 2) ? 0.5 : 0.0;
+    double a = 0.0, b = start[axis];
+    double c = b - g * (b - a), d = a + g * (b - a), fc, fd;
+    x[axis] = c;
+    fc = search_objective(s, x);
+    x[axis] = d;
+    fd = search_objective(s, x);
+    for (int k = 6; k < evaluations && s->status == TEXOPT_OK; k++) {
+        if (fc < fd) {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - g * (b - a);
+            x[axis] = c;
+            fc = search_objective(s, x);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + g * (b - a);
+            x[axis] = d;
+            fd = search_objective(s, x);
+        }
+    }
+}
+
 static void store_optimum(const triangle_search *s, double lambda_min, texopt_triangle_target *o)
 {
     double p[4];
@@ -264,8 +324,15 @@ static texopt_status optimise_triangle(worker *w, uint32_t t, texopt_triangle_ta
         flat = flat_at_smallest_area(&s, lower_bound);
         if (!flat && opt->isotropic_steps > 0)
             isotropic_search(&s, opt->isotropic_steps);
+        for (int pass = 0; !flat && pass < opt->anisotropic_passes && s.status == TEXOPT_OK;
+             pass++) {
+            double before = s.best_f;
+            anisotropic_search(&s, opt->anisotropic_steps);
+            if (!(s.best_f < before))
+                break;
+        }
     }
-    if (!flat && s.status == TEXOPT_OK) {
+    if (!flat && s.status == TEXOPT_OK && opt->iterations > 0) {
         /* J = I (E = 0, always feasible), the best isotropic shrink so far, then the two
          * grid-aligned extreme squeezes (detail aligned with the texel grid compresses along
          * itself for free, paper Fig. 7: such optima sit in box corners, which a GP finds
@@ -400,9 +467,13 @@ static texopt_status resolve_options(const texopt_triopt_options *in, const texo
     o->initial_design = in->initial_design;
     o->lower_bound_stop = !in->no_lower_bound_stop && !in->plain;
     o->plain = in->plain != 0;
-    o->isotropic_steps = in->isotropic_steps != 0 ? in->isotropic_steps : 6;
+    o->isotropic_steps = in->isotropic_steps != 0 ? in->isotropic_steps : 10;
     if (o->isotropic_steps == 1)
         o->isotropic_steps = 2;
+    o->anisotropic_steps = in->anisotropic_steps != 0 ? in->anisotropic_steps : 12;
+    o->anisotropic_passes = in->anisotropic_passes != 0 ? in->anisotropic_passes : 3;
+    if (o->anisotropic_steps < 0 || o->anisotropic_passes < 0)
+        o->anisotropic_steps = o->anisotropic_passes = 0;
     o->early_stop_ei = in->early_stop_ei;
     o->early_stop_patience = in->early_stop_patience;
     o->stride = in->stride > 1 ? in->stride : 1;
@@ -412,9 +483,10 @@ static texopt_status resolve_options(const texopt_triopt_options *in, const texo
     if (!(o->epsilon > 0.0 && o->epsilon <= 1.0))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "triopt: epsilon %g outside (0, 1]", o->epsilon);
-    if (o->iterations < 0 || o->iterations > 10000)
+    if (o->iterations < -1 || o->iterations > 10000 || (o->iterations < 0 && o->plain))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "triopt: iterations %d outside [0, 10000]", o->iterations);
+                           "triopt: iterations %d outside [-1, 10000] (-1 only without plain)",
+                           o->iterations);
     if (!(o->lambda_min > 0.0 && o->lambda_min < 1.0))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "triopt: lambda_min %g outside (0, 1)", o->lambda_min);
@@ -429,7 +501,7 @@ static texopt_status resolve_options(const texopt_triopt_options *in, const texo
     if ((size_t)o->threads > mesh->triangle_count)
         o->threads = mesh->triangle_count > 0 ? (int)mesh->triangle_count : 1;
     int design = o->initial_design > 0 ? o->initial_design : (o->initial_design < 0 ? 0 : 2 * TRIOPT_DIM + 2);
-    o->max_evaluations = 4 + design + o->iterations;
+    o->max_evaluations = 4 + design + (o->iterations > 0 ? o->iterations : 0);
     return TEXOPT_OK;
 }
 

@@ -15,7 +15,10 @@
  *     lambda_min^2 |T| - log(eps)), no J can do better: stop, with w_rotation = w_stretch = 0
  *     (E is 0 over the whole box, so eq. 17's variances are 0; sampling them confirmed it).
  *     Flat-coloured and smoothly shaded triangles end here after one evaluation.
- *  2. A golden-section search over isotropic shrinks lambda I (isotropic_steps evaluations).
+ *  2. A golden-section search over isotropic shrinks lambda I (isotropic_steps evaluations),
+ *     then up to anisotropic_passes grid-aligned anisotropic refinements: from the best
+ *     point, probe squeezing lambda1 or lambda2 to 0.6x with beta = 0 or pi/4, and
+ *     golden-section search the best probe's direction (anisotropic_steps evaluations each).
  *  3. Bayesian optimisation from J = I (E = 0, always feasible), the best isotropic shrink
  *     and the grid-aligned extreme squeezes diag(lambda_min, 1), diag(1, lambda_min), then
  *     its Latin-hypercube design and `iterations` model-guided evaluations; it stops early
@@ -46,7 +49,7 @@
 /* Zero-initialised = defaults. */
 typedef struct texopt_triopt_options {
     double epsilon;      /* loss threshold; 0 -> 0.01 */
-    int iterations;      /* BO iterations after the design; 0 -> 100 */
+    int iterations;      /* BO iterations after the design; 0 -> 100, -1 -> no BO at all */
     double lambda_min;   /* 0 -> 0.1; must be in (0, 1) */
     int threads;         /* 0 -> every online core */
     uint64_t seed;
@@ -56,8 +59,12 @@ typedef struct texopt_triopt_options {
     int no_lower_bound_stop; /* non-zero: run every iteration (for benchmarks) */
     int plain;           /* non-zero: the paper's plan for benchmarks: only J = I before the
                             design, no flat test, no isotropic search, no lower-bound stop */
-    int isotropic_steps; /* evaluations of the isotropic golden-section search; 0 -> 6,
+    int isotropic_steps; /* evaluations of the isotropic golden-section search; 0 -> 10,
                             < 0 -> none */
+    int anisotropic_steps; /* evaluations of one grid-aligned anisotropic refinement (4 probes
+                              + a golden section); 0 -> 12, < 0 -> none */
+    int anisotropic_passes; /* refinements repeated from the last result while they improve
+                               f; 0 -> 3, < 0 -> none */
     double early_stop_ei;    /* passed to bayesopt (0 with patience 0: never) */
     int early_stop_patience;
     uint32_t stride;     /* optimise triangles 0, stride, 2 stride, ...; 0 or 1 -> all.

@@ -161,16 +161,16 @@ static void bench_model(const char *path, int subset)
     CHECK_OK(texopt_model_load(&model, path, NULL, err, sizeof err), err);
     bench_variant variants[] = {
         {"plain BO, 100 iterations (paper plan)", {.iterations = 100, .plain = 1}},
-        {"ours, 100 iterations", {.iterations = 100}},
-        {"ours, 50 iterations", {.iterations = 50}},
-        {"ours, 20 iterations", {.iterations = 20}},
-        {"ours, 10 iterations", {.iterations = 10}},
-        {"ours, 5 iterations, design 4", {.iterations = 5, .initial_design = 4}},
-        {"ours, 1 iteration, no design", {.iterations = 1, .initial_design = -1}},
-        {"ours, 10 iso steps, 20 iterations", {.iterations = 20, .isotropic_steps = 10}},
-        {"ours, 10 iso steps, 10 iterations", {.iterations = 10, .isotropic_steps = 10}},
-        {"ours, 10 iso steps, 1 iteration, no design",
-         {.iterations = 1, .initial_design = -1, .isotropic_steps = 10}},
+        {"plain BO, 50 iterations", {.iterations = 50, .plain = 1}},
+        {"plain BO, 20 iterations", {.iterations = 20, .plain = 1}},
+        {"plain BO, 10 iterations", {.iterations = 10, .plain = 1}},
+        {"ours: flat test + iso 10 + aniso 12x3 + BO 100", {.iterations = 100}},
+        {"ours + BO 20", {.iterations = 20}},
+        {"ours + BO 5 (no design), 4+4 weight samples",
+         {.iterations = 5, .initial_design = -1, .weight_samples = 4}},
+        {"ours, no BO, 4+4 weight samples", {.iterations = -1, .weight_samples = 4}},
+        {"ours, no BO, no anisotropic step, 4+4 w",
+         {.iterations = -1, .anisotropic_steps = -1, .weight_samples = 4}},
     };
     size_t nv = sizeof variants / sizeof variants[0];
     for (int d = 0; d < model->domain_count; d++) {

@@ -290,7 +290,7 @@ TEST(degenerate_triangles_keep_the_identity)
 
 TEST(triopt_rejects_bad_options)
 {
-    texopt_triopt_options bad[] = {{.epsilon = -0.5}, {.lambda_min = 1.5}, {.iterations = -3},
+    texopt_triopt_options bad[] = {{.epsilon = -0.5}, {.lambda_min = 1.5}, {.iterations = -3}, {.iterations = -1, .plain = 1},
                                    {.viewport = 4}, {.weight_samples = 1000}};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         stage_run r;
