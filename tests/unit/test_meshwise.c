@@ -430,6 +430,14 @@ TEST(bad_input_is_refused_with_a_message)
     CHECK(strstr(err, "flipped") != NULL);
     CHECK_EQ_INT(texopt_meshwise_solve(NULL, tg, NULL, NULL, out, NULL, NULL, err, sizeof err),
                  TEXOPT_E_INVALID_ARGUMENT);
+    texopt_meshwise_options negative = {.max_iterations = -1};
+    CHECK_EQ_INT(texopt_meshwise_solve(m, tg, NULL, &negative, out, NULL, NULL, err, sizeof err),
+                 TEXOPT_E_INVALID_ARGUMENT);
+    /* A triangle naming a vertex past the count. */
+    m->triangle[7] = (uint32_t)m->vertex_count;
+    CHECK_EQ_INT(texopt_meshwise_solve(m, tg, NULL, NULL, out, NULL, NULL, err, sizeof err),
+                 TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "past vertex count") != NULL);
     free(start);
     free(out);
     free(tg);
@@ -479,5 +487,21 @@ TEST(zero_stretch_weights_still_follow_a_consistent_target)
     }
     free(out);
     free(tg);
+    free_mesh(m);
+}
+
+TEST(a_mesh_without_triangles_is_returned_unchanged)
+{
+    texopt_mesh *m = alloc_mesh(3, 0);
+    for (int i = 0; i < 6; i++)
+        m->texel[i] = i * 1.5;
+    texopt_triangle_target tg[1] = {{0}};
+    double out[6] = {0};
+    texopt_meshwise_report rep;
+    char err[256] = "";
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, out, &rep, NULL, err, sizeof err), err);
+    for (int i = 0; i < 6; i++)
+        CHECK_NEAR(out[i], i * 1.5, 0.0);
+    CHECK_EQ_INT(rep.flipped, 0);
     free_mesh(m);
 }
