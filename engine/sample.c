@@ -31,6 +31,14 @@ static int wrap_index(int i, int n, texopt_wrap wrap)
     }
 }
 
+/* floor() for |v| <= TEXOPT_SAMPLE_COORD_LIMIT: a truncation and a compare, where libm's
+ * floor is a function call on baseline x86-64 (no SSE4.1 rounding) in the hot loop. */
+static int floor_to_int(double v)
+{
+    int i = (int)v;
+    return (double)i > v ? i - 1 : i;
+}
+
 static double sanitize_coordinate(double v)
 {
     if (!isfinite(v))
@@ -48,9 +56,8 @@ void texopt_bilinear_cells(int width, int height, texopt_wrap wrap_s, texopt_wra
     /* Texel centres sit at half-integers: shift so that they sit at integers. */
     double xs = sanitize_coordinate(x) - 0.5;
     double ys = sanitize_coordinate(y) - 0.5;
-    double fx0 = floor(xs), fy0 = floor(ys);
-    double fx = xs - fx0, fy = ys - fy0;
-    int x0 = (int)fx0, y0 = (int)fy0;
+    int x0 = floor_to_int(xs), y0 = floor_to_int(ys);
+    double fx = xs - x0, fy = ys - y0;
     col[0] = wrap_index(x0, width, wrap_s);
     col[1] = wrap_index(x0 + 1, width, wrap_s);
     row[0] = wrap_index(y0, height, wrap_t);
