@@ -201,7 +201,8 @@ static texopt_status evaluate(texopt_bo *bo, texopt_objective f, void *user, con
     for (int k = 0; k < bo->dim; k++)
         xi[k] = x[k] < 0.0 ? 0.0 : (x[k] > 1.0 ? 1.0 : (isnan(x[k]) ? 0.5 : x[k]));
     double value = f(user, xi);
-    bo->f[i] = (isnan(value) || value == INFINITY) ? INFINITY : value;
+    /* -INFINITY is no better than NaN: a broken evaluation, not a record minimum. */
+    bo->f[i] = isfinite(value) ? value : INFINITY;
     double old_penalty = infeasible_penalty(feasible_values(bo));
     bo->count = i + 1;
     double penalty = infeasible_penalty(feasible_values(bo));

@@ -11,8 +11,11 @@
  * the maximiser of the acquisition: expected improvement (default) or a lower confidence
  * bound, taken over a batch of candidates (uniform points plus Gaussian perturbations of
  * the best samples, predicted in one BLAS batch) and polished locally with NLopt BOBYQA.
+ * The GP's length scales are refitted by marginal likelihood every few samples: one global
+ * scale from a grid, then per-dimension factors (ARD; `isotropic` turns that off).
  *
- * Infeasible points. The objective may return +INFINITY (or NaN) where it is undefined.
+ * Infeasible points. The objective may return +INFINITY where it is undefined; any other
+ * non-finite value (NaN, -INFINITY) is treated the same way and recorded as +INFINITY.
  * A GP cannot model that, so an infeasible sample is given the finite value
  *     penalty = fmax + (fmax - fmin)   (fmax, fmin over the feasible samples so far;
  *                                       when they are equal: fmax + max(|fmax|, 1);

@@ -167,11 +167,12 @@ TEST(infeasible_region_is_avoided_and_history_keeps_infinity)
     texopt_bo_destroy(bo);
 }
 
+/* +INFINITY, NaN and -INFINITY in turn: all of them mean "infeasible". */
 static double always_infeasible(void *user, const double *x)
 {
     (void)user;
-    (void)x;
-    return INFINITY;
+    static const double kinds[3] = {INFINITY, NAN, -INFINITY};
+    return kinds[(int)(x[1] * 2.999)];
 }
 
 TEST(all_infeasible_reports_infinity_and_the_first_point)
@@ -187,6 +188,10 @@ TEST(all_infeasible_reports_infinity_and_the_first_point)
              err);
     CHECK(fbest == INFINITY);
     CHECK_EQ_INT(evaluations, 12);
+    const double *hf;
+    CHECK_EQ_INT(texopt_bo_history(bo, NULL, &hf), 12);
+    for (int i = 0; i < 12; i++)
+        CHECK(hf[i] == INFINITY);
     CHECK(x[0] == 0.25 && x[1] == 0.5 && x[2] == 1.0);
     texopt_bo_destroy(bo);
 }
