@@ -69,7 +69,6 @@ typedef struct axis_system {
 typedef struct tri_frame {
     uint32_t v[3];
     double grad[3][2];  /* gradients of the barycentric functions in input texel space */
-    double inv_det;     /* 1 / (doubled signed input area) */
     double area;        /* input texel area, > 0 */
     double threshold;   /* barrier threshold s_i */
     double w_r, w_s;    /* normalised weights */
@@ -288,13 +287,11 @@ static void local_step(solver *sv, const double *x)
 static void initial_state(solver *sv, const double *x)
 {
     for (size_t t = 0; t < sv->tri_count; t++) {
-        const tri_frame *f = &sv->tri[t];
         tri_state *s = &sv->st[t];
-        mat2 g = jacobian(f, x);
+        mat2 g = jacobian(&sv->tri[t], x);
         s->r = closest_rotation(g);
         s->s = sym(mul(transpose(s->r), g));
         s->k = 0;
-        (void)f;
     }
 }
 
@@ -353,7 +350,6 @@ static texopt_status build_frames(solver *sv, const texopt_triangle_target *targ
         if (!f->barrier)
             continue;
         /* Rows of [e1 e2]^-1 are the gradients of barycentrics 1 and 2. */
-        f->inv_det = 1.0 / det;
         f->grad[1][0] = e2y / det;
         f->grad[1][1] = -e2x / det;
         f->grad[2][0] = -e1y / det;
