@@ -356,8 +356,8 @@ enum MHD_Result jobs_file(request_ctx *rq, struct MHD_Connection *c)
         snprintf(path, sizeof path, "%s/report.html", dir);
         if (job.state != JOB_SUCCEEDED || access(path, R_OK) != 0)
             return http_send_problem(rq, c, 404, "no-report", 0,
-                                     "job %s has no report: the HTML report is written only by a succeeded job "
-                                     "run with evaluate=true once the evaluation produces one", job.id);
+                                     "job %s has no report: a report is written for jobs created with "
+                                     "evaluate=true, once they succeeded", job.id);
         return send_file(rq, c, path, "text/html; charset=utf-8", NULL);
     }
     if (!job_state_finished(job.state))

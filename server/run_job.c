@@ -7,6 +7,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "job_report.h"
+#include "log.h"
 #include "pipeline.h"
 #include "problem.h"
 
@@ -16,6 +18,7 @@ typedef struct job_watch {
     store_job *job;
     char stage[16];
     double stage_started; /* monotonic seconds */
+    double offset, scale; /* this part's share of the job's progress */
 } job_watch;
 
 static double monotonic_seconds(void)
@@ -42,7 +45,8 @@ static void on_progress(void *user, const texopt_progress *p)
         snprintf(w->stage, sizeof w->stage, "%s", stage);
         w->stage_started = monotonic_seconds();
     }
-    store_progress(w->store, w->job, stage, p->fraction, p->eta_seconds, p->mean_loss, p->mean_area_scale);
+    store_progress(w->store, w->job, stage, w->offset + w->scale * p->fraction, p->eta_seconds, p->mean_loss,
+                   p->mean_area_scale);
 }
 
 void run_job(job_store *store, service_metrics *metrics, store_job *job, const job_record *record,
@@ -54,11 +58,28 @@ void run_job(job_store *store, service_metrics *metrics, store_job *job, const j
     snprintf(result, sizeof result, "%s/result.glb", dir);
     snprintf(stats, sizeof stats, "%s/stats.json", dir);
 
-    job_watch watch = {store, metrics, job, "", 0};
+    /* With a report the optimisation is the first half of the job, the comparison the second. */
+    int evaluate = record->params.evaluate != 0;
+    job_watch watch = {store, metrics, job, "", 0, 0, evaluate ? 0.5 : 1.0};
     texopt_monitor monitor = {on_progress, &watch, cancel};
     char err[512] = "";
     texopt_status status = texopt_optimize_file(input, result, stats, &record->params, &monitor, err, sizeof err);
     close_stage(&watch);
+    if (status == TEXOPT_OK && evaluate) {
+        watch.offset = 0.5;
+        watch.scale = 0.5;
+        char why[512] = "";
+        texopt_status rs = job_write_report(input, dir, record->model_name, &record->params, &monitor, why,
+                                            sizeof why);
+        close_stage(&watch);
+        if (rs == TEXOPT_E_CANCELED) {
+            status = rs;
+        } else if (rs != TEXOPT_OK) {
+            /* The optimised model is good; only the report is missing, and /report says so. */
+            char quoted[600];
+            log_event("level=warn event=report job=%s error=%s", record->id, log_quote(quoted, sizeof quoted, why));
+        }
+    }
 
     if (status == TEXOPT_OK) {
         store_finish(store, job, JOB_SUCCEEDED, NULL);
