@@ -18,10 +18,11 @@
  *    The barrier Hessian is approximated by the u and v diagonal blocks of its Gauss-Newton
  *    part B''(det) grad(det) grad(det)^T (positive semi-definite; the indefinite
  *    B'(det) hess(det) part and the u-v coupling are dropped), so the Newton system splits
- *    into two n x n systems. That is 4-8x fewer flops than the coupled 2n x 2n system (a
- *    30K-face solve went from 2.2 s to well under 1 s); the line search keeps every step a
- *    descent. The numeric factorisation is redone only when some barrier is active (then
- *    once per axis) or was active at the last factorisation.
+ *    into two n x n systems. That is 4-8x fewer flops than the coupled 2n x 2n system (on
+ *    a 30K-face sphere: 2.2 s wall coupled, 0.4 s CPU split; BENCHMARKS.md); the line
+ *    search keeps every step a descent. The numeric factorisation is redone only when some
+ *    barrier is active (then once per axis, the two in parallel with threads >= 2) or was
+ *    active at the last factorisation.
  *  - Barrier: B(d) = 1/g(d/s) - 1 for 0 < d < s, 0 for d >= s, g(t) = t^3 - 3t^2 + 3t, with
  *    the threshold s_i = 0.5 * lambda1 * lambda2 of the triangle's target (at most 0.5): a
  *    triangle pays nothing until it is squeezed to half the area its target asks for.
