@@ -11,6 +11,7 @@
 #define COST_TOLERANCE 0.005
 #define COST_ROUNDS 6
 #define BISECTION_STEPS 14
+#define SMALL_ATLAS_CHARTS 64 /* up to this many charts, more widths are tried */
 
 static int round_up4(double x)
 {
@@ -85,11 +86,11 @@ static texopt_status pack_at(work *w, double s, int width, int height, int *fits
 static texopt_status best_width(work *w, double s, double area, double aspect, double *texel_out,
                                 int *bw, int *bh, char *err, size_t err_len)
 {
-    static const double factors[] = {0.8, 0.9, 1.0, 1.12, 1.25};
     double base = sqrt(area * s * s / 0.7 * aspect);
     long long best = -1;
-    for (size_t i = 0; i < sizeof factors / sizeof factors[0]; i++) {
-        int width = round_up4(base * factors[i]);
+    int tries = w->mesh->chart_count <= SMALL_ATLAS_CHARTS ? 15 : 5;
+    for (int i = 0; i < tries; i++) {
+        int width = round_up4(base * (0.75 + 0.6 * i / (tries - 1)));
         if (width > MAX_SIDE)
             continue;
         int fits, h;

@@ -17,6 +17,8 @@ typedef struct footprint {
     int w, h;        /* cells */
     int *lo, *hi;    /* per row: hull span, lo > hi for an empty row */
     uint8_t *bits;   /* w * h exact footprint */
+    int *run_start;  /* h + 1 offsets into runs */
+    int *runs;       /* pairs (first, last) of the footprint's runs of cells, row by row */
     double origin[2]; /* texel position (after rotation) of cell (0, 0) */
 } footprint;
 
@@ -92,6 +94,8 @@ static void footprint_destroy(footprint *f)
     free(f->lo);
     free(f->hi);
     free(f->bits);
+    free(f->run_start);
+    free(f->runs);
     memset(f, 0, sizeof *f);
 }
 
@@ -143,6 +147,37 @@ static void mark_triangle(footprint *f, const double p[3][2], double pad, double
     }
 }
 
+/* Splits each row of the footprint into runs of occupied cells, so a placement test sees
+ * the chart's own bays and two concave charts can interlock. */
+static int build_runs(footprint *f)
+{
+    size_t count = 0;
+    for (int r = 0; r < f->h; r++)
+        for (int c = f->lo[r]; c <= f->hi[r]; c++)
+            count += f->bits[(size_t)r * f->w + c] && (c == f->lo[r] || !f->bits[(size_t)r * f->w + c - 1]);
+    f->run_start = malloc(sizeof(int) * (size_t)(f->h + 1));
+    f->runs = malloc(sizeof(int) * 2 * (count ? count : 1));
+    if (!f->run_start || !f->runs)
+        return -1;
+    int n = 0;
+    for (int r = 0; r < f->h; r++) {
+        f->run_start[r] = n;
+        const uint8_t *row = f->bits + (size_t)r * f->w;
+        for (int c = f->lo[r]; c <= f->hi[r]; c++) {
+            if (!row[c] || (c > f->lo[r] && row[c - 1]))
+                continue;
+            int e = c;
+            while (e + 1 <= f->hi[r] && row[e + 1])
+                e++;
+            f->runs[2 * n] = c;
+            f->runs[2 * n + 1] = e;
+            n++;
+        }
+    }
+    f->run_start[f->h] = n;
+    return 0;
+}
+
 /* The footprint of chart c in rotation k. */
 static int build_footprint(const texopt_mesh *mesh, const double *texel, const chart_set *cs,
                            size_t c, int k, double pad, double cell, footprint *f)
@@ -182,7 +217,7 @@ static int build_footprint(const texopt_mesh *mesh, const double *texel, const c
         }
         mark_triangle(f, p, pad, cell);
     }
-    return 0;
+    return build_runs(f);
 }
 
 static uint64_t *occ_row(const occupancy *o, int y)
@@ -228,22 +263,27 @@ static int find_position(const occupancy *o, const footprint *f, int below, int 
 {
     for (int y = 0; y + f->h <= o->h && y + f->h < below; y++) {
         int ok = 1;
-        for (int r = 0; r < f->h && ok; r++)
-            ok = f->hi[r] < f->lo[r] || o->free_cells[y + r] >= f->hi[r] - f->lo[r] + 1;
+        for (int r = 0; r < f->h && ok; r++) {
+            int need = 0;
+            for (int k = f->run_start[r]; k < f->run_start[r + 1]; k++)
+                need += f->runs[2 * k + 1] - f->runs[2 * k] + 1;
+            ok = o->free_cells[y + r] >= need;
+        }
         if (!ok)
             continue;
         int x = 0;
         while (x + f->w <= o->w) {
             int conflict = 0;
-            for (int r = 0; r < f->h; r++) {
-                if (f->hi[r] < f->lo[r])
-                    continue;
+            for (int r = 0; r < f->h && !conflict; r++) {
                 const uint64_t *row = occ_row(o, y + r);
-                int p = first_set(row, x + f->lo[r], x + f->hi[r]);
-                if (p >= 0) {
-                    x = first_clear(row, p, o->w) - f->lo[r];
-                    conflict = 1;
-                    break;
+                for (int k = f->run_start[r]; k < f->run_start[r + 1]; k++) {
+                    int a = f->runs[2 * k], b = f->runs[2 * k + 1];
+                    int p = first_set(row, x + a, x + b);
+                    if (p >= 0) {
+                        x = first_clear(row, p, o->w) - a;
+                        conflict = 1;
+                        break;
+                    }
                 }
             }
             if (!conflict) {
@@ -260,8 +300,8 @@ static void place(occupancy *o, const footprint *f, int x, int y)
 {
     for (int r = 0; r < f->h; r++) {
         uint64_t *row = occ_row(o, y + r);
-        for (int c = f->lo[r]; c <= f->hi[r]; c++)
-            if (f->bits[(size_t)r * f->w + c]) {
+        for (int k = f->run_start[r]; k < f->run_start[r + 1]; k++)
+            for (int c = f->runs[2 * k]; c <= f->runs[2 * k + 1]; c++) {
                 int cc = x + c;
                 row[cc >> 6] |= 1ULL << (cc & 63);
                 o->free_cells[y + r]--;
