@@ -75,7 +75,8 @@ typedef struct texopt_meshwise_report {
     double energy_final;
     double seconds;        /* wall clock of the whole solve */
     int flipped;           /* triangles with det G <= 0 after the solve: always 0 on success */
-    double energy[TEXOPT_MESHWISE_MAX_REPORTED]; /* E after each iteration (non-increasing) */
+    double energy[TEXOPT_MESHWISE_MAX_REPORTED]; /* E after iteration i + 1 (non-increasing),
+                                                    the first 256 iterations */
     int energy_count;
     double barrier_weight_final; /* w_b after the eq. 28 reductions */
     int factorizations;    /* numeric CHOLMOD factorisations done */
