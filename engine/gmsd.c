@@ -5,6 +5,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* The reference's T = 170 is on the 0..255 scale; GMS is invariant when T scales with the
  * square of the intensity scale, so on 0..1 it is 170 / 255^2. */
@@ -12,7 +13,7 @@
 
 struct texopt_gmsd_workspace {
     int max_width, max_height;
-    double *down_ref, *down_dist; /* ceil(w/2) x ceil(h/2) */
+    double *down_ref, *down_dist; /* ceil(w/2) x ceil(h/2) inside a one-pixel zero frame */
     unsigned char *down_covered;
     double *gms;                  /* counted GMS values */
 };
@@ -25,10 +26,11 @@ texopt_gmsd_workspace *texopt_gmsd_workspace_create(int max_width, int max_heigh
     if (!ws)
         return NULL;
     size_t n = (size_t)((max_width + 1) / 2) * (size_t)((max_height + 1) / 2);
+    size_t padded = (size_t)((max_width + 1) / 2 + 2) * (size_t)((max_height + 1) / 2 + 2);
     ws->max_width = max_width;
     ws->max_height = max_height;
-    ws->down_ref = malloc(n * sizeof *ws->down_ref);
-    ws->down_dist = malloc(n * sizeof *ws->down_dist);
+    ws->down_ref = malloc(padded * sizeof *ws->down_ref);
+    ws->down_dist = malloc(padded * sizeof *ws->down_dist);
     ws->down_covered = malloc(n);
     ws->gms = malloc(n * sizeof *ws->gms);
     if (!ws->down_ref || !ws->down_dist || !ws->down_covered || !ws->gms) {
@@ -50,12 +52,19 @@ void texopt_gmsd_workspace_destroy(texopt_gmsd_workspace *ws)
 }
 
 /* conv2(Y, ones(2)/4, 'same') sampled at odd MATLAB indices: the mean of a 2x2 block whose
- * missing row/column (odd sizes) counts as zero, still divided by 4. */
+ * missing row/column (odd sizes) counts as zero, still divided by 4. Written inside a frame
+ * of zeros one pixel wide (row stride dw + 2): the Prewitt filter's zero padding, so the
+ * gradient needs no bounds checks. */
 static void average_downsample(const float *src, int width, int height, double *dst)
 {
-    int dw = (width + 1) / 2, dh = (height + 1) / 2;
+    int dw = (width + 1) / 2, dh = (height + 1) / 2, stride = dw + 2;
+    memset(dst, 0, (size_t)stride * sizeof *dst);
+    memset(dst + (size_t)(dh + 1) * stride, 0, (size_t)stride * sizeof *dst);
     for (int i = 0; i < dh; i++) {
         int r0 = 2 * i, r1 = 2 * i + 1;
+        double *out = dst + (size_t)(i + 1) * stride;
+        out[0] = 0.0;
+        out[dw + 1] = 0.0;
         for (int j = 0; j < dw; j++) {
             int c0 = 2 * j, c1 = 2 * j + 1;
             double sum = src[(size_t)r0 * width + c0];
@@ -66,7 +75,7 @@ static void average_downsample(const float *src, int width, int height, double *
                 if (c1 < width)
                     sum += src[(size_t)r1 * width + c1];
             }
-            dst[(size_t)i * dw + j] = sum / 4.0;
+            out[j + 1] = sum / 4.0;
         }
     }
 }
@@ -99,19 +108,15 @@ static int support_covered(const unsigned char *covered, int dw, int dh, int i, 
     return 1;
 }
 
-static double at_or_zero(const double *img, int dw, int dh, int r, int c)
+/* Prewitt gradient magnitude with the reference's /3 at downsampled pixel (i, j) of a
+ * zero-framed image (see average_downsample). */
+static double prewitt_magnitude(const double *framed, int dw, int i, int j)
 {
-    return (r < 0 || r >= dh || c < 0 || c >= dw) ? 0.0 : img[(size_t)r * dw + c];
-}
-
-/* Prewitt gradient magnitude with the reference's /3 and zero padding. */
-static double prewitt_magnitude(const double *img, int dw, int dh, int i, int j)
-{
-    double gx = 0.0, gy = 0.0;
-    for (int k = -1; k <= 1; k++) {
-        gx += at_or_zero(img, dw, dh, i + k, j - 1) - at_or_zero(img, dw, dh, i + k, j + 1);
-        gy += at_or_zero(img, dw, dh, i - 1, j + k) - at_or_zero(img, dw, dh, i + 1, j + k);
-    }
+    int stride = dw + 2;
+    const double *up = framed + (size_t)i * stride + j; /* row i-1, column j-1 */
+    const double *mid = up + stride, *down = mid + stride;
+    double gx = (up[0] + mid[0] + down[0]) - (up[2] + mid[2] + down[2]);
+    double gy = (up[0] + up[1] + up[2]) - (down[0] + down[1] + down[2]);
     gx /= 3.0;
     gy /= 3.0;
     return sqrt(gx * gx + gy * gy);
@@ -148,8 +153,8 @@ double texopt_gmsd_ws(texopt_gmsd_workspace *ws, const float *reference, const f
         for (int j = 0; j < dw; j++) {
             if (mask && !support_covered(ws->down_covered, dw, dh, i, j))
                 continue;
-            double m1 = prewitt_magnitude(ws->down_ref, dw, dh, i, j);
-            double m2 = prewitt_magnitude(ws->down_dist, dw, dh, i, j);
+            double m1 = prewitt_magnitude(ws->down_ref, dw, i, j);
+            double m2 = prewitt_magnitude(ws->down_dist, dw, i, j);
             ws->gms[counted++] = (2.0 * m1 * m2 + GMSD_T) / (m1 * m1 + m2 * m2 + GMSD_T);
         }
     }
