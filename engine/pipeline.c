@@ -13,6 +13,9 @@
  *     a texture size is taken as given. This is the paper's "input parameterization"
  *     baseline and a useful product on its own (a well-filtered downscale).
  *   others (ssp, tewari, arap): refused with TEXOPT_E_UNSUPPORTED until their targets exist.
+ * Normal maps: their tangent-space XY turn with the layout (rebake.h) unless the domain's
+ * primitives store TANGENT (io/gltf_tangents.h): stored tangents are kept by the saver, and
+ * the map must then stay as it was.
  * Progress: every stage's own stage_fraction is mapped into a fixed share of the job (load,
  * then per domain in proportion to its triangles (perceptual) or texels (input), then save);
  * the ETA extrapolates the elapsed time over that fraction. Cancellation is checked between
@@ -29,6 +32,7 @@
 #include "coverage.h"
 #include "distortion.h"
 #include "gltf_io.h"
+#include "gltf_tangents.h"
 #include "mesh.h"
 #include "meshwise.h"
 #include "model.h"
@@ -386,12 +390,17 @@ static void write_domain_uvs(const texopt_model *model, const texopt_mesh *mesh,
     }
 }
 
-static int image_is_normal_map(const texopt_model *model, int image)
+/* Whether the bake must turn the image's tangent-space XY with the layout (rebake.h): only
+ * for a normal map of a domain whose primitives leave tangents to the renderer. */
+static int normal_map_needs_rotation(const texopt_model *model, const texopt_domain *dom, int image)
 {
+    int normal = 0;
     for (int m = 0; m < model->material_count; m++)
-        if (model->materials[m].slot[TEXOPT_SLOT_NORMAL].image == image)
-            return 1;
-    return 0;
+        normal |= model->materials[m].slot[TEXOPT_SLOT_NORMAL].image == image;
+    for (int i = 0; normal && i < dom->primitive_count; i++)
+        if (texopt_primitive_has_tangents(model, dom->primitives[i]))
+            return 0;
+    return normal;
 }
 
 /* Re-bakes every image of the domain from the input layout into the packed one. */
@@ -435,7 +444,7 @@ static texopt_status rebake_domain(const texopt_model *model, const texopt_mesh 
         image_wrap(model, im, &ws, &wt);
         st = texopt_image_create(&out->images[im], w, h, src->channels, err, err_len);
         if (st == TEXOPT_OK)
-            st = texopt_rebake_image(src, ws, wt, image_is_normal_map(model, im), &layout,
+            st = texopt_rebake_image(src, ws, wt, normal_map_needs_rotation(model, dom, im), &layout,
                                      &out->images[im], NULL, &jm->inner, err, err_len);
         if (st == TEXOPT_OK) {
             out->edit_images[im] = &out->images[im];
