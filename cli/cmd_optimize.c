@@ -48,6 +48,8 @@ static void usage(FILE *out)
             "  --threads T              worker threads (default: every core)\n"
             "  --seed S                 random seed (default 0)\n"
             "  --stats PATH             write the job statistics as JSON\n"
+            "  --evaluate               measure the whole-mesh perceptual loss q of the result\n"
+            "                           against the input (into the statistics)\n"
             "  --quiet                  no progress on stderr\n"
             "  -h, --help               this text\n"
             "\n"
@@ -170,6 +172,10 @@ static int parse_args(int argc, char **argv, optimize_args *a)
         }
         if (strcmp(arg, "--quiet") == 0) {
             a->quiet = 1;
+            continue;
+        }
+        if (strcmp(arg, "--evaluate") == 0) {
+            a->params.evaluate = 1;
             continue;
         }
         if (arg[0] == '-' && arg[1] != '\0') {

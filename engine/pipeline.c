@@ -20,7 +20,9 @@
  * then per domain in proportion to its triangles (perceptual) or texels (input), then save);
  * the ETA extrapolates the elapsed time over that fraction. Cancellation is checked between
  * stages here and inside stages by the stages themselves.
- * Does not: parse command lines or HTTP, print, or evaluate the whole-mesh loss. */
+ * With params.evaluate, the whole-mesh loss q (evaluate.h) of the result against the input
+ * is measured before saving and written to the statistics.
+ * Does not: parse command lines or HTTP, or print. */
 #include "pipeline.h"
 
 #include <math.h>
@@ -31,6 +33,7 @@
 #include "budget.h"
 #include "coverage.h"
 #include "distortion.h"
+#include "evaluate.h"
 #include "gltf_io.h"
 #include "gltf_tangents.h"
 #include "mesh.h"
@@ -48,6 +51,7 @@ typedef struct stage_weights {
 
 static const stage_weights input_weights = {0.15, 0, 0, 0, 0.70, 0.15};
 static const stage_weights perceptual_weights = {0.02, 0.78, 0.08, 0.03, 0.06, 0.03};
+#define EVALUATE_WEIGHT 0.1 /* share of the job taken from the middle when params.evaluate */
 
 /* Wraps the caller's monitor: inner stages report their own stage_fraction, this maps it
  * into [from, to] of the job and adds the ETA. */
@@ -599,7 +603,7 @@ static texopt_status alloc_output(const texopt_model *model, job_output *out, ch
 
 static texopt_status run_domains(const texopt_model *model, const texopt_params *p, job_output *out,
                                  texopt_job_stats *js, job_monitor *jm, const stage_weights *w,
-                                 char *err, size_t err_len)
+                                 double tail, char *err, size_t err_len)
 {
     js->domains = calloc((size_t)(model->domain_count > 0 ? model->domain_count : 1), sizeof *js->domains);
     if (!js->domains)
@@ -608,7 +612,7 @@ static texopt_status run_domains(const texopt_model *model, const texopt_params 
     double total = 0;
     for (int d = 0; d < model->domain_count; d++)
         total += domain_weight(model, d, p->method);
-    double middle = 1.0 - w->load - w->save, at = w->load;
+    double middle = 1.0 - w->load - w->save - tail, at = w->load;
     for (int d = 0; d < model->domain_count; d++) {
         double share = total > 0 ? middle * domain_weight(model, d, p->method) / total : 0;
         texopt_status st = check_cancel(jm, err, err_len);
@@ -624,6 +628,41 @@ static texopt_status run_domains(const texopt_model *model, const texopt_params 
     return TEXOPT_OK;
 }
 
+/* The whole-mesh loss q (evaluate.h) of the result against the input, before saving: the
+ * candidate is the input model seen through the new UVs and images (a shallow view that
+ * owns nothing). */
+static texopt_status evaluate_result(const texopt_model *model, const job_output *out,
+                                     const texopt_params *p, texopt_job_stats *js, job_monitor *jm,
+                                     char *err, size_t err_len)
+{
+    texopt_image *images = calloc((size_t)(model->image_count > 0 ? model->image_count : 1), sizeof *images);
+    float *uvs = out->uvs;
+    if (!images)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the evaluation");
+    for (int i = 0; i < model->image_count; i++)
+        images[i] = out->edit_images[i] ? *out->edit_images[i] : model->images[i];
+    texopt_model candidate = *model;
+    candidate.images = images;
+    if (uvs)
+        candidate.uvs = uvs;
+    candidate.document = NULL;
+    candidate.destroy_document = NULL;
+    texopt_evaluate_options opt = {0};
+    opt.resolution = p->eval_resolution;
+    opt.threads = p->threads > 0 ? p->threads : 2;
+    opt.monitor = &jm->inner;
+    texopt_evaluation ev;
+    texopt_status st = texopt_evaluate(model, &candidate, &opt, &ev, err, err_len);
+    free(images);
+    if (st == TEXOPT_OK) {
+        js->has_evaluation = 1;
+        js->q = ev.q;
+        js->eval_resolution = ev.resolution;
+        js->seconds_evaluate = ev.seconds;
+    }
+    return st;
+}
+
 texopt_status texopt_optimize_file(const char *input_path, const char *output_glb,
                                    const char *stats_json, const texopt_params *params,
                                    const texopt_monitor *monitor, char *err, size_t err_len)
@@ -635,6 +674,7 @@ texopt_status texopt_optimize_file(const char *input_path, const char *output_gl
     if (st != TEXOPT_OK)
         return st;
     const stage_weights *w = p.method == TEXOPT_METHOD_INPUT ? &input_weights : &perceptual_weights;
+    double tail = p.evaluate ? EVALUATE_WEIGHT : 0;
     job_monitor jm;
     job_monitor_init(&jm, monitor);
     texopt_job_stats js = {0};
@@ -655,9 +695,13 @@ texopt_status texopt_optimize_file(const char *input_path, const char *output_gl
     if (st == TEXOPT_OK && p.method != TEXOPT_METHOD_INPUT)
         st = alloc_uvs(model, &out.uvs, err, err_len);
     if (st == TEXOPT_OK)
-        st = run_domains(model, &p, &out, &js, &jm, w, err, err_len);
+        st = run_domains(model, &p, &out, &js, &jm, w, tail, err, err_len);
     if (st == TEXOPT_OK)
         st = check_cancel(&jm, err, err_len);
+    if (st == TEXOPT_OK && p.evaluate) {
+        job_stage(&jm, "evaluate", 1.0 - w->save - EVALUATE_WEIGHT, 1.0 - w->save);
+        st = evaluate_result(model, &out, &p, &js, &jm, err, err_len);
+    }
     if (st == TEXOPT_OK) {
         job_stage(&jm, "save", 1.0 - w->save, 1.0);
         t0 = now_seconds();

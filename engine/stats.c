@@ -111,6 +111,12 @@ static cJSON *job_json(const texopt_job_stats *s)
     cJSON_AddNumberToObject(t, "load", s->seconds_load);
     cJSON_AddNumberToObject(t, "save", s->seconds_save);
     cJSON_AddNumberToObject(t, "total", s->seconds_total);
+    if (s->has_evaluation) {
+        cJSON *e = cJSON_AddObjectToObject(root, "evaluation");
+        cJSON_AddNumberToObject(e, "q", s->q);
+        cJSON_AddNumberToObject(e, "resolution", s->eval_resolution);
+        cJSON_AddNumberToObject(e, "seconds", s->seconds_evaluate);
+    }
     cJSON *arr = cJSON_AddArrayToObject(root, "domains");
     for (int d = 0; d < s->domain_count; d++)
         cJSON_AddItemToArray(arr, domain_json(&s->domains[d]));

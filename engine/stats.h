@@ -63,6 +63,10 @@ typedef struct texopt_job_stats {
     int iterations, threads;
     unsigned long long seed;
     double seconds_load, seconds_save, seconds_total;
+    int has_evaluation;          /* params.evaluate: whole-mesh loss of the result */
+    double q;                    /* evaluate.h: mean GMSD over the 20 views */
+    int eval_resolution;
+    double seconds_evaluate;
     int domain_count;
     texopt_domain_stats *domains;
 } texopt_job_stats;

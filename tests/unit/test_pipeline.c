@@ -257,3 +257,29 @@ TEST(bad_requests_are_refused_with_a_message)
     CHECK(access(s.out, F_OK) != 0);
     scratch_free(&s);
 }
+
+TEST(evaluation_is_zero_for_the_identity_and_positive_after_a_reduction)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 4, 64, "stripes45") == 0);
+    texopt_params p = {0};
+    p.method = TEXOPT_METHOD_INPUT;
+    p.evaluate = 1;
+    p.eval_resolution = 96;
+    char err[512] = "";
+    CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+    cJSON *st = read_json(s.stats);
+    cJSON *ev = cJSON_GetObjectItem(st, "evaluation");
+    CHECK(ev != NULL);
+    CHECK_NEAR(cJSON_GetObjectItem(ev, "q")->valuedouble, 0.0, 0);
+    CHECK_EQ_INT(cJSON_GetObjectItem(ev, "resolution")->valueint, 96);
+    cJSON_Delete(st);
+    p.relative_cost = 0.1;
+    CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+    st = read_json(s.stats);
+    ev = cJSON_GetObjectItem(st, "evaluation");
+    CHECK(ev != NULL);
+    CHECK(cJSON_GetObjectItem(ev, "q")->valuedouble > 0.01);
+    cJSON_Delete(st);
+    scratch_free(&s);
+}
