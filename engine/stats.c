@@ -57,6 +57,11 @@ static void add_stage_stats(cJSON *dom, const texopt_domain_stats *d)
         cJSON_AddNumberToObject(s2, "energy_initial", d->energy_initial);
         cJSON_AddNumberToObject(s2, "energy_final", d->energy_final);
         cJSON_AddNumberToObject(s2, "flipped_triangles", (double)d->flipped);
+        if (d->has_loss_share) {
+            cJSON_AddNumberToObject(s2, "within_epsilon_share", d->solved_within_epsilon_share);
+            cJSON_AddNumberToObject(s2, "loss_mean", d->solved_loss_mean);
+            cJSON_AddNumberToObject(s2, "loss_max", d->solved_loss_max);
+        }
     }
     if (d->has_distortion) {
         cJSON *ds = cJSON_AddObjectToObject(dom, "distortion");

@@ -48,6 +48,8 @@ typedef struct texopt_domain_stats {
     int stage2_iterations;
     double energy_initial, energy_final;
     size_t flipped;
+    int has_loss_share;              /* loss of every triangle under the solved layout */
+    double solved_within_epsilon_share, solved_loss_mean, solved_loss_max;
     int has_distortion;
     double distortion_input, distortion_output; /* symmetric Dirichlet, mean */
 
