@@ -81,7 +81,7 @@ wait_state() {
     state=$(json "$WORK/poll" 'd["state"]' 2>/dev/null || echo "?")
     [ "$state" = "$want" ] && return 0
     case "$state" in succeeded|failed|canceled) fail "job $id ended $state, wanted $want: $(cat "$WORK/poll")" ;; esac
-    sleep 0.2
+    sleep 0.05
   done
   fail "job $id is still '$state' after $3 s (wanted $want)"
 }
