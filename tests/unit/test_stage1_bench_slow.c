@@ -166,6 +166,8 @@ static void bench_model(const char *path, int subset)
         {"plain BO, 10 iterations", {.iterations = 10, .plain = 1}},
         {"ours: flat test + iso 10 + aniso 12x3 + BO 100", {.iterations = 100}},
         {"ours + BO 20", {.iterations = 20}},
+        {"ours + BO 10 (no design), 4+4 weight samples",
+         {.iterations = 10, .initial_design = -1, .weight_samples = 4}},
         {"ours + BO 5 (no design), 4+4 weight samples",
          {.iterations = 5, .initial_design = -1, .weight_samples = 4}},
         {"ours, no BO, 4+4 weight samples", {.iterations = -1, .weight_samples = 4}},
