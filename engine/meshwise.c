@@ -51,6 +51,7 @@
 #define MAX_HALVINGS 40
 #define STRETCH_WEIGHT_FLOOR 1.0 /* relative to the mean w_S, see normalise_weights */
 #define STEP_SAFETY 0.8 /* fraction of the largest step that keeps every det > 0 */
+#define TIE_STIFFNESS 100.0 /* fold ties, relative to the mean fitting curvature */
 
 typedef struct mat2 {
     double a, b, c, d; /* [[a b] [c d]] */
@@ -66,11 +67,20 @@ typedef struct axis_system {
     int factorizations;
 } axis_system;
 
+/* A fold tie: vertex v[0] of a folded chart's minority side kept on the point of the
+ * majority-side triangle v[1..3] it lay on in the input: r = sum c_i x_i = 0 per axis. */
+typedef struct fold_tie {
+    uint32_t v[4];
+    double c[4];      /* 1, -barycentric weights */
+    int32_t slot[16]; /* value index of (row, col) in the upper CSC, or -1 */
+} fold_tie;
+
 /* Per triangle data fixed for the whole solve. */
 typedef struct tri_frame {
     uint32_t v[3];
     double grad[3][2];  /* gradients of the barycentric functions in input texel space */
     double area;        /* input texel area, > 0 */
+    int orientation;    /* sign of the input signed texel area */
     double threshold;   /* barrier threshold s_i */
     double w_r, w_s;    /* normalised weights */
     mat2 rbar, sbar;
@@ -100,6 +110,12 @@ typedef struct solver {
     axis_system ax[2];  /* u and v; the fitting-only factor lives in ax[0] */
     int factor_is_fit;  /* ax[0].L holds the factor of the fitting matrix alone */
     int threads;        /* 2 or more: the two axes factorise in parallel */
+
+    fold_tie *ties;
+    size_t tie_count;
+    double tie_weight; /* kappa of kappa |r|^2 per tie and axis */
+    uint32_t *rep_of;          /* per vertex: the vertex whose unknown it shares */
+    uint32_t *chart_of_vertex; /* per used vertex: its chart */
 
     double *x, *trial, *grad, *step;
 } solver;
@@ -224,7 +240,23 @@ static double fit_energy(const solver *sv, const tri_frame *f, const tri_state *
            f->w_s * frob2(sub(s->s, f->sbar));
 }
 
-/* Energy at positions x split into its fitting part and its (weighted) barrier part. */
+/* Residual of a fold tie on one axis. */
+static double tie_residual(const fold_tie *tie, const double *x, int axis)
+{
+    double r = 0.0;
+    for (int i = 0; i < 4; i++)
+        r += tie->c[i] * x[2 * (size_t)tie->v[i] + axis];
+    return r;
+}
+
+static double tie_residual2(const fold_tie *tie, const double *x)
+{
+    double u = tie_residual(tie, x, 0), v = tie_residual(tie, x, 1);
+    return u * u + v * v;
+}
+
+/* Energy at positions x split into its fitting part (fold ties included) and its
+ * (weighted) barrier part. */
 static void total_energy(const solver *sv, const double *x, double *fit, double *barrier)
 {
     double e_fit = 0.0, e_bar = 0.0;
@@ -238,6 +270,8 @@ static void total_energy(const solver *sv, const double *x, double *fit, double 
         if (f->barrier)
             e_bar += f->area * barrier_value(det2(g), f->threshold);
     }
+    for (size_t k = 0; k < sv->tie_count; k++)
+        e_fit += sv->tie_weight * tie_residual2(&sv->ties[k], x);
     *fit = e_fit;
     *barrier = sv->w_b * e_bar;
 }
@@ -358,6 +392,7 @@ static texopt_status build_frames(solver *sv, const texopt_triangle_target *targ
         f->grad[0][0] = -f->grad[1][0] - f->grad[2][0];
         f->grad[0][1] = -f->grad[1][1] - f->grad[2][1];
         f->area = 0.5 * fabs(det);
+        f->orientation = det < 0.0 ? -1 : 1;
         double target_det = targets[t].lambda1 * targets[t].lambda2;
         f->threshold = BARRIER_FRACTION * fmin(1.0, target_det);
         f->rbar = rotation(targets[t].alpha);
@@ -396,45 +431,110 @@ static void normalise_weights(solver *sv)
     }
 }
 
+/* A used vertex with the keys that decide whether it coincides with another. */
+typedef struct vertex_key {
+    uint32_t chart;
+    double x, y;       /* input texel position */
+    double sx, sy;     /* starting position */
+    uint32_t vertex;
+} vertex_key;
+
+static int compare_vertex_keys(const void *pa, const void *pb)
+{
+    const vertex_key *a = pa, *b = pb;
+    if (a->chart != b->chart)
+        return a->chart < b->chart ? -1 : 1;
+    if (a->x != b->x)
+        return a->x < b->x ? -1 : 1;
+    if (a->y != b->y)
+        return a->y < b->y ? -1 : 1;
+    return a->vertex < b->vertex ? -1 : a->vertex > b->vertex;
+}
+
+/* rep[v]: the vertex whose unknown v shares. Vertices of one chart at bit-identical input
+ * texel positions (and equal starting positions) share one unknown, so the two halves of
+ * a folded chart (mirrored halves joined along their fold line, as in Duck and
+ * DamagedHelmet) keep sharing their texels exactly instead of drifting apart and giving one
+ * texel two different contents. Different charts are never tied. */
+static texopt_status merge_coincident(solver *sv, const uint32_t *chart_of_vertex,
+                                      uint32_t *rep, char *err, size_t err_len)
+{
+    size_t n = 0;
+    vertex_key *keys = malloc((sv->vertex_count ? sv->vertex_count : 1) * sizeof *keys);
+    if (!keys)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory");
+    for (size_t v = 0; v < sv->vertex_count; v++) {
+        rep[v] = (uint32_t)v;
+        if (sv->var[v] == -2)
+            continue;
+        vertex_key k = {chart_of_vertex[v], sv->mesh->texel[2 * v], sv->mesh->texel[2 * v + 1],
+                        sv->x[2 * v], sv->x[2 * v + 1], (uint32_t)v};
+        keys[n++] = k;
+    }
+    qsort(keys, n, sizeof *keys, compare_vertex_keys);
+    for (size_t i = 1; i < n; i++) {
+        const vertex_key *a = &keys[i - 1], *b = &keys[i];
+        if (a->chart == b->chart && a->x == b->x && a->y == b->y && a->sx == b->sx &&
+            a->sy == b->sy)
+            rep[b->vertex] = rep[a->vertex];
+    }
+    free(keys);
+    return TEXOPT_OK;
+}
+
 /* Free unknowns: every vertex used by a triangle with an input area, except one pinned
- * vertex per chart (the first vertex of the chart's first such triangle). */
+ * vertex per chart (the first vertex of the chart's first such triangle); coincident
+ * vertices of a chart share one (merge_coincident). */
 static texopt_status number_unknowns(solver *sv, char *err, size_t err_len)
 {
     const texopt_mesh *m = sv->mesh;
+    size_t nv = sv->vertex_count ? sv->vertex_count : 1;
     unsigned char *pinned_chart = calloc(m->chart_count ? m->chart_count : 1, 1);
-    if (!pinned_chart)
-        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory");
+    uint32_t *chart_of_vertex = sv->chart_of_vertex = calloc(nv, sizeof *chart_of_vertex);
+    uint32_t *rep = sv->rep_of = calloc(nv, sizeof *rep);
+    uint32_t *pins = calloc(m->chart_count ? m->chart_count : 1, sizeof *pins);
+    texopt_status st = TEXOPT_OK;
+    if (!pinned_chart || !chart_of_vertex || !rep || !pins)
+        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory");
     for (size_t v = 0; v < sv->vertex_count; v++)
         sv->var[v] = -2; /* unused */
-    for (size_t t = 0; t < sv->tri_count; t++) {
+    size_t pin_count = 0;
+    for (size_t t = 0; t < sv->tri_count && st == TEXOPT_OK; t++) {
         const tri_frame *f = &sv->tri[t];
         if (!f->barrier)
             continue;
         uint32_t chart = m->chart_of[t];
         if (chart >= m->chart_count) {
-            free(pinned_chart);
-            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                               "meshwise: triangle %zu in chart %u past chart count %zu", t, chart,
-                               m->chart_count);
+            st = texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                             "meshwise: triangle %zu in chart %u past chart count %zu", t, chart,
+                             m->chart_count);
+            break;
         }
         if (!pinned_chart[chart]) {
             pinned_chart[chart] = 1;
-            sv->var[f->v[0]] = -1;
+            pins[pin_count++] = f->v[0];
         }
-        for (int j = 0; j < 3; j++)
-            if (sv->var[f->v[j]] == -2)
-                sv->var[f->v[j]] = 0;
+        for (int j = 0; j < 3; j++) {
+            sv->var[f->v[j]] = 0;
+            chart_of_vertex[f->v[j]] = chart;
+        }
+    }
+    if (st == TEXOPT_OK)
+        st = merge_coincident(sv, chart_of_vertex, rep, err, err_len);
+    if (st == TEXOPT_OK) {
+        for (size_t i = 0; i < pin_count; i++)
+            sv->var[rep[pins[i]]] = -1;
+        size_t n = 0;
+        for (size_t v = 0; v < sv->vertex_count; v++) /* representatives come first in v */
+            if (rep[v] == v)
+                sv->var[v] = sv->var[v] == 0 ? (int)n++ : -1;
+        for (size_t v = 0; v < sv->vertex_count; v++)
+            sv->var[v] = sv->var[rep[v]];
+        sv->unknowns = n;
     }
     free(pinned_chart);
-    size_t n = 0;
-    for (size_t v = 0; v < sv->vertex_count; v++) {
-        if (sv->var[v] == 0)
-            sv->var[v] = (int)n++;
-        else
-            sv->var[v] = -1;
-    }
-    sv->unknowns = n;
-    return TEXOPT_OK;
+    free(pins);
+    return st;
 }
 
 static int64_t unknown_of(const solver *sv, uint32_t vertex)
@@ -465,6 +565,207 @@ static int32_t find_slot(const cholmod_sparse *A, int64_t row, int64_t col)
     return -1;
 }
 
+/* ---- fold ties ------------------------------------------------------------------------ */
+
+/* Per chart, the orientation of the larger total texel area (+1 on a tie), like mesh.c's
+ * chart_sign, recomputed so that hand-made meshes need not fill it. */
+static int8_t *chart_orientations(const solver *sv)
+{
+    const texopt_mesh *m = sv->mesh;
+    double *balance = calloc(m->chart_count ? m->chart_count : 1, sizeof *balance);
+    int8_t *sign = malloc(m->chart_count ? m->chart_count : 1);
+    if (!balance || !sign) {
+        free(balance);
+        free(sign);
+        return NULL;
+    }
+    for (size_t t = 0; t < sv->tri_count; t++)
+        if (sv->tri[t].barrier)
+            balance[m->chart_of[t]] += sv->tri[t].orientation * sv->tri[t].area;
+    for (size_t c = 0; c < m->chart_count; c++)
+        sign[c] = balance[c] < 0.0 ? -1 : 1;
+    free(balance);
+    return sign;
+}
+
+/* A uniform grid of bins over the input texel plane holding the majority-side triangles of
+ * folded charts, for point location. */
+typedef struct tri_grid {
+    double x0, y0, cell;
+    size_t nx, ny;
+    uint32_t *start; /* nx * ny + 1 */
+    uint32_t *tri;
+} tri_grid;
+
+static void tri_bounds(const texopt_mesh *m, const tri_frame *f, double lo[2], double hi[2])
+{
+    for (int a = 0; a < 2; a++) {
+        lo[a] = hi[a] = m->texel[2 * (size_t)f->v[0] + a];
+        for (int j = 1; j < 3; j++) {
+            double p = m->texel[2 * (size_t)f->v[j] + a];
+            lo[a] = fmin(lo[a], p);
+            hi[a] = fmax(hi[a], p);
+        }
+    }
+}
+
+static size_t bin_of(const tri_grid *g, double p, int axis)
+{
+    double q = (p - (axis ? g->y0 : g->x0)) / g->cell;
+    size_t n = axis ? g->ny : g->nx;
+    if (!(q > 0.0))
+        return 0;
+    return q >= (double)(n - 1) ? n - 1 : (size_t)q;
+}
+
+/* Builds the grid over the triangles with keep[t] set. Returns 0 when out of memory. */
+static int grid_build(tri_grid *g, const solver *sv, const unsigned char *keep)
+{
+    const texopt_mesh *m = sv->mesh;
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, area = 0.0;
+    size_t count = 0;
+    for (size_t t = 0; t < sv->tri_count; t++) {
+        if (!keep[t])
+            continue;
+        double a[2], b[2];
+        tri_bounds(m, &sv->tri[t], a, b);
+        for (int k = 0; k < 2; k++) {
+            lo[k] = fmin(lo[k], a[k]);
+            hi[k] = fmax(hi[k], b[k]);
+        }
+        area += sv->tri[t].area;
+        count++;
+    }
+    memset(g, 0, sizeof *g);
+    if (count == 0)
+        return 1;
+    /* About two triangles per bin, at most 4096 bins a side. */
+    g->cell = fmax(sqrt(2.0 * area / (double)count), fmax(hi[0] - lo[0], hi[1] - lo[1]) / 4096.0);
+    if (!(g->cell > 0.0))
+        g->cell = 1.0;
+    g->x0 = lo[0];
+    g->y0 = lo[1];
+    g->nx = (size_t)((hi[0] - lo[0]) / g->cell) + 1;
+    g->ny = (size_t)((hi[1] - lo[1]) / g->cell) + 1;
+    g->start = calloc(g->nx * g->ny + 1, sizeof *g->start);
+    if (!g->start)
+        return 0;
+    for (int pass = 0; pass < 2; pass++) {
+        for (size_t t = 0; t < sv->tri_count; t++) {
+            if (!keep[t])
+                continue;
+            double a[2], b[2];
+            tri_bounds(m, &sv->tri[t], a, b);
+            for (size_t j = bin_of(g, a[1], 1); j <= bin_of(g, b[1], 1); j++)
+                for (size_t i = bin_of(g, a[0], 0); i <= bin_of(g, b[0], 0); i++) {
+                    if (pass == 0)
+                        g->start[j * g->nx + i + 1]++;
+                    else
+                        g->tri[g->start[j * g->nx + i]++] = (uint32_t)t;
+                }
+        }
+        if (pass == 0) {
+            for (size_t b = 0; b < g->nx * g->ny; b++)
+                g->start[b + 1] += g->start[b];
+            g->tri = malloc((g->start[g->nx * g->ny] ? g->start[g->nx * g->ny] : 1) * sizeof *g->tri);
+            if (!g->tri)
+                return 0;
+        }
+    }
+    /* The fill pass advanced every start to the next bin's; shift back. */
+    for (size_t b = g->nx * g->ny; b > 0; b--)
+        g->start[b] = g->start[b - 1];
+    g->start[0] = 0;
+    return 1;
+}
+
+/* Barycentric weights of p in triangle f (input texels); 1 when p is inside (with a
+ * tolerance of 1e-9 of the weights). */
+static int barycentric(const texopt_mesh *m, const tri_frame *f, const double p[2], double w[3])
+{
+    const double *a = m->texel + 2 * (size_t)f->v[0];
+    double dx = p[0] - a[0], dy = p[1] - a[1];
+    /* grad[j] are the gradients of the barycentric functions: w_j = w_j(a) + grad_j . d */
+    w[1] = f->grad[1][0] * dx + f->grad[1][1] * dy;
+    w[2] = f->grad[2][0] * dx + f->grad[2][1] * dy;
+    w[0] = 1.0 - w[1] - w[2];
+    return w[0] >= -1e-9 && w[1] >= -1e-9 && w[2] >= -1e-9;
+}
+
+/* Finds, for every vertex used only by minority-side triangles of a folded chart, the
+ * majority-side triangle of the same chart it lies on in the input, and ties it there.
+ * Vertices already merged with a coincident one need no tie. */
+static texopt_status find_fold_ties(solver *sv, char *err, size_t err_len)
+{
+    const texopt_mesh *m = sv->mesh;
+    size_t nv = sv->vertex_count ? sv->vertex_count : 1, nt = sv->tri_count ? sv->tri_count : 1;
+    int8_t *sign = chart_orientations(sv);
+    unsigned char *side = calloc(nv, 1);     /* bit 0: majority triangle, bit 1: minority */
+    unsigned char *majority = calloc(nt, 1); /* majority triangle of a folded chart */
+    unsigned char *folded = calloc(m->chart_count ? m->chart_count : 1, 1);
+    tri_grid grid = {0};
+    texopt_status st = TEXOPT_OK;
+    if (!sign || !side || !majority || !folded) {
+        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory");
+        goto done;
+    }
+    for (size_t t = 0; t < sv->tri_count; t++) {
+        const tri_frame *f = &sv->tri[t];
+        if (!f->barrier)
+            continue;
+        int minority = f->orientation != sign[m->chart_of[t]];
+        for (int j = 0; j < 3; j++)
+            side[f->v[j]] |= (unsigned char)(minority ? 2 : 1);
+        if (minority)
+            folded[m->chart_of[t]] = 1;
+    }
+    for (size_t t = 0; t < sv->tri_count; t++)
+        majority[t] = sv->tri[t].barrier && folded[m->chart_of[t]] &&
+                      sv->tri[t].orientation == sign[m->chart_of[t]];
+    if (!grid_build(&grid, sv, majority)) {
+        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory");
+        goto done;
+    }
+    size_t cap = 0;
+    for (size_t v = 0; v < sv->vertex_count && grid.start; v++) {
+        if (side[v] != 2 || sv->rep_of[v] != v)
+            continue;
+        const double *p = m->texel + 2 * v;
+        size_t b = bin_of(&grid, p[1], 1) * grid.nx + bin_of(&grid, p[0], 0);
+        for (uint32_t k = grid.start[b]; k < grid.start[b + 1]; k++) {
+            const tri_frame *f = &sv->tri[grid.tri[k]];
+            double w[3];
+            if (m->chart_of[grid.tri[k]] != sv->chart_of_vertex[v] || !barycentric(m, f, p, w))
+                continue;
+            if (sv->tie_count == cap) {
+                cap = cap ? 2 * cap : 64;
+                fold_tie *grown = realloc(sv->ties, cap * sizeof *grown);
+                if (!grown) {
+                    st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory");
+                    goto done;
+                }
+                sv->ties = grown;
+            }
+            fold_tie *tie = &sv->ties[sv->tie_count++];
+            tie->v[0] = (uint32_t)v;
+            tie->c[0] = 1.0;
+            for (int j = 0; j < 3; j++) {
+                tie->v[j + 1] = f->v[j];
+                tie->c[j + 1] = -w[j];
+            }
+            break;
+        }
+    }
+done:
+    free(sign);
+    free(side);
+    free(majority);
+    free(folded);
+    free(grid.start);
+    free(grid.tri);
+    return st;
+}
+
 static size_t pattern_nnz(const solver *sv)
 {
     return (size_t)((const int *)sv->ax[0].A->p)[sv->unknowns];
@@ -490,7 +791,7 @@ static texopt_status analyse(solver *sv, char *err, size_t err_len)
  * diagonal. Analysed by CHOLMOD once. */
 static texopt_status build_pattern(solver *sv, char *err, size_t err_len)
 {
-    size_t cap = sv->unknowns + 3 * sv->tri_count;
+    size_t cap = sv->unknowns + 3 * sv->tri_count + 6 * sv->tie_count;
     uint64_t *keys = malloc(cap * sizeof *keys);
     if (!keys)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory");
@@ -510,6 +811,15 @@ static texopt_status build_pattern(solver *sv, char *err, size_t err_len)
                 keys[n++] = ((uint64_t)c << 32) | (uint64_t)r;
             }
     }
+    for (size_t k = 0; k < sv->tie_count; k++)
+        for (int i = 0; i < 4; i++)
+            for (int j = 0; j < 4; j++) {
+                int64_t r = unknown_of(sv, sv->ties[k].v[i]);
+                int64_t c = unknown_of(sv, sv->ties[k].v[j]);
+                if (r < 0 || c < 0 || r >= c)
+                    continue;
+                keys[n++] = ((uint64_t)c << 32) | (uint64_t)r;
+            }
     qsort(keys, n, sizeof *keys, compare_u64);
     size_t unique = 0;
     for (size_t k = 0; k < n; k++)
@@ -547,6 +857,12 @@ static texopt_status build_pattern(solver *sv, char *err, size_t err_len)
             sv->slot[9 * t + l] = (r < 0 || c < 0 || r > c) ? -1 : find_slot(A, r, c);
         }
     }
+    for (size_t k = 0; k < sv->tie_count; k++)
+        for (int l = 0; l < 16; l++) {
+            int64_t r = unknown_of(sv, sv->ties[k].v[l / 4]);
+            int64_t c = unknown_of(sv, sv->ties[k].v[l % 4]);
+            sv->ties[k].slot[l] = (r < 0 || c < 0 || r > c) ? -1 : find_slot(A, r, c);
+        }
     return TEXOPT_OK;
 }
 
@@ -577,6 +893,14 @@ static void build_fit_hessian(solver *sv)
     double mu = DAMPING * (mean_diag > 0.0 ? mean_diag : 1.0);
     for (size_t u = 0; u < sv->unknowns; u++)
         sv->fit_values[sv->diag[u]] += mu;
+    /* Fold ties: kappa |sum c_i x_i|^2 per axis, stiff against the fitting terms. */
+    sv->tie_weight = 0.5 * TIE_STIFFNESS * (mean_diag > 0.0 ? mean_diag : 1.0);
+    for (size_t k = 0; k < sv->tie_count; k++)
+        for (int l = 0; l < 16; l++) {
+            int32_t s = sv->ties[k].slot[l];
+            if (s >= 0)
+                sv->fit_values[s] += 2.0 * sv->tie_weight * sv->ties[k].c[l / 4] * sv->ties[k].c[l % 4];
+        }
 }
 
 /* ---- global step ----------------------------------------------------------------------- */
@@ -624,6 +948,17 @@ static size_t gradient_and_barrier(solver *sv)
             int64_t u = unknown_of(sv, f->v[l / 2]);
             if (u >= 0)
                 sv->grad[2 * u + l % 2] += local[l];
+        }
+    }
+    for (size_t k = 0; k < sv->tie_count; k++) {
+        const fold_tie *tie = &sv->ties[k];
+        for (int axis = 0; axis < 2; axis++) {
+            double r = 2.0 * sv->tie_weight * tie_residual(tie, sv->x, axis);
+            for (int i = 0; i < 4; i++) {
+                int64_t u = unknown_of(sv, tie->v[i]);
+                if (u >= 0)
+                    sv->grad[2 * u + axis] += r * tie->c[i];
+            }
         }
     }
     return active;
@@ -818,6 +1153,9 @@ static void solver_free(solver *sv)
     free(sv->trial);
     free(sv->grad);
     free(sv->step);
+    free(sv->ties);
+    free(sv->rep_of);
+    free(sv->chart_of_vertex);
 }
 
 static texopt_status check_start(const solver *sv, const double *x, char *err, size_t err_len)
@@ -878,6 +1216,8 @@ static texopt_status solver_init(solver *sv, const texopt_mesh *mesh,
         return st;
     if (sv->unknowns == 0)
         return TEXOPT_OK;
+    if ((st = find_fold_ties(sv, err, err_len)) != TEXOPT_OK)
+        return st;
     if ((st = build_pattern(sv, err, err_len)) != TEXOPT_OK)
         return st;
     size_t nnz = pattern_nnz(sv);
@@ -1000,6 +1340,9 @@ texopt_status texopt_meshwise_solve(const texopt_mesh *mesh, const texopt_triang
         memcpy(texel_out, sv.x, 2 * mesh->vertex_count * sizeof *texel_out);
         rep.barrier_weight_final = sv.w_b;
         rep.factorizations = sv.ax[0].factorizations + sv.ax[1].factorizations;
+        rep.fold_ties = (int)sv.tie_count;
+        for (size_t v = 0; v < mesh->vertex_count && sv.rep_of; v++)
+            rep.merged_vertices += sv.rep_of[v] != v;
         rep.seconds = seconds_since(&start);
         if (report)
             *report = rep;

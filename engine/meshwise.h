@@ -40,11 +40,21 @@
  *    non-zero input texel area still carry the barrier, so they never flip either. Their
  *    vertices move with their neighbours.
  *
- * Overlapping / mirrored input charts (Duck, DamagedHelmet): the solve does NOT keep shared
- * texels shared. Every chart is solved on its own; two charts that overlapped in the input
- * (mirrored halves) generally get different deformations and must be packed apart by the
- * packer, and the cost then counts both. This is the honest choice: shared texels would
- * force one deformation onto two surface regions whose perceptual targets differ.
+ * Overlapping / mirrored input charts (Duck, DamagedHelmet):
+ *  - Separate charts that overlap (mirrored halves cut apart): NOT kept shared. Each chart is
+ *    solved on its own, the copies generally get different deformations, the packer places
+ *    them apart (pack.h places every chart separately) and the cost counts both. Sharing
+ *    would force one deformation onto two surface regions whose perceptual targets differ,
+ *    and the packer could not exploit it anyway.
+ *  - Folded charts (mirrored halves joined along a fold line inside one chart; Duck has 2,
+ *    DamagedHelmet 25): kept shared. Vertices of one chart at bit-identical input (and
+ *    starting) texel positions share one unknown, so the halves keep lying exactly on each
+ *    other with one compromise deformation. Where the halves are tessellated differently
+ *    (Duck), every vertex used only by the minority-orientation side is tied (stiff
+ *    quadratic penalty, 100x the mean fitting curvature) to the point of the majority-side
+ *    triangle it lay on in the input. Otherwise the halves would drift apart while still
+ *    overlapping near the fold, and one output texel would have to show two different
+ *    input texels (the packer cannot separate the halves of one chart).
  *
  * Not here: the perceptual targets (stage 1), packing and scaling to the budget (the
  * output layout is in texel units of the input frame, not yet packed), re-baking, the loss
@@ -80,6 +90,8 @@ typedef struct texopt_meshwise_report {
     int energy_count;
     double barrier_weight_final; /* w_b after the eq. 28 reductions */
     int factorizations;    /* numeric CHOLMOD factorisations done */
+    int merged_vertices;   /* vertices sharing the unknown of a coincident one (folds) */
+    int fold_ties;         /* minority-side fold vertices tied to the majority side */
 } texopt_meshwise_report;
 
 /* Computes new texel positions of every mesh vertex (2 per vertex, texel units of the input

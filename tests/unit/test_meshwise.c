@@ -505,3 +505,127 @@ TEST(a_mesh_without_triangles_is_returned_unchanged)
     CHECK_EQ_INT(rep.flipped, 0);
     free_mesh(m);
 }
+
+/* A folded chart: the right half of the surface is the mirror image of the left half in 3D
+ * and reuses its UVs (as mirrored models do), joined to it along the fold column x = 0. Its
+ * triangles have negative texel area; the chart is one connected piece. */
+static texopt_mesh *folded_mesh(int n, double cell, double shift)
+{
+    size_t per_row = 2 * (size_t)n + 1; /* left columns 0..n, right columns 1..n */
+    texopt_mesh *m = alloc_mesh(per_row * (n + 1), 4 * (size_t)n * n);
+    for (int j = 0; j <= n; j++)
+        for (int c = 0; c < (int)per_row; c++) {
+            size_t v = (size_t)j * per_row + c;
+            int mirrored_i = c <= n ? c : 2 * n - c; /* UV column */
+            /* shift > 0 moves the right half's inner vertices off the left half's ones:
+             * a fold whose halves are not tessellated alike. */
+            int inner = c > n && c < 2 * n;
+            m->texel[2 * v] = (mirrored_i + (inner ? shift : 0.0)) * cell;
+            m->texel[2 * v + 1] = (j + (inner && j > 0 && j < n ? 0.6 * shift : 0.0)) * cell;
+            m->position[3 * v] = (c - n) * cell / 16.0;
+            m->position[3 * v + 1] = j * cell / 16.0;
+        }
+    size_t t = 0;
+    for (int j = 0; j < n; j++)
+        for (int c = 0; c < 2 * n; c++, t += 2) {
+            uint32_t a = (uint32_t)((size_t)j * per_row + c), b = a + 1;
+            uint32_t d = a + (uint32_t)per_row, e = d + 1;
+            uint32_t tris[6] = {a, b, e, a, e, d};
+            memcpy(m->triangle + 3 * t, tris, sizeof tris);
+        }
+    finish_mesh(m);
+    return m;
+}
+
+TEST(folded_chart_keeps_its_halves_on_the_same_texels)
+{
+    int n = 5;
+    texopt_mesh *m = folded_mesh(n, 8.0, 0.0);
+    size_t per_row = 2 * (size_t)n + 1;
+    CHECK(m->area_texel[0] > 0.0 && m->area_texel[m->triangle_count - 1] < 0.0);
+    /* The halves want different sizes: left 0.5, right 0.9. */
+    texopt_triangle_target *tg = uniform_targets(m->triangle_count, 0.5, 0.5, 0, 0, 1, 1);
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        const uint32_t *tri = m->triangle + 3 * t;
+        if ((tri[0] % per_row) >= (size_t)n) /* right half */
+            tg[t].lambda1 = tg[t].lambda2 = 0.9;
+    }
+    double *out = calloc(2 * m->vertex_count, sizeof *out);
+    texopt_meshwise_report rep;
+    char err[256] = "";
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, out, &rep, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(rep.flipped, 0);
+    CHECK_EQ_INT(rep.merged_vertices, (n + 1) * n);
+    CHECK_EQ_INT(rep.fold_ties, 0);
+    for (int j = 0; j <= n; j++)
+        for (int c = n + 1; c < (int)per_row; c++) {
+            size_t right = (size_t)j * per_row + c, left = (size_t)j * per_row + (2 * n - c);
+            CHECK_NEAR(out[2 * right], out[2 * left], 0.0);
+            CHECK_NEAR(out[2 * right + 1], out[2 * left + 1], 0.0);
+        }
+    /* The shared layout is a compromise: between the two targets' areas. */
+    double ratio = 0.5 * doubled_area(out, m->triangle + 3 * 6, 2) / m->area_texel[6];
+    CHECK(ratio > 0.25 * 1.05 && ratio < 0.81 * 0.95);
+    free(out);
+    free(tg);
+    free_mesh(m);
+}
+
+/* Output position of input point p through the layout, by the triangle of the left half of
+ * a folded mesh containing p (brute force); 0 when none does. */
+static int map_through_left_half(const texopt_mesh *m, const double *out, int n, const double p[2],
+                                 double q[2])
+{
+    size_t per_row = 2 * (size_t)n + 1;
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        const uint32_t *tri = m->triangle + 3 * t;
+        if (tri[0] % per_row >= (size_t)n || m->area_texel[t] <= 0.0)
+            continue; /* right half */
+        const double *a = m->texel + 2 * tri[0], *b = m->texel + 2 * tri[1], *c = m->texel + 2 * tri[2];
+        double det = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        double w1 = ((p[0] - a[0]) * (c[1] - a[1]) - (p[1] - a[1]) * (c[0] - a[0])) / det;
+        double w2 = ((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])) / det;
+        double w0 = 1.0 - w1 - w2;
+        if (w0 < -1e-9 || w1 < -1e-9 || w2 < -1e-9)
+            continue;
+        for (int k = 0; k < 2; k++)
+            q[k] = w0 * out[2 * tri[0] + k] + w1 * out[2 * tri[1] + k] + w2 * out[2 * tri[2] + k];
+        return 1;
+    }
+    return 0;
+}
+
+TEST(folded_chart_with_unlike_halves_stays_on_its_texels)
+{
+    int n = 5;
+    texopt_mesh *m = folded_mesh(n, 8.0, 0.37);
+    size_t per_row = 2 * (size_t)n + 1;
+    texopt_triangle_target *tg = uniform_targets(m->triangle_count, 0.5, 0.5, 0, 0, 1, 1);
+    for (size_t t = 0; t < m->triangle_count; t++)
+        if ((m->triangle[3 * t] % per_row) >= (size_t)n)
+            tg[t].lambda1 = tg[t].lambda2 = 0.9;
+    double *out = calloc(2 * m->vertex_count, sizeof *out);
+    texopt_meshwise_report rep;
+    char err[256] = "";
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, out, &rep, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(rep.flipped, 0);
+    CHECK(energies_non_increasing(&rep));
+    size_t checked = 0;
+    for (int j = 0; j <= n; j++)
+        for (int c = n + 1; c < 2 * n; c++) {
+            size_t v = (size_t)j * per_row + c;
+            double q[2];
+            CHECK(map_through_left_half(m, out, n, m->texel + 2 * v, q));
+            /* The halves disagree by several texels untied; tied, by < 0.1 texel. */
+            CHECK_NEAR(out[2 * v], q[0], 0.1);
+            CHECK_NEAR(out[2 * v + 1], q[1], 0.1);
+            checked++;
+        }
+    CHECK_EQ_INT(checked, (size_t)(n + 1) * (n - 1));
+    /* The inner right columns are tied; the outer column merges exactly. */
+    CHECK_EQ_INT(rep.fold_ties, (n - 1) * (n + 1));
+    CHECK_EQ_INT(rep.merged_vertices, n + 1);
+    free(out);
+    free(tg);
+    free_mesh(m);
+}

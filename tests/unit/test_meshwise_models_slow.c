@@ -69,10 +69,11 @@ static void solve_domain(const char *path, const texopt_model *model, int domain
     CHECK_OK(texopt_distortion_measure(mesh, out, &after, err, sizeof err), err);
     const char *name = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
     printf("meshwise %s domain %d, %d thread%s: %zu faces %zu vertices %zu charts: %.3f s wall, %.3f s cpu, %d iterations, "
-           "%d factorisations, E %.4g -> %.4g, symmetric Dirichlet %.4f -> %.4f\n",
+           "%d factorisations, %d merged, %d fold ties, E %.4g -> %.4g, symmetric Dirichlet %.4f -> %.4f\n",
            name, domain, threads, threads > 1 ? "s" : "", mesh->triangle_count, mesh->vertex_count, mesh->chart_count,
-           rep.seconds, cpu, rep.iterations, rep.factorizations, rep.energy_initial,
-           rep.energy_final, before.symmetric_dirichlet, after.symmetric_dirichlet);
+           rep.seconds, cpu, rep.iterations, rep.factorizations, rep.merged_vertices,
+           rep.fold_ties, rep.energy_initial, rep.energy_final, before.symmetric_dirichlet,
+           after.symmetric_dirichlet);
     fflush(stdout);
     free(out);
     free(tg);
