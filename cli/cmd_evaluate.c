@@ -1,4 +1,4 @@
-/* cmd_evaluate.c - `texopt evaluate IN OUT.glb [--resolution N] [--threads T] [--json]`.
+/* cmd_evaluate.c - `texopt evaluate IN OUT.glb [--resolution N] [--threads T] [--mipmap] [--json]`.
  *
  * Compares any two models with the same triangles (an input and texopt's output, or the
  * output of another tool): the whole-mesh perceptual loss q of Sun et al. 2022, section 5.1
@@ -17,7 +17,7 @@
 static void usage(FILE *out)
 {
     fprintf(out,
-            "usage: texopt evaluate IN OUT.glb [--resolution N] [--threads T] [--json]\n"
+            "usage: texopt evaluate IN OUT.glb [--resolution N] [--threads T] [--mipmap] [--json]\n"
             "\n"
             "Renders IN and OUT from 20 cameras around the model and prints their whole-mesh\n"
             "perceptual loss q (GMSD, 0 = identical; Sun et al. 2022, section 5.1) and the cost\n"
@@ -27,6 +27,7 @@ static void usage(FILE *out)
             "  --resolution N   render side in pixels (default: 1.25 sqrt(covered texels of IN),\n"
             "                   the input texture at about one texel per pixel)\n"
             "  --threads T      views rendered in parallel (default 2)\n"
+            "  --mipmap         prefiltered (mip-mapped, anisotropic) lookups instead of bilinear\n"
             "  --json           print one JSON object instead of text\n"
             "  -h, --help       this text\n");
 }
@@ -55,11 +56,12 @@ static cJSON *cost_json(const texopt_cost *c)
     return o;
 }
 
-static void print_json(const texopt_evaluation *ev, const texopt_cost *in, const texopt_cost *out)
+static void print_json(const texopt_evaluation *ev, int mipmapped, const texopt_cost *in, const texopt_cost *out)
 {
     cJSON *root = cJSON_CreateObject();
     cJSON_AddNumberToObject(root, "q", ev->q);
     cJSON_AddNumberToObject(root, "resolution", ev->resolution);
+    cJSON_AddStringToObject(root, "lookup", mipmapped ? "mipmapped" : "bilinear");
     cJSON *views = cJSON_AddArrayToObject(root, "view_gmsd");
     for (int v = 0; v < TEXOPT_VIEW_COUNT; v++)
         cJSON_AddItemToArray(views, cJSON_CreateNumber(ev->view_gmsd[v]));
@@ -75,9 +77,10 @@ static void print_json(const texopt_evaluation *ev, const texopt_cost *in, const
     cJSON_Delete(root);
 }
 
-static void print_text(const texopt_evaluation *ev, const texopt_cost *in, const texopt_cost *out)
+static void print_text(const texopt_evaluation *ev, int mipmapped, const texopt_cost *in, const texopt_cost *out)
 {
-    printf("q (whole-mesh GMSD, 20 views at %d px): %.6f\n", ev->resolution, ev->q);
+    printf("q (whole-mesh GMSD, 20 views at %d px, %s lookups): %.6f\n", ev->resolution,
+           mipmapped ? "mip-mapped" : "bilinear", ev->q);
     printf("relative cost c_r: %.4f\n",
            in->covered_texels ? (double)out->covered_texels / (double)in->covered_texels : 0);
     printf("%-22s %14s %14s\n", "", "input", "output");
@@ -102,6 +105,8 @@ int cmd_evaluate(int argc, char **argv)
             return EXIT_OK;
         } else if (!strcmp(a, "--json")) {
             json = 1;
+        } else if (!strcmp(a, "--mipmap")) {
+            opt.mipmapped = 1;
         } else if (!strcmp(a, "--resolution") || !strcmp(a, "--threads")) {
             int *dst = a[2] == 'r' ? &opt.resolution : &opt.threads;
             int hi = a[2] == 'r' ? 16384 : 64, lo = a[2] == 'r' ? 8 : 1;
@@ -140,9 +145,9 @@ int cmd_evaluate(int argc, char **argv)
         st = texopt_evaluate_cost(out, &cout, err, sizeof err);
     if (st == TEXOPT_OK) {
         if (json)
-            print_json(&ev, &cin, &cout);
+            print_json(&ev, opt.mipmapped, &cin, &cout);
         else
-            print_text(&ev, &cin, &cout);
+            print_text(&ev, opt.mipmapped, &cin, &cout);
     } else {
         fprintf(stderr, "texopt evaluate: %s: %s\n", texopt_strerror(st), err);
     }

@@ -21,6 +21,7 @@
 #include "gmsd.h"
 #include "mesh.h"
 #include "sample.h"
+#include "texture_filter.h"
 
 static double now_seconds(void)
 {
@@ -109,7 +110,40 @@ typedef struct eval_job {
     pthread_mutex_t lock; /* guards status/err and the monitor callback */
     int views_done;
     const texopt_monitor *monitor;
+    texopt_texture_filter **ref_filters, **cand_filters; /* per image; NULL: bilinear */
 } eval_job;
+
+/* Mip pyramids of every decoded image a base colour binding uses, with its wrap modes. */
+static texopt_status build_filters(const texopt_model *m, texopt_texture_filter ***out, char *err,
+                                   size_t err_len)
+{
+    texopt_texture_filter **f = calloc(m->image_count > 0 ? (size_t)m->image_count : 1, sizeof *f);
+    if (!f)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for texture filters");
+    *out = f;
+    for (int p = 0; p < m->primitive_count; p++) {
+        int mat = m->primitives[p].material;
+        if (mat < 0 || mat >= m->material_count)
+            continue;
+        const texopt_texture_ref *r = &m->materials[mat].slot[TEXOPT_SLOT_BASE_COLOR];
+        if (r->image < 0 || r->image >= m->image_count || f[r->image] || !m->images[r->image].pixels)
+            continue;
+        texopt_status st = texopt_texture_filter_create(&f[r->image], &m->images[r->image], r->wrap_s,
+                                                        r->wrap_t, err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
+    }
+    return TEXOPT_OK;
+}
+
+static void destroy_filters(texopt_texture_filter **f, int count)
+{
+    if (!f)
+        return;
+    for (int i = 0; i < count; i++)
+        texopt_texture_filter_destroy(f[i]);
+    free(f);
+}
 
 typedef struct eval_worker {
     eval_job *job;
@@ -144,9 +178,10 @@ static texopt_status evaluate_view(eval_job *job, int worker, int v, texopt_gmsd
     texopt_status st = texopt_meshrender_rasterize(job->reference, &job->views[v], job->side,
                                                    &raster, msg, msg_len);
     if (st == TEXOPT_OK)
-        st = texopt_meshrender_shade(job->reference, &raster, &ref_img, msg, msg_len);
+        st = texopt_meshrender_shade_filtered(job->reference, &raster, job->ref_filters, &ref_img, msg, msg_len);
     if (st == TEXOPT_OK)
-        st = texopt_meshrender_shade(job->candidate, &raster, &cand_img, msg, msg_len);
+        st = texopt_meshrender_shade_filtered(job->candidate, &raster, job->cand_filters, &cand_img, msg,
+                                              msg_len);
     if (st == TEXOPT_OK) {
         size_t n = (size_t)job->side * (size_t)job->side;
         luma_of(&ref_img, luma_ref);
@@ -291,6 +326,17 @@ texopt_status texopt_evaluate(const texopt_model *reference, const texopt_model 
     atomic_init(&job.next_view, 0);
     atomic_init(&job.failed, 0);
     pthread_mutex_init(&job.lock, NULL);
+    if (opt->mipmapped) {
+        st = build_filters(reference, &job.ref_filters, err, err_len);
+        if (st == TEXOPT_OK)
+            st = build_filters(candidate, &job.cand_filters, err, err_len);
+        if (st != TEXOPT_OK) {
+            destroy_filters(job.ref_filters, reference->image_count);
+            destroy_filters(job.cand_filters, candidate->image_count);
+            pthread_mutex_destroy(&job.lock);
+            return st;
+        }
+    }
     size_t tc = reference->triangle_count;
     if (opt->triangle_error) {
         job.triangle_error_sum = calloc((size_t)job.threads * tc, sizeof(double));
@@ -298,6 +344,8 @@ texopt_status texopt_evaluate(const texopt_model *reference, const texopt_model 
         if (!job.triangle_error_sum || !job.triangle_error_count) {
             free(job.triangle_error_sum);
             free(job.triangle_error_count);
+            destroy_filters(job.ref_filters, reference->image_count);
+            destroy_filters(job.cand_filters, candidate->image_count);
             pthread_mutex_destroy(&job.lock);
             return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for per-triangle errors");
         }
@@ -318,6 +366,8 @@ texopt_status texopt_evaluate(const texopt_model *reference, const texopt_model 
     }
     free(job.triangle_error_sum);
     free(job.triangle_error_count);
+    destroy_filters(job.ref_filters, reference->image_count);
+    destroy_filters(job.cand_filters, candidate->image_count);
     pthread_mutex_destroy(&job.lock);
     if (st != TEXOPT_OK)
         return st;

@@ -10,7 +10,10 @@
  * default screen side is 1.25 sqrt(covered texels of the reference) rounded, i.e. the input
  * texture seen at about one texel per pixel (DESIGN.md 3.5), clamped to [64, 4096].
  *
- * Does not: optimise, bake or compute cost (coverage.h), and only looks at base colour. */
+ * Lookups are bilinear by default (the paper's setting); with `mipmapped` both renders use
+ * the prefiltered lookups of texture_filter.h, reported separately.
+ *
+ * Does not: optimise or bake, and only looks at base colour. */
 #ifndef TEXOPT_EVALUATE_H
 #define TEXOPT_EVALUATE_H
 
@@ -25,6 +28,8 @@
 typedef struct texopt_evaluate_options {
     int resolution; /* screen side in pixels; 0 -> texopt_evaluate_default_resolution */
     int threads;    /* views rendered in parallel; 0 -> 1 */
+    int mipmapped;  /* nonzero: prefiltered (mip-mapped, anisotropic) lookups in both renders
+                       instead of bilinear, as a GPU sampler with mipmaps would show them */
     /* When not NULL: per reference triangle (triangle_count entries, caller-owned), the mean
      * absolute luma difference over the pixels it covers in all views (0 where never seen).
      * The report colours the UV layout by it. */

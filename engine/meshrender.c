@@ -15,7 +15,10 @@
  * Both windings are drawn (no back-face culling): the depth test hides back faces of closed
  * meshes, and open meshes stay visible from both sides.
  *
- * Does not: light, blend alpha, mip-map, or compare images (evaluate.c). */
+ * Mip-mapped shading (optional, reported separately by the evaluation) uses the prefiltered
+ * lookups of texture_filter.h with the per-triangle screen-to-texel Jacobian.
+ *
+ * Does not: light, blend alpha, or compare images (evaluate.c). */
 #include "meshrender.h"
 
 #include <float.h>
@@ -24,6 +27,7 @@
 #include <string.h>
 
 #include "sample.h"
+#include "texture_filter.h"
 
 /* Unit vectors to the 20 vertices of a regular dodecahedron: (±1,±1,±1), (0,±1/φ,±φ),
  * (±1/φ,±φ,0), (±φ,0,±1/φ). */
@@ -188,6 +192,7 @@ texopt_status texopt_meshrender_rasterize(const texopt_model *model, const texop
     if (model->triangle_count > INT32_MAX)
         return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "too many triangles to render");
     size_t n = (size_t)side * (size_t)side;
+    out->view = *view;
     out->side = side;
     out->triangle = malloc(n * sizeof *out->triangle);
     out->bary = malloc(2 * n * sizeof *out->bary);
@@ -246,23 +251,47 @@ static texopt_status triangle_bindings(const texopt_model *model, const texopt_t
     return TEXOPT_OK;
 }
 
-static void shade_pixel(const texopt_model *model, const texopt_texture_ref *ref, size_t tri,
-                        float b1, float b2, float *rgb)
+/* Texel position of a pixel of triangle tri in image img. */
+static void pixel_texel(const texopt_model *model, const texopt_image *img, size_t tri, float b1,
+                        float b2, double *x, double *y)
 {
-    if (!ref) {
-        rgb[0] = rgb[1] = rgb[2] = 0.5f;
-        return;
-    }
     const uint32_t *c = model->triangles + 3 * tri;
     const float *uv0 = model->uvs + 2 * (size_t)c[0], *uv1 = model->uvs + 2 * (size_t)c[1],
                 *uv2 = model->uvs + 2 * (size_t)c[2];
     double b0 = 1.0 - b1 - b2;
-    double u = b0 * uv0[0] + b1 * uv1[0] + b2 * uv2[0];
-    double v = b0 * uv0[1] + b1 * uv1[1] + b2 * uv2[1];
-    const texopt_image *img = &model->images[ref->image];
-    float texel[4];
-    texopt_sample_bilinear(img, ref->wrap_s, ref->wrap_t, u * img->width, v * img->height, texel);
-    if (img->channels >= 3) {
+    *x = (b0 * uv0[0] + b1 * uv1[0] + b2 * uv2[0]) * img->width;
+    *y = (b0 * uv0[1] + b1 * uv1[1] + b2 * uv2[1]) * img->height;
+}
+
+/* Image texels per screen pixel of triangle tri: {dx/dsx, dx/dsy, dy/dsx, dy/dsy}. Returns
+ * -1 when the triangle is edge-on (it then covers no pixel centre anyway). */
+static int triangle_footprint(const texopt_model *model, const texopt_raster *r, const texopt_image *img,
+                              size_t tri, double jac[4])
+{
+    double s[3][3], t[3][2];
+    for (int k = 0; k < 3; k++) {
+        uint32_t v = model->triangles[3 * tri + k];
+        project(&r->view, r->side, model->positions + 3 * (size_t)v, s[k]);
+        t[k][0] = model->uvs[2 * (size_t)v] * img->width;
+        t[k][1] = model->uvs[2 * (size_t)v + 1] * img->height;
+    }
+    double a = s[1][0] - s[0][0], b = s[2][0] - s[0][0], c = s[1][1] - s[0][1], d = s[2][1] - s[0][1];
+    double det = a * d - b * c;
+    if (!(fabs(det) > 1e-12))
+        return -1;
+    /* J = T S^-1 with S = [[a, b], [c, d]] the screen edges and T the texel edges. */
+    double si[4] = {d / det, -b / det, -c / det, a / det};
+    double T[4] = {t[1][0] - t[0][0], t[2][0] - t[0][0], t[1][1] - t[0][1], t[2][1] - t[0][1]};
+    jac[0] = T[0] * si[0] + T[1] * si[2];
+    jac[1] = T[0] * si[1] + T[1] * si[3];
+    jac[2] = T[2] * si[0] + T[3] * si[2];
+    jac[3] = T[2] * si[1] + T[3] * si[3];
+    return 0;
+}
+
+static void to_rgb(const float *texel, int channels, float *rgb)
+{
+    if (channels >= 3) {
         rgb[0] = texel[0];
         rgb[1] = texel[1];
         rgb[2] = texel[2];
@@ -271,8 +300,9 @@ static void shade_pixel(const texopt_model *model, const texopt_texture_ref *ref
     }
 }
 
-texopt_status texopt_meshrender_shade(const texopt_model *model, const texopt_raster *raster,
-                                      texopt_image *out, char *err, size_t err_len)
+static texopt_status shade(const texopt_model *model, const texopt_raster *raster,
+                           struct texopt_texture_filter *const *filters, texopt_image *out, char *err,
+                           size_t err_len)
 {
     memset(out, 0, sizeof *out);
     if (!model || !raster || !raster->triangle)
@@ -294,6 +324,9 @@ texopt_status texopt_meshrender_shade(const texopt_model *model, const texopt_ra
         return st;
     }
     size_t n = (size_t)raster->side * (size_t)raster->side;
+    int32_t jac_tri = -1; /* the triangle whose footprint jac holds */
+    double jac[4] = {1, 0, 0, 1};
+    int jac_ok = 0;
     for (size_t i = 0; i < n; i++) {
         int32_t tri = raster->triangle[i];
         if (tri < 0)
@@ -305,11 +338,42 @@ texopt_status texopt_meshrender_shade(const texopt_model *model, const texopt_ra
                                "raster names triangle %d but the model has %zu", (int)tri,
                                model->triangle_count);
         }
-        shade_pixel(model, ref[tri], (size_t)tri, raster->bary[2 * i], raster->bary[2 * i + 1],
-                    out->pixels + 3 * i);
+        float *rgb = out->pixels + 3 * i;
+        const texopt_texture_ref *r = ref[tri];
+        if (!r) {
+            rgb[0] = rgb[1] = rgb[2] = 0.5f;
+            continue;
+        }
+        const texopt_image *img = &model->images[r->image];
+        double x, y;
+        pixel_texel(model, img, (size_t)tri, raster->bary[2 * i], raster->bary[2 * i + 1], &x, &y);
+        float texel[4];
+        struct texopt_texture_filter *f = filters ? filters[r->image] : NULL;
+        if (f && tri != jac_tri) {
+            jac_ok = triangle_footprint(model, raster, img, (size_t)tri, jac) == 0;
+            jac_tri = tri;
+        }
+        if (f && jac_ok)
+            texopt_texture_filter_sample(f, x, y, jac, texel);
+        else
+            texopt_sample_bilinear(img, r->wrap_s, r->wrap_t, x, y, texel);
+        to_rgb(texel, img->channels, rgb);
     }
     free(ref);
     return TEXOPT_OK;
+}
+
+texopt_status texopt_meshrender_shade(const texopt_model *model, const texopt_raster *raster,
+                                      texopt_image *out, char *err, size_t err_len)
+{
+    return shade(model, raster, NULL, out, err, err_len);
+}
+
+texopt_status texopt_meshrender_shade_filtered(const texopt_model *model, const texopt_raster *raster,
+                                               struct texopt_texture_filter *const *filters,
+                                               texopt_image *out, char *err, size_t err_len)
+{
+    return shade(model, raster, filters, out, err, err_len);
 }
 
 texopt_status texopt_meshrender_same_geometry(const texopt_model *reference,

@@ -35,6 +35,7 @@ typedef struct texopt_view {
 /* Per pixel of a side x side screen: the model triangle covering it (-1: background) and the
  * barycentric weights of the triangle's second and third corners (the first's is 1 - b1 - b2). */
 typedef struct texopt_raster {
+    texopt_view view; /* the view it was rasterised from */
     int side;
     int32_t *triangle; /* side * side, row 0 on top */
     float *bary;       /* 2 per pixel */
@@ -63,6 +64,17 @@ void texopt_raster_destroy(texopt_raster *raster);
  * through texopt_meshrender_same_geometry) or it has no UVs. */
 texopt_status texopt_meshrender_shade(const texopt_model *model, const texopt_raster *raster,
                                       texopt_image *out, char *err, size_t err_len);
+
+struct texopt_texture_filter;
+
+/* As texopt_meshrender_shade, with prefiltered (mip-mapped, anisotropic) lookups as a GPU's
+ * trilinear/anisotropic sampler would do: the footprint of a pixel in the texture is the
+ * triangle's screen-to-texel Jacobian (constant per triangle under an orthographic camera).
+ * filters[i] is the texture_filter.h pyramid of model->images[i] (NULL entries fall back to
+ * bilinear); the raster must come from texopt_meshrender_rasterize of the same geometry. */
+texopt_status texopt_meshrender_shade_filtered(const texopt_model *model, const texopt_raster *raster,
+                                               struct texopt_texture_filter *const *filters,
+                                               texopt_image *out, char *err, size_t err_len);
 
 /* Succeeds when candidate has the same triangles as reference: equal triangle count and every
  * corner at the same position (within 1e-5 of the bounding-box diagonal). The message names

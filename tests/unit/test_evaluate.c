@@ -124,6 +124,26 @@ TEST(thread_count_does_not_change_the_result)
     texopt_model_destroy(cand);
 }
 
+TEST(mipmapped_lookups_are_reported_separately)
+{
+    texopt_model *ref = detailed_sphere(), *cand = detailed_sphere();
+    CHECK(ref && cand);
+    char err[256] = "";
+    texopt_evaluate_options mip = {.resolution = 160, .threads = 2, .mipmapped = 1};
+    texopt_evaluate_options lin = {.resolution = 160, .threads = 2};
+    texopt_evaluation same, a, b;
+    CHECK_OK(texopt_evaluate(ref, cand, &mip, &same, err, sizeof err), err);
+    CHECK(same.q == 0.0);
+    CHECK(shrink_texture(cand, 0, 48) == 0);
+    CHECK_OK(texopt_evaluate(ref, cand, &mip, &a, err, sizeof err), err);
+    CHECK_OK(texopt_evaluate(ref, cand, &lin, &b, err, sizeof err), err);
+    CHECK(a.q > 0.02 && b.q > 0.02);
+    /* Prefiltering blurs the reference too, so the two figures are not the same. */
+    CHECK(fabs(a.q - b.q) > 1e-4);
+    texopt_model_destroy(ref);
+    texopt_model_destroy(cand);
+}
+
 TEST(different_geometry_is_refused)
 {
     texopt_model *a = fixture_uv_sphere(24, 12, 64), *b = fixture_uv_sphere(24, 12, 64);

@@ -1,0 +1,173 @@
+/* test_meshrender.c - the evaluation's cameras and rasteriser (engine/meshrender.h). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fixtures.h"
+#include "meshrender.h"
+#include "test.h"
+#include "texture_filter.h"
+
+static double dot(const double *a, const double *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+TEST(views_are_the_dodecahedron_vertices)
+{
+    texopt_model *m = fixture_uv_sphere(12, 6, 16);
+    CHECK(m);
+    texopt_view v[TEXOPT_VIEW_COUNT];
+    char err[256] = "";
+    CHECK_OK(texopt_meshrender_views(m, v, err, sizeof err), err);
+    /* Every vertex of a regular dodecahedron has exactly 3 nearest neighbours, at the angle
+     * whose cosine is sqrt(5)/3, and its antipode among the others. */
+    const double nearest = sqrt(5.0) / 3.0;
+    for (int i = 0; i < TEXOPT_VIEW_COUNT; i++) {
+        CHECK_NEAR(dot(v[i].direction, v[i].direction), 1, 1e-12);
+        CHECK_NEAR(dot(v[i].right, v[i].right), 1, 1e-12);
+        CHECK_NEAR(dot(v[i].up, v[i].up), 1, 1e-12);
+        CHECK_NEAR(dot(v[i].right, v[i].up), 0, 1e-12);
+        CHECK_NEAR(dot(v[i].right, v[i].direction), 0, 1e-12);
+        /* right x up = direction: the camera does not mirror the scene. */
+        double c[3] = {v[i].right[1] * v[i].up[2] - v[i].right[2] * v[i].up[1],
+                       v[i].right[2] * v[i].up[0] - v[i].right[0] * v[i].up[2],
+                       v[i].right[0] * v[i].up[1] - v[i].right[1] * v[i].up[0]};
+        CHECK_NEAR(dot(c, v[i].direction), 1, 1e-12);
+        int near = 0, antipode = 0;
+        double best = -2;
+        for (int j = 0; j < TEXOPT_VIEW_COUNT; j++) {
+            if (j == i)
+                continue;
+            double d = dot(v[i].direction, v[j].direction);
+            CHECK(d < nearest + 1e-9);
+            near += fabs(d - nearest) < 1e-9;
+            antipode += fabs(d + 1) < 1e-9;
+            best = fmax(best, d);
+        }
+        CHECK_EQ_INT(near, 3);
+        CHECK_EQ_INT(antipode, 1);
+        /* The unit sphere's bounding sphere, with 1% margin. */
+        CHECK_NEAR(v[i].half_extent, 1.01, 1e-6);
+        CHECK_NEAR(v[i].centre[0], 0, 1e-6);
+    }
+    texopt_model_destroy(m);
+}
+
+/* A view looking down -z at the unit quad [0,1]^2, the window exactly [0,1]^2 (no margin). */
+static texopt_view quad_view(void)
+{
+    texopt_view v = {.centre = {0.5, 0.5, 0}, .direction = {0, 0, 1}, .right = {1, 0, 0},
+                     .up = {0, 1, 0}, .half_extent = 0.5};
+    return v;
+}
+
+TEST(face_on_quad_covers_every_pixel_once_and_shades_its_texture)
+{
+    texopt_model *m = fixture_textured_quad(64, "gradient");
+    CHECK(m);
+    texopt_view v = quad_view();
+    texopt_raster r;
+    char err[256] = "";
+    CHECK_OK(texopt_meshrender_rasterize(m, &v, 32, &r, err, sizeof err), err);
+    CHECK_EQ_INT(r.covered, 32 * 32);
+    texopt_image img;
+    CHECK_OK(texopt_meshrender_shade(m, &r, &img, err, sizeof err), err);
+    /* Screen row 0 is the top (y = 1 = v = 1); the gradient has r = (x + 0.5)/64 at texel x
+     * and g = (y + 0.5)/64 at texel row y. Pixel (i, j) centre maps to u = (i + 0.5)/32,
+     * v = 1 - (j + 0.5)/32, texel position 64 u, 64 v: bilinear of a linear ramp is exact
+     * away from the wrapping edge. */
+    for (int j = 2; j < 30; j++)
+        for (int i = 2; i < 30; i++) {
+            const float *px = texopt_image_at(&img, i, j);
+            double u = (i + 0.5) / 32, vv = 1 - (j + 0.5) / 32;
+            CHECK_NEAR(px[0], u, 1e-5);
+            CHECK_NEAR(px[1], vv, 1e-5);
+            CHECK_NEAR(px[2], 0.25, 1e-6);
+        }
+    texopt_image_destroy(&img);
+    texopt_raster_destroy(&r);
+    texopt_model_destroy(m);
+}
+
+TEST(nearer_triangle_wins_the_depth_test)
+{
+    /* Two quads over the same square, at z = 0 (first) and z = 0.5 (second, nearer to a
+     * camera on +z). The second one's UVs sit in the other half of a "half" texture. */
+    const float pos[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 0.5f, 1, 0, 0.5f, 1, 1, 0.5f, 0, 1, 0.5f};
+    const float uv[] = {0, 0, 0.25f, 0, 0.25f, 1, 0, 1, 0.75f, 0, 1, 0, 1, 1, 0.75f, 1};
+    const uint32_t tri[] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
+    texopt_model *m = fixture_model_from_arrays(pos, uv, 8, tri, 4, 32, 32, "flat");
+    CHECK(m);
+    texopt_view v = quad_view();
+    v.centre[2] = 0.25;
+    texopt_raster r;
+    char err[256] = "";
+    CHECK_OK(texopt_meshrender_rasterize(m, &v, 16, &r, err, sizeof err), err);
+    for (int i = 0; i < 16 * 16; i++)
+        CHECK(r.triangle[i] == 2 || r.triangle[i] == 3);
+    texopt_raster_destroy(&r);
+    /* Seen from below (-z), the z = 0 quad is in front. */
+    v.direction[2] = -1;
+    v.right[0] = -1; /* keep right x up = direction */
+    CHECK_OK(texopt_meshrender_rasterize(m, &v, 16, &r, err, sizeof err), err);
+    for (int i = 0; i < 16 * 16; i++)
+        CHECK(r.triangle[i] == 0 || r.triangle[i] == 1);
+    texopt_raster_destroy(&r);
+    texopt_model_destroy(m);
+}
+
+TEST(mipmapped_shading_averages_minified_stripes)
+{
+    /* The quad's 256^2 vertical stripes (period 8 texels) on an 8 x 8 screen: every pixel
+     * spans 32 texels, four periods. Filtered lookups see the mean grey; bilinear lookups
+     * see one texel. The window is shifted by 2 texels so that pixel centres (texel x = 18 +
+     * 32 i) fall inside a stripe, not on an edge. */
+    texopt_model *m = fixture_textured_quad(256, "stripes0");
+    CHECK(m);
+    texopt_view v = quad_view();
+    v.centre[0] += 2.0 / 256;
+    texopt_raster r;
+    char err[256] = "";
+    CHECK_OK(texopt_meshrender_rasterize(m, &v, 8, &r, err, sizeof err), err);
+    texopt_texture_filter *filters[1] = {NULL};
+    CHECK_OK(texopt_texture_filter_create(&filters[0], &m->images[0], TEXOPT_WRAP_REPEAT,
+                                          TEXOPT_WRAP_REPEAT, err, sizeof err), err);
+    texopt_image plain, filtered;
+    CHECK_OK(texopt_meshrender_shade(m, &r, &plain, err, sizeof err), err);
+    CHECK_OK(texopt_meshrender_shade_filtered(m, &r, filters, &filtered, err, sizeof err), err);
+    int checked = 0;
+    for (int j = 0; j < 8; j++)
+        for (int i = 0; i < 7; i++) { /* the last column is past the quad after the shift */
+            size_t k = (size_t)j * 8 + (size_t)i;
+            CHECK(r.triangle[k] >= 0);
+            CHECK_NEAR(filtered.pixels[3 * k], 0.5, 0.02);
+            CHECK_MSG(fabs(plain.pixels[3 * k] - 0.5) > 0.49, "pixel %d,%d: %g", i, j, plain.pixels[3 * k]);
+            checked++;
+        }
+    CHECK_EQ_INT(checked, 56);
+    texopt_image_destroy(&plain);
+    texopt_image_destroy(&filtered);
+    texopt_texture_filter_destroy(filters[0]);
+    texopt_raster_destroy(&r);
+    texopt_model_destroy(m);
+}
+
+TEST(bad_arguments_are_refused)
+{
+    texopt_model *m = fixture_textured_quad(16, "flat");
+    CHECK(m);
+    texopt_view v = quad_view();
+    texopt_raster r;
+    char err[256] = "";
+    CHECK(texopt_meshrender_rasterize(m, &v, 4, &r, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    m->triangles[4] = 99; /* past the vertex count */
+    CHECK(texopt_meshrender_rasterize(m, &v, 16, &r, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "triangle 1") != NULL);
+    m->triangles[4] = 2;
+    for (int i = 0; i < 12; i++)
+        m->positions[i] = 0.25f; /* every vertex at one point */
+    texopt_view views[TEXOPT_VIEW_COUNT];
+    CHECK(texopt_meshrender_views(m, views, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    texopt_model_destroy(m);
+}
