@@ -40,6 +40,7 @@ static void usage(FILE *out)
             "  -o, --report PATH   write the self-contained HTML report\n"
             "  --json PATH         write the curves as JSON\n"
             "  --resolution N      evaluation render side (default: 1.25 sqrt(covered texels))\n"
+            "  --mipmap            evaluate with prefiltered (mip-mapped) lookups, not bilinear\n"
             "  --iterations N      stage-1 iterations per triangle (default 100)\n"
             "  --threads T         worker threads (default: every core)\n"
             "  --full-runs         one whole pipeline run per method and cost (default: each\n"
@@ -150,6 +151,9 @@ int cmd_compare(int argc, char **argv)
             return EXIT_OK;
         } else if (!strcmp(a, "--quiet")) {
             quiet = 1;
+            takes = 0;
+        } else if (!strcmp(a, "--mipmap")) {
+            opt.evaluate.mipmapped = 1;
             takes = 0;
         } else if (!strcmp(a, "--full-runs")) {
             opt.full_runs = 1;

@@ -264,6 +264,7 @@ texopt_status texopt_compare(const char *input_path, const texopt_compare_option
     if (st == TEXOPT_OK)
         st = texopt_evaluate_cost(r.input, &r.input_cost, err, err_len);
     r.resolution = opt->evaluate.resolution;
+    r.mipmapped = opt->evaluate.mipmapped != 0;
     if (st == TEXOPT_OK && r.resolution == 0)
         st = texopt_evaluate_default_resolution(r.input, &r.resolution, err, err_len);
     char dir[1024] = "", tmp_glb[1100];
@@ -328,6 +329,7 @@ texopt_status texopt_compare_write_json(const texopt_compare_result *r, const ch
     if (!root)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for JSON");
     cJSON_AddNumberToObject(root, "resolution", r->resolution);
+    cJSON_AddStringToObject(root, "lookup", r->mipmapped ? "mipmapped" : "bilinear");
     cJSON_AddNumberToObject(root, "input_covered_texels", (double)r->input_cost.covered_texels);
     cJSON_AddNumberToObject(root, "input_texture_pixels", (double)r->input_cost.texture_pixels);
     cJSON *curves = cJSON_AddObjectToObject(root, "curves");

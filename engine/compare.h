@@ -72,6 +72,7 @@ typedef struct texopt_compare_result {
     int curve_count;
     texopt_compare_curve curves[TEXOPT_METHOD_COUNT];
     int resolution;           /* evaluation screen side */
+    int mipmapped;            /* evaluated with mip-mapped lookups (evaluate.h) */
     double showcase_cost;
     texopt_cost input_cost;
     texopt_model *input;      /* the input, loaded */
