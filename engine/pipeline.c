@@ -12,7 +12,9 @@
  *     budget: a relative cost c_r scales both sides by sqrt(c_r) (rounded to whole texels),
  *     a texture size is taken as given. This is the paper's "input parameterization"
  *     baseline and a useful product on its own (a well-filtered downscale).
- *   others (ssp, tewari, arap): refused with TEXOPT_E_UNSUPPORTED until their targets exist.
+ *   "ssp", "tewari", "arap": the baselines of the paper's section 5 (ssp.h, tewari.h,
+ *     arap.h targets in place of stage 1, rotation weight 0), then the same stage 2, budget,
+ *     packing and re-bake as "perceptual".
  * Normal maps: their tangent-space XY turn with the layout (rebake.h) unless the domain's
  * primitives store TANGENT (io/gltf_tangents.h): stored tangents are kept by the saver, and
  * the map must then stay as it was.
@@ -30,6 +32,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "arap.h"
 #include "budget.h"
 #include "coverage.h"
 #include "distortion.h"
@@ -41,7 +44,9 @@
 #include "meshwise_loss.h"
 #include "model.h"
 #include "rebake.h"
+#include "ssp.h"
 #include "stats.h"
+#include "tewari.h"
 #include "texture_filter.h"
 #include "triopt.h"
 
@@ -338,7 +343,28 @@ static void record_distortion(const texopt_mesh *mesh, const double *texel, texo
     }
 }
 
-/* Stage 1 then stage 2: the new layout in input texel units (texel_new). */
+/* The per-triangle targets stage 2 follows: the perceptual stage 1 (triopt.h), or the
+ * baselines' metric targets (ssp.h, tewari.h, arap.h; rotation weight 0). */
+static texopt_status baseline_or_perceptual_targets(const texopt_model *model, const texopt_mesh *mesh,
+                                                    const texopt_params *params,
+                                                    const texopt_triopt_options *topt,
+                                                    texopt_triangle_target *targets,
+                                                    texopt_triopt_report *trep, job_monitor *jm,
+                                                    char *err, size_t err_len)
+{
+    switch (params->method) {
+    case TEXOPT_METHOD_SSP:
+        return texopt_ssp_targets(model, mesh, params->lambda_min, targets, err, err_len);
+    case TEXOPT_METHOD_TEWARI:
+        return texopt_tewari_targets(model, mesh, params->lambda_min, targets, err, err_len);
+    case TEXOPT_METHOD_ARAP:
+        return texopt_arap_targets(mesh, targets, err, err_len);
+    default:
+        return texopt_triopt_run(model, mesh, topt, targets, trep, &jm->inner, err, err_len);
+    }
+}
+
+/* Stage 1 (or a baseline's targets) then stage 2: the new layout in input texel units. */
 static texopt_status optimise_layout(const texopt_model *model, const texopt_mesh *mesh,
                                      const texopt_params *params, double *texel_new,
                                      texopt_domain_stats *ds, job_monitor *jm, double from,
@@ -358,10 +384,13 @@ static texopt_status optimise_layout(const texopt_model *model, const texopt_mes
     texopt_triopt_report trep = {0};
     job_stage(jm, "stage1", from, from + span * w->stage1);
     double t0 = now_seconds();
-    texopt_status st = texopt_triopt_run(model, mesh, &topt, targets, &trep, &jm->inner, err, err_len);
+    texopt_status st = baseline_or_perceptual_targets(model, mesh, params, &topt, targets, &trep,
+                                                      jm, err, err_len);
     ds->seconds_stage1 = now_seconds() - t0;
     if (st == TEXOPT_OK) {
-        record_stage1(mesh, targets, &trep, params->epsilon, ds);
+        if (params->method == TEXOPT_METHOD_PERCEPTUAL)
+            record_stage1(mesh, targets, &trep, params->epsilon, ds);
+        job_stage_done(jm, "stage1");
         st = check_cancel(jm, err, err_len);
     }
     if (st == TEXOPT_OK) {
@@ -473,11 +502,11 @@ static texopt_status rebake_domain(const texopt_model *model, const texopt_mesh 
     return st;
 }
 
-/* Method "perceptual": stage 1, stage 2, budget + pack, re-bake. */
-static texopt_status run_perceptual_method(const texopt_model *model, const texopt_mesh *mesh,
-                                           const texopt_params *params, job_output *out,
-                                           texopt_domain_stats *ds, job_monitor *jm, double from,
-                                           double to, char *err, size_t err_len)
+/* Methods "perceptual" and the baselines: targets, stage 2, budget + pack, re-bake. */
+static texopt_status run_optimised_method(const texopt_model *model, const texopt_mesh *mesh,
+                                          const texopt_params *params, job_output *out,
+                                          texopt_domain_stats *ds, job_monitor *jm, double from,
+                                          double to, char *err, size_t err_len)
 {
     const stage_weights *w = &perceptual_weights;
     double span = (to - from) / (w->stage1 + w->stage2 + w->pack + w->bake);
@@ -553,7 +582,7 @@ static texopt_status run_domain(const texopt_model *model, int d, const texopt_p
     if (params->method == TEXOPT_METHOD_INPUT)
         st = run_input_method(model, mesh, params, out, ds, jm, from, to, err, err_len);
     else
-        st = run_perceptual_method(model, mesh, params, out, ds, jm, from, to, err, err_len);
+        st = run_optimised_method(model, mesh, params, out, ds, jm, from, to, err, err_len);
     texopt_mesh_destroy(mesh);
     return st;
 }
@@ -570,10 +599,6 @@ static texopt_status prepare(const texopt_params *in, texopt_params *p, char *er
     if (p->budget == TEXOPT_BUDGET_TARGET_LOSS)
         return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
                            "budget target_loss is not implemented yet; use relative_cost or texture_size");
-    if (p->method != TEXOPT_METHOD_INPUT && p->method != TEXOPT_METHOD_PERCEPTUAL)
-        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
-                           "method '%s' is not available in the pipeline yet; use 'perceptual' or 'input'",
-                           texopt_method_name(p->method));
     return TEXOPT_OK;
 }
 

@@ -247,14 +247,40 @@ TEST(bad_requests_are_refused_with_a_message)
     char missing[160];
     snprintf(missing, sizeof missing, "%s/nothing.glb", s.dir);
     CHECK(texopt_optimize_file(missing, s.out, NULL, &p, NULL, err, sizeof err) == TEXOPT_E_IO);
-    p.method = TEXOPT_METHOD_ARAP;
+    p.budget = TEXOPT_BUDGET_TARGET_LOSS;
+    p.target_loss = 0.01;
     CHECK(texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err) == TEXOPT_E_UNSUPPORTED);
-    CHECK(strstr(err, "arap") != NULL);
+    CHECK(strstr(err, "target_loss") != NULL);
+    p.budget = TEXOPT_BUDGET_RELATIVE_COST;
     p.method = TEXOPT_METHOD_INPUT;
     p.relative_cost = 7;
     CHECK(texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     CHECK(strstr(err, "relative_cost") != NULL);
     CHECK(access(s.out, F_OK) != 0);
+    scratch_free(&s);
+}
+
+TEST(baseline_methods_run_through_the_same_stages)
+{
+    /* arap on a flat-textured grid: targets are the isometry, so the layout keeps its shape
+     * (distortion of the output equals the input's 4) and the cost lands on the budget. */
+    scratch s;
+    CHECK(scratch_init(&s, 3, 128, "flat") == 0);
+    texopt_params p = {0};
+    p.method = TEXOPT_METHOD_ARAP;
+    p.relative_cost = 0.5;
+    char err[512] = "";
+    CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+    cJSON *st = read_json(s.stats);
+    CHECK(st != NULL);
+    CHECK(strcmp(cJSON_GetObjectItem(st, "method")->valuestring, "arap") == 0);
+    CHECK_NEAR(domain_number(st, "relative_cost"), 0.5, 0.01);
+    cJSON *d = cJSON_GetArrayItem(cJSON_GetObjectItem(st, "domains"), 0);
+    cJSON *dist = cJSON_GetObjectItem(d, "distortion");
+    CHECK(dist != NULL);
+    CHECK_NEAR(cJSON_GetObjectItem(dist, "symmetric_dirichlet_output")->valuedouble, 4.0, 1e-3);
+    CHECK(cJSON_GetObjectItem(d, "stage1") == NULL); /* no perceptual stage ran */
+    cJSON_Delete(st);
     scratch_free(&s);
 }
 
