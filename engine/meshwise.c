@@ -646,10 +646,14 @@ static int grid_build(tri_grid *g, const solver *sv, const unsigned char *keep)
     memset(g, 0, sizeof *g);
     if (count == 0)
         return 1;
-    /* About two triangles per bin, at most 4096 bins a side. */
-    g->cell = fmax(sqrt(2.0 * area / (double)count), fmax(hi[0] - lo[0], hi[1] - lo[1]) / 4096.0);
+    /* About two triangles per bin where they are, and never more than 4 bins per triangle
+     * (or 1024) in all: folded charts far apart must not make a huge empty grid. */
+    g->cell = sqrt(2.0 * area / (double)count);
     if (!(g->cell > 0.0))
         g->cell = 1.0;
+    double max_bins = fmax(1024.0, 4.0 * (double)count);
+    while (((hi[0] - lo[0]) / g->cell + 1.0) * ((hi[1] - lo[1]) / g->cell + 1.0) > max_bins)
+        g->cell *= 1.5;
     g->x0 = lo[0];
     g->y0 = lo[1];
     g->nx = (size_t)((hi[0] - lo[0]) / g->cell) + 1;
@@ -726,6 +730,8 @@ static texopt_status find_fold_ties(solver *sv, char *err, size_t err_len)
         if (minority)
             folded[m->chart_of[t]] = 1;
     }
+    for (size_t v = 0; v < sv->vertex_count; v++) /* a merged group counts as one vertex */
+        side[sv->rep_of[v]] |= side[v];
     for (size_t t = 0; t < sv->tri_count; t++)
         majority[t] = sv->tri[t].barrier && folded[m->chart_of[t]] &&
                       sv->tri[t].orientation == sign[m->chart_of[t]];
