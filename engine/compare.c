@@ -204,7 +204,7 @@ static texopt_status run_curve_reusing_layout(const run_ctx *x, texopt_compare_c
         for (int c = 0; c < curve->point_count; c++)
             if (c != top) {
                 curve->points[c].status = tp->status;
-                snprintf(curve->points[c].message, sizeof curve->points[c].message, "%s", tp->message);
+                memcpy(curve->points[c].message, tp->message, sizeof tp->message); /* c != top */
             }
         unlink(x->layout_glb);
         return fatal(tp, err, err_len);
