@@ -219,10 +219,12 @@ static void on_completed(void *cls, struct MHD_Connection *c, void **con_cls, en
     metrics_count_request(svc->metrics, route, rq->status);
     if (rq->upload || rq->job_id[0])
         metrics_add_upload_bytes(svc->metrics, rq->upload ? api_upload_bytes(rq->upload) : 0);
-    char path[300];
-    log_event("level=info event=request method=%s path=%s route=%s status=%d duration_ms=%.3f%s", rq->method,
+    char path[300], job[48] = "";
+    if (rq->job_accepted)
+        snprintf(job, sizeof job, " job=%s", rq->job_id);
+    log_event("level=info event=request method=%s path=%s route=%s status=%d duration_ms=%.3f%s%s", rq->method,
               log_quote(path, sizeof path, rq->path), route, rq->status,
-              (monotonic_seconds() - rq->started) * 1e3,
+              (monotonic_seconds() - rq->started) * 1e3, job,
               toe == MHD_REQUEST_TERMINATED_COMPLETED_OK ? "" : " aborted=true");
     jobs_post_abandon(rq);
     api_upload_destroy(rq->upload);

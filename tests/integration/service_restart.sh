@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # service_restart: nothing accepted is lost. kill -9 with one job running and two queued:
 # after a restart all three succeed (the interrupted one on its second attempt) and a job
-# finished before the kill is still served. Then SIGTERM with a job running: texoptd exits 0,
-# the job is back to "queued" on disk, and the next start finishes it.
+# finished before the kill is still served. Then SIGTERM with a job running and an event
+# stream open: texoptd exits 0, the stream ends, the job is back to "queued" on disk, and the
+# next start finishes it.
 source "$(dirname "$0")/service_common.bash"
 SPOT="$TEXOPT_SOURCE_DIR/tests/data/spot/spot.glb"
 LONG="method=input&texture_width=4096&texture_height=4096"
@@ -34,9 +35,15 @@ grep -q "event=recover job=${ids[0]} action=requeue" "$WORK/server.log" || fail 
 [ "$(post_glb "$SPOT" "$LONG")" = 202 ] || fail "upload before SIGTERM"
 term_id=$(json "$WORK/resp" 'd["id"]')
 wait_state "$term_id" running 60
+# An open event stream must not hold the shutdown up: it ends with the server.
+timeout 60 curl -s -N -o "$WORK/term_events.txt" "$BASE/v1/jobs/$term_id/events" &
+stream=$!
+sleep 0.3
 start=$SECONDS
 stop_server TERM || fail "texoptd exited non-zero on SIGTERM"
 [ $((SECONDS - start)) -le 20 ] || fail "SIGTERM took $((SECONDS - start)) s"
+wait "$stream" || fail "the event stream did not end at shutdown"
+grep -q '"state":"running"' "$WORK/term_events.txt" || fail "the stream saw no running state"
 [ "$(json "$DATA/jobs/$term_id/job.json" 'd["state"]')" = queued ] || fail "job not re-queued at SIGTERM"
 start_server --workers 1
 wait_state "$term_id" succeeded 180
