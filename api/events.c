@@ -126,6 +126,8 @@ enum MHD_Result jobs_events(request_ctx *rq, struct MHD_Connection *c)
     /* A finished job whose final event the client already has: an empty, ended stream. */
     if (job_state_finished(job.state) && s->last_seq >= job.event_seq)
         s->done = 1;
+    else if (set_pending_text(s, "retry: 2000\n\n") != 0) /* reconnect after 2 s if cut */
+        return free_stream(s), MHD_NO;
     struct MHD_Response *r = MHD_create_response_from_callback(MHD_SIZE_UNKNOWN, 4096, read_events, s, free_stream);
     if (!r) {
         free_stream(s);

@@ -24,12 +24,14 @@ sleep 0.5
 wait "$stream" || fail "event stream did not end by itself"
 wait_state "$long" canceled 60
 grep -qi '^content-type: text/event-stream' "$WORK/ev_headers" || fail "not text/event-stream"
+[ "$(head -n 1 "$WORK/events.txt")" = "retry: 2000" ] || fail "stream does not start with its retry delay"
 /usr/bin/python3 - "$WORK/events.txt" <<'PY' || fail "event stream content: $(head -c 3000 "$WORK/events.txt")"
 import json, sys
 events, cur = [], {}
 for line in open(sys.argv[1]).read().split("\n"):
     if not line:
-        if cur: events.append(cur)
+        if "data" in cur: events.append(cur)
+        elif cur: assert cur == {"retry": "2000"}, cur
         cur = {}
     elif not line.startswith(":"):
         k, _, v = line.partition(": ")
