@@ -629,3 +629,30 @@ TEST(folded_chart_with_unlike_halves_stays_on_its_texels)
     free(tg);
     free_mesh(m);
 }
+
+TEST(squeezed_start_recovers_and_the_barrier_weight_drops)
+{
+    /* Start at 0.2x the input (det 0.04, deep inside the barrier's zone below 0.5) with
+     * identity targets: the barrier dominates at first, so eq. 28 must lower w_b, and the
+     * layout must grow back to the input size. */
+    texopt_mesh *m = grid_mesh(6, 8.0, 0.2, 1);
+    texopt_triangle_target *tg = uniform_targets(m->triangle_count, 1, 1, 0, 0, 1, 1);
+    double *start = malloc(2 * m->vertex_count * sizeof *start);
+    for (size_t i = 0; i < 2 * m->vertex_count; i++)
+        start[i] = 0.2 * m->texel[i];
+    double *out = calloc(2 * m->vertex_count, sizeof *out);
+    texopt_meshwise_report rep;
+    char err[256] = "";
+    texopt_meshwise_options opt = {.barrier_weight = 1.0, .max_iterations = 100};
+    CHECK_OK(texopt_meshwise_solve(m, tg, start, &opt, out, &rep, NULL, err, sizeof err), err);
+    CHECK(rep.barrier_weight_final <= 1.0 / 20.0);
+    CHECK(energies_non_increasing(&rep));
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        double ratio = 0.5 * doubled_area(out, m->triangle + 3 * t, 2) / m->area_texel[t];
+        CHECK_NEAR(ratio, 1.0, 0.01);
+    }
+    free(start);
+    free(out);
+    free(tg);
+    free_mesh(m);
+}
