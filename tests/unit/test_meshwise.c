@@ -656,3 +656,24 @@ TEST(squeezed_start_recovers_and_the_barrier_weight_drops)
     free(tg);
     free_mesh(m);
 }
+
+TEST(fit_weight_sets_how_fast_targets_pull)
+{
+    /* S moves w_S / (w_S + w_rs) of the way to its target per iteration: with w_rs = 1e4 five
+     * iterations barely move the layout, with the default w_rs = 1 they nearly reach it. */
+    texopt_mesh *m = grid_mesh(4, 8.0, 0.2, 1);
+    texopt_triangle_target *tg = uniform_targets(m->triangle_count, 0.5, 0.5, 0, 0, 1, 1);
+    double *out = calloc(2 * m->vertex_count, sizeof *out);
+    char err[256] = "";
+    texopt_meshwise_options stiff = {.max_iterations = 5, .tolerance = 1e-12, .fit_weight = 1e4};
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, &stiff, out, NULL, NULL, err, sizeof err), err);
+    double ratio = 0.5 * doubled_area(out, m->triangle + 3 * 3, 2) / m->area_texel[3];
+    CHECK(ratio > 0.99);
+    texopt_meshwise_options plain = {.max_iterations = 5, .tolerance = 1e-12};
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, &plain, out, NULL, NULL, err, sizeof err), err);
+    ratio = 0.5 * doubled_area(out, m->triangle + 3 * 3, 2) / m->area_texel[3];
+    CHECK(ratio < 0.3);
+    free(out);
+    free(tg);
+    free_mesh(m);
+}
