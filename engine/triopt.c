@@ -324,6 +324,12 @@ static texopt_status optimise_triangle(worker *w, uint32_t t, texopt_triangle_ta
         flat = flat_at_smallest_area(&s, lower_bound);
         if (!flat && opt->isotropic_steps > 0)
             isotropic_search(&s, opt->isotropic_steps);
+        /* Detail across every axis may forbid all isotropic shrinks; the anisotropic
+         * refinement then starts from J = I (E = 0, always feasible). */
+        if (!flat && !isfinite(s.best_f) && s.status == TEXOPT_OK) {
+            static const double identity[TRIOPT_DIM] = {0, 1, 1, 0};
+            search_objective(&s, identity);
+        }
         for (int pass = 0; !flat && pass < opt->anisotropic_passes && s.status == TEXOPT_OK;
              pass++) {
             double before = s.best_f;

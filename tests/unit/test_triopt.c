@@ -198,6 +198,24 @@ TEST(stripes_squeeze_along_the_grid_with_the_quarter_turn_symmetry)
     close_stage(&diagonal);
 }
 
+TEST(structured_search_alone_finds_the_stripe_squeeze)
+{
+    /* Without any BO iteration: flat test, isotropic and grid-aligned anisotropic golden
+     * sections must still find the squeeze along vertical stripes (J = diag(1, lambda_min)). */
+    texopt_triopt_options opt = {.iterations = -1, .threads = 2, .weight_samples = 4};
+    stage_run r;
+    CHECK(run_stage(&r, strip_model(8, 64, "stripes0", 0), &opt, NULL));
+    CHECK_OK(r.status, r.err);
+    double aligned, area;
+    stripe_summary(&r, 90, &aligned, &area);
+    CHECK_MSG(aligned >= 0.75 && area < 0.3, "aligned %.2f, area %.3f", aligned, area);
+    for (size_t t = 0; t < r.mesh->triangle_count; t++) {
+        CHECK(r.out[t].loss < 0.01);
+        CHECK(r.out[t].evaluations <= 1 + 10 + 1 + 3 * 12 + 8);
+    }
+    close_stage(&r);
+}
+
 TEST(output_does_not_depend_on_the_thread_count)
 {
     texopt_triopt_options opt = {.iterations = 8, .threads = 1, .seed = 11};
