@@ -41,6 +41,7 @@ typedef struct resolved_options {
     int isotropic_steps;
     int anisotropic_steps;
     int anisotropic_passes;
+    int anisotropic_directions;
     double early_stop_ei;
     int early_stop_patience;
     uint32_t stride;
@@ -235,46 +236,47 @@ static void isotropic_search(triangle_search *s, int evaluations)
     }
 }
 
-/* Grid-aligned anisotropic refinement of the best point so far (paper Fig. 7: detail
- * aligned with the texel axes or diagonals compresses along itself). From the best point's
- * x, each of 4 squeezes (beta = 0 or pi/4, squeezing lambda1 or lambda2 to 0.6 of its value)
- * is probed once; the best one that improves f is refined by a golden-section search of the
- * squeezed value over [lambda_min, its start] with `evaluations` - 4 further points. */
-static void anisotropic_search(triangle_search *s, int evaluations)
+/* Anisotropic refinement of the best point so far. From the best point's x, squeezing
+ * lambda1 or lambda2 to 0.6 of its unit coordinate is probed at `directions` orientations
+ * beta = k pi / (2 directions) (2: the texel axes and diagonals, where paper Fig. 7 puts
+ * grid-aligned detail; more: edges at any angle); the best probe that improves f is refined
+ * by a golden-section search of the squeezed coordinate over [0, its start] with
+ * `golden_steps` points. */
+static void anisotropic_search(triangle_search *s, int directions, int golden_steps)
 {
-    if (!isfinite(s->best_f) || evaluations < 4)
+    if (!isfinite(s->best_f) || golden_steps < 2)
         return;
     double start[TRIOPT_DIM];
     memcpy(start, s->best_x, sizeof start);
-    double f_start = s->best_f;
-    int best_dir = -1;
-    double best_probe = f_start;
-    for (int dir = 0; dir < 4 && s->status == TEXOPT_OK; dir++) {
+    int best_axis = 0;
+    double best_beta = 0.0, best_probe = s->best_f;
+    for (int k = 0; k < 2 * directions && s->status == TEXOPT_OK; k++) {
         double x[TRIOPT_DIM];
         memcpy(x, start, sizeof x);
-        int axis = 1 + (dir & 1);
-        x[3] = (dir & 2) ? 0.5 : 0.0;
+        int axis = 1 + (k & 1);
+        x[3] = (double)(k / 2) / directions;
         x[axis] = 0.6 * start[axis];
         double f = search_objective(s, x);
         if (f < best_probe) {
             best_probe = f;
-            best_dir = dir;
+            best_axis = axis;
+            best_beta = x[3];
         }
     }
-    if (best_dir < 0)
+    if (best_axis == 0)
         return;
     const double g = 0.6180339887498949;
-    int axis = 1 + (best_dir & 1);
+    int axis = best_axis;
     double x[TRIOPT_DIM];
     memcpy(x, start, sizeof x);
-    x[3] = (best_dir & 2) ? 0.5 : 0.0;
+    x[3] = best_beta;
     double a = 0.0, b = start[axis];
     double c = b - g * (b - a), d = a + g * (b - a), fc, fd;
     x[axis] = c;
     fc = search_objective(s, x);
     x[axis] = d;
     fd = search_objective(s, x);
-    for (int k = 6; k < evaluations && s->status == TEXOPT_OK; k++) {
+    for (int k = 2; k < golden_steps && s->status == TEXOPT_OK; k++) {
         if (fc < fd) {
             b = d;
             d = c;
@@ -333,7 +335,7 @@ static texopt_status optimise_triangle(worker *w, uint32_t t, texopt_triangle_ta
         for (int pass = 0; !flat && pass < opt->anisotropic_passes && s.status == TEXOPT_OK;
              pass++) {
             double before = s.best_f;
-            anisotropic_search(&s, opt->anisotropic_steps);
+            anisotropic_search(&s, opt->anisotropic_directions, opt->anisotropic_steps);
             if (!(s.best_f < before))
                 break;
         }
@@ -473,10 +475,13 @@ static texopt_status resolve_options(const texopt_triopt_options *in, const texo
     o->initial_design = in->initial_design;
     o->lower_bound_stop = !in->no_lower_bound_stop && !in->plain;
     o->plain = in->plain != 0;
-    o->isotropic_steps = in->isotropic_steps != 0 ? in->isotropic_steps : 10;
+    o->isotropic_steps = in->isotropic_steps != 0 ? in->isotropic_steps : 8;
     if (o->isotropic_steps == 1)
         o->isotropic_steps = 2;
-    o->anisotropic_steps = in->anisotropic_steps != 0 ? in->anisotropic_steps : 12;
+    o->anisotropic_steps = in->anisotropic_steps != 0 ? in->anisotropic_steps : 8;
+    o->anisotropic_directions = in->anisotropic_directions > 0 ? in->anisotropic_directions : 8;
+    if (o->anisotropic_directions > 32)
+        o->anisotropic_directions = 32;
     o->anisotropic_passes = in->anisotropic_passes != 0 ? in->anisotropic_passes : 3;
     if (o->anisotropic_steps < 0 || o->anisotropic_passes < 0)
         o->anisotropic_steps = o->anisotropic_passes = 0;

@@ -16,9 +16,11 @@
  *     (E is 0 over the whole box, so eq. 17's variances are 0; sampling them confirmed it).
  *     Flat-coloured and smoothly shaded triangles end here after one evaluation.
  *  2. A golden-section search over isotropic shrinks lambda I (isotropic_steps evaluations),
- *     then up to anisotropic_passes grid-aligned anisotropic refinements: from the best
- *     point, probe squeezing lambda1 or lambda2 to 0.6x with beta = 0 or pi/4, and
- *     golden-section search the best probe's direction (anisotropic_steps evaluations each).
+ *     then up to anisotropic_passes anisotropic refinements: from the best point, probe
+ *     squeezing lambda1 or lambda2 at anisotropic_directions orientations beta (default 8:
+ *     edges of real textures run at any angle; 2 would be the texel axes and diagonals of
+ *     Fig. 7), and golden-section search the best probe's direction (anisotropic_steps
+ *     evaluations).
  *  3. Bayesian optimisation from J = I (E = 0, always feasible), the best isotropic shrink
  *     and the grid-aligned extreme squeezes diag(lambda_min, 1), diag(1, lambda_min), then
  *     its Latin-hypercube design and `iterations` model-guided evaluations; it stops early
@@ -59,10 +61,12 @@ typedef struct texopt_triopt_options {
     int no_lower_bound_stop; /* non-zero: run every iteration (for benchmarks) */
     int plain;           /* non-zero: the paper's plan for benchmarks: only J = I before the
                             design, no flat test, no isotropic search, no lower-bound stop */
-    int isotropic_steps; /* evaluations of the isotropic golden-section search; 0 -> 10,
+    int isotropic_steps; /* evaluations of the isotropic golden-section search; 0 -> 8,
                             < 0 -> none */
-    int anisotropic_steps; /* evaluations of one grid-aligned anisotropic refinement (4 probes
-                              + a golden section); 0 -> 12, < 0 -> none */
+    int anisotropic_steps; /* golden-section evaluations of one anisotropic refinement (after
+                              its 2 x anisotropic_directions probes); 0 -> 8, < 0 -> none */
+    int anisotropic_directions; /* squeeze orientations probed in [0, pi/2); 0 -> 8
+                                   (every 11.25 degrees) */
     int anisotropic_passes; /* refinements repeated from the last result while they improve
                                f; 0 -> 3, < 0 -> none */
     double early_stop_ei;    /* passed to bayesopt (0 with patience 0: never) */

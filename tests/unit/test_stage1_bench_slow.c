@@ -157,19 +157,19 @@ typedef struct bench_variant {
 } bench_variant;
 
 static const bench_variant full_variants[] = {
-        {"plain BO, 100 iterations (paper plan)", {.iterations = 100, .plain = 1}},
-        {"plain BO, 50 iterations", {.iterations = 50, .plain = 1}},
-        {"plain BO, 20 iterations", {.iterations = 20, .plain = 1}},
-        {"plain BO, 10 iterations", {.iterations = 10, .plain = 1}},
-        {"ours: flat test + iso 10 + aniso 12x3 + BO 100", {.iterations = 100}},
-        {"ours + BO 20", {.iterations = 20}},
-        {"ours + BO 10 (no design), 4+4 weight samples",
-         {.iterations = 10, .initial_design = -1, .weight_samples = 4}},
-        {"ours + BO 5 (no design), 4+4 weight samples",
-         {.iterations = 5, .initial_design = -1, .weight_samples = 4}},
-        {"ours, no BO, 4+4 weight samples", {.iterations = -1, .weight_samples = 4}},
-        {"ours, no BO, no anisotropic step, 4+4 w",
-         {.iterations = -1, .anisotropic_steps = -1, .weight_samples = 4}},
+    {"plain BO, 100 iterations (paper plan)", {.iterations = 100, .plain = 1}},
+    {"plain BO, 50 iterations", {.iterations = 50, .plain = 1}},
+    {"plain BO, 20 iterations", {.iterations = 20, .plain = 1}},
+    {"plain BO, 10 iterations", {.iterations = 10, .plain = 1}},
+    {"ours (flat test, iso 8, aniso 8 dirs x 3) + BO 100", {.iterations = 100}},
+    {"ours + BO 20", {.iterations = 20}},
+    {"ours + BO 5 (no design), 4+4 weight samples",
+     {.iterations = 5, .initial_design = -1, .weight_samples = 4}},
+    {"ours, no BO, 4+4 weight samples", {.iterations = -1, .weight_samples = 4}},
+    {"ours, no BO, aniso on 2 dirs (axes, diagonals), 4+4",
+     {.iterations = -1, .anisotropic_directions = 2, .weight_samples = 4}},
+    {"ours, no BO, no anisotropic step, 4+4",
+     {.iterations = -1, .anisotropic_steps = -1, .weight_samples = 4}},
 };
 
 /* Runs the variants on about `subset` triangles of every domain of the model at `path`,

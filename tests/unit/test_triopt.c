@@ -211,7 +211,7 @@ TEST(structured_search_alone_finds_the_stripe_squeeze)
     CHECK_MSG(aligned >= 0.75 && area < 0.3, "aligned %.2f, area %.3f", aligned, area);
     for (size_t t = 0; t < r.mesh->triangle_count; t++) {
         CHECK(r.out[t].loss < 0.01);
-        CHECK(r.out[t].evaluations <= 1 + 10 + 1 + 3 * 12 + 8);
+        CHECK(r.out[t].evaluations <= 1 + 8 + 1 + 3 * (16 + 8) + 8);
     }
     close_stage(&r);
 }
