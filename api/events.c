@@ -124,7 +124,7 @@ enum MHD_Result jobs_events(request_ctx *rq, struct MHD_Connection *c)
     s->last_seq = last_event_id(c);
     s->last_state = JOB_STATE_COUNT;
     /* A finished job whose final event the client already has: an empty, ended stream. */
-    if (job_state_finished(job.state) && s->last_seq >= job.event_seq)
+    if (job_state_finished(job.state) && s->last_seq == job.event_seq)
         s->done = 1;
     else if (set_pending_text(s, "retry: 2000\n\n") != 0) /* reconnect after 2 s if cut */
         return free_stream(s), MHD_NO;

@@ -37,6 +37,9 @@ struct job_store {
     int closing;
 };
 
+/* Event ids of a job's run n + 1 after a crash start at (n + 1) * EVENT_ID_EPOCH. */
+#define EVENT_ID_EPOCH 1000000000LL
+
 static const char *const state_names[JOB_STATE_COUNT] = {"queued", "running", "succeeded", "failed", "canceled"};
 
 const char *job_state_name(job_state state)
@@ -258,6 +261,10 @@ static void load_one(job_store *store, const char *name)
     free(text);
     int interrupted = job->rec.state == JOB_RUNNING;
     if (interrupted) {
+        /* Progress events of the lost run were never written, so their ids are unknown
+         * here: jump to a range no run reaches (one event per 250 ms at most), keeping the
+         * ids a client saw smaller than every id it will see. */
+        job->rec.event_seq = (long long)(job->rec.attempts + 1) * EVENT_ID_EPOCH;
         job->rec.state = JOB_QUEUED;
         job->rec.cancel_requested = 0;
         job->rec.progress = 0;
@@ -627,7 +634,9 @@ int store_wait_event(job_store *store, const char *id, long long after_seq, int 
             break;
         }
         *out = job->rec;
-        if (job->rec.event_seq > after_seq) {
+        /* An id from the future (a data directory restored from elsewhere): the client's
+         * view is stale whatever it says, so it gets the current state at once. */
+        if (job->rec.event_seq != after_seq) {
             rc = 1;
             break;
         }

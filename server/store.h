@@ -13,7 +13,9 @@
  * removed at open. Jobs found "running" at open were interrupted (crash, kill -9) and go
  * back to "queued". Progress is kept in memory only (it is rebuilt by the re-run).
  * Events are not stored: an event stream sends the latest state of the job, with ids that
- * keep increasing across restarts (the sequence number is in job.json). */
+ * keep increasing across restarts (the sequence number is in job.json; an interrupted run's
+ * unwritten progress events are skipped over by starting the next run's ids at a new
+ * epoch). */
 #ifndef TEXOPT_SERVER_STORE_H
 #define TEXOPT_SERVER_STORE_H
 
@@ -129,7 +131,8 @@ int store_delete(job_store *store, const char *id);
 /* Deletes finished jobs that finished before now_ms - retention_ms. Returns how many. */
 int store_expire(job_store *store, int64_t now_ms, int64_t retention_ms);
 
-/* Waits until job id has an event newer than after_seq, the timeout passes or the store is
+/* Waits until job id has an event other than after_seq (newer, or any when after_seq is
+ * from the future: a stale client), the timeout passes or the store is
  * shutting down. Returns 1 (new event, *out filled), 0 (timeout, *out filled), or
  * STORE_NOT_FOUND; -4 when shutting down. */
 int store_wait_event(job_store *store, const char *id, long long after_seq, int timeout_ms,

@@ -75,6 +75,13 @@ TEST(interrupted_jobs_come_back_queued_and_finished_ones_stay)
     CHECK_EQ_INT(got.state, JOB_RUNNING);
     CHECK_EQ_INT(got.attempts, 1);
     CHECK(store_begin(s, a.id, &got, &cancel) == NULL); /* not queued any more */
+    /* Progress events are not written to disk; the ids a client saw must stay below the
+     * ids after recovery. */
+    for (int i = 1; i <= 40; i++)
+        store_progress(s, ja, "stage1", i * 0.02, -1, 0, 0);
+    CHECK_EQ_INT(store_get(s, a.id, &got), STORE_OK);
+    long long seen = got.event_seq;
+    CHECK(seen >= 40);
     store_job *jb = store_begin(s, b.id, &got, &cancel);
     CHECK(jb != NULL);
     store_finish(s, jb, JOB_SUCCEEDED, NULL);
@@ -84,6 +91,8 @@ TEST(interrupted_jobs_come_back_queued_and_finished_ones_stay)
     CHECK_EQ_INT(store_get(after, a.id, &got), STORE_OK);
     CHECK_EQ_INT(got.state, JOB_QUEUED);
     CHECK_EQ_INT(got.attempts, 1);
+    CHECK(got.event_seq > seen);
+    CHECK_EQ_INT(got.progress, 0);
     CHECK_EQ_INT(store_get(after, b.id, &got), STORE_OK);
     CHECK_EQ_INT(got.state, JOB_SUCCEEDED);
     CHECK_NEAR(got.progress, 1.0, 0);
@@ -251,6 +260,8 @@ TEST(event_waiters_wake_on_progress_and_time_out_otherwise)
     CHECK_EQ_INT(store_get(s, a.id, &got), STORE_OK);
     CHECK_EQ_INT(got.event_seq, before);
     CHECK_NEAR(got.progress, 0.401, 1e-12);
+    /* A client claiming an id the job never reached gets the current state at once. */
+    CHECK_EQ_INT(store_wait_event(s, a.id, got.event_seq + 1000, 5000, &got), 1);
     store_wake_all(s);
     CHECK_EQ_INT(store_wait_event(s, a.id, got.event_seq, 5000, &got), -4);
     CHECK_EQ_INT(store_wait_event(s, "ffffffffffffffffffffffffffffffff", 0, 10, &got), -4);
