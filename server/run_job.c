@@ -90,8 +90,11 @@ void run_job(job_store *store, service_metrics *metrics, store_job *job, const j
     } else {
         job_problem problem;
         memset(&problem, 0, sizeof problem);
-        problem.status = api_status_from_engine(status);
-        snprintf(problem.type, sizeof problem.type, "urn:texopt:problem:%s", api_slug_from_engine(status));
+        /* An I/O failure inside a run is the server's disk, not a file the client forgot. */
+        int io = status == TEXOPT_E_IO;
+        problem.status = io ? 500 : api_status_from_engine(status);
+        snprintf(problem.type, sizeof problem.type, "urn:texopt:problem:%s",
+                 io ? "storage-error" : api_slug_from_engine(status));
         snprintf(problem.title, sizeof problem.title, "%s", texopt_strerror(status));
         snprintf(problem.detail, sizeof problem.detail, "%s", err[0] ? err : texopt_strerror(status));
         store_finish(store, job, JOB_FAILED, &problem);

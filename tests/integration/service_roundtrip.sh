@@ -93,6 +93,25 @@ grep -qi '^access-control-allow-methods: GET, HEAD, POST, OPTIONS' "$WORK/header
 curl -s -o "$WORK/spec.yaml" "${AUTH[@]}" "$BASE/openapi.yaml"
 cmp -s "$WORK/spec.yaml" "$TEXOPT_SOURCE_DIR/openapi.yaml" || fail "served openapi.yaml differs from the file"
 
+# A job the engine refuses after it was queued: the target_loss budget, which the pipeline
+# answers "unsupported" for as long as it is not implemented (then the job just succeeds).
+[ "$(post_glb "$SPOT" "method=input&target_loss=0.05")" = 202 ] || fail "target_loss upload: $(cat "$WORK/resp")"
+tl=$(json "$WORK/resp" 'd["id"]')
+for _ in $(seq 600); do
+  curl -s -o "$WORK/tl.json" "${AUTH[@]}" "$BASE/v1/jobs/$tl"
+  case "$(json "$WORK/tl.json" 'd["state"]')" in succeeded|failed) break ;; esac
+  sleep 0.1
+done
+if [ "$(json "$WORK/tl.json" 'd["state"]')" = failed ]; then
+  [ "$(json "$WORK/tl.json" 'd["problem"]["status"]')" = 422 ] || fail "failed job's problem: $(cat "$WORK/tl.json")"
+  [ "$(json "$WORK/tl.json" 'd["problem"]["type"]')" = urn:texopt:problem:unsupported-model ] || fail "problem type"
+  grep -q 'target_loss' "$WORK/tl.json" || fail "failed job's problem does not say why"
+  grep -qi '^retry-after' <(curl -s -D - -o /dev/null "${AUTH[@]}" "$BASE/v1/jobs/$tl") && fail "Retry-After on a finished job"
+  expect_problem 409 "$(curl -s -o "$WORK/resp" -D "$WORK/headers" -w '%{http_code}' "${AUTH[@]}" "$BASE/v1/jobs/$tl/result")" job-not-succeeded
+else
+  [ "$(json "$WORK/tl.json" 'd["state"]')" = succeeded ] || fail "target_loss job did not finish"
+fi
+
 # Delete a finished job: its files go, and so does the job.
 [ "$(curl -s -o /dev/null -w '%{http_code}' -X DELETE "${AUTH[@]}" "$BASE/v1/jobs/$id")" = 204 ] || fail "delete"
 [ ! -e "$DATA/jobs/$id" ] || fail "deleted job's directory remains"
