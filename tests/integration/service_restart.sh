@@ -12,12 +12,16 @@ start_server --workers 1
 [ "$(post_glb "$SPOT" "method=input")" = 202 ] || fail "upload"
 done_id=$(json "$WORK/resp" 'd["id"]')
 wait_state "$done_id" succeeded 120
+# One long job to be running at the kill, two short ones queued behind it.
 ids=()
-for _ in 1 2 3; do
-  [ "$(post_glb "$SPOT" "$LONG")" = 202 ] || fail "upload: $(cat "$WORK/resp")"
+for query in "$LONG" method=input method=input; do
+  [ "$(post_glb "$SPOT" "$query")" = 202 ] || fail "upload: $(cat "$WORK/resp")"
   ids+=("$(json "$WORK/resp" 'd["id"]')")
 done
 wait_state "${ids[0]}" running 60
+for id in "${ids[1]}" "${ids[2]}"; do
+  [ "$(json "$DATA/jobs/$id/job.json" 'd["state"]')" = queued ] || fail "job $id not queued at the kill"
+done
 stop_server KILL || true
 
 # The interrupted upload of a fourth job (a directory without job.json) must not survive.
