@@ -91,6 +91,8 @@ static cJSON *domain_json(const texopt_domain_stats *d)
     cJSON_AddNumberToObject(t, "mesh", d->seconds_mesh);
     cJSON_AddNumberToObject(t, "stage1", d->seconds_stage1);
     cJSON_AddNumberToObject(t, "stage2", d->seconds_stage2);
+    if (d->has_loss_share)
+        cJSON_AddNumberToObject(t, "loss_share", d->seconds_loss_share);
     cJSON_AddNumberToObject(t, "pack", d->seconds_pack);
     cJSON_AddNumberToObject(t, "bake", d->seconds_bake);
     add_images(o, d);

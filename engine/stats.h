@@ -54,6 +54,7 @@ typedef struct texopt_domain_stats {
     double distortion_input, distortion_output; /* symmetric Dirichlet, mean */
 
     double seconds_mesh, seconds_stage1, seconds_stage2, seconds_pack, seconds_bake;
+    double seconds_loss_share; /* the per-triangle losses under the solved layout */
 } texopt_domain_stats;
 
 typedef struct texopt_job_stats {
