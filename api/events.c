@@ -22,6 +22,7 @@
 #define KEEPALIVE_MS 15000
 
 typedef struct event_stream {
+    api_service *svc;
     job_store *store;
     char id[JOB_ID_LEN + 1];
     long long last_seq;
@@ -97,6 +98,7 @@ static ssize_t read_events(void *cls, uint64_t pos, char *buf, size_t max)
 static void free_stream(void *cls)
 {
     event_stream *s = cls;
+    atomic_fetch_sub(&s->svc->open_streams, 1);
     free(s->pending);
     free(s);
 }
@@ -119,7 +121,9 @@ enum MHD_Result jobs_events(request_ctx *rq, struct MHD_Connection *c)
     event_stream *s = calloc(1, sizeof *s);
     if (!s)
         return MHD_NO;
+    s->svc = rq->svc;
     s->store = rq->svc->store;
+    atomic_fetch_add(&rq->svc->open_streams, 1);
     memcpy(s->id, job.id, sizeof s->id);
     s->last_seq = last_event_id(c);
     s->last_state = JOB_STATE_COUNT;

@@ -286,6 +286,13 @@ void api_http_quiesce(struct MHD_Daemon *daemon)
         close(s);
 }
 
+void api_http_drain_streams(api_service *svc, int timeout_ms)
+{
+    struct timespec step = {0, 10 * 1000000L};
+    for (int waited = 0; atomic_load(&svc->open_streams) > 0 && waited < timeout_ms; waited += 10)
+        nanosleep(&step, NULL);
+}
+
 void api_http_stop(struct MHD_Daemon *daemon)
 {
     if (daemon)

@@ -23,6 +23,7 @@ typedef struct api_service {
     service_metrics *metrics;
     struct worker_pool *workers; /* NULL in tests without workers */
     atomic_int draining;         /* set at SIGTERM: no new jobs, /readyz fails */
+    atomic_int open_streams;     /* event streams whose response is not freed yet */
     const char *openapi;         /* the contents of openapi.yaml, served as is */
     size_t openapi_len;
 } api_service;
@@ -35,6 +36,10 @@ struct MHD_Daemon *api_http_start(api_service *svc, int *port_out, char *err, si
 
 /* Stops accepting connections; requests already connected finish. */
 void api_http_quiesce(struct MHD_Daemon *daemon);
+
+/* After store_wake_all: waits (at most timeout_ms) until every event stream has sent its
+ * end, so that stopping the daemon does not cut one off mid-chunk. */
+void api_http_drain_streams(api_service *svc, int timeout_ms);
 
 /* Waits for every connection to end and frees the daemon (event streams end when the store
  * is woken with store_wake_all first). Accepts NULL. */

@@ -144,6 +144,7 @@ int main(int argc, char **argv)
     api_http_quiesce(daemon);
     workers_stop(svc.workers);
     store_wake_all(svc.store);
+    api_http_drain_streams(&svc, 2000);
     api_http_stop(daemon);
     workers_destroy(svc.workers);
     queue_destroy(svc.queue);
