@@ -43,9 +43,10 @@ static void usage(FILE *out)
             "  --mipmap            evaluate with prefiltered (mip-mapped) lookups, not bilinear\n"
             "  --iterations N      stage-1 iterations per triangle (default 100)\n"
             "  --threads T         worker threads (default: every core)\n"
-            "  --full-runs         one whole pipeline run per method and cost (default: each\n"
-            "                      layout once at the largest cost, smaller costs by resampling\n"
-            "                      its re-baked textures; the layout does not depend on the budget)\n"
+            "  --reuse-layout      each layout method once, at the largest cost; smaller costs by\n"
+            "                      resampling its re-baked textures (much faster, but measurably\n"
+            "                      pessimistic for the layout methods; default: one pipeline run\n"
+            "                      per method and cost)\n"
             "  --quiet             no progress on stderr\n"
             "  -h, --help          this text\n");
 }
@@ -155,8 +156,8 @@ int cmd_compare(int argc, char **argv)
         } else if (!strcmp(a, "--mipmap")) {
             opt.evaluate.mipmapped = 1;
             takes = 0;
-        } else if (!strcmp(a, "--full-runs")) {
-            opt.full_runs = 1;
+        } else if (!strcmp(a, "--reuse-layout")) {
+            opt.reuse_layout = 1;
             takes = 0;
         } else if (!strcmp(a, "--methods")) {
             bad = !v || parse_methods(v, methods, &method_count) != 0;

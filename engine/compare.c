@@ -189,7 +189,8 @@ static texopt_status run_curve_full(const run_ctx *x, texopt_compare_curve *curv
 /* The layout once, at the largest cost; the other costs resample its re-baked textures
  * (method "input" applied to that output). The method's layout does not depend on the
  * budget (its targets are relative, the budget scales uniformly), so only the bake differs
- * from a full run: filtered twice, and chart gutters scaled rather than re-padded. */
+ * from a full run: filtered twice, and chart gutters scaled rather than re-padded (which
+ * measurably raises q: see compare.h). */
 static texopt_status run_curve_reusing_layout(const run_ctx *x, texopt_compare_curve *curve,
                                               char *err, size_t err_len)
 {
@@ -287,7 +288,7 @@ texopt_status texopt_compare(const char *input_path, const texopt_compare_option
         curve->point_count = opt->cost_count;
         for (int c = 0; c < opt->cost_count; c++)
             point_init(&curve->points[c], opt->costs[c]);
-        if (opt->full_runs || curve->method == TEXOPT_METHOD_INPUT)
+        if (!opt->reuse_layout || curve->method == TEXOPT_METHOD_INPUT)
             st = run_curve_full(&x, curve, err, err_len);
         else
             st = run_curve_reusing_layout(&x, curve, err, err_len);
