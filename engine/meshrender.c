@@ -8,7 +8,8 @@
  * construction, the lookup is texopt_sample_bilinear (the same one the bake and the
  * per-triangle loss use), and nothing depends on a GL context per thread (OSMesa does not
  * render in parallel within one process, see DEPENDENCIES.md). Cost is linear in pixels
- * and triangles: 20 views of spot at 1000 px take well under a second per core.
+ * and triangles: 20 views of spot at 1300 px (34 M pixels, both shadings and GMSD) take about
+ * 1 s of CPU.
  *
  * Rules: pixel centres at (i + 0.5, j + 0.5); a pixel belongs to a triangle when its centre
  * is inside or on an edge; nearer depth wins, ties keep the earlier triangle (deterministic).
