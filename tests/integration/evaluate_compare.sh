@@ -1,0 +1,106 @@
+#!/usr/bin/env bash
+# evaluate_compare: `texopt evaluate` and `texopt compare` end to end on tests/data/Fox.
+# Checks that a model against itself has q = 0 and c_r = 1, that a reduced copy (made by
+# `texopt optimize --method input`) has q > 0 and the asked cost, that compare's JSON holds
+# one curve per method with q growing as the cost falls, and that the HTML report parses
+# (python3 html.parser), is balanced, holds one plot curve per method and references
+# nothing outside itself. Also the usage errors' exit codes.
+set -euo pipefail
+: "${TEXOPT_BIN:?TEXOPT_BIN must point to the texopt executable}"
+: "${TEXOPT_SOURCE_DIR:?TEXOPT_SOURCE_DIR must point to the source tree}"
+WORK=$(mktemp -d)
+trap 'rm -rf "$WORK"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+FOX="$TEXOPT_SOURCE_DIR/tests/data/Fox/Fox.glb"
+
+"$TEXOPT_BIN" evaluate "$FOX" "$FOX" --resolution 200 --json > "$WORK/self.json" ||
+    fail "evaluate of Fox against itself exited $?"
+"$TEXOPT_BIN" optimize "$FOX" -o "$WORK/quarter.glb" --method input --relative-cost 0.25 --quiet ||
+    fail "optimize --method input exited $?"
+"$TEXOPT_BIN" evaluate "$FOX" "$WORK/quarter.glb" --resolution 200 --json > "$WORK/quarter.json" ||
+    fail "evaluate of the reduced Fox exited $?"
+"$TEXOPT_BIN" compare "$FOX" --methods input --costs 1,0.25,0.0625 --resolution 200 --quiet \
+    --json "$WORK/curves.json" -o "$WORK/report.html" > "$WORK/table.txt" || fail "compare exited $?"
+
+/usr/bin/python3 - "$WORK" <<'EOF'
+import html.parser, json, sys
+work = sys.argv[1]
+def fail(msg):
+    print("FAIL:", msg, file=sys.stderr); sys.exit(1)
+
+same = json.load(open(f"{work}/self.json"))
+if same["q"] != 0 or same["relative_cost"] != 1 or len(same["view_gmsd"]) != 20:
+    fail(f"self evaluation: {same}")
+if same["resolution"] != 200 or same["lookup"] != "bilinear":
+    fail(f"self evaluation settings: {same}")
+quarter = json.load(open(f"{work}/quarter.json"))
+if not quarter["q"] > 0.004:
+    fail(f"reduced Fox q {quarter['q']}")
+if abs(quarter["relative_cost"] - 0.25) > 0.02:
+    fail(f"reduced Fox relative cost {quarter['relative_cost']}")
+if quarter["output"]["texture_pixels"] != 512 * 512:
+    fail(f"reduced Fox texture pixels {quarter['output']['texture_pixels']}")
+
+curves = json.load(open(f"{work}/curves.json"))
+if list(curves["curves"]) != ["input"]:
+    fail(f"curves: {list(curves['curves'])}")
+pts = curves["curves"]["input"]
+qs = [p["q"] for p in pts]
+if qs[0] != 0 or not (qs[0] < qs[1] < qs[2]):
+    fail(f"q along the costs 1, 0.25, 0.0625: {qs}")
+# The same reduction through compare and through optimize + evaluate gives the same loss.
+if abs(qs[1] - quarter["q"]) > 1e-9:
+    fail(f"compare q {qs[1]} vs evaluate q {quarter['q']}")
+
+class Checker(html.parser.HTMLParser):
+    void = {"img", "meta", "br", "line", "circle", "rect", "polyline"}
+    def __init__(self):
+        super().__init__()
+        self.stack, self.curves, self.imgs, self.errors = [], [], 0, []
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        for key in ("src", "href"):
+            v = a.get(key)
+            if v is not None and not v.startswith("data:"):
+                self.errors.append(f"<{tag} {key}={v[:40]}> leaves the file")
+        if tag == "img":
+            self.imgs += 1
+            if not a.get("src", "").startswith("data:image/png;base64,"):
+                self.errors.append("an <img> is not an inline PNG")
+        if tag == "polyline" and a.get("class") == "curve":
+            self.curves.append(a.get("data-method"))
+        if tag not in self.void:
+            self.stack.append(tag)
+    def handle_startendtag(self, tag, attrs):
+        self.handle_starttag(tag, attrs)
+        if tag not in self.void:
+            self.stack.pop()
+    def handle_endtag(self, tag):
+        if tag in self.void:
+            return
+        if not self.stack or self.stack[-1] != tag:
+            self.errors.append(f"</{tag}> closes {self.stack[-1] if self.stack else 'nothing'}")
+        else:
+            self.stack.pop()
+
+c = Checker()
+c.feed(open(f"{work}/report.html").read())
+c.close()
+if c.errors:
+    fail("; ".join(c.errors[:5]))
+if c.stack:
+    fail(f"unclosed tags {c.stack}")
+if c.curves != ["input"]:
+    fail(f"plot curves {c.curves}")
+if c.imgs < 4:
+    fail(f"only {c.imgs} images")
+EOF
+
+# Usage errors: exit code 2.
+set +e
+"$TEXOPT_BIN" evaluate "$FOX" > /dev/null 2>&1; [ $? -eq 2 ] || fail "evaluate with one model should exit 2"
+"$TEXOPT_BIN" compare "$FOX" --methods nosuch > /dev/null 2>&1; [ $? -eq 2 ] || fail "unknown method should exit 2"
+"$TEXOPT_BIN" compare "$FOX" --costs 0,1 > /dev/null 2>&1; [ $? -eq 2 ] || fail "cost 0 should exit 2"
+"$TEXOPT_BIN" evaluate "$FOX" "$WORK/missing.glb" > /dev/null 2>&1; [ $? -eq 1 ] || fail "missing model should exit 1"
+set -e
+echo "evaluate_compare: ok"
