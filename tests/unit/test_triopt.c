@@ -93,7 +93,7 @@ TEST(flat_half_gets_far_fewer_texels_than_detail)
 {
     /* "half" on 256 texels, 16-texel quads: quads 2..5 see only the flat colour (their
      * one-rings span x in [16, 96]), quads 10..13 only text-like strokes. */
-    texopt_triopt_options opt = {.iterations = 20, .threads = 2, .seed = 7};
+    texopt_triopt_options opt = {.iterations = 10, .threads = 2, .seed = 7};
     stage_run r;
     CHECK(run_stage(&r, strip_model(16, 256, "half", 0), &opt, NULL));
     CHECK_OK(r.status, r.err);
@@ -175,7 +175,7 @@ TEST(stripes_squeeze_along_the_grid_with_the_quarter_turn_symmetry)
     /* Paper Fig. 7: detail aligned with the texel grid compresses along itself; turned by a
      * quarter it compresses along the other axis; at 45 degrees (a staircase on the grid)
      * it barely compresses at all. */
-    texopt_triopt_options opt = {.iterations = 30, .threads = 2, .seed = 3, .weight_samples = -1};
+    texopt_triopt_options opt = {.iterations = 10, .threads = 2, .seed = 3, .weight_samples = -1};
     stage_run vertical, horizontal, diagonal;
     CHECK(run_stage(&vertical, strip_model(8, 64, "stripes0", 0), &opt, NULL));
     CHECK(run_stage(&horizontal, strip_model(8, 64, "stripes0", 1), &opt, NULL));
