@@ -341,7 +341,7 @@ static texopt_status optimise_triangle(worker *w, uint32_t t, texopt_triangle_ta
         }
     }
     if (!flat && s.status == TEXOPT_OK && opt->iterations > 0) {
-        /* J = I (E = 0, always feasible), the best isotropic shrink so far, then the two
+        /* J = I (E = 0, always feasible), the best point of the searches above, then the two
          * grid-aligned extreme squeezes (detail aligned with the texel grid compresses along
          * itself for free, paper Fig. 7: such optima sit in box corners, which a GP finds
          * late). The plain plan starts from J = I alone. */

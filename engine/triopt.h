@@ -6,7 +6,8 @@
  * [0, pi/2) x (lambda_min, 1]^2 x [0, pi/2)
  *     f = lambda1 lambda2 |T| + L_eps(E(J)),   L_eps(x) = -log(eps - x) for x < eps,
  * with |T| the triangle's area in texels and E the one-ring GMSD loss (triloss.h), by
- * Bayesian optimisation (bayesopt.h) on the unit box, x -> (alpha, lambda1, lambda2, beta) =
+ * golden-section line searches and Bayesian optimisation (bayesopt.h) on the unit box,
+ * x -> (alpha, lambda1, lambda2, beta) =
  * (x0 pi/2, lmin + (1 - lmin) x1, lmin + (1 - lmin) x2, x3 pi/2). E >= eps is infeasible: the
  * objective returns +INFINITY and bayesopt.h's penalty rule applies.
  *
@@ -21,8 +22,8 @@
  *     edges of real textures run at any angle; 2 would be the texel axes and diagonals of
  *     Fig. 7), and golden-section search the best probe's direction (anisotropic_steps
  *     evaluations).
- *  3. Bayesian optimisation from J = I (E = 0, always feasible), the best isotropic shrink
- *     and the grid-aligned extreme squeezes diag(lambda_min, 1), diag(1, lambda_min), then
+ *  3. Bayesian optimisation (unless iterations = -1) from J = I (E = 0, always feasible),
+ *     the best point of steps 1-2 and the grid-aligned extreme squeezes diag(lambda_min, 1), diag(1, lambda_min), then
  *     its Latin-hypercube design and `iterations` model-guided evaluations; it stops early
  *     when a sample reaches the lower bound.
  * The `plain` option runs the paper's plan instead (J = I, the design, the iterations), the
