@@ -88,7 +88,7 @@ static double total_area(const texopt_mesh *m, const double *texel)
     return a;
 }
 
-/* Labels every texel cell touched by a chart (points sampled at 1/8 texel on each
+/* Labels every texel cell touched by a chart (points sampled every 1/3 texel on each
  * triangle); returns -1 when two charts come within `radius` cells of each other. */
 static int check_separation(const texopt_mesh *m, const double *texel, int w, int h, int radius)
 {
@@ -100,7 +100,7 @@ static int check_separation(const texopt_mesh *m, const double *texel, int w, in
         const uint32_t *v = m->triangle + 3 * t;
         const double *a = texel + 2 * v[0], *b = texel + 2 * v[1], *c = texel + 2 * v[2];
         double len = fmax(fmax(fabs(b[0] - a[0]) + fabs(b[1] - a[1]), fabs(c[0] - a[0]) + fabs(c[1] - a[1])), 1);
-        int n = (int)(len * 8) + 1;
+        int n = (int)(len * 3) + 1;
         for (int i = 0; i <= n && !bad; i++)
             for (int j = 0; i + j <= n && !bad; j++) {
                 double s = (double)i / n, r = (double)j / n;
