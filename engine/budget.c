@@ -60,6 +60,7 @@ typedef struct work {
     const texopt_pack_options *pack;
     double *scaled, *packed;
     int packings;
+    int pack_order; /* texopt_pack_options.order of the next pack */
 } work;
 
 /* Packs the layout scaled by s into width columns (height 0: as tall as needed) or into
@@ -68,8 +69,10 @@ static texopt_status pack_at(work *w, double s, int width, int height, int *fits
                              char *err, size_t err_len)
 {
     scale_layout(w->texel, s, w->scaled, w->mesh->vertex_count);
+    texopt_pack_options opt = *w->pack;
+    opt.order = w->pack_order;
     texopt_pack_result r;
-    texopt_status st = texopt_pack_charts(w->mesh, w->scaled, width, height, w->pack, w->packed, &r,
+    texopt_status st = texopt_pack_charts(w->mesh, w->scaled, width, height, &opt, w->packed, &r,
                                           fits, err, err_len);
     w->packings++;
     if (st == TEXOPT_OK) {
@@ -81,29 +84,35 @@ static texopt_status pack_at(work *w, double s, int width, int height, int *fits
     return st;
 }
 
-/* The width (of a few around the estimate) whose "as tall as needed" packing has the fewest
- * texels; its positions go to texel_out. */
+/* The width and placement order (of a few widths around the estimate, both orders for
+ * small atlases) whose "as tall as needed" packing has the fewest texels; its positions go
+ * to texel_out and its order stays in w->pack_order for the later rounds. */
 static texopt_status best_width(work *w, double s, double area, double aspect, double *texel_out,
                                 int *bw, int *bh, char *err, size_t err_len)
 {
     double base = sqrt(area * s * s / 0.7 * aspect);
     long long best = -1;
-    int tries = w->mesh->chart_count <= SMALL_ATLAS_CHARTS ? 15 : 5;
-    for (int i = 0; i < tries; i++) {
-        int width = round_up4(base * (0.75 + 0.6 * i / (tries - 1)));
-        if (width > MAX_SIDE)
-            continue;
-        int fits, h;
-        texopt_status st = pack_at(w, s, width, 0, &fits, &h, err, err_len);
-        if (st != TEXOPT_OK)
-            return st;
-        if (fits && (best < 0 || (long long)width * h < best)) {
-            best = (long long)width * h;
-            *bw = width;
-            *bh = h;
-            memcpy(texel_out, w->packed, sizeof(double) * 2 * w->mesh->vertex_count);
+    int small = w->mesh->chart_count <= SMALL_ATLAS_CHARTS;
+    int tries = small ? 15 : 5, orders = small ? 2 : 1, best_order = 0;
+    for (int order = 0; order < orders; order++)
+        for (int i = 0; i < tries; i++) {
+            int width = round_up4(base * (0.75 + 0.6 * i / (tries - 1)));
+            if (width > MAX_SIDE)
+                continue;
+            int fits, h;
+            w->pack_order = order;
+            texopt_status st = pack_at(w, s, width, 0, &fits, &h, err, err_len);
+            if (st != TEXOPT_OK)
+                return st;
+            if (fits && (best < 0 || (long long)width * h < best)) {
+                best = (long long)width * h;
+                *bw = width;
+                *bh = h;
+                best_order = order;
+                memcpy(texel_out, w->packed, sizeof(double) * 2 * w->mesh->vertex_count);
+            }
         }
-    }
+    w->pack_order = best_order;
     if (best < 0)
         return texopt_fail(err, err_len, TEXOPT_E_LIMIT,
                            "budget: the layout needs a texture larger than %d texels a side", MAX_SIDE);
@@ -221,7 +230,7 @@ texopt_status texopt_budget_fit(const texopt_mesh *mesh, const double *texel,
     texopt_status st = check_request(req, area, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    work w = {mesh, texel, &req->pack, NULL, NULL, 0};
+    work w = {mesh, texel, &req->pack, NULL, NULL, 0, req->pack.order};
     size_t n = 2 * (mesh->vertex_count ? mesh->vertex_count : 1);
     w.scaled = malloc(n * sizeof(double));
     w.packed = malloc(n * sizeof(double));

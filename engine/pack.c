@@ -355,6 +355,7 @@ typedef struct pack_state {
     occupancy occ;
     double pad, cell;
     uint8_t *moved;
+    int order; /* texopt_pack_options.order */
     int top; /* highest occupied row + 1 */
 } pack_state;
 
@@ -430,6 +431,20 @@ static int unbounded_rows(const chart_set *cs, const texopt_mesh *mesh, const do
     return rows > 1 << 20 ? 1 << 20 : (int)rows;
 }
 
+static double chart_box_area(const pack_state *s, size_t c)
+{
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (uint32_t i = s->cs.start[c]; i < s->cs.start[c + 1]; i++)
+        for (int j = 0; j < 3; j++) {
+            uint32_t v = s->mesh->triangle[3 * s->cs.tris[i] + j];
+            for (int a = 0; a < 2; a++) {
+                lo[a] = fmin(lo[a], s->texel[2 * v + a]);
+                hi[a] = fmax(hi[a], s->texel[2 * v + a]);
+            }
+        }
+    return hi[0] > lo[0] ? (hi[0] - lo[0]) * (hi[1] - lo[1]) : 0;
+}
+
 static texopt_status pack_all(pack_state *s, int width, int height, double *texel_out,
                               texopt_pack_result *result, int *fits, char *err, size_t err_len)
 {
@@ -437,7 +452,7 @@ static texopt_status pack_all(pack_state *s, int width, int height, double *texe
     if (!items)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory to sort charts");
     for (size_t c = 0; c < s->cs.count; c++) {
-        items[c].area = s->cs.area[c];
+        items[c].area = s->order == 1 ? chart_box_area(s, c) : s->cs.area[c];
         items[c].chart = (uint32_t)c;
     }
     qsort(items, s->cs.count, sizeof *items, compare_items);
@@ -482,6 +497,7 @@ texopt_status texopt_pack_charts(const texopt_mesh *mesh, const double *texel, i
     int gutter = opt && opt->gutter > 0 ? opt->gutter : 4;
     s.pad = 0.5 * gutter;
     s.cell = choose_cell(width, height, opt);
+    s.order = opt ? opt->order : 0;
     st = group_charts(mesh, texel, &s.cs, err, err_len);
     if (st != TEXOPT_OK)
         return st;

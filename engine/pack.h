@@ -30,6 +30,8 @@ typedef struct texopt_pack_options {
     int gutter;    /* texels between charts; 0 -> 4 (bilinear plus two mip levels) */
     int cell;      /* placement grid cell in texels; 0 -> chosen from the texture size
                       (1 up to 1024, then so the grid stays <= 1024 cells a side) */
+    int order;     /* placement order: 0 largest triangle area first, 1 largest bounding
+                      box first (better for elongated charts; budget.h tries both) */
 } texopt_pack_options;
 
 typedef struct texopt_pack_result {
