@@ -61,6 +61,7 @@ typedef struct work {
     double *scaled, *packed;
     int packings;
     int pack_order; /* texopt_pack_options.order of the next pack */
+    const texopt_monitor *monitor;
 } work;
 
 /* Packs the layout scaled by s into width columns (height 0: as tall as needed) or into
@@ -68,6 +69,8 @@ typedef struct work {
 static texopt_status pack_at(work *w, double s, int width, int height, int *fits, int *out_h,
                              char *err, size_t err_len)
 {
+    if (texopt_monitor_canceled(w->monitor))
+        return texopt_fail(err, err_len, TEXOPT_E_CANCELED, "packing canceled");
     scale_layout(w->texel, s, w->scaled, w->mesh->vertex_count);
     texopt_pack_options opt = *w->pack;
     opt.order = w->pack_order;
@@ -230,7 +233,7 @@ texopt_status texopt_budget_fit(const texopt_mesh *mesh, const double *texel,
     texopt_status st = check_request(req, area, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    work w = {mesh, texel, &req->pack, NULL, NULL, 0, req->pack.order};
+    work w = {mesh, texel, &req->pack, NULL, NULL, 0, req->pack.order, req->monitor};
     size_t n = 2 * (mesh->vertex_count ? mesh->vertex_count : 1);
     w.scaled = malloc(n * sizeof(double));
     w.packed = malloc(n * sizeof(double));

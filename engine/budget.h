@@ -18,6 +18,7 @@
 #define TEXOPT_BUDGET_H
 
 #include "mesh.h"
+#include "monitor.h"
 #include "pack.h"
 #include "params.h"
 #include "status.h"
@@ -29,6 +30,8 @@ typedef struct texopt_budget_request {
     double input_cost;                   /* covered texels of the input layout, > 0 */
     int input_width, input_height;       /* input frame, for the aspect */
     texopt_pack_options pack;            /* gutter, cell; zero = defaults */
+    const texopt_monitor *monitor;       /* may be NULL; checked for cancellation between
+                                            packings (TEXOPT_E_CANCELED) */
 } texopt_budget_request;
 
 typedef struct texopt_budget_result {

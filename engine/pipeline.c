@@ -539,6 +539,7 @@ static texopt_status run_optimised_method(const texopt_model *model, const texop
         req.input_cost = (double)in_cov.covered_texels;
         req.input_width = mesh->width;
         req.input_height = mesh->height;
+        req.monitor = &jm->inner;
         double t0 = now_seconds();
         st = texopt_budget_fit(mesh, texel_new, &req, packed, &br, err, err_len);
         ds->seconds_pack = now_seconds() - t0;

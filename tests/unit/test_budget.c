@@ -132,3 +132,25 @@ TEST(budget_refuses_impossible_requests)
     texopt_mesh_destroy(mesh);
     texopt_model_destroy(model);
 }
+
+TEST(budget_stops_when_canceled)
+{
+    texopt_model *model = fixture_cube_with_seams(64);
+    texopt_mesh *mesh = mesh_of(model);
+    CHECK(mesh != NULL);
+    atomic_int cancel = 1;
+    texopt_monitor mon = {NULL, NULL, &cancel};
+    texopt_budget_request req = {0};
+    req.kind = TEXOPT_BUDGET_RELATIVE_COST;
+    req.relative_cost = 0.5;
+    req.input_cost = 6.0 * 16 * 16;
+    req.input_width = req.input_height = 64;
+    req.monitor = &mon;
+    double *out = malloc(sizeof(double) * 2 * mesh->vertex_count);
+    texopt_budget_result res;
+    char err[256] = "";
+    CHECK(texopt_budget_fit(mesh, mesh->texel, &req, out, &res, err, sizeof err) == TEXOPT_E_CANCELED);
+    free(out);
+    texopt_mesh_destroy(mesh);
+    texopt_model_destroy(model);
+}
