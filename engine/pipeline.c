@@ -31,6 +31,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "arap.h"
 #include "budget.h"
@@ -286,6 +287,15 @@ static texopt_status run_input_method(const texopt_model *model, const texopt_me
     return input_layout_costs(mesh, ow, oh, ds, err, err_len);
 }
 
+/* params.threads, or every online core when it is 0. */
+static int worker_threads(const texopt_params *params)
+{
+    if (params->threads > 0)
+        return params->threads;
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n > 0 ? (int)n : 1;
+}
+
 /* A copy of the model's TEXCOORD_0 (zeros where it has none) that domains overwrite. */
 static texopt_status alloc_uvs(const texopt_model *model, float **uvs, char *err, size_t err_len)
 {
@@ -456,9 +466,9 @@ static int normal_map_needs_rotation(const texopt_model *model, const texopt_dom
 
 /* Re-bakes every image of the domain from the input layout into the packed one. */
 static texopt_status rebake_domain(const texopt_model *model, const texopt_mesh *mesh,
-                                   const double *packed, int width, int height, job_output *out,
-                                   texopt_domain_stats *ds, job_monitor *jm, double from, double to,
-                                   char *err, size_t err_len)
+                                   const double *packed, int width, int height, int threads,
+                                   job_output *out, texopt_domain_stats *ds, job_monitor *jm,
+                                   double from, double to, char *err, size_t err_len)
 {
     const texopt_domain *dom = &model->domains[mesh->domain];
     size_t n = 2 * (mesh->vertex_count ? mesh->vertex_count : 1);
@@ -474,7 +484,7 @@ static texopt_status rebake_domain(const texopt_model *model, const texopt_mesh 
         uv_out[2 * v] = packed[2 * v] / width;
         uv_out[2 * v + 1] = packed[2 * v + 1] / height;
     }
-    texopt_rebake_layout layout = {mesh->triangle_count, mesh->triangle, uv_in, uv_out};
+    texopt_rebake_layout layout = {mesh->triangle_count, mesh->triangle, uv_in, uv_out, threads};
     texopt_status st = TEXOPT_OK;
     for (int i = 0; i < dom->image_count && st == TEXOPT_OK; i++) {
         int im = dom->images[i];
@@ -555,7 +565,8 @@ static texopt_status run_optimised_method(const texopt_model *model, const texop
         ds->packing_efficiency = br.packing_efficiency;
         ds->repacked = 1;
         double t0 = now_seconds();
-        st = rebake_domain(model, mesh, packed, br.width, br.height, out, ds, jm, bake_from, to, err, err_len);
+        st = rebake_domain(model, mesh, packed, br.width, br.height, worker_threads(params), out, ds,
+                           jm, bake_from, to, err, err_len);
         ds->seconds_bake = now_seconds() - t0;
     }
     if (st == TEXOPT_OK)

@@ -2,14 +2,17 @@
  * prefiltered lookup, chart rim, dilation (see rebake.h for the contract and the normal-map
  * rule).
  *
- * Two passes over the triangles: the first bakes texels whose centre is inside a triangle
- * (first triangle wins on shared edges; both sides of an interior edge agree there), the
- * second gives each still-empty texel within half a texel diagonal of a triangle the value
- * at the clamped barycentric point, so bilinear lookups just inside a chart border read the
- * chart, not the gutter. Then the gutter is dilated. */
+ * Two rasterisation passes over the triangles decide which triangle owns each texel: the
+ * first takes texels whose centre is inside a triangle (first triangle wins on shared
+ * edges; both sides of an interior edge agree there), the second gives each still-empty
+ * texel within half a texel diagonal of a triangle to that triangle, to be sampled at the
+ * clamped barycentric point, so bilinear lookups just inside a chart border read the chart,
+ * not the gutter. Then the owned texels are sampled (the expensive part: prefiltered
+ * lookups), rows interleaved over `threads` workers, and the gutter is dilated. */
 #include "rebake.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -18,6 +21,7 @@
 
 #define RIM_DISTANCE 0.7072 /* half the diagonal of a texel, slightly rounded up */
 #define CHECK_EVERY 4096
+#define MAX_THREADS 64
 
 enum { TEXEL_EMPTY = 0, TEXEL_INSIDE = 1, TEXEL_RIM = 2 };
 
@@ -29,12 +33,15 @@ typedef struct mapped_triangle {
     double area2;     /* twice the signed output area */
     double edge_len[3]; /* |q[(i+2)%3] - q[(i+1)%3]|: length of the edge opposite vertex i */
     double rot_c, rot_s; /* rotation part of the map, for normal maps */
+    int valid;           /* non-zero output area: owns texels */
 } mapped_triangle;
 
 typedef struct bake_context {
     const texopt_texture_filter *filter;
     texopt_image *out;
-    uint8_t *state;
+    uint8_t *state;           /* per texel: TEXEL_EMPTY / INSIDE / RIM */
+    int32_t *owner;           /* per texel: owning triangle, -1 when empty */
+    const mapped_triangle *tris;
     int normal_map;
     int channels;
 } bake_context;
@@ -53,8 +60,10 @@ static int map_triangle(const texopt_rebake_layout *layout, size_t t, const texo
     double e1x = tri->q[1][0] - tri->q[0][0], e1y = tri->q[1][1] - tri->q[0][1];
     double e2x = tri->q[2][0] - tri->q[0][0], e2y = tri->q[2][1] - tri->q[0][1];
     tri->area2 = e1x * e2y - e2x * e1y;
+    tri->valid = 0;
     if (!(fabs(tri->area2) > 1e-12) || !isfinite(tri->area2))
         return 0;
+    tri->valid = 1;
     double f1x = p[1][0] - p[0][0], f1y = p[1][1] - p[0][1];
     double f2x = p[2][0] - p[0][0], f2y = p[2][1] - p[0][1];
     /* M = [f1 f2] [e1 e2]^-1 */
@@ -117,51 +126,56 @@ static void texel_box(const mapped_triangle *tri, const texopt_image *out, doubl
     box[3] = (int)fmin(out->height - 1, ceil(hi[1] + grow - 0.5));
 }
 
-static void bake_inside(const bake_context *ctx, const mapped_triangle *tri)
+static void claim_inside(const bake_context *ctx, const mapped_triangle *tri, int32_t t)
 {
     int box[4];
     texel_box(tri, ctx->out, 0, box);
     for (int y = box[1]; y <= box[3]; y++)
         for (int x = box[0]; x <= box[2]; x++) {
-            uint8_t *s = &ctx->state[(size_t)y * ctx->out->width + x];
-            if (*s != TEXEL_EMPTY)
+            size_t i = (size_t)y * ctx->out->width + x;
+            if (ctx->state[i] != TEXEL_EMPTY)
                 continue;
             double w[3];
             barycentrics(tri, x + 0.5, y + 0.5, w);
             if (w[0] < 0 || w[1] < 0 || w[2] < 0)
                 continue;
-            bake_texel(ctx, tri, x, y, w);
-            *s = TEXEL_INSIDE;
+            ctx->state[i] = TEXEL_INSIDE;
+            ctx->owner[i] = t;
         }
 }
 
-static void bake_rim(const bake_context *ctx, const mapped_triangle *tri)
+/* Barycentrics of the point of the triangle nearest (approximately: clamped and
+ * renormalised) to (x, y); 0 when (x, y) is farther than RIM_DISTANCE from it. */
+static int rim_point(const mapped_triangle *tri, double x, double y, double w[3])
+{
+    double twice_area = fabs(tri->area2), sum = 0;
+    barycentrics(tri, x, y, w);
+    for (int i = 0; i < 3; i++) /* w_i * 2A / |edge_i| = signed edge distance */
+        if (w[i] * twice_area / fmax(tri->edge_len[i], 1e-12) < -RIM_DISTANCE)
+            return 0;
+    for (int i = 0; i < 3; i++) {
+        w[i] = w[i] > 0 ? w[i] : 0;
+        sum += w[i];
+    }
+    if (!(sum > 0))
+        return 0;
+    for (int i = 0; i < 3; i++)
+        w[i] /= sum;
+    return 1;
+}
+
+static void claim_rim(const bake_context *ctx, const mapped_triangle *tri, int32_t t)
 {
     int box[4];
     texel_box(tri, ctx->out, 1, box);
-    double twice_area = fabs(tri->area2);
     for (int y = box[1]; y <= box[3]; y++)
         for (int x = box[0]; x <= box[2]; x++) {
-            uint8_t *s = &ctx->state[(size_t)y * ctx->out->width + x];
-            if (*s != TEXEL_EMPTY)
+            size_t i = (size_t)y * ctx->out->width + x;
+            double w[3];
+            if (ctx->state[i] != TEXEL_EMPTY || !rim_point(tri, x + 0.5, y + 0.5, w))
                 continue;
-            double w[3], sum = 0;
-            barycentrics(tri, x + 0.5, y + 0.5, w);
-            int near = 1;
-            for (int i = 0; i < 3 && near; i++) /* w_i * 2A / |edge_i| = signed edge distance */
-                near = w[i] * twice_area / fmax(tri->edge_len[i], 1e-12) >= -RIM_DISTANCE;
-            if (!near)
-                continue;
-            for (int i = 0; i < 3; i++) {
-                w[i] = w[i] > 0 ? w[i] : 0;
-                sum += w[i];
-            }
-            if (!(sum > 0))
-                continue;
-            for (int i = 0; i < 3; i++)
-                w[i] /= sum;
-            bake_texel(ctx, tri, x, y, w);
-            *s = TEXEL_RIM;
+            ctx->state[i] = TEXEL_RIM;
+            ctx->owner[i] = t;
         }
 }
 
@@ -171,25 +185,87 @@ static void report(const texopt_monitor *monitor, double stage_fraction)
     texopt_monitor_report(monitor, &p);
 }
 
-static texopt_status bake_pass(const bake_context *ctx, const texopt_rebake_layout *layout,
-                               const texopt_image *in, int rim, const texopt_monitor *monitor,
-                               char *err, size_t err_len)
+static texopt_status claim_pass(const bake_context *ctx, size_t n, int rim, const texopt_monitor *monitor,
+                                char *err, size_t err_len)
 {
-    size_t n = layout->triangle_count;
     for (size_t t = 0; t < n; t++) {
         if (t % CHECK_EVERY == 0) {
             if (texopt_monitor_canceled(monitor))
                 return texopt_fail(err, err_len, TEXOPT_E_CANCELED, "bake canceled");
-            report(monitor, (rim ? 0.5 : 0.0) + 0.5 * (double)t / (double)n);
+            report(monitor, 0.1 * (rim + (double)t / (double)n));
         }
-        mapped_triangle tri;
-        if (!map_triangle(layout, t, in, ctx->out, &tri))
+        if (!ctx->tris[t].valid)
             continue;
         if (rim)
-            bake_rim(ctx, &tri);
+            claim_rim(ctx, &ctx->tris[t], (int32_t)t);
         else
-            bake_inside(ctx, &tri);
+            claim_inside(ctx, &ctx->tris[t], (int32_t)t);
     }
+    return TEXOPT_OK;
+}
+
+typedef struct sample_worker {
+    const bake_context *ctx;
+    int first_row, step;
+    const texopt_monitor *monitor; /* only worker 0 reports; every worker checks cancel */
+    int canceled;
+    int started;                   /* runs on its own thread */
+    pthread_t thread;
+} sample_worker;
+
+static void *sample_rows(void *arg)
+{
+    sample_worker *wk = arg;
+    const bake_context *ctx = wk->ctx;
+    int width = ctx->out->width, height = ctx->out->height;
+    for (int y = wk->first_row; y < height; y += wk->step) {
+        if (texopt_monitor_canceled(wk->monitor)) {
+            wk->canceled = 1;
+            return NULL;
+        }
+        if (wk->first_row == 0 && y % 64 == 0)
+            report(wk->monitor, 0.2 + 0.75 * (double)y / height);
+        for (int x = 0; x < width; x++) {
+            size_t i = (size_t)y * width + x;
+            if (ctx->state[i] == TEXEL_EMPTY)
+                continue;
+            const mapped_triangle *tri = &ctx->tris[ctx->owner[i]];
+            double w[3];
+            if (ctx->state[i] == TEXEL_RIM)
+                rim_point(tri, x + 0.5, y + 0.5, w);
+            else
+                barycentrics(tri, x + 0.5, y + 0.5, w);
+            bake_texel(ctx, tri, x, y, w);
+        }
+    }
+    return NULL;
+}
+
+/* Samples every owned texel, rows interleaved over `threads` workers (the caller's thread
+ * is worker 0 and also runs the rows of any worker whose thread could not start). */
+static texopt_status sample_owned(const bake_context *ctx, int threads, const texopt_monitor *monitor,
+                                  char *err, size_t err_len)
+{
+    if (threads < 1)
+        threads = 1;
+    if (threads > MAX_THREADS)
+        threads = MAX_THREADS;
+    sample_worker wk[MAX_THREADS];
+    for (int k = 0; k < threads; k++)
+        wk[k] = (sample_worker){.ctx = ctx, .first_row = k, .step = threads, .monitor = monitor};
+    for (int k = 1; k < threads; k++)
+        wk[k].started = pthread_create(&wk[k].thread, NULL, sample_rows, &wk[k]) == 0;
+    sample_rows(&wk[0]);
+    int canceled = wk[0].canceled;
+    for (int k = 1; k < threads; k++) {
+        if (wk[k].started)
+            pthread_join(wk[k].thread, NULL);
+        else
+            sample_rows(&wk[k]);
+        canceled |= wk[k].canceled;
+    }
+    if (canceled)
+        return texopt_fail(err, err_len, TEXOPT_E_CANCELED, "bake canceled");
     return TEXOPT_OK;
 }
 
@@ -216,19 +292,28 @@ texopt_status texopt_rebake_image(const texopt_image *input, texopt_wrap wrap_s,
     texopt_status st = check_layout(input, layout, output, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    size_t count = (size_t)output->width * (size_t)output->height;
+    size_t count = (size_t)output->width * (size_t)output->height, n = layout->triangle_count;
     uint8_t *state = calloc(count, 1);
-    if (!state)
-        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %dx%d bake mask",
+    int32_t *owner = malloc(count * sizeof *owner);
+    mapped_triangle *tris = malloc((n ? n : 1) * sizeof *tris);
+    if (!state || !owner || !tris) {
+        free(state);
+        free(owner);
+        free(tris);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %dx%d bake",
                            output->width, output->height);
+    }
+    for (size_t t = 0; t < n; t++)
+        map_triangle(layout, t, input, output, &tris[t]);
     texopt_texture_filter *filter = NULL;
     st = texopt_texture_filter_create(&filter, input, wrap_s, wrap_t, err, err_len);
-    if (st == TEXOPT_OK) {
-        bake_context ctx = {filter, output, state, normal_map, output->channels};
-        st = bake_pass(&ctx, layout, input, 0, monitor, err, err_len);
-        if (st == TEXOPT_OK)
-            st = bake_pass(&ctx, layout, input, 1, monitor, err, err_len);
-    }
+    bake_context ctx = {filter, output, state, owner, tris, normal_map, output->channels};
+    if (st == TEXOPT_OK)
+        st = claim_pass(&ctx, n, 0, monitor, err, err_len);
+    if (st == TEXOPT_OK)
+        st = claim_pass(&ctx, n, 1, monitor, err, err_len);
+    if (st == TEXOPT_OK)
+        st = sample_owned(&ctx, layout->threads, monitor, err, err_len);
     if (st == TEXOPT_OK && covered_texels) {
         size_t inside = 0;
         for (size_t i = 0; i < count; i++)
@@ -241,5 +326,7 @@ texopt_status texopt_rebake_image(const texopt_image *input, texopt_wrap wrap_s,
         report(monitor, 1.0);
     texopt_texture_filter_destroy(filter);
     free(state);
+    free(owner);
+    free(tris);
     return st;
 }

@@ -40,6 +40,7 @@ typedef struct texopt_rebake_layout {
     const uint32_t *triangles; /* 3 per triangle, indices into uv_in / uv_out */
     const double *uv_in;       /* 2 per vertex: input UVs (may leave [0,1]: wrap modes apply) */
     const double *uv_out;      /* 2 per vertex: new UVs */
+    int threads;               /* workers for the sampling pass; 0 -> 1 */
 } texopt_rebake_layout;
 
 /* Bakes input (read through wrap_s / wrap_t) into output, which the caller has allocated

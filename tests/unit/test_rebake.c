@@ -52,7 +52,7 @@ TEST(identity_layout_reproduces_texture_exactly)
     texopt_image in, out;
     CHECK(make_noise(&in, 37, 29, 3) == 0);
     CHECK(texopt_image_create(&out, 37, 29, 3, NULL, 0) == TEXOPT_OK);
-    texopt_rebake_layout layout = {2, quad_tris, unit_quad, unit_quad};
+    texopt_rebake_layout layout = {2, quad_tris, unit_quad, unit_quad, 1};
     char err[256] = "";
     size_t covered = 0;
     CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 0, &layout, &out,
@@ -73,7 +73,7 @@ TEST(half_size_bake_of_texel_checker_is_prefiltered_grey)
     texopt_image in, out;
     CHECK(make_checker(&in, 64, 64, 1) == 0);
     CHECK(texopt_image_create(&out, 32, 32, 1, NULL, 0) == TEXOPT_OK);
-    texopt_rebake_layout layout = {2, quad_tris, unit_quad, unit_quad};
+    texopt_rebake_layout layout = {2, quad_tris, unit_quad, unit_quad, 1};
     char err[256] = "";
     CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 0, &layout, &out,
                                  NULL, NULL, err, sizeof err), err);
@@ -139,7 +139,7 @@ TEST(wrap_modes_decide_lookups_outside_the_texture)
         in.pixels[x] = 0.1f + 0.2f * x;
     CHECK(texopt_image_create(&out, 4, 1, 1, NULL, 0) == TEXOPT_OK);
     const double shifted[8] = {1, 0, 2, 0, 2, 1, 1, 1};
-    texopt_rebake_layout layout = {2, quad_tris, shifted, unit_quad};
+    texopt_rebake_layout layout = {2, quad_tris, shifted, unit_quad, 1};
     char err[256] = "";
     CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_CLAMP, 0, &layout, &out,
                                  NULL, NULL, err, sizeof err), err);
@@ -167,7 +167,7 @@ TEST(quarter_turn_rotates_normal_map_xy)
     }
     CHECK(texopt_image_create(&out, 8, 8, 3, NULL, 0) == TEXOPT_OK);
     const double turned[8] = {1, 0, 1, 1, 0, 1, 0, 0};
-    texopt_rebake_layout layout = {2, quad_tris, unit_quad, turned};
+    texopt_rebake_layout layout = {2, quad_tris, unit_quad, turned, 1};
     char err[256] = "";
     CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 1, &layout, &out,
                                  NULL, NULL, err, sizeof err), err);
@@ -197,7 +197,7 @@ TEST(gutter_takes_the_colour_of_the_nearest_chart)
     const double uv_out[16] = {0.1, 0.1, 0.3, 0.1, 0.3, 0.4, 0.1, 0.4,
                                0.6, 0.6, 0.9, 0.6, 0.9, 0.9, 0.6, 0.9};
     const uint32_t tris[12] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
-    texopt_rebake_layout layout = {4, tris, uv_in, uv_out};
+    texopt_rebake_layout layout = {4, tris, uv_in, uv_out, 1};
     CHECK(texopt_image_create(&out, 32, 32, 1, NULL, 0) == TEXOPT_OK);
     char err[256] = "";
     CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 0, &layout, &out,
@@ -233,11 +233,36 @@ TEST(rebake_refuses_mismatched_channels)
     texopt_image in, out;
     CHECK(texopt_image_create(&in, 4, 4, 3, NULL, 0) == TEXOPT_OK);
     CHECK(texopt_image_create(&out, 4, 4, 4, NULL, 0) == TEXOPT_OK);
-    texopt_rebake_layout layout = {2, quad_tris, unit_quad, unit_quad};
+    texopt_rebake_layout layout = {2, quad_tris, unit_quad, unit_quad, 1};
     char err[256] = "";
     CHECK(texopt_rebake_image(&in, 0, 0, 0, &layout, &out, NULL, NULL, err, sizeof err) ==
           TEXOPT_E_INVALID_ARGUMENT);
     CHECK(strstr(err, "channels") != NULL);
     texopt_image_destroy(&in);
     texopt_image_destroy(&out);
+}
+
+TEST(threaded_bake_equals_single_threaded_bake)
+{
+    /* A layout that turns, squeezes and splits the texture into two charts: the result must
+     * not depend on how rows are shared among workers. */
+    texopt_image in, a, b;
+    CHECK(make_noise(&in, 64, 48, 4) == 0);
+    CHECK(texopt_image_create(&a, 40, 33, 4, NULL, 0) == TEXOPT_OK);
+    CHECK(texopt_image_create(&b, 40, 33, 4, NULL, 0) == TEXOPT_OK);
+    const double uv_in[16] = {0, 0, 0.5, 0, 0.5, 1, 0, 1, 0.5, 0, 1, 0, 1, 1, 0.5, 1};
+    const double uv_out[16] = {0.05, 0.05, 0.45, 0.05, 0.45, 0.9, 0.05, 0.9,
+                               0.9, 0.1, 0.9, 0.5, 0.55, 0.5, 0.55, 0.1};
+    const uint32_t tris[12] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
+    texopt_rebake_layout one = {4, tris, uv_in, uv_out, 1}, three = {4, tris, uv_in, uv_out, 3};
+    char err[256] = "";
+    size_t ca = 0, cb = 0;
+    CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 1, &one, &a, &ca, NULL, err, sizeof err), err);
+    CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 1, &three, &b, &cb, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(ca, cb);
+    CHECK(ca > 500);
+    CHECK(memcmp(a.pixels, b.pixels, sizeof(float) * 40 * 33 * 4) == 0);
+    texopt_image_destroy(&in);
+    texopt_image_destroy(&a);
+    texopt_image_destroy(&b);
 }
