@@ -236,6 +236,15 @@ static texopt_status input_layout_costs(const texopt_mesh *mesh, int ow, int oh,
     return TEXOPT_OK;
 }
 
+/* params.threads, or every online core when it is 0. */
+static int worker_threads(const texopt_params *params)
+{
+    if (params->threads > 0)
+        return params->threads;
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n > 0 ? (int)n : 1;
+}
+
 /* Method "input": same UVs, every image of the domain resampled to the budget. */
 static texopt_status run_input_method(const texopt_model *model, const texopt_mesh *mesh,
                                       const texopt_params *params, job_output *out,
@@ -277,7 +286,7 @@ static texopt_status run_input_method(const texopt_model *model, const texopt_me
         image_wrap(model, im, &ws, &wt);
         st = texopt_image_create(&out->images[im], w, h, src->channels, err, err_len);
         if (st == TEXOPT_OK)
-            st = texopt_texture_resize(src, ws, wt, &out->images[im], err, err_len);
+            st = texopt_texture_resize(src, ws, wt, &out->images[im], worker_threads(params), err, err_len);
         if (st != TEXOPT_OK)
             return st;
         out->edit_images[im] = &out->images[im];
@@ -285,15 +294,6 @@ static texopt_status run_input_method(const texopt_model *model, const texopt_me
     }
     ds->seconds_bake = now_seconds() - t0;
     return input_layout_costs(mesh, ow, oh, ds, err, err_len);
-}
-
-/* params.threads, or every online core when it is 0. */
-static int worker_threads(const texopt_params *params)
-{
-    if (params->threads > 0)
-        return params->threads;
-    long n = sysconf(_SC_NPROCESSORS_ONLN);
-    return n > 0 ? (int)n : 1;
 }
 
 /* A copy of the model's TEXCOORD_0 (zeros where it has none) that domains overwrite. */

@@ -8,11 +8,13 @@
 #include "texture_filter.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
 #define MAX_LEVELS 32
 #define MAX_PROBES 16
+#define MAX_WORKERS 64
 
 struct texopt_texture_filter {
     int level_count;
@@ -197,8 +199,28 @@ void texopt_texture_filter_sample(const texopt_texture_filter *filter, double x,
         out[c] = (float)(acc[c] / n);
 }
 
+typedef struct resize_worker {
+    const texopt_texture_filter *filter;
+    texopt_image *dst;
+    double kx, ky;
+    int first_row, step;
+    int started;
+    pthread_t thread;
+} resize_worker;
+
+static void *resize_rows(void *arg)
+{
+    resize_worker *w = arg;
+    const double jac[4] = {w->kx, 0, 0, w->ky};
+    for (int y = w->first_row; y < w->dst->height; y += w->step)
+        for (int x = 0; x < w->dst->width; x++)
+            texopt_texture_filter_sample(w->filter, (x + 0.5) * w->kx, (y + 0.5) * w->ky, jac,
+                                         texopt_image_at(w->dst, x, y));
+    return NULL;
+}
+
 texopt_status texopt_texture_resize(const texopt_image *src, texopt_wrap wrap_s, texopt_wrap wrap_t,
-                                    texopt_image *dst, char *err, size_t err_len)
+                                    texopt_image *dst, int threads, char *err, size_t err_len)
 {
     if (!dst || !dst->pixels || dst->channels != src->channels)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
@@ -207,12 +229,20 @@ texopt_status texopt_texture_resize(const texopt_image *src, texopt_wrap wrap_s,
     texopt_status st = texopt_texture_filter_create(&f, src, wrap_s, wrap_t, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    double kx = (double)src->width / dst->width, ky = (double)src->height / dst->height;
-    const double jac[4] = {kx, 0, 0, ky};
-    for (int y = 0; y < dst->height; y++)
-        for (int x = 0; x < dst->width; x++)
-            texopt_texture_filter_sample(f, (x + 0.5) * kx, (y + 0.5) * ky, jac,
-                                         texopt_image_at(dst, x, y));
+    threads = threads < 1 ? 1 : (threads > MAX_WORKERS ? MAX_WORKERS : threads);
+    resize_worker w[MAX_WORKERS];
+    for (int k = 0; k < threads; k++)
+        w[k] = (resize_worker){.filter = f, .dst = dst, .kx = (double)src->width / dst->width,
+                               .ky = (double)src->height / dst->height, .first_row = k, .step = threads};
+    for (int k = 1; k < threads; k++)
+        w[k].started = pthread_create(&w[k].thread, NULL, resize_rows, &w[k]) == 0;
+    resize_rows(&w[0]);
+    for (int k = 1; k < threads; k++) {
+        if (w[k].started)
+            pthread_join(w[k].thread, NULL);
+        else
+            resize_rows(&w[k]); /* a thread that could not start: its rows run here */
+    }
     texopt_texture_filter_destroy(f);
     return TEXOPT_OK;
 }

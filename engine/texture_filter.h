@@ -43,8 +43,9 @@ void texopt_texture_filter_sample(const texopt_texture_filter *filter, double x,
 
 /* Resamples the whole of src into dst (already allocated with its size and the same channel
  * count), each dst texel the prefiltered footprint of its square: the "input" layout at a
- * new resolution. */
+ * new resolution. Rows are shared among `threads` workers (0 -> 1); the result does not
+ * depend on their number. */
 texopt_status texopt_texture_resize(const texopt_image *src, texopt_wrap wrap_s, texopt_wrap wrap_t,
-                                    texopt_image *dst, char *err, size_t err_len);
+                                    texopt_image *dst, int threads, char *err, size_t err_len);
 
 #endif

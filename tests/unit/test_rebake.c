@@ -96,7 +96,7 @@ TEST(coarse_checker_reduction_keeps_edges_and_mean)
     CHECK(make_checker(&in, 64, 64, 8) == 0);
     CHECK(texopt_image_create(&out, 32, 32, 1, NULL, 0) == TEXOPT_OK);
     char err[256] = "";
-    CHECK_OK(texopt_texture_resize(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, &out, err, sizeof err), err);
+    CHECK_OK(texopt_texture_resize(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, &out, 2, err, sizeof err), err);
     for (int y = 0; y < 32; y++)
         for (int x = 0; x < 32; x++)
             CHECK_NEAR(texopt_image_at(&out, x, y)[0], (float)(((x / 4) + (y / 4)) & 1), 1e-6);
@@ -116,13 +116,13 @@ TEST(anisotropic_reduction_averages_along_the_squeezed_axis)
             texopt_image_at(&in, x, y)[0] = (float)(x & 1);
     CHECK(texopt_image_create(&out, 16, 16, 1, NULL, 0) == TEXOPT_OK);
     char err[256] = "";
-    CHECK_OK(texopt_texture_resize(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, &out, err, sizeof err), err);
+    CHECK_OK(texopt_texture_resize(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, &out, 2, err, sizeof err), err);
     for (int i = 0; i < 16 * 16; i++)
         CHECK_NEAR(out.pixels[i], 0.5, 1e-6);
     for (int y = 0; y < 16; y++)
         for (int x = 0; x < 64; x++)
             texopt_image_at(&in, x, y)[0] = (float)(y & 1);
-    CHECK_OK(texopt_texture_resize(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, &out, err, sizeof err), err);
+    CHECK_OK(texopt_texture_resize(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, &out, 2, err, sizeof err), err);
     for (int y = 0; y < 16; y++)
         CHECK_NEAR(texopt_image_at(&out, 5, y)[0], (float)(y & 1), 1e-6);
     texopt_image_destroy(&in);
