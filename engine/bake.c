@@ -49,7 +49,7 @@ struct texopt_bake_workspace {
 
 texopt_bake_workspace *texopt_bake_workspace_create(int max_pixels, int max_channels)
 {
-    if (max_pixels <= 0 || max_pixels > (1 << 24) || max_channels < 1 || max_channels > 4)
+    if (max_pixels <= 0 || max_pixels > (1 << 24) || max_channels < 1 || max_channels > TEXOPT_BAKE_MAX_CHANNELS)
         return NULL;
     texopt_bake_workspace *ws = calloc(1, sizeof *ws);
     if (!ws)
@@ -264,7 +264,7 @@ static void assemble_normal_equations(texopt_bake_workspace *ws, int pixel_count
     double *band = ws->band, *rhs = ws->rhs;
     memset(band, 0, (size_t)ld * (size_t)n * sizeof *band);
     memset(rhs, 0, (size_t)n * (size_t)channels * sizeof *rhs);
-    double mean[4] = {0, 0, 0, 0};
+    double mean[TEXOPT_BAKE_MAX_CHANNELS] = {0};
     for (int q = 0; q < pixel_count; q++) {
         const int *c = ws->cell + 4 * (size_t)q;
         const double *w = ws->weight + 4 * (size_t)q;

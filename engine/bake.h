@@ -7,7 +7,11 @@
  * A = bilinear weight matrix (pixels x touched texels, 4 non-zeros a row). The unknowns are
  * only the texels touched by some footprint; the ridge pulls directions no pixel constrains
  * toward the mean reference colour, so the system is always positive definite. All channels
- * share one factorisation (several right-hand sides). Returns the reconstruction A x, i.e.
+ * share one factorisation (up to TEXOPT_BAKE_MAX_CHANNELS right-hand sides: A depends only
+ * on the positions, so every signal sampled through the same footprints -- colour channels,
+ * normal, ORM and emissive maps of one size -- costs one Cholesky and one cheap triangular
+ * solve pair each; each channel's result is the same as a fit of that channel alone).
+ * Returns the reconstruction A x, i.e.
  * what the screen shows with the baked texture (DESIGN.md 3.1).
  *
  * Speed: the touched texels are numbered in texture row-major order, so A^T A is banded
@@ -26,7 +30,11 @@
 
 typedef struct texopt_bake_workspace texopt_bake_workspace;
 
-/* A workspace sized for up to max_pixels pixels of up to max_channels channels (1..4).
+/* Most right-hand sides of one fit. */
+#define TEXOPT_BAKE_MAX_CHANNELS 16
+
+/* A workspace sized for up to max_pixels pixels of up to max_channels channels
+ * (1..TEXOPT_BAKE_MAX_CHANNELS).
  * Returns NULL on bad arguments or out of memory. */
 texopt_bake_workspace *texopt_bake_workspace_create(int max_pixels, int max_channels);
 

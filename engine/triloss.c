@@ -14,7 +14,8 @@
 #include "sample.h"
 
 #define TRILOSS_RIDGE 1e-6
-#define TRILOSS_BATCH_MAX 4
+/* Signals of one texture size share one bake: one factorisation of A^T A + ridge I. */
+#define TRILOSS_BATCH_MAX TEXOPT_BAKE_MAX_CHANNELS
 
 typedef struct loss_signal {
     int image;   /* model image index */

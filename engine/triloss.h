@@ -18,7 +18,7 @@
  * cancel opposite tilts of a normal. Alpha is not compared. The bake is linear and shares
  * its matrix across channels, so baking luma equals taking the luma of the baked colour:
  * one signal per colour texture is exact, not an approximation. Signals of textures of equal
- * size share bake calls (up to four right-hand sides each).
+ * size share one bake call (up to 16 right-hand sides: one factorisation for all of them).
  *
  * The candidate grid: J moves texels to a new layout whose wrap mode does not matter, so
  * positions are shifted by a whole number of texels to the middle of a grid large enough
