@@ -11,7 +11,9 @@
  * n kd^2 instead of n^3 / 3. Texels are numbered through a dense map over the patch's
  * bounding box (no hashing, no sorting) when the box is small, which is the normal case;
  * footprints that straddle a wrap seam or scatter over a huge texture go through a hash
- * map and a sort instead. */
+ * map and a sort instead. When a minified patch has more touched texels than pixels, the
+ * pixel-side system A A^T + r I (push-through identity, see solve notes below) is factored
+ * instead when its band is cheaper: same minimiser, smaller and narrower system. */
 #include "bake.h"
 
 #include <lapacke.h>
@@ -45,6 +47,13 @@ struct texopt_bake_workspace {
     double *rhs;       /* n x channels, column-major */
     double *column;    /* one column of the factor below its diagonal (kd doubles) */
     int column_capacity;
+    /* the pixel-side system (see solve_pixel_side) */
+    texopt_bake_side side;
+    int last_side;       /* TEXOPT_BAKE_SIDE_TEXEL or _PIXEL of the last fit */
+    int *unknown_start;  /* per unknown + 1: its footprint entries in unknown_entry */
+    int *unknown_entry;  /* footprint entries grouped by unknown */
+    int *pixel_first, *pixel_last; /* envelope of A A^T */
+    double *pixel_rhs;   /* max_pixels x channels */
 };
 
 texopt_bake_workspace *texopt_bake_workspace_create(int max_pixels, int max_channels)
@@ -72,8 +81,14 @@ texopt_bake_workspace *texopt_bake_workspace_create(int max_pixels, int max_chan
     ws->hash_key = malloc(hash_size * sizeof *ws->hash_key);
     ws->hash_value = malloc(hash_size * sizeof *ws->hash_value);
     ws->rhs = malloc(entries * (size_t)max_channels * sizeof *ws->rhs);
+    ws->unknown_start = malloc((entries + 1) * sizeof *ws->unknown_start);
+    ws->unknown_entry = malloc(entries * sizeof *ws->unknown_entry);
+    ws->pixel_first = malloc((size_t)max_pixels * sizeof *ws->pixel_first);
+    ws->pixel_last = malloc((size_t)max_pixels * sizeof *ws->pixel_last);
+    ws->pixel_rhs = malloc((size_t)max_pixels * (size_t)max_channels * sizeof *ws->pixel_rhs);
     if (!ws->rc || !ws->cell || !ws->weight || !ws->texel || !ws->first || !ws->last ||
-        !ws->box || !ws->hash_key || !ws->hash_value || !ws->rhs) {
+        !ws->box || !ws->hash_key || !ws->hash_value || !ws->rhs || !ws->unknown_start ||
+        !ws->unknown_entry || !ws->pixel_first || !ws->pixel_last || !ws->pixel_rhs) {
         texopt_bake_workspace_destroy(ws);
         return NULL;
     }
@@ -97,12 +112,28 @@ void texopt_bake_workspace_destroy(texopt_bake_workspace *ws)
     free(ws->band);
     free(ws->column);
     free(ws->rhs);
+    free(ws->unknown_start);
+    free(ws->unknown_entry);
+    free(ws->pixel_first);
+    free(ws->pixel_last);
+    free(ws->pixel_rhs);
     free(ws);
 }
 
 int texopt_bake_last_texel_count(const texopt_bake_workspace *ws)
 {
     return ws ? ws->last_unknowns : 0;
+}
+
+texopt_bake_side texopt_bake_last_side(const texopt_bake_workspace *ws)
+{
+    return ws ? (texopt_bake_side)ws->last_side : TEXOPT_BAKE_SIDE_AUTO;
+}
+
+void texopt_bake_workspace_set_side(texopt_bake_workspace *ws, texopt_bake_side side)
+{
+    if (ws && side >= TEXOPT_BAKE_SIDE_AUTO && side <= TEXOPT_BAKE_SIDE_PIXEL)
+        ws->side = side;
 }
 
 typedef struct cell_box {
@@ -205,11 +236,28 @@ static int number_through_hash(texopt_bake_workspace *ws, int pixel_count, int w
     return n;
 }
 
-/* The envelope of A^T A: first[i] = the smallest unknown coupled to unknown i, made
- * non-decreasing (a suffix minimum) so that the rows reaching back to column j are exactly
- * j+1 .. last[j]. Cholesky fill stays inside the envelope, so the factorisation and the
- * solves skip the band's zeros outside it (~1/3 of the work for a round patch). Returns
- * the bandwidth kd = max(i - first[i]). */
+/* Closes an envelope: makes first[] non-decreasing (a suffix minimum) so that the rows
+ * reaching back to column j are exactly j+1 .. last[j], fills last[] and returns the
+ * bandwidth kd = max(i - first[i]). */
+static int close_envelope(int *first, int *last, int n)
+{
+    int kd = 0;
+    for (int i = n - 1; i >= 0; i--) {
+        if (i + 1 < n && first[i + 1] < first[i])
+            first[i] = first[i + 1];
+        kd = i - first[i] > kd ? i - first[i] : kd;
+    }
+    for (int j = 0, i = 0; j < n; j++) {
+        while (i + 1 < n && first[i + 1] <= j)
+            i++;
+        last[j] = i > j ? i : j;
+    }
+    return kd;
+}
+
+/* The envelope of A^T A: first[i] = the smallest unknown coupled to unknown i. Cholesky
+ * fill stays inside the envelope, so the factorisation and the solves skip the band's zeros
+ * outside it (~1/3 of the work for a round patch). Returns the bandwidth. */
 static int envelope(texopt_bake_workspace *ws, int pixel_count, int n)
 {
     int *first = ws->first, *last = ws->last;
@@ -223,18 +271,7 @@ static int envelope(texopt_bake_workspace *ws, int pixel_count, int n)
         for (int k = 0; k < 4; k++)
             first[c[k]] = lo < first[c[k]] ? lo : first[c[k]];
     }
-    int kd = 0;
-    for (int i = n - 1; i >= 0; i--) {
-        if (i + 1 < n && first[i + 1] < first[i])
-            first[i] = first[i + 1];
-        kd = i - first[i] > kd ? i - first[i] : kd;
-    }
-    for (int j = 0, i = 0; j < n; j++) {
-        while (i + 1 < n && first[i + 1] <= j)
-            i++;
-        last[j] = i > j ? i : j;
-    }
-    return kd;
+    return close_envelope(first, last, n);
 }
 
 static int reserve_band(texopt_bake_workspace *ws, size_t needed, int kd)
@@ -497,6 +534,141 @@ static void reconstruct(const texopt_bake_workspace *ws, int pixel_count, int n,
     }
 }
 
+/* The pixel side. When the footprints spread over more texels than there are pixels (a
+ * one-ring minified on screen), the texel system is large and, numbered row-major over a
+ * wide patch, has a wide band. With y = x - m (m the mean reference, per channel) the fit is
+ * min |A y - b'|^2 + r |y|^2 with b' = b - m A 1, whose minimiser is, by the push-through
+ * identity (A^T A + r I)^-1 A^T = A^T (A A^T + r I)^-1,
+ *     y = A^T z,   (A A^T + r I) z = b'.
+ * A A^T is pixels x pixels, couples only pixels that share a texel (screen neighbours when
+ * minified) and, in the caller's pixel order (row-major on screen), has a narrow band. The
+ * same banded Cholesky solves it; x = m + A^T z is then the same texel solution. */
+
+/* Footprint entries grouped by unknown (a counting sort): unknown_entry[unknown_start[u] ..
+ * unknown_start[u + 1]) are the entries e (pixel e / 4) on texel u, ascending. ws->texel,
+ * free once the texels are numbered, serves as the fill cursor. */
+static void group_entries_by_unknown(texopt_bake_workspace *ws, int pixel_count, int n)
+{
+    int *start = ws->unknown_start, *cursor = ws->texel, entries = 4 * pixel_count;
+    memset(start, 0, (size_t)(n + 1) * sizeof *start);
+    for (int e = 0; e < entries; e++)
+        start[ws->cell[e] + 1]++;
+    for (int u = 0; u < n; u++)
+        start[u + 1] += start[u];
+    memcpy(cursor, start, (size_t)n * sizeof *cursor);
+    for (int e = 0; e < entries; e++)
+        ws->unknown_entry[cursor[ws->cell[e]]++] = e;
+}
+
+/* The envelope of A A^T: pixel q reaches back to the smallest pixel sharing one of its
+ * texels, which is the first entry of that texel's group. */
+static int pixel_envelope(texopt_bake_workspace *ws, int pixel_count)
+{
+    int *first = ws->pixel_first;
+    for (int q = 0; q < pixel_count; q++) {
+        int lo = q;
+        for (int k = 0; k < 4; k++) {
+            int u = ws->cell[4 * q + k];
+            int p = ws->unknown_entry[ws->unknown_start[u]] >> 2;
+            lo = p < lo ? p : lo;
+        }
+        first[q] = lo;
+    }
+    return close_envelope(first, ws->pixel_last, pixel_count);
+}
+
+/* A A^T + r I in upper band storage and b - m (A 1) as right-hand sides (pixel_rhs). */
+static void assemble_pixel_system(texopt_bake_workspace *ws, int pixel_count, int n, int kd,
+                                  const float *reference, int channels, double ridge,
+                                  const double *mean)
+{
+    int ld = kd + 1;
+    double *band = ws->band;
+    memset(band, 0, (size_t)ld * (size_t)pixel_count * sizeof *band);
+    for (int u = 0; u < n; u++) {
+        for (int i = ws->unknown_start[u]; i < ws->unknown_start[u + 1]; i++) {
+            int e1 = ws->unknown_entry[i], q1 = e1 >> 2;
+            double w1 = ws->weight[e1];
+            /* Entries ascend, so q2 >= q1: the upper triangle. Two entries of one pixel on
+             * the same texel (a clamped footprint) meet in both orders on the diagonal. */
+            band[(size_t)kd + (size_t)q1 * ld] += w1 * w1;
+            for (int j = i + 1; j < ws->unknown_start[u + 1]; j++) {
+                int e2 = ws->unknown_entry[j], q2 = e2 >> 2;
+                double v = w1 * ws->weight[e2];
+                band[(size_t)(kd + q1 - q2) + (size_t)q2 * ld] += q1 == q2 ? 2.0 * v : v;
+            }
+        }
+    }
+    for (int q = 0; q < pixel_count; q++) {
+        const double *w = ws->weight + 4 * (size_t)q;
+        double row_sum = w[0] + w[1] + w[2] + w[3];
+        for (int ch = 0; ch < channels; ch++)
+            ws->pixel_rhs[(size_t)q + (size_t)ch * pixel_count] =
+                (double)reference[(size_t)q * channels + ch] - mean[ch] * row_sum;
+        band[(size_t)kd + (size_t)q * ld] += ridge;
+    }
+}
+
+/* x = m + A^T z, per channel, into ws->rhs (n x channels) for reconstruct(). */
+static void texels_from_pixel_solution(texopt_bake_workspace *ws, int pixel_count, int n,
+                                       int channels, const double *mean)
+{
+    for (int ch = 0; ch < channels; ch++) {
+        double *x = ws->rhs + (size_t)ch * n;
+        const double *z = ws->pixel_rhs + (size_t)ch * pixel_count;
+        for (int i = 0; i < n; i++)
+            x[i] = mean[ch];
+        for (int e = 0; e < 4 * pixel_count; e++)
+            x[ws->cell[e]] += ws->weight[e] * z[e >> 2];
+    }
+}
+
+/* Whether to solve on the pixel side: forced, or when it has more unknowns than pixels and
+ * the banded factorisation (n kd^2) of the pixel system is cheaper. */
+static int choose_pixel_side(const texopt_bake_workspace *ws, int pixel_count, int n, int kd,
+                             int pixel_kd)
+{
+    if (ws->side == TEXOPT_BAKE_SIDE_PIXEL)
+        return 1;
+    double texel_cost = (double)n * (kd + 1.0) * (kd + 1.0);
+    double pixel_cost = (double)pixel_count * (pixel_kd + 1.0) * (pixel_kd + 1.0);
+    return pixel_cost < texel_cost;
+}
+
+static void reference_mean(const float *reference, int pixel_count, int channels, double *mean)
+{
+    for (int ch = 0; ch < channels; ch++)
+        mean[ch] = 0.0;
+    for (int q = 0; q < pixel_count; q++)
+        for (int ch = 0; ch < channels; ch++)
+            mean[ch] += reference[(size_t)q * channels + ch];
+    for (int ch = 0; ch < channels; ch++)
+        mean[ch] /= pixel_count;
+}
+
+static texopt_status fit_pixel_side(texopt_bake_workspace *ws, int pixel_count, int n,
+                                    int pixel_kd, const float *reference, int channels,
+                                    double ridge, float *reconstruction, char *err,
+                                    size_t err_len)
+{
+    if (!reserve_band(ws, (size_t)(pixel_kd + 1) * (size_t)pixel_count, pixel_kd))
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "bake: band of %d x %d", pixel_kd + 1,
+                           pixel_count);
+    double mean[TEXOPT_BAKE_MAX_CHANNELS];
+    reference_mean(reference, pixel_count, channels, mean);
+    assemble_pixel_system(ws, pixel_count, n, pixel_kd, reference, channels, ridge, mean);
+    if (!band_cholesky(ws->solver, ws->band, pixel_count, pixel_kd, ws->pixel_last, ws->column))
+        return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
+                           "bake: pixel system of %d pixels is not positive definite",
+                           pixel_count);
+    band_solve(ws->band, pixel_count, pixel_kd, ws->pixel_first, ws->pixel_rhs, channels);
+    texels_from_pixel_solution(ws, pixel_count, n, channels, mean);
+    reconstruct(ws, pixel_count, n, channels, reconstruction);
+    ws->last_unknowns = n;
+    ws->last_side = TEXOPT_BAKE_SIDE_PIXEL;
+    return TEXOPT_OK;
+}
+
 texopt_status texopt_bake_fit(texopt_bake_workspace *ws, int pixel_count, const double *texel_pos,
                               const float *reference, int channels, int width, int height,
                               texopt_wrap wrap_s, texopt_wrap wrap_t, double ridge,
@@ -527,6 +699,14 @@ texopt_status texopt_bake_fit(texopt_bake_workspace *ws, int pixel_count, const 
                 ? number_through_box(ws, pixel_count, box)
                 : number_through_hash(ws, pixel_count, width);
     int kd = envelope(ws, pixel_count, n);
+    if (ws->side != TEXOPT_BAKE_SIDE_TEXEL &&
+        (ws->side == TEXOPT_BAKE_SIDE_PIXEL || n > pixel_count)) {
+        group_entries_by_unknown(ws, pixel_count, n);
+        int pixel_kd = pixel_envelope(ws, pixel_count);
+        if (choose_pixel_side(ws, pixel_count, n, kd, pixel_kd))
+            return fit_pixel_side(ws, pixel_count, n, pixel_kd, reference, channels, ridge,
+                                  reconstruction, err, err_len);
+    }
     if (!reserve_band(ws, (size_t)(kd + 1) * (size_t)n, kd))
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "bake: band of %d x %d", kd + 1, n);
     assemble_normal_equations(ws, pixel_count, n, kd, reference, channels, ridge);
@@ -536,5 +716,6 @@ texopt_status texopt_bake_fit(texopt_bake_workspace *ws, int pixel_count, const 
     band_solve(ws->band, n, kd, ws->first, ws->rhs, channels);
     reconstruct(ws, pixel_count, n, channels, reconstruction);
     ws->last_unknowns = n;
+    ws->last_side = TEXOPT_BAKE_SIDE_TEXEL;
     return TEXOPT_OK;
 }

@@ -54,6 +54,20 @@ typedef enum texopt_bake_solver {
 /* Ignores NULL workspaces and unknown values. */
 void texopt_bake_workspace_set_solver(texopt_bake_workspace *ws, texopt_bake_solver solver);
 
+/* Which system is factored. TEXEL: the normal equations A^T A + r I (unknowns x unknowns).
+ * PIXEL: A A^T + r I (pixels x pixels) and x = m + A^T z, the same minimiser by the
+ * push-through identity, cheaper when a minified patch has more texels than pixels. AUTO
+ * (the default) takes the pixel side when there are more unknowns than pixels and its
+ * banded factorisation costs less. Both give the same result to rounding. */
+typedef enum texopt_bake_side {
+    TEXOPT_BAKE_SIDE_AUTO = 0,
+    TEXOPT_BAKE_SIDE_TEXEL,
+    TEXOPT_BAKE_SIDE_PIXEL
+} texopt_bake_side;
+
+/* Ignores NULL workspaces and unknown values. */
+void texopt_bake_workspace_set_side(texopt_bake_workspace *ws, texopt_bake_side side);
+
 /* Fits the texels and writes the reconstruction.
  *   pixel_count   number of pixels (<= max_pixels); 0 is allowed and does nothing
  *   texel_pos     2 doubles per pixel: the candidate texel position p(q) = J p_hat(q)
@@ -71,5 +85,8 @@ texopt_status texopt_bake_fit(texopt_bake_workspace *ws, int pixel_count, const 
 
 /* Number of unknown texels of the last successful fit (for benchmarks and tests). */
 int texopt_bake_last_texel_count(const texopt_bake_workspace *ws);
+
+/* The side (TEXEL or PIXEL) the last successful fit solved; AUTO before any. */
+texopt_bake_side texopt_bake_last_side(const texopt_bake_workspace *ws);
 
 #endif

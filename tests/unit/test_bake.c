@@ -341,6 +341,60 @@ TEST(sixteen_channel_fit_equals_separate_single_channel_fits)
     texopt_bake_workspace_destroy(single);
 }
 
+/* A minified patch (2.7 texels a pixel) has ~4 unknowns per pixel: the pixel-side system
+ * A A^T + r I must give the texel side's reconstruction (push-through identity), and both
+ * the dense textbook solve's. */
+static void fit_on_side(texopt_bake_side side, const double *pos, const float *ref, int pixels,
+                        int channels, double ridge, float *out, texopt_bake_side *used)
+{
+    texopt_bake_workspace *ws = texopt_bake_workspace_create(pixels, channels);
+    CHECK(ws != NULL);
+    texopt_bake_workspace_set_side(ws, side);
+    char err[256] = "";
+    CHECK_OK(texopt_bake_fit(ws, pixels, pos, ref, channels, 96, 96, TEXOPT_WRAP_CLAMP,
+                             TEXOPT_WRAP_CLAMP, ridge, out, err, sizeof err),
+             err);
+    CHECK(texopt_bake_last_texel_count(ws) > 2 * pixels);
+    *used = texopt_bake_last_side(ws);
+    texopt_bake_workspace_destroy(ws);
+}
+
+TEST(pixel_side_solve_equals_texel_side_on_a_minified_patch)
+{
+    enum { S = 20, C = 2 };
+    double pos[2 * S * S], expect[C * S * S];
+    float ref[C * S * S], texel_out[C * S * S], pixel_out[C * S * S], auto_out[C * S * S];
+    const double minify[4] = {2.6, 0.7, -0.6, 2.5};
+    screen_positions(S, minify, 20.3, 7.9, pos);
+    reference_on_screen(S, C, ref);
+    const double ridges[2] = {1e-6, 1e-2};
+    for (int r = 0; r < 2; r++) {
+        texopt_bake_side used_texel, used_pixel, used_auto;
+        fit_on_side(TEXOPT_BAKE_SIDE_TEXEL, pos, ref, S * S, C, ridges[r], texel_out, &used_texel);
+        fit_on_side(TEXOPT_BAKE_SIDE_PIXEL, pos, ref, S * S, C, ridges[r], pixel_out, &used_pixel);
+        fit_on_side(TEXOPT_BAKE_SIDE_AUTO, pos, ref, S * S, C, ridges[r], auto_out, &used_auto);
+        CHECK(used_texel == TEXOPT_BAKE_SIDE_TEXEL);
+        CHECK(used_pixel == TEXOPT_BAKE_SIDE_PIXEL);
+        CHECK(used_auto == TEXOPT_BAKE_SIDE_PIXEL);
+        CHECK(dense_reference_fit(S * S, pos, ref, C, 96, 96, TEXOPT_WRAP_CLAMP,
+                                  TEXOPT_WRAP_CLAMP, ridges[r], expect));
+        double worst = 0.0, residual = 0.0;
+        for (int k = 0; k < C * S * S; k++) {
+            worst = fmax(worst, fabs((double)pixel_out[k] - texel_out[k]));
+            CHECK_NEAR(pixel_out[k], expect[k], 2e-5);
+            CHECK(auto_out[k] == pixel_out[k]);
+            residual = fmax(residual, fabs((double)pixel_out[k] - ref[k]));
+        }
+        CHECK_MSG(worst <= 1e-6, "ridge %g: sides differ by %g", ridges[r], worst);
+        /* Many more texels than pixels: the tiny ridge nearly interpolates, the strong one
+         * visibly does not (so the ridge and mean terms are really exercised). */
+        if (r == 0)
+            CHECK_MSG(residual < 1e-4, "residual %g", residual);
+        else
+            CHECK_MSG(residual > 1e-3, "residual %g", residual);
+    }
+}
+
 TEST(bake_rejects_bad_arguments_with_messages)
 {
     texopt_bake_workspace *ws = texopt_bake_workspace_create(4, 3);
