@@ -161,6 +161,90 @@ double texopt_gmsd_ws(texopt_gmsd_workspace *ws, const float *reference, const f
     return sample_deviation(ws->gms, counted);
 }
 
+struct texopt_gmsd_reference {
+    int max_width, max_height, width, height;
+    double *down;       /* framed downsampled reference */
+    unsigned char *down_covered;
+    int *counted;       /* downsampled pixels entering the deviation, row-major */
+    double *magnitude;  /* the reference's Prewitt magnitude at each of them */
+    size_t count;
+};
+
+texopt_gmsd_reference *texopt_gmsd_reference_create(int max_width, int max_height)
+{
+    if (max_width <= 0 || max_height <= 0 || max_width > 65536 || max_height > 65536)
+        return NULL;
+    texopt_gmsd_reference *r = calloc(1, sizeof *r);
+    if (!r)
+        return NULL;
+    size_t n = (size_t)((max_width + 1) / 2) * (size_t)((max_height + 1) / 2);
+    size_t padded = (size_t)((max_width + 1) / 2 + 2) * (size_t)((max_height + 1) / 2 + 2);
+    r->max_width = max_width;
+    r->max_height = max_height;
+    r->down = malloc(padded * sizeof *r->down);
+    r->down_covered = malloc(n);
+    r->counted = malloc(n * sizeof *r->counted);
+    r->magnitude = malloc(n * sizeof *r->magnitude);
+    if (!r->down || !r->down_covered || !r->counted || !r->magnitude) {
+        texopt_gmsd_reference_destroy(r);
+        return NULL;
+    }
+    return r;
+}
+
+void texopt_gmsd_reference_destroy(texopt_gmsd_reference *r)
+{
+    if (!r)
+        return;
+    free(r->down);
+    free(r->down_covered);
+    free(r->counted);
+    free(r->magnitude);
+    free(r);
+}
+
+int texopt_gmsd_reference_set(texopt_gmsd_reference *r, const float *reference,
+                              const unsigned char *mask, int width, int height)
+{
+    if (!r || !reference || width <= 0 || height <= 0 || width > r->max_width ||
+        height > r->max_height)
+        return 0;
+    int dw = (width + 1) / 2, dh = (height + 1) / 2;
+    r->width = width;
+    r->height = height;
+    average_downsample(reference, width, height, r->down);
+    if (mask)
+        downsample_mask(mask, width, height, r->down_covered);
+    r->count = 0;
+    for (int i = 0; i < dh; i++) {
+        for (int j = 0; j < dw; j++) {
+            if (mask && !support_covered(r->down_covered, dw, dh, i, j))
+                continue;
+            r->counted[r->count] = i * dw + j;
+            r->magnitude[r->count++] = prewitt_magnitude(r->down, dw, i, j);
+        }
+    }
+    return 1;
+}
+
+double texopt_gmsd_against(texopt_gmsd_workspace *ws, const texopt_gmsd_reference *r,
+                           const float *distorted)
+{
+    if (!ws || !r || !distorted || r->width <= 0 || r->width > ws->max_width ||
+        r->height > ws->max_height)
+        return NAN;
+    int dw = (r->width + 1) / 2;
+    average_downsample(distorted, r->width, r->height, ws->down_dist);
+    /* Same operations in the same order as texopt_gmsd_ws, so the same bits. */
+    for (size_t k = 0; k < r->count; k++) {
+        int i = r->counted[k] / dw, j = r->counted[k] % dw;
+        double m1 = r->magnitude[k];
+        double m2 = prewitt_magnitude(ws->down_dist, dw, i, j);
+        ws->gms[k] = (2.0 * m1 * m2 + GMSD_T) / (m1 * m1 + m2 * m2 + GMSD_T);
+    }
+    return sample_deviation(ws->gms, r->count);
+}
+
 double texopt_gmsd(const float *reference, const float *distorted, const unsigned char *mask,
                    int width, int height)
 {

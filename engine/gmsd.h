@@ -37,6 +37,29 @@ void texopt_gmsd_workspace_destroy(texopt_gmsd_workspace *ws);
 double texopt_gmsd_ws(texopt_gmsd_workspace *ws, const float *reference, const float *distorted,
                       const unsigned char *mask, int width, int height);
 
+/* The reference side prepared once for many distorted images under one mask (the stage-1
+ * loss compares every candidate with the same reference): which downsampled pixels count
+ * and the reference's gradient magnitude there. texopt_gmsd_against then returns exactly
+ * (bit for bit) what texopt_gmsd_ws returns for the same images and mask, at about half the
+ * cost. */
+typedef struct texopt_gmsd_reference texopt_gmsd_reference;
+
+/* For images of up to max_width x max_height; NULL on bad size or no memory. */
+texopt_gmsd_reference *texopt_gmsd_reference_create(int max_width, int max_height);
+
+/* Accepts NULL. */
+void texopt_gmsd_reference_destroy(texopt_gmsd_reference *ref);
+
+/* Prepares `reference` (width x height, mask as in texopt_gmsd_ws, NULL = every pixel).
+ * Returns 0 on bad arguments, 1 otherwise. */
+int texopt_gmsd_reference_set(texopt_gmsd_reference *ref, const float *reference,
+                              const unsigned char *mask, int width, int height);
+
+/* GMSD of the prepared reference and `distorted` (same size); ws must hold that size.
+ * NaN on bad arguments. */
+double texopt_gmsd_against(texopt_gmsd_workspace *ws, const texopt_gmsd_reference *ref,
+                           const float *distorted);
+
 /* The same with a temporary workspace (allocates; NaN also when out of memory). */
 double texopt_gmsd(const float *reference, const float *distorted, const unsigned char *mask,
                    int width, int height);

@@ -49,6 +49,7 @@ struct texopt_triloss {
     float *reference;    /* per batch: n x signal_count values, at n * first_signal */
     float *ref_img;      /* per signal: size x size image, 0 where uncovered */
     unsigned char *mask; /* size x size */
+    texopt_gmsd_reference **gmsd_ref; /* per signal: its GMSD side prepared once */
 
     /* per-candidate scratch */
     double *pos;
@@ -192,8 +193,12 @@ texopt_status texopt_triloss_create(texopt_triloss **out, const texopt_model *mo
         tl->dist_img = calloc(px, sizeof *tl->dist_img);
         tl->bake = texopt_bake_workspace_create((int)px, TRILOSS_BATCH_MAX);
         tl->gmsd = texopt_gmsd_workspace_create(viewport, viewport);
+        tl->gmsd_ref = calloc((size_t)tl->signal_count, sizeof *tl->gmsd_ref);
+        int refs_ok = tl->gmsd_ref != NULL;
+        for (int s = 0; refs_ok && s < tl->signal_count; s++)
+            refs_ok = (tl->gmsd_ref[s] = texopt_gmsd_reference_create(viewport, viewport)) != NULL;
         if (!tl->pixel || !tl->phat || !tl->reference || !tl->ref_img || !tl->mask ||
-            !tl->pos || !tl->recon || !tl->dist_img || !tl->bake || !tl->gmsd)
+            !tl->pos || !tl->recon || !tl->dist_img || !tl->bake || !tl->gmsd || !refs_ok)
             st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "triloss: out of memory for a %dx%d view",
                              viewport, viewport);
     }
@@ -222,6 +227,9 @@ void texopt_triloss_destroy(texopt_triloss *tl)
     free(tl->dist_img);
     texopt_bake_workspace_destroy(tl->bake);
     texopt_gmsd_workspace_destroy(tl->gmsd);
+    for (int s = 0; tl->gmsd_ref && s < tl->signal_count; s++)
+        texopt_gmsd_reference_destroy(tl->gmsd_ref[s]);
+    free(tl->gmsd_ref);
     free(tl);
 }
 
@@ -267,6 +275,9 @@ static void sample_references(texopt_triloss *tl)
                 block[k * (size_t)batch->signal_count + (size_t)s] = value;
                 image_out[tl->pixel[k]] = value;
             }
+            /* Cannot fail: the image is the viewport the reference was created for. */
+            texopt_gmsd_reference_set(tl->gmsd_ref[batch->first_signal + s], image_out,
+                                      tl->mask, tl->size, tl->size);
         }
     }
 }
@@ -325,7 +336,6 @@ texopt_status texopt_triloss_eval(texopt_triloss *tl, const double jacobian[4],
     *out_loss = 0.0;
     if (tl->n == 0)
         return TEXOPT_OK;
-    size_t px = (size_t)tl->size * (size_t)tl->size;
     double worst = 0.0;
     for (int b = 0; b < tl->batch_count; b++) {
         const loss_batch *batch = &tl->batches[b];
@@ -342,8 +352,8 @@ texopt_status texopt_triloss_eval(texopt_triloss *tl, const double jacobian[4],
         for (int s = 0; s < batch->signal_count; s++) {
             for (size_t k = 0; k < tl->n; k++)
                 tl->dist_img[tl->pixel[k]] = tl->recon[k * (size_t)batch->signal_count + (size_t)s];
-            const float *ref = tl->ref_img + px * (size_t)(batch->first_signal + s);
-            double e = texopt_gmsd_ws(tl->gmsd, ref, tl->dist_img, tl->mask, tl->size, tl->size);
+            double e = texopt_gmsd_against(tl->gmsd, tl->gmsd_ref[batch->first_signal + s],
+                                           tl->dist_img);
             if (!isfinite(e))
                 return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
                                    "triloss: GMSD is not finite for signal %d",

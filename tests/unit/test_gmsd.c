@@ -157,3 +157,41 @@ TEST(gmsd_workspace_reuse_and_bad_arguments)
     texopt_gmsd_workspace_destroy(NULL);
     CHECK(texopt_gmsd_workspace_create(0, 4) == NULL);
 }
+
+/* The prepared reference gives texopt_gmsd_ws's value bit for bit, for several distorted
+ * images against one reference, with and without a mask, odd sizes, and after re-preparing
+ * a smaller image. */
+TEST(prepared_reference_equals_gmsd_ws_exactly)
+{
+    enum { W = 41, H = 37 };
+    float a[W * H], b[W * H];
+    unsigned char mask[W * H];
+    fill_pattern(a, W, H, 21);
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            mask[y * W + x] = (unsigned char)((x - 19) * (x - 19) + (y - 17) * (y - 17) < 16 * 16);
+    texopt_gmsd_workspace *ws = texopt_gmsd_workspace_create(W, H);
+    texopt_gmsd_reference *ref = texopt_gmsd_reference_create(W, H);
+    CHECK(ws != NULL && ref != NULL);
+    for (int masked = 0; masked < 2; masked++) {
+        const unsigned char *m = masked ? mask : NULL;
+        CHECK(texopt_gmsd_reference_set(ref, a, m, W, H));
+        for (int seed = 22; seed < 26; seed++) {
+            fill_pattern(b, W, H, seed);
+            double expect = texopt_gmsd_ws(ws, a, b, m, W, H);
+            CHECK(expect > 0.0);
+            CHECK(texopt_gmsd_against(ws, ref, b) == expect);
+        }
+        CHECK(texopt_gmsd_against(ws, ref, a) == 0.0);
+    }
+    CHECK(texopt_gmsd_reference_set(ref, a, mask, 17, 9));
+    fill_pattern(b, W, H, 30);
+    CHECK(texopt_gmsd_against(ws, ref, b) == texopt_gmsd_ws(ws, a, b, mask, 17, 9));
+    CHECK(!texopt_gmsd_reference_set(ref, a, mask, W + 1, H));
+    CHECK(!texopt_gmsd_reference_set(ref, NULL, mask, W, H));
+    CHECK(isnan(texopt_gmsd_against(ws, ref, NULL)));
+    CHECK(texopt_gmsd_reference_create(0, 3) == NULL);
+    texopt_gmsd_reference_destroy(ref);
+    texopt_gmsd_reference_destroy(NULL);
+    texopt_gmsd_workspace_destroy(ws);
+}
