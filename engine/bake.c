@@ -44,7 +44,7 @@ struct texopt_bake_workspace {
     /* normal equations */
     double *band;      /* (kd + 1) x n, LAPACK upper band storage */
     size_t band_capacity;
-    double *rhs;       /* n x channels, column-major */
+    double *rhs;       /* n x channels, row-major: a texel's channels side by side */
     double *column;    /* one column of the factor below its diagonal (kd doubles) */
     int column_capacity;
     /* the pixel-side system (see solve_pixel_side) */
@@ -53,7 +53,7 @@ struct texopt_bake_workspace {
     int *unknown_start;  /* per unknown + 1: its footprint entries in unknown_entry */
     int *unknown_entry;  /* footprint entries grouped by unknown */
     int *pixel_first, *pixel_last; /* envelope of A A^T */
-    double *pixel_rhs;   /* max_pixels x channels */
+    double *pixel_rhs;   /* max_pixels x channels, row-major */
 };
 
 texopt_bake_workspace *texopt_bake_workspace_create(int max_pixels, int max_channels)
@@ -320,13 +320,10 @@ static void assemble_normal_equations(texopt_bake_workspace *ws, int pixel_count
                     if (c[a] <= c[b])
                         band[(size_t)(kd + c[a] - c[b]) + (size_t)c[b] * ld] += w[a] * w[b];
         }
-        for (int ch = 0; ch < channels; ch++) {
-            double *r = rhs + (size_t)ch * n;
-            double v = ref[ch];
-            r[c[0]] += w[0] * v;
-            r[c[1]] += w[1] * v;
-            r[c[2]] += w[2] * v;
-            r[c[3]] += w[3] * v;
+        for (int k = 0; k < 4; k++) {
+            double *r = rhs + (size_t)c[k] * channels;
+            for (int ch = 0; ch < channels; ch++)
+                r[ch] += w[k] * ref[ch];
         }
         for (int ch = 0; ch < channels; ch++)
             mean[ch] += ref[ch];
@@ -334,7 +331,7 @@ static void assemble_normal_equations(texopt_bake_workspace *ws, int pixel_count
     for (int ch = 0; ch < channels; ch++) {
         double m = mean[ch] / pixel_count;
         for (int i = 0; i < n; i++)
-            rhs[(size_t)i + (size_t)ch * n] += ridge * m;
+            rhs[(size_t)i * channels + ch] += ridge * m;
     }
     for (int i = 0; i < n; i++)
         band[(size_t)kd + (size_t)i * ld] += ridge;
@@ -498,39 +495,83 @@ static double dot2(const double *a, const double *b, int count)
     return s;
 }
 
-/* Solves L L^T x = b for each channel's column of rhs (n x channels), in place. */
-static void band_solve(const double *band, int n, int kd, const int *envelope_first,
-                       double *rhs, int channels)
+/* row[c] -= f * src[c] for the channels of one texel, two lanes at a time. */
+static inline void subtract_row(double *restrict row, const double *restrict src, double f,
+                                int channels)
+{
+    bake_v2 fv = {f, f};
+    int c = 0;
+    for (; c + 2 <= channels; c += 2) {
+        bake_v2 a, b;
+        memcpy(&a, row + c, sizeof a);
+        memcpy(&b, src + c, sizeof b);
+        a -= fv * b;
+        memcpy(row + c, &a, sizeof a);
+    }
+    for (; c < channels; c++)
+        row[c] -= f * src[c];
+}
+
+/* Several channels: every row of L is read once per triangular solve for all of them (the
+ * channels of a texel are the vector lanes), instead of once per channel. */
+static void band_solve_channels(const double *band, int n, int kd, const int *envelope_first,
+                                double *rhs, int channels)
 {
     int ld = kd + 1;
-    for (int c = 0; c < channels; c++) {
-        double *x = rhs + (size_t)c * n;
-        for (int i = 0; i < n; i++) {
-            const double *li = band + (size_t)i * ld + kd - i;
-            int first = envelope_first[i];
-            x[i] = (x[i] - dot2(li + first, x + first, i - first)) / li[i];
-        }
-        for (int i = n - 1; i >= 0; i--) {
-            const double *li = band + (size_t)i * ld + kd - i;
-            int first = envelope_first[i];
-            double xi = x[i] / li[i];
-            x[i] = xi;
-            subtract_scaled(x + first, li + first, xi, i - first);
-        }
+    for (int i = 0; i < n; i++) {
+        const double *li = band + (size_t)i * ld + kd - i;
+        double *xi = rhs + (size_t)i * channels;
+        for (int k = envelope_first[i]; k < i; k++)
+            subtract_row(xi, rhs + (size_t)k * channels, li[k], channels);
+        for (int c = 0; c < channels; c++)
+            xi[c] /= li[i];
+    }
+    for (int i = n - 1; i >= 0; i--) {
+        const double *li = band + (size_t)i * ld + kd - i;
+        double *xi = rhs + (size_t)i * channels;
+        for (int c = 0; c < channels; c++)
+            xi[c] /= li[i];
+        for (int k = envelope_first[i]; k < i; k++)
+            subtract_row(rhs + (size_t)k * channels, xi, li[k], channels);
     }
 }
 
-static void reconstruct(const texopt_bake_workspace *ws, int pixel_count, int n, int channels,
-                        float *out)
+/* Solves L L^T X = B in place, B row-major n x channels. */
+static void band_solve(const double *band, int n, int kd, const int *envelope_first,
+                       double *rhs, int channels)
+{
+    if (channels > 1) {
+        band_solve_channels(band, n, kd, envelope_first, rhs, channels);
+        return;
+    }
+    int ld = kd + 1;
+    double *x = rhs;
+    for (int i = 0; i < n; i++) {
+        const double *li = band + (size_t)i * ld + kd - i;
+        int first = envelope_first[i];
+        x[i] = (x[i] - dot2(li + first, x + first, i - first)) / li[i];
+    }
+    for (int i = n - 1; i >= 0; i--) {
+        const double *li = band + (size_t)i * ld + kd - i;
+        int first = envelope_first[i];
+        double xi = x[i] / li[i];
+        x[i] = xi;
+        subtract_scaled(x + first, li + first, xi, i - first);
+    }
+}
+
+static void reconstruct(const texopt_bake_workspace *ws, int pixel_count, int channels, float *out)
 {
     for (int q = 0; q < pixel_count; q++) {
         const int *c = ws->cell + 4 * (size_t)q;
         const double *w = ws->weight + 4 * (size_t)q;
-        for (int ch = 0; ch < channels; ch++) {
-            const double *x = ws->rhs + (size_t)ch * n;
+        const double *x0 = ws->rhs + (size_t)c[0] * channels;
+        const double *x1 = ws->rhs + (size_t)c[1] * channels;
+        const double *x2 = ws->rhs + (size_t)c[2] * channels;
+        const double *x3 = ws->rhs + (size_t)c[3] * channels;
+        for (int ch = 0; ch < channels; ch++)
             out[(size_t)q * channels + ch] =
-                (float)(w[0] * x[c[0]] + w[1] * x[c[1]] + w[2] * x[c[2]] + w[3] * x[c[3]]);
-        }
+                (float)(w[0] * x0[ch] + w[1] * x1[ch] + w[2] * x2[ch] + w[3] * x3[ch]);
     }
 }
 
@@ -603,7 +644,7 @@ static void assemble_pixel_system(texopt_bake_workspace *ws, int pixel_count, in
         const double *w = ws->weight + 4 * (size_t)q;
         double row_sum = w[0] + w[1] + w[2] + w[3];
         for (int ch = 0; ch < channels; ch++)
-            ws->pixel_rhs[(size_t)q + (size_t)ch * pixel_count] =
+            ws->pixel_rhs[(size_t)q * channels + ch] =
                 (double)reference[(size_t)q * channels + ch] - mean[ch] * row_sum;
         band[(size_t)kd + (size_t)q * ld] += ridge;
     }
@@ -613,13 +654,14 @@ static void assemble_pixel_system(texopt_bake_workspace *ws, int pixel_count, in
 static void texels_from_pixel_solution(texopt_bake_workspace *ws, int pixel_count, int n,
                                        int channels, const double *mean)
 {
-    for (int ch = 0; ch < channels; ch++) {
-        double *x = ws->rhs + (size_t)ch * n;
-        const double *z = ws->pixel_rhs + (size_t)ch * pixel_count;
-        for (int i = 0; i < n; i++)
-            x[i] = mean[ch];
-        for (int e = 0; e < 4 * pixel_count; e++)
-            x[ws->cell[e]] += ws->weight[e] * z[e >> 2];
+    for (int i = 0; i < n; i++)
+        for (int ch = 0; ch < channels; ch++)
+            ws->rhs[(size_t)i * channels + ch] = mean[ch];
+    for (int e = 0; e < 4 * pixel_count; e++) {
+        double *x = ws->rhs + (size_t)ws->cell[e] * channels;
+        const double *z = ws->pixel_rhs + (size_t)(e >> 2) * channels;
+        for (int ch = 0; ch < channels; ch++)
+            x[ch] += ws->weight[e] * z[ch];
     }
 }
 
@@ -663,7 +705,7 @@ static texopt_status fit_pixel_side(texopt_bake_workspace *ws, int pixel_count, 
                            pixel_count);
     band_solve(ws->band, pixel_count, pixel_kd, ws->pixel_first, ws->pixel_rhs, channels);
     texels_from_pixel_solution(ws, pixel_count, n, channels, mean);
-    reconstruct(ws, pixel_count, n, channels, reconstruction);
+    reconstruct(ws, pixel_count, channels, reconstruction);
     ws->last_unknowns = n;
     ws->last_side = TEXOPT_BAKE_SIDE_PIXEL;
     return TEXOPT_OK;
@@ -714,7 +756,7 @@ texopt_status texopt_bake_fit(texopt_bake_workspace *ws, int pixel_count, const 
         return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
                            "bake: normal equations of %d texels are not positive definite", n);
     band_solve(ws->band, n, kd, ws->first, ws->rhs, channels);
-    reconstruct(ws, pixel_count, n, channels, reconstruction);
+    reconstruct(ws, pixel_count, channels, reconstruction);
     ws->last_unknowns = n;
     ws->last_side = TEXOPT_BAKE_SIDE_TEXEL;
     return TEXOPT_OK;
