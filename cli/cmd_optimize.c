@@ -5,7 +5,6 @@
  * per stage and per 10% otherwise, nothing with --quiet. SIGINT/SIGTERM raise the engine's
  * cancel flag; the job stops at its next checkpoint and the command exits 3. Implements no
  * part of Sun et al. 2022 itself; it is the asset-pipeline front end of the engine. */
-#include <cblas.h>
 #include <errno.h>
 #include <signal.h>
 #include <stdatomic.h>
@@ -207,16 +206,6 @@ static int parse_args(int argc, char **argv, optimize_args *a)
     return -1;
 }
 
-/* The engine runs its own worker threads; OpenBLAS's spinning threads on top of them cost
- * ~20x in wall time on two cores, and llvmpipe renders small viewports faster unthreaded
- * (shared/DEPENDENCIES.md). A user's explicit environment wins. */
-static void tune_libraries(void)
-{
-    if (!getenv("OPENBLAS_NUM_THREADS"))
-        openblas_set_num_threads(1);
-    setenv("LP_NUM_THREADS", "0", 0);
-}
-
 static void install_signal_handlers(void)
 {
     struct sigaction sa;
@@ -241,7 +230,6 @@ int cmd_optimize(int argc, char **argv)
         fprintf(stderr, "texopt optimize: %s\n", err);
         return EXIT_USAGE;
     }
-    tune_libraries();
     install_signal_handlers();
     progress_view view = {isatty(STDERR_FILENO), NULL, -1, 0};
     texopt_monitor monitor = {a.quiet ? NULL : show_progress, &view, &cancel_requested};

@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "commands.h"
+#include "library_threads.h"
 
 static const cli_command commands[] = {
     /* {"name", "summary", cmd_name}, one line per cmd_*.c */
@@ -36,6 +37,7 @@ int main(int argc, char **argv)
         printf("texopt 0.1.0\n");
         return EXIT_OK;
     }
+    texopt_limit_library_threads();
     for (size_t i = 0; commands[i].name; i++)
         if (strcmp(argv[1], commands[i].name) == 0)
             return commands[i].run(argc - 2, argv + 2);

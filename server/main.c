@@ -16,6 +16,7 @@
 #include <time.h>
 
 #include "config.h"
+#include "library_threads.h"
 #include "fsutil.h"
 #include "log.h"
 #include "metrics.h"
@@ -77,10 +78,8 @@ static int fail_start(const char *what, const char *err)
 
 int main(int argc, char **argv)
 {
-    /* Before any engine thread exists (see DEPENDENCIES.md: llvmpipe and OpenBLAS threads
-     * would otherwise compete with the job's own threads). */
-    setenv("LP_NUM_THREADS", "0", 0);
-    setenv("OPENBLAS_NUM_THREADS", "1", 0);
+    /* Before any engine thread exists (library_threads.h says why). */
+    texopt_limit_library_threads();
 
     api_service svc;
     memset(&svc, 0, sizeof svc);
