@@ -5,23 +5,15 @@
  * against IN (engine/compare.h, Sun et al. 2022 section 5.1), prints a table of q, and
  * writes the curves as JSON and the self-contained HTML report (engine/report.h). Ctrl-C
  * stops at the next checkpoint (exit 3). */
-#include <signal.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "cancel.h"
 #include "commands.h"
 #include "compare.h"
 #include "report.h"
-
-static atomic_int cancel_requested;
-
-static void on_signal(int sig)
-{
-    (void)sig;
-    atomic_store(&cancel_requested, 1);
-}
 
 static void usage(FILE *out)
 {
@@ -207,10 +199,8 @@ int cmd_compare(int argc, char **argv)
     opt.method_count = method_count;
     opt.costs = costs;
     opt.cost_count = cost_count;
-    texopt_monitor monitor = {quiet ? NULL : show_progress, NULL, &cancel_requested};
+    texopt_monitor monitor = {quiet ? NULL : show_progress, NULL, cli_cancel_on_signals()};
     opt.monitor = &monitor;
-    signal(SIGINT, on_signal);
-    signal(SIGTERM, on_signal);
 
     char err[512] = "";
     texopt_compare_result r;

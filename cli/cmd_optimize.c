@@ -6,25 +6,16 @@
  * cancel flag; the job stops at its next checkpoint and the command exits 3. Implements no
  * part of Sun et al. 2022 itself; it is the asset-pipeline front end of the engine. */
 #include <errno.h>
-#include <signal.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
+#include "cancel.h"
 #include "commands.h"
 #include "params.h"
 #include "pipeline.h"
-
-/* The one piece of process state a signal handler may touch. */
-static atomic_int cancel_requested;
-
-static void on_signal(int sig)
-{
-    (void)sig;
-    atomic_store(&cancel_requested, 1);
-}
 
 static void usage(FILE *out)
 {
@@ -206,16 +197,6 @@ static int parse_args(int argc, char **argv, optimize_args *a)
     return -1;
 }
 
-static void install_signal_handlers(void)
-{
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
-}
-
 int cmd_optimize(int argc, char **argv)
 {
     optimize_args a;
@@ -230,9 +211,9 @@ int cmd_optimize(int argc, char **argv)
         fprintf(stderr, "texopt optimize: %s\n", err);
         return EXIT_USAGE;
     }
-    install_signal_handlers();
+    const atomic_int *cancel = cli_cancel_on_signals();
     progress_view view = {isatty(STDERR_FILENO), NULL, -1, 0};
-    texopt_monitor monitor = {a.quiet ? NULL : show_progress, &view, &cancel_requested};
+    texopt_monitor monitor = {a.quiet ? NULL : show_progress, &view, cancel};
     texopt_status st = texopt_optimize_file(a.input, a.output, a.stats, &a.params, &monitor, err,
                                             sizeof err);
     if (view.drew)
