@@ -59,6 +59,19 @@ enum MHD_Result http_send(request_ctx *rq, struct MHD_Connection *c, int status,
     return ok;
 }
 
+struct MHD_Response *http_response_owning(char *body, const char *content_type)
+{
+    if (!body)
+        return NULL;
+    struct MHD_Response *r = MHD_create_response_from_buffer(strlen(body), body, MHD_RESPMEM_MUST_FREE);
+    if (!r) {
+        free(body);
+        return NULL;
+    }
+    MHD_add_response_header(r, "Content-Type", content_type);
+    return r;
+}
+
 enum MHD_Result http_send_text(request_ctx *rq, struct MHD_Connection *c, int status, const char *content_type,
                                const char *body, size_t len)
 {
@@ -78,15 +91,10 @@ enum MHD_Result http_send_problem(request_ctx *rq, struct MHD_Connection *c, int
     va_start(ap, fmt);
     vsnprintf(detail, sizeof detail, fmt, ap);
     va_end(ap);
-    char *body = api_problem_json(status, slug, detail, rq->path);
-    if (!body)
+    struct MHD_Response *r =
+        http_response_owning(api_problem_json(status, slug, detail, rq->path), "application/problem+json");
+    if (!r)
         return MHD_NO;
-    struct MHD_Response *r = MHD_create_response_from_buffer(strlen(body), body, MHD_RESPMEM_MUST_FREE);
-    if (!r) {
-        free(body);
-        return MHD_NO;
-    }
-    MHD_add_response_header(r, "Content-Type", "application/problem+json");
     if (retry_after > 0) {
         char seconds[16];
         snprintf(seconds, sizeof seconds, "%d", retry_after);

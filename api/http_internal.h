@@ -32,6 +32,10 @@ typedef struct request_ctx {
  * the response. Returns libmicrohttpd's verdict. */
 enum MHD_Result http_send(request_ctx *rq, struct MHD_Connection *c, int status, struct MHD_Response *r);
 
+/* A response that owns body (a malloc'd string, freed with the response) with its
+ * Content-Type; NULL when body is NULL or the response cannot be made (body is freed). */
+struct MHD_Response *http_response_owning(char *body, const char *content_type);
+
 /* A body from memory (copied). */
 enum MHD_Result http_send_text(request_ctx *rq, struct MHD_Connection *c, int status, const char *content_type,
                                const char *body, size_t len);

@@ -31,15 +31,9 @@
 static enum MHD_Result send_job(request_ctx *rq, struct MHD_Connection *c, int status, const job_record *job,
                                 int location, int replayed)
 {
-    char *body = api_job_text(job);
-    if (!body)
+    struct MHD_Response *r = http_response_owning(api_job_text(job), "application/json");
+    if (!r)
         return MHD_NO;
-    struct MHD_Response *r = MHD_create_response_from_buffer(strlen(body), body, MHD_RESPMEM_MUST_FREE);
-    if (!r) {
-        free(body);
-        return MHD_NO;
-    }
-    MHD_add_response_header(r, "Content-Type", "application/json");
     if (location) {
         char href[64];
         snprintf(href, sizeof href, "/v1/jobs/%s", job->id);

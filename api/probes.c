@@ -30,14 +30,9 @@ static enum MHD_Result answer_metrics(request_ctx *rq, struct MHD_Connection *c)
     int busy = svc->workers ? workers_busy(svc->workers) : 0;
     int workers = svc->workers ? workers_count(svc->workers) : 0;
     char *text = metrics_render(svc->metrics, counts, queue_depth(svc->queue), queue_limit(svc->queue), busy, workers);
-    if (!text)
+    struct MHD_Response *r = http_response_owning(text, "text/plain; version=0.0.4; charset=utf-8");
+    if (!r)
         return MHD_NO;
-    struct MHD_Response *r = MHD_create_response_from_buffer(strlen(text), text, MHD_RESPMEM_MUST_FREE);
-    if (!r) {
-        free(text);
-        return MHD_NO;
-    }
-    MHD_add_response_header(r, "Content-Type", "text/plain; version=0.0.4; charset=utf-8");
     return http_send(rq, c, 200, r);
 }
 
