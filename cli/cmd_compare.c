@@ -12,6 +12,7 @@
 
 #include "cancel.h"
 #include "commands.h"
+#include "numbers.h"
 #include "compare.h"
 #include "report.h"
 
@@ -79,16 +80,6 @@ static int parse_costs(const char *list, double *out, int *n)
         p = end;
     }
     return *n > 0 ? 0 : -1;
-}
-
-static int parse_int(const char *s, int lo, int hi, int *out)
-{
-    char *end = NULL;
-    long v = strtol(s, &end, 10);
-    if (!s[0] || *end || v < lo || v > hi)
-        return -1;
-    *out = (int)v;
-    return 0;
 }
 
 static void show_progress(void *user, const texopt_progress *p)
@@ -168,11 +159,11 @@ int cmd_compare(int argc, char **argv)
             bad = !v;
             json = v;
         } else if (!strcmp(a, "--resolution")) {
-            bad = !v || parse_int(v, 8, 16384, &opt.evaluate.resolution) != 0;
+            bad = !v || cli_parse_int(v, 8, 16384, &opt.evaluate.resolution) != 0;
         } else if (!strcmp(a, "--iterations")) {
-            bad = !v || parse_int(v, 1, 100000, &opt.params.iterations) != 0;
+            bad = !v || cli_parse_int(v, 1, 100000, &opt.params.iterations) != 0;
         } else if (!strcmp(a, "--threads")) {
-            bad = !v || parse_int(v, 1, 256, &opt.params.threads) != 0;
+            bad = !v || cli_parse_int(v, 1, 256, &opt.params.threads) != 0;
             if (!bad)
                 opt.evaluate.threads = opt.params.threads;
         } else if (a[0] == '-' && a[1]) {

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "commands.h"
+#include "numbers.h"
 #include "evaluate.h"
 #include "gltf_io.h"
 
@@ -30,16 +31,6 @@ static void usage(FILE *out)
             "  --mipmap         prefiltered (mip-mapped, anisotropic) lookups instead of bilinear\n"
             "  --json           print one JSON object instead of text\n"
             "  -h, --help       this text\n");
-}
-
-static int parse_int(const char *s, int lo, int hi, int *out)
-{
-    char *end = NULL;
-    long v = strtol(s, &end, 10);
-    if (!s[0] || *end || v < lo || v > hi)
-        return -1;
-    *out = (int)v;
-    return 0;
 }
 
 static cJSON *cost_json(const texopt_cost *c)
@@ -110,7 +101,7 @@ int cmd_evaluate(int argc, char **argv)
         } else if (!strcmp(a, "--resolution") || !strcmp(a, "--threads")) {
             int *dst = a[2] == 'r' ? &opt.resolution : &opt.threads;
             int hi = a[2] == 'r' ? 16384 : 64, lo = a[2] == 'r' ? 8 : 1;
-            if (i + 1 >= argc || parse_int(argv[i + 1], lo, hi, dst) != 0) {
+            if (i + 1 >= argc || cli_parse_int(argv[i + 1], lo, hi, dst) != 0) {
                 fprintf(stderr, "texopt evaluate: %s needs an integer in [%d, %d]\n", a, lo, hi);
                 return EXIT_USAGE;
             }

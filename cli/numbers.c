@@ -1,0 +1,16 @@
+/* numbers.c - see numbers.h. */
+#include "numbers.h"
+
+#include <errno.h>
+#include <stdlib.h>
+
+int cli_parse_int(const char *s, int lo, int hi, int *out)
+{
+    char *end = NULL;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (!s[0] || *end || errno != 0 || v < lo || v > hi)
+        return -1;
+    *out = (int)v;
+    return 0;
+}
