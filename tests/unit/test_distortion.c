@@ -5,60 +5,20 @@
 #include <string.h>
 
 #include "distortion.h"
+#include "handmesh.h"
 #include "test.h"
-
-static void free_mesh(texopt_mesh *m)
-{
-    if (!m)
-        return;
-    free(m->texel);
-    free(m->point_of);
-    free(m->position);
-    free(m->triangle);
-    free(m->area_3d);
-    free(m->area_texel);
-    free(m->flags);
-    free(m->chart_of);
-    free(m);
-}
-
-static double doubled_area(const double *p, const uint32_t *t, int stride)
-{
-    const double *a = p + stride * t[0], *b = p + stride * t[1], *c = p + stride * t[2];
-    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-}
-
-static double area_3d(const double *p, const uint32_t *t)
-{
-    const double *a = p + 3 * t[0], *b = p + 3 * t[1], *c = p + 3 * t[2];
-    double e[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, f[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    double x = e[1] * f[2] - e[2] * f[1], y = e[2] * f[0] - e[0] * f[2], z = e[0] * f[1] - e[1] * f[0];
-    return 0.5 * sqrt(x * x + y * y + z * z);
-}
 
 /* An n x n grid on a tilted plane in 3D (so the 3D frame is not the texel frame), texels
  * = 10 x the in-plane coordinates: an isometry up to scale. */
 static texopt_mesh *tilted_grid(int n)
 {
     size_t nv = (size_t)(n + 1) * (n + 1), nt = 2 * (size_t)n * n;
-    texopt_mesh *m = calloc(1, sizeof *m);
-    m->vertex_count = m->point_count = nv;
-    m->triangle_count = nt;
-    m->texel = calloc(2 * nv, sizeof(double));
-    m->point_of = calloc(nv, sizeof(uint32_t));
-    m->position = calloc(3 * nv, sizeof(double));
-    m->triangle = calloc(3 * nt, sizeof(uint32_t));
-    m->area_3d = calloc(nt, sizeof(double));
-    m->area_texel = calloc(nt, sizeof(double));
-    m->flags = calloc(nt, 1);
-    m->chart_of = calloc(nt, sizeof(uint32_t));
-    m->chart_count = 1;
+    texopt_mesh *m = handmesh_alloc(nv, nt);
     double c = cos(0.7), s = sin(0.7);
     for (int j = 0; j <= n; j++)
         for (int i = 0; i <= n; i++) {
             size_t v = (size_t)j * (n + 1) + i;
             double x = i * 0.1 + 0.013 * ((i * 7 + j * 3) % 5), y = j * 0.1 + 0.011 * ((i * 2 + j * 5) % 4);
-            m->point_of[v] = (uint32_t)v;
             m->texel[2 * v] = 10.0 * x;
             m->texel[2 * v + 1] = 10.0 * y;
             m->position[3 * v] = x;
@@ -72,10 +32,7 @@ static texopt_mesh *tilted_grid(int n)
             uint32_t tris[6] = {a, b, e, a, e, d};
             memcpy(m->triangle + 3 * t, tris, sizeof tris);
         }
-    for (size_t t = 0; t < nt; t++) {
-        m->area_3d[t] = area_3d(m->position, m->triangle + 3 * t);
-        m->area_texel[t] = 0.5 * doubled_area(m->texel, m->triangle + 3 * t, 2);
-    }
+    handmesh_finish(m);
     return m;
 }
 
@@ -99,7 +56,7 @@ TEST(isometric_layout_measures_four_at_any_resolution)
     CHECK_OK(texopt_distortion_measure(m, out, &d, err, sizeof err), err);
     CHECK_NEAR(d.symmetric_dirichlet, 4.0, 1e-9);
     free(out);
-    free_mesh(m);
+    texopt_mesh_destroy(m);
 }
 
 TEST(two_to_one_stretch_measures_five)
@@ -124,7 +81,7 @@ TEST(two_to_one_stretch_measures_five)
     CHECK(d.symmetric_dirichlet > 4.05);
     CHECK(d.max_symmetric_dirichlet > d.symmetric_dirichlet);
     free(out);
-    free_mesh(m);
+    texopt_mesh_destroy(m);
 }
 
 TEST(flips_are_judged_against_the_input_orientation)
@@ -158,7 +115,7 @@ TEST(flips_are_judged_against_the_input_orientation)
     CHECK(isinf(d.symmetric_dirichlet));
     free(mirrored);
     free(out);
-    free_mesh(m);
+    texopt_mesh_destroy(m);
 }
 
 TEST(degenerate_triangles_are_not_counted_and_bad_input_fails)
@@ -180,5 +137,5 @@ TEST(degenerate_triangles_are_not_counted_and_bad_input_fails)
     CHECK_EQ_INT(texopt_distortion_measure(m, NULL, &d, err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
     CHECK_EQ_INT(texopt_distortion_measure(NULL, NULL, &d, err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
     free(out);
-    free_mesh(m);
+    texopt_mesh_destroy(m);
 }

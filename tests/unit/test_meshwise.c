@@ -8,74 +8,17 @@
 
 #include "distortion.h"
 #include "meshwise.h"
+#include "handmesh.h"
 #include "test.h"
 
 #define PI 3.14159265358979323846
-
-static void free_mesh(texopt_mesh *m)
-{
-    if (!m)
-        return;
-    free(m->texel);
-    free(m->point_of);
-    free(m->position);
-    free(m->triangle);
-    free(m->area_3d);
-    free(m->area_texel);
-    free(m->flags);
-    free(m->chart_of);
-    free(m);
-}
-
-static double doubled_area(const double *p, const uint32_t *t, int stride)
-{
-    const double *a = p + stride * t[0], *b = p + stride * t[1], *c = p + stride * t[2];
-    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-}
-
-/* Fills areas and flags the way mesh.c documents them; every vertex is its own point and the
- * 3D surface is the plane z = 0 with (x, y) = texel / 16 unless the test edits it. */
-static void finish_mesh(texopt_mesh *m)
-{
-    for (size_t t = 0; t < m->triangle_count; t++) {
-        const uint32_t *tri = m->triangle + 3 * t;
-        double a3 = 0.5 * fabs(doubled_area(m->position, tri, 3));
-        double at = 0.5 * doubled_area(m->texel, tri, 2);
-        m->area_3d[t] = a3;
-        m->area_texel[t] = at;
-        m->flags[t] = (uint8_t)((a3 < 1e-14 ? TEXOPT_TRI_DEGENERATE_3D : 0) |
-                                (fabs(at) < 1e-12 ? TEXOPT_TRI_DEGENERATE_UV : 0) |
-                                (at < 0 ? TEXOPT_TRI_FLIPPED : 0));
-    }
-}
-
-static texopt_mesh *alloc_mesh(size_t nv, size_t nt)
-{
-    texopt_mesh *m = calloc(1, sizeof *m);
-    m->vertex_count = nv;
-    m->point_count = nv;
-    m->triangle_count = nt;
-    m->width = m->height = 256;
-    m->texel = calloc(2 * nv, sizeof(double));
-    m->point_of = calloc(nv, sizeof(uint32_t));
-    m->position = calloc(3 * nv, sizeof(double));
-    m->triangle = calloc(3 * nt, sizeof(uint32_t));
-    m->area_3d = calloc(nt, sizeof(double));
-    m->area_texel = calloc(nt, sizeof(double));
-    m->flags = calloc(nt, 1);
-    m->chart_of = calloc(nt, sizeof(uint32_t));
-    m->chart_count = 1;
-    for (size_t v = 0; v < nv; v++)
-        m->point_of[v] = (uint32_t)v;
-    return m;
-}
 
 /* `charts` side-by-side n x n grids of cell `cell` texels, vertices jittered by up to
  * jitter * cell (deterministic), one chart each. */
 static texopt_mesh *grid_mesh(int n, double cell, double jitter, int charts)
 {
     size_t per_v = (size_t)(n + 1) * (n + 1), per_t = 2 * (size_t)n * n;
-    texopt_mesh *m = alloc_mesh(per_v * charts, per_t * charts);
+    texopt_mesh *m = handmesh_alloc(per_v * charts, per_t * charts);
     m->chart_count = (size_t)charts;
     unsigned state = 12345;
     for (int c = 0; c < charts; c++) {
@@ -102,7 +45,7 @@ static texopt_mesh *grid_mesh(int n, double cell, double jitter, int charts)
                 m->chart_of[t] = m->chart_of[t + 1] = (uint32_t)c;
             }
     }
-    finish_mesh(m);
+    handmesh_finish(m);
     return m;
 }
 
@@ -171,7 +114,7 @@ TEST(identity_targets_keep_the_layout)
     CHECK_NEAR(rep.energy_final, 0.0, 1e-9);
     free(out);
     free(tg);
-    free_mesh(m);
+    texopt_mesh_destroy(m);
 }
 
 TEST(uniform_half_scale_quarters_every_area)
@@ -183,7 +126,7 @@ TEST(uniform_half_scale_quarters_every_area)
     char err[256] = "";
     CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, out, &rep, NULL, err, sizeof err), err);
     for (size_t t = 0; t < m->triangle_count; t++) {
-        double ratio = 0.5 * doubled_area(out, m->triangle + 3 * t, 2) / m->area_texel[t];
+        double ratio = 0.5 * handmesh_doubled_area(out, m->triangle + 3 * t, 2) / m->area_texel[t];
         CHECK_NEAR(ratio, 0.25, 0.0025);
     }
     CHECK(rep.iterations > 1);
@@ -191,7 +134,7 @@ TEST(uniform_half_scale_quarters_every_area)
     CHECK(rep.energy_final < 1e-6 * rep.energy_initial);
     free(out);
     free(tg);
-    free_mesh(m);
+    texopt_mesh_destroy(m);
 }
 
 TEST(anisotropic_target_shrinks_along_its_axis)
@@ -222,7 +165,7 @@ TEST(anisotropic_target_shrinks_along_its_axis)
     CHECK_NEAR(J[3], 0.7, 0.01);
     free(out);
     free(tg);
-    free_mesh(m);
+    texopt_mesh_destroy(m);
 }
 
 TEST(rotation_target_rotates_only_when_weighted)
@@ -248,7 +191,7 @@ TEST(rotation_target_rotates_only_when_weighted)
     }
     free(out);
     free(tg);
-    free_mesh(m);
+    texopt_mesh_destroy(m);
 }
 
 TEST(rotation_target_uses_the_ninety_degree_symmetry)
@@ -272,7 +215,7 @@ TEST(rotation_target_uses_the_ninety_degree_symmetry)
     CHECK_NEAR(rotation_degrees(J), -30.0, 0.5);
     free(out);
     free(tg);
-    free_mesh(m);
+    texopt_mesh_destroy(m);
 }
 
 TEST(conflicting_targets_never_flip)
@@ -320,7 +263,7 @@ TEST(conflicting_targets_never_flip)
     free(out2);
     free(out);
     free(tg);
-    free_mesh(m);
+    texopt_mesh_destroy(m);
 }
 
 TEST(two_charts_keep_their_own_translation)
@@ -343,7 +286,7 @@ TEST(two_charts_keep_their_own_translation)
     }
     free(out);
     free(tg);
-    free_mesh(m);
+    texopt_mesh_destroy(m);
 }
 
 TEST(mirrored_chart_stays_mirrored_and_unflipped)
@@ -351,7 +294,7 @@ TEST(mirrored_chart_stays_mirrored_and_unflipped)
     texopt_mesh *m = grid_mesh(6, 8.0, 0.2, 1);
     for (size_t v = 0; v < m->vertex_count; v++)
         m->texel[2 * v] = 200.0 - m->texel[2 * v]; /* mirror the layout, not the surface */
-    finish_mesh(m);
+    handmesh_finish(m);
     CHECK(m->area_texel[0] < 0.0);
     texopt_triangle_target *tg = uniform_targets(m->triangle_count, 0.5, 0.5, 0, 0, 1, 1);
     double *out = calloc(2 * m->vertex_count, sizeof *out);
@@ -360,12 +303,12 @@ TEST(mirrored_chart_stays_mirrored_and_unflipped)
     CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, out, &rep, NULL, err, sizeof err), err);
     CHECK_EQ_INT(rep.flipped, 0);
     for (size_t t = 0; t < m->triangle_count; t++) {
-        double ratio = 0.5 * doubled_area(out, m->triangle + 3 * t, 2) / m->area_texel[t];
+        double ratio = 0.5 * handmesh_doubled_area(out, m->triangle + 3 * t, 2) / m->area_texel[t];
         CHECK_NEAR(ratio, 0.25, 0.0025); /* same sign: still mirrored */
     }
     free(out);
     free(tg);
-    free_mesh(m);
+    texopt_mesh_destroy(m);
 }
 
 TEST(degenerate_triangles_are_carried_through)
@@ -375,7 +318,7 @@ TEST(degenerate_triangles_are_carried_through)
      * flags a face of zero 3D area (they keep their texel area, so only the barrier holds
      * them). */
     texopt_mesh *g = grid_mesh(6, 8.0, 0.0, 1);
-    texopt_mesh *m = alloc_mesh(g->vertex_count, g->triangle_count + 2);
+    texopt_mesh *m = handmesh_alloc(g->vertex_count, g->triangle_count + 2);
     memcpy(m->texel, g->texel, 2 * g->vertex_count * sizeof(double));
     memcpy(m->position, g->position, 3 * g->vertex_count * sizeof(double));
     memcpy(m->triangle, g->triangle, 3 * g->triangle_count * sizeof(uint32_t));
@@ -383,7 +326,7 @@ TEST(degenerate_triangles_are_carried_through)
     uint32_t sliver[3] = {0, 1, 2}; /* collinear along the bottom row */
     memcpy(m->triangle + 3 * T, sliver, sizeof sliver);
     memcpy(m->triangle + 3 * (T + 1), g->triangle + 3 * 28, 3 * sizeof(uint32_t));
-    finish_mesh(m);
+    handmesh_finish(m);
     m->flags[T + 1] |= TEXOPT_TRI_DEGENERATE_3D; /* as mesh.c flags a 3D-degenerate face */
     m->flags[28] |= TEXOPT_TRI_DEGENERATE_3D; /* interior: its vertices have fitted neighbours */
     CHECK(m->flags[T] & TEXOPT_TRI_DEGENERATE_UV);
@@ -402,8 +345,8 @@ TEST(degenerate_triangles_are_carried_through)
     CHECK_NEAR(J[3], 0.5, 1e-3);
     free(out);
     free(tg);
-    free_mesh(g);
-    free_mesh(m);
+    texopt_mesh_destroy(g);
+    texopt_mesh_destroy(m);
 }
 
 TEST(bad_input_is_refused_with_a_message)
@@ -441,7 +384,7 @@ TEST(bad_input_is_refused_with_a_message)
     free(start);
     free(out);
     free(tg);
-    free_mesh(m);
+    texopt_mesh_destroy(m);
 }
 
 static void count_progress(void *user, const texopt_progress *p)
@@ -468,7 +411,7 @@ TEST(progress_is_reported_and_cancel_stops)
                  TEXOPT_E_CANCELED);
     free(out);
     free(tg);
-    free_mesh(m);
+    texopt_mesh_destroy(m);
 }
 
 TEST(zero_stretch_weights_still_follow_a_consistent_target)
@@ -482,17 +425,17 @@ TEST(zero_stretch_weights_still_follow_a_consistent_target)
     texopt_meshwise_options opt = {.max_iterations = 250, .tolerance = 1e-12};
     CHECK_OK(texopt_meshwise_solve(m, tg, NULL, &opt, out, NULL, NULL, err, sizeof err), err);
     for (size_t t = 0; t < m->triangle_count; t++) {
-        double ratio = 0.5 * doubled_area(out, m->triangle + 3 * t, 2) / m->area_texel[t];
+        double ratio = 0.5 * handmesh_doubled_area(out, m->triangle + 3 * t, 2) / m->area_texel[t];
         CHECK_NEAR(ratio, 0.25, 0.0025);
     }
     free(out);
     free(tg);
-    free_mesh(m);
+    texopt_mesh_destroy(m);
 }
 
 TEST(a_mesh_without_triangles_is_returned_unchanged)
 {
-    texopt_mesh *m = alloc_mesh(3, 0);
+    texopt_mesh *m = handmesh_alloc(3, 0);
     for (int i = 0; i < 6; i++)
         m->texel[i] = i * 1.5;
     texopt_triangle_target tg[1] = {{0}};
@@ -503,7 +446,7 @@ TEST(a_mesh_without_triangles_is_returned_unchanged)
     for (int i = 0; i < 6; i++)
         CHECK_NEAR(out[i], i * 1.5, 0.0);
     CHECK_EQ_INT(rep.flipped, 0);
-    free_mesh(m);
+    texopt_mesh_destroy(m);
 }
 
 /* A folded chart: the right half of the surface is the mirror image of the left half in 3D
@@ -512,7 +455,7 @@ TEST(a_mesh_without_triangles_is_returned_unchanged)
 static texopt_mesh *folded_mesh(int n, double cell, double shift)
 {
     size_t per_row = 2 * (size_t)n + 1; /* left columns 0..n, right columns 1..n */
-    texopt_mesh *m = alloc_mesh(per_row * (n + 1), 4 * (size_t)n * n);
+    texopt_mesh *m = handmesh_alloc(per_row * (n + 1), 4 * (size_t)n * n);
     for (int j = 0; j <= n; j++)
         for (int c = 0; c < (int)per_row; c++) {
             size_t v = (size_t)j * per_row + c;
@@ -533,7 +476,7 @@ static texopt_mesh *folded_mesh(int n, double cell, double shift)
             uint32_t tris[6] = {a, b, e, a, e, d};
             memcpy(m->triangle + 3 * t, tris, sizeof tris);
         }
-    finish_mesh(m);
+    handmesh_finish(m);
     return m;
 }
 
@@ -564,11 +507,11 @@ TEST(folded_chart_keeps_its_halves_on_the_same_texels)
             CHECK_NEAR(out[2 * right + 1], out[2 * left + 1], 0.0);
         }
     /* The shared layout is a compromise: between the two targets' areas. */
-    double ratio = 0.5 * doubled_area(out, m->triangle + 3 * 6, 2) / m->area_texel[6];
+    double ratio = 0.5 * handmesh_doubled_area(out, m->triangle + 3 * 6, 2) / m->area_texel[6];
     CHECK(ratio > 0.25 * 1.05 && ratio < 0.81 * 0.95);
     free(out);
     free(tg);
-    free_mesh(m);
+    texopt_mesh_destroy(m);
 }
 
 /* Output position of input point p through the layout, by the triangle of the left half of
@@ -627,7 +570,7 @@ TEST(folded_chart_with_unlike_halves_stays_on_its_texels)
     CHECK_EQ_INT(rep.merged_vertices, n + 1);
     free(out);
     free(tg);
-    free_mesh(m);
+    texopt_mesh_destroy(m);
 }
 
 TEST(squeezed_start_recovers_and_the_barrier_weight_drops)
@@ -648,13 +591,13 @@ TEST(squeezed_start_recovers_and_the_barrier_weight_drops)
     CHECK(rep.barrier_weight_final <= 1.0 / 20.0);
     CHECK(energies_non_increasing(&rep));
     for (size_t t = 0; t < m->triangle_count; t++) {
-        double ratio = 0.5 * doubled_area(out, m->triangle + 3 * t, 2) / m->area_texel[t];
+        double ratio = 0.5 * handmesh_doubled_area(out, m->triangle + 3 * t, 2) / m->area_texel[t];
         CHECK_NEAR(ratio, 1.0, 0.01);
     }
     free(start);
     free(out);
     free(tg);
-    free_mesh(m);
+    texopt_mesh_destroy(m);
 }
 
 TEST(fit_weight_sets_how_fast_targets_pull)
@@ -667,13 +610,13 @@ TEST(fit_weight_sets_how_fast_targets_pull)
     char err[256] = "";
     texopt_meshwise_options stiff = {.max_iterations = 5, .tolerance = 1e-12, .fit_weight = 1e4};
     CHECK_OK(texopt_meshwise_solve(m, tg, NULL, &stiff, out, NULL, NULL, err, sizeof err), err);
-    double ratio = 0.5 * doubled_area(out, m->triangle + 3 * 3, 2) / m->area_texel[3];
+    double ratio = 0.5 * handmesh_doubled_area(out, m->triangle + 3 * 3, 2) / m->area_texel[3];
     CHECK(ratio > 0.99);
     texopt_meshwise_options plain = {.max_iterations = 5, .tolerance = 1e-12};
     CHECK_OK(texopt_meshwise_solve(m, tg, NULL, &plain, out, NULL, NULL, err, sizeof err), err);
-    ratio = 0.5 * doubled_area(out, m->triangle + 3 * 3, 2) / m->area_texel[3];
+    ratio = 0.5 * handmesh_doubled_area(out, m->triangle + 3 * 3, 2) / m->area_texel[3];
     CHECK(ratio < 0.3);
     free(out);
     free(tg);
-    free_mesh(m);
+    texopt_mesh_destroy(m);
 }
