@@ -25,6 +25,7 @@ typedef struct request_ctx {
     char job_id[JOB_ID_LEN + 1];
     char job_dir[PATH_MAX - 512];
     int job_accepted;       /* keep the directory: it belongs to a job now */
+    int key_known;          /* the Idempotency-Key names a job: replay it if the request matches */
     uint64_t discarded;     /* body bytes thrown away after a failure */
 } request_ctx;
 

@@ -14,6 +14,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "fingerprint.h"
 #include "fsutil.h"
 #include "job_json.h"
 #include "model_check.h"
@@ -63,10 +64,11 @@ enum MHD_Result jobs_post_headers(request_ctx *rq, struct MHD_Connection *c)
     const char *key = MHD_lookup_connection_value(c, MHD_HEADER_KIND, "Idempotency-Key");
     if (key && strlen(key) > 128)
         return http_send_problem(rq, c, 400, "bad-idempotency-key", 0, "Idempotency-Key is longer than 128 bytes");
+    /* A known key is answered once the body is in: only then can a retry be told from a
+     * different request reusing the key. */
     job_record existing;
-    if (key && *key && store_find_key(svc->store, key, &existing) == STORE_OK)
-        return send_job(rq, c, 202, &existing, 1, 1);
-    if (atomic_load(&svc->draining))
+    rq->key_known = key && *key && store_find_key(svc->store, key, &existing) == STORE_OK;
+    if (!rq->key_known && atomic_load(&svc->draining))
         return http_send_problem(rq, c, 503, "shutting-down", 5, "the service is shutting down; retry shortly");
     const char *type = MHD_lookup_connection_value(c, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_TYPE);
     int raw = media_type_is(type, "model/gltf-binary");
@@ -80,7 +82,7 @@ enum MHD_Result jobs_post_headers(request_ctx *rq, struct MHD_Connection *c)
         return http_send_problem(rq, c, 413, "body-too-large", 0,
                                  "the body of %s bytes is larger than the limit of %llu bytes", length,
                                  (unsigned long long)svc->config.max_upload_bytes);
-    if (queue_depth(svc->queue) >= queue_limit(svc->queue))
+    if (!rq->key_known && queue_depth(svc->queue) >= queue_limit(svc->queue))
         return http_send_problem(rq, c, 503, "queue-full", QUEUE_FULL_RETRY_SECONDS,
                                  "the job queue is full (%d jobs waiting); retry later", queue_limit(svc->queue));
     if (store_new_job_dir(svc->store, rq->job_id, rq->job_dir, sizeof rq->job_dir) != 0) {
@@ -151,7 +153,34 @@ static void apply_thread_policy(const service_config *cfg, texopt_params *params
         params->threads = cfg->threads_per_job;
 }
 
-static enum MHD_Result accept_job(request_ctx *rq, struct MHD_Connection *c, const texopt_params *params)
+/* The files as stored and the resolved params: what a replay must repeat exactly. */
+static int request_digest(const request_ctx *rq, const texopt_params *params, char out[17])
+{
+    cJSON *json = api_params_to_json(params);
+    char *text = json ? cJSON_PrintUnformatted(json) : NULL;
+    cJSON_Delete(json);
+    if (!text)
+        return -1;
+    fingerprint_hex(fingerprint_mix(api_upload_digest(rq->upload), text, strlen(text)), out);
+    free(text);
+    return 0;
+}
+
+/* The job an Idempotency-Key names, or a 422 when the request differs from the one that made
+ * it (jobs recorded before digests existed replay as before). */
+static enum MHD_Result answer_known_key(request_ctx *rq, struct MHD_Connection *c, const job_record *existing,
+                                        const char *digest)
+{
+    if (existing->request_digest[0] && strcmp(existing->request_digest, digest) != 0)
+        return http_send_problem(rq, c, 422, "idempotency-key-reused", 0,
+                                 "Idempotency-Key '%.128s' was used for job %s with other files or parameters; "
+                                 "send a new key for a new request",
+                                 existing->idempotency_key, existing->id);
+    return send_job(rq, c, 202, existing, 1, 1);
+}
+
+static enum MHD_Result accept_job(request_ctx *rq, struct MHD_Connection *c, const texopt_params *params,
+                                  const char *digest)
 {
     api_service *svc = rq->svc;
     job_record job;
@@ -165,11 +194,12 @@ static enum MHD_Result accept_job(request_ctx *rq, struct MHD_Connection *c, con
     snprintf(job.input_rel, sizeof job.input_rel, "%s", api_upload_model_rel(rq->upload));
     const char *key = MHD_lookup_connection_value(c, MHD_HEADER_KIND, "Idempotency-Key");
     snprintf(job.idempotency_key, sizeof job.idempotency_key, "%s", key ? key : "");
+    snprintf(job.request_digest, sizeof job.request_digest, "%s", digest);
 
     job_record existing;
     int rc = store_add(svc->store, &job, &existing);
     if (rc == STORE_DUPLICATE)
-        return send_job(rq, c, 202, &existing, 1, 1); /* a concurrent retry won the race */
+        return answer_known_key(rq, c, &existing, digest); /* a concurrent request won the race */
     if (rc != STORE_OK)
         return http_send_problem(rq, c, 500, "storage-error", 0, "cannot record the job");
     rq->job_accepted = 1;
@@ -201,6 +231,13 @@ enum MHD_Result jobs_post_complete(request_ctx *rq, struct MHD_Connection *c)
     if (read_params(rq, c, &params, err, sizeof err) != TEXOPT_OK)
         return http_send_problem(rq, c, 400, "invalid-params", 0, "%s", err);
     apply_thread_policy(&rq->svc->config, &params);
+    char digest[17];
+    if (request_digest(rq, &params, digest) != 0)
+        return http_send_problem(rq, c, 500, "out-of-memory", 0, "out of memory");
+    const char *key = MHD_lookup_connection_value(c, MHD_HEADER_KIND, "Idempotency-Key");
+    job_record existing;
+    if (rq->key_known && store_find_key(rq->svc->store, key, &existing) == STORE_OK)
+        return answer_known_key(rq, c, &existing, digest);
 
     char model[PATH_MAX];
     snprintf(model, sizeof model, "%s/%s", rq->job_dir, api_upload_model_rel(rq->upload));
@@ -211,7 +248,7 @@ enum MHD_Result jobs_post_complete(request_ctx *rq, struct MHD_Connection *c)
         return http_send_problem(rq, c, status, api_slug_from_engine(s), 0, "%s",
                                  err[0] ? err : texopt_strerror(s));
     }
-    return accept_job(rq, c, &params);
+    return accept_job(rq, c, &params, digest);
 }
 
 void jobs_post_abandon(request_ctx *rq)

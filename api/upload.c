@@ -12,6 +12,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "fingerprint.h"
 #include "fsutil.h"
 
 struct api_upload {
@@ -28,6 +29,7 @@ struct api_upload {
     char *params;
     size_t params_len;
     int in_params;              /* the current part is `params` */
+    uint64_t digest;            /* fingerprint.h of the stored files */
     int status;                 /* first failure wins */
     const char *slug;
     char detail[300];
@@ -99,6 +101,8 @@ static int open_file(api_upload *u, const char *name)
     if (fs_mkdir_p(path) != 0)
         return fail(u, 500, "storage-error", "cannot store the upload: %s", strerror(errno));
     *slash = '/';
+    /* The name and its terminating NUL: "a" + "bc" and "ab" + "c" differ. */
+    u->digest = fingerprint_mix(u->digest, name, strlen(name) + 1);
     u->fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0640);
     if (u->fd < 0 && errno == EEXIST)
         return fail(u, 400, "bad-multipart", "file '%s' sent twice", name);
@@ -109,6 +113,7 @@ static int open_file(api_upload *u, const char *name)
 
 static int write_file(api_upload *u, const char *data, size_t size)
 {
+    u->digest = fingerprint_mix(u->digest, data, size);
     while (size > 0) {
         ssize_t n = write(u->fd, data, size);
         if (n < 0 && errno == EINTR)
@@ -210,6 +215,7 @@ api_upload *api_upload_begin(const char *dir, int multipart, struct MHD_Connecti
     u->multipart = multipart;
     u->limit = limit;
     u->fd = -1;
+    u->digest = FINGERPRINT_SEED;
     if (multipart) {
         /* 64 KiB: the post processor's buffer; large enough for one part header line. */
         u->pp = MHD_create_post_processor(connection, 65536, on_part, u);
@@ -276,6 +282,11 @@ int api_upload_error(const api_upload *u, const char **slug, const char **detail
 uint64_t api_upload_bytes(const api_upload *u)
 {
     return u->bytes;
+}
+
+uint64_t api_upload_digest(const api_upload *u)
+{
+    return u->digest;
 }
 
 const char *api_upload_model_rel(const api_upload *u)

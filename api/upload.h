@@ -37,6 +37,8 @@ int api_upload_finish(api_upload *u);
 int api_upload_error(const api_upload *u, const char **slug, const char **detail);
 
 uint64_t api_upload_bytes(const api_upload *u);
+/* fingerprint.h digest of the stored files' names and bytes, in the order they came. */
+uint64_t api_upload_digest(const api_upload *u);
 /* The model file relative to dir ("input/model.glb") and its client-side name. */
 const char *api_upload_model_rel(const api_upload *u);
 const char *api_upload_model_name(const api_upload *u);

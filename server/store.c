@@ -84,6 +84,7 @@ static char *record_to_json(const job_record *r)
     cJSON_AddStringToObject(o, "model_name", r->model_name);
     cJSON_AddStringToObject(o, "input", r->input_rel);
     cJSON_AddStringToObject(o, "idempotency_key", r->idempotency_key);
+    cJSON_AddStringToObject(o, "request_digest", r->request_digest);
     cJSON_AddNumberToObject(o, "upload_bytes", (double)r->upload_bytes);
     cJSON_AddItemToObject(o, "params", api_params_to_json(&r->params));
     if (r->state == JOB_FAILED) {
@@ -135,6 +136,7 @@ static int record_from_json(const char *text, job_record *r, char *err, size_t e
     copy_string(r->model_name, sizeof r->model_name, o, "model_name");
     copy_string(r->input_rel, sizeof r->input_rel, o, "input");
     copy_string(r->idempotency_key, sizeof r->idempotency_key, o, "idempotency_key");
+    copy_string(r->request_digest, sizeof r->request_digest, o, "request_digest");
     const cJSON *problem = cJSON_GetObjectItemCaseSensitive(o, "problem");
     if (problem) {
         r->problem.status = (int)get_double(problem, "status");

@@ -60,6 +60,7 @@ typedef struct job_record {
     char model_name[256];    /* the uploaded model's file name, for Content-Disposition */
     char input_rel[300];     /* the model file, relative to the job directory */
     char idempotency_key[129];
+    char request_digest[17]; /* api/fingerprint.h of files + params; "" for older jobs */
     uint64_t upload_bytes;
     texopt_params params;
     job_problem problem;     /* when failed */

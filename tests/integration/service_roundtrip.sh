@@ -2,7 +2,7 @@
 # service_roundtrip: the real texoptd on a loopback port. Uploads spot.glb (raw body) and a
 # .gltf with its .bin and texture (multipart + params part), polls both to "succeeded",
 # downloads a result that the Khronos validator accepts, reads stats, and checks the
-# Idempotency-Key replay, listing, report 404, metrics, CORS, auth, and delete.
+# Idempotency-Key replay (and a reused key refused), listing, report 404, metrics, CORS, auth, and delete.
 source "$(dirname "$0")/service_common.bash"
 SPOT="$TEXOPT_SOURCE_DIR/tests/data/spot/spot.glb"
 make_fixtures "$WORK/fx"
@@ -31,6 +31,14 @@ code=$(post_glb "$SPOT" "method=input&relative_cost=0.5" -H 'Idempotency-Key: up
 [ "$code" = 202 ] || fail "replayed upload answered $code"
 [ "$(json "$WORK/resp" 'd["id"]')" = "$id" ] || fail "Idempotency-Key replay made a new job"
 grep -qi '^idempotent-replayed: true' "$WORK/headers" || fail "replay not marked"
+# The same key with other parameters, or with another file, is a different request.
+expect_problem 422 "$(post_glb "$SPOT" "method=input&relative_cost=0.25" -H 'Idempotency-Key: upload-1')" \
+  idempotency-key-reused
+expect_problem 422 "$(post_glb "$WORK/fx/nouv.glb" "method=input&relative_cost=0.5" -H 'Idempotency-Key: upload-1')" \
+  idempotency-key-reused
+# Parameters that resolve to the same values are the same request.
+code=$(post_glb "$SPOT" "relative_cost=0.5&method=input" -H 'Idempotency-Key: upload-1')
+[ "$code" = 202 ] && [ "$(json "$WORK/resp" 'd["id"]')" = "$id" ] || fail "reordered query not replayed ($code)"
 
 # Multipart: a .gltf, its .bin and its texture, params as JSON.
 code=$(curl -s -o "$WORK/resp" -D "$WORK/headers" -w '%{http_code}' "${AUTH[@]}" \
@@ -77,7 +85,7 @@ curl -s -o "$WORK/list2.json" "${AUTH[@]}" "$BASE$next"
 curl -s -o "$WORK/metrics.txt" "${AUTH[@]}" "$BASE/metrics"
 grep -q '^texopt_jobs{state="succeeded"} 2$' "$WORK/metrics.txt" || fail "metrics: succeeded jobs"
 grep -q '^texopt_queue_depth 0$' "$WORK/metrics.txt" || fail "metrics: queue depth"
-grep -q '^texopt_http_requests_total{route="/v1/jobs",status="202"} 3$' "$WORK/metrics.txt" || fail "metrics: requests"
+grep -q '^texopt_http_requests_total{route="/v1/jobs",status="202"} 4$' "$WORK/metrics.txt" || fail "metrics: requests"
 grep -q '^texopt_http_requests_total{route="/v1/jobs",status="401"} 1$' "$WORK/metrics.txt" || fail "metrics: 401s"
 bytes=$(sed -n 's/^texopt_upload_bytes_total //p' "$WORK/metrics.txt")
 [ "$bytes" -ge "$(stat -c %s "$SPOT")" ] || fail "metrics: upload bytes $bytes"

@@ -31,6 +31,7 @@ static int new_job(job_store *s, job_record *r, const char *key, int64_t created
     snprintf(r->input_rel, sizeof r->input_rel, "input/model.glb");
     snprintf(r->model_name, sizeof r->model_name, "spot.glb");
     snprintf(r->idempotency_key, sizeof r->idempotency_key, "%s", key);
+    snprintf(r->request_digest, sizeof r->request_digest, "00112233aabbccdd");
     texopt_params_resolve(&r->params);
     r->params.method = TEXOPT_METHOD_INPUT;
     r->params.iterations = 17;
@@ -56,6 +57,7 @@ TEST(records_survive_reopening)
     CHECK_EQ_INT(b.params.iterations, 17);
     CHECK(strcmp(b.model_name, "spot.glb") == 0);
     CHECK(strcmp(b.input_rel, "input/model.glb") == 0);
+    CHECK(strcmp(b.request_digest, "00112233aabbccdd") == 0);
     CHECK_EQ_INT(b.created_ms, 1000);
     store_close(s);
     fs_remove_tree(root);
