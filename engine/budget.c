@@ -11,7 +11,8 @@
 #define COST_TOLERANCE 0.005
 #define COST_ROUNDS 6
 #define BISECTION_STEPS 14
-#define SMALL_ATLAS_CHARTS 64 /* up to this many charts, more widths are tried */
+#define SMALL_ATLAS_CHARTS 64 /* up to this many charts, more widths and orders are tried */
+#define ORDER_SEARCH_STEPS 40  /* local-search moves over the placement order (small atlases) */
 
 static int round_up4(double x)
 {
@@ -60,25 +61,36 @@ typedef struct work {
     const texopt_pack_options *pack;
     double *scaled, *packed;
     int packings;
-    int pack_order; /* texopt_pack_options.order of the next pack */
+    const uint32_t *sequence; /* placement order of the next pack; NULL = req->pack.order */
     const texopt_monitor *monitor;
+    int cell, side;           /* grid cell of every packer (0: from side), texture side hint */
 } work;
 
-/* Packs the layout scaled by s into width columns (height 0: as tall as needed) or into
- * width x height; *fits says whether it fit, *out_h the height used. */
-static texopt_status pack_at(work *w, double s, int width, int height, int *fits, int *out_h,
-                             char *err, size_t err_len)
+/* The packer of the layout scaled by s (into w->scaled, which it then reads). */
+static texopt_status make_packer(work *w, double s, texopt_packer **packer, char *err, size_t err_len)
 {
     if (texopt_monitor_canceled(w->monitor))
         return texopt_fail(err, err_len, TEXOPT_E_CANCELED, "packing canceled");
     scale_layout(w->texel, s, w->scaled, w->mesh->vertex_count);
     texopt_pack_options opt = *w->pack;
-    opt.order = w->pack_order;
+    opt.cell = w->cell;
+    return texopt_packer_create(packer, w->mesh, w->scaled, &opt, w->side, err, err_len);
+}
+
+/* Packs into width columns (height 0: as tall as needed; the width is then cut to the
+ * columns used) or into width x height, in the order w->sequence; *fits says whether it
+ * fit, *out_w x *out_h the texture. */
+static texopt_status pack_at(work *w, const texopt_packer *packer, int width, int height, int *fits, int *out_w,
+                             int *out_h, char *err, size_t err_len)
+{
+    if (texopt_monitor_canceled(w->monitor))
+        return texopt_fail(err, err_len, TEXOPT_E_CANCELED, "packing canceled");
     texopt_pack_result r;
-    texopt_status st = texopt_pack_charts(w->mesh, w->scaled, width, height, &opt, w->packed, &r,
-                                          fits, err, err_len);
+    texopt_status st = texopt_packer_run(packer, width, height, w->pack->order, w->sequence, w->packed, &r, fits,
+                                         err, err_len);
     w->packings++;
     if (st == TEXOPT_OK) {
+        *out_w = height == 0 ? round_up4(r.used_width) : r.width;
         *out_h = r.height;
         if (height == 0 && r.height > MAX_SIDE)
             *fits = 0;
@@ -87,39 +99,163 @@ static texopt_status pack_at(work *w, double s, int width, int height, int *fits
     return st;
 }
 
-/* The width and placement order (of a few widths around the estimate, both orders for
- * small atlases) whose "as tall as needed" packing has the fewest texels; its positions go
- * to texel_out and its order stays in w->pack_order for the later rounds. */
-static texopt_status best_width(work *w, double s, double area, double aspect, double *texel_out,
-                                int *bw, int *bh, char *err, size_t err_len)
+/* The best packing found so far of the order search. */
+typedef struct best_packing {
+    long long texels;  /* width * height of the texture; -1 = none yet */
+    int strip;         /* width of the strip it was packed into */
+    int width, height; /* the texture (width cut to the columns used) */
+    uint32_t *sequence;
+} best_packing;
+
+/* Packs at scale s into a strip of `strip` columns with w->sequence and keeps the result
+ * when its texture is smaller than the best one. Returns 1 when it was kept. */
+static int try_packing(work *w, const texopt_packer *packer, int strip, best_packing *best, double *texel_out,
+                       texopt_status *st, char *err, size_t err_len)
 {
-    double base = sqrt(area * s * s / 0.7 * aspect);
-    long long best = -1;
-    int small = w->mesh->chart_count <= SMALL_ATLAS_CHARTS;
-    int tries = small ? 15 : 5, orders = small ? 2 : 1, best_order = 0;
-    for (int order = 0; order < orders; order++)
-        for (int i = 0; i < tries; i++) {
-            int width = round_up4(base * (0.75 + 0.6 * i / (tries - 1)));
-            if (width > MAX_SIDE)
-                continue;
-            int fits, h;
-            w->pack_order = order;
-            texopt_status st = pack_at(w, s, width, 0, &fits, &h, err, err_len);
-            if (st != TEXOPT_OK)
-                return st;
-            if (fits && (best < 0 || (long long)width * h < best)) {
-                best = (long long)width * h;
-                *bw = width;
-                *bh = h;
-                best_order = order;
-                memcpy(texel_out, w->packed, sizeof(double) * 2 * w->mesh->vertex_count);
+    int fits = 0, pw = 0, ph = 0;
+    *st = pack_at(w, packer, strip, 0, &fits, &pw, &ph, err, err_len);
+    if (*st != TEXOPT_OK || !fits || (best->texels >= 0 && (long long)pw * ph >= best->texels))
+        return 0;
+    best->texels = (long long)pw * ph;
+    best->strip = strip;
+    best->width = pw;
+    best->height = ph;
+    memcpy(best->sequence, w->sequence, sizeof(uint32_t) * w->mesh->chart_count);
+    memcpy(texel_out, w->packed, sizeof(double) * 2 * w->mesh->vertex_count);
+    return 1;
+}
+
+typedef struct keyed_chart {
+    double key;
+    uint32_t chart;
+} keyed_chart;
+
+static int compare_keyed(const void *a, const void *b)
+{
+    const keyed_chart *x = a, *y = b;
+    if (x->key != y->key)
+        return x->key > y->key ? -1 : 1;
+    return x->chart < y->chart ? -1 : (x->chart > y->chart);
+}
+
+/* Placement orders to start from: by triangle area and by bounding-box area, largest
+ * first (the two orders of pack.h's `order`). */
+static texopt_status start_orders(const texopt_mesh *mesh, const double *texel, uint32_t *by_area,
+                                  uint32_t *by_box, char *err, size_t err_len)
+{
+    size_t n = mesh->chart_count;
+    keyed_chart *k = malloc(sizeof *k * (n ? n : 1));
+    double *box = malloc(sizeof(double) * 4 * (n ? n : 1));
+    if (!k || !box) {
+        free(k);
+        free(box);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the placement orders");
+    }
+    for (size_t c = 0; c < n; c++) {
+        k[c].key = 0;
+        k[c].chart = (uint32_t)c;
+        box[4 * c] = box[4 * c + 1] = INFINITY;
+        box[4 * c + 2] = box[4 * c + 3] = -INFINITY;
+    }
+    for (size_t t = 0; t < mesh->triangle_count; t++) {
+        const uint32_t *v = mesh->triangle + 3 * t;
+        const double *a = texel + 2 * v[0], *b = texel + 2 * v[1], *d = texel + 2 * v[2];
+        uint32_t c = mesh->chart_of[t];
+        if (c >= n)
+            continue;
+        k[c].key += 0.5 * fabs((b[0] - a[0]) * (d[1] - a[1]) - (d[0] - a[0]) * (b[1] - a[1]));
+        for (int j = 0; j < 3; j++)
+            for (int x = 0; x < 2; x++) {
+                box[4 * c + x] = fmin(box[4 * c + x], texel[2 * v[j] + x]);
+                box[4 * c + 2 + x] = fmax(box[4 * c + 2 + x], texel[2 * v[j] + x]);
             }
+    }
+    qsort(k, n, sizeof *k, compare_keyed);
+    for (size_t i = 0; i < n; i++)
+        by_area[i] = k[i].chart;
+    for (size_t c = 0; c < n; c++) {
+        k[c].chart = (uint32_t)c;
+        k[c].key = box[4 * c + 2] > box[4 * c] ? (box[4 * c + 2] - box[4 * c]) * (box[4 * c + 3] - box[4 * c + 1]) : 0;
+    }
+    qsort(k, n, sizeof *k, compare_keyed);
+    for (size_t i = 0; i < n; i++)
+        by_box[i] = k[i].chart;
+    free(k);
+    free(box);
+    return TEXOPT_OK;
+}
+
+static uint32_t next_random(uint64_t *state)
+{
+    *state = *state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (uint32_t)(*state >> 33);
+}
+
+/* A neighbour of `from` in order space: one chart moved to another place in the sequence
+ * (a small chart pulled forward can take a hole a large one left; a large one pushed back
+ * stops blocking the strip). */
+static void perturb(const uint32_t *from, uint32_t *to, size_t n, uint64_t *rng)
+{
+    memcpy(to, from, sizeof(uint32_t) * n);
+    if (n < 2)
+        return;
+    size_t i = next_random(rng) % n, j = next_random(rng) % (n - 1);
+    if (j >= i)
+        j++;
+    uint32_t c = to[i];
+    if (i < j)
+        memmove(to + i, to + i + 1, sizeof(uint32_t) * (j - i));
+    else
+        memmove(to + j + 1, to + j, sizeof(uint32_t) * (i - j));
+    to[j] = c;
+}
+
+/* The strip width and placement order whose "as tall as needed" packing has the fewest
+ * texels: both start orders at a few widths around the estimate (more for small atlases),
+ * then, for small atlases, a seeded local search over the order (one chart moved at a time)
+ * at the best widths. Its positions go to texel_out. Deterministic: a fixed seed and a fixed
+ * number of packings. */
+static texopt_status search_packing(work *w, double s, double area, double aspect, double *texel_out,
+                                    best_packing *best, char *err, size_t err_len)
+{
+    size_t n = w->mesh->chart_count;
+    uint32_t *orders = malloc(sizeof(uint32_t) * 3 * (n ? n : 1));
+    if (!orders)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the placement orders");
+    texopt_status st = start_orders(w->mesh, w->texel, orders, orders + n, err, err_len);
+    double base = sqrt(area * s * s / 0.7 * aspect);
+    texopt_packer *packer = NULL;
+    if (st == TEXOPT_OK)
+        st = make_packer(w, s, &packer, err, err_len);
+    int small = n <= SMALL_ATLAS_CHARTS;
+    int tries = small ? 15 : 5, starts = small ? 2 : 1;
+    for (int o = 0; o < starts && st == TEXOPT_OK; o++)
+        for (int i = 0; i < tries && st == TEXOPT_OK; i++) {
+            int strip = round_up4(base * (0.75 + 0.6 * i / (tries - 1)));
+            if (strip > MAX_SIDE)
+                continue;
+            w->sequence = orders + o * n;
+            try_packing(w, packer, strip, best, texel_out, &st, err, err_len);
         }
-    w->pack_order = best_order;
-    if (best < 0)
+    uint64_t rng = 0x9e3779b97f4a7c15ULL;
+    uint32_t *trial = orders + 2 * n;
+    for (int it = 0; small && st == TEXOPT_OK && best->texels >= 0 && it < ORDER_SEARCH_STEPS; it++) {
+        perturb(best->sequence, trial, n, &rng);
+        w->sequence = trial;
+        int strip = best->strip;
+        for (int d = -1; d <= 1 && st == TEXOPT_OK; d++) {
+            int at = round_up4(strip * (1 + 0.02 * d));
+            if (at <= MAX_SIDE && try_packing(w, packer, at, best, texel_out, &st, err, err_len))
+                break;
+        }
+    }
+    w->sequence = best->sequence;
+    texopt_packer_destroy(packer);
+    free(orders);
+    if (st == TEXOPT_OK && best->texels < 0)
         return texopt_fail(err, err_len, TEXOPT_E_LIMIT,
                            "budget: the layout needs a texture larger than %d texels a side", MAX_SIDE);
-    return TEXOPT_OK;
+    return st;
 }
 
 /* Cost depends on scale squared but also on how the scaled charts fall on the texel grid,
@@ -132,42 +268,54 @@ static texopt_status fit_relative_cost(work *w, const texopt_budget_request *req
     double target = req->relative_cost * req->input_cost;
     double s = sqrt(target / area);
     double aspect = (double)req->input_width / req->input_height;
-    int width = 0, height = 0;
-    texopt_status st = best_width(w, s, area, aspect, texel_out, &width, &height, err, err_len);
-    if (st != TEXOPT_OK)
-        return st;
+    /* One grid cell for the whole search, from the expected longer side, so the correction
+     * rounds repack the winning order on the grid it won on. */
+    w->side = (int)fmin(MAX_SIDE, ceil(sqrt(area * s * s / 0.7) * fmax(sqrt(aspect), 1 / sqrt(aspect))));
+    best_packing best = {-1, 0, 0, 0, malloc(sizeof(uint32_t) * (w->mesh->chart_count ? w->mesh->chart_count : 1))};
+    if (!best.sequence)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the placement order");
+    texopt_status st = search_packing(w, s, area, aspect, texel_out, &best, err, err_len);
     double cost = 0;
-    st = measure_cost(w->mesh, texel_out, width, height, &cost, err, err_len);
+    if (st == TEXOPT_OK)
+        st = measure_cost(w->mesh, texel_out, best.width, best.height, &cost, err, err_len);
     double best_miss = fabs(cost / target - 1);
-    res->width = width;
-    res->height = height;
+    int strip = best.strip;
+    res->width = best.width;
+    res->height = best.height;
     res->scale = s;
     res->cost = cost;
     for (int round = 0; st == TEXOPT_OK && round < COST_ROUNDS && best_miss > COST_TOLERANCE && cost > 0; round++) {
         double k = sqrt(target / cost);
-        int fits, h, next_w = round_up4(width * k);
-        if (next_w > MAX_SIDE)
-            return texopt_fail(err, err_len, TEXOPT_E_LIMIT,
-                               "budget: the layout needs a texture wider than %d texels", MAX_SIDE);
-        st = pack_at(w, s * k, next_w, 0, &fits, &h, err, err_len);
-        if (st == TEXOPT_OK && !fits)
-            return texopt_fail(err, err_len, TEXOPT_E_LIMIT,
-                               "budget: the layout needs a texture taller than %d texels", MAX_SIDE);
+        int fits, pw, ph, next_strip = round_up4(strip * k);
+        if (next_strip > MAX_SIDE) {
+            st = texopt_fail(err, err_len, TEXOPT_E_LIMIT, "budget: the layout needs a texture wider than %d texels",
+                             MAX_SIDE);
+            break;
+        }
+        texopt_packer *packer = NULL;
+        st = make_packer(w, s * k, &packer, err, err_len);
         if (st == TEXOPT_OK)
-            st = measure_cost(w->mesh, w->packed, next_w, h, &cost, err, err_len);
+            st = pack_at(w, packer, next_strip, 0, &fits, &pw, &ph, err, err_len);
+        texopt_packer_destroy(packer);
+        if (st == TEXOPT_OK && !fits)
+            st = texopt_fail(err, err_len, TEXOPT_E_LIMIT, "budget: the layout needs a texture taller than %d texels",
+                             MAX_SIDE);
+        if (st == TEXOPT_OK)
+            st = measure_cost(w->mesh, w->packed, pw, ph, &cost, err, err_len);
         if (st != TEXOPT_OK)
             break;
         s *= k;
-        width = next_w;
+        strip = next_strip;
         if (fabs(cost / target - 1) < best_miss) {
             best_miss = fabs(cost / target - 1);
-            res->width = next_w;
-            res->height = h;
+            res->width = pw;
+            res->height = ph;
             res->scale = s;
             res->cost = cost;
             memcpy(texel_out, w->packed, sizeof(double) * 2 * w->mesh->vertex_count);
         }
     }
+    free(best.sequence);
     return st;
 }
 
@@ -177,12 +325,17 @@ static texopt_status fit_texture_size(work *w, const texopt_budget_request *req,
 {
     int width = req->texture_width, height = req->texture_height;
     double hi = sqrt((double)width * height / area), lo = 0, s = hi * sqrt(0.75);
+    w->side = width > height ? width : height;
     texopt_status st = TEXOPT_OK;
     for (int i = 0; i < BISECTION_STEPS + 20 && st == TEXOPT_OK; i++) {
         if (lo > 0 && (hi - lo) <= 0.002 * hi)
             break;
-        int fits, h;
-        st = pack_at(w, s, width, height, &fits, &h, err, err_len);
+        int fits, pw, ph;
+        texopt_packer *packer = NULL;
+        st = make_packer(w, s, &packer, err, err_len);
+        if (st == TEXOPT_OK)
+            st = pack_at(w, packer, width, height, &fits, &pw, &ph, err, err_len);
+        texopt_packer_destroy(packer);
         if (st != TEXOPT_OK)
             break;
         if (fits) {
@@ -233,7 +386,7 @@ texopt_status texopt_budget_fit(const texopt_mesh *mesh, const double *texel,
     texopt_status st = check_request(req, area, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    work w = {mesh, texel, &req->pack, NULL, NULL, 0, req->pack.order, req->monitor};
+    work w = {mesh, texel, &req->pack, NULL, NULL, 0, req->pack.sequence, req->monitor, req->pack.cell, 0};
     size_t n = 2 * (mesh->vertex_count ? mesh->vertex_count : 1);
     w.scaled = malloc(n * sizeof(double));
     w.packed = malloc(n * sizeof(double));

@@ -5,9 +5,11 @@
  * packed layout), relative cost c_r = c(output) / c(input) (eq. 21).
  *  - relative cost: the layout is scaled so that its packed cost is c_r c(input) (within
  *    0.5%, by a few multiplicative corrections: cost grows as scale squared), and the texture
- *    is the smallest we find that holds it: several widths around sqrt(area / efficiency *
- *    aspect of the input frame) are packed "as tall as needed" and the one with the fewest
- *    texels wins. Both sides are multiples of 4 (block compression and mip levels two deep
+ *    is the smallest we find that holds it: several strip widths around sqrt(area /
+ *    efficiency * aspect of the input frame) and placement orders are packed "as tall as
+ *    needed" (the width then cut to the columns used), for small atlases followed by a
+ *    seeded local search over the order, and the packing with the fewest texels wins (a
+ *    fixed number of packings: deterministic). Both sides are multiples of 4 (block compression and mip levels two deep
  *    stay aligned); the aspect is therefore close to, not exactly, the input's: we choose
  *    the texture memory over the aspect.
  *  - texture size W x H: the largest scale whose packing fits in exactly W x H, by

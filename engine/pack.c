@@ -19,6 +19,8 @@ typedef struct footprint {
     uint8_t *bits;   /* w * h exact footprint */
     int *run_start;  /* h + 1 offsets into runs */
     int *runs;       /* pairs (first, last) of the footprint's runs of cells, row by row */
+    int *need;       /* per row: occupied cells */
+    int min_need;    /* smallest need of a row */
     double origin[2]; /* texel position (after rotation) of cell (0, 0) */
 } footprint;
 
@@ -96,6 +98,7 @@ static void footprint_destroy(footprint *f)
     free(f->bits);
     free(f->run_start);
     free(f->runs);
+    free(f->need);
     memset(f, 0, sizeof *f);
 }
 
@@ -175,6 +178,16 @@ static int build_runs(footprint *f)
         }
     }
     f->run_start[f->h] = n;
+    f->need = calloc(f->h > 0 ? (size_t)f->h : 1, sizeof(int));
+    if (!f->need)
+        return -1;
+    f->min_need = f->w;
+    for (int r = 0; r < f->h; r++) {
+        for (int k = f->run_start[r]; k < f->run_start[r + 1]; k++)
+            f->need[r] += f->runs[2 * k + 1] - f->runs[2 * k] + 1;
+        if (f->need[r] < f->min_need)
+            f->min_need = f->need[r];
+    }
     return 0;
 }
 
@@ -217,7 +230,10 @@ static int build_footprint(const texopt_mesh *mesh, const double *texel, const c
         }
         mark_triangle(f, p, pad, cell);
     }
-    return build_runs(f);
+    int r = build_runs(f);
+    free(f->bits); /* placement reads the runs only */
+    f->bits = NULL;
+    return r;
 }
 
 static uint64_t *occ_row(const occupancy *o, int y)
@@ -258,35 +274,47 @@ static int first_clear(const uint64_t *row, int from, int limit)
     }
 }
 
-/* Lowest-then-leftmost position of f, below row `below` (exclusive bound on y + h). */
+/* Whether row r of f fits at column x of grid row `row`; on a conflict *x becomes the
+ * first column that clears the occupied run it hit. */
+static int row_fits(const footprint *f, int r, const uint64_t *row, int width, int *x)
+{
+    for (int k = f->run_start[r]; k < f->run_start[r + 1]; k++) {
+        int a = f->runs[2 * k], b = f->runs[2 * k + 1];
+        int p = first_set(row, *x + a, *x + b);
+        if (p >= 0) {
+            *x = first_clear(row, p, width) - a;
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* Lowest-then-leftmost position of f, below row `below` (exclusive bound on y + h). Rows
+ * with fewer free cells than the footprint row needs rule a y out at once (and rows with
+ * fewer than any footprint row needs, every y that overlaps them); the row that last
+ * blocked a column is tested first, since it usually blocks the next one too. */
 static int find_position(const occupancy *o, const footprint *f, int below, int *px, int *py)
 {
+    int hot = 0;
     for (int y = 0; y + f->h <= o->h && y + f->h < below; y++) {
         int ok = 1;
-        for (int r = 0; r < f->h && ok; r++) {
-            int need = 0;
-            for (int k = f->run_start[r]; k < f->run_start[r + 1]; k++)
-                need += f->runs[2 * k + 1] - f->runs[2 * k] + 1;
-            ok = o->free_cells[y + r] >= need;
-        }
+        for (int r = 0; r < f->h && ok; r++)
+            if (o->free_cells[y + r] < f->need[r]) {
+                ok = 0;
+                if (o->free_cells[y + r] < f->min_need)
+                    y += r; /* every y up to y + r overlaps this row */
+            }
         if (!ok)
             continue;
         int x = 0;
         while (x + f->w <= o->w) {
-            int conflict = 0;
-            for (int r = 0; r < f->h && !conflict; r++) {
-                const uint64_t *row = occ_row(o, y + r);
-                for (int k = f->run_start[r]; k < f->run_start[r + 1]; k++) {
-                    int a = f->runs[2 * k], b = f->runs[2 * k + 1];
-                    int p = first_set(row, x + a, x + b);
-                    if (p >= 0) {
-                        x = first_clear(row, p, o->w) - a;
-                        conflict = 1;
-                        break;
-                    }
+            int fits = row_fits(f, hot, occ_row(o, y + hot), o->w, &x);
+            for (int r = 0; r < f->h && fits; r++)
+                if (r != hot && !row_fits(f, r, occ_row(o, y + r), o->w, &x)) {
+                    fits = 0;
+                    hot = r;
                 }
-            }
-            if (!conflict) {
+            if (fits) {
                 *px = x;
                 *py = y;
                 return 1;
@@ -348,65 +376,91 @@ static void move_chart(const texopt_mesh *mesh, const double *texel, const chart
         }
 }
 
-typedef struct pack_state {
+struct texopt_packer {
     const texopt_mesh *mesh;
     const double *texel;
     chart_set cs;
-    occupancy occ;
+    footprint *fp;          /* 4 per chart: the chart in each quarter turn */
+    uint32_t *order[2];     /* charts by triangle area, by bounding-box area */
     double pad, cell;
+    int unbounded_rows;     /* grid rows of the "as tall as needed" mode */
+};
+
+typedef struct pack_state {
+    const texopt_packer *p;
+    occupancy occ;
     uint8_t *moved;
-    int order; /* texopt_pack_options.order */
-    int top; /* highest occupied row + 1 */
+    int top;   /* highest occupied row + 1 */
+    int right; /* rightmost occupied column + 1 */
 } pack_state;
 
-/* Places chart c at its best rotation; returns 1 placed, 0 no room, -1 out of memory. */
+/* Places chart c at its best rotation; returns 1 placed, 0 no room. */
 static int place_chart(pack_state *s, size_t c, double *texel_out, uint8_t *rotation)
 {
-    footprint best = {0};
+    const texopt_packer *p = s->p;
     int best_k = -1, bx = 0, by = 0, bound = s->occ.h + 1;
     for (int k = 0; k < 4; k++) {
-        footprint f;
-        if (build_footprint(s->mesh, s->texel, &s->cs, c, k, s->pad, s->cell, &f) != 0) {
-            footprint_destroy(&f);
-            footprint_destroy(&best);
-            return -1;
-        }
+        const footprint *f = p->fp + 4 * c + k;
         int x, y;
-        if (find_position(&s->occ, &f, bound, &x, &y) &&
-            (best_k < 0 || y + f.h < by + best.h || (y + f.h == by + best.h && x < bx))) {
-            footprint_destroy(&best);
-            best = f;
+        if (find_position(&s->occ, f, bound, &x, &y) &&
+            (best_k < 0 || y + f->h < by + p->fp[4 * c + best_k].h ||
+             (y + f->h == by + p->fp[4 * c + best_k].h && x < bx))) {
             best_k = k;
             bx = x;
             by = y;
-            bound = y + f.h + 1;
-        } else {
-            footprint_destroy(&f);
+            bound = y + f->h + 1;
         }
     }
     if (best_k < 0)
         return 0;
-    place(&s->occ, &best, bx, by);
-    if (by + best.h > s->top)
-        s->top = by + best.h;
-    move_chart(s->mesh, s->texel, &s->cs, c, best_k, &best, bx * s->cell, by * s->cell, texel_out,
-               s->moved);
+    const footprint *best = p->fp + 4 * c + best_k;
+    place(&s->occ, best, bx, by);
+    if (by + best->h > s->top)
+        s->top = by + best->h;
+    if (bx + best->w > s->right)
+        s->right = bx + best->w;
+    move_chart(p->mesh, p->texel, &p->cs, c, best_k, best, bx * p->cell, by * p->cell, texel_out, s->moved);
     rotation[c] = (uint8_t)best_k;
-    footprint_destroy(&best);
     return 1;
 }
 
-static texopt_status check_inputs(const texopt_mesh *mesh, const double *texel, int width, int height,
-                                  char *err, size_t err_len)
+static texopt_status check_inputs(const texopt_mesh *mesh, const double *texel, char *err, size_t err_len)
 {
     if (!mesh || !texel)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "pack: mesh and layout are required");
-    if (width < 1 || width > 65536 || height < 0 || height > 65536)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "pack: texture size %dx%d is out of range",
-                           width, height);
     for (size_t i = 0; i < 2 * mesh->vertex_count; i++)
         if (!isfinite(texel[i]))
             return texopt_fail(err, err_len, TEXOPT_E_NUMERIC, "pack: vertex %zu has a non-finite position", i / 2);
+    return TEXOPT_OK;
+}
+
+static texopt_status check_size(int width, int height, char *err, size_t err_len)
+{
+    if (width < 1 || width > 65536 || height < 0 || height > 65536)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "pack: texture size %dx%d is out of range",
+                           width, height);
+    return TEXOPT_OK;
+}
+
+/* A caller's sequence must name every chart once, or charts would be lost or placed twice. */
+static texopt_status check_sequence(const uint32_t *sequence, size_t count, char *err, size_t err_len)
+{
+    if (!sequence)
+        return TEXOPT_OK;
+    uint8_t *seen = calloc(count ? count : 1, 1);
+    if (!seen)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory to check the chart sequence");
+    size_t bad = count;
+    for (size_t i = 0; i < count && bad == count; i++) {
+        if (sequence[i] >= count || seen[sequence[i]])
+            bad = i;
+        else
+            seen[sequence[i]] = 1;
+    }
+    free(seen);
+    if (bad < count)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "pack: sequence entry %zu (%u) is out of range or repeated", bad, sequence[bad]);
     return TEXOPT_OK;
 }
 
@@ -431,54 +485,156 @@ static int unbounded_rows(const chart_set *cs, const texopt_mesh *mesh, const do
     return rows > 1 << 20 ? 1 << 20 : (int)rows;
 }
 
-static double chart_box_area(const pack_state *s, size_t c)
+static double chart_box_area(const texopt_packer *p, size_t c)
 {
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-    for (uint32_t i = s->cs.start[c]; i < s->cs.start[c + 1]; i++)
+    for (uint32_t i = p->cs.start[c]; i < p->cs.start[c + 1]; i++)
         for (int j = 0; j < 3; j++) {
-            uint32_t v = s->mesh->triangle[3 * s->cs.tris[i] + j];
+            uint32_t v = p->mesh->triangle[3 * p->cs.tris[i] + j];
             for (int a = 0; a < 2; a++) {
-                lo[a] = fmin(lo[a], s->texel[2 * v + a]);
-                hi[a] = fmax(hi[a], s->texel[2 * v + a]);
+                lo[a] = fmin(lo[a], p->texel[2 * v + a]);
+                hi[a] = fmax(hi[a], p->texel[2 * v + a]);
             }
         }
     return hi[0] > lo[0] ? (hi[0] - lo[0]) * (hi[1] - lo[1]) : 0;
 }
 
-static texopt_status pack_all(pack_state *s, int width, int height, double *texel_out,
-                              texopt_pack_result *result, int *fits, char *err, size_t err_len)
+/* The two built-in orders (pack.h `order`), largest first, ties by chart index. */
+static texopt_status build_orders(texopt_packer *p, char *err, size_t err_len)
 {
-    sort_item *items = malloc(sizeof *items * (s->cs.count ? s->cs.count : 1));
-    if (!items)
+    size_t n = p->cs.count;
+    sort_item *items = malloc(sizeof *items * (n ? n : 1));
+    for (int o = 0; o < 2; o++)
+        p->order[o] = malloc(sizeof(uint32_t) * (n ? n : 1));
+    if (!items || !p->order[0] || !p->order[1]) {
+        free(items);
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory to sort charts");
-    for (size_t c = 0; c < s->cs.count; c++) {
-        items[c].area = s->order == 1 ? chart_box_area(s, c) : s->cs.area[c];
-        items[c].chart = (uint32_t)c;
     }
-    qsort(items, s->cs.count, sizeof *items, compare_items);
-    *fits = 1;
-    for (size_t i = 0; i < s->cs.count && *fits; i++) {
-        size_t c = items[i].chart;
-        if (s->cs.start[c + 1] == s->cs.start[c])
-            continue;
-        int r = place_chart(s, c, texel_out, result->rotation);
-        if (r < 0) {
-            free(items);
-            return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for chart footprints");
+    for (int o = 0; o < 2; o++) {
+        for (size_t c = 0; c < n; c++) {
+            items[c].area = o == 1 ? chart_box_area(p, c) : p->cs.area[c];
+            items[c].chart = (uint32_t)c;
         }
-        *fits = r;
+        qsort(items, n, sizeof *items, compare_items);
+        for (size_t i = 0; i < n; i++)
+            p->order[o][i] = items[i].chart;
     }
     free(items);
+    return TEXOPT_OK;
+}
+
+texopt_status texopt_packer_create(texopt_packer **out, const texopt_mesh *mesh, const double *texel,
+                                   const texopt_pack_options *opt, int side, char *err, size_t err_len)
+{
+    *out = NULL;
+    texopt_status st = check_inputs(mesh, texel, err, err_len);
+    if (st == TEXOPT_OK)
+        st = check_size(side, 0, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    texopt_packer *p = calloc(1, sizeof *p);
+    if (!p)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the packer");
+    p->mesh = mesh;
+    p->texel = texel;
+    int gutter = opt && opt->gutter > 0 ? opt->gutter : 4;
+    p->pad = 0.5 * gutter;
+    p->cell = choose_cell(side, 0, opt);
+    st = group_charts(mesh, texel, &p->cs, err, err_len);
+    if (st == TEXOPT_OK)
+        st = build_orders(p, err, err_len);
+    if (st == TEXOPT_OK) {
+        p->fp = calloc(4 * (p->cs.count ? p->cs.count : 1), sizeof *p->fp);
+        if (!p->fp)
+            st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for chart footprints");
+    }
+    for (size_t c = 0; st == TEXOPT_OK && c < p->cs.count; c++)
+        for (int k = 0; k < 4 && st == TEXOPT_OK; k++)
+            if (p->cs.start[c + 1] > p->cs.start[c] &&
+                build_footprint(mesh, texel, &p->cs, c, k, p->pad, p->cell, p->fp + 4 * c + k) != 0)
+                st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for chart footprints");
+    if (st != TEXOPT_OK) {
+        texopt_packer_destroy(p);
+        return st;
+    }
+    p->unbounded_rows = unbounded_rows(&p->cs, mesh, texel, p->pad, p->cell);
+    *out = p;
+    return TEXOPT_OK;
+}
+
+void texopt_packer_destroy(texopt_packer *p)
+{
+    if (!p)
+        return;
+    if (p->fp)
+        for (size_t i = 0; i < 4 * p->cs.count; i++)
+            footprint_destroy(p->fp + i);
+    free(p->fp);
+    free(p->order[0]);
+    free(p->order[1]);
+    chart_set_destroy(&p->cs);
+    free(p);
+}
+
+static void finish_result(const pack_state *s, int width, int height, texopt_pack_result *result)
+{
+    const texopt_packer *p = s->p;
     result->width = width;
-    result->used_height = (int)ceil(s->top * s->cell);
+    result->used_height = (int)ceil(s->top * p->cell);
+    result->used_width = (int)ceil(s->right * p->cell);
+    if (result->used_width > width)
+        result->used_width = width;
     result->height = height > 0 ? height : ((result->used_height + 3) / 4) * 4;
     if (result->height < 1)
         result->height = 4;
     double area = 0;
-    for (size_t c = 0; c < s->cs.count; c++)
-        area += s->cs.area[c];
+    for (size_t c = 0; c < p->cs.count; c++)
+        area += p->cs.area[c];
     result->area_efficiency = area / ((double)result->width * result->height);
-    return TEXOPT_OK;
+}
+
+texopt_status texopt_packer_run(const texopt_packer *p, int width, int height, int order,
+                                const uint32_t *sequence, double *texel_out,
+                                texopt_pack_result *result, int *fits, char *err, size_t err_len)
+{
+    memset(result, 0, sizeof *result);
+    *fits = 0;
+    texopt_status st = check_size(width, height, err, err_len);
+    if (st == TEXOPT_OK)
+        st = check_sequence(sequence, p->cs.count, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    const uint32_t *seq = sequence ? sequence : p->order[order == 1];
+    pack_state s;
+    memset(&s, 0, sizeof s);
+    s.p = p;
+    s.occ.w = (int)(width / p->cell);
+    s.occ.h = height > 0 ? (int)(height / p->cell) : p->unbounded_rows;
+    s.occ.words = (s.occ.w + 63) / 64;
+    s.occ.bits = calloc((size_t)s.occ.h * (size_t)(s.occ.words ? s.occ.words : 1), sizeof(uint64_t));
+    s.occ.free_cells = malloc(sizeof(int) * (size_t)(s.occ.h ? s.occ.h : 1));
+    s.moved = calloc(p->mesh->vertex_count ? p->mesh->vertex_count : 1, 1);
+    result->rotation = calloc(p->cs.count ? p->cs.count : 1, 1);
+    result->chart_count = p->cs.count;
+    if (!s.occ.bits || !s.occ.free_cells || !s.moved || !result->rotation)
+        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %dx%d packing grid", s.occ.w, s.occ.h);
+    if (st == TEXOPT_OK) {
+        for (int y = 0; y < s.occ.h; y++)
+            s.occ.free_cells[y] = s.occ.w;
+        for (size_t v = 0; v < p->mesh->vertex_count; v++)
+            texel_out[2 * v] = texel_out[2 * v + 1] = 0; /* vertices of no triangle */
+        *fits = 1;
+        for (size_t i = 0; i < p->cs.count && *fits; i++)
+            if (p->cs.start[seq[i] + 1] > p->cs.start[seq[i]])
+                *fits = place_chart(&s, seq[i], texel_out, result->rotation);
+        finish_result(&s, width, height, result);
+    }
+    free(s.occ.bits);
+    free(s.occ.free_cells);
+    free(s.moved);
+    if (st != TEXOPT_OK)
+        texopt_pack_result_destroy(result);
+    return st;
 }
 
 texopt_status texopt_pack_charts(const texopt_mesh *mesh, const double *texel, int width, int height,
@@ -487,43 +643,15 @@ texopt_status texopt_pack_charts(const texopt_mesh *mesh, const double *texel, i
 {
     memset(result, 0, sizeof *result);
     *fits = 0;
-    texopt_status st = check_inputs(mesh, texel, width, height, err, err_len);
+    texopt_status st = check_size(width, height, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    pack_state s;
-    memset(&s, 0, sizeof s);
-    s.mesh = mesh;
-    s.texel = texel;
-    int gutter = opt && opt->gutter > 0 ? opt->gutter : 4;
-    s.pad = 0.5 * gutter;
-    s.cell = choose_cell(width, height, opt);
-    s.order = opt ? opt->order : 0;
-    st = group_charts(mesh, texel, &s.cs, err, err_len);
-    if (st != TEXOPT_OK)
-        return st;
-    s.occ.w = (int)(width / s.cell);
-    s.occ.h = height > 0 ? (int)(height / s.cell) : unbounded_rows(&s.cs, mesh, texel, s.pad, s.cell);
-    s.occ.words = (s.occ.w + 63) / 64;
-    s.occ.bits = calloc((size_t)s.occ.h * (size_t)(s.occ.words ? s.occ.words : 1), sizeof(uint64_t));
-    s.occ.free_cells = malloc(sizeof(int) * (size_t)(s.occ.h ? s.occ.h : 1));
-    s.moved = calloc(mesh->vertex_count ? mesh->vertex_count : 1, 1);
-    result->rotation = calloc(s.cs.count ? s.cs.count : 1, 1);
-    result->chart_count = s.cs.count;
-    if (!s.occ.bits || !s.occ.free_cells || !s.moved || !result->rotation)
-        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %dx%d packing grid", s.occ.w, s.occ.h);
-    if (st == TEXOPT_OK) {
-        for (int y = 0; y < s.occ.h; y++)
-            s.occ.free_cells[y] = s.occ.w;
-        for (size_t v = 0; v < mesh->vertex_count; v++)
-            texel_out[2 * v] = texel_out[2 * v + 1] = 0; /* vertices of no triangle */
-        st = pack_all(&s, width, height, texel_out, result, fits, err, err_len);
-    }
-    free(s.occ.bits);
-    free(s.occ.free_cells);
-    free(s.moved);
-    chart_set_destroy(&s.cs);
-    if (st != TEXOPT_OK)
-        texopt_pack_result_destroy(result);
+    texopt_packer *p = NULL;
+    st = texopt_packer_create(&p, mesh, texel, opt, width > height ? width : height, err, err_len);
+    if (st == TEXOPT_OK)
+        st = texopt_packer_run(p, width, height, opt ? opt->order : 0, opt ? opt->sequence : NULL, texel_out,
+                               result, fits, err, err_len);
+    texopt_packer_destroy(p);
     return st;
 }
 

@@ -32,11 +32,16 @@ typedef struct texopt_pack_options {
                       (1 up to 1024, then so the grid stays <= 1024 cells a side) */
     int order;     /* placement order: 0 largest triangle area first, 1 largest bounding
                       box first (better for elongated charts; budget.h tries both) */
+    const uint32_t *sequence; /* optional: the placement order itself, every chart index
+                                 0..chart_count-1 once (budget.h searches orders this way);
+                                 NULL = by `order` */
 } texopt_pack_options;
 
 typedef struct texopt_pack_result {
     int width, height;     /* texture size the charts were packed into */
     int used_height;       /* rows actually used (the top of the highest chart + gutter/2) */
+    int used_width;        /* columns actually used (the right of the rightmost chart +
+                              gutter/2): the texture may be cut to it, rounded up to 4 */
     double area_efficiency; /* sum of |texel area| of the triangles / (width * height) */
     size_t chart_count;
     uint8_t *rotation;     /* per chart: quarter turns 0..3 (counter-clockwise in (x, y)) */
@@ -54,5 +59,22 @@ texopt_status texopt_pack_charts(const texopt_mesh *mesh, const double *texel, i
                                  texopt_pack_result *result, int *fits, char *err, size_t err_len);
 
 void texopt_pack_result_destroy(texopt_pack_result *result);
+
+/* A packer keeps the footprints of one layout (every chart in its four quarter turns) so
+ * that many packings of it (other widths, other orders: budget.h's search) cost only the
+ * placement. The layout (mesh, texel) must stay alive and unchanged while the packer is.
+ * The grid cell is opt->cell, or chosen for a texture of `side` texels a side. */
+typedef struct texopt_packer texopt_packer;
+
+texopt_status texopt_packer_create(texopt_packer **out, const texopt_mesh *mesh, const double *texel,
+                                   const texopt_pack_options *opt, int side, char *err, size_t err_len);
+
+/* As texopt_pack_charts with the packer's layout, gutter and cell; `order` and `sequence`
+ * as in texopt_pack_options. */
+texopt_status texopt_packer_run(const texopt_packer *packer, int width, int height, int order,
+                                const uint32_t *sequence, double *texel_out,
+                                texopt_pack_result *result, int *fits, char *err, size_t err_len);
+
+void texopt_packer_destroy(texopt_packer *packer);
 
 #endif

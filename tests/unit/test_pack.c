@@ -254,3 +254,67 @@ TEST(bad_layouts_are_refused)
     free(out);
     free_test_mesh(&t);
 }
+
+TEST(a_packer_reused_gives_the_one_shot_packing_and_follows_a_sequence)
+{
+    test_mesh t;
+    CHECK(make_random_charts(&t, 30, 9) == 0);
+    size_t n = 2 * t.m.vertex_count;
+    double *a = malloc(sizeof(double) * n), *b = malloc(sizeof(double) * n);
+    texopt_pack_result r;
+    int fits;
+    char err[256] = "";
+    texopt_pack_options opt = {.gutter = 4, .cell = 1};
+    CHECK_OK(texopt_pack_charts(&t.m, t.m.texel, 200, 0, &opt, a, &r, &fits, err, sizeof err), err);
+    texopt_pack_result_destroy(&r);
+    texopt_packer *p = NULL;
+    CHECK_OK(texopt_packer_create(&p, &t.m, t.m.texel, &opt, 200, err, sizeof err), err);
+    for (int run = 0; run < 2; run++) { /* the packer keeps no state between runs */
+        CHECK_OK(texopt_packer_run(p, 200, 0, 0, NULL, b, &r, &fits, err, sizeof err), err);
+        CHECK(fits);
+        CHECK(memcmp(a, b, sizeof(double) * n) == 0);
+        CHECK(r.used_width <= 200 && r.used_width > 150);
+        texopt_pack_result_destroy(&r);
+    }
+    /* The reversed order places the smallest chart first, at the bottom-left corner. */
+    uint32_t seq[30];
+    double smallest = INFINITY;
+    uint32_t small_chart = 0;
+    for (uint32_t c = 0; c < 30; c++) {
+        seq[c] = 29 - c;
+        double area = 0;
+        for (size_t tri = 0; tri < t.m.triangle_count; tri++)
+            if (t.m.chart_of[tri] == c) {
+                const uint32_t *v = t.m.triangle + 3 * tri;
+                const double *p0 = t.m.texel + 2 * v[0], *p1 = t.m.texel + 2 * v[1], *p2 = t.m.texel + 2 * v[2];
+                area += 0.5 * fabs((p1[0] - p0[0]) * (p2[1] - p0[1]) - (p2[0] - p0[0]) * (p1[1] - p0[1]));
+            }
+        if (area < smallest) {
+            smallest = area;
+            small_chart = c;
+        }
+    }
+    seq[0] = small_chart;
+    seq[29 - small_chart] = 29;
+    CHECK_OK(texopt_packer_run(p, 200, 0, 0, seq, b, &r, &fits, err, sizeof err), err);
+    CHECK(fits);
+    CHECK(check_separation(&t.m, b, 200, r.height, 2) == 0);
+    CHECK(check_rigid_quarter_turns(&t.m, t.m.texel, b, r.rotation) == 0);
+    double lo_x = INFINITY, lo_y = INFINITY;
+    for (size_t tri = 0; tri < t.m.triangle_count; tri++)
+        if (t.m.chart_of[tri] == small_chart)
+            for (int j = 0; j < 3; j++) {
+                lo_x = fmin(lo_x, b[2 * t.m.triangle[3 * tri + j]]);
+                lo_y = fmin(lo_y, b[2 * t.m.triangle[3 * tri + j] + 1]);
+            }
+    CHECK(lo_x < 3.5 && lo_y < 3.5); /* gutter / 2 plus at most one cell */
+    texopt_pack_result_destroy(&r);
+    /* A sequence that repeats a chart is refused. */
+    seq[1] = seq[0];
+    CHECK(texopt_packer_run(p, 200, 0, 0, seq, b, &r, &fits, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    texopt_packer_destroy(p);
+    texopt_packer_destroy(NULL);
+    free(a);
+    free(b);
+    free_test_mesh(&t);
+}
