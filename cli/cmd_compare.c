@@ -34,7 +34,7 @@ static void usage(FILE *out)
             "  --json PATH         write the curves as JSON\n"
             "  --resolution N      evaluation render side (default: 1.25 sqrt(covered texels))\n"
             "  --mipmap            evaluate with prefiltered (mip-mapped) lookups, not bilinear\n"
-            "  --iterations N      stage-1 iterations per triangle (default 100)\n"
+            "  --iterations N      most stage-1 polish iterations per triangle (default 100)\n"
             "  --threads T         worker threads (default: every core)\n"
             "  --reuse-layout      each layout method once, at the largest cost; smaller costs by\n"
             "                      resampling its re-baked textures (much faster, but measurably\n"

@@ -96,7 +96,8 @@ int texopt_bo_history(const texopt_bo *bo, const double **x, const double **f)
 
 typedef struct resolved_options {
     int iterations, design, candidates, polish, refit_every, patience, has_target, ard;
-    double beta, early_stop_ei, target;
+    int stall_patience;
+    double beta, early_stop_ei, target, stall_tolerance;
     texopt_acquisition kind;
 } resolved_options;
 
@@ -108,6 +109,7 @@ static texopt_status resolve_options(const texopt_bo *bo, const texopt_bo_option
         opt = &zero;
     if (opt->iterations < 0 || opt->candidates < 0 || opt->candidates > BO_MAX_CANDIDATES ||
         opt->refit_every < 0 || opt->early_stop_patience < 0 || opt->initial_point_count < 0 ||
+        opt->stall_patience < 0 || !(opt->stall_tolerance >= 0.0) ||
         (opt->initial_point_count > 0 && !opt->initial_points) || opt->lcb_beta < 0.0 ||
         (opt->acquisition != TEXOPT_ACQ_EI && opt->acquisition != TEXOPT_ACQ_LCB))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
@@ -125,6 +127,8 @@ static texopt_status resolve_options(const texopt_bo *bo, const texopt_bo_option
     r->refit_every = opt->refit_every ? opt->refit_every : 5;
     r->patience = opt->early_stop_patience;
     r->early_stop_ei = opt->early_stop_ei;
+    r->stall_patience = opt->stall_patience;
+    r->stall_tolerance = opt->stall_tolerance;
     r->beta = opt->lcb_beta > 0.0 ? opt->lcb_beta : 2.0;
     r->kind = opt->acquisition;
     r->has_target = opt->has_target;
@@ -193,14 +197,16 @@ static texopt_status add_to_surrogate(texopt_bo *bo, int i, double penalty)
     return s;
 }
 
-/* Evaluates x, records it in the history and in the surrogate. */
-static texopt_status evaluate(texopt_bo *bo, texopt_objective f, void *user, const double *x)
+/* Evaluates x (or takes its known value when `known` is not NULL), records it in the history
+ * and in the surrogate. */
+static texopt_status evaluate(texopt_bo *bo, texopt_objective f, void *user, const double *x,
+                              const double *known)
 {
     int i = bo->count;
     double *xi = bo->x + (size_t)i * bo->dim;
     for (int k = 0; k < bo->dim; k++)
         xi[k] = x[k] < 0.0 ? 0.0 : (x[k] > 1.0 ? 1.0 : (isnan(x[k]) ? 0.5 : x[k]));
-    double value = f(user, xi);
+    double value = known ? *known : f(user, xi);
     /* -INFINITY is no better than NaN: a broken evaluation, not a record minimum. */
     bo->f[i] = isfinite(value) ? value : INFINITY;
     double old_penalty = infeasible_penalty(feasible_values(bo));
@@ -342,6 +348,14 @@ static texopt_status numeric_failure(char *err, size_t err_len, int count)
                        "bayesopt: surrogate factorisation failed at sample %d", count);
 }
 
+static double best_value(const texopt_bo *bo)
+{
+    double value = INFINITY;
+    for (int i = 0; i < bo->count; i++)
+        value = bo->f[i] < value ? bo->f[i] : value;
+    return value;
+}
+
 static void report_best(const texopt_bo *bo, double *best_x, double *best_f, int *evaluations)
 {
     int best = 0;
@@ -387,17 +401,19 @@ texopt_status texopt_bo_minimize(texopt_bo *bo, const texopt_bo_options *opt, te
     int budget = bo->max_evaluations;
     int given = opt ? opt->initial_point_count : 0;
     for (int i = 0; i < given && bo->count < budget && !reached_target(bo, &r); i++)
-        if (evaluate(bo, f, user, opt->initial_points + (size_t)i * bo->dim) != TEXOPT_OK)
+        if (evaluate(bo, f, user, opt->initial_points + (size_t)i * bo->dim,
+                     opt->initial_values ? opt->initial_values + i : NULL) != TEXOPT_OK)
             return numeric_failure(err, err_len, bo->count);
     int design = r.design < budget - bo->count ? r.design : budget - bo->count;
     if (design > 0 && !reached_target(bo, &r)) {
         latin_hypercube(bo, &rng, design);
         for (int i = 0; i < design && !reached_target(bo, &r); i++)
-            if (evaluate(bo, f, user, bo->design + (size_t)i * bo->dim) != TEXOPT_OK)
+            if (evaluate(bo, f, user, bo->design + (size_t)i * bo->dim, NULL) != TEXOPT_OK)
                 return numeric_failure(err, err_len, bo->count);
     }
 
-    int quiet = 0, since_refit = r.refit_every;
+    int quiet = 0, stalled = 0, since_refit = r.refit_every;
+    double best = best_value(bo);
     for (int it = 0; it < r.iterations && bo->count < budget && bo->count > 0; it++) {
         if (reached_target(bo, &r))
             break;
@@ -412,14 +428,20 @@ texopt_status texopt_bo_minimize(texopt_bo *bo, const texopt_bo_options *opt, te
         }
         double x[BO_MAX_DIM];
         double acquisition = next_point(bo, &r, &rng, x);
-        if (evaluate(bo, f, user, x) != TEXOPT_OK)
-            return numeric_failure(err, err_len, bo->count);
-        since_refit++;
+        /* The patience-th low expectation in a row is not worth its evaluation. */
         if (r.patience > 0 && r.kind == TEXOPT_ACQ_EI) {
             quiet = acquisition < r.early_stop_ei ? quiet + 1 : 0;
             if (quiet >= r.patience)
                 break;
         }
+        if (evaluate(bo, f, user, x, NULL) != TEXOPT_OK)
+            return numeric_failure(err, err_len, bo->count);
+        since_refit++;
+        double now = best_value(bo);
+        stalled = isfinite(best) && !(now < best - r.stall_tolerance * fabs(best)) ? stalled + 1 : 0;
+        best = now;
+        if (r.stall_patience > 0 && stalled >= r.stall_patience)
+            break;
     }
     report_best(bo, best_x, best_f, evaluations);
     return TEXOPT_OK;

@@ -46,6 +46,9 @@ typedef struct texopt_bo_options {
     int iterations;          /* model-guided evaluations after the design; 0 -> 100 */
     int initial_design;      /* Latin-hypercube points; 0 -> 2 * dim + 2, < 0 -> none */
     const double *initial_points; /* initial_point_count * dim, evaluated first; may be NULL */
+    const double *initial_values; /* their objective values (+INFINITY: infeasible) when
+                                     already known: they enter the surrogate without calling
+                                     the objective; NULL: evaluate them */
     int initial_point_count;
     int candidates;          /* acquisition batch size; 0 -> 128 */
     int polish_evaluations;  /* NLopt BOBYQA steps on the acquisition; 0 -> 10, < 0 -> off */
@@ -54,7 +57,12 @@ typedef struct texopt_bo_options {
     int isotropic;           /* non-zero: one length scale; 0 -> per-dimension (ARD) fit */
     double lcb_beta;         /* 0 -> 2.0 */
     double early_stop_ei;    /* stop when the best expected improvement is below this... */
-    int early_stop_patience; /* ...for this many iterations in a row; 0 -> never stop early */
+    int early_stop_patience; /* ...for this many iterations in a row (the last of them is
+                                not evaluated); 0 -> never stop early */
+    int stall_patience;      /* stop after this many model-guided evaluations in a row that
+                                lower the best value by less than stall_tolerance |best|;
+                                0 -> never */
+    double stall_tolerance;
     double target;           /* stop as soon as a value <= target is found (when
                                 has_target is non-zero) */
     int has_target;

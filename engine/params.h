@@ -35,7 +35,8 @@ typedef struct texopt_params {
     int texture_height;
     double target_loss;     /* with TEXOPT_BUDGET_TARGET_LOSS */
     double epsilon;         /* loss threshold of stage 1; 0 -> 0.01 */
-    int iterations;         /* Bayesian optimisation iterations per triangle; 0 -> 100 */
+    int iterations;         /* most Bayesian-optimisation polish iterations per triangle (the
+                               polish stops earlier once it stops paying); 0 -> 100 */
     double lambda_min;      /* smallest singular value stage 1 may choose; 0 -> 0.1 */
     int threads;            /* 0 -> every core */
     uint64_t seed;

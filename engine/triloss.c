@@ -25,6 +25,7 @@ typedef struct loss_signal {
 /* Signals of textures of one size, baked together. */
 typedef struct loss_batch {
     int first_signal, signal_count;
+    int active_count;  /* of the prepared triangle: signals that need their own bake */
     int tex_w, tex_h;  /* the texture grid */
     double sx, sy;     /* domain texel frame -> this texture's texels */
 } loss_batch;
@@ -46,7 +47,8 @@ struct texopt_triloss {
     double *phat;        /* 2 per covered pixel, domain texels */
     double centroid[2];  /* pivot of J: the texel centre nearest the triangle's centroid */
     double radius;       /* max |p_hat - c| over covered pixels (infinity norm) */
-    float *reference;    /* per batch: n x signal_count values, at n * first_signal */
+    float *reference;    /* per batch: n x active_count values, at n * first_signal */
+    int *active;         /* per batch: its active signals' indices, at first_signal */
     float *ref_img;      /* per signal: size x size image, 0 where uncovered */
     unsigned char *mask; /* size x size */
     texopt_gmsd_reference **gmsd_ref; /* per signal: its GMSD side prepared once */
@@ -186,6 +188,7 @@ texopt_status texopt_triloss_create(texopt_triloss **out, const texopt_model *mo
         tl->pixel = malloc(px * sizeof *tl->pixel);
         tl->phat = malloc(2 * px * sizeof *tl->phat);
         tl->reference = malloc(px * (size_t)tl->signal_count * sizeof *tl->reference);
+        tl->active = malloc((size_t)tl->signal_count * sizeof *tl->active);
         tl->ref_img = calloc(px * (size_t)tl->signal_count, sizeof *tl->ref_img);
         tl->mask = calloc(px, 1);
         tl->pos = malloc(2 * px * sizeof *tl->pos);
@@ -197,7 +200,7 @@ texopt_status texopt_triloss_create(texopt_triloss **out, const texopt_model *mo
         int refs_ok = tl->gmsd_ref != NULL;
         for (int s = 0; refs_ok && s < tl->signal_count; s++)
             refs_ok = (tl->gmsd_ref[s] = texopt_gmsd_reference_create(viewport, viewport)) != NULL;
-        if (!tl->pixel || !tl->phat || !tl->reference || !tl->ref_img || !tl->mask ||
+        if (!tl->pixel || !tl->phat || !tl->reference || !tl->active || !tl->ref_img || !tl->mask ||
             !tl->pos || !tl->recon || !tl->dist_img || !tl->bake || !tl->gmsd || !refs_ok)
             st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "triloss: out of memory for a %dx%d view",
                              viewport, viewport);
@@ -220,6 +223,7 @@ void texopt_triloss_destroy(texopt_triloss *tl)
     free(tl->pixel);
     free(tl->phat);
     free(tl->reference);
+    free(tl->active);
     free(tl->ref_img);
     free(tl->mask);
     free(tl->pos);
@@ -255,6 +259,48 @@ static void collect_covered(texopt_triloss *tl)
     tl->radius = radius;
 }
 
+static int signal_is_constant(const float *block, size_t n, int stride, int s)
+{
+    for (size_t k = 1; k < n; k++)
+        if (block[k * (size_t)stride + (size_t)s] != block[(size_t)s])
+            return 0;
+    return 1;
+}
+
+static int signals_equal(const float *block, size_t n, int stride, int s, int t)
+{
+    for (size_t k = 0; k < n; k++)
+        if (block[k * (size_t)stride + (size_t)s] != block[k * (size_t)stride + (size_t)t])
+            return 0;
+    return 1;
+}
+
+/* Which signals of batch b the candidates must bake, and their references compacted in
+ * place (n x active_count). Left out, on this triangle: a signal constant over the covered
+ * pixels (the bake reproduces a constant under every J, so its GMSD is 0 up to rounding:
+ * ORM channels a material does not use, black emissive) and a signal equal to an earlier one
+ * (grey occlusion stored as RGB: same bake, same GMSD). Only the maximum over signals is
+ * kept, so this changes E by rounding at most and saves their solves and GMSDs. */
+static void select_active_signals(texopt_triloss *tl, int b)
+{
+    loss_batch *batch = &tl->batches[b];
+    float *block = tl->reference + tl->n * (size_t)batch->first_signal;
+    int *active = tl->active + batch->first_signal;
+    int count = 0, stride = batch->signal_count;
+    for (int s = 0; s < stride; s++) {
+        int keep = !signal_is_constant(block, tl->n, stride, s);
+        for (int j = 0; keep && j < count; j++)
+            keep = !signals_equal(block, tl->n, stride, s, active[j]);
+        if (keep)
+            active[count++] = s;
+    }
+    /* Row k moves to k * count <= k * stride: forward order never overwrites unread values. */
+    for (size_t k = 0; k < tl->n; k++)
+        for (int j = 0; j < count; j++)
+            block[k * (size_t)count + (size_t)j] = block[k * (size_t)stride + (size_t)active[j]];
+    batch->active_count = count;
+}
+
 /* I_hat: the input textures looked up at p_hat, as signals. */
 static void sample_references(texopt_triloss *tl)
 {
@@ -279,6 +325,7 @@ static void sample_references(texopt_triloss *tl)
             texopt_gmsd_reference_set(tl->gmsd_ref[batch->first_signal + s], image_out,
                                       tl->mask, tl->size, tl->size);
         }
+        select_active_signals(tl, b);
     }
 }
 
@@ -341,23 +388,24 @@ texopt_status texopt_triloss_eval(texopt_triloss *tl, const double jacobian[4],
         const loss_batch *batch = &tl->batches[b];
         int grid_w = candidate_grid(batch->tex_w, tl->radius * batch->sx);
         int grid_h = candidate_grid(batch->tex_h, tl->radius * batch->sy);
+        int count = batch->active_count;
+        if (count == 0)
+            continue;
         candidate_positions(tl, batch, jacobian, grid_w, grid_h);
         const float *block = tl->reference + tl->n * (size_t)batch->first_signal;
-        texopt_status st = texopt_bake_fit(tl->bake, (int)tl->n, tl->pos, block,
-                                           batch->signal_count, grid_w, grid_h,
-                                           TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT,
+        texopt_status st = texopt_bake_fit(tl->bake, (int)tl->n, tl->pos, block, count, grid_w,
+                                           grid_h, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT,
                                            TRILOSS_RIDGE, tl->recon, err, err_len);
         if (st != TEXOPT_OK)
             return st;
-        for (int s = 0; s < batch->signal_count; s++) {
+        for (int j = 0; j < count; j++) {
+            int signal = batch->first_signal + tl->active[batch->first_signal + j];
             for (size_t k = 0; k < tl->n; k++)
-                tl->dist_img[tl->pixel[k]] = tl->recon[k * (size_t)batch->signal_count + (size_t)s];
-            double e = texopt_gmsd_against(tl->gmsd, tl->gmsd_ref[batch->first_signal + s],
-                                           tl->dist_img);
+                tl->dist_img[tl->pixel[k]] = tl->recon[k * (size_t)count + (size_t)j];
+            double e = texopt_gmsd_against(tl->gmsd, tl->gmsd_ref[signal], tl->dist_img);
             if (!isfinite(e))
                 return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
-                                   "triloss: GMSD is not finite for signal %d",
-                                   batch->first_signal + s);
+                                   "triloss: GMSD is not finite for signal %d", signal);
             if (e > worst)
                 worst = e;
             if (worst >= stop_above) {

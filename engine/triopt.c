@@ -32,6 +32,13 @@
 /* Objective values within this of the lower bound count as reaching it (GMSD of a flat
  * region is 0 up to float rounding, and -log(eps - E) moves by E / eps). */
 #define TRIOPT_BOUND_TOLERANCE 1e-6
+/* Evaluations of the searches kept for the polish's surrogate (a non-flat triangle makes
+ * 20-70 with the default plan). */
+#define TRIOPT_HISTORY 128
+/* Default polish stop: polish_patience evaluations in a row that gain less than this share
+ * of f (BENCHMARKS.md, "Stage 1"). */
+#define TRIOPT_POLISH_STOP 0.001
+#define TRIOPT_POLISH_PATIENCE 2
 
 typedef struct resolved_options {
     double epsilon, lambda_min;
@@ -42,8 +49,8 @@ typedef struct resolved_options {
     int anisotropic_steps;
     int anisotropic_passes;
     int anisotropic_directions;
-    double early_stop_ei;
-    int early_stop_patience;
+    double polish_stop;
+    int polish_patience;
     uint32_t stride;
     uint64_t seed;
     int max_evaluations;
@@ -83,6 +90,8 @@ typedef struct triangle_search {
     double epsilon, lambda_min, area;
     int evaluations;
     double best_f, best_loss, best_x[TRIOPT_DIM];
+    int history_count; /* evaluated points and their f, for the polish */
+    double history_x[TRIOPT_HISTORY * TRIOPT_DIM], history_f[TRIOPT_HISTORY];
     texopt_status status;
     char err[TRIOPT_ERR_LEN];
 } triangle_search;
@@ -124,6 +133,14 @@ static double objective_value(double area_scale, double area, double loss, doubl
     return area_scale * area - log(epsilon - loss);
 }
 
+static void remember(triangle_search *s, const double *x, double f)
+{
+    if (s->history_count == TRIOPT_HISTORY)
+        return;
+    memcpy(s->history_x + (size_t)s->history_count * TRIOPT_DIM, x, TRIOPT_DIM * sizeof *x);
+    s->history_f[s->history_count++] = f;
+}
+
 static double search_objective(void *user, const double *x)
 {
     triangle_search *s = user;
@@ -134,9 +151,12 @@ static double search_objective(void *user, const double *x)
     texopt_jacobian_from_params(p[0], p[1], p[2], p[3], J);
     s->evaluations++;
     s->status = texopt_triloss_eval(s->loss, J, s->epsilon, &e, s->err, sizeof s->err);
-    if (s->status != TEXOPT_OK || !(e < s->epsilon))
+    if (s->status != TEXOPT_OK)
         return INFINITY;
-    double f = objective_value(p[1] * p[2], s->area, e, s->epsilon);
+    double f = e < s->epsilon ? objective_value(p[1] * p[2], s->area, e, s->epsilon) : INFINITY;
+    remember(s, x, f);
+    if (!isfinite(f))
+        return INFINITY;
     /* Strictly smaller only: the first of equal optima wins, as in the BO's own record. */
     if (f < s->best_f) {
         s->best_f = f;
@@ -144,6 +164,20 @@ static double search_objective(void *user, const double *x)
         memcpy(s->best_x, x, sizeof s->best_x);
     }
     return f;
+}
+
+/* f at x when it might beat `must_beat`; otherwise (its area term alone, with E = 0,
+ * already exceeds must_beat) that lower bound, without evaluating E. The callers compare
+ * the value with must_beat only, so their decisions and the best point are the same as
+ * with the exact value: only the evaluation is saved. */
+static double search_objective_below(triangle_search *s, const double *x, double must_beat)
+{
+    double p[4];
+    params_from_unit(x, s->lambda_min, p);
+    double floor_f = objective_value(p[1] * p[2], s->area, 0.0, s->epsilon);
+    if (floor_f > must_beat)
+        return floor_f;
+    return search_objective(s, x);
 }
 
 static double variance(const double *v, int n)
@@ -215,7 +249,8 @@ static void isotropic_search(triangle_search *s, int evaluations)
     double c = b - g * (b - a), d = a + g * (b - a);
     xc[1] = xc[2] = c;
     xd[1] = xd[2] = d;
-    double fc = search_objective(s, xc), fd = search_objective(s, xd);
+    double fc = search_objective(s, xc);
+    double fd = search_objective_below(s, xd, fc);
     for (int k = 2; k < evaluations && s->status == TEXOPT_OK; k++) {
         /* Equal values (both infeasible) move right: infeasibility sits at small shrinks. */
         if (fc < fd) {
@@ -224,14 +259,14 @@ static void isotropic_search(triangle_search *s, int evaluations)
             fd = fc;
             c = b - g * (b - a);
             xc[1] = xc[2] = c;
-            fc = search_objective(s, xc);
+            fc = search_objective_below(s, xc, fd);
         } else {
             a = c;
             c = d;
             fc = fd;
             d = a + g * (b - a);
             xd[1] = xd[2] = d;
-            fd = search_objective(s, xd);
+            fd = search_objective_below(s, xd, fc);
         }
     }
 }
@@ -256,7 +291,7 @@ static void anisotropic_search(triangle_search *s, int directions, int golden_st
         int axis = 1 + (k & 1);
         x[3] = (double)(k / 2) / directions;
         x[axis] = 0.6 * start[axis];
-        double f = search_objective(s, x);
+        double f = search_objective_below(s, x, best_probe);
         if (f < best_probe) {
             best_probe = f;
             best_axis = axis;
@@ -275,7 +310,7 @@ static void anisotropic_search(triangle_search *s, int directions, int golden_st
     x[axis] = c;
     fc = search_objective(s, x);
     x[axis] = d;
-    fd = search_objective(s, x);
+    fd = search_objective_below(s, x, fc);
     for (int k = 2; k < golden_steps && s->status == TEXOPT_OK; k++) {
         if (fc < fd) {
             b = d;
@@ -283,16 +318,57 @@ static void anisotropic_search(triangle_search *s, int directions, int golden_st
             fd = fc;
             c = b - g * (b - a);
             x[axis] = c;
-            fc = search_objective(s, x);
+            fc = search_objective_below(s, x, fd);
         } else {
             a = c;
             c = d;
             fc = fd;
             d = a + g * (b - a);
             x[axis] = d;
-            fd = search_objective(s, x);
+            fd = search_objective_below(s, x, fc);
         }
     }
+}
+
+/* The paper's plan: J = I (E = 0, always feasible), the Latin-hypercube design, then
+ * `iterations` model-guided evaluations. */
+static texopt_status plain_bayesian_optimisation(worker *w, triangle_search *s, uint32_t t,
+                                                 char *err, size_t err_len)
+{
+    const resolved_options *opt = &w->sh->opt;
+    static const double identity[TRIOPT_DIM] = {0, 1, 1, 0};
+    texopt_bo_options bo = {.iterations = opt->iterations,
+                            .initial_design = opt->initial_design,
+                            .initial_points = identity,
+                            .initial_point_count = 1,
+                            .seed = mix_seed(opt->seed, t, 1)};
+    return texopt_bo_minimize(w->bo, &bo, search_objective, s, NULL, NULL, NULL, err, err_len);
+}
+
+/* Bayesian optimisation after the searches: its surrogate starts from every point they
+ * evaluated (no new design: they already cover the region that matters), and it stops when
+ * polish_patience evaluations in a row lower the best f by less than polish_stop of it, so
+ * `iterations` is a budget spent only while it pays. Also stops at the objective's lower
+ * bound. */
+static texopt_status polish(worker *w, triangle_search *s, uint32_t t, double lower_bound,
+                            char *err, size_t err_len)
+{
+    const resolved_options *opt = &w->sh->opt;
+    int known = s->history_count;
+    double x[TRIOPT_HISTORY * TRIOPT_DIM], f[TRIOPT_HISTORY];
+    memcpy(x, s->history_x, (size_t)known * TRIOPT_DIM * sizeof *x);
+    memcpy(f, s->history_f, (size_t)known * sizeof *f);
+    texopt_bo_options bo = {.iterations = opt->iterations,
+                            .initial_design = opt->initial_design > 0 ? opt->initial_design : -1,
+                            .initial_points = x,
+                            .initial_values = f,
+                            .initial_point_count = known,
+                            .stall_tolerance = opt->polish_stop > 0 ? opt->polish_stop : 0.0,
+                            .stall_patience = opt->polish_stop > 0 ? opt->polish_patience : 0,
+                            .seed = mix_seed(opt->seed, t, 1),
+                            .has_target = opt->lower_bound_stop,
+                            .target = lower_bound};
+    return texopt_bo_minimize(w->bo, &bo, search_objective, s, NULL, NULL, NULL, err, err_len);
 }
 
 static void store_optimum(const triangle_search *s, double lambda_min, texopt_triangle_target *o)
@@ -340,25 +416,9 @@ static texopt_status optimise_triangle(worker *w, uint32_t t, texopt_triangle_ta
                 break;
         }
     }
-    if (!flat && s.status == TEXOPT_OK && opt->iterations > 0) {
-        /* J = I (E = 0, always feasible), the best point of the searches above, then the two
-         * grid-aligned extreme squeezes (detail aligned with the texel grid compresses along
-         * itself for free, paper Fig. 7: such optima sit in box corners, which a GP finds
-         * late). The plain plan starts from J = I alone. */
-        double initial[4 * TRIOPT_DIM] = {0, 1, 1, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 1, 0, 0};
-        if (isfinite(s.best_f))
-            memcpy(initial + TRIOPT_DIM, s.best_x, sizeof s.best_x);
-        texopt_bo_options bo = {.iterations = opt->iterations,
-                                .initial_design = opt->initial_design,
-                                .initial_points = initial,
-                                .initial_point_count = opt->plain ? 1 : 4,
-                                .early_stop_ei = opt->early_stop_ei,
-                                .early_stop_patience = opt->early_stop_patience,
-                                .seed = mix_seed(opt->seed, t, 1),
-                                .has_target = opt->lower_bound_stop,
-                                .target = lower_bound};
-        st = texopt_bo_minimize(w->bo, &bo, search_objective, &s, NULL, NULL, NULL, err, err_len);
-    }
+    if (!flat && s.status == TEXOPT_OK && opt->iterations > 0)
+        st = opt->plain ? plain_bayesian_optimisation(w, &s, t, err, err_len)
+                        : polish(w, &s, t, lower_bound, err, err_len);
     if (st == TEXOPT_OK && s.status != TEXOPT_OK) {
         snprintf(err, err_len, "%s", s.err);
         st = s.status;
@@ -471,7 +531,7 @@ static texopt_status resolve_options(const texopt_triopt_options *in, const texo
     o->iterations = in->iterations != 0 ? in->iterations : 100;
     o->lambda_min = in->lambda_min != 0.0 ? in->lambda_min : 0.1;
     o->viewport = in->viewport != 0 ? in->viewport : 64;
-    o->weight_samples = in->weight_samples != 0 ? in->weight_samples : 8;
+    o->weight_samples = in->weight_samples != 0 ? in->weight_samples : 4;
     o->initial_design = in->initial_design;
     o->lower_bound_stop = !in->no_lower_bound_stop && !in->plain;
     o->plain = in->plain != 0;
@@ -485,8 +545,8 @@ static texopt_status resolve_options(const texopt_triopt_options *in, const texo
     o->anisotropic_passes = in->anisotropic_passes != 0 ? in->anisotropic_passes : 3;
     if (o->anisotropic_steps < 0 || o->anisotropic_passes < 0)
         o->anisotropic_steps = o->anisotropic_passes = 0;
-    o->early_stop_ei = in->early_stop_ei;
-    o->early_stop_patience = in->early_stop_patience;
+    o->polish_stop = in->polish_stop != 0.0 ? in->polish_stop : TRIOPT_POLISH_STOP;
+    o->polish_patience = in->polish_patience > 0 ? in->polish_patience : TRIOPT_POLISH_PATIENCE;
     o->stride = in->stride > 1 ? in->stride : 1;
     o->seed = in->seed;
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
@@ -512,7 +572,7 @@ static texopt_status resolve_options(const texopt_triopt_options *in, const texo
     if ((size_t)o->threads > mesh->triangle_count)
         o->threads = mesh->triangle_count > 0 ? (int)mesh->triangle_count : 1;
     int design = o->initial_design > 0 ? o->initial_design : (o->initial_design < 0 ? 0 : 2 * TRIOPT_DIM + 2);
-    o->max_evaluations = 4 + design + (o->iterations > 0 ? o->iterations : 0);
+    o->max_evaluations = TRIOPT_HISTORY + design + (o->iterations > 0 ? o->iterations : 0);
     return TEXOPT_OK;
 }
 

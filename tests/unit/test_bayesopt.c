@@ -1,6 +1,6 @@
 /* test_bayesopt.c - Bayesian optimisation on standard test functions with known minima
  * (Branin, Hartmann-6; Surjanovic and Bingham's library of test functions), determinism,
- * infeasible regions, initial points, early stops, bad options. */
+ * infeasible regions, initial points and known initial values, early stops, bad options. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -230,6 +230,62 @@ TEST(expected_improvement_early_stop_saves_evaluations_on_a_flat_function)
     char err[256] = "";
     CHECK_OK(texopt_bo_minimize(bo, &opt, flat, &c, NULL, NULL, NULL, err, sizeof err), err);
     CHECK(c.calls < 20);
+    texopt_bo_destroy(bo);
+}
+
+TEST(known_initial_values_are_not_evaluated_and_steer_the_search)
+{
+    /* 30 Branin points on a grid with their values given: the objective is called only for
+     * the 20 model-guided iterations, which improve well on the grid's best (a given
+     * infeasible point stays +INFINITY in the history). */
+    enum { KNOWN = 30, DIM = 2 };
+    double x[KNOWN * DIM], f[KNOWN];
+    for (int i = 0; i < KNOWN; i++) {
+        x[DIM * i] = (i % 6) / 5.0;
+        x[DIM * i + 1] = (i / 6) / 4.0;
+        f[i] = i == 7 ? INFINITY : branin_unit(x + DIM * i);
+    }
+    double best_known = INFINITY;
+    for (int i = 0; i < KNOWN; i++)
+        best_known = f[i] < best_known ? f[i] : best_known;
+    texopt_bo *bo = texopt_bo_create(DIM, KNOWN + 20);
+    texopt_bo_options opt = {.iterations = 20, .initial_points = x, .initial_values = f,
+                             .initial_point_count = KNOWN, .initial_design = -1, .seed = 5};
+    counter c = {0, 0};
+    double best_f = 0.0;
+    int evaluations = 0;
+    char err[256] = "";
+    CHECK_OK(texopt_bo_minimize(bo, &opt, branin, &c, NULL, &best_f, &evaluations, err, sizeof err),
+             err);
+    CHECK_EQ_INT(c.calls, 20);
+    CHECK_EQ_INT(evaluations, KNOWN + 20);
+    /* the best given value is 2.50; a minimum (0.398) is reached closely */
+    CHECK_MSG(best_f < 0.3 * best_known && best_f < BRANIN_MIN + 0.5,
+              "best %g after 20 guided evaluations, %g given", best_f, best_known);
+    const double *hx, *hf;
+    CHECK_EQ_INT(texopt_bo_history(bo, &hx, &hf), KNOWN + 20);
+    CHECK(isinf(hf[7]) && hf[3] == f[3] && hx[2 * 3] == x[2 * 3]);
+    texopt_bo_destroy(bo);
+}
+
+TEST(stall_stop_ends_when_evaluations_stop_improving)
+{
+    /* On a flat function no evaluation improves: patience 4 stops after exactly 4 guided
+     * evaluations; with a tolerance of 0 Branin keeps improving now and then, so it runs
+     * longer than that. */
+    texopt_bo *bo = texopt_bo_create(2, 100);
+    texopt_bo_options opt = {.iterations = 60, .stall_patience = 4, .stall_tolerance = 1e-3};
+    counter c = {0, 0};
+    char err[256] = "";
+    CHECK_OK(texopt_bo_minimize(bo, &opt, flat, &c, NULL, NULL, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(c.calls, 2 * 2 + 2 + 4);
+    counter b = {0, 0};
+    opt.stall_tolerance = 0.0;
+    CHECK_OK(texopt_bo_minimize(bo, &opt, branin, &b, NULL, NULL, NULL, err, sizeof err), err);
+    CHECK(b.calls > 2 * 2 + 2 + 4);
+    opt.stall_tolerance = -1.0;
+    CHECK(texopt_bo_minimize(bo, &opt, branin, &b, NULL, NULL, NULL, err, sizeof err) ==
+          TEXOPT_E_INVALID_ARGUMENT);
     texopt_bo_destroy(bo);
 }
 

@@ -205,6 +205,76 @@ TEST(normal_map_adds_three_channel_signals)
     texopt_model_destroy(m);
 }
 
+/* fixture_grid(8, 64, "flat") plus a 64x64 occlusion texture whose red channel has fine
+ * vertical stripes and whose green and blue are `green` and `blue` (negative: the stripes). */
+static texopt_model *with_occlusion(double green, double blue)
+{
+    char err[256] = "";
+    texopt_model *m = fixture_grid(8, 64, "flat");
+    texopt_image *images = m ? realloc(m->images, 2 * sizeof *images) : NULL;
+    char **names = images ? realloc(m->image_names, 2 * sizeof *names) : NULL;
+    if (images)
+        m->images = images;
+    if (names) {
+        m->image_names = names;
+        names[1] = NULL;
+    }
+    if (!names || texopt_image_create(&m->images[1], 64, 64, 3, err, sizeof err) != TEXOPT_OK) {
+        texopt_model_destroy(m);
+        return NULL;
+    }
+    m->image_count = 2;
+    for (int y = 0; y < 64; y++)
+        for (int x = 0; x < 64; x++) {
+            float *px = texopt_image_at(&m->images[1], x, y);
+            px[0] = ((x / 2) % 2) ? 0.9f : 0.1f;
+            px[1] = green < 0 ? px[0] : (float)green;
+            px[2] = blue < 0 ? px[0] : (float)blue;
+        }
+    m->materials[0].slot[TEXOPT_SLOT_OCCLUSION] = m->materials[0].slot[TEXOPT_SLOT_BASE_COLOR];
+    m->materials[0].slot[TEXOPT_SLOT_OCCLUSION].image = 1;
+    if (texopt_model_build_domains(m, err, sizeof err) != TEXOPT_OK) {
+        texopt_model_destroy(m);
+        return NULL;
+    }
+    return m;
+}
+
+static double occlusion_loss(texopt_model *m, const double J[4])
+{
+    char err[256] = "";
+    texopt_mesh *mesh = NULL;
+    texopt_triloss *loss = NULL;
+    double e = NAN;
+    if (m && texopt_mesh_create(&mesh, m, 0, err, sizeof err) == TEXOPT_OK &&
+        texopt_triloss_create(&loss, m, mesh, 64, err, sizeof err) == TEXOPT_OK &&
+        texopt_triloss_signal_count(loss) == 4 &&
+        texopt_triloss_prepare(loss, 2 * (4 * 8 + 4), err, sizeof err) == TEXOPT_OK &&
+        texopt_triloss_eval(loss, J, INFINITY, &e, err, sizeof err) != TEXOPT_OK)
+        e = NAN;
+    texopt_triloss_destroy(loss);
+    texopt_mesh_destroy(mesh);
+    texopt_model_destroy(m);
+    return e;
+}
+
+TEST(constant_and_repeated_signals_do_not_change_the_loss)
+{
+    /* Grey occlusion stored as RGB (three equal channels) and a texture with one detailed
+     * channel and two constant ones are skipped down to the same single bake: the same E
+     * bit for bit, for squeezes across the stripes (large E) and along them. */
+    for (int k = 0; k < 3; k++) {
+        double J[4];
+        texopt_jacobian_from_params(0.1 * k, k == 1 ? 1.0 : 0.3, k == 1 ? 0.3 : 1.0, 0.0, J);
+        double grey = occlusion_loss(with_occlusion(-1, -1), J);
+        double one = occlusion_loss(with_occlusion(0.3, 0.7), J);
+        double red_green = occlusion_loss(with_occlusion(-1, 0.7), J);
+        CHECK_MSG(grey == one && one == red_green, "J %d: E %.17g %.17g %.17g", k, grey, one,
+                  red_green);
+        CHECK_MSG(k == 1 || grey > 0.05, "squeezed across the stripes: E = %g", grey);
+    }
+}
+
 TEST(triloss_rejects_bad_input)
 {
     loss_fixture f;
