@@ -16,7 +16,9 @@
  * cannot use (no textured material, a textured primitive without TEXCOORD_0 or not made of
  * triangles, compressed geometry, sparse accessors, texture transforms), TEXOPT_E_IO for
  * files that cannot be read or written.
- * The message names the offending element ("accessor 3: index 812 past vertex count 800"). */
+ * The message names the offending element ("accessor 3: index 812 past vertex count 800").
+ * Images are decoded (load) and PNG-encoded (save) on up to one thread per image, never more
+ * than the online cores (io/image_jobs.hpp). */
 #ifndef TEXOPT_GLTF_IO_H
 #define TEXOPT_GLTF_IO_H
 

@@ -34,6 +34,7 @@
 #include "gltf_nodes.hpp"
 #include "gltf_document.hpp"
 #include "image_io.h"
+#include "image_jobs.hpp"
 
 namespace {
 
@@ -534,22 +535,25 @@ texopt_status convert_images(texopt_gltf_document *doc, texopt_model *model, con
                                i, label.c_str(), info[i].width, info[i].height, (unsigned long long)total,
                                (unsigned long long)lim.max_total_pixels);
     }
-    for (size_t i = 0; i < n; i++) {
-        texopt_image *img = &model->images[i];
-        if (lim.skip_images) {
-            img->width = info[i].width;
-            img->height = info[i].height;
-            img->channels = info[i].channels;
-            continue;
+    if (lim.skip_images) {
+        for (size_t i = 0; i < n; i++) {
+            model->images[i].width = info[i].width;
+            model->images[i].height = info[i].height;
+            model->images[i].channels = info[i].channels;
         }
-        char name[300];
-        snprintf(name, sizeof name, "image %zu (%s)", i, model->image_names[i]);
-        const std::vector<unsigned char> &b = g.images[i].image;
-        texopt_status st = texopt_image_decode_memory(img, b.data(), b.size(), lim.max_total_pixels, name, err, err_len);
-        if (st != TEXOPT_OK)
-            return st;
+        return TEXOPT_OK;
     }
-    return TEXOPT_OK;
+    /* Each job fills only its own image: the images decode on parallel threads. */
+    return texopt_run_image_jobs(
+        n,
+        [&](size_t i, char *job_err, size_t job_err_len) {
+            char name[300];
+            snprintf(name, sizeof name, "image %zu (%s)", i, model->image_names[i]);
+            const std::vector<unsigned char> &b = g.images[i].image;
+            return texopt_image_decode_memory(&model->images[i], b.data(), b.size(), lim.max_total_pixels, name,
+                                              job_err, job_err_len);
+        },
+        err, err_len);
 }
 
 void destroy_document(texopt_gltf_document *doc)

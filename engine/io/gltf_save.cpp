@@ -24,6 +24,7 @@
 #include "atomic_file.h"
 #include "gltf_document.hpp"
 #include "image_io.h"
+#include "image_jobs.hpp"
 
 namespace {
 
@@ -151,18 +152,21 @@ texopt_status encode_replacements(const texopt_model *model, const texopt_model_
     png->assign((size_t)model->image_count, std::vector<unsigned char>());
     if (!edit || !edit->images)
         return TEXOPT_OK;
-    for (int i = 0; i < model->image_count; i++) {
-        if (!edit->images[i])
-            continue;
-        unsigned char *bytes = nullptr;
-        size_t len = 0;
-        texopt_status st = texopt_image_encode_png(edit->images[i], &bytes, &len, err, err_len);
-        if (st != TEXOPT_OK)
+    /* Each job writes only its own vector: the images encode on parallel threads. */
+    return texopt_run_image_jobs(
+        (size_t)model->image_count,
+        [&](size_t i, char *job_err, size_t job_err_len) {
+            if (!edit->images[i])
+                return TEXOPT_OK;
+            unsigned char *bytes = nullptr;
+            size_t len = 0;
+            texopt_status st = texopt_image_encode_png(edit->images[i], &bytes, &len, job_err, job_err_len);
+            if (st == TEXOPT_OK)
+                (*png)[i].assign(bytes, bytes + len);
+            free(bytes);
             return st;
-        (*png)[(size_t)i].assign(bytes, bytes + len);
-        free(bytes);
-    }
-    return TEXOPT_OK;
+        },
+        err, err_len);
 }
 
 /* Builds the output document: new UVs, images in views, one buffer, unused views dropped. */
