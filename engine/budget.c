@@ -12,7 +12,11 @@
 #define COST_ROUNDS 6
 #define BISECTION_STEPS 14
 #define SMALL_ATLAS_CHARTS 64 /* up to this many charts, more widths and orders are tried */
-#define ORDER_SEARCH_STEPS 40  /* local-search moves over the placement order (small atlases) */
+#define ORDER_SEARCH_STEPS 20  /* local-search moves over the placement order per rule (small atlases) */
+#define RULES 3                /* texopt_pack_rule values */
+#define START_ORDERS 3
+#define WIDTH_LO 0.75          /* strip widths tried, relative to the estimate */
+#define WIDTH_HI 1.35
 
 static int round_up4(double x)
 {
@@ -62,6 +66,7 @@ typedef struct work {
     double *scaled, *packed;
     int packings;
     const uint32_t *sequence; /* placement order of the next pack; NULL = req->pack.order */
+    int rule;                 /* texopt_pack_rule of the next pack */
     const texopt_monitor *monitor;
     int cell, side;           /* grid cell of every packer (0: from side), texture side hint */
 } work;
@@ -86,8 +91,10 @@ static texopt_status pack_at(work *w, const texopt_packer *packer, int width, in
     if (texopt_monitor_canceled(w->monitor))
         return texopt_fail(err, err_len, TEXOPT_E_CANCELED, "packing canceled");
     texopt_pack_result r;
-    texopt_status st = texopt_packer_run(packer, width, height, w->pack->order, w->sequence, w->packed, &r, fits,
-                                         err, err_len);
+    texopt_pack_options opt = *w->pack;
+    opt.sequence = w->sequence;
+    opt.rule = w->rule;
+    texopt_status st = texopt_packer_run(packer, width, height, &opt, w->packed, &r, fits, err, err_len);
     w->packings++;
     if (st == TEXOPT_OK) {
         *out_w = height == 0 ? round_up4(r.used_width) : r.width;
@@ -103,26 +110,41 @@ static texopt_status pack_at(work *w, const texopt_packer *packer, int width, in
 typedef struct best_packing {
     long long texels;  /* width * height of the texture; -1 = none yet */
     int strip;         /* width of the strip it was packed into */
+    int rule;          /* texopt_pack_rule it was packed with */
     int width, height; /* the texture (width cut to the columns used) */
     uint32_t *sequence;
 } best_packing;
 
-/* Packs at scale s into a strip of `strip` columns with w->sequence and keeps the result
- * when its texture is smaller than the best one. Returns 1 when it was kept. */
-static int try_packing(work *w, const texopt_packer *packer, int strip, best_packing *best, double *texel_out,
-                       texopt_status *st, char *err, size_t err_len)
+/* Keeps the packing just made (w->sequence, w->rule into `strip` columns, a pw x ph
+ * texture) in best when its texture is smaller; with texel_out, its positions too. Returns 1
+ * when it was kept. */
+static int offer(const work *w, best_packing *best, int strip, int pw, int ph, double *texel_out)
 {
-    int fits = 0, pw = 0, ph = 0;
-    *st = pack_at(w, packer, strip, 0, &fits, &pw, &ph, err, err_len);
-    if (*st != TEXOPT_OK || !fits || (best->texels >= 0 && (long long)pw * ph >= best->texels))
+    if (best->texels >= 0 && (long long)pw * ph >= best->texels)
         return 0;
     best->texels = (long long)pw * ph;
     best->strip = strip;
+    best->rule = w->rule;
     best->width = pw;
     best->height = ph;
     memcpy(best->sequence, w->sequence, sizeof(uint32_t) * w->mesh->chart_count);
-    memcpy(texel_out, w->packed, sizeof(double) * 2 * w->mesh->vertex_count);
+    if (texel_out)
+        memcpy(texel_out, w->packed, sizeof(double) * 2 * w->mesh->vertex_count);
     return 1;
+}
+
+/* Packs into a strip of `strip` columns with w->sequence and w->rule and offers the result
+ * to `local` (positions not kept) and to `best` (positions to texel_out). Returns 1 when
+ * `local` kept it. */
+static int try_packing(work *w, const texopt_packer *packer, int strip, best_packing *local, best_packing *best,
+                       double *texel_out, texopt_status *st, char *err, size_t err_len)
+{
+    int fits = 0, pw = 0, ph = 0;
+    *st = pack_at(w, packer, strip, 0, &fits, &pw, &ph, err, err_len);
+    if (*st != TEXOPT_OK || !fits)
+        return 0;
+    offer(w, best, strip, pw, ph, texel_out);
+    return offer(w, local, strip, pw, ph, NULL);
 }
 
 typedef struct keyed_chart {
@@ -138,22 +160,22 @@ static int compare_keyed(const void *a, const void *b)
     return x->chart < y->chart ? -1 : (x->chart > y->chart);
 }
 
-/* Placement orders to start from: by triangle area and by bounding-box area, largest
- * first (the two orders of pack.h's `order`). */
-static texopt_status start_orders(const texopt_mesh *mesh, const double *texel, uint32_t *by_area,
-                                  uint32_t *by_box, char *err, size_t err_len)
+/* Placement orders to start from, largest first: by triangle area, by bounding-box area
+ * (elongated charts earlier), by longer side (long thin charts first, before the strip
+ * fills up). orders holds START_ORDERS sequences of chart_count. */
+static texopt_status start_orders(const texopt_mesh *mesh, const double *texel, uint32_t *orders, char *err,
+                                  size_t err_len)
 {
     size_t n = mesh->chart_count;
     keyed_chart *k = malloc(sizeof *k * (n ? n : 1));
-    double *box = malloc(sizeof(double) * 4 * (n ? n : 1));
-    if (!k || !box) {
+    double *area = calloc(n ? n : 1, sizeof(double)), *box = malloc(sizeof(double) * 4 * (n ? n : 1));
+    if (!k || !box || !area) {
         free(k);
         free(box);
+        free(area);
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the placement orders");
     }
     for (size_t c = 0; c < n; c++) {
-        k[c].key = 0;
-        k[c].chart = (uint32_t)c;
         box[4 * c] = box[4 * c + 1] = INFINITY;
         box[4 * c + 2] = box[4 * c + 3] = -INFINITY;
     }
@@ -163,25 +185,26 @@ static texopt_status start_orders(const texopt_mesh *mesh, const double *texel, 
         uint32_t c = mesh->chart_of[t];
         if (c >= n)
             continue;
-        k[c].key += 0.5 * fabs((b[0] - a[0]) * (d[1] - a[1]) - (d[0] - a[0]) * (b[1] - a[1]));
+        area[c] += 0.5 * fabs((b[0] - a[0]) * (d[1] - a[1]) - (d[0] - a[0]) * (b[1] - a[1]));
         for (int j = 0; j < 3; j++)
             for (int x = 0; x < 2; x++) {
                 box[4 * c + x] = fmin(box[4 * c + x], texel[2 * v[j] + x]);
                 box[4 * c + 2 + x] = fmax(box[4 * c + 2 + x], texel[2 * v[j] + x]);
             }
     }
-    qsort(k, n, sizeof *k, compare_keyed);
-    for (size_t i = 0; i < n; i++)
-        by_area[i] = k[i].chart;
-    for (size_t c = 0; c < n; c++) {
-        k[c].chart = (uint32_t)c;
-        k[c].key = box[4 * c + 2] > box[4 * c] ? (box[4 * c + 2] - box[4 * c]) * (box[4 * c + 3] - box[4 * c + 1]) : 0;
+    for (int o = 0; o < START_ORDERS; o++) {
+        for (size_t c = 0; c < n; c++) {
+            double bw = box[4 * c + 2] - box[4 * c], bh = box[4 * c + 3] - box[4 * c + 1];
+            k[c].chart = (uint32_t)c;
+            k[c].key = !(bw >= 0) ? 0 : o == 0 ? area[c] : o == 1 ? bw * bh : fmax(bw, bh);
+        }
+        qsort(k, n, sizeof *k, compare_keyed);
+        for (size_t i = 0; i < n; i++)
+            orders[o * n + i] = k[i].chart;
     }
-    qsort(k, n, sizeof *k, compare_keyed);
-    for (size_t i = 0; i < n; i++)
-        by_box[i] = k[i].chart;
     free(k);
     free(box);
+    free(area);
     return TEXOPT_OK;
 }
 
@@ -218,37 +241,48 @@ static void perturb(const uint32_t *from, uint32_t *to, size_t n, uint64_t *rng)
 static texopt_status search_packing(work *w, double s, double area, double aspect, double *texel_out,
                                     best_packing *best, char *err, size_t err_len)
 {
-    size_t n = w->mesh->chart_count;
-    uint32_t *orders = malloc(sizeof(uint32_t) * 3 * (n ? n : 1));
+    size_t n = w->mesh->chart_count ? w->mesh->chart_count : 1;
+    uint32_t *orders = malloc(sizeof(uint32_t) * (START_ORDERS + 1 + RULES) * n);
     if (!orders)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the placement orders");
-    texopt_status st = start_orders(w->mesh, w->texel, orders, orders + n, err, err_len);
+    uint32_t *trial = orders + START_ORDERS * n;
+    best_packing per_rule[RULES];
+    for (int r = 0; r < RULES; r++)
+        per_rule[r] = (best_packing){-1, 0, r, 0, 0, orders + (START_ORDERS + 1 + r) * n};
+    texopt_status st = start_orders(w->mesh, w->texel, orders, err, err_len);
     double base = sqrt(area * s * s / 0.7 * aspect);
     texopt_packer *packer = NULL;
     if (st == TEXOPT_OK)
         st = make_packer(w, s, &packer, err, err_len);
-    int small = n <= SMALL_ATLAS_CHARTS;
-    int tries = small ? 15 : 5, starts = small ? 2 : 1;
-    for (int o = 0; o < starts && st == TEXOPT_OK; o++)
-        for (int i = 0; i < tries && st == TEXOPT_OK; i++) {
-            int strip = round_up4(base * (0.75 + 0.6 * i / (tries - 1)));
-            if (strip > MAX_SIDE)
-                continue;
-            w->sequence = orders + o * n;
-            try_packing(w, packer, strip, best, texel_out, &st, err, err_len);
-        }
-    uint64_t rng = 0x9e3779b97f4a7c15ULL;
-    uint32_t *trial = orders + 2 * n;
-    for (int it = 0; small && st == TEXOPT_OK && best->texels >= 0 && it < ORDER_SEARCH_STEPS; it++) {
-        perturb(best->sequence, trial, n, &rng);
-        w->sequence = trial;
-        int strip = best->strip;
-        for (int d = -1; d <= 1 && st == TEXOPT_OK; d++) {
-            int at = round_up4(strip * (1 + 0.02 * d));
-            if (at <= MAX_SIDE && try_packing(w, packer, at, best, texel_out, &st, err, err_len))
-                break;
+    int small = w->mesh->chart_count <= SMALL_ATLAS_CHARTS;
+    int tries = small ? 15 : 2, rules = small ? RULES : 1;
+    for (int rule = 0; rule < rules && st == TEXOPT_OK; rule++)
+        for (int o = 0; o < START_ORDERS && st == TEXOPT_OK; o++)
+            for (int i = 0; i < tries && st == TEXOPT_OK; i++) {
+                int strip = round_up4(base * (WIDTH_LO + (WIDTH_HI - WIDTH_LO) * i / (tries - 1)));
+                if (strip > MAX_SIDE)
+                    continue;
+                w->sequence = orders + o * n;
+                w->rule = rule;
+                try_packing(w, packer, strip, per_rule + rule, best, texel_out, &st, err, err_len);
+            }
+    /* Local search from each rule's best start: greedy descent is path dependent, and the
+     * rule that starts best is not always the one that ends best. */
+    for (int rule = 0; small && rule < rules && st == TEXOPT_OK; rule++) {
+        uint64_t rng = 0x9e3779b97f4a7c15ULL * (uint64_t)(rule + 1); /* own stream: more steps only add */
+        best_packing *cur = per_rule + rule;
+        w->rule = rule;
+        for (int it = 0; st == TEXOPT_OK && cur->texels >= 0 && it < ORDER_SEARCH_STEPS; it++) {
+            perturb(cur->sequence, trial, w->mesh->chart_count, &rng);
+            w->sequence = trial;
+            for (int d = -1; d <= 1 && st == TEXOPT_OK; d++) {
+                int at = round_up4(cur->strip * (1 + 0.02 * d));
+                if (at <= MAX_SIDE && try_packing(w, packer, at, cur, best, texel_out, &st, err, err_len))
+                    break;
+            }
         }
     }
+    w->rule = best->rule;
     w->sequence = best->sequence;
     texopt_packer_destroy(packer);
     free(orders);
@@ -271,7 +305,7 @@ static texopt_status fit_relative_cost(work *w, const texopt_budget_request *req
     /* One grid cell for the whole search, from the expected longer side, so the correction
      * rounds repack the winning order on the grid it won on. */
     w->side = (int)fmin(MAX_SIDE, ceil(sqrt(area * s * s / 0.7) * fmax(sqrt(aspect), 1 / sqrt(aspect))));
-    best_packing best = {-1, 0, 0, 0, malloc(sizeof(uint32_t) * (w->mesh->chart_count ? w->mesh->chart_count : 1))};
+    best_packing best = {-1, 0, 0, 0, 0, malloc(sizeof(uint32_t) * (w->mesh->chart_count ? w->mesh->chart_count : 1))};
     if (!best.sequence)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the placement order");
     texopt_status st = search_packing(w, s, area, aspect, texel_out, &best, err, err_len);
@@ -386,7 +420,7 @@ texopt_status texopt_budget_fit(const texopt_mesh *mesh, const double *texel,
     texopt_status st = check_request(req, area, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    work w = {mesh, texel, &req->pack, NULL, NULL, 0, req->pack.sequence, req->monitor, req->pack.cell, 0};
+    work w = {mesh, texel, &req->pack, NULL, NULL, 0, req->pack.sequence, req->pack.rule, req->monitor, req->pack.cell, 0};
     size_t n = 2 * (mesh->vertex_count ? mesh->vertex_count : 1);
     w.scaled = malloc(n * sizeof(double));
     w.packed = malloc(n * sizeof(double));

@@ -390,25 +390,51 @@ typedef struct pack_state {
     const texopt_packer *p;
     occupancy occ;
     uint8_t *moved;
+    int rule;  /* texopt_pack_rule */
     int top;   /* highest occupied row + 1 */
     int right; /* rightmost occupied column + 1 */
 } pack_state;
 
-/* Places chart c at its best rotation; returns 1 placed, 0 no room. */
+/* The primary key of a placement under the packer's rule (smaller is better). */
+static long long rule_key(int rule, int y, int h)
+{
+    return rule == TEXOPT_PACK_LOWEST_CENTRE ? 2LL * y + h : rule == TEXOPT_PACK_LOWEST_BOTTOM ? y : (long long)y + h;
+}
+
+/* The highest y whose key does not exceed `key` for a footprint h rows tall. */
+static long long rule_max_y(int rule, long long key, int h)
+{
+    long long v = rule == TEXOPT_PACK_LOWEST_CENTRE ? (key - h) / 2 : rule == TEXOPT_PACK_LOWEST_BOTTOM ? key : key - h;
+    return v;
+}
+
+/* Places chart c at its best rotation: each rotation at its lowest-leftmost free position,
+ * the rotations compared by the rule's key, then by top, then leftmost. Returns 1 placed,
+ * 0 no room. */
 static int place_chart(pack_state *s, size_t c, double *texel_out, uint8_t *rotation)
 {
     const texopt_packer *p = s->p;
-    int best_k = -1, bx = 0, by = 0, bound = s->occ.h + 1;
+    int best_k = -1, bx = 0, by = 0;
+    long long best_key = 0;
     for (int k = 0; k < 4; k++) {
         const footprint *f = p->fp + 4 * c + k;
+        long long below = s->occ.h + 1;
+        if (best_k >= 0) {
+            long long max_y = rule_max_y(s->rule, best_key, f->h);
+            if (max_y < 0)
+                continue;
+            below = max_y + f->h + 1 < below ? max_y + f->h + 1 : below;
+        }
         int x, y;
-        if (find_position(&s->occ, f, bound, &x, &y) &&
-            (best_k < 0 || y + f->h < by + p->fp[4 * c + best_k].h ||
-             (y + f->h == by + p->fp[4 * c + best_k].h && x < bx))) {
+        if (!find_position(&s->occ, f, (int)below, &x, &y))
+            continue;
+        long long key = rule_key(s->rule, y, f->h);
+        int top = y + f->h, best_top = best_k >= 0 ? by + p->fp[4 * c + best_k].h : 0;
+        if (best_k < 0 || key < best_key || (key == best_key && (top < best_top || (top == best_top && x < bx)))) {
             best_k = k;
             bx = x;
             by = y;
-            bound = y + f->h + 1;
+            best_key = key;
         }
     }
     if (best_k < 0)
@@ -593,10 +619,12 @@ static void finish_result(const pack_state *s, int width, int height, texopt_pac
     result->area_efficiency = area / ((double)result->width * result->height);
 }
 
-texopt_status texopt_packer_run(const texopt_packer *p, int width, int height, int order,
-                                const uint32_t *sequence, double *texel_out,
-                                texopt_pack_result *result, int *fits, char *err, size_t err_len)
+texopt_status texopt_packer_run(const texopt_packer *p, int width, int height, const texopt_pack_options *opt,
+                                double *texel_out, texopt_pack_result *result, int *fits, char *err,
+                                size_t err_len)
 {
+    const uint32_t *sequence = opt ? opt->sequence : NULL;
+    int order = opt ? opt->order : 0;
     memset(result, 0, sizeof *result);
     *fits = 0;
     texopt_status st = check_size(width, height, err, err_len);
@@ -608,6 +636,7 @@ texopt_status texopt_packer_run(const texopt_packer *p, int width, int height, i
     pack_state s;
     memset(&s, 0, sizeof s);
     s.p = p;
+    s.rule = opt ? opt->rule : 0;
     s.occ.w = (int)(width / p->cell);
     s.occ.h = height > 0 ? (int)(height / p->cell) : p->unbounded_rows;
     s.occ.words = (s.occ.w + 63) / 64;
@@ -649,8 +678,7 @@ texopt_status texopt_pack_charts(const texopt_mesh *mesh, const double *texel, i
     texopt_packer *p = NULL;
     st = texopt_packer_create(&p, mesh, texel, opt, width > height ? width : height, err, err_len);
     if (st == TEXOPT_OK)
-        st = texopt_packer_run(p, width, height, opt ? opt->order : 0, opt ? opt->sequence : NULL, texel_out,
-                               result, fits, err, err_len);
+        st = texopt_packer_run(p, width, height, opt, texel_out, result, fits, err, err_len);
     texopt_packer_destroy(p);
     return st;
 }

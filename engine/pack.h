@@ -3,8 +3,9 @@
  *
  * Does: take a layout already at its final texel density (texel positions per mesh vertex,
  * any origin), rasterise each chart's footprint grown by half the gutter onto a grid of
- * cells, and place the charts largest first, each at the lowest then leftmost free position
- * over its four quarter-turn rotations (bottom-left placement on the real footprints, in the
+ * cells, and place the charts in a given order (largest first by default), each rotation
+ * at its lowest then leftmost free position, holes under placed charts included, and the
+ * rotation chosen by a rule (texopt_pack_rule) (bottom-left placement on the real footprints, in the
  * spirit of the brute-force mode of xatlas: concave charts interlock, which bounding-box
  * shelves cannot do). Charts are never mirrored and never turned by other angles: the
  * orientation the mesh-wise stage chose for each triangle (Sun et al. 2022, "Efficient
@@ -26,6 +27,14 @@
 #include "mesh.h"
 #include "status.h"
 
+/* How a chart's four rotations, each at its lowest-leftmost free position, are compared
+ * (then by top, then leftmost). No rule wins everywhere; budget.h tries all three. */
+typedef enum texopt_pack_rule {
+    TEXOPT_PACK_LOWEST_TOP = 0,    /* keeps the strip's top low */
+    TEXOPT_PACK_LOWEST_BOTTOM = 1, /* fills the lowest holes first */
+    TEXOPT_PACK_LOWEST_CENTRE = 2  /* between the two (a "lowest gravity centre" rule) */
+} texopt_pack_rule;
+
 typedef struct texopt_pack_options {
     int gutter;    /* texels between charts; 0 -> 4 (bilinear plus two mip levels) */
     int cell;      /* placement grid cell in texels; 0 -> chosen from the texture size
@@ -35,6 +44,7 @@ typedef struct texopt_pack_options {
     const uint32_t *sequence; /* optional: the placement order itself, every chart index
                                  0..chart_count-1 once (budget.h searches orders this way);
                                  NULL = by `order` */
+    int rule;      /* texopt_pack_rule; 0 = lowest top */
 } texopt_pack_options;
 
 typedef struct texopt_pack_result {
@@ -69,11 +79,11 @@ typedef struct texopt_packer texopt_packer;
 texopt_status texopt_packer_create(texopt_packer **out, const texopt_mesh *mesh, const double *texel,
                                    const texopt_pack_options *opt, int side, char *err, size_t err_len);
 
-/* As texopt_pack_charts with the packer's layout, gutter and cell; `order` and `sequence`
- * as in texopt_pack_options. */
-texopt_status texopt_packer_run(const texopt_packer *packer, int width, int height, int order,
-                                const uint32_t *sequence, double *texel_out,
-                                texopt_pack_result *result, int *fits, char *err, size_t err_len);
+/* As texopt_pack_charts with the packer's layout, gutter and cell; of opt (may be NULL)
+ * only order, sequence and rule are read. */
+texopt_status texopt_packer_run(const texopt_packer *packer, int width, int height, const texopt_pack_options *opt,
+                                double *texel_out, texopt_pack_result *result, int *fits, char *err,
+                                size_t err_len);
 
 void texopt_packer_destroy(texopt_packer *packer);
 

@@ -270,7 +270,7 @@ TEST(a_packer_reused_gives_the_one_shot_packing_and_follows_a_sequence)
     texopt_packer *p = NULL;
     CHECK_OK(texopt_packer_create(&p, &t.m, t.m.texel, &opt, 200, err, sizeof err), err);
     for (int run = 0; run < 2; run++) { /* the packer keeps no state between runs */
-        CHECK_OK(texopt_packer_run(p, 200, 0, 0, NULL, b, &r, &fits, err, sizeof err), err);
+        CHECK_OK(texopt_packer_run(p, 200, 0, NULL, b, &r, &fits, err, sizeof err), err);
         CHECK(fits);
         CHECK(memcmp(a, b, sizeof(double) * n) == 0);
         CHECK(r.used_width <= 200 && r.used_width > 150);
@@ -296,7 +296,8 @@ TEST(a_packer_reused_gives_the_one_shot_packing_and_follows_a_sequence)
     }
     seq[0] = small_chart;
     seq[29 - small_chart] = 29;
-    CHECK_OK(texopt_packer_run(p, 200, 0, 0, seq, b, &r, &fits, err, sizeof err), err);
+    texopt_pack_options by_seq = {.sequence = seq};
+    CHECK_OK(texopt_packer_run(p, 200, 0, &by_seq, b, &r, &fits, err, sizeof err), err);
     CHECK(fits);
     CHECK(check_separation(&t.m, b, 200, r.height, 2) == 0);
     CHECK(check_rigid_quarter_turns(&t.m, t.m.texel, b, r.rotation) == 0);
@@ -311,7 +312,7 @@ TEST(a_packer_reused_gives_the_one_shot_packing_and_follows_a_sequence)
     texopt_pack_result_destroy(&r);
     /* A sequence that repeats a chart is refused. */
     seq[1] = seq[0];
-    CHECK(texopt_packer_run(p, 200, 0, 0, seq, b, &r, &fits, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_packer_run(p, 200, 0, &by_seq, b, &r, &fits, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     texopt_packer_destroy(p);
     texopt_packer_destroy(NULL);
     free(a);
