@@ -35,6 +35,9 @@ struct texopt_bake_workspace {
     int *texel;        /* per unknown: its box slot or texel index, ascending */
     int *first, *last; /* per unknown: envelope of A^T A (see envelope()) */
     int last_unknowns;
+    /* the last successful fit's factored system, which texopt_bake_refit solves again */
+    int last_pixel_count, last_kd;
+    double last_ridge;
     /* dense map over a bounding box: local unknown + 1, 0 = untouched */
     int *box;
     size_t box_capacity;
@@ -293,19 +296,42 @@ static int reserve_band(texopt_bake_workspace *ws, size_t needed, int kd)
     return 1;
 }
 
-/* A^T A + ridge I in upper band storage and A^T ref + ridge mean as right-hand sides. */
-static void assemble_normal_equations(texopt_bake_workspace *ws, int pixel_count, int n, int kd,
-                                      const float *reference, int channels, double ridge)
+/* A^T ref + ridge mean as right-hand sides (ws->rhs, n x channels). */
+static void assemble_texel_rhs(texopt_bake_workspace *ws, int pixel_count, int n,
+                               const float *reference, int channels, double ridge)
 {
-    int ld = kd + 1;
-    double *band = ws->band, *rhs = ws->rhs;
-    memset(band, 0, (size_t)ld * (size_t)n * sizeof *band);
+    double *rhs = ws->rhs;
     memset(rhs, 0, (size_t)n * (size_t)channels * sizeof *rhs);
     double mean[TEXOPT_BAKE_MAX_CHANNELS] = {0};
     for (int q = 0; q < pixel_count; q++) {
         const int *c = ws->cell + 4 * (size_t)q;
         const double *w = ws->weight + 4 * (size_t)q;
         const float *ref = reference + (size_t)q * channels;
+        for (int k = 0; k < 4; k++) {
+            double *r = rhs + (size_t)c[k] * channels;
+            for (int ch = 0; ch < channels; ch++)
+                r[ch] += w[k] * ref[ch];
+        }
+        for (int ch = 0; ch < channels; ch++)
+            mean[ch] += ref[ch];
+    }
+    for (int ch = 0; ch < channels; ch++) {
+        double m = mean[ch] / pixel_count;
+        for (int i = 0; i < n; i++)
+            rhs[(size_t)i * channels + ch] += ridge * m;
+    }
+}
+
+/* A^T A + ridge I in upper band storage. */
+static void assemble_normal_equations(texopt_bake_workspace *ws, int pixel_count, int n, int kd,
+                                      double ridge)
+{
+    int ld = kd + 1;
+    double *band = ws->band;
+    memset(band, 0, (size_t)ld * (size_t)n * sizeof *band);
+    for (int q = 0; q < pixel_count; q++) {
+        const int *c = ws->cell + 4 * (size_t)q;
+        const double *w = ws->weight + 4 * (size_t)q;
         if (c[0] < c[1] && c[1] < c[2] && c[2] < c[3]) {
             /* The usual footprint (no wrap, no clamp): four distinct texels in ascending
              * order, so the ten upper entries are known without tests. */
@@ -320,18 +346,6 @@ static void assemble_normal_equations(texopt_bake_workspace *ws, int pixel_count
                     if (c[a] <= c[b])
                         band[(size_t)(kd + c[a] - c[b]) + (size_t)c[b] * ld] += w[a] * w[b];
         }
-        for (int k = 0; k < 4; k++) {
-            double *r = rhs + (size_t)c[k] * channels;
-            for (int ch = 0; ch < channels; ch++)
-                r[ch] += w[k] * ref[ch];
-        }
-        for (int ch = 0; ch < channels; ch++)
-            mean[ch] += ref[ch];
-    }
-    for (int ch = 0; ch < channels; ch++) {
-        double m = mean[ch] / pixel_count;
-        for (int i = 0; i < n; i++)
-            rhs[(size_t)i * channels + ch] += ridge * m;
     }
     for (int i = 0; i < n; i++)
         band[(size_t)kd + (size_t)i * ld] += ridge;
@@ -618,10 +632,22 @@ static int pixel_envelope(texopt_bake_workspace *ws, int pixel_count)
     return close_envelope(first, ws->pixel_last, pixel_count);
 }
 
-/* A A^T + r I in upper band storage and b - m (A 1) as right-hand sides (pixel_rhs). */
+/* b - m (A 1) as right-hand sides (pixel_rhs, pixels x channels). */
+static void assemble_pixel_rhs(texopt_bake_workspace *ws, int pixel_count, const float *reference,
+                               int channels, const double *mean)
+{
+    for (int q = 0; q < pixel_count; q++) {
+        const double *w = ws->weight + 4 * (size_t)q;
+        double row_sum = w[0] + w[1] + w[2] + w[3];
+        for (int ch = 0; ch < channels; ch++)
+            ws->pixel_rhs[(size_t)q * channels + ch] =
+                (double)reference[(size_t)q * channels + ch] - mean[ch] * row_sum;
+    }
+}
+
+/* A A^T + r I in upper band storage. */
 static void assemble_pixel_system(texopt_bake_workspace *ws, int pixel_count, int n, int kd,
-                                  const float *reference, int channels, double ridge,
-                                  const double *mean)
+                                  double ridge)
 {
     int ld = kd + 1;
     double *band = ws->band;
@@ -640,14 +666,8 @@ static void assemble_pixel_system(texopt_bake_workspace *ws, int pixel_count, in
             }
         }
     }
-    for (int q = 0; q < pixel_count; q++) {
-        const double *w = ws->weight + 4 * (size_t)q;
-        double row_sum = w[0] + w[1] + w[2] + w[3];
-        for (int ch = 0; ch < channels; ch++)
-            ws->pixel_rhs[(size_t)q * channels + ch] =
-                (double)reference[(size_t)q * channels + ch] - mean[ch] * row_sum;
+    for (int q = 0; q < pixel_count; q++)
         band[(size_t)kd + (size_t)q * ld] += ridge;
-    }
 }
 
 /* x = m + A^T z, per channel, into ws->rhs (n x channels) for reconstruct(). */
@@ -698,7 +718,8 @@ static texopt_status fit_pixel_side(texopt_bake_workspace *ws, int pixel_count, 
                            pixel_count);
     double mean[TEXOPT_BAKE_MAX_CHANNELS];
     reference_mean(reference, pixel_count, channels, mean);
-    assemble_pixel_system(ws, pixel_count, n, pixel_kd, reference, channels, ridge, mean);
+    assemble_pixel_system(ws, pixel_count, n, pixel_kd, ridge);
+    assemble_pixel_rhs(ws, pixel_count, reference, channels, mean);
     if (!band_cholesky(ws->solver, ws->band, pixel_count, pixel_kd, ws->pixel_last, ws->column))
         return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
                            "bake: pixel system of %d pixels is not positive definite",
@@ -708,6 +729,9 @@ static texopt_status fit_pixel_side(texopt_bake_workspace *ws, int pixel_count, 
     reconstruct(ws, pixel_count, channels, reconstruction);
     ws->last_unknowns = n;
     ws->last_side = TEXOPT_BAKE_SIDE_PIXEL;
+    ws->last_pixel_count = pixel_count;
+    ws->last_kd = pixel_kd;
+    ws->last_ridge = ridge;
     return TEXOPT_OK;
 }
 
@@ -751,7 +775,8 @@ texopt_status texopt_bake_fit(texopt_bake_workspace *ws, int pixel_count, const 
     }
     if (!reserve_band(ws, (size_t)(kd + 1) * (size_t)n, kd))
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "bake: band of %d x %d", kd + 1, n);
-    assemble_normal_equations(ws, pixel_count, n, kd, reference, channels, ridge);
+    assemble_normal_equations(ws, pixel_count, n, kd, ridge);
+    assemble_texel_rhs(ws, pixel_count, n, reference, channels, ridge);
     if (!band_cholesky(ws->solver, ws->band, n, kd, ws->last, ws->column))
         return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
                            "bake: normal equations of %d texels are not positive definite", n);
@@ -759,5 +784,34 @@ texopt_status texopt_bake_fit(texopt_bake_workspace *ws, int pixel_count, const 
     reconstruct(ws, pixel_count, channels, reconstruction);
     ws->last_unknowns = n;
     ws->last_side = TEXOPT_BAKE_SIDE_TEXEL;
+    ws->last_pixel_count = pixel_count;
+    ws->last_kd = kd;
+    ws->last_ridge = ridge;
+    return TEXOPT_OK;
+}
+
+texopt_status texopt_bake_refit(texopt_bake_workspace *ws, const float *reference, int channels,
+                                float *reconstruction, char *err, size_t err_len)
+{
+    if (!ws || ws->last_unknowns == 0)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "bake: no successful fit with pixels to solve again");
+    if (channels < 1 || channels > ws->max_channels)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "bake: %d channels, workspace holds 1..%d", channels, ws->max_channels);
+    if (!reference || !reconstruction)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "bake: NULL buffer");
+    int pixel_count = ws->last_pixel_count, n = ws->last_unknowns;
+    if (ws->last_side == TEXOPT_BAKE_SIDE_PIXEL) {
+        double mean[TEXOPT_BAKE_MAX_CHANNELS];
+        reference_mean(reference, pixel_count, channels, mean);
+        assemble_pixel_rhs(ws, pixel_count, reference, channels, mean);
+        band_solve(ws->band, pixel_count, ws->last_kd, ws->pixel_first, ws->pixel_rhs, channels);
+        texels_from_pixel_solution(ws, pixel_count, n, channels, mean);
+    } else {
+        assemble_texel_rhs(ws, pixel_count, n, reference, channels, ws->last_ridge);
+        band_solve(ws->band, n, ws->last_kd, ws->first, ws->rhs, channels);
+    }
+    reconstruct(ws, pixel_count, channels, reconstruction);
     return TEXOPT_OK;
 }

@@ -26,6 +26,7 @@ typedef struct loss_signal {
 typedef struct loss_batch {
     int first_signal, signal_count;
     int active_count;  /* of the prepared triangle: signals that need their own bake */
+    int lead;          /* the active signal with the largest E at the last full evaluation */
     int tex_w, tex_h;  /* the texture grid */
     double sx, sy;     /* domain texel frame -> this texture's texels */
 } loss_batch;
@@ -54,6 +55,7 @@ struct texopt_triloss {
     texopt_gmsd_reference **gmsd_ref; /* per signal: its GMSD side prepared once */
 
     /* per-candidate scratch */
+    float *split;        /* n x (TRILOSS_BATCH_MAX - 1): references of the signals after the lead */
     double *pos;
     float *recon;
     float *dist_img;
@@ -189,6 +191,7 @@ texopt_status texopt_triloss_create(texopt_triloss **out, const texopt_model *mo
         tl->phat = malloc(2 * px * sizeof *tl->phat);
         tl->reference = malloc(px * (size_t)tl->signal_count * sizeof *tl->reference);
         tl->active = malloc((size_t)tl->signal_count * sizeof *tl->active);
+        tl->split = malloc(px * TRILOSS_BATCH_MAX * sizeof *tl->split);
         tl->ref_img = calloc(px * (size_t)tl->signal_count, sizeof *tl->ref_img);
         tl->mask = calloc(px, 1);
         tl->pos = malloc(2 * px * sizeof *tl->pos);
@@ -200,7 +203,7 @@ texopt_status texopt_triloss_create(texopt_triloss **out, const texopt_model *mo
         int refs_ok = tl->gmsd_ref != NULL;
         for (int s = 0; refs_ok && s < tl->signal_count; s++)
             refs_ok = (tl->gmsd_ref[s] = texopt_gmsd_reference_create(viewport, viewport)) != NULL;
-        if (!tl->pixel || !tl->phat || !tl->reference || !tl->active || !tl->ref_img || !tl->mask ||
+        if (!tl->pixel || !tl->phat || !tl->reference || !tl->active || !tl->split || !tl->ref_img || !tl->mask ||
             !tl->pos || !tl->recon || !tl->dist_img || !tl->bake || !tl->gmsd || !refs_ok)
             st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "triloss: out of memory for a %dx%d view",
                              viewport, viewport);
@@ -224,6 +227,7 @@ void texopt_triloss_destroy(texopt_triloss *tl)
     free(tl->phat);
     free(tl->reference);
     free(tl->active);
+    free(tl->split);
     free(tl->ref_img);
     free(tl->mask);
     free(tl->pos);
@@ -299,6 +303,7 @@ static void select_active_signals(texopt_triloss *tl, int b)
         for (int j = 0; j < count; j++)
             block[k * (size_t)count + (size_t)j] = block[k * (size_t)stride + (size_t)active[j]];
     batch->active_count = count;
+    batch->lead = 0;
 }
 
 /* I_hat: the input textures looked up at p_hat, as signals. */
@@ -374,6 +379,86 @@ static void candidate_positions(texopt_triloss *tl, const loss_batch *batch, con
     }
 }
 
+/* GMSD of active signal j of the batch against the reconstruction column c of `columns`. */
+static texopt_status signal_loss(texopt_triloss *tl, const loss_batch *batch, int j, int c,
+                                 int columns, double *e, char *err, size_t err_len)
+{
+    int signal = batch->first_signal + tl->active[batch->first_signal + j];
+    for (size_t k = 0; k < tl->n; k++)
+        tl->dist_img[tl->pixel[k]] = tl->recon[k * (size_t)columns + (size_t)c];
+    *e = texopt_gmsd_against(tl->gmsd, tl->gmsd_ref[signal], tl->dist_img);
+    if (!isfinite(*e))
+        return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
+                           "triloss: GMSD is not finite for signal %d", signal);
+    return TEXOPT_OK;
+}
+
+/* The batch's largest E over its active signals, all baked in one fit. */
+static texopt_status batch_loss_together(texopt_triloss *tl, loss_batch *batch, const float *block,
+                                         int grid_w, int grid_h, double *worst, char *err,
+                                         size_t err_len)
+{
+    int count = batch->active_count;
+    texopt_status st = texopt_bake_fit(tl->bake, (int)tl->n, tl->pos, block, count, grid_w,
+                                       grid_h, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT,
+                                       TRILOSS_RIDGE, tl->recon, err, err_len);
+    double top = -1.0;
+    for (int j = 0; j < count && st == TEXOPT_OK; j++) {
+        double e;
+        st = signal_loss(tl, batch, j, j, count, &e, err, err_len);
+        if (st != TEXOPT_OK)
+            break;
+        if (e > top) {
+            top = e;
+            batch->lead = j;
+        }
+        *worst = fmax(*worst, e);
+    }
+    return st;
+}
+
+/* The same with an early exit: the lead signal (the largest E last time) is baked and
+ * compared first, and when it alone reaches stop_above the other signals are not solved;
+ * otherwise they are, reusing the lead's factorisation. */
+static texopt_status batch_loss_lead_first(texopt_triloss *tl, loss_batch *batch,
+                                           const float *block, int grid_w, int grid_h,
+                                           double stop_above, double *worst, char *err,
+                                           size_t err_len)
+{
+    int count = batch->active_count, lead = batch->lead;
+    for (size_t k = 0; k < tl->n; k++)
+        tl->split[k] = block[k * (size_t)count + (size_t)lead];
+    texopt_status st = texopt_bake_fit(tl->bake, (int)tl->n, tl->pos, tl->split, 1, grid_w,
+                                       grid_h, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT,
+                                       TRILOSS_RIDGE, tl->recon, err, err_len);
+    double top;
+    if (st == TEXOPT_OK)
+        st = signal_loss(tl, batch, lead, 0, 1, &top, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    *worst = fmax(*worst, top);
+    if (*worst >= stop_above)
+        return TEXOPT_OK;
+    int rest = count - 1;
+    for (size_t k = 0; k < tl->n; k++)
+        for (int j = 0, c = 0; j < count; j++)
+            if (j != lead)
+                tl->split[k * (size_t)rest + (size_t)c++] = block[k * (size_t)count + (size_t)j];
+    st = texopt_bake_refit(tl->bake, tl->split, rest, tl->recon, err, err_len);
+    for (int j = 0, c = 0; j < count && st == TEXOPT_OK; j++) {
+        if (j == lead)
+            continue;
+        double e;
+        st = signal_loss(tl, batch, j, c++, rest, &e, err, err_len);
+        if (st == TEXOPT_OK && e > top) {
+            top = e;
+            batch->lead = j;
+        }
+        *worst = fmax(*worst, e);
+    }
+    return st;
+}
+
 texopt_status texopt_triloss_eval(texopt_triloss *tl, const double jacobian[4],
                                   double stop_above, double *out_loss, char *err,
                                   size_t err_len)
@@ -385,34 +470,22 @@ texopt_status texopt_triloss_eval(texopt_triloss *tl, const double jacobian[4],
         return TEXOPT_OK;
     double worst = 0.0;
     for (int b = 0; b < tl->batch_count; b++) {
-        const loss_batch *batch = &tl->batches[b];
+        loss_batch *batch = &tl->batches[b];
+        if (batch->active_count == 0)
+            continue;
         int grid_w = candidate_grid(batch->tex_w, tl->radius * batch->sx);
         int grid_h = candidate_grid(batch->tex_h, tl->radius * batch->sy);
-        int count = batch->active_count;
-        if (count == 0)
-            continue;
         candidate_positions(tl, batch, jacobian, grid_w, grid_h);
         const float *block = tl->reference + tl->n * (size_t)batch->first_signal;
-        texopt_status st = texopt_bake_fit(tl->bake, (int)tl->n, tl->pos, block, count, grid_w,
-                                           grid_h, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT,
-                                           TRILOSS_RIDGE, tl->recon, err, err_len);
+        texopt_status st =
+            batch->active_count > 1 && isfinite(stop_above)
+                ? batch_loss_lead_first(tl, batch, block, grid_w, grid_h, stop_above, &worst,
+                                        err, err_len)
+                : batch_loss_together(tl, batch, block, grid_w, grid_h, &worst, err, err_len);
         if (st != TEXOPT_OK)
             return st;
-        for (int j = 0; j < count; j++) {
-            int signal = batch->first_signal + tl->active[batch->first_signal + j];
-            for (size_t k = 0; k < tl->n; k++)
-                tl->dist_img[tl->pixel[k]] = tl->recon[k * (size_t)count + (size_t)j];
-            double e = texopt_gmsd_against(tl->gmsd, tl->gmsd_ref[signal], tl->dist_img);
-            if (!isfinite(e))
-                return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
-                                   "triloss: GMSD is not finite for signal %d", signal);
-            if (e > worst)
-                worst = e;
-            if (worst >= stop_above) {
-                *out_loss = worst;
-                return TEXOPT_OK;
-            }
-        }
+        if (worst >= stop_above)
+            break;
     }
     *out_loss = worst;
     return TEXOPT_OK;

@@ -58,7 +58,11 @@ texopt_status texopt_triloss_prepare(texopt_triloss *loss, uint32_t triangle, ch
 
 /* E for the 2x2 Jacobian J (row-major: J[0] J[1] / J[2] J[3]) of the prepared triangle.
  * Stops early and returns a value >= stop_above as soon as one signal reaches stop_above
- * (pass INFINITY for the exact maximum). Same inputs, same E, bit for bit. */
+ * (pass INFINITY for the exact maximum). With a finite stop_above, the signal of each bake
+ * batch that had the largest E at the last evaluation of this triangle is solved first and
+ * alone (the others, when needed, reuse its factorisation: texopt_bake_refit), so a
+ * candidate that fails on that signal costs one solve; E then equals the INFINITY value to
+ * rounding. Same triangle, same sequence of calls: same E, bit for bit. */
 texopt_status texopt_triloss_eval(texopt_triloss *loss, const double jacobian[4],
                                   double stop_above, double *out_loss, char *err,
                                   size_t err_len);

@@ -88,6 +88,7 @@ typedef struct worker {
 typedef struct triangle_search {
     texopt_triloss *loss;
     double epsilon, lambda_min, area;
+    double cut_loss; /* E at which the running evaluation may stop: it cannot matter above */
     int evaluations;
     double best_f, best_loss, best_x[TRIOPT_DIM];
     int history_count; /* evaluated points and their f, for the polish */
@@ -150,10 +151,12 @@ static double search_objective(void *user, const double *x)
     params_from_unit(x, s->lambda_min, p);
     texopt_jacobian_from_params(p[0], p[1], p[2], p[3], J);
     s->evaluations++;
-    s->status = texopt_triloss_eval(s->loss, J, s->epsilon, &e, s->err, sizeof s->err);
+    s->status = texopt_triloss_eval(s->loss, J, s->cut_loss, &e, s->err, sizeof s->err);
     if (s->status != TEXOPT_OK)
         return INFINITY;
     double f = e < s->epsilon ? objective_value(p[1] * p[2], s->area, e, s->epsilon) : INFINITY;
+    if (e >= s->cut_loss && s->cut_loss < s->epsilon)
+        return f; /* E may be only a lower bound: not a record, not for the polish */
     remember(s, x, f);
     if (!isfinite(f))
         return INFINITY;
@@ -177,7 +180,18 @@ static double search_objective_below(triangle_search *s, const double *x, double
     double floor_f = objective_value(p[1] * p[2], s->area, 0.0, s->epsilon);
     if (floor_f > must_beat)
         return floor_f;
-    return search_objective(s, x);
+    /* f >= must_beat once E >= eps - exp(area term - must_beat): the evaluation may stop
+     * there (triloss solves the leading signal first). Nudged up so that a cut f exceeds
+     * must_beat strictly, as the exact one would. */
+    double cut = s->epsilon - exp(floor_f + log(s->epsilon) - must_beat);
+    for (double step = fmax(cut * 1e-15, 1e-18);
+         cut < s->epsilon && !(objective_value(p[1] * p[2], s->area, cut, s->epsilon) > must_beat);
+         step *= 2.0)
+        cut += step;
+    s->cut_loss = cut < s->epsilon ? cut : s->epsilon;
+    double f = search_objective(s, x);
+    s->cut_loss = s->epsilon;
+    return f;
 }
 
 static double variance(const double *v, int n)
@@ -392,7 +406,7 @@ static texopt_status optimise_triangle(worker *w, uint32_t t, texopt_triangle_ta
     texopt_status st = texopt_triloss_prepare(w->loss, t, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    triangle_search s = {.loss = w->loss, .epsilon = opt->epsilon,
+    triangle_search s = {.loss = w->loss, .epsilon = opt->epsilon, .cut_loss = opt->epsilon,
                          .lambda_min = opt->lambda_min, .area = fabs(sh->mesh->area_texel[t]),
                          .best_f = INFINITY, .status = TEXOPT_OK};
     double lm = opt->lambda_min;

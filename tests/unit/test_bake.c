@@ -395,6 +395,55 @@ TEST(pixel_side_solve_equals_texel_side_on_a_minified_patch)
     }
 }
 
+TEST(refit_reuses_the_factorisation_and_equals_a_new_fit)
+{
+    /* On both sides: a fit of channels 0-1, then a refit with channels 2-3 of the pattern,
+     * equals a new fit of channels 2-3 bit for bit; a one-channel refit equals a one-channel
+     * fit. Magnified (texel side) and minified (pixel side) patches. */
+    enum { S = 20, C = 4 };
+    double pos[2 * S * S];
+    float ref[C * S * S], first[2 * S * S], second[2 * S * S], out[2 * S * S],
+        expect[2 * S * S];
+    const double jacs[2][4] = {{0.6, 0.2, -0.1, 0.7}, {2.6, 0.7, -0.6, 2.5}};
+    const texopt_bake_side sides[2] = {TEXOPT_BAKE_SIDE_TEXEL, TEXOPT_BAKE_SIDE_PIXEL};
+    reference_on_screen(S, C, ref);
+    for (int k = 0; k < S * S; k++)
+        for (int c = 0; c < 2; c++) {
+            first[k * 2 + c] = ref[k * C + c];
+            second[k * 2 + c] = ref[k * C + 2 + c];
+        }
+    char err[256] = "";
+    for (int v = 0; v < 2; v++) {
+        screen_positions(S, jacs[v], 20.3, 7.9, pos);
+        texopt_bake_workspace *ws = texopt_bake_workspace_create(S * S, C);
+        texopt_bake_workspace *fresh = texopt_bake_workspace_create(S * S, C);
+        CHECK(ws && fresh);
+        CHECK(texopt_bake_refit(ws, second, 2, out, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+        CHECK_OK(texopt_bake_fit(ws, S * S, pos, first, 2, 96, 96, TEXOPT_WRAP_CLAMP,
+                                 TEXOPT_WRAP_CLAMP, 1e-6, out, err, sizeof err), err);
+        CHECK(texopt_bake_last_side(ws) == sides[v]);
+        CHECK_OK(texopt_bake_refit(ws, second, 2, out, err, sizeof err), err);
+        CHECK_OK(texopt_bake_fit(fresh, S * S, pos, second, 2, 96, 96, TEXOPT_WRAP_CLAMP,
+                                 TEXOPT_WRAP_CLAMP, 1e-6, expect, err, sizeof err), err);
+        CHECK(memcmp(out, expect, sizeof(float) * 2 * S * S) == 0);
+        double moved = 0.0;
+        for (int k = 0; k < 2 * S * S; k++)
+            moved = fmax(moved, fabs((double)out[k] - first[k]));
+        CHECK(moved > 0.1); /* the second signal is not the first one's reconstruction */
+        float one[S * S], one_out[S * S], one_expect[S * S];
+        for (int k = 0; k < S * S; k++)
+            one[k] = ref[k * C + 3];
+        CHECK_OK(texopt_bake_refit(ws, one, 1, one_out, err, sizeof err), err);
+        CHECK_OK(texopt_bake_fit(fresh, S * S, pos, one, 1, 96, 96, TEXOPT_WRAP_CLAMP,
+                                 TEXOPT_WRAP_CLAMP, 1e-6, one_expect, err, sizeof err), err);
+        CHECK(memcmp(one_out, one_expect, sizeof one_out) == 0);
+        CHECK(texopt_bake_refit(ws, one, C + 1, one_out, err, sizeof err) ==
+              TEXOPT_E_INVALID_ARGUMENT);
+        texopt_bake_workspace_destroy(ws);
+        texopt_bake_workspace_destroy(fresh);
+    }
+}
+
 TEST(bake_rejects_bad_arguments_with_messages)
 {
     texopt_bake_workspace *ws = texopt_bake_workspace_create(4, 3);

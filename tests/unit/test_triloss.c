@@ -206,7 +206,8 @@ TEST(normal_map_adds_three_channel_signals)
 }
 
 /* fixture_grid(8, 64, "flat") plus a 64x64 occlusion texture whose red channel has fine
- * vertical stripes and whose green and blue are `green` and `blue` (negative: the stripes). */
+ * vertical stripes and whose green and blue are `green` and `blue` (-1: the same stripes,
+ * -2: coarser horizontal stripes). */
 static texopt_model *with_occlusion(double green, double blue)
 {
     char err[256] = "";
@@ -228,8 +229,9 @@ static texopt_model *with_occlusion(double green, double blue)
         for (int x = 0; x < 64; x++) {
             float *px = texopt_image_at(&m->images[1], x, y);
             px[0] = ((x / 2) % 2) ? 0.9f : 0.1f;
-            px[1] = green < 0 ? px[0] : (float)green;
-            px[2] = blue < 0 ? px[0] : (float)blue;
+            float across = ((y / 4) % 2) ? 0.8f : 0.3f;
+            px[1] = green == -1 ? px[0] : green == -2 ? across : (float)green;
+            px[2] = blue == -1 ? px[0] : blue == -2 ? across : (float)blue;
         }
     m->materials[0].slot[TEXOPT_SLOT_OCCLUSION] = m->materials[0].slot[TEXOPT_SLOT_BASE_COLOR];
     m->materials[0].slot[TEXOPT_SLOT_OCCLUSION].image = 1;
@@ -273,6 +275,36 @@ TEST(constant_and_repeated_signals_do_not_change_the_loss)
                   red_green);
         CHECK_MSG(k == 1 || grey > 0.05, "squeezed across the stripes: E = %g", grey);
     }
+}
+
+TEST(early_stop_solves_the_leading_signal_first_and_agrees_with_the_full_loss)
+{
+    /* Two different signals (vertical and horizontal stripes): with a stop that is not
+     * reached the lead-first evaluation gives the full maximum (to rounding); a stop below
+     * the leading signal's E returns at least the stop; the next evaluations agree again. */
+    texopt_model *m = with_occlusion(-2, 0.5);
+    CHECK(m);
+    char err[256] = "";
+    texopt_mesh *mesh = NULL;
+    texopt_triloss *loss = NULL;
+    CHECK_OK(texopt_mesh_create(&mesh, m, 0, err, sizeof err), err);
+    CHECK_OK(texopt_triloss_create(&loss, m, mesh, 64, err, sizeof err), err);
+    CHECK_OK(texopt_triloss_prepare(loss, 2 * (4 * 8 + 4), err, sizeof err), err);
+    for (int k = 0; k < 3; k++) {
+        double J[4], full, lead_first, cut;
+        /* squeezed across the vertical stripes, across the horizontal ones, both */
+        texopt_jacobian_from_params(0.0, k == 1 ? 1.0 : 0.4, k == 0 ? 1.0 : 0.4, 0.0, J);
+        CHECK_OK(texopt_triloss_eval(loss, J, INFINITY, &full, err, sizeof err), err);
+        CHECK(full > 0.02);
+        CHECK_OK(texopt_triloss_eval(loss, J, 2.0 * full, &lead_first, err, sizeof err), err);
+        CHECK_MSG(fabs(lead_first - full) < 1e-9 * full, "J %d: %.17g vs %.17g", k,
+                  lead_first, full);
+        CHECK_OK(texopt_triloss_eval(loss, J, 0.5 * full, &cut, err, sizeof err), err);
+        CHECK(cut >= 0.5 * full && cut <= full * (1 + 1e-9));
+    }
+    texopt_triloss_destroy(loss);
+    texopt_mesh_destroy(mesh);
+    texopt_model_destroy(m);
 }
 
 TEST(triloss_rejects_bad_input)
