@@ -1,14 +1,15 @@
 /* rebake.c - texel-centre rasterisation of the new layout, affine map back to the input,
- * prefiltered lookup, chart rim, dilation (see rebake.h for the contract and the normal-map
- * rule).
+ * prefiltered lookup, least-squares fit, chart rim, dilation (see rebake.h for the contract
+ * and the normal-map rule).
  *
  * Two rasterisation passes over the triangles decide which triangle owns each texel: the
  * first takes texels whose centre is inside a triangle (first triangle wins on shared
  * edges; both sides of an interior edge agree there), the second gives each still-empty
  * texel within half a texel diagonal of a triangle to that triangle, to be sampled at the
  * clamped barycentric point, so bilinear lookups just inside a chart border read the chart,
- * not the gutter. Then the owned texels are sampled (the expensive part: prefiltered
- * lookups), rows interleaved over `threads` workers, and the gutter is dilated. */
+ * not the gutter. Then the owned texels are sampled (prefiltered lookups), rows interleaved
+ * over `threads` workers; the fit (texel_fit.h) then refines them and their one-texel ring
+ * from four sub-texel lookups per owned texel, and the gutter is dilated. */
 #include "rebake.h"
 
 #include <math.h>
@@ -17,11 +18,23 @@
 #include <string.h>
 
 #include "dilate.h"
+#include "texel_fit.h"
 #include "texture_filter.h"
 
 #define RIM_DISTANCE 0.7072 /* half the diagonal of a texel, slightly rounded up */
 #define CHECK_EVERY 4096
 #define MAX_THREADS 64
+/* The fit: ridge toward the prefiltered bake (tiny against the 1.56 a fully sampled texel
+ * gets, but it holds texels that only a corner sample sees), and CG stopping rule (a
+ * residual fall of 1e-2 took 6 iterations on spot and gave the same q to 0.5% as 1e-3 with
+ * 11). */
+#define FIT_RIDGE 1e-3
+#define FIT_TOLERANCE 1e-2
+#define FIT_MAX_ITERATIONS 60
+/* Least squares everywhere: whole-mesh q (evaluate.h) against the prefilter, baseline
+ * layouts on four models, fell by 4-69% (median about 45%; BENCHMARKS.md "Re-bake"), while
+ * fitting only magnified triangles gained little except where everything is magnified. */
+#define DEFAULT_FIT TEXOPT_REBAKE_FIT_LEAST_SQUARES
 
 enum { TEXEL_EMPTY = 0, TEXEL_INSIDE = 1, TEXEL_RIM = 2 };
 
@@ -34,6 +47,7 @@ typedef struct mapped_triangle {
     double edge_len[3]; /* |q[(i+2)%3] - q[(i+1)%3]|: length of the edge opposite vertex i */
     double rot_c, rot_s; /* rotation part of the map, for normal maps */
     int valid;           /* non-zero output area: owns texels */
+    int magnifies;       /* an output texel covers at most one input texel */
 } mapped_triangle;
 
 typedef struct bake_context {
@@ -44,6 +58,9 @@ typedef struct bake_context {
     const mapped_triangle *tris;
     int normal_map;
     int channels;
+    texopt_rebake_fit fit;    /* resolved: never DEFAULT */
+    uint8_t *sampled;         /* fit only: per texel, takes part in the fit */
+    float *reference;         /* fit only: per texel, its four sub-texel references */
 } bake_context;
 
 static int map_triangle(const texopt_rebake_layout *layout, size_t t, const texopt_image *in,
@@ -82,6 +99,11 @@ static int map_triangle(const texopt_rebake_layout *layout, size_t t, const texo
     double theta = atan2(tri->m[2] - tri->m[1], tri->m[0] + tri->m[3]);
     tri->rot_c = cos(theta);
     tri->rot_s = sin(theta);
+    /* Largest singular value of m <= 1, from the eigenvalues of m m^T. */
+    double a = tri->m[0] * tri->m[0] + tri->m[1] * tri->m[1];
+    double d = tri->m[2] * tri->m[2] + tri->m[3] * tri->m[3];
+    double b = tri->m[0] * tri->m[2] + tri->m[1] * tri->m[3];
+    tri->magnifies = 0.5 * (a + d) + sqrt(0.25 * (a - d) * (a - d) + b * b) <= 1.0 + 1e-9;
     return 1;
 }
 
@@ -94,21 +116,29 @@ static void barycentrics(const mapped_triangle *tri, double x, double y, double 
     }
 }
 
-static void bake_texel(const bake_context *ctx, const mapped_triangle *tri, int x, int y,
-                       const double w[3])
+/* The input value seen at barycentric point w of tri, through a footprint of `scale` output
+ * texels, with a normal map's XY turned by the triangle's rotation. */
+static void lookup(const bake_context *ctx, const mapped_triangle *tri, const double w[3],
+                   double scale, float *o)
 {
     double ox = w[0] * tri->q[0][0] + w[1] * tri->q[1][0] + w[2] * tri->q[2][0];
     double oy = w[0] * tri->q[0][1] + w[1] * tri->q[1][1] + w[2] * tri->q[2][1];
     double dx = ox - tri->q[0][0], dy = oy - tri->q[0][1];
     double ix = tri->p0[0] + tri->m[0] * dx + tri->m[1] * dy;
     double iy = tri->p0[1] + tri->m[2] * dx + tri->m[3] * dy;
-    float *o = texopt_image_at(ctx->out, x, y);
-    texopt_texture_filter_sample(ctx->filter, ix, iy, tri->m, o);
+    double foot[4] = {tri->m[0] * scale, tri->m[1] * scale, tri->m[2] * scale, tri->m[3] * scale};
+    texopt_texture_filter_sample(ctx->filter, ix, iy, foot, o);
     if (ctx->normal_map && ctx->channels >= 2) {
         double a = 2.0 * o[0] - 1.0, b = 2.0 * o[1] - 1.0;
         o[0] = (float)(0.5 * (tri->rot_c * a - tri->rot_s * b + 1.0));
         o[1] = (float)(0.5 * (tri->rot_s * a + tri->rot_c * b + 1.0));
     }
+}
+
+static void bake_texel(const bake_context *ctx, const mapped_triangle *tri, int x, int y,
+                       const double w[3])
+{
+    lookup(ctx, tri, w, 1.0, texopt_image_at(ctx->out, x, y));
 }
 
 /* The texel range [x0, x1] x [y0, y1] of a triangle's bounding box grown by `grow` texels. */
@@ -144,15 +174,11 @@ static void claim_inside(const bake_context *ctx, const mapped_triangle *tri, in
         }
 }
 
-/* Barycentrics of the point of the triangle nearest (approximately: clamped and
- * renormalised) to (x, y); 0 when (x, y) is farther than RIM_DISTANCE from it. */
-static int rim_point(const mapped_triangle *tri, double x, double y, double w[3])
+/* Clamps barycentrics to the triangle (approximately its nearest point: negative weights
+ * to zero, renormalised); 0 when nothing is left. */
+static int clamp_barycentrics(double w[3])
 {
-    double twice_area = fabs(tri->area2), sum = 0;
-    barycentrics(tri, x, y, w);
-    for (int i = 0; i < 3; i++) /* w_i * 2A / |edge_i| = signed edge distance */
-        if (w[i] * twice_area / fmax(tri->edge_len[i], 1e-12) < -RIM_DISTANCE)
-            return 0;
+    double sum = 0;
     for (int i = 0; i < 3; i++) {
         w[i] = w[i] > 0 ? w[i] : 0;
         sum += w[i];
@@ -162,6 +188,18 @@ static int rim_point(const mapped_triangle *tri, double x, double y, double w[3]
     for (int i = 0; i < 3; i++)
         w[i] /= sum;
     return 1;
+}
+
+/* Barycentrics of the point of the triangle nearest (approximately: clamped and
+ * renormalised) to (x, y); 0 when (x, y) is farther than RIM_DISTANCE from it. */
+static int rim_point(const mapped_triangle *tri, double x, double y, double w[3])
+{
+    double twice_area = fabs(tri->area2);
+    barycentrics(tri, x, y, w);
+    for (int i = 0; i < 3; i++) /* w_i * 2A / |edge_i| = signed edge distance */
+        if (w[i] * twice_area / fmax(tri->edge_len[i], 1e-12) < -RIM_DISTANCE)
+            return 0;
+    return clamp_barycentrics(w);
 }
 
 static void claim_rim(const bake_context *ctx, const mapped_triangle *tri, int32_t t)
@@ -204,8 +242,53 @@ static texopt_status claim_pass(const bake_context *ctx, size_t n, int rim, cons
     return TEXOPT_OK;
 }
 
+/* The four sub-texel references of owned texel (x, y) for the least-squares fit (texel_fit.h
+ * order). Each point is looked up through the triangle that contains it: the texel's owner
+ * or the owner of the neighbour on the point's side (a point may cross an edge between
+ * triangles of one chart); a point no candidate contains (past a chart border) takes the
+ * nearest point of the owner, as the rim does. */
+static void sample_references(const bake_context *ctx, int x, int y, float *ref)
+{
+    int width = ctx->out->width, height = ctx->out->height, ch = ctx->channels;
+    const mapped_triangle *own = &ctx->tris[ctx->owner[(size_t)y * width + x]];
+    for (int s = 0; s < TEXOPT_TEXEL_FIT_SAMPLES; s++) {
+        int sx = s & 1, sy = s >> 1;
+        double px = x + 0.25 + 0.5 * sx, py = y + 0.25 + 0.5 * sy;
+        int nx[4] = {x, x + 2 * sx - 1, x, x + 2 * sx - 1};
+        int ny[4] = {y, y, y + 2 * sy - 1, y + 2 * sy - 1};
+        const mapped_triangle *tri = NULL;
+        double w[3];
+        for (int k = 0; k < 4 && !tri; k++) {
+            if (nx[k] < 0 || ny[k] < 0 || nx[k] >= width || ny[k] >= height)
+                continue;
+            size_t i = (size_t)ny[k] * width + nx[k];
+            if (ctx->state[i] == TEXEL_EMPTY)
+                continue;
+            const mapped_triangle *c = &ctx->tris[ctx->owner[i]];
+            barycentrics(c, px, py, w);
+            if (w[0] >= -1e-12 && w[1] >= -1e-12 && w[2] >= -1e-12)
+                tri = c;
+        }
+        if (!tri) {
+            tri = own;
+            barycentrics(tri, px, py, w);
+            clamp_barycentrics(w);
+        }
+        lookup(ctx, tri, w, 1.0, ref + (size_t)s * ch);
+    }
+}
+
+/* Whether owned texel i takes part in the fit. */
+static int fits_texel(const bake_context *ctx, size_t i)
+{
+    if (ctx->state[i] == TEXEL_EMPTY)
+        return 0;
+    return ctx->fit == TEXOPT_REBAKE_FIT_LEAST_SQUARES || ctx->tris[ctx->owner[i]].magnifies;
+}
+
 typedef struct sample_worker {
     const bake_context *ctx;
+    int references;                /* 0: texel centres, 1: sub-texel references of the fit */
     int first_row, step;
     const texopt_monitor *monitor; /* only worker 0 reports; every worker checks cancel */
     int canceled;
@@ -213,38 +296,60 @@ typedef struct sample_worker {
     pthread_t thread;
 } sample_worker;
 
+static void sample_row(const bake_context *ctx, int y)
+{
+    int width = ctx->out->width;
+    for (int x = 0; x < width; x++) {
+        size_t i = (size_t)y * width + x;
+        if (ctx->state[i] == TEXEL_EMPTY)
+            continue;
+        const mapped_triangle *tri = &ctx->tris[ctx->owner[i]];
+        double w[3];
+        if (ctx->state[i] == TEXEL_RIM)
+            rim_point(tri, x + 0.5, y + 0.5, w);
+        else
+            barycentrics(tri, x + 0.5, y + 0.5, w);
+        bake_texel(ctx, tri, x, y, w);
+    }
+}
+
+static void reference_row(const bake_context *ctx, int y)
+{
+    int width = ctx->out->width;
+    for (int x = 0; x < width; x++) {
+        size_t i = (size_t)y * width + x;
+        ctx->sampled[i] = (uint8_t)fits_texel(ctx, i);
+        if (ctx->sampled[i])
+            sample_references(ctx, x, y,
+                              ctx->reference + i * TEXOPT_TEXEL_FIT_SAMPLES * (size_t)ctx->channels);
+    }
+}
+
 static void *sample_rows(void *arg)
 {
     sample_worker *wk = arg;
     const bake_context *ctx = wk->ctx;
-    int width = ctx->out->width, height = ctx->out->height;
+    int height = ctx->out->height;
     for (int y = wk->first_row; y < height; y += wk->step) {
         if (texopt_monitor_canceled(wk->monitor)) {
             wk->canceled = 1;
             return NULL;
         }
         if (wk->first_row == 0 && y % 64 == 0)
-            report(wk->monitor, 0.2 + 0.75 * (double)y / height);
-        for (int x = 0; x < width; x++) {
-            size_t i = (size_t)y * width + x;
-            if (ctx->state[i] == TEXEL_EMPTY)
-                continue;
-            const mapped_triangle *tri = &ctx->tris[ctx->owner[i]];
-            double w[3];
-            if (ctx->state[i] == TEXEL_RIM)
-                rim_point(tri, x + 0.5, y + 0.5, w);
-            else
-                barycentrics(tri, x + 0.5, y + 0.5, w);
-            bake_texel(ctx, tri, x, y, w);
-        }
+            report(wk->monitor, (wk->references ? 0.5 : 0.2) + 0.3 * (double)y / height);
+        if (wk->references)
+            reference_row(ctx, y);
+        else
+            sample_row(ctx, y);
     }
     return NULL;
 }
 
-/* Samples every owned texel, rows interleaved over `threads` workers (the caller's thread
- * is worker 0 and also runs the rows of any worker whose thread could not start). */
-static texopt_status sample_owned(const bake_context *ctx, int threads, const texopt_monitor *monitor,
-                                  char *err, size_t err_len)
+/* Samples every owned texel (centres, or the fit's references), rows interleaved over
+ * `threads` workers (the caller's thread is worker 0 and also runs the rows of any worker
+ * whose thread could not start). */
+static texopt_status sample_owned(const bake_context *ctx, int references, int threads,
+                                  const texopt_monitor *monitor, char *err, size_t err_len)
 {
     if (threads < 1)
         threads = 1;
@@ -252,7 +357,8 @@ static texopt_status sample_owned(const bake_context *ctx, int threads, const te
         threads = MAX_THREADS;
     sample_worker wk[MAX_THREADS];
     for (int k = 0; k < threads; k++)
-        wk[k] = (sample_worker){.ctx = ctx, .first_row = k, .step = threads, .monitor = monitor};
+        wk[k] = (sample_worker){.ctx = ctx, .references = references, .first_row = k,
+                                .step = threads, .monitor = monitor};
     for (int k = 1; k < threads; k++)
         wk[k].started = pthread_create(&wk[k].thread, NULL, sample_rows, &wk[k]) == 0;
     sample_rows(&wk[0]);
@@ -267,6 +373,43 @@ static texopt_status sample_owned(const bake_context *ctx, int threads, const te
     if (canceled)
         return texopt_fail(err, err_len, TEXOPT_E_CANCELED, "bake canceled");
     return TEXOPT_OK;
+}
+
+/* The least-squares fit over the prefiltered bake (texel_fit.h). The one-texel ring around
+ * the owned texels is first dilated, because the fit starts from it and may change it;
+ * `covered` then marks the owned texels and every texel the fit set, for the final dilation. */
+static texopt_status fit_texels(bake_context *ctx, uint8_t *covered, int threads,
+                                const texopt_monitor *monitor, char *err, size_t err_len)
+{
+    size_t count = (size_t)ctx->out->width * (size_t)ctx->out->height;
+    texopt_status st = texopt_dilate(ctx->out, covered, 1, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    ctx->sampled = malloc(count);
+    ctx->reference = malloc(count * TEXOPT_TEXEL_FIT_SAMPLES * (size_t)ctx->channels * sizeof(float));
+    uint8_t *fixed = malloc(count);
+    if (!ctx->sampled || !ctx->reference || !fixed)
+        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory to fit a %dx%d bake",
+                         ctx->out->width, ctx->out->height);
+    if (st == TEXOPT_OK)
+        st = sample_owned(ctx, 1, threads, monitor, err, err_len);
+    if (st == TEXOPT_OK) {
+        for (size_t i = 0; i < count; i++) {
+            fixed[i] = ctx->state[i] != TEXEL_EMPTY && !ctx->sampled[i];
+            covered[i] = ctx->state[i] != TEXEL_EMPTY;
+        }
+        texopt_texel_fit_problem pb = {.image = ctx->out, .sampled = ctx->sampled,
+                                       .reference = ctx->reference, .fixed = fixed,
+                                       .ridge = FIT_RIDGE, .tolerance = FIT_TOLERANCE,
+                                       .max_iterations = FIT_MAX_ITERATIONS, .threads = threads};
+        st = texopt_texel_fit(&pb, covered, NULL, err, err_len);
+    }
+    free(ctx->sampled);
+    free(ctx->reference);
+    free(fixed);
+    ctx->sampled = NULL;
+    ctx->reference = NULL;
+    return st;
 }
 
 static texopt_status check_layout(const texopt_image *input, const texopt_rebake_layout *layout,
@@ -289,6 +432,16 @@ texopt_status texopt_rebake_image(const texopt_image *input, texopt_wrap wrap_s,
                                   size_t *covered_texels, const texopt_monitor *monitor,
                                   char *err, size_t err_len)
 {
+    return texopt_rebake_image_fit(input, wrap_s, wrap_t, normal_map, layout, TEXOPT_REBAKE_FIT_DEFAULT,
+                                   output, covered_texels, monitor, err, err_len);
+}
+
+texopt_status texopt_rebake_image_fit(const texopt_image *input, texopt_wrap wrap_s,
+                                      texopt_wrap wrap_t, int normal_map,
+                                      const texopt_rebake_layout *layout, texopt_rebake_fit fit,
+                                      texopt_image *output, size_t *covered_texels,
+                                      const texopt_monitor *monitor, char *err, size_t err_len)
+{
     texopt_status st = check_layout(input, layout, output, err, err_len);
     if (st != TEXOPT_OK)
         return st;
@@ -307,24 +460,37 @@ texopt_status texopt_rebake_image(const texopt_image *input, texopt_wrap wrap_s,
         map_triangle(layout, t, input, output, &tris[t]);
     texopt_texture_filter *filter = NULL;
     st = texopt_texture_filter_create(&filter, input, wrap_s, wrap_t, err, err_len);
-    bake_context ctx = {filter, output, state, owner, tris, normal_map, output->channels};
+    bake_context ctx = {.filter = filter, .out = output, .state = state, .owner = owner, .tris = tris,
+                        .normal_map = normal_map, .channels = output->channels,
+                        .fit = fit == TEXOPT_REBAKE_FIT_DEFAULT ? DEFAULT_FIT : fit};
     if (st == TEXOPT_OK)
         st = claim_pass(&ctx, n, 0, monitor, err, err_len);
     if (st == TEXOPT_OK)
         st = claim_pass(&ctx, n, 1, monitor, err, err_len);
     if (st == TEXOPT_OK)
-        st = sample_owned(&ctx, layout->threads, monitor, err, err_len);
+        st = sample_owned(&ctx, 0, layout->threads, monitor, err, err_len);
     if (st == TEXOPT_OK && covered_texels) {
         size_t inside = 0;
         for (size_t i = 0; i < count; i++)
             inside += state[i] == TEXEL_INSIDE;
         *covered_texels = inside;
     }
+    uint8_t *covered = st == TEXOPT_OK ? malloc(count) : NULL;
+    if (st == TEXOPT_OK && !covered)
+        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %dx%d bake", output->width,
+                         output->height);
+    if (st == TEXOPT_OK) {
+        for (size_t i = 0; i < count; i++)
+            covered[i] = state[i] != TEXEL_EMPTY;
+        if (ctx.fit != TEXOPT_REBAKE_FIT_PREFILTER)
+            st = fit_texels(&ctx, covered, layout->threads, monitor, err, err_len);
+    }
     if (st == TEXOPT_OK)
-        st = texopt_dilate(output, state, 0, err, err_len);
+        st = texopt_dilate(output, covered, 0, err, err_len);
     if (st == TEXOPT_OK)
         report(monitor, 1.0);
     texopt_texture_filter_destroy(filter);
+    free(covered);
     free(state);
     free(owner);
     free(tris);

@@ -3,7 +3,9 @@
  * Does: for every output texel whose centre lies in a triangle of the new layout, map the
  * centre through that triangle's affine map back to the input texture and take a
  * prefiltered sample there (texture_filter.h: the footprint of the output texel, so a region
- * that shrinks is averaged, not point-sampled). Texels that a triangle touches but whose
+ * that shrinks is averaged, not point-sampled); then, by default, fit the texels by least
+ * squares so that their bilinear reconstruction matches the input (texopt_rebake_fit
+ * below). Texels that a triangle touches but whose
  * centre lies outside every triangle (the one-texel rim of each chart) take the value at the
  * nearest point of the triangle (clamped barycentrics), and a triangle too small to hold any
  * texel centre still writes the texel under its centroid. Everything else is gutter,
@@ -33,6 +35,24 @@
 #include "monitor.h"
 #include "status.h"
 
+/* How the output texels are chosen from the input.
+ * PREFILTER: each texel is the prefiltered lookup at its centre (above). A renderer then
+ *   interpolates those values bilinearly a second time, which blurs wherever the layout
+ *   keeps or magnifies the input's density.
+ * LEAST_SQUARES: the prefiltered bake is the start and the ridge target of a least-squares
+ *   fit (texel_fit.h): the texels whose bilinear reconstruction best matches the input at
+ *   four sub-texel points per covered texel (each point a prefiltered lookup with half a
+ *   texel's footprint, i.e. plain bilinear where the layout magnifies).
+ * MAGNIFIED: the same fit, only for texels of triangles the layout magnifies (an output
+ *   texel covers at most one input texel); texels of shrunk triangles keep the prefilter.
+ * DEFAULT is the one measured best with the whole-mesh evaluation (rebake.c says which). */
+typedef enum texopt_rebake_fit {
+    TEXOPT_REBAKE_FIT_DEFAULT = 0,
+    TEXOPT_REBAKE_FIT_PREFILTER,
+    TEXOPT_REBAKE_FIT_LEAST_SQUARES,
+    TEXOPT_REBAKE_FIT_MAGNIFIED
+} texopt_rebake_fit;
+
 /* A layout pair over shared triangles. UVs are in [0,1] texture units (u = x / W), so one
  * layout serves every image of a domain whatever its size. */
 typedef struct texopt_rebake_layout {
@@ -40,7 +60,7 @@ typedef struct texopt_rebake_layout {
     const uint32_t *triangles; /* 3 per triangle, indices into uv_in / uv_out */
     const double *uv_in;       /* 2 per vertex: input UVs (may leave [0,1]: wrap modes apply) */
     const double *uv_out;      /* 2 per vertex: new UVs */
-    int threads;               /* workers for the sampling pass; 0 -> 1 */
+    int threads;               /* workers for the sampling and fitting passes; 0 -> 1 */
 } texopt_rebake_layout;
 
 /* Bakes input (read through wrap_s / wrap_t) into output, which the caller has allocated
@@ -54,5 +74,12 @@ texopt_status texopt_rebake_image(const texopt_image *input, texopt_wrap wrap_s,
                                   const texopt_rebake_layout *layout, texopt_image *output,
                                   size_t *covered_texels, const texopt_monitor *monitor,
                                   char *err, size_t err_len);
+
+/* As texopt_rebake_image, with the texel rule chosen (texopt_rebake_image uses DEFAULT). */
+texopt_status texopt_rebake_image_fit(const texopt_image *input, texopt_wrap wrap_s,
+                                      texopt_wrap wrap_t, int normal_map,
+                                      const texopt_rebake_layout *layout, texopt_rebake_fit fit,
+                                      texopt_image *output, size_t *covered_texels,
+                                      const texopt_monitor *monitor, char *err, size_t err_len);
 
 #endif

@@ -1,0 +1,59 @@
+/* texel_fit.h - least-squares texel values for bilinear reconstruction.
+ *
+ * Does: given, for some texels of an image, reference values at four sub-texel points (the
+ * centres of the texel's 2x2 quarters, offsets (+-1/4, +-1/4) texel from its centre), find
+ * the texel values whose bilinear reconstruction (texel centres at i + 0.5, as a renderer
+ * samples) best matches those references:
+ *     x = argmin sum_samples |bilinear(x, s) - ref(s)|^2 + ridge |x - x0|^2
+ * over the texels the samples touch and the caller did not fix; x0 is the image as given
+ * (e.g. a prefiltered bake), which the ridge keeps texels that few samples see close to.
+ * Four samples per texel make the problem well posed wherever texels are sampled: a plain
+ * point sample at each texel centre would give x = ref and the renderer's second bilinear
+ * interpolation would blur the signal again, which is what this fit undoes.
+ * Solved by conjugate gradients with a Jacobi preconditioner on the 3x3-stencil normal
+ * equations; rows are shared among threads in fixed blocks and every sum is taken in block
+ * order, so the result does not depend on the thread count. Values are clamped to [0, 1]
+ * (the engine's image contract, image.h) after the solve.
+ * Does not: decide where the references come from or which texels to fix (rebake.h does).
+ *
+ * Implements the "least-squares fit for bilinear reconstruction" alternative of the re-bake
+ * step of Sun et al. 2022, "Efficient Texture Parameterization Driven by
+ * Perceptual-Loss-on-Screen" (the same principle as their eq. 11, applied to the whole
+ * texture). */
+#ifndef TEXOPT_TEXEL_FIT_H
+#define TEXOPT_TEXEL_FIT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "image.h"
+#include "status.h"
+
+/* Sub-samples per texel, in the order (-,-), (+,-), (-,+), (+,+) of (dx, dy) = +-1/4. */
+#define TEXOPT_TEXEL_FIT_SAMPLES 4
+
+typedef struct texopt_texel_fit_problem {
+    texopt_image *image;    /* in: x0 at every texel; out: fitted values where changeable */
+    const uint8_t *sampled; /* per texel: non-zero when its four sub-samples take part */
+    float *reference;       /* per texel 4 * channels values (sample-major), read where sampled;
+                               overwritten with the residuals against x0 */
+    const uint8_t *fixed;   /* per texel: non-zero keeps its value (NULL: none fixed) */
+    double ridge;           /* > 0: weight of |x - x0|^2 (e.g. 1e-3) */
+    double tolerance;       /* stop when the preconditioned residual fell by this factor */
+    int max_iterations;     /* > 0 */
+    int threads;            /* 0 -> 1 */
+} texopt_texel_fit_problem;
+
+typedef struct texopt_texel_fit_report {
+    size_t unknowns;        /* texels the fit could change */
+    int iterations;
+    double residual_ratio;  /* final / initial preconditioned residual norm */
+} texopt_texel_fit_report;
+
+/* Fits in place. changed (may be NULL; width * height bytes) gets 1 for every texel the fit
+ * could change, others untouched. report may be NULL. Samples whose bilinear footprint
+ * leaves the image are ignored. */
+texopt_status texopt_texel_fit(const texopt_texel_fit_problem *problem, uint8_t *changed,
+                               texopt_texel_fit_report *report, char *err, size_t err_len);
+
+#endif
