@@ -200,30 +200,39 @@ static void update_direction(fit_ctx *c, int y0, int y1, double *sums)
         }
 }
 
-/* q = (K + ridge I) p on free texels. sums[0] = p . q. */
+/* q = (K + ridge I) p on free texels. sums[0] = p . q. Away from the image border all nine
+ * neighbours exist (p is zero wherever the fit may not change a texel), so the stencil runs
+ * without tests there. */
 static void apply_matrix(fit_ctx *c, int y0, int y1, double *sums)
 {
+    int ch = c->ch;
+    float ridge = (float)c->pb->ridge;
     for (int y = y0; y < y1; y++)
         for (int x = 0; x < c->w; x++) {
             size_t t = (size_t)y * c->w + x;
             if (!c->is_free[t])
                 continue;
-            const float *k9 = c->coef + 9 * t, *pt = c->p + t * c->ch;
-            float *qt = c->q + t * c->ch;
-            double acc[4];
-            for (int k = 0; k < c->ch; k++)
-                acc[k] = c->pb->ridge * pt[k];
-            for (int oy = -1; oy <= 1; oy++)
+            const float *k9 = c->coef + 9 * t, *pt = c->p + t * ch;
+            float *qt = c->q + t * ch;
+            float acc[4];
+            for (int k = 0; k < ch; k++)
+                acc[k] = ridge * pt[k];
+            int interior = x > 0 && y > 0 && x + 1 < c->w && y + 1 < c->h;
+            for (int oy = -1; oy <= 1; oy++) {
+                if (!interior && (y + oy < 0 || y + oy >= c->h))
+                    continue;
+                const float *row = c->p + ((size_t)(y + oy) * c->w + (size_t)x) * ch;
                 for (int ox = -1; ox <= 1; ox++) {
+                    if (!interior && (x + ox < 0 || x + ox >= c->w))
+                        continue;
                     float kv = k9[(oy + 1) * 3 + ox + 1];
-                    if (kv == 0.0f)
-                        continue; /* also every neighbour outside the image */
-                    const float *pn = c->p + ((size_t)(y + oy) * c->w + (size_t)(x + ox)) * c->ch;
-                    for (int k = 0; k < c->ch; k++)
+                    const float *pn = row + ox * ch;
+                    for (int k = 0; k < ch; k++)
                         acc[k] += kv * pn[k];
                 }
-            for (int k = 0; k < c->ch; k++) {
-                qt[k] = (float)acc[k];
+            }
+            for (int k = 0; k < ch; k++) {
+                qt[k] = acc[k];
                 sums[0] += (double)pt[k] * acc[k];
             }
         }

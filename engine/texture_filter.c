@@ -40,10 +40,21 @@ static void bilinear(const texopt_image *img, texopt_wrap ws, texopt_wrap wt, do
     double fx = x - 0.5, fy = y - 0.5;
     double flx = floor(fx), fly = floor(fy);
     double tx = fx - flx, ty = fy - fly;
-    /* Positions far outside the texture (wrapped UVs) stay exact in double before the cast. */
-    int ix = (int)fmod(flx, 1 << 30), iy = (int)fmod(fly, 1 << 30);
-    int x0 = wrap_index(ix, img->width, ws), x1 = wrap_index(ix + 1, img->width, ws);
-    int y0 = wrap_index(iy, img->height, wt), y1 = wrap_index(iy + 1, img->height, wt);
+    int x0, x1, y0, y1;
+    if (flx >= 0 && fly >= 0 && flx + 1 < img->width && fly + 1 < img->height) {
+        /* All four taps inside: no wrapping to do (most lookups of a bake). */
+        x0 = (int)flx;
+        y0 = (int)fly;
+        x1 = x0 + 1;
+        y1 = y0 + 1;
+    } else {
+        /* Positions far outside the texture (wrapped UVs) stay exact in double before the cast. */
+        int ix = (int)fmod(flx, 1 << 30), iy = (int)fmod(fly, 1 << 30);
+        x0 = wrap_index(ix, img->width, ws);
+        x1 = wrap_index(ix + 1, img->width, ws);
+        y0 = wrap_index(iy, img->height, wt);
+        y1 = wrap_index(iy + 1, img->height, wt);
+    }
     const float *p00 = texopt_image_at(img, x0, y0), *p10 = texopt_image_at(img, x1, y0);
     const float *p01 = texopt_image_at(img, x0, y1), *p11 = texopt_image_at(img, x1, y1);
     double w00 = (1 - tx) * (1 - ty), w10 = tx * (1 - ty), w01 = (1 - tx) * ty, w11 = tx * ty;
