@@ -238,8 +238,8 @@ static void perturb(const uint32_t *from, uint32_t *to, size_t n, uint64_t *rng)
  * then, for small atlases, a seeded local search over the order (one chart moved at a time)
  * at the best widths. Its positions go to texel_out. Deterministic: a fixed seed and a fixed
  * number of packings. */
-static texopt_status search_packing(work *w, double s, double area, double aspect, double *texel_out,
-                                    best_packing *best, char *err, size_t err_len)
+static texopt_status search_packing(work *w, double s, double area, double aspect, int min_strip,
+                                    double *texel_out, best_packing *best, char *err, size_t err_len)
 {
     size_t n = w->mesh->chart_count ? w->mesh->chart_count : 1;
     uint32_t *orders = malloc(sizeof(uint32_t) * (START_ORDERS + 1 + RULES) * n);
@@ -250,7 +250,7 @@ static texopt_status search_packing(work *w, double s, double area, double aspec
     for (int r = 0; r < RULES; r++)
         per_rule[r] = (best_packing){-1, 0, r, 0, 0, orders + (START_ORDERS + 1 + r) * n};
     texopt_status st = start_orders(w->mesh, w->texel, orders, err, err_len);
-    double base = sqrt(area * s * s / 0.7 * aspect);
+    double base = fmax(sqrt(area * s * s / 0.7 * aspect), min_strip / WIDTH_LO);
     texopt_packer *packer = NULL;
     if (st == TEXOPT_OK)
         st = make_packer(w, s, &packer, err, err_len);
@@ -292,9 +292,52 @@ static texopt_status search_packing(work *w, double s, double area, double aspec
     return st;
 }
 
-/* Cost depends on scale squared but also on how the scaled charts fall on the texel grid,
- * so each round repacks at the corrected scale and measures again; the round closest to the
- * target wins. */
+/* The scale whose packed cost meets the target (to COST_TOLERANCE, within COST_ROUNDS),
+ * found with the plain packing (first order, first rule, one width). Cost depends on scale
+ * squared but also on how the charts fall on the texel grid, which moves by whole cells
+ * change only through the quarter turns: so the scale found here holds, nearly, for every
+ * packing the search then tries, and the search's winner is not repacked at another scale
+ * (which would give another, usually worse, packing). */
+static texopt_status calibrate_scale(work *w, double target, double area, double aspect, double *s,
+                                     int *min_strip, char *err, size_t err_len)
+{
+    texopt_status st = TEXOPT_OK;
+    double best_miss = INFINITY, best_s = *s;
+    for (int round = 0; st == TEXOPT_OK && round < COST_ROUNDS && best_miss > COST_TOLERANCE; round++) {
+        int strip = round_up4(sqrt(area * *s * *s / 0.7 * aspect)), fits = 0, pw, ph;
+        double cost = 0;
+        texopt_packer *packer = NULL;
+        w->sequence = NULL;
+        w->rule = w->pack->rule;
+        st = make_packer(w, *s, &packer, err, err_len);
+        /* A tiny layout's gutters can make a chart wider than the estimated strip. */
+        while (st == TEXOPT_OK && !fits && strip <= MAX_SIDE) {
+            st = pack_at(w, packer, strip, 0, &fits, &pw, &ph, err, err_len);
+            if (st == TEXOPT_OK && !fits)
+                strip = round_up4(1.5 * strip + 4);
+        }
+        texopt_packer_destroy(packer);
+        *min_strip = strip;
+        if (st == TEXOPT_OK && !fits)
+            st = texopt_fail(err, err_len, TEXOPT_E_LIMIT, "budget: the layout needs a texture larger than %d texels a side",
+                             MAX_SIDE);
+        if (st == TEXOPT_OK)
+            st = measure_cost(w->mesh, w->packed, pw, ph, &cost, err, err_len);
+        if (st != TEXOPT_OK || !(cost > 0))
+            break;
+        if (fabs(cost / target - 1) < best_miss) {
+            best_miss = fabs(cost / target - 1);
+            best_s = *s;
+        }
+        *s *= sqrt(target / cost);
+    }
+    *s = best_s;
+    return st;
+}
+
+/* Calibrates the scale, searches the packing at it, then (rarely: when the winner's
+ * quarter turns put its cost off the target) repacks the winner at corrected scales; the
+ * round closest to the target wins. */
 static texopt_status fit_relative_cost(work *w, const texopt_budget_request *req, double area,
                                        double *texel_out, texopt_budget_result *res, char *err,
                                        size_t err_len)
@@ -308,7 +351,10 @@ static texopt_status fit_relative_cost(work *w, const texopt_budget_request *req
     best_packing best = {-1, 0, 0, 0, 0, malloc(sizeof(uint32_t) * (w->mesh->chart_count ? w->mesh->chart_count : 1))};
     if (!best.sequence)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the placement order");
-    texopt_status st = search_packing(w, s, area, aspect, texel_out, &best, err, err_len);
+    int min_strip = 4;
+    texopt_status st = calibrate_scale(w, target, area, aspect, &s, &min_strip, err, err_len);
+    if (st == TEXOPT_OK)
+        st = search_packing(w, s, area, aspect, min_strip, texel_out, &best, err, err_len);
     double cost = 0;
     if (st == TEXOPT_OK)
         st = measure_cost(w->mesh, texel_out, best.width, best.height, &cost, err, err_len);
