@@ -171,9 +171,23 @@ static void footprint_axes(const double j[4], double *s1, double *s2, double dir
     double e1 = mean + dev, e2 = mean - dev;
     *s1 = sqrt(e1 > 0 ? e1 : 0);
     *s2 = sqrt(e2 > 0 ? e2 : 0);
-    double theta = 0.5 * atan2(2 * r, p - q);
-    dir[0] = cos(theta);
-    dir[1] = sin(theta);
+    /* Eigenvector of e1 without trigonometry (this runs once per lookup): the better
+     * conditioned of (r, e1 - p) and (e1 - q, r). */
+    double ax = r, ay = e1 - p, bx = e1 - q, by = r;
+    double na = ax * ax + ay * ay, nb = bx * bx + by * by;
+    if (na < nb) {
+        ax = bx;
+        ay = by;
+        na = nb;
+    }
+    if (!(na > 0)) { /* isotropic: any direction */
+        dir[0] = 1;
+        dir[1] = 0;
+        return;
+    }
+    double inv = 1.0 / sqrt(na);
+    dir[0] = ax * inv;
+    dir[1] = ay * inv;
 }
 
 void texopt_texture_filter_sample(const texopt_texture_filter *filter, double x, double y,

@@ -357,3 +357,30 @@ TEST(magnified_fit_leaves_shrunk_triangles_prefiltered)
     texopt_image_destroy(&pre);
     texopt_image_destroy(&mag);
 }
+
+TEST(anisotropic_footprint_follows_its_direction)
+{
+    /* Diagonal stripes 8 texels wide (constant along (1, 1), alternating along (1, -1)); a
+     * footprint 12 texels long and 1 wide averages along its long axis: along the stripes it
+     * keeps the stripe's value, across them it gives the mean. */
+    texopt_image in;
+    CHECK(texopt_image_create(&in, 64, 64, 1, NULL, 0) == TEXOPT_OK);
+    for (int y = 0; y < 64; y++)
+        for (int x = 0; x < 64; x++)
+            texopt_image_at(&in, x, y)[0] = (float)((((x - y) % 16 + 16) % 16) < 8);
+    texopt_texture_filter *f = NULL;
+    char err[256] = "";
+    CHECK_OK(texopt_texture_filter_create(&f, &in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, err, sizeof err), err);
+    double a = 12, b = 1;
+    /* J = R diag(a, b) R^T with R the 45-degree rotation: long axis along (1, 1). */
+    const double along[4] = {0.5 * (a + b), 0.5 * (a - b), 0.5 * (a - b), 0.5 * (a + b)};
+    const double across[4] = {0.5 * (a + b), -0.5 * (a - b), -0.5 * (a - b), 0.5 * (a + b)};
+    float v_along, v_across;
+    /* (36, 32): x - y = 4, the middle of a stripe of ones. */
+    texopt_texture_filter_sample(f, 36.5, 32.5, along, &v_along);
+    texopt_texture_filter_sample(f, 36.5, 32.5, across, &v_across);
+    CHECK(v_along > 0.85f);
+    CHECK_NEAR(v_across, 0.5, 0.15);
+    texopt_texture_filter_destroy(f);
+    texopt_image_destroy(&in);
+}
