@@ -317,7 +317,8 @@ static texopt_status calibrate_scale(work *w, double target, double area, double
                 strip = round_up4(1.5 * strip + 4);
         }
         texopt_packer_destroy(packer);
-        *min_strip = strip;
+        if (strip > round_up4(sqrt(area * *s * *s / 0.7 * aspect)))
+            *min_strip = strip; /* widened: the search must not try narrower strips */
         if (st == TEXOPT_OK && !fits)
             st = texopt_fail(err, err_len, TEXOPT_E_LIMIT, "budget: the layout needs a texture larger than %d texels a side",
                              MAX_SIDE);
@@ -351,7 +352,7 @@ static texopt_status fit_relative_cost(work *w, const texopt_budget_request *req
     best_packing best = {-1, 0, 0, 0, 0, malloc(sizeof(uint32_t) * (w->mesh->chart_count ? w->mesh->chart_count : 1))};
     if (!best.sequence)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the placement order");
-    int min_strip = 4;
+    int min_strip = 0;
     texopt_status st = calibrate_scale(w, target, area, aspect, &s, &min_strip, err, err_len);
     if (st == TEXOPT_OK)
         st = search_packing(w, s, area, aspect, min_strip, texel_out, &best, err, err_len);
