@@ -33,6 +33,9 @@ static void usage(FILE *out)
             "  --relative-cost C        covered texels of the output / of the input, (0, 4]\n"
             "                           (default 1)\n"
             "  --texture-size WxH       output texture size instead of a relative cost\n"
+            "  --target-loss Q          the smallest relative cost (searched in [0.01, 1]) whose\n"
+            "                           whole-mesh loss q against the input is at most Q, (0, 1);\n"
+            "                           q and the search are in the statistics\n"
             "  --epsilon E              perceptual loss threshold of stage 1 (default 0.01)\n"
             "  --iterations N           most Bayesian-optimisation polish iterations per triangle\n"
             "                           (default 100; the polish stops once it stops paying)\n"
@@ -136,7 +139,10 @@ static int parse_option(optimize_args *a, const char *opt, const char *val)
     } else if (strcmp(opt, "--texture-size") == 0 &&
                parse_size(val, &a->params.texture_width, &a->params.texture_height))
         a->params.budget = TEXOPT_BUDGET_TEXTURE_SIZE;
-    else if (strcmp(opt, "--epsilon") == 0 && parse_double(val, &d) && d > 0)
+    else if (strcmp(opt, "--target-loss") == 0 && parse_double(val, &d)) {
+        a->params.budget = TEXOPT_BUDGET_TARGET_LOSS;
+        a->params.target_loss = d;
+    } else if (strcmp(opt, "--epsilon") == 0 && parse_double(val, &d) && d > 0)
         a->params.epsilon = d;
     else if (strcmp(opt, "--lambda-min") == 0 && parse_double(val, &d) && d > 0)
         a->params.lambda_min = d;
@@ -175,7 +181,8 @@ static int parse_args(int argc, char **argv, optimize_args *a)
                 fprintf(stderr, "texopt optimize: %s needs a value\n", arg);
                 return EXIT_USAGE;
             }
-            budget_options += strcmp(arg, "--relative-cost") == 0 || strcmp(arg, "--texture-size") == 0;
+            budget_options += strcmp(arg, "--relative-cost") == 0 || strcmp(arg, "--texture-size") == 0 ||
+                              strcmp(arg, "--target-loss") == 0;
             int rc = parse_option(a, arg, argv[++i]);
             if (rc >= 0)
                 return rc;
@@ -188,7 +195,7 @@ static int parse_args(int argc, char **argv, optimize_args *a)
         a->input = arg;
     }
     if (budget_options > 1) {
-        fprintf(stderr, "texopt optimize: give either --relative-cost or --texture-size, not both\n");
+        fprintf(stderr, "texopt optimize: give one of --relative-cost, --texture-size, --target-loss\n");
         return EXIT_USAGE;
     }
     if (!a->input || !a->output) {

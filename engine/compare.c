@@ -1,7 +1,8 @@
 /* compare.c - q_r-c_r curves per method through the real pipeline, and the target_loss
  * search (Sun et al. 2022, section 5.1; DESIGN.md 3.4 "a target whole-mesh loss").
  *
- * Each point is one texopt_optimize_file run into a private temporary directory, the output
+ * Each method is one pipeline job (pipeline.h): its targets (stage 1) are computed once and
+ * every cost is one texopt_job_write into a private temporary directory, the output
  * loaded back, measured (evaluate.h) and deleted; only the showcase cost's outputs stay in
  * memory for the report. Points run one after the other: the pipeline itself uses the
  * cores. The target search brackets log(c_r) because q changes by similar amounts per
@@ -170,26 +171,50 @@ static texopt_status fatal(const texopt_compare_point *pt, char *err, size_t err
     return TEXOPT_OK;
 }
 
-/* Every cost through its own pipeline run. */
+/* Every cost through the pipeline's per-budget part: the job computes the method's targets
+ * (stage 1 for perceptual) once, then writes one output per cost. A job that cannot be
+ * created marks every point failed with its message. */
 static texopt_status run_curve_full(const run_ctx *x, texopt_compare_curve *curve, char *err,
                                     size_t err_len)
 {
+    texopt_params p = x->opt->params;
+    p.method = curve->method;
+    p.budget = TEXOPT_BUDGET_RELATIVE_COST;
+    p.evaluate = 0;
+    texopt_job *job = NULL;
+    texopt_compare_point *first = &curve->points[0];
+    double t0 = now_seconds();
+    first->status = texopt_job_create(&job, x->input_path, &p, x->opt->monitor, first->message,
+                                      sizeof first->message);
+    double seconds_prepare = now_seconds() - t0;
+    if (first->status != TEXOPT_OK) {
+        for (int c = 1; c < curve->point_count; c++) {
+            curve->points[c].status = first->status;
+            memcpy(curve->points[c].message, first->message, sizeof first->message);
+        }
+        return fatal(first, err, err_len);
+    }
     texopt_status st = TEXOPT_OK;
     for (int c = 0; c < curve->point_count && st == TEXOPT_OK; c++) {
         texopt_compare_point *pt = &curve->points[c];
-        if (optimise(x->input_path, x->tmp_glb, x->opt, curve->method, pt->cost_requested, pt) == TEXOPT_OK)
+        texopt_job_budget b = {TEXOPT_BUDGET_RELATIVE_COST, pt->cost_requested, 0, 0, 0};
+        /* The shared part (load, targets) is counted in the first point only. */
+        t0 = now_seconds();
+        pt->status = texopt_job_write(job, &b, x->tmp_glb, NULL, pt->message, sizeof pt->message);
+        pt->seconds_optimize = (c == 0 ? seconds_prepare : 0) + now_seconds() - t0;
+        if (pt->status == TEXOPT_OK)
             st = measure_point(x, curve, c, x->tmp_glb, err, err_len);
         unlink(x->tmp_glb);
         if (st == TEXOPT_OK)
             st = fatal(pt, err, err_len);
     }
+    texopt_job_destroy(job);
     return st;
 }
 
 /* The layout once, at the largest cost; the other costs resample its re-baked textures
- * (method "input" applied to that output). The method's layout does not depend on the
- * budget (its targets are relative, the budget scales uniformly), so only the bake differs
- * from a full run: filtered twice, and chart gutters scaled rather than re-padded (which
+ * (method "input" applied to that output): filtered twice, chart gutters scaled rather than
+ * re-padded, and the layout allocated for the largest budget rather than each one (which
  * measurably raises q: see compare.h). */
 static texopt_status run_curve_reusing_layout(const run_ctx *x, texopt_compare_curve *curve,
                                               char *err, size_t err_len)
@@ -420,6 +445,8 @@ texopt_status texopt_search_target_loss(texopt_loss_at_cost_fn loss_at, void *us
         } else {
             lo = mid;
             lo_tested = 1;
+            s.cost_below = mid;
+            s.q_below = q;
         }
     }
     *out = s;

@@ -4,21 +4,23 @@
  * section 5.1 (figures of loss against relative cost): every method (params.h: perceptual,
  * input, ssp, tewari, arap) is run through the product's own pipeline (pipeline.h) at every
  * requested relative cost c_r, its output is loaded back and evaluated against the input
- * with the whole-mesh loss q (evaluate.h). With reuse_layout, a layout method runs once, at
- * the largest cost, and the smaller costs resample that output's re-baked textures (the
- * "input" method applied to it): the layout does not depend on the budget (targets are
- * relative; budget.h scales uniformly), so only the bake differs from a full run, at a
- * fraction of the time. The difference is not small: on Fox at c_r = 0.3 the resampled
- * points had 28-77 % more loss than full runs (filtered twice, gutters scaled rather than
- * re-padded), so full runs are the default and the figures of record. A method the pipeline refuses (not available yet,
+ * with the whole-mesh loss q (evaluate.h). One pipeline job per method: its targets (stage 1)
+ * are computed once, and each cost repeats only the per-budget part (allocation, stage 2,
+ * packing, re-bake), which gives the same output as a separate run at that cost. With
+ * reuse_layout, a layout method is laid out once, at the largest cost, and the smaller costs
+ * resample that output's re-baked textures (the "input" method applied to it): faster still
+ * but pessimistic (filtered twice, gutters scaled rather than re-padded, the allocation made
+ * for the largest budget; on Fox at c_r = 0.3 the resampled points had 28-77 % more loss
+ * than full runs before the allocation existed), so per-cost layouts are the default and the
+ * figures of record. A method the pipeline refuses (not available yet,
  * unsupported model) leaves its points marked failed with the pipeline's message; the other
  * methods still run.
  *
  * texopt_search_target_loss is the target_loss budget (TEXOPT_BUDGET_TARGET_LOSS): the
  * smallest relative cost whose q is at most a target, by bisection on log(c_r) assuming q
- * falls as the cost grows. It takes a callback "q at this cost", so the pipeline can answer
- * it without re-running the stages that do not depend on the budget;
- * texopt_search_target_loss_file answers it with whole pipeline runs.
+ * falls as the cost grows. It takes a callback "q at this cost", so the pipeline answers it
+ * without re-running the stages that do not depend on the budget (pipeline.c, budget
+ * target_loss); texopt_search_target_loss_file answers it with whole pipeline runs.
  *
  * Does not: draw anything (report.h), parse command lines. */
 #ifndef TEXOPT_COMPARE_H
@@ -108,6 +110,9 @@ typedef struct texopt_target_search {
     double q;             /* q at that cost */
     int reached;          /* 0 when even cost_max has q > target */
     int evaluations;      /* calls of the callback */
+    double cost_below;    /* the largest cost tried whose q missed the target, 0 when none
+                             was (the floor met it, or the search stopped at cost_max) */
+    double q_below;       /* q at cost_below */
 } texopt_target_search;
 
 /* Bisection on log(c_r) in [cost_min, cost_max] (0 < cost_min < cost_max <= 4) until the

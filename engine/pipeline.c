@@ -1,20 +1,29 @@
 /* pipeline.c - one whole job: load, optimise every texture domain, re-bake, save, report.
  *
  * Implements engine/pipeline.h, the product of Sun et al. 2022, "Efficient Texture
- * Parameterization Driven by Perceptual-Loss-on-Screen", end to end:
- *   load (io/gltf_io) -> per texture domain: mesh -> layout by method -> budget + pack ->
- *   re-bake every image of the domain -> save .glb (io/gltf_io) -> statistics JSON (stats.h).
+ * Parameterization Driven by Perceptual-Loss-on-Screen", end to end, in two parts:
+ *   job_create (budget-independent): load (io/gltf_io) -> per texture domain: mesh, input
+ *     coverage, per-triangle targets (stage 1, triopt.h, or a baseline's);
+ *   job_write (per budget): per domain: allocate.h rescales the targets to the budget
+ *     (perceptual) ->
+ *     stage 2 (meshwise.h) -> budget.h packs the charts anew and corrects the scale ->
+ *     re-bake every image of the domain -> [evaluate] -> save .glb -> statistics (stats.h).
  * Methods:
- *   "perceptual": stage 1 (triopt.h) + stage 2 (meshwise.h), then budget.h scales the layout
- *     to the requested cost and packs the charts anew (pack.h).
+ *   "perceptual": stage 1 targets; two candidate layouts per budget, the targets allocated
+ *     to the budget (allocate.h) and the targets as they are (a uniform scale by the
+ *     budget), and the one with the smaller whole-mesh loss q (evaluate.h) is kept.
  *   "input": the input layout kept as it is (UVs untouched, seams, overlaps and wrapping
  *     included) and each texture resampled with the prefilter of texture_filter.h to the
  *     budget: a relative cost c_r scales both sides by sqrt(c_r) (rounded to whole texels),
  *     a texture size is taken as given. This is the paper's "input parameterization"
  *     baseline and a useful product on its own (a well-filtered downscale).
  *   "ssp", "tewari", "arap": the baselines of the paper's section 5 (ssp.h, tewari.h,
- *     arap.h targets in place of stage 1, rotation weight 0), then the same stage 2, budget,
- *     packing and re-bake as "perceptual".
+ *     arap.h targets in place of stage 1, rotation weight 0), solved as they are, then the
+ *     same stage 2, budget (a uniform scale), packing and re-bake as "perceptual".
+ * Budgets: a relative cost is allocated as asked; a texture size at the cost it is expected
+ * to reach (texels x typical packing efficiency), solved again once at the cost reached
+ * when that misses by more than 10%; target_loss searches the relative cost (compare.h,
+ * bisection on log c_r) repeating only the per-budget part, each step evaluated in memory.
  * Normal maps: their tangent-space XY turn with the layout (rebake.h) unless the domain's
  * primitives store TANGENT (io/gltf_tangents.h): stored tangents are kept by the saver, and
  * the map must then stay as it was.
@@ -33,8 +42,10 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "allocate.h"
 #include "arap.h"
 #include "budget.h"
+#include "compare.h"
 #include "coverage.h"
 #include "distortion.h"
 #include "evaluate.h"
@@ -374,64 +385,152 @@ static texopt_status baseline_or_perceptual_targets(const texopt_model *model, c
     }
 }
 
-/* Stage 1 (or a baseline's targets) then stage 2: the new layout in input texel units. */
-static texopt_status optimise_layout(const texopt_model *model, const texopt_mesh *mesh,
-                                     const texopt_params *params, double *texel_new,
-                                     texopt_domain_stats *ds, job_monitor *jm, double from,
-                                     double to, char *err, size_t err_len)
+/* One texture domain of a job: what does not depend on the budget. */
+typedef struct job_domain {
+    texopt_mesh *mesh;
+    texopt_triangle_target *targets; /* stage 1 or a baseline; NULL for method "input" */
+    texopt_coverage input_coverage;
+} job_domain;
+
+struct texopt_job {
+    texopt_params params;
+    texopt_model *model;
+    job_domain *domains;       /* model->domain_count */
+    texopt_job_stats stats;
+    job_monitor jm;
+    double budget_from;        /* the job's progress where the budget's part begins */
+    const stage_weights *weights;
+    int allocating;            /* the run in progress allocates the targets (allocate.h) */
+};
+
+static void stage1_options(const texopt_params *params, texopt_triopt_options *topt)
 {
-    const stage_weights *w = &perceptual_weights;
-    double span = (to - from) / (w->stage1 + w->stage2 + w->pack + w->bake);
-    texopt_triangle_target *targets = calloc(mesh->triangle_count ? mesh->triangle_count : 1, sizeof *targets);
-    if (!targets)
-        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for %zu triangle targets", mesh->triangle_count);
-    texopt_triopt_options topt = {0};
-    topt.epsilon = params->epsilon;
-    topt.iterations = params->iterations;
-    topt.lambda_min = params->lambda_min;
-    topt.threads = params->threads;
-    topt.seed = params->seed;
-    texopt_triopt_report trep = {0};
-    job_stage(jm, "stage1", from, from + span * w->stage1);
+    memset(topt, 0, sizeof *topt);
+    topt->epsilon = params->epsilon;
+    topt->iterations = params->iterations;
+    topt->lambda_min = params->lambda_min;
+    topt->threads = params->threads;
+    topt->seed = params->seed;
+}
+
+/* The budget-independent part of one domain: mesh, input coverage, targets (stage 1). */
+static texopt_status prepare_domain(texopt_job *job, int d, double from, double to, char *err,
+                                    size_t err_len)
+{
+    const texopt_model *model = job->model;
+    const texopt_params *params = &job->params;
+    job_domain *jd = &job->domains[d];
+    texopt_domain_stats *ds = &job->stats.domains[d];
+    const texopt_domain *dom = &model->domains[d];
+    ds->domain = d;
+    ds->input_width = dom->width;
+    ds->input_height = dom->height;
+    texopt_status st = record_images(model, dom, ds, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
     double t0 = now_seconds();
-    texopt_status st = baseline_or_perceptual_targets(model, mesh, params, &topt, targets, &trep,
-                                                      jm, err, err_len);
+    st = texopt_mesh_create(&jd->mesh, model, d, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    ds->seconds_mesh = now_seconds() - t0;
+    ds->triangles = jd->mesh->triangle_count;
+    ds->charts = jd->mesh->chart_count;
+    if (params->method == TEXOPT_METHOD_INPUT)
+        return TEXOPT_OK;
+    st = texopt_coverage_measure(jd->mesh, NULL, &jd->input_coverage, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    size_t n = jd->mesh->triangle_count ? jd->mesh->triangle_count : 1;
+    jd->targets = calloc(n, sizeof *jd->targets);
+    if (!jd->targets)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for %zu triangle targets", n);
+    texopt_triopt_options topt;
+    stage1_options(params, &topt);
+    texopt_triopt_report trep = {0};
+    job_stage(&job->jm, "stage1", from, to);
+    t0 = now_seconds();
+    st = baseline_or_perceptual_targets(model, jd->mesh, params, &topt, jd->targets, &trep, &job->jm,
+                                        err, err_len);
     ds->seconds_stage1 = now_seconds() - t0;
-    if (st == TEXOPT_OK) {
-        if (params->method == TEXOPT_METHOD_PERCEPTUAL)
-            record_stage1(mesh, targets, &trep, params->epsilon, ds);
-        job_stage_done(jm, "stage1");
-        st = check_cancel(jm, err, err_len);
+    if (st == TEXOPT_OK && params->method == TEXOPT_METHOD_PERCEPTUAL)
+        record_stage1(jd->mesh, jd->targets, &trep, params->epsilon, ds);
+    if (st == TEXOPT_OK)
+        job_stage_done(&job->jm, "stage1");
+    return st;
+}
+
+/* The perceptual targets' allocation (allocate.h), the best of the variants measured with
+ * the whole-mesh evaluation (BENCHMARKS.md "Quality"): capped at input density; lossless
+ * optima (flat colour at lambda_min) grow only by sqrt(s) (kept at lambda_min, q rose with
+ * the cost). It is one of two candidates (run_best_budget). */
+static const texopt_allocate_options perceptual_allocation = {1, 1e-6, 1.0, 0.5};
+
+/* The targets, rescaled to relative cost c_r when job->allocating (allocate.h, a
+ * perceptual candidate), solved by stage 2 into texel_new (input texel units). The baselines' targets are solved as they are
+ * and the budget scales the result uniformly: for ssp and tewari (whose largest targets are
+ * normalised to 1, not to "needs input density") the allocation measured worse or no
+ * better (BENCHMARKS.md "Quality"); arap's are isometric. */
+static texopt_status solve_layout(const texopt_job *job, int d, double relative_cost, double *texel_new,
+                                  texopt_domain_stats *ds, job_monitor *jm, char *err, size_t err_len)
+{
+    const job_domain *jd = &job->domains[d];
+    const texopt_mesh *mesh = jd->mesh;
+    const texopt_params *params = &job->params;
+    texopt_triangle_target *targets = jd->targets, *allocated = NULL;
+    texopt_status st = TEXOPT_OK;
+    double t0 = now_seconds();
+    ds->has_allocation = 0;
+    if (job->allocating) {
+        allocated = malloc((mesh->triangle_count ? mesh->triangle_count : 1) * sizeof *allocated);
+        if (!allocated)
+            return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the allocated targets");
+        texopt_allocation rep;
+        double area = relative_cost * (double)jd->input_coverage.covered_texels;
+        st = texopt_allocate_targets(mesh, targets, area > 0 ? area : 1, &perceptual_allocation, allocated, &rep,
+                                     err, err_len);
+        if (st == TEXOPT_OK) {
+            size_t n = mesh->triangle_count ? mesh->triangle_count : 1;
+            ds->has_allocation = 1;
+            ds->allocation_scale = rep.scale;
+            ds->allocation_capped_share = (double)rep.capped / (double)n;
+            ds->allocation_lossless_share = (double)rep.lossless / (double)n;
+            targets = allocated;
+        }
     }
     if (st == TEXOPT_OK) {
         texopt_meshwise_options mopt = {0};
         mopt.threads = params->threads > 0 ? params->threads : 2;
         texopt_meshwise_report mrep;
-        job_stage(jm, "stage2", from + span * w->stage1, from + span * (w->stage1 + w->stage2));
-        t0 = now_seconds();
         st = texopt_meshwise_solve(mesh, targets, NULL, &mopt, texel_new, &mrep, &jm->inner, err, err_len);
-        ds->seconds_stage2 = now_seconds() - t0;
         if (st == TEXOPT_OK)
             record_stage2(&mrep, ds);
-        /* Paper Fig. 16: the share of triangles whose loss under the solved layout (before
-         * the budget scales it) still meets eps. One loss evaluation per triangle: about 1%
-         * of stage 1, but the bulk of a baseline's run, so baselines pay it only when the
-         * job asks for an evaluation. */
-        int want_share = params->method == TEXOPT_METHOD_PERCEPTUAL || params->evaluate;
-        texopt_loss_share share;
-        t0 = now_seconds();
-        if (st == TEXOPT_OK && want_share)
-            st = texopt_meshwise_loss_share(model, mesh, texel_new, params->epsilon, params->threads, 0,
-                                            NULL, &share, &jm->inner, err, err_len);
-        if (st == TEXOPT_OK && want_share) {
-            ds->has_loss_share = 1;
-            ds->solved_within_epsilon_share = share.share;
-            ds->solved_loss_mean = share.mean_loss;
-            ds->solved_loss_max = share.max_loss;
-            ds->seconds_loss_share = now_seconds() - t0;
-        }
     }
-    free(targets);
+    ds->seconds_stage2 = now_seconds() - t0;
+    free(allocated);
+    return st;
+}
+
+/* Paper Fig. 16: the share of triangles whose loss under the solved layout still meets eps.
+ * One loss evaluation per triangle: about 1% of stage 1 but the bulk of a baseline's run,
+ * so it is measured only for statistics that are written, and for baselines only when the
+ * job asks for an evaluation. */
+static texopt_status measure_loss_share(const texopt_job *job, int d, const double *texel_new,
+                                        texopt_domain_stats *ds, job_monitor *jm, char *err, size_t err_len)
+{
+    const texopt_params *params = &job->params;
+    if (params->method != TEXOPT_METHOD_PERCEPTUAL && !params->evaluate)
+        return TEXOPT_OK;
+    texopt_loss_share share;
+    double t0 = now_seconds();
+    texopt_status st = texopt_meshwise_loss_share(job->model, job->domains[d].mesh, texel_new, params->epsilon,
+                                                  params->threads, 0, NULL, &share, &jm->inner, err, err_len);
+    if (st == TEXOPT_OK) {
+        ds->has_loss_share = 1;
+        ds->solved_within_epsilon_share = share.share;
+        ds->solved_loss_mean = share.mean_loss;
+        ds->solved_loss_max = share.max_loss;
+        ds->seconds_loss_share = now_seconds() - t0;
+    }
     return st;
 }
 
@@ -517,125 +616,107 @@ static texopt_status rebake_domain(const texopt_model *model, const texopt_mesh 
     return st;
 }
 
-/* Methods "perceptual" and the baselines: targets, stage 2, budget + pack, re-bake. */
-static texopt_status run_optimised_method(const texopt_model *model, const texopt_mesh *mesh,
-                                          const texopt_params *params, job_output *out,
-                                          texopt_domain_stats *ds, job_monitor *jm, double from,
-                                          double to, char *err, size_t err_len)
+/* Texture-size budgets are allocated at the relative cost they are expected to reach: the
+ * texture's texels times the packing efficiency budget.h typically achieves (0.61-0.81 on
+ * the sample models, BENCHMARKS.md "End to end"). A miss by more than RESOLVE_RATIO is
+ * solved once more at the cost reached. */
+#define EXPECTED_PACKING_EFFICIENCY 0.68
+#define RESOLVE_RATIO 1.1
+
+static void budget_request(const job_domain *jd, const texopt_params *p, job_monitor *jm,
+                           texopt_budget_request *req)
 {
-    const stage_weights *w = &perceptual_weights;
-    double span = (to - from) / (w->stage1 + w->stage2 + w->pack + w->bake);
-    double pack_from = from + span * (w->stage1 + w->stage2), bake_from = pack_from + span * w->pack;
-    size_t n = 2 * (mesh->vertex_count ? mesh->vertex_count : 1);
-    double *texel_new = malloc(n * sizeof(double)), *packed = malloc(n * sizeof(double));
-    texopt_coverage in_cov;
-    texopt_status st = texel_new && packed ? TEXOPT_OK
-                                           : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the new layout");
-    if (st == TEXOPT_OK)
-        st = texopt_coverage_measure(mesh, NULL, &in_cov, err, err_len);
-    if (st == TEXOPT_OK)
-        st = optimise_layout(model, mesh, params, texel_new, ds, jm, from, pack_from, err, err_len);
-    if (st == TEXOPT_OK)
-        st = check_cancel(jm, err, err_len);
-    texopt_budget_result br = {0};
-    if (st == TEXOPT_OK) {
-        job_stage(jm, "pack", pack_from, bake_from);
-        record_distortion(mesh, texel_new, ds);
-        texopt_budget_request req = {0};
-        req.kind = params->budget;
-        req.relative_cost = params->relative_cost;
-        req.texture_width = params->texture_width;
-        req.texture_height = params->texture_height;
-        req.input_cost = (double)in_cov.covered_texels;
-        req.input_width = mesh->width;
-        req.input_height = mesh->height;
-        req.monitor = &jm->inner;
+    memset(req, 0, sizeof *req);
+    req->kind = p->budget;
+    req->relative_cost = p->relative_cost;
+    req->texture_width = p->texture_width;
+    req->texture_height = p->texture_height;
+    req->input_cost = (double)jd->input_coverage.covered_texels;
+    req->input_width = jd->mesh->width;
+    req->input_height = jd->mesh->height;
+    req->monitor = &jm->inner;
+}
+
+/* Allocation, stage 2, budget + pack: the packed layout in output texels. */
+static texopt_status layout_for_budget(const texopt_job *job, int d, const texopt_params *p,
+                                       double *texel_new, double *packed, texopt_budget_result *br,
+                                       texopt_domain_stats *ds, job_monitor *jm, double from,
+                                       double split, double to, char *err, size_t err_len)
+{
+    const job_domain *jd = &job->domains[d];
+    double cost = p->relative_cost;
+    if (p->budget == TEXOPT_BUDGET_TEXTURE_SIZE)
+        cost = (double)p->texture_width * p->texture_height * EXPECTED_PACKING_EFFICIENCY /
+               (double)(jd->input_coverage.covered_texels ? jd->input_coverage.covered_texels : 1);
+    texopt_budget_request req;
+    budget_request(jd, p, jm, &req);
+    texopt_status st = TEXOPT_OK;
+    for (int round = 0; round < 2 && st == TEXOPT_OK; round++) {
+        job_stage(jm, "stage2", from, split);
+        st = solve_layout(job, d, cost, texel_new, ds, jm, err, err_len);
+        if (st == TEXOPT_OK)
+            st = check_cancel(jm, err, err_len);
+        if (st != TEXOPT_OK)
+            break;
+        job_stage(jm, "pack", split, to);
         double t0 = now_seconds();
-        st = texopt_budget_fit(mesh, texel_new, &req, packed, &br, err, err_len);
+        st = texopt_budget_fit(jd->mesh, texel_new, &req, packed, br, err, err_len);
         ds->seconds_pack = now_seconds() - t0;
-        job_stage_done(jm, "pack");
+        if (st != TEXOPT_OK || p->budget != TEXOPT_BUDGET_TEXTURE_SIZE || !job->allocating ||
+            fabs(log(br->relative_cost / cost)) <= log(RESOLVE_RATIO) || !(br->relative_cost > 0))
+            break;
+        cost = br->relative_cost;
     }
     if (st == TEXOPT_OK) {
+        ds->budget_scale = br->scale;
+        job_stage_done(jm, "pack");
+    }
+    return st;
+}
+
+/* Methods "perceptual" and the baselines at one budget: allocation, stage 2, budget + pack,
+ * re-bake. */
+static texopt_status run_optimised_method(const texopt_job *job, int d, const texopt_params *p,
+                                          int with_stats, job_output *out, texopt_domain_stats *ds,
+                                          job_monitor *jm, double from, double to, char *err, size_t err_len)
+{
+    const job_domain *jd = &job->domains[d];
+    const texopt_mesh *mesh = jd->mesh;
+    const stage_weights *w = &perceptual_weights;
+    double span = (to - from) / (w->stage2 + w->pack + w->bake);
+    double pack_from = from + span * w->stage2, bake_from = pack_from + span * w->pack;
+    size_t n = 2 * (mesh->vertex_count ? mesh->vertex_count : 1);
+    double *texel_new = malloc(n * sizeof(double)), *packed = malloc(n * sizeof(double));
+    texopt_status st = texel_new && packed ? TEXOPT_OK
+                                           : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the new layout");
+    texopt_budget_result br = {0};
+    if (st == TEXOPT_OK)
+        st = layout_for_budget(job, d, p, texel_new, packed, &br, ds, jm, from, pack_from, bake_from, err, err_len);
+    if (st == TEXOPT_OK && with_stats)
+        st = measure_loss_share(job, d, texel_new, ds, jm, err, err_len);
+    if (st == TEXOPT_OK) {
+        record_distortion(mesh, texel_new, ds);
         ds->output_width = br.width;
         ds->output_height = br.height;
-        ds->cost_input = (double)in_cov.covered_texels;
+        ds->cost_input = (double)jd->input_coverage.covered_texels;
         ds->cost_output = br.cost;
         ds->relative_cost = br.relative_cost;
-        ds->packing_efficiency_input = in_cov.packing_efficiency;
+        ds->packing_efficiency_input = jd->input_coverage.packing_efficiency;
         ds->packing_efficiency = br.packing_efficiency;
         ds->repacked = 1;
         double t0 = now_seconds();
-        st = rebake_domain(model, mesh, packed, br.width, br.height, worker_threads(params), out, ds,
-                           jm, bake_from, to, err, err_len);
+        st = rebake_domain(job->model, mesh, packed, br.width, br.height, worker_threads(p), out, ds, jm,
+                           bake_from, to, err, err_len);
         ds->seconds_bake = now_seconds() - t0;
     }
     if (st == TEXOPT_OK)
-        write_domain_uvs(model, mesh, packed, br.width, br.height, out->uvs);
+        write_domain_uvs(job->model, mesh, packed, br.width, br.height, out->uvs);
     free(texel_new);
     free(packed);
     return st;
 }
 
-static texopt_status run_domain(const texopt_model *model, int d, const texopt_params *params,
-                                job_output *out, texopt_domain_stats *ds, job_monitor *jm,
-                                double from, double to, char *err, size_t err_len)
-{
-    const texopt_domain *dom = &model->domains[d];
-    ds->domain = d;
-    ds->input_width = dom->width;
-    ds->input_height = dom->height;
-    ds->relative_cost_requested = params->budget == TEXOPT_BUDGET_RELATIVE_COST ? params->relative_cost : -1;
-    texopt_status st = record_images(model, dom, ds, err, err_len);
-    if (st != TEXOPT_OK)
-        return st;
-    double t0 = now_seconds();
-    texopt_mesh *mesh = NULL;
-    st = texopt_mesh_create(&mesh, model, d, err, err_len);
-    if (st != TEXOPT_OK)
-        return st;
-    ds->seconds_mesh = now_seconds() - t0;
-    ds->triangles = mesh->triangle_count;
-    ds->charts = mesh->chart_count;
-    if (params->method == TEXOPT_METHOD_INPUT)
-        st = run_input_method(model, mesh, params, out, ds, jm, from, to, err, err_len);
-    else
-        st = run_optimised_method(model, mesh, params, out, ds, jm, from, to, err, err_len);
-    texopt_mesh_destroy(mesh);
-    return st;
-}
-
-static texopt_status prepare(const texopt_params *in, texopt_params *p, char *err, size_t err_len)
-{
-    if (!in)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "params missing");
-    *p = *in;
-    texopt_params_resolve(p);
-    texopt_status st = texopt_params_validate(p, err, err_len);
-    if (st != TEXOPT_OK)
-        return st;
-    if (p->budget == TEXOPT_BUDGET_TARGET_LOSS)
-        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
-                           "budget target_loss is not implemented yet; use relative_cost or texture_size");
-    return TEXOPT_OK;
-}
-
-static void fill_job_params(texopt_job_stats *js, const texopt_params *p)
-{
-    js->method = texopt_method_name(p->method);
-    js->budget = p->budget == TEXOPT_BUDGET_TEXTURE_SIZE ? "texture_size" : "relative_cost";
-    js->relative_cost = p->relative_cost;
-    if (p->budget == TEXOPT_BUDGET_TEXTURE_SIZE) {
-        js->texture_width = p->texture_width;
-        js->texture_height = p->texture_height;
-    }
-    js->epsilon = p->epsilon;
-    js->lambda_min = p->lambda_min;
-    js->iterations = p->iterations;
-    js->threads = p->threads;
-    js->seed = (unsigned long long)p->seed;
-}
-
-/* The domains' share of the middle of the job: by triangles (perceptual) or texels (input). */
+/* The domains' share of a part of the job: by triangles (perceptual) or texels (input). */
 static double domain_weight(const texopt_model *model, int d, int method)
 {
     if (method == TEXOPT_METHOD_INPUT)
@@ -646,75 +727,350 @@ static double domain_weight(const texopt_model *model, int d, int method)
     return n;
 }
 
-static texopt_status alloc_output(const texopt_model *model, job_output *out, char *err, size_t err_len)
+static double total_domain_weight(const texopt_model *model, int method)
+{
+    double total = 0;
+    for (int d = 0; d < model->domain_count; d++)
+        total += domain_weight(model, d, method);
+    return total;
+}
+
+static texopt_status alloc_output(const texopt_model *model, int method, job_output *out, char *err,
+                                  size_t err_len)
 {
     size_t n = (size_t)(model->image_count > 0 ? model->image_count : 1);
     out->images = calloc(n, sizeof *out->images);
     out->edit_images = calloc(n, sizeof *out->edit_images);
     if (!out->images || !out->edit_images)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the output images");
+    if (method != TEXOPT_METHOD_INPUT)
+        return alloc_uvs(model, &out->uvs, err, err_len);
     return TEXOPT_OK;
 }
 
-static texopt_status run_domains(const texopt_model *model, const texopt_params *p, job_output *out,
-                                 texopt_job_stats *js, job_monitor *jm, const stage_weights *w,
-                                 double tail, char *err, size_t err_len)
+/* Every domain at the budget of p (relative cost or texture size) into *out (allocated
+ * here), with its statistics in job->stats; progress over [from, to] of the job. */
+static texopt_status run_budget(texopt_job *job, const texopt_params *p, int with_stats, job_output *out,
+                                double from, double to, char *err, size_t err_len)
 {
-    js->domains = calloc((size_t)(model->domain_count > 0 ? model->domain_count : 1), sizeof *js->domains);
-    if (!js->domains)
-        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for domain statistics");
-    js->domain_count = model->domain_count;
-    double total = 0;
-    for (int d = 0; d < model->domain_count; d++)
-        total += domain_weight(model, d, p->method);
-    double middle = 1.0 - w->load - w->save - tail, at = w->load;
-    for (int d = 0; d < model->domain_count; d++) {
-        double share = total > 0 ? middle * domain_weight(model, d, p->method) / total : 0;
-        texopt_status st = check_cancel(jm, err, err_len);
-        if (st == TEXOPT_OK) {
-            jm->from = at;
-            jm->to = at + share;
-            st = run_domain(model, d, p, out, &js->domains[d], jm, at, at + share, err, err_len);
-        }
-        if (st != TEXOPT_OK)
-            return st;
+    const texopt_model *model = job->model;
+    texopt_status st = alloc_output(model, p->method, out, err, err_len);
+    double total = total_domain_weight(model, p->method), at = from;
+    for (int d = 0; d < model->domain_count && st == TEXOPT_OK; d++) {
+        double share = total > 0 ? (to - from) * domain_weight(model, d, p->method) / total : 0;
+        texopt_domain_stats *ds = &job->stats.domains[d];
+        ds->relative_cost_requested = p->budget == TEXOPT_BUDGET_RELATIVE_COST ? p->relative_cost : -1;
+        st = check_cancel(&job->jm, err, err_len);
+        if (st == TEXOPT_OK && p->method == TEXOPT_METHOD_INPUT)
+            st = run_input_method(model, job->domains[d].mesh, p, out, ds, &job->jm, at, at + share, err, err_len);
+        else if (st == TEXOPT_OK)
+            st = run_optimised_method(job, d, p, with_stats, out, ds, &job->jm, at, at + share, err, err_len);
         at += share;
     }
-    return TEXOPT_OK;
+    return st;
 }
 
-/* The whole-mesh loss q (evaluate.h) of the result against the input, before saving: the
+static texopt_status check_params(const texopt_params *in, texopt_params *p, char *err, size_t err_len)
+{
+    if (!in)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "params missing");
+    *p = *in;
+    texopt_params_resolve(p);
+    return texopt_params_validate(p, err, err_len);
+}
+
+static void fill_job_params(texopt_job_stats *js, const texopt_params *p)
+{
+    js->method = texopt_method_name(p->method);
+    js->budget = p->budget == TEXOPT_BUDGET_TEXTURE_SIZE ? "texture_size"
+                 : p->budget == TEXOPT_BUDGET_TARGET_LOSS ? "target_loss"
+                                                          : "relative_cost";
+    js->relative_cost = p->relative_cost;
+    js->texture_width = p->budget == TEXOPT_BUDGET_TEXTURE_SIZE ? p->texture_width : 0;
+    js->texture_height = p->budget == TEXOPT_BUDGET_TEXTURE_SIZE ? p->texture_height : 0;
+    js->epsilon = p->epsilon;
+    js->lambda_min = p->lambda_min;
+    js->iterations = p->iterations;
+    js->threads = p->threads;
+    js->seed = (unsigned long long)p->seed;
+}
+
+/* The whole-mesh loss q (evaluate.h) of an output against the input, in memory: the
  * candidate is the input model seen through the new UVs and images (a shallow view that
  * owns nothing). */
-static texopt_status evaluate_result(const texopt_model *model, const job_output *out,
-                                     const texopt_params *p, texopt_job_stats *js, job_monitor *jm,
+static texopt_status evaluate_output(const texopt_model *model, const job_output *out,
+                                     const texopt_params *p, job_monitor *jm, texopt_evaluation *ev,
                                      char *err, size_t err_len)
 {
     texopt_image *images = calloc((size_t)(model->image_count > 0 ? model->image_count : 1), sizeof *images);
-    float *uvs = out->uvs;
     if (!images)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the evaluation");
     for (int i = 0; i < model->image_count; i++)
         images[i] = out->edit_images[i] ? *out->edit_images[i] : model->images[i];
     texopt_model candidate = *model;
     candidate.images = images;
-    if (uvs)
-        candidate.uvs = uvs;
+    if (out->uvs)
+        candidate.uvs = out->uvs;
     candidate.document = NULL;
     candidate.destroy_document = NULL;
     texopt_evaluate_options opt = {0};
     opt.resolution = p->eval_resolution;
     opt.threads = p->threads > 0 ? p->threads : 2;
     opt.monitor = &jm->inner;
-    texopt_evaluation ev;
-    texopt_status st = texopt_evaluate(model, &candidate, &opt, &ev, err, err_len);
+    texopt_status st = texopt_evaluate(model, &candidate, &opt, ev, err, err_len);
     free(images);
+    return st;
+}
+
+/* One budget into *out. For perceptual, two candidate layouts are made and the one with the
+ * smaller whole-mesh loss q is kept (its evaluation in *ev, *evaluated = 1): the targets
+ * allocated to the budget (allocate.h) and stage 1's own targets scaled uniformly by the
+ * budget. Neither wins everywhere (BENCHMARKS.md "Quality": the allocation lowers q on Fox
+ * and Duck, raises it on spot), and q is what the product minimises. The loser is rebuilt
+ * rather than kept, so only one candidate's images are held at a time. */
+static texopt_status run_best_budget(texopt_job *job, const texopt_params *p, int with_stats, job_output *out,
+                                     double from, double to, texopt_evaluation *ev, int *evaluated, char *err,
+                                     size_t err_len)
+{
+    *evaluated = 0;
+    job->allocating = 0;
+    if (p->method != TEXOPT_METHOD_PERCEPTUAL)
+        return run_budget(job, p, with_stats, out, from, to, err, err_len);
+    double third = (to - from) / 3;
+    texopt_evaluation allocated_ev, uniform_ev;
+    job->allocating = 1;
+    texopt_status st = run_budget(job, p, with_stats, out, from, from + 0.8 * third, err, err_len);
     if (st == TEXOPT_OK) {
-        js->has_evaluation = 1;
-        js->q = ev.q;
-        js->eval_resolution = ev.resolution;
-        js->seconds_evaluate = ev.seconds;
+        job_stage(&job->jm, "evaluate", from + 0.8 * third, from + third);
+        st = evaluate_output(job->model, out, p, &job->jm, &allocated_ev, err, err_len);
     }
+    job_output_destroy(out, job->model->image_count);
+    memset(out, 0, sizeof *out);
+    job->allocating = 0;
+    if (st == TEXOPT_OK)
+        st = run_budget(job, p, with_stats, out, from + third, from + 1.8 * third, err, err_len);
+    if (st == TEXOPT_OK) {
+        job_stage(&job->jm, "evaluate", from + 1.8 * third, from + 2 * third);
+        st = evaluate_output(job->model, out, p, &job->jm, &uniform_ev, err, err_len);
+    }
+    if (st != TEXOPT_OK)
+        return st;
+    texopt_job_stats *js = &job->stats;
+    js->has_allocation_choice = 1;
+    js->q_allocated = allocated_ev.q;
+    js->q_uniform = uniform_ev.q;
+    js->allocation_chosen = allocated_ev.q < uniform_ev.q;
+    *ev = uniform_ev;
+    if (js->allocation_chosen) {
+        job_output_destroy(out, job->model->image_count);
+        memset(out, 0, sizeof *out);
+        job->allocating = 1;
+        st = run_budget(job, p, with_stats, out, from + 2 * third, to, err, err_len);
+        *ev = allocated_ev; /* the same layout again: the pipeline is deterministic */
+    }
+    job->allocating = 0;
+    *evaluated = st == TEXOPT_OK;
+    return st;
+}
+
+static void record_evaluation(texopt_job_stats *js, const texopt_evaluation *ev)
+{
+    js->has_evaluation = 1;
+    js->q = ev->q;
+    js->eval_resolution = ev->resolution;
+    js->seconds_evaluate = ev->seconds;
+}
+
+texopt_status texopt_job_create(texopt_job **out, const char *input_path, const texopt_params *params,
+                                const texopt_monitor *monitor, char *err, size_t err_len)
+{
+    if (!out || !input_path)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "job: missing result or input path");
+    *out = NULL;
+    texopt_job *job = calloc(1, sizeof *job);
+    if (!job)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the job");
+    texopt_status st = check_params(params, &job->params, err, err_len);
+    if (st != TEXOPT_OK) {
+        free(job);
+        return st;
+    }
+    const texopt_params *p = &job->params;
+    job->weights = p->method == TEXOPT_METHOD_INPUT ? &input_weights : &perceptual_weights;
+    job->budget_from = job->weights->load + job->weights->stage1;
+    job_monitor_init(&job->jm, monitor);
+    fill_job_params(&job->stats, p);
+    job_stage(&job->jm, "load", 0, job->weights->load);
+    double t0 = now_seconds();
+    st = texopt_model_load(&job->model, input_path, NULL, err, err_len);
+    job->stats.seconds_load = now_seconds() - t0;
+    if (st == TEXOPT_OK && job->model->domain_count == 0)
+        st = texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "%s has no textured primitive", input_path);
+    if (st == TEXOPT_OK) {
+        job_stage_done(&job->jm, "load");
+        int n = job->model->domain_count;
+        job->domains = calloc((size_t)n, sizeof *job->domains);
+        job->stats.domains = calloc((size_t)n, sizeof *job->stats.domains);
+        job->stats.domain_count = n;
+        if (!job->domains || !job->stats.domains)
+            st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for %d domains", n);
+    }
+    double total = st == TEXOPT_OK ? total_domain_weight(job->model, p->method) : 0;
+    double at = job->weights->load;
+    for (int d = 0; st == TEXOPT_OK && d < job->model->domain_count; d++) {
+        double share = total > 0 ? job->weights->stage1 * domain_weight(job->model, d, p->method) / total : 0;
+        st = check_cancel(&job->jm, err, err_len);
+        if (st == TEXOPT_OK)
+            st = prepare_domain(job, d, at, at + share, err, err_len);
+        at += share;
+    }
+    if (st != TEXOPT_OK) {
+        texopt_job_destroy(job);
+        return st;
+    }
+    *out = job;
+    return TEXOPT_OK;
+}
+
+void texopt_job_destroy(texopt_job *job)
+{
+    if (!job)
+        return;
+    for (int d = 0; job->domains && job->model && d < job->model->domain_count; d++) {
+        texopt_mesh_destroy(job->domains[d].mesh);
+        free(job->domains[d].targets);
+    }
+    free(job->domains);
+    texopt_job_stats_destroy(&job->stats);
+    texopt_model_destroy(job->model);
+    free(job);
+}
+
+/* The job's parameters with the budget of b. */
+static texopt_status budget_params(const texopt_job *job, const texopt_job_budget *b, texopt_params *p,
+                                   char *err, size_t err_len)
+{
+    if (!b)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "job: budget missing");
+    *p = job->params;
+    p->budget = b->kind;
+    p->relative_cost = b->kind == TEXOPT_BUDGET_RELATIVE_COST ? b->relative_cost : 1.0;
+    p->texture_width = b->texture_width;
+    p->texture_height = b->texture_height;
+    p->target_loss = b->target_loss;
+    return texopt_params_validate(p, err, err_len);
+}
+
+/* The target_loss budget: the smallest relative cost whose q is at most the target
+ * (compare.h's bisection on log c_r), each step only the budget's part of the job. */
+typedef struct loss_search {
+    texopt_job *job;
+    texopt_params p;     /* relative-cost budget; relative_cost set per step */
+    double from, to;     /* progress range of the search */
+    int max_evaluations;
+    int done;
+} loss_search;
+
+#define SEARCH_COST_MIN 0.01
+#define SEARCH_COST_MAX 1.0
+#define SEARCH_TOLERANCE 0.05
+#define SEARCH_MAX_EVALUATIONS 12
+
+static texopt_status search_step(void *user, double relative_cost, double *q, char *err, size_t err_len)
+{
+    loss_search *s = user;
+    double step = (s->to - s->from) / s->max_evaluations;
+    double from = s->from + step * s->done;
+    s->p.relative_cost = relative_cost;
+    job_output out = {0};
+    texopt_evaluation ev;
+    int evaluated;
+    texopt_status st = run_best_budget(s->job, &s->p, 0, &out, from, from + 0.8 * step, &ev, &evaluated, err,
+                                       err_len);
+    if (st == TEXOPT_OK && !evaluated) {
+        job_stage(&s->job->jm, "evaluate", from + 0.8 * step, from + step);
+        st = evaluate_output(s->job->model, &out, &s->p, &s->job->jm, &ev, err, err_len);
+    }
+    if (st == TEXOPT_OK)
+        *q = ev.q;
+    job_output_destroy(&out, s->job->model->image_count);
+    s->done++;
+    return st;
+}
+
+static texopt_status search_target_loss(texopt_job *job, const texopt_params *p, double from, double to,
+                                        texopt_params *chosen, char *err, size_t err_len)
+{
+    loss_search s = {job, *p, from, to, SEARCH_MAX_EVALUATIONS, 0};
+    s.p.budget = TEXOPT_BUDGET_RELATIVE_COST;
+    texopt_target_search res;
+    texopt_status st = texopt_search_target_loss(search_step, &s, p->target_loss, SEARCH_COST_MIN, SEARCH_COST_MAX,
+                                                 SEARCH_TOLERANCE, SEARCH_MAX_EVALUATIONS, &res, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    texopt_job_stats *js = &job->stats;
+    js->has_search = 1;
+    js->target_loss = p->target_loss;
+    js->target_reached = res.reached;
+    js->search_evaluations = res.evaluations;
+    js->search_cost_below = res.cost_below;
+    js->search_q_below = res.q_below;
+    js->relative_cost = res.relative_cost;
+    *chosen = s.p;
+    chosen->relative_cost = res.relative_cost;
+    chosen->evaluate = 1; /* the result's q is part of the answer */
+    return TEXOPT_OK;
+}
+
+texopt_status texopt_job_write(texopt_job *job, const texopt_job_budget *budget, const char *output_glb,
+                               const char *stats_json, char *err, size_t err_len)
+{
+    if (!job || !output_glb)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "job: missing job or output path");
+    texopt_params p;
+    texopt_status st = budget_params(job, budget, &p, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    texopt_job_stats *js = &job->stats;
+    fill_job_params(js, &p);
+    js->has_search = 0;
+    js->has_evaluation = 0;
+    const stage_weights *w = job->weights;
+    double end = 1.0 - w->save, tail = p.evaluate || p.budget == TEXOPT_BUDGET_TARGET_LOSS ? EVALUATE_WEIGHT : 0;
+    double from = job->budget_from;
+    if (p.budget == TEXOPT_BUDGET_TARGET_LOSS) {
+        double split = from + 0.9 * (end - tail - from);
+        st = search_target_loss(job, &p, from, split, &p, err, err_len);
+        from = split;
+    }
+    job_output out = {0};
+    texopt_evaluation ev;
+    int evaluated = 0;
+    js->has_allocation_choice = 0;
+    if (st == TEXOPT_OK)
+        st = run_best_budget(job, &p, stats_json != NULL, &out, from, end - tail, &ev, &evaluated, err, err_len);
+    if (st == TEXOPT_OK)
+        st = check_cancel(&job->jm, err, err_len);
+    if (st == TEXOPT_OK && p.evaluate && !evaluated) {
+        job_stage(&job->jm, "evaluate", end - tail, end);
+        st = evaluate_output(job->model, &out, &p, &job->jm, &ev, err, err_len);
+        evaluated = st == TEXOPT_OK;
+    }
+    if (st == TEXOPT_OK && p.evaluate)
+        record_evaluation(js, &ev);
+    if (st == TEXOPT_OK) {
+        job_stage(&job->jm, "save", end, 1.0);
+        double t0 = now_seconds();
+        texopt_model_edit edit = {out.uvs, out.edit_images};
+        st = texopt_model_save_glb(job->model, &edit, output_glb, err, err_len);
+        js->seconds_save = now_seconds() - t0;
+    }
+    js->seconds_total = now_seconds() - job->jm.start;
+    if (st == TEXOPT_OK && stats_json)
+        st = texopt_stats_write(js, stats_json, err, err_len);
+    if (st == TEXOPT_OK)
+        job_stage_done(&job->jm, "save");
+    job_output_destroy(&out, job->model->image_count);
     return st;
 }
 
@@ -725,52 +1081,14 @@ texopt_status texopt_optimize_file(const char *input_path, const char *output_gl
     if (!input_path || !output_glb)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "input and output paths are required");
     texopt_params p;
-    texopt_status st = prepare(params, &p, err, err_len);
-    if (st != TEXOPT_OK)
-        return st;
-    const stage_weights *w = p.method == TEXOPT_METHOD_INPUT ? &input_weights : &perceptual_weights;
-    double tail = p.evaluate ? EVALUATE_WEIGHT : 0;
-    job_monitor jm;
-    job_monitor_init(&jm, monitor);
-    texopt_job_stats js = {0};
-    fill_job_params(&js, &p);
-    texopt_model *model = NULL;
-    job_output out = {0};
-
-    job_stage(&jm, "load", 0, w->load);
-    double t0 = now_seconds();
-    st = texopt_model_load(&model, input_path, NULL, err, err_len);
-    js.seconds_load = now_seconds() - t0;
-    if (st == TEXOPT_OK && model->domain_count == 0)
-        st = texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "%s has no textured primitive", input_path);
+    texopt_status st = check_params(params, &p, err, err_len);
+    texopt_job *job = NULL;
+    if (st == TEXOPT_OK)
+        st = texopt_job_create(&job, input_path, &p, monitor, err, err_len);
     if (st == TEXOPT_OK) {
-        job_stage_done(&jm, "load");
-        st = alloc_output(model, &out, err, err_len);
+        texopt_job_budget b = {p.budget, p.relative_cost, p.texture_width, p.texture_height, p.target_loss};
+        st = texopt_job_write(job, &b, output_glb, stats_json, err, err_len);
     }
-    if (st == TEXOPT_OK && p.method != TEXOPT_METHOD_INPUT)
-        st = alloc_uvs(model, &out.uvs, err, err_len);
-    if (st == TEXOPT_OK)
-        st = run_domains(model, &p, &out, &js, &jm, w, tail, err, err_len);
-    if (st == TEXOPT_OK)
-        st = check_cancel(&jm, err, err_len);
-    if (st == TEXOPT_OK && p.evaluate) {
-        job_stage(&jm, "evaluate", 1.0 - w->save - EVALUATE_WEIGHT, 1.0 - w->save);
-        st = evaluate_result(model, &out, &p, &js, &jm, err, err_len);
-    }
-    if (st == TEXOPT_OK) {
-        job_stage(&jm, "save", 1.0 - w->save, 1.0);
-        t0 = now_seconds();
-        texopt_model_edit edit = {out.uvs, out.edit_images};
-        st = texopt_model_save_glb(model, &edit, output_glb, err, err_len);
-        js.seconds_save = now_seconds() - t0;
-    }
-    js.seconds_total = now_seconds() - jm.start;
-    if (st == TEXOPT_OK && stats_json)
-        st = texopt_stats_write(&js, stats_json, err, err_len);
-    if (st == TEXOPT_OK)
-        job_stage_done(&jm, "save");
-    job_output_destroy(&out, model ? model->image_count : 0);
-    texopt_job_stats_destroy(&js);
-    texopt_model_destroy(model);
+    texopt_job_destroy(job);
     return st;
 }

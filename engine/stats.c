@@ -63,6 +63,12 @@ static void add_stage_stats(cJSON *dom, const texopt_domain_stats *d)
             cJSON_AddNumberToObject(s2, "loss_max", d->solved_loss_max);
         }
     }
+    if (d->has_allocation) {
+        cJSON *a = cJSON_AddObjectToObject(dom, "allocation");
+        cJSON_AddNumberToObject(a, "scale", d->allocation_scale);
+        cJSON_AddNumberToObject(a, "capped_share", d->allocation_capped_share);
+        cJSON_AddNumberToObject(a, "lossless_share", d->allocation_lossless_share);
+    }
     if (d->has_distortion) {
         cJSON *ds = cJSON_AddObjectToObject(dom, "distortion");
         cJSON_AddNumberToObject(ds, "symmetric_dirichlet_input", d->distortion_input);
@@ -86,6 +92,8 @@ static cJSON *domain_json(const texopt_domain_stats *d)
     cJSON_AddNumberToObject(o, "packing_efficiency_input", d->packing_efficiency_input);
     cJSON_AddNumberToObject(o, "packing_efficiency", d->packing_efficiency);
     cJSON_AddBoolToObject(o, "repacked", d->repacked);
+    if (d->repacked)
+        cJSON_AddNumberToObject(o, "budget_scale", d->budget_scale);
     add_stage_stats(o, d);
     cJSON *t = cJSON_AddObjectToObject(o, "seconds");
     cJSON_AddNumberToObject(t, "mesh", d->seconds_mesh);
@@ -107,6 +115,8 @@ static cJSON *job_json(const texopt_job_stats *s)
     cJSON_AddStringToObject(p, "budget", s->budget ? s->budget : "unknown");
     if (s->texture_width > 0)
         cJSON_AddItemToObject(p, "texture_size", size_array(s->texture_width, s->texture_height));
+    else if (s->has_search)
+        cJSON_AddNumberToObject(p, "target_loss", s->target_loss);
     else
         cJSON_AddNumberToObject(p, "relative_cost", s->relative_cost);
     cJSON_AddNumberToObject(p, "epsilon", s->epsilon);
@@ -118,6 +128,24 @@ static cJSON *job_json(const texopt_job_stats *s)
     cJSON_AddNumberToObject(t, "load", s->seconds_load);
     cJSON_AddNumberToObject(t, "save", s->seconds_save);
     cJSON_AddNumberToObject(t, "total", s->seconds_total);
+    if (s->has_search) {
+        cJSON *q = cJSON_AddObjectToObject(root, "target_search");
+        cJSON_AddNumberToObject(q, "target_loss", s->target_loss);
+        cJSON_AddBoolToObject(q, "reached", s->target_reached);
+        cJSON_AddNumberToObject(q, "relative_cost", s->relative_cost);
+        cJSON_AddNumberToObject(q, "q", s->q);
+        cJSON_AddNumberToObject(q, "evaluations", s->search_evaluations);
+        if (s->search_cost_below > 0) {
+            cJSON_AddNumberToObject(q, "relative_cost_below", s->search_cost_below);
+            cJSON_AddNumberToObject(q, "q_below", s->search_q_below);
+        }
+    }
+    if (s->has_allocation_choice) {
+        cJSON *a = cJSON_AddObjectToObject(root, "allocation_choice");
+        cJSON_AddNumberToObject(a, "q_allocated", s->q_allocated);
+        cJSON_AddNumberToObject(a, "q_uniform", s->q_uniform);
+        cJSON_AddStringToObject(a, "chosen", s->allocation_chosen ? "allocated" : "uniform");
+    }
     if (s->has_evaluation) {
         cJSON *e = cJSON_AddObjectToObject(root, "evaluation");
         cJSON_AddNumberToObject(e, "q", s->q);

@@ -52,6 +52,13 @@ typedef struct texopt_domain_stats {
     double solved_within_epsilon_share, solved_loss_mean, solved_loss_max;
     int has_distortion;
     double distortion_input, distortion_output; /* symmetric Dirichlet, mean */
+    int has_allocation;              /* targets rescaled to the budget (allocate.h) */
+    double allocation_scale;         /* the common factor s on the singular values */
+    double allocation_capped_share;  /* triangles at input density (a cap reached) */
+    double allocation_lossless_share; /* targets grown as lossless (allocate.h) */
+    double budget_scale;             /* with repacked: the uniform scale budget.h applied after
+                                        stage 2 (output texels per solved texel); near 1 when
+                                        the allocation predicted the cost well */
 
     double seconds_mesh, seconds_stage1, seconds_stage2, seconds_pack, seconds_bake;
     double seconds_loss_share; /* the per-triangle losses under the solved layout */
@@ -59,13 +66,22 @@ typedef struct texopt_domain_stats {
 
 typedef struct texopt_job_stats {
     const char *method;
-    const char *budget;          /* "relative_cost" or "texture_size" */
-    double relative_cost;        /* requested, with the relative_cost budget */
+    const char *budget;          /* "relative_cost", "texture_size" or "target_loss" */
+    double relative_cost;        /* requested, or the one the target_loss search chose */
     int texture_width, texture_height; /* requested, with the texture_size budget */
     double epsilon, lambda_min;
     int iterations, threads;
     unsigned long long seed;
     double seconds_load, seconds_save, seconds_total;
+    int has_search;              /* budget target_loss: the search over the relative cost */
+    double target_loss;          /* the q asked for */
+    int target_reached;          /* 0 when even the largest cost searched missed it */
+    int search_evaluations;      /* layouts baked and evaluated by the search */
+    double search_cost_below;    /* largest cost tried that missed the target (0: none) */
+    double search_q_below;       /* its q */
+    int has_allocation_choice;   /* perceptual: q of both candidate layouts (pipeline.c) */
+    double q_allocated, q_uniform;
+    int allocation_chosen;       /* 1: the allocated layout was kept, 0: the uniform one */
     int has_evaluation;          /* params.evaluate: whole-mesh loss of the result */
     double q;                    /* evaluate.h: mean GMSD over the 20 views */
     int eval_resolution;

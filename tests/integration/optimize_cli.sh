@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # texopt optimize end to end on the bundled spot model: method "input" at half cost writes a
 # .glb that loads again, passes the glTF validator (when tools/node_modules has it) and whose
-# stats say the cost is within 2% of the request; usage errors exit 2, engine failures 1,
+# stats say the cost is within 2% of the request; --target-loss (method input) meets its
+# target and reports the search; usage errors exit 2, engine failures 1,
 # SIGINT during the perceptual method exits 3 and leaves no output file.
 set -euo pipefail
 bin=${TEXOPT_BIN:?TEXOPT_BIN not set}
@@ -20,6 +21,13 @@ set +e
 [ $rc -eq 2 ] || fail "two budgets: exit $rc, expected 2"
 "$bin" optimize "$spot" -o "$tmp/x.glb" --method nonsense 2>/dev/null; rc=$?
 [ $rc -eq 2 ] || fail "unknown method: exit $rc, expected 2"
+for bad in 0 1 -0.5 abc; do
+  "$bin" optimize "$spot" -o "$tmp/x.glb" --target-loss "$bad" 2>"$tmp/err"; rc=$?
+  [ $rc -eq 2 ] || fail "--target-loss $bad: exit $rc, expected 2"
+done
+grep -q "target" "$tmp/err" || fail "a bad --target-loss is not named: $(cat "$tmp/err")"
+"$bin" optimize "$spot" -o "$tmp/x.glb" --target-loss 0.05 --relative-cost 0.5 2>/dev/null; rc=$?
+[ $rc -eq 2 ] || fail "--target-loss with --relative-cost: exit $rc, expected 2"
 "$bin" optimize "$tmp/missing.glb" -o "$tmp/x.glb" --quiet 2>"$tmp/err"; rc=$?
 [ $rc -eq 1 ] || fail "missing input: exit $rc, expected 1"
 grep -q "missing.glb" "$tmp/err" || fail "the error does not name the file: $(cat "$tmp/err")"
@@ -41,6 +49,19 @@ PY
 if [ -f "$src/tools/node_modules/gltf-validator/package.json" ] && command -v node >/dev/null; then
   node "$src/tools/validate-gltf.mjs" "$tmp/half.glb" > "$tmp/validate.json" || fail "validator: $(cat "$tmp/validate.json")"
 fi
+
+# The target_loss budget: the cost found meets the target; one search step below does not.
+"$bin" optimize "$spot" -o "$tmp/tl.glb" --method input --target-loss 0.03 --stats "$tmp/tl.json" --quiet
+/usr/bin/python3 - "$tmp/tl.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+t = s["target_search"]
+assert s["params"]["budget"] == "target_loss", s["params"]
+assert t["reached"] is True and t["q"] <= 0.03, t
+assert s["evaluation"]["q"] == t["q"], (s["evaluation"], t)
+assert t["q_below"] > 0.03 and t["relative_cost"] / t["relative_cost_below"] <= 1.05 + 1e-9, t
+assert 0 < t["relative_cost"] < 1, t
+PY
 
 # SIGINT while stage 1 runs: exit 3, no output file.
 "$bin" optimize "$spot" -o "$tmp/canceled.glb" --quiet &

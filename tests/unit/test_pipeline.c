@@ -248,9 +248,11 @@ TEST(bad_requests_are_refused_with_a_message)
     snprintf(missing, sizeof missing, "%s/nothing.glb", s.dir);
     CHECK(texopt_optimize_file(missing, s.out, NULL, &p, NULL, err, sizeof err) == TEXOPT_E_IO);
     p.budget = TEXOPT_BUDGET_TARGET_LOSS;
-    p.target_loss = 0.01;
-    CHECK(texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err) == TEXOPT_E_UNSUPPORTED);
+    p.target_loss = 1.5;
+    CHECK(texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     CHECK(strstr(err, "target_loss") != NULL);
+    p.target_loss = 0;
+    CHECK(texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     p.budget = TEXOPT_BUDGET_RELATIVE_COST;
     p.method = TEXOPT_METHOD_INPUT;
     p.relative_cost = 7;

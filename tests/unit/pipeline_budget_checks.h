@@ -1,0 +1,168 @@
+/* pipeline_budget_checks.h - checks of the pipeline's per-budget part shared by
+ * test_pipeline_budget.c (cheap methods, every build) and test_pipeline_budget_slow.c (the
+ * perceptual method): one job writing several budgets equals separate runs, and the
+ * target_loss budget's answer against independent runs. Header only. */
+#ifndef TEXOPT_TEST_PIPELINE_BUDGET_CHECKS_H
+#define TEXOPT_TEST_PIPELINE_BUDGET_CHECKS_H
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "gltf_io.h"
+#include "grid_glb.h"
+#include "pipeline.h"
+#include "test.h"
+
+typedef struct scratch {
+    char dir[64], in[128], out[128], again[128], stats[128];
+} scratch;
+
+static inline int scratch_init(scratch *s, int n, int tex, const char *pattern)
+{
+    snprintf(s->dir, sizeof s->dir, "/tmp/texopt_budget_XXXXXX");
+    if (!mkdtemp(s->dir))
+        return -1;
+    snprintf(s->in, sizeof s->in, "%s/in.glb", s->dir);
+    snprintf(s->out, sizeof s->out, "%s/out.glb", s->dir);
+    snprintf(s->again, sizeof s->again, "%s/again.glb", s->dir);
+    snprintf(s->stats, sizeof s->stats, "%s/stats.json", s->dir);
+    return write_grid_glb(s->in, n, tex, pattern);
+}
+
+static inline void scratch_free(scratch *s)
+{
+    unlink(s->in);
+    unlink(s->out);
+    unlink(s->again);
+    unlink(s->stats);
+    rmdir(s->dir);
+}
+
+static inline cJSON *read_json(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    char buf[65536];
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = '\0';
+    return cJSON_Parse(buf);
+}
+
+static inline double number_at(cJSON *obj, const char *a, const char *b)
+{
+    cJSON *v = cJSON_GetObjectItem(obj, a);
+    if (b)
+        v = cJSON_GetObjectItem(v, b);
+    return cJSON_IsNumber(v) ? v->valuedouble : NAN;
+}
+
+static inline cJSON *first_domain(cJSON *root)
+{
+    return cJSON_GetArrayItem(cJSON_GetObjectItem(root, "domains"), 0);
+}
+
+static inline texopt_model *load(const char *path)
+{
+    texopt_model *m = NULL;
+    char err[256];
+    if (texopt_model_load(&m, path, NULL, err, sizeof err) != TEXOPT_OK)
+        return NULL;
+    return m;
+}
+
+/* Same UVs and same texels. */
+static inline int same_output(const char *a, const char *b)
+{
+    texopt_model *x = load(a), *y = load(b);
+    int same = x && y && x->vertex_count == y->vertex_count && x->image_count == y->image_count;
+    for (size_t i = 0; same && i < 2 * x->vertex_count; i++)
+        same = x->uvs[i] == y->uvs[i];
+    for (int i = 0; same && i < x->image_count; i++) {
+        const texopt_image *p = &x->images[i], *q = &y->images[i];
+        same = p->width == q->width && p->height == q->height && p->channels == q->channels &&
+               memcmp(p->pixels, q->pixels, sizeof(float) * p->width * p->height * p->channels) == 0;
+    }
+    texopt_model_destroy(x);
+    texopt_model_destroy(y);
+    return same;
+}
+
+/* One job at 0.7 then 0.3 against a fresh run at 0.3: same UVs and texels. */
+static inline void check_job_reuse(texopt_method method)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 3, 64, "half") == 0);
+    texopt_params p = {0};
+    p.method = method;
+    p.threads = 1;
+    p.iterations = 5;
+    char err[512] = "";
+    texopt_job *job = NULL;
+    CHECK_OK(texopt_job_create(&job, s.in, &p, NULL, err, sizeof err), err);
+    /* 0.7 first, so the 0.3 output below comes after another budget on the same job. */
+    texopt_job_budget b = {TEXOPT_BUDGET_RELATIVE_COST, 0.7, 0, 0, 0};
+    CHECK_OK(texopt_job_write(job, &b, s.again, NULL, err, sizeof err), err);
+    b.relative_cost = 0.3;
+    CHECK_OK(texopt_job_write(job, &b, s.out, NULL, err, sizeof err), err);
+    texopt_job_destroy(job);
+    CHECK(!same_output(s.out, s.again));
+    p.relative_cost = 0.3;
+    CHECK_OK(texopt_optimize_file(s.in, s.again, NULL, &p, NULL, err, sizeof err), err);
+    CHECK(same_output(s.out, s.again));
+    texopt_job_destroy(NULL);
+    scratch_free(&s);
+}
+
+/* Runs budget target_loss and checks the answer against independent runs at the chosen cost
+ * and at the largest cost the search found too lossy. */
+static inline void check_target_loss(texopt_method method, double target)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 4, 128, "checker") == 0);
+    texopt_params p = {0};
+    p.method = method;
+    p.threads = 1;
+    p.iterations = 5;
+    p.eval_resolution = 128;
+    p.budget = TEXOPT_BUDGET_TARGET_LOSS;
+    p.target_loss = target;
+    char err[512] = "";
+    CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+    cJSON *st = read_json(s.stats);
+    CHECK(st != NULL);
+    cJSON *search = cJSON_GetObjectItem(st, "target_search");
+    CHECK(search != NULL);
+    CHECK(cJSON_IsTrue(cJSON_GetObjectItem(search, "reached")));
+    double cost = number_at(search, "relative_cost", NULL), q = number_at(search, "q", NULL);
+    double below = number_at(search, "relative_cost_below", NULL), q_below = number_at(search, "q_below", NULL);
+    CHECK(q <= target);
+    CHECK_NEAR(number_at(st, "evaluation", "q"), q, 0);
+    CHECK(number_at(search, "evaluations", NULL) >= 3);
+    /* The next cost down was tried and missed, within the search's 5% bracket. */
+    CHECK(below > 0 && below < cost && cost / below <= 1.05 + 1e-9);
+    CHECK(q_below > target);
+    cJSON_Delete(st);
+    /* Independent runs with a relative cost give the same answers. */
+    p.budget = TEXOPT_BUDGET_RELATIVE_COST;
+    p.evaluate = 1;
+    p.relative_cost = below;
+    CHECK_OK(texopt_optimize_file(s.in, s.again, s.stats, &p, NULL, err, sizeof err), err);
+    st = read_json(s.stats);
+    CHECK(number_at(st, "evaluation", "q") > target);
+    cJSON_Delete(st);
+    p.relative_cost = cost;
+    CHECK_OK(texopt_optimize_file(s.in, s.again, s.stats, &p, NULL, err, sizeof err), err);
+    st = read_json(s.stats);
+    CHECK(number_at(st, "evaluation", "q") <= target);
+    cJSON_Delete(st);
+    CHECK(same_output(s.out, s.again));
+    scratch_free(&s);
+}
+
+#endif

@@ -1,0 +1,189 @@
+/* test_allocate.c - water-filling of per-triangle targets to a texel budget (allocate.c), on
+ * the meshes of generated grids: the allocated area meets the request, no singular value
+ * passes input density, uncapped targets keep their ratios, lossless targets can grow slower,
+ * and bad input is refused. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "allocate.h"
+#include "fixtures.h"
+#include "mesh.h"
+#include "test.h"
+
+/* The mesh of a 4 x 4 grid on a 64^2 texture: 32 triangles of 32 texels each. */
+static texopt_mesh *grid_mesh(texopt_model **model)
+{
+    *model = fixture_grid(4, 64, "flat");
+    texopt_mesh *mesh = NULL;
+    char err[256];
+    if (!*model || texopt_mesh_create(&mesh, *model, 0, err, sizeof err) != TEXOPT_OK)
+        return NULL;
+    return mesh;
+}
+
+/* Targets with varied sizes: triangle t gets lambdas from a small table, anisotropic. */
+static void varied_targets(const texopt_mesh *mesh, texopt_triangle_target *t)
+{
+    static const double l1[4] = {0.1, 0.2, 0.5, 0.9}, l2[4] = {0.1, 0.4, 0.3, 0.8};
+    for (size_t i = 0; i < mesh->triangle_count; i++) {
+        t[i] = (texopt_triangle_target){0};
+        t[i].lambda1 = l1[i % 4];
+        t[i].lambda2 = l2[(i / 4) % 4];
+        t[i].alpha = 0.3;
+        t[i].beta = 0.1 * (double)(i % 5);
+        t[i].loss = i % 3 == 0 ? 0 : 0.005;
+        t[i].w_stretch = 1;
+    }
+}
+
+static double total_area(const texopt_mesh *mesh, const texopt_triangle_target *t)
+{
+    double a = 0;
+    for (size_t i = 0; i < mesh->triangle_count; i++)
+        a += fabs(mesh->area_texel[i]) * t[i].lambda1 * t[i].lambda2;
+    return a;
+}
+
+TEST(allocation_meets_the_request_and_caps_at_input_density)
+{
+    texopt_model *model;
+    texopt_mesh *mesh = grid_mesh(&model);
+    CHECK(mesh != NULL);
+    size_t n = mesh->triangle_count;
+    texopt_triangle_target *in = calloc(n, sizeof *in), *out = calloc(n, sizeof *out);
+    varied_targets(mesh, in);
+    double input_area = 64.0 * 64.0;
+    char err[256] = "";
+    texopt_allocation rep;
+    /* Half the input: far more than the targets' own area, so some singular values cap. */
+    CHECK_OK(texopt_allocate_targets(mesh, in, 0.5 * input_area, NULL, out, &rep, err, sizeof err), err);
+    CHECK_NEAR(total_area(mesh, out), 0.5 * input_area, 1e-6 * input_area);
+    CHECK_NEAR(rep.area_allocated, 0.5 * input_area, 1e-6 * input_area);
+    CHECK_NEAR(rep.area_input, input_area, 1e-9);
+    CHECK(rep.capped > 0 && rep.capped < n);
+    CHECK(rep.scale > 1);
+    for (size_t i = 0; i < n; i++) {
+        CHECK(out[i].lambda1 <= 1 && out[i].lambda2 <= 1);
+        /* Each value is the common factor times the input, or the cap. */
+        CHECK(fabs(out[i].lambda1 - rep.scale * in[i].lambda1) < 1e-12 || out[i].lambda1 == 1);
+        CHECK(fabs(out[i].lambda2 - rep.scale * in[i].lambda2) < 1e-12 || out[i].lambda2 == 1);
+        CHECK(out[i].alpha == in[i].alpha && out[i].beta == in[i].beta && out[i].w_stretch == in[i].w_stretch);
+    }
+    free(in);
+    free(out);
+    texopt_mesh_destroy(mesh);
+    texopt_model_destroy(model);
+}
+
+TEST(small_request_scales_every_target_by_one_factor)
+{
+    texopt_model *model;
+    texopt_mesh *mesh = grid_mesh(&model);
+    CHECK(mesh != NULL);
+    size_t n = mesh->triangle_count;
+    texopt_triangle_target *in = calloc(n, sizeof *in), *out = calloc(n, sizeof *out);
+    varied_targets(mesh, in);
+    double own = total_area(mesh, in);
+    char err[256] = "";
+    texopt_allocation rep;
+    CHECK_OK(texopt_allocate_targets(mesh, in, 0.25 * own, NULL, out, &rep, err, sizeof err), err);
+    CHECK_NEAR(rep.scale, 0.5, 1e-9); /* area goes as the square of the factor */
+    CHECK_EQ_INT((int)rep.capped, 0);
+    for (size_t i = 0; i < n; i++)
+        CHECK_NEAR(out[i].lambda1 / in[i].lambda1, 0.5, 1e-9);
+    free(in);
+    free(out);
+    texopt_mesh_destroy(mesh);
+    texopt_model_destroy(model);
+}
+
+TEST(request_past_the_input_area_gives_input_density_everywhere)
+{
+    texopt_model *model;
+    texopt_mesh *mesh = grid_mesh(&model);
+    CHECK(mesh != NULL);
+    size_t n = mesh->triangle_count;
+    texopt_triangle_target *t = calloc(n, sizeof *t);
+    varied_targets(mesh, t);
+    char err[256] = "";
+    texopt_allocation rep;
+    /* In place (out == in) and more than the caps allow: every value at 1. */
+    CHECK_OK(texopt_allocate_targets(mesh, t, 2 * 64.0 * 64.0, NULL, t, &rep, err, sizeof err), err);
+    for (size_t i = 0; i < n; i++)
+        CHECK(t[i].lambda1 == 1 && t[i].lambda2 == 1);
+    CHECK_EQ_INT((int)rep.capped, (int)n);
+    CHECK_NEAR(rep.area_allocated, 64.0 * 64.0, 1e-9);
+    free(t);
+    texopt_mesh_destroy(mesh);
+    texopt_model_destroy(model);
+}
+
+TEST(lossless_targets_grow_slower_and_the_rest_take_the_budget)
+{
+    texopt_model *model;
+    texopt_mesh *mesh = grid_mesh(&model);
+    CHECK(mesh != NULL);
+    size_t n = mesh->triangle_count;
+    texopt_triangle_target *in = calloc(n, sizeof *in), *plain = calloc(n, sizeof *plain),
+                           *kept = calloc(n, sizeof *kept);
+    varied_targets(mesh, in);
+    double request = 0.3 * 64.0 * 64.0;
+    char err[256] = "";
+    texopt_allocation rp, rk;
+    texopt_allocate_options keep = {1, 1e-6, 0, 0};
+    CHECK_OK(texopt_allocate_targets(mesh, in, request, NULL, plain, &rp, err, sizeof err), err);
+    CHECK_OK(texopt_allocate_targets(mesh, in, request, &keep, kept, &rk, err, sizeof err), err);
+    CHECK_NEAR(rk.area_allocated, request, 1e-6 * request);
+    CHECK(rk.scale > rp.scale); /* the others get what the lossless ones did not take */
+    size_t lossless = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (in[i].loss == 0) {
+            lossless++;
+            CHECK(kept[i].lambda1 == in[i].lambda1 && kept[i].lambda2 == in[i].lambda2);
+        } else {
+            CHECK(kept[i].lambda1 * kept[i].lambda2 >= plain[i].lambda1 * plain[i].lambda2 - 1e-12);
+        }
+    }
+    CHECK_EQ_INT((int)rk.lossless, (int)lossless);
+    /* A request below what the kept targets take on their own: everything scales. */
+    double tiny = 0.1 * total_area(mesh, in);
+    CHECK_OK(texopt_allocate_targets(mesh, in, tiny, &keep, kept, &rk, err, sizeof err), err);
+    CHECK_EQ_INT((int)rk.lossless, 0);
+    CHECK_NEAR(rk.area_allocated, tiny, 1e-6 * tiny);
+    /* Growth 0.5: lossless targets scale by sqrt(s), the others by s. */
+    texopt_allocate_options half = {1, 1e-6, 0, 0.5};
+    CHECK_OK(texopt_allocate_targets(mesh, in, request, &half, kept, &rk, err, sizeof err), err);
+    CHECK_NEAR(rk.area_allocated, request, 1e-6 * request);
+    for (size_t i = 0; i < n; i++)
+        if (in[i].loss == 0 && kept[i].lambda1 < 1)
+            CHECK_NEAR(kept[i].lambda1, sqrt(rk.scale) * in[i].lambda1, 1e-12);
+        else if (kept[i].lambda1 < 1)
+            CHECK_NEAR(kept[i].lambda1, rk.scale * in[i].lambda1, 1e-12);
+    free(in);
+    free(plain);
+    free(kept);
+    texopt_mesh_destroy(mesh);
+    texopt_model_destroy(model);
+}
+
+TEST(bad_targets_and_requests_are_refused)
+{
+    texopt_model *model;
+    texopt_mesh *mesh = grid_mesh(&model);
+    CHECK(mesh != NULL);
+    size_t n = mesh->triangle_count;
+    texopt_triangle_target *t = calloc(n, sizeof *t), *out = calloc(n, sizeof *out);
+    varied_targets(mesh, t);
+    char err[256] = "";
+    CHECK(texopt_allocate_targets(mesh, t, 0, NULL, out, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_allocate_targets(mesh, t, NAN, NULL, out, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    t[3].lambda2 = -0.5;
+    CHECK(texopt_allocate_targets(mesh, t, 100, NULL, out, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "triangle 3") != NULL);
+    CHECK(texopt_allocate_targets(NULL, t, 100, NULL, out, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    free(t);
+    free(out);
+    texopt_mesh_destroy(mesh);
+    texopt_model_destroy(model);
+}

@@ -1,0 +1,101 @@
+/* test_pipeline_budget.c - the per-budget part of the pipeline (pipeline.h texopt_job_*):
+ * one job writes several budgets exactly as separate runs would; a perceptual job keeps the
+ * better of its allocated and uniform candidate layouts; the target_loss budget
+ * returns a cost whose q meets the target while a cost one search step smaller does not;
+ * bad targets are refused. Models are generated grids (grid_glb.h); the same checks on the
+ * perceptual method are in test_pipeline_budget_slow.c. */
+#include "pipeline_budget_checks.h"
+
+TEST(one_job_writes_each_budget_as_a_separate_run_would)
+{
+    check_job_reuse(TEXOPT_METHOD_TEWARI);
+}
+
+/* The perceptual job's choice between its two candidate layouts, from the statistics: the
+ * kept one has the smaller q, and its budget correction matches the candidate (allocated:
+ * close to 1; uniform: the whole magnification stage 1's targets needed). */
+static void check_choice(cJSON *st, double relative_cost)
+{
+    cJSON *choice = cJSON_GetObjectItem(st, "allocation_choice");
+    CHECK(choice != NULL);
+    double qa = number_at(choice, "q_allocated", NULL), qu = number_at(choice, "q_uniform", NULL);
+    cJSON *chosen = cJSON_GetObjectItem(choice, "chosen");
+    int allocated = cJSON_IsString(chosen) && strcmp(chosen->valuestring, "allocated") == 0;
+    CHECK(allocated == (qa < qu));
+    CHECK_NEAR(number_at(st, "evaluation", "q"), fmin(qa, qu), 0);
+    cJSON *d = first_domain(st);
+    double area_scale = number_at(d, "stage1", "area_scale_mean");
+    double bs = number_at(d, "budget_scale", NULL);
+    CHECK((cJSON_GetObjectItem(d, "allocation") != NULL) == allocated);
+    if (allocated) {
+        CHECK(number_at(d, "allocation", "scale") > 1);
+        CHECK(bs > 0.9 && bs < 1.1);
+    } else {
+        CHECK(bs > 0.9 * sqrt(relative_cost / area_scale));
+    }
+}
+
+TEST(perceptual_keeps_the_better_of_the_allocated_and_uniform_layouts)
+{
+    /* Half flat, half text: stage 1 shrinks the flat half far more than the budget does, so
+     * the uniform candidate is magnified by the budget while the allocated one is solved at
+     * about its final size. */
+    scratch s;
+    CHECK(scratch_init(&s, 4, 64, "half") == 0);
+    texopt_params p = {0};
+    p.threads = 1;
+    p.iterations = 5;
+    p.relative_cost = 0.9;
+    p.evaluate = 1;
+    p.eval_resolution = 96;
+    char err[512] = "";
+    CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+    cJSON *st = read_json(s.stats);
+    CHECK(st != NULL);
+    CHECK_NEAR(number_at(first_domain(st), "relative_cost", NULL), 0.9, 0.01);
+    CHECK(number_at(first_domain(st), "stage1", "area_scale_mean") < 0.7);
+    check_choice(st, 0.9);
+    cJSON_Delete(st);
+    /* A texture size: exact whichever candidate wins. */
+    p.budget = TEXOPT_BUDGET_TEXTURE_SIZE;
+    p.texture_width = 40;
+    p.texture_height = 48;
+    CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+    texopt_model *out = load(s.out);
+    CHECK(out && out->images[0].width == 40 && out->images[0].height == 48);
+    texopt_model_destroy(out);
+    st = read_json(s.stats);
+    double reached = number_at(first_domain(st), "relative_cost", NULL);
+    check_choice(st, reached);
+    cJSON_Delete(st);
+    scratch_free(&s);
+}
+
+TEST(target_loss_finds_the_smallest_cost_meeting_the_target)
+{
+    check_target_loss(TEXOPT_METHOD_INPUT, 0.08);
+}
+
+TEST(target_loss_out_of_range_is_refused)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 1, 16, "flat") == 0);
+    texopt_params p = {0};
+    p.budget = TEXOPT_BUDGET_TARGET_LOSS;
+    char err[512] = "";
+    double bad[] = {0, -0.1, 1, 2, NAN};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        p.target_loss = bad[i];
+        CHECK(texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+        CHECK(strstr(err, "target_loss") != NULL);
+    }
+    texopt_job *job = NULL;
+    p.budget = TEXOPT_BUDGET_RELATIVE_COST;
+    CHECK_OK(texopt_job_create(&job, s.in, &p, NULL, err, sizeof err), err);
+    texopt_job_budget b = {TEXOPT_BUDGET_TARGET_LOSS, 0, 0, 0, 3};
+    CHECK(texopt_job_write(job, &b, s.out, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_job_write(job, NULL, s.out, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    texopt_job_destroy(job);
+    CHECK(access(s.out, F_OK) != 0);
+    scratch_free(&s);
+}
