@@ -78,8 +78,9 @@ texopt_bo *texopt_bo_create(int dim, int max_evaluations);
 /* Accepts NULL. */
 void texopt_bo_destroy(texopt_bo *bo);
 
-/* Minimises f over [0,1]^dim. Evaluations are capped at max_evaluations (initial points
- * first). best_x (dim doubles), best_f and evaluations may be NULL. When no evaluated point
+/* Minimises f over [0,1]^dim. Samples are capped at max_evaluations (initial points first;
+ * those with known values count as samples, and `evaluations` reports all samples).
+ * best_x (dim doubles), best_f and evaluations may be NULL. When no evaluated point
  * is feasible, best_f is +INFINITY and best_x the first point evaluated. Initial points
  * outside the box are clamped into it. Errors: TEXOPT_E_INVALID_ARGUMENT (bad options),
  * TEXOPT_E_NUMERIC (the surrogate failed even with raised jitter). */
