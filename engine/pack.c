@@ -2,11 +2,12 @@
  *
  * Each chart, in each of its four rotations, becomes a footprint on a grid of cells: the
  * cells touched by its triangles grown by pad = gutter / 2 texels (conservative: a triangle
- * clipped to a row band of height cell + 2 pad, its x-range grown by pad). The texture is a
- * bitset of occupied cells. A chart is tested at (x, y) against the per-row hull of its
- * footprint (cheap, conservative) and marks its exact footprint when placed, so a later
- * small chart can still use the bays of a concave one. Finding the first fit in a row jumps
- * x past each occupied run it hits, so a row costs a few bit scans, not one test per cell. */
+ * clipped to a row band of height cell + 2 pad, its x-range grown by pad), kept as runs of
+ * cells per row. A texopt_packer builds the footprints once; each run of it packs them in
+ * some order. The texture is a bitset of occupied cells; a chart is tested at (x, y) run by
+ * run and marks its exact footprint when placed, so a later small chart can still use the
+ * bays of a concave one. Finding the first fit in a row jumps x past each occupied run it
+ * hits, so a row costs a few bit scans, not one test per cell. */
 #include "pack.h"
 
 #include <math.h>
