@@ -59,8 +59,6 @@ typedef struct bake_context {
     int normal_map;
     int channels;
     texopt_rebake_fit fit;    /* resolved: never DEFAULT */
-    uint8_t *sampled;         /* fit only: per texel, takes part in the fit */
-    float *reference;         /* fit only: per texel, its four sub-texel references */
 } bake_context;
 
 static int map_triangle(const texopt_rebake_layout *layout, size_t t, const texopt_image *in,
@@ -286,9 +284,14 @@ static int fits_texel(const bake_context *ctx, size_t i)
     return ctx->fit == TEXOPT_REBAKE_FIT_LEAST_SQUARES || ctx->tris[ctx->owner[i]].magnifies;
 }
 
+/* texel_fit's reference callback. */
+static void fit_reference(void *user, int x, int y, float *out)
+{
+    sample_references(user, x, y, out);
+}
+
 typedef struct sample_worker {
     const bake_context *ctx;
-    int references;                /* 0: texel centres, 1: sub-texel references of the fit */
     int first_row, step;
     const texopt_monitor *monitor; /* only worker 0 reports; every worker checks cancel */
     int canceled;
@@ -313,18 +316,6 @@ static void sample_row(const bake_context *ctx, int y)
     }
 }
 
-static void reference_row(const bake_context *ctx, int y)
-{
-    int width = ctx->out->width;
-    for (int x = 0; x < width; x++) {
-        size_t i = (size_t)y * width + x;
-        ctx->sampled[i] = (uint8_t)fits_texel(ctx, i);
-        if (ctx->sampled[i])
-            sample_references(ctx, x, y,
-                              ctx->reference + i * TEXOPT_TEXEL_FIT_SAMPLES * (size_t)ctx->channels);
-    }
-}
-
 static void *sample_rows(void *arg)
 {
     sample_worker *wk = arg;
@@ -336,20 +327,17 @@ static void *sample_rows(void *arg)
             return NULL;
         }
         if (wk->first_row == 0 && y % 64 == 0)
-            report(wk->monitor, (wk->references ? 0.5 : 0.2) + 0.3 * (double)y / height);
-        if (wk->references)
-            reference_row(ctx, y);
-        else
-            sample_row(ctx, y);
+            report(wk->monitor, 0.2 + 0.3 * (double)y / height);
+        sample_row(ctx, y);
     }
     return NULL;
 }
 
-/* Samples every owned texel (centres, or the fit's references), rows interleaved over
- * `threads` workers (the caller's thread is worker 0 and also runs the rows of any worker
- * whose thread could not start). */
-static texopt_status sample_owned(const bake_context *ctx, int references, int threads,
-                                  const texopt_monitor *monitor, char *err, size_t err_len)
+/* Samples every owned texel at its centre, rows interleaved over `threads` workers (the
+ * caller's thread is worker 0 and also runs the rows of any worker whose thread could not
+ * start). */
+static texopt_status sample_owned(const bake_context *ctx, int threads, const texopt_monitor *monitor,
+                                  char *err, size_t err_len)
 {
     if (threads < 1)
         threads = 1;
@@ -357,8 +345,7 @@ static texopt_status sample_owned(const bake_context *ctx, int references, int t
         threads = MAX_THREADS;
     sample_worker wk[MAX_THREADS];
     for (int k = 0; k < threads; k++)
-        wk[k] = (sample_worker){.ctx = ctx, .references = references, .first_row = k,
-                                .step = threads, .monitor = monitor};
+        wk[k] = (sample_worker){.ctx = ctx, .first_row = k, .step = threads, .monitor = monitor};
     for (int k = 1; k < threads; k++)
         wk[k].started = pthread_create(&wk[k].thread, NULL, sample_rows, &wk[k]) == 0;
     sample_rows(&wk[0]);
@@ -377,7 +364,8 @@ static texopt_status sample_owned(const bake_context *ctx, int references, int t
 
 /* The least-squares fit over the prefiltered bake (texel_fit.h). The one-texel ring around
  * the owned texels is first dilated, because the fit starts from it and may change it;
- * `covered` then marks the owned texels and every texel the fit set, for the final dilation. */
+ * `covered` then marks the owned texels and every texel the fit set, for the final dilation.
+ * The fit itself is not interruptible: cancellation is checked before it. */
 static texopt_status fit_texels(bake_context *ctx, uint8_t *covered, int threads,
                                 const texopt_monitor *monitor, char *err, size_t err_len)
 {
@@ -385,30 +373,27 @@ static texopt_status fit_texels(bake_context *ctx, uint8_t *covered, int threads
     texopt_status st = texopt_dilate(ctx->out, covered, 1, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    ctx->sampled = malloc(count);
-    ctx->reference = malloc(count * TEXOPT_TEXEL_FIT_SAMPLES * (size_t)ctx->channels * sizeof(float));
-    uint8_t *fixed = malloc(count);
-    if (!ctx->sampled || !ctx->reference || !fixed)
+    if (texopt_monitor_canceled(monitor))
+        return texopt_fail(err, err_len, TEXOPT_E_CANCELED, "bake canceled");
+    report(monitor, 0.5);
+    uint8_t *sampled = malloc(count), *fixed = malloc(count);
+    if (!sampled || !fixed)
         st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory to fit a %dx%d bake",
                          ctx->out->width, ctx->out->height);
-    if (st == TEXOPT_OK)
-        st = sample_owned(ctx, 1, threads, monitor, err, err_len);
     if (st == TEXOPT_OK) {
         for (size_t i = 0; i < count; i++) {
-            fixed[i] = ctx->state[i] != TEXEL_EMPTY && !ctx->sampled[i];
+            sampled[i] = (uint8_t)fits_texel(ctx, i);
+            fixed[i] = ctx->state[i] != TEXEL_EMPTY && !sampled[i];
             covered[i] = ctx->state[i] != TEXEL_EMPTY;
         }
-        texopt_texel_fit_problem pb = {.image = ctx->out, .sampled = ctx->sampled,
-                                       .reference = ctx->reference, .fixed = fixed,
+        texopt_texel_fit_problem pb = {.image = ctx->out, .sampled = sampled,
+                                       .reference = fit_reference, .user = ctx, .fixed = fixed,
                                        .ridge = FIT_RIDGE, .tolerance = FIT_TOLERANCE,
                                        .max_iterations = FIT_MAX_ITERATIONS, .threads = threads};
         st = texopt_texel_fit(&pb, covered, NULL, err, err_len);
     }
-    free(ctx->sampled);
-    free(ctx->reference);
+    free(sampled);
     free(fixed);
-    ctx->sampled = NULL;
-    ctx->reference = NULL;
     return st;
 }
 
@@ -468,7 +453,7 @@ texopt_status texopt_rebake_image_fit(const texopt_image *input, texopt_wrap wra
     if (st == TEXOPT_OK)
         st = claim_pass(&ctx, n, 1, monitor, err, err_len);
     if (st == TEXOPT_OK)
-        st = sample_owned(&ctx, 0, layout->threads, monitor, err, err_len);
+        st = sample_owned(&ctx, layout->threads, monitor, err, err_len);
     if (st == TEXOPT_OK && covered_texels) {
         size_t inside = 0;
         for (size_t i = 0; i < count; i++)

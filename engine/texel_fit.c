@@ -4,14 +4,18 @@
  * A sample at offset -1/4 from a texel centre lies between the previous centre (weight 1/4)
  * and its own (3/4); at +1/4 between its own (3/4) and the next (1/4). Each sample's four
  * bilinear taps are within one texel of its texel, so the normal matrix K = A^T A couples
- * only 3x3 neighbourhoods: it is stored as nine coefficients per free texel, built once by
- * gathering, which keeps every pass free of write conflicts between threads. The unknown is
- * the change from x0, so fixed texels simply stay at zero change and x0 enters through the
- * starting residual A^T (ref - A x0). */
+ * only 3x3 neighbourhoods. Where every sample around a texel counts (the inside of a chart,
+ * nearly all texels) its row of K is the constant stencil T x T, T = (3/8, 5/4, 3/8), so
+ * K is not stored: rows near chart borders are gathered from the samples when needed.
+ * Every pass gathers (a texel writes only itself), so threads never conflict. The unknown
+ * is the change from x0: fixed texels simply stay at zero change and x0 enters through the
+ * starting residual A^T (ref - A x0), computed per row block from references asked for
+ * that block only. */
 #include "texel_fit.h"
 
 #include <math.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -19,20 +23,26 @@
 #define MAX_THREADS 64
 #define MAX_SUMS 2
 
+enum { NOT_FREE = 0, FREE_BORDER = 1, FREE_INSIDE = 2 };
+
 /* 1-D bilinear weight of the sample with side sigma (0: -1/4, 1: +1/4) of texel u on the
  * texel u + d, d in {-1, 0, 1}. */
 static const float W1[2][3] = {{0.25f, 0.75f, 0.0f}, {0.0f, 0.75f, 0.25f}};
+/* Row of K of a texel all of whose 16 touching samples count: T[dy] T[dx]. */
+static const float T1[3] = {0.375f, 1.25f, 0.375f};
 
 typedef struct fit_ctx {
     const texopt_texel_fit_problem *pb;
     int w, h, ch;
-    uint8_t *is_free; /* per texel */
-    float *coef;      /* 9 per texel: K[t][t + (dx, dy)] at (dy + 1) * 3 + dx + 1 */
+    uint8_t *is_free; /* per texel: NOT_FREE, FREE_BORDER or FREE_INSIDE */
+    float *inv_diag;  /* per free texel: 1 / (K_tt + ridge), the Jacobi preconditioner */
     float *r, *p, *q; /* ch per texel */
     double alpha, beta;
+    size_t scratch_floats; /* per worker, for the pass that needs one */
+    atomic_int no_memory;
 } fit_ctx;
 
-typedef void (*block_fn)(fit_ctx *c, int y0, int y1, double *sums);
+typedef void (*block_fn)(fit_ctx *c, int y0, int y1, double *sums, float *scratch);
 
 typedef struct block_worker {
     fit_ctx *c;
@@ -46,10 +56,16 @@ typedef struct block_worker {
 static void *run_worker(void *arg)
 {
     block_worker *bw = arg;
+    float *scratch = NULL;
+    if (bw->c->scratch_floats > 0 && !(scratch = malloc(bw->c->scratch_floats * sizeof *scratch))) {
+        atomic_store(&bw->c->no_memory, 1);
+        return NULL;
+    }
     for (int b = bw->first; b < bw->blocks; b += bw->step) {
         int y0 = b * BLOCK_ROWS, y1 = y0 + BLOCK_ROWS < bw->c->h ? y0 + BLOCK_ROWS : bw->c->h;
-        bw->fn(bw->c, y0, y1, bw->sums + (size_t)b * MAX_SUMS);
+        bw->fn(bw->c, y0, y1, bw->sums + (size_t)b * MAX_SUMS, scratch);
     }
+    free(scratch);
     return NULL;
 }
 
@@ -89,14 +105,86 @@ static int sample_counts(const fit_ctx *c, int ux, int uy, int sx, int sy)
     return x0 >= 0 && y0 >= 0 && x0 + 1 < c->w && y0 + 1 < c->h;
 }
 
-/* Turns the references of sampled texels into residuals against x0 (the image):
- * ref - bilinear(x0), per channel; each texel rewrites only its own four samples. */
-static void subtract_prediction(fit_ctx *c, int y0, int y1, double *sums)
+/* Runs the body with (wt, ux, uy, s, sx, sy) for every counted sample s of texel (ux, uy)
+ * that touches texel (x, y) with weight wt > 0 (16 candidates: 1, 2 or 4 samples from each
+ * of the 3x3 neighbours). */
+#define FOR_TOUCHING_SAMPLES(c, x, y, ...)                                                 \
+    for (int uy = (y) - 1; uy <= (y) + 1; uy++)                                           \
+        for (int ux = (x) - 1; ux <= (x) + 1; ux++) {                                     \
+            if (ux < 0 || uy < 0 || ux >= (c)->w || uy >= (c)->h)                         \
+                continue;                                                                 \
+            for (int s = 0; s < TEXOPT_TEXEL_FIT_SAMPLES; s++) {                          \
+                int sx = s & 1, sy = s >> 1;                                              \
+                float wt = W1[sx][(x) - ux + 1] * W1[sy][(y) - uy + 1];                   \
+                if (wt > 0 && sample_counts((c), ux, uy, sx, sy)) {                       \
+                    __VA_ARGS__                                                           \
+                }                                                                         \
+            }                                                                             \
+        }
+
+/* Row of K of texel (x, y), gathered from its touching samples: k9[(oy + 1) * 3 + ox + 1]. */
+static void gather_stencil(const fit_ctx *c, int x, int y, float k9[9])
 {
-    (void)sums;
-    for (int uy = y0; uy < y1; uy++)
+    memset(k9, 0, 9 * sizeof *k9);
+    FOR_TOUCHING_SAMPLES(c, x, y, {
+        for (int dy = sy - 1; dy <= sy; dy++)
+            for (int dx = sx - 1; dx <= sx; dx++) {
+                int ox = ux + dx - x, oy = uy + dy - y; /* in -1..1 */
+                k9[(oy + 1) * 3 + ox + 1] += wt * W1[sx][dx + 1] * W1[sy][dy + 1];
+            }
+    })
+}
+
+/* Whether every sample touching (x, y) counts: all 3x3 neighbours sampled and their taps,
+ * up to two texels away, inside the image. */
+static int inside_stencil(const fit_ctx *c, int x, int y)
+{
+    if (x < 2 || y < 2 || x + 2 >= c->w || y + 2 >= c->h)
+        return 0;
+    for (int uy = y - 1; uy <= y + 1; uy++)
+        for (int ux = x - 1; ux <= x + 1; ux++)
+            if (!c->pb->sampled[(size_t)uy * c->w + ux])
+                return 0;
+    return 1;
+}
+
+/* Marks the free texels (touched by a counted sample, not fixed) and their preconditioner. */
+static void mark_free(fit_ctx *c, int y0, int y1, double *sums, float *scratch)
+{
+    (void)scratch;
+    for (int y = y0; y < y1; y++)
+        for (int x = 0; x < c->w; x++) {
+            size_t t = (size_t)y * c->w + x;
+            c->is_free[t] = NOT_FREE;
+            c->inv_diag[t] = 0;
+            if (c->pb->fixed && c->pb->fixed[t])
+                continue;
+            float k9[9];
+            if (inside_stencil(c, x, y)) {
+                c->is_free[t] = FREE_INSIDE;
+                k9[4] = T1[1] * T1[1];
+            } else {
+                gather_stencil(c, x, y, k9);
+                if (!(k9[4] > 0))
+                    continue;
+                c->is_free[t] = FREE_BORDER;
+            }
+            c->inv_diag[t] = (float)(1.0 / (k9[4] + c->pb->ridge));
+            sums[0] += 1;
+        }
+}
+
+/* The residuals ref - A x0 of the counted samples of rows [r0, r1) into scratch (4 * ch
+ * floats per texel of those rows). */
+static void block_residuals(fit_ctx *c, int r0, int r1, float *scratch)
+{
+    size_t per_texel = TEXOPT_TEXEL_FIT_SAMPLES * (size_t)c->ch;
+    for (int uy = r0; uy < r1; uy++)
         for (int ux = 0; ux < c->w; ux++) {
-            float *ref = c->pb->reference + ((size_t)uy * c->w + ux) * TEXOPT_TEXEL_FIT_SAMPLES * (size_t)c->ch;
+            if (!c->pb->sampled[(size_t)uy * c->w + ux])
+                continue;
+            float *ref = scratch + ((size_t)(uy - r0) * c->w + ux) * per_texel;
+            c->pb->reference(c->pb->user, ux, uy, ref);
             for (int s = 0; s < TEXOPT_TEXEL_FIT_SAMPLES; s++) {
                 int sx = s & 1, sy = s >> 1;
                 if (!sample_counts(c, ux, uy, sx, sy))
@@ -113,85 +201,44 @@ static void subtract_prediction(fit_ctx *c, int y0, int y1, double *sums)
         }
 }
 
-/* Marks the free texels: touched by a counted sample and not fixed. */
-static void mark_free(fit_ctx *c, int y0, int y1, double *sums)
-{
-    for (int y = y0; y < y1; y++)
-        for (int x = 0; x < c->w; x++) {
-            size_t t = (size_t)y * c->w + x;
-            int touched = 0;
-            for (int uy = y - 1; uy <= y + 1 && !touched; uy++)
-                for (int ux = x - 1; ux <= x + 1 && !touched; ux++) {
-                    if (ux < 0 || uy < 0 || ux >= c->w || uy >= c->h)
-                        continue;
-                    for (int s = 0; s < TEXOPT_TEXEL_FIT_SAMPLES && !touched; s++) {
-                        int sx = s & 1, sy = s >> 1;
-                        touched = W1[sx][x - ux + 1] > 0 && W1[sy][y - uy + 1] > 0 &&
-                                  sample_counts(c, ux, uy, sx, sy);
-                    }
-                }
-            c->is_free[t] = touched && !(c->pb->fixed && c->pb->fixed[t]);
-            sums[0] += c->is_free[t];
-        }
-}
-
-/* For each free texel: its nine coefficients of K and the starting residual
- * A^T (ref - A x0), by gathering over the samples that touch it. */
-static void build_system(fit_ctx *c, int y0, int y1, double *sums)
+/* Starting residual A^T (ref - A x0) of the free texels of rows [y0, y1), from the sample
+ * residuals of rows y0 - 1 .. y1 (the block and one row on each side). */
+static void start_residual(fit_ctx *c, int y0, int y1, double *sums, float *scratch)
 {
     (void)sums;
+    int r0 = y0 > 0 ? y0 - 1 : 0, r1 = y1 < c->h ? y1 + 1 : c->h;
+    size_t per_texel = TEXOPT_TEXEL_FIT_SAMPLES * (size_t)c->ch;
+    block_residuals(c, r0, r1, scratch);
     for (int y = y0; y < y1; y++)
         for (int x = 0; x < c->w; x++) {
             size_t t = (size_t)y * c->w + x;
-            float *k9 = c->coef + 9 * t, *rt = c->r + t * c->ch;
-            memset(k9, 0, 9 * sizeof *k9);
-            memset(rt, 0, (size_t)c->ch * sizeof *rt);
-            if (!c->is_free[t])
-                continue;
+            float *rt = c->r + t * c->ch;
             double acc[4] = {0, 0, 0, 0};
-            for (int uy = y - 1; uy <= y + 1; uy++)
-                for (int ux = x - 1; ux <= x + 1; ux++) {
-                    if (ux < 0 || uy < 0 || ux >= c->w || uy >= c->h)
-                        continue;
-                    for (int s = 0; s < TEXOPT_TEXEL_FIT_SAMPLES; s++) {
-                        int sx = s & 1, sy = s >> 1;
-                        double wt = (double)W1[sx][x - ux + 1] * W1[sy][y - uy + 1];
-                        if (!(wt > 0) || !sample_counts(c, ux, uy, sx, sy))
-                            continue;
-                        for (int dy = sy - 1; dy <= sy; dy++)
-                            for (int dx = sx - 1; dx <= sx; dx++) {
-                                int ox = ux + dx - x, oy = uy + dy - y; /* in -1..1 */
-                                k9[(oy + 1) * 3 + ox + 1] += (float)(wt * W1[sx][dx + 1] * W1[sy][dy + 1]);
-                            }
-                        const float *e = c->pb->reference +
-                                         ((size_t)uy * c->w + ux) * TEXOPT_TEXEL_FIT_SAMPLES * (size_t)c->ch +
-                                         (size_t)s * c->ch;
-                        for (int k = 0; k < c->ch; k++)
-                            acc[k] += wt * e[k];
-                    }
-                }
+            if (c->is_free[t] != NOT_FREE) {
+                FOR_TOUCHING_SAMPLES(c, x, y, {
+                    const float *e = scratch + ((size_t)(uy - r0) * c->w + ux) * per_texel + (size_t)s * c->ch;
+                    for (int k = 0; k < c->ch; k++)
+                        acc[k] += (double)wt * e[k];
+                })
+            }
             for (int k = 0; k < c->ch; k++)
                 rt[k] = (float)acc[k];
         }
 }
 
-static double diagonal(const fit_ctx *c, size_t t)
-{
-    return c->coef[9 * t + 4] + c->pb->ridge;
-}
-
 /* p = M^-1 r + beta p, on free texels (beta = 0 starts). sums[0] = r . M^-1 r. */
-static void update_direction(fit_ctx *c, int y0, int y1, double *sums)
+static void update_direction(fit_ctx *c, int y0, int y1, double *sums, float *scratch)
 {
+    (void)scratch;
     for (int y = y0; y < y1; y++)
         for (int x = 0; x < c->w; x++) {
             size_t t = (size_t)y * c->w + x;
             float *pt = c->p + t * c->ch;
-            if (!c->is_free[t]) {
+            if (c->is_free[t] == NOT_FREE) {
                 memset(pt, 0, (size_t)c->ch * sizeof *pt);
                 continue;
             }
-            double inv = 1.0 / diagonal(c, t);
+            float inv = c->inv_diag[t];
             const float *rt = c->r + t * c->ch;
             for (int k = 0; k < c->ch; k++) {
                 pt[k] = (float)(rt[k] * inv + c->beta * pt[k]);
@@ -200,37 +247,43 @@ static void update_direction(fit_ctx *c, int y0, int y1, double *sums)
         }
 }
 
-/* q = (K + ridge I) p on free texels. sums[0] = p . q. Away from the image border all nine
- * neighbours exist (p is zero wherever the fit may not change a texel), so the stencil runs
- * without tests there. */
-static void apply_matrix(fit_ctx *c, int y0, int y1, double *sums)
+/* q = (K + ridge I) p on free texels. sums[0] = p . q. p is zero wherever the fit may not
+ * change a texel, so inside texels run the constant stencil without tests. */
+static void apply_matrix(fit_ctx *c, int y0, int y1, double *sums, float *scratch)
 {
+    (void)scratch;
     int ch = c->ch;
     float ridge = (float)c->pb->ridge;
     for (int y = y0; y < y1; y++)
         for (int x = 0; x < c->w; x++) {
             size_t t = (size_t)y * c->w + x;
-            if (!c->is_free[t])
+            if (c->is_free[t] == NOT_FREE)
                 continue;
-            const float *k9 = c->coef + 9 * t, *pt = c->p + t * ch;
-            float *qt = c->q + t * ch;
+            float k9[9];
+            if (c->is_free[t] == FREE_INSIDE) {
+                for (int i = 0; i < 9; i++)
+                    k9[i] = T1[i / 3] * T1[i % 3];
+            } else {
+                gather_stencil(c, x, y, k9);
+            }
+            const float *pt = c->p + t * ch;
             float acc[4];
             for (int k = 0; k < ch; k++)
                 acc[k] = ridge * pt[k];
-            int interior = x > 0 && y > 0 && x + 1 < c->w && y + 1 < c->h;
             for (int oy = -1; oy <= 1; oy++) {
-                if (!interior && (y + oy < 0 || y + oy >= c->h))
+                if (y + oy < 0 || y + oy >= c->h)
                     continue;
                 const float *row = c->p + ((size_t)(y + oy) * c->w + (size_t)x) * ch;
                 for (int ox = -1; ox <= 1; ox++) {
-                    if (!interior && (x + ox < 0 || x + ox >= c->w))
-                        continue;
                     float kv = k9[(oy + 1) * 3 + ox + 1];
+                    if (kv == 0.0f)
+                        continue; /* also every neighbour outside the image */
                     const float *pn = row + ox * ch;
                     for (int k = 0; k < ch; k++)
                         acc[k] += kv * pn[k];
                 }
             }
+            float *qt = c->q + t * ch;
             for (int k = 0; k < ch; k++) {
                 qt[k] = acc[k];
                 sums[0] += (double)pt[k] * acc[k];
@@ -239,16 +292,17 @@ static void apply_matrix(fit_ctx *c, int y0, int y1, double *sums)
 }
 
 /* x += alpha p, r -= alpha q on free texels. sums[0] = r . M^-1 r of the new residual. */
-static void step(fit_ctx *c, int y0, int y1, double *sums)
+static void step(fit_ctx *c, int y0, int y1, double *sums, float *scratch)
 {
+    (void)scratch;
     for (int y = y0; y < y1; y++)
         for (int x = 0; x < c->w; x++) {
             size_t t = (size_t)y * c->w + x;
-            if (!c->is_free[t])
+            if (c->is_free[t] == NOT_FREE)
                 continue;
             float *xt = texopt_image_at(c->pb->image, x, y), *rt = c->r + t * c->ch;
             const float *pt = c->p + t * c->ch, *qt = c->q + t * c->ch;
-            double inv = 1.0 / diagonal(c, t);
+            float inv = c->inv_diag[t];
             for (int k = 0; k < c->ch; k++) {
                 xt[k] = (float)(xt[k] + c->alpha * pt[k]);
                 rt[k] = (float)(rt[k] - c->alpha * qt[k]);
@@ -257,12 +311,13 @@ static void step(fit_ctx *c, int y0, int y1, double *sums)
         }
 }
 
-static void clamp_free(fit_ctx *c, int y0, int y1, double *sums)
+static void clamp_free(fit_ctx *c, int y0, int y1, double *sums, float *scratch)
 {
     (void)sums;
+    (void)scratch;
     for (int y = y0; y < y1; y++)
         for (int x = 0; x < c->w; x++) {
-            if (!c->is_free[(size_t)y * c->w + x])
+            if (c->is_free[(size_t)y * c->w + x] == NOT_FREE)
                 continue;
             float *xt = texopt_image_at(c->pb->image, x, y);
             for (int k = 0; k < c->ch; k++)
@@ -317,34 +372,40 @@ texopt_status texopt_texel_fit(const texopt_texel_fit_problem *problem, uint8_t 
         return st;
     fit_ctx c = {.pb = problem, .w = problem->image->width, .h = problem->image->height,
                  .ch = problem->image->channels};
+    atomic_init(&c.no_memory, 0);
     size_t n = (size_t)c.w * (size_t)c.h;
     int blocks = (c.h + BLOCK_ROWS - 1) / BLOCK_ROWS;
     c.is_free = malloc(n);
-    c.coef = malloc(9 * n * sizeof *c.coef);
+    c.inv_diag = malloc(n * sizeof *c.inv_diag);
     c.r = malloc(n * (size_t)c.ch * sizeof *c.r);
     c.p = malloc(n * (size_t)c.ch * sizeof *c.p);
     c.q = malloc(n * (size_t)c.ch * sizeof *c.q);
     double *block_sums = malloc((size_t)blocks * MAX_SUMS * sizeof *block_sums);
     texopt_texel_fit_report rep = {0};
-    if (!c.is_free || !c.coef || !c.r || !c.p || !c.q || !block_sums) {
+    if (!c.is_free || !c.inv_diag || !c.r || !c.p || !c.q || !block_sums) {
         st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %dx%d texel fit", c.w, c.h);
     } else {
         double sums[MAX_SUMS];
         run_blocks(&c, mark_free, block_sums, sums);
         rep.unknowns = (size_t)sums[0];
-        run_blocks(&c, subtract_prediction, block_sums, sums);
-        run_blocks(&c, build_system, block_sums, sums);
-        solve(&c, block_sums, &rep);
-        run_blocks(&c, clamp_free, block_sums, sums);
-        if (changed)
-            for (size_t t = 0; t < n; t++)
-                if (c.is_free[t])
-                    changed[t] = 1;
+        c.scratch_floats = (size_t)(BLOCK_ROWS + 2) * (size_t)c.w * TEXOPT_TEXEL_FIT_SAMPLES * (size_t)c.ch;
+        run_blocks(&c, start_residual, block_sums, sums);
+        c.scratch_floats = 0;
+        if (atomic_load(&c.no_memory)) {
+            st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %dx%d texel fit", c.w, c.h);
+        } else {
+            solve(&c, block_sums, &rep);
+            run_blocks(&c, clamp_free, block_sums, sums);
+            if (changed)
+                for (size_t t = 0; t < n; t++)
+                    if (c.is_free[t] != NOT_FREE)
+                        changed[t] = 1;
+        }
     }
     if (report)
         *report = rep;
     free(c.is_free);
-    free(c.coef);
+    free(c.inv_diag);
     free(c.r);
     free(c.p);
     free(c.q);

@@ -12,7 +12,8 @@
  * interpolation would blur the signal again, which is what this fit undoes.
  * Solved by conjugate gradients with a Jacobi preconditioner on the 3x3-stencil normal
  * equations; rows are shared among threads in fixed blocks and every sum is taken in block
- * order, so the result does not depend on the thread count. Values are clamped to [0, 1]
+ * order, so the result does not depend on the thread count. Memory: 1 + 4 + 12 * channels
+ * bytes per texel besides the image. Values are clamped to [0, 1]
  * (the engine's image contract, image.h) after the solve.
  * Does not: decide where the references come from or which texels to fix (rebake.h does).
  *
@@ -32,11 +33,17 @@
 /* Sub-samples per texel, in the order (-,-), (+,-), (-,+), (+,+) of (dx, dy) = +-1/4. */
 #define TEXOPT_TEXEL_FIT_SAMPLES 4
 
+/* Writes the four references of sampled texel (x, y): 4 * channels floats, sample-major.
+ * Called from several threads at once, about 1.1 times per sampled texel (rows at the
+ * borders of the fit's row blocks are asked twice), so the references never all sit in
+ * memory: at 4096² that would be a gigabyte. */
+typedef void (*texopt_texel_reference_fn)(void *user, int x, int y, float *out);
+
 typedef struct texopt_texel_fit_problem {
     texopt_image *image;    /* in: x0 at every texel; out: fitted values where changeable */
     const uint8_t *sampled; /* per texel: non-zero when its four sub-samples take part */
-    float *reference;       /* per texel 4 * channels values (sample-major), read where sampled;
-                               overwritten with the residuals against x0 */
+    texopt_texel_reference_fn reference;
+    void *user;             /* passed to reference */
     const uint8_t *fixed;   /* per texel: non-zero keeps its value (NULL: none fixed) */
     double ridge;           /* > 0: weight of |x - x0|^2 (e.g. 1e-3) */
     double tolerance;       /* stop when the preconditioned residual fell by this factor */
