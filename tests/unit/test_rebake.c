@@ -384,3 +384,29 @@ TEST(anisotropic_footprint_follows_its_direction)
     texopt_texture_filter_destroy(f);
     texopt_image_destroy(&in);
 }
+
+TEST(least_squares_bake_of_tiny_outputs_stays_defined)
+{
+    /* At 1x1 no sub-texel sample has its four bilinear taps inside the image: the fit has no
+     * unknowns and leaves the prefiltered bake as it is. At 2x2 only the inner samples count:
+     * the result must still be finite and in [0, 1]. */
+    for (int side = 1; side <= 2; side++) {
+        texopt_image in, pre, fit;
+        CHECK(make_noise(&in, 16, 16, 3) == 0);
+        CHECK(texopt_image_create(&pre, side, side, 3, NULL, 0) == TEXOPT_OK);
+        CHECK(texopt_image_create(&fit, side, side, 3, NULL, 0) == TEXOPT_OK);
+        texopt_rebake_layout layout = {2, quad_tris, unit_quad, unit_quad, 2};
+        char err[256] = "";
+        CHECK_OK(texopt_rebake_image_fit(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 0, &layout,
+                                         TEXOPT_REBAKE_FIT_PREFILTER, &pre, NULL, NULL, err, sizeof err), err);
+        CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 0, &layout, &fit, NULL,
+                                     NULL, err, sizeof err), err);
+        if (side == 1)
+            CHECK(memcmp(pre.pixels, fit.pixels, sizeof(float) * 3) == 0);
+        for (int i = 0; i < 3 * side * side; i++)
+            CHECK(isfinite(fit.pixels[i]) && fit.pixels[i] >= 0.0f && fit.pixels[i] <= 1.0f);
+        texopt_image_destroy(&in);
+        texopt_image_destroy(&pre);
+        texopt_image_destroy(&fit);
+    }
+}
