@@ -302,13 +302,15 @@ TEST(scattered_footprints_over_a_huge_texture_fit_each_pixel)
     texopt_bake_workspace_destroy(ws);
 }
 
-/* One fit of 16 right-hand sides shares the factorisation; each channel must come out as
- * a fit of that channel alone would (the solves per column are independent). */
-TEST(sixteen_channel_fit_equals_separate_single_channel_fits)
+/* One fit of several right-hand sides shares the factorisation; each channel must come out
+ * as a fit of that channel alone would (the solves per column are independent). Counts:
+ * every number of four-lane vectors of the multi-channel solve, with partial last ones. */
+static void multi_channel_fit_equals_single_fits(int channels)
 {
-    enum { S = 32, C = TEXOPT_BAKE_MAX_CHANNELS };
+    enum { S = 32, CMAX = TEXOPT_BAKE_MAX_CHANNELS };
+    const int C = channels;
     static double pos[2 * S * S];
-    static float ref[C * S * S], out[C * S * S], one_ref[S * S], one_out[S * S];
+    static float ref[CMAX * S * S], out[CMAX * S * S], one_ref[S * S], one_out[S * S];
     const double jac[4] = {0.55, -0.3, 0.25, 0.7};
     screen_positions(S, jac, 5.2, 4.9, pos);
     reference_on_screen(S, C, ref);
@@ -339,6 +341,13 @@ TEST(sixteen_channel_fit_equals_separate_single_channel_fits)
     CHECK(spread > 0.05);
     texopt_bake_workspace_destroy(multi);
     texopt_bake_workspace_destroy(single);
+}
+
+TEST(multi_channel_fits_equal_separate_single_channel_fits)
+{
+    const int counts[] = {TEXOPT_BAKE_MAX_CHANNELS, 11, 7, 3, 2};
+    for (size_t i = 0; i < sizeof counts / sizeof counts[0]; i++)
+        multi_channel_fit_equals_single_fits(counts[i]);
 }
 
 /* A minified patch (2.7 texels a pixel) has ~4 unknowns per pixel: the pixel-side system
