@@ -378,7 +378,9 @@ texopt_status texopt_texel_fit(const texopt_texel_fit_problem *problem, uint8_t 
     c.is_free = malloc(n);
     c.inv_diag = malloc(n * sizeof *c.inv_diag);
     c.r = malloc(n * (size_t)c.ch * sizeof *c.r);
-    c.p = malloc(n * (size_t)c.ch * sizeof *c.p);
+    /* Zeroed: the first direction update reads p times beta = 0, and 0 times leftover
+     * garbage (NaN, Inf) from an earlier allocation is not 0. */
+    c.p = calloc(n * (size_t)c.ch, sizeof *c.p);
     c.q = malloc(n * (size_t)c.ch * sizeof *c.q);
     double *block_sums = malloc((size_t)blocks * MAX_SUMS * sizeof *block_sums);
     texopt_texel_fit_report rep = {0};
