@@ -55,16 +55,24 @@ void texopt_gmsd_workspace_destroy(texopt_gmsd_workspace *ws)
  * missing row/column (odd sizes) counts as zero, still divided by 4. Written inside a frame
  * of zeros one pixel wide (row stride dw + 2): the Prewitt filter's zero padding, so the
  * gradient needs no bounds checks. */
-static void average_downsample(const float *src, int width, int height, double *dst)
+static void average_downsample_rows(const float *src, int width, int height, double *dst,
+                                    int row_lo, int row_hi)
 {
     int dw = (width + 1) / 2, dh = (height + 1) / 2, stride = dw + 2;
     memset(dst, 0, (size_t)stride * sizeof *dst);
     memset(dst + (size_t)(dh + 1) * stride, 0, (size_t)stride * sizeof *dst);
-    for (int i = 0; i < dh; i++) {
+    for (int i = row_lo; i <= row_hi; i++) {
         int r0 = 2 * i, r1 = 2 * i + 1;
         double *out = dst + (size_t)(i + 1) * stride;
         out[0] = 0.0;
         out[dw + 1] = 0.0;
+        if (width % 2 == 0 && r1 < height) {
+            /* Whole 2x2 blocks: the general loop's sums without its tests. */
+            const float *a = src + (size_t)r0 * width, *b = src + (size_t)r1 * width;
+            for (int j = 0; j < dw; j++)
+                out[j + 1] = ((((double)a[2 * j] + a[2 * j + 1]) + b[2 * j]) + b[2 * j + 1]) / 4.0;
+            continue;
+        }
         for (int j = 0; j < dw; j++) {
             int c0 = 2 * j, c1 = 2 * j + 1;
             double sum = src[(size_t)r0 * width + c0];
@@ -78,6 +86,11 @@ static void average_downsample(const float *src, int width, int height, double *
             out[j + 1] = sum / 4.0;
         }
     }
+}
+
+static void average_downsample(const float *src, int width, int height, double *dst)
+{
+    average_downsample_rows(src, width, height, dst, 0, (height + 1) / 2 - 1);
 }
 
 static void downsample_mask(const unsigned char *mask, int width, int height, unsigned char *dst)
@@ -110,16 +123,21 @@ static int support_covered(const unsigned char *covered, int dw, int dh, int i, 
 
 /* Prewitt gradient magnitude with the reference's /3 at downsampled pixel (i, j) of a
  * zero-framed image (see average_downsample). */
-static double prewitt_magnitude(const double *framed, int dw, int i, int j)
+static inline double prewitt_at(const double *up, int dw)
 {
     int stride = dw + 2;
-    const double *up = framed + (size_t)i * stride + j; /* row i-1, column j-1 */
     const double *mid = up + stride, *down = mid + stride;
     double gx = (up[0] + mid[0] + down[0]) - (up[2] + mid[2] + down[2]);
     double gy = (up[0] + up[1] + up[2]) - (down[0] + down[1] + down[2]);
     gx /= 3.0;
     gy /= 3.0;
     return sqrt(gx * gx + gy * gy);
+}
+
+/* The same at downsampled pixel (i, j): `up` is row i-1, column j-1 of the framed image. */
+static double prewitt_magnitude(const double *framed, int dw, int i, int j)
+{
+    return prewitt_at(framed + (size_t)i * (dw + 2) + j, dw);
 }
 
 /* MATLAB std2: sample standard deviation with N-1. */
@@ -165,7 +183,9 @@ struct texopt_gmsd_reference {
     int max_width, max_height, width, height;
     double *down;       /* framed downsampled reference */
     unsigned char *down_covered;
-    int *counted;       /* downsampled pixels entering the deviation, row-major */
+    int *counted;       /* downsampled pixels entering the deviation, row-major, as offsets
+                         * of their upper-left Prewitt neighbour in the framed image */
+    int row_lo, row_hi; /* downsampled rows the counted pixels' gradients read */
     double *magnitude;  /* the reference's Prewitt magnitude at each of them */
     size_t count;
 };
@@ -220,7 +240,9 @@ int texopt_gmsd_reference_set(texopt_gmsd_reference *r, const float *reference,
         for (int j = 0; j < dw; j++) {
             if (mask && !support_covered(r->down_covered, dw, dh, i, j))
                 continue;
-            r->counted[r->count] = i * dw + j;
+            r->counted[r->count] = i * (dw + 2) + j;
+            r->row_lo = r->count == 0 ? (i > 0 ? i - 1 : 0) : r->row_lo;
+            r->row_hi = i + 1 < dh ? i + 1 : dh - 1;
             r->magnitude[r->count++] = prewitt_magnitude(r->down, dw, i, j);
         }
     }
@@ -234,12 +256,14 @@ double texopt_gmsd_against(texopt_gmsd_workspace *ws, const texopt_gmsd_referenc
         r->height > ws->max_height)
         return NAN;
     int dw = (r->width + 1) / 2;
-    average_downsample(distorted, r->width, r->height, ws->down_dist);
+    if (r->count == 0)
+        return 0.0;
+    /* Only the rows the counted gradients read (frame rows included). */
+    average_downsample_rows(distorted, r->width, r->height, ws->down_dist, r->row_lo, r->row_hi);
     /* Same operations in the same order as texopt_gmsd_ws, so the same bits. */
     for (size_t k = 0; k < r->count; k++) {
-        int i = r->counted[k] / dw, j = r->counted[k] % dw;
         double m1 = r->magnitude[k];
-        double m2 = prewitt_magnitude(ws->down_dist, dw, i, j);
+        double m2 = prewitt_at(ws->down_dist + r->counted[k], dw);
         ws->gms[k] = (2.0 * m1 * m2 + GMSD_T) / (m1 * m1 + m2 * m2 + GMSD_T);
     }
     return sample_deviation(ws->gms, r->count);

@@ -161,6 +161,35 @@ TEST(gmsd_workspace_reuse_and_bad_arguments)
 /* The prepared reference gives texopt_gmsd_ws's value bit for bit, for several distorted
  * images against one reference, with and without a mask, odd sizes, and after re-preparing
  * a smaller image. */
+/* Even sizes (the stage's 64x64 screen) take the whole-block downsampling, and the prepared
+ * side downsamples only the rows its counted pixels read: a mask over the middle rows and a
+ * workspace left holding another image must still give gmsd_ws's bits. */
+TEST(prepared_reference_on_even_sizes_reads_only_fresh_rows)
+{
+    enum { W = 40, H = 36 };
+    float a[W * H], b[W * H], c[W * H];
+    unsigned char mask[W * H];
+    fill_pattern(a, W, H, 41);
+    fill_pattern(b, W, H, 42);
+    fill_pattern(c, W, H, 43);
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            mask[y * W + x] = (unsigned char)((x - 21) * (x - 21) + (y - 18) * (y - 18) < 9 * 9);
+    texopt_gmsd_workspace *ws = texopt_gmsd_workspace_create(W, H);
+    texopt_gmsd_workspace *fresh = texopt_gmsd_workspace_create(W, H);
+    texopt_gmsd_reference *ref = texopt_gmsd_reference_create(W, H);
+    CHECK(ws != NULL && fresh != NULL && ref != NULL);
+    CHECK(texopt_gmsd_reference_set(ref, a, mask, W, H));
+    double expect = texopt_gmsd_ws(fresh, a, b, mask, W, H);
+    CHECK(expect > 0.0);
+    CHECK(texopt_gmsd_ws(ws, c, c, NULL, W, H) == 0.0); /* leaves c's rows in ws */
+    CHECK(texopt_gmsd_against(ws, ref, b) == expect);
+    CHECK(texopt_gmsd_against(ws, ref, a) == 0.0);
+    texopt_gmsd_reference_destroy(ref);
+    texopt_gmsd_workspace_destroy(ws);
+    texopt_gmsd_workspace_destroy(fresh);
+}
+
 TEST(prepared_reference_equals_gmsd_ws_exactly)
 {
     enum { W = 41, H = 37 };
