@@ -826,8 +826,8 @@ static texopt_status evaluate_output(const texopt_model *model, const job_output
  * smaller whole-mesh loss q is kept (its evaluation in *ev, *evaluated = 1): the targets
  * allocated to the budget (allocate.h) and stage 1's own targets scaled uniformly by the
  * budget. Neither wins everywhere (BENCHMARKS.md "Quality": the allocation lowers q on Fox
- * and Duck, raises it on spot), and q is what the product minimises. The loser is rebuilt
- * rather than kept, so only one candidate's images are held at a time. */
+ * and Duck, raises it on spot), and q is what the product minimises. A winning allocated
+ * candidate is rebuilt rather than kept, so only one candidate's images are held at a time. */
 static texopt_status run_best_budget(texopt_job *job, const texopt_params *p, int with_stats, job_output *out,
                                      double from, double to, texopt_evaluation *ev, int *evaluated, char *err,
                                      size_t err_len)
@@ -839,7 +839,8 @@ static texopt_status run_best_budget(texopt_job *job, const texopt_params *p, in
     double third = (to - from) / 3;
     texopt_evaluation allocated_ev, uniform_ev;
     job->allocating = 1;
-    texopt_status st = run_budget(job, p, with_stats, out, from, from + 0.8 * third, err, err_len);
+    /* The per-triangle loss share (with_stats) is measured only on runs that may be kept. */
+    texopt_status st = run_budget(job, p, 0, out, from, from + 0.8 * third, err, err_len);
     if (st == TEXOPT_OK) {
         job_stage(&job->jm, "evaluate", from + 0.8 * third, from + third);
         st = evaluate_output(job->model, out, p, &job->jm, &allocated_ev, err, err_len);
