@@ -175,6 +175,9 @@ typedef struct job_output {
     texopt_image *images;        /* per model image; empty when kept */
     const texopt_image **edit_images;
     float *uvs;                  /* new TEXCOORD_0 of every model vertex, NULL when unchanged */
+    int domain_count;
+    double **solved;             /* per domain: stage 2's layout in input texels (kept for
+                                    the loss share of a chosen candidate), NULL when none */
 } job_output;
 
 static void job_output_destroy(job_output *o, int image_count)
@@ -185,6 +188,11 @@ static void job_output_destroy(job_output *o, int image_count)
     free(o->images);
     free(o->edit_images);
     free(o->uvs);
+    if (o->solved)
+        for (int d = 0; d < o->domain_count; d++)
+            free(o->solved[d]);
+    free(o->solved);
+    memset(o, 0, sizeof *o);
 }
 
 static texopt_status record_images(const texopt_model *model, const texopt_domain *dom,
@@ -711,6 +719,10 @@ static texopt_status run_optimised_method(const texopt_job *job, int d, const te
     }
     if (st == TEXOPT_OK)
         write_domain_uvs(job->model, mesh, packed, br.width, br.height, out->uvs);
+    if (st == TEXOPT_OK && out->solved) {
+        out->solved[d] = texel_new;
+        texel_new = NULL;
+    }
     free(texel_new);
     free(packed);
     return st;
@@ -743,9 +755,13 @@ static texopt_status alloc_output(const texopt_model *model, int method, job_out
     out->edit_images = calloc(n, sizeof *out->edit_images);
     if (!out->images || !out->edit_images)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the output images");
-    if (method != TEXOPT_METHOD_INPUT)
-        return alloc_uvs(model, &out->uvs, err, err_len);
-    return TEXOPT_OK;
+    if (method == TEXOPT_METHOD_INPUT)
+        return TEXOPT_OK;
+    out->domain_count = model->domain_count;
+    out->solved = calloc((size_t)(model->domain_count > 0 ? model->domain_count : 1), sizeof *out->solved);
+    if (!out->solved)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the solved layouts");
+    return alloc_uvs(model, &out->uvs, err, err_len);
 }
 
 /* Every domain at the budget of p (relative cost or texture size) into *out (allocated
@@ -822,12 +838,79 @@ static texopt_status evaluate_output(const texopt_model *model, const job_output
     return st;
 }
 
+static void free_domain_stats(texopt_domain_stats *ds, int n)
+{
+    if (ds)
+        for (int d = 0; d < n; d++)
+            free(ds[d].images);
+    free(ds);
+}
+
+/* A copy of the job's per-domain statistics with image arrays of its own, so that two
+ * candidates can each record theirs. */
+static texopt_domain_stats *copy_domain_stats(const texopt_job_stats *js)
+{
+    int n = js->domain_count;
+    texopt_domain_stats *c = calloc((size_t)(n > 0 ? n : 1), sizeof *c);
+    for (int d = 0; c && d < n; d++) {
+        c[d] = js->domains[d];
+        c[d].images = NULL;
+        size_t k = (size_t)(c[d].image_count > 0 ? c[d].image_count : 1);
+        c[d].images = js->domains[d].images ? malloc(k * sizeof *c[d].images) : NULL;
+        if (js->domains[d].images && !c[d].images) {
+            free_domain_stats(c, n);
+            return NULL;
+        }
+        if (c[d].images)
+            memcpy(c[d].images, js->domains[d].images, k * sizeof *c[d].images);
+    }
+    return c;
+}
+
+/* One candidate of run_best_budget: its output, statistics and whole-mesh loss. */
+typedef struct candidate {
+    job_output out;
+    texopt_domain_stats *domains;
+    texopt_evaluation ev;
+} candidate;
+
+static texopt_status run_candidate(texopt_job *job, const texopt_params *p, int allocating, candidate *c,
+                                   double from, double to, char *err, size_t err_len)
+{
+    texopt_domain_stats *job_domains = job->stats.domains;
+    c->domains = copy_domain_stats(&job->stats);
+    if (!c->domains)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for candidate statistics");
+    job->stats.domains = c->domains;
+    job->allocating = allocating;
+    double split = from + 0.8 * (to - from);
+    texopt_status st = run_budget(job, p, 0, &c->out, from, split, err, err_len);
+    if (st == TEXOPT_OK) {
+        job_stage(&job->jm, "evaluate", split, to);
+        st = evaluate_output(job->model, &c->out, p, &job->jm, &c->ev, err, err_len);
+    }
+    job->allocating = 0;
+    job->stats.domains = job_domains;
+    return st;
+}
+
+/* The per-triangle loss share (paper Fig. 16) of the kept candidate's solved layouts. */
+static texopt_status measure_chosen_loss_share(texopt_job *job, const job_output *out, char *err, size_t err_len)
+{
+    texopt_status st = TEXOPT_OK;
+    for (int d = 0; d < job->model->domain_count && st == TEXOPT_OK; d++)
+        if (out->solved && out->solved[d])
+            st = measure_loss_share(job, d, out->solved[d], &job->stats.domains[d], &job->jm, err, err_len);
+    return st;
+}
+
 /* One budget into *out. For perceptual, two candidate layouts are made and the one with the
  * smaller whole-mesh loss q is kept (its evaluation in *ev, *evaluated = 1): the targets
  * allocated to the budget (allocate.h) and stage 1's own targets scaled uniformly by the
  * budget. Neither wins everywhere (BENCHMARKS.md "Quality": the allocation lowers q on Fox
- * and Duck, raises it on spot), and q is what the product minimises. A winning allocated
- * candidate is rebuilt rather than kept, so only one candidate's images are held at a time. */
+ * and Duck, raises it on spot), and q is what the product minimises. Both candidates are
+ * held until the choice (their images: twice the output's memory) so the winner is not
+ * rebuilt, and the per-triangle loss share is measured on the winner only. */
 static texopt_status run_best_budget(texopt_job *job, const texopt_params *p, int with_stats, job_output *out,
                                      double from, double to, texopt_evaluation *ev, int *evaluated, char *err,
                                      size_t err_len)
@@ -836,41 +919,33 @@ static texopt_status run_best_budget(texopt_job *job, const texopt_params *p, in
     job->allocating = 0;
     if (p->method != TEXOPT_METHOD_PERCEPTUAL)
         return run_budget(job, p, with_stats, out, from, to, err, err_len);
-    double third = (to - from) / 3;
-    texopt_evaluation allocated_ev, uniform_ev;
-    job->allocating = 1;
-    /* The per-triangle loss share (with_stats) is measured only on runs that may be kept. */
-    texopt_status st = run_budget(job, p, 0, out, from, from + 0.8 * third, err, err_len);
-    if (st == TEXOPT_OK) {
-        job_stage(&job->jm, "evaluate", from + 0.8 * third, from + third);
-        st = evaluate_output(job->model, out, p, &job->jm, &allocated_ev, err, err_len);
-    }
-    job_output_destroy(out, job->model->image_count);
-    memset(out, 0, sizeof *out);
-    job->allocating = 0;
+    double half = (to - from) / 2;
+    candidate allocated = {0}, uniform = {0};
+    texopt_status st = run_candidate(job, p, 1, &allocated, from, from + half, err, err_len);
     if (st == TEXOPT_OK)
-        st = run_budget(job, p, with_stats, out, from + third, from + 1.8 * third, err, err_len);
+        st = run_candidate(job, p, 0, &uniform, from + half, to, err, err_len);
     if (st == TEXOPT_OK) {
-        job_stage(&job->jm, "evaluate", from + 1.8 * third, from + 2 * third);
-        st = evaluate_output(job->model, out, p, &job->jm, &uniform_ev, err, err_len);
+        texopt_job_stats *js = &job->stats;
+        js->has_allocation_choice = 1;
+        js->q_allocated = allocated.ev.q;
+        js->q_uniform = uniform.ev.q;
+        js->allocation_chosen = allocated.ev.q < uniform.ev.q;
+        candidate *kept = js->allocation_chosen ? &allocated : &uniform;
+        free_domain_stats(js->domains, js->domain_count);
+        js->domains = kept->domains;
+        kept->domains = NULL;
+        *out = kept->out;
+        memset(&kept->out, 0, sizeof kept->out);
+        *ev = kept->ev;
+        if (with_stats)
+            st = measure_chosen_loss_share(job, out, err, err_len);
+        *evaluated = st == TEXOPT_OK;
     }
-    if (st != TEXOPT_OK)
-        return st;
-    texopt_job_stats *js = &job->stats;
-    js->has_allocation_choice = 1;
-    js->q_allocated = allocated_ev.q;
-    js->q_uniform = uniform_ev.q;
-    js->allocation_chosen = allocated_ev.q < uniform_ev.q;
-    *ev = uniform_ev;
-    if (js->allocation_chosen) {
-        job_output_destroy(out, job->model->image_count);
-        memset(out, 0, sizeof *out);
-        job->allocating = 1;
-        st = run_budget(job, p, with_stats, out, from + 2 * third, to, err, err_len);
-        *ev = allocated_ev; /* the same layout again: the pipeline is deterministic */
-    }
-    job->allocating = 0;
-    *evaluated = st == TEXOPT_OK;
+    int n = job->stats.domain_count;
+    free_domain_stats(allocated.domains, n);
+    free_domain_stats(uniform.domains, n);
+    job_output_destroy(&allocated.out, job->model->image_count);
+    job_output_destroy(&uniform.out, job->model->image_count);
     return st;
 }
 
