@@ -63,10 +63,15 @@ assert t["q_below"] > 0.03 and t["relative_cost"] / t["relative_cost_below"] <= 
 assert 0 < t["relative_cost"] < 1, t
 PY
 
-# SIGINT while stage 1 runs: exit 3, no output file.
-"$bin" optimize "$spot" -o "$tmp/canceled.glb" --quiet &
+# SIGINT while stage 1 runs (seen in its progress lines, not guessed with a sleep: stage 1
+# of spot takes only seconds): exit 3, no output file.
+"$bin" optimize "$spot" -o "$tmp/canceled.glb" 2>"$tmp/progress.txt" &
 pid=$!
-sleep 2
+for _ in $(seq 600); do
+  grep -q 'stage1' "$tmp/progress.txt" && break
+  sleep 0.1
+done
+grep -q 'stage1' "$tmp/progress.txt" || fail "no stage1 progress line within 60 s: $(cat "$tmp/progress.txt")"
 kill -INT $pid
 set +e
 wait $pid; rc=$?
