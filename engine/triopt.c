@@ -252,37 +252,52 @@ static int flat_at_smallest_area(triangle_search *s, double lower_bound)
     return s->status == TEXOPT_OK && f <= lower_bound;
 }
 
-/* Golden-section search of f over isotropic shrinks J = lambda I, x = (0, u, u, 0): E grows
- * as lambda falls, so f is +INFINITY below the feasibility boundary and unimodal above it
- * in practice. `evaluations` >= 2 points; the best one lands in s->best_x. */
-static void isotropic_search(triangle_search *s, int evaluations)
+static void set_coordinates(double x[TRIOPT_DIM], unsigned coords, double value)
+{
+    for (int i = 0; i < TRIOPT_DIM; i++)
+        if (coords & 1u << i)
+            x[i] = value;
+}
+
+/* Golden-section search of f along the unit coordinates in the bit mask `coords`, all set
+ * to the same value in [a, b], the others as in x: `evaluations` >= 2 points; the best one
+ * lands in s->best_x. Equal values (both infeasible) move right: infeasibility sits at
+ * small shrinks. */
+static void golden_section(triangle_search *s, double x[TRIOPT_DIM], unsigned coords, double a, double b,
+                           int evaluations)
 {
     const double g = 0.6180339887498949;
-    double a = 0.0, b = 1.0;
-    double xc[TRIOPT_DIM] = {0, 0, 0, 0}, xd[TRIOPT_DIM] = {0, 0, 0, 0};
     double c = b - g * (b - a), d = a + g * (b - a);
-    xc[1] = xc[2] = c;
-    xd[1] = xd[2] = d;
-    double fc = search_objective(s, xc);
-    double fd = search_objective_below(s, xd, fc);
+    set_coordinates(x, coords, c);
+    double fc = search_objective(s, x);
+    set_coordinates(x, coords, d);
+    double fd = search_objective_below(s, x, fc);
     for (int k = 2; k < evaluations && s->status == TEXOPT_OK; k++) {
-        /* Equal values (both infeasible) move right: infeasibility sits at small shrinks. */
         if (fc < fd) {
             b = d;
             d = c;
             fd = fc;
             c = b - g * (b - a);
-            xc[1] = xc[2] = c;
-            fc = search_objective_below(s, xc, fd);
+            set_coordinates(x, coords, c);
+            fc = search_objective_below(s, x, fd);
         } else {
             a = c;
             c = d;
             fc = fd;
             d = a + g * (b - a);
-            xd[1] = xd[2] = d;
-            fd = search_objective_below(s, xd, fc);
+            set_coordinates(x, coords, d);
+            fd = search_objective_below(s, x, fc);
         }
     }
+}
+
+/* Golden-section search of f over isotropic shrinks J = lambda I, x = (0, u, u, 0): E grows
+ * as lambda falls, so f is +INFINITY below the feasibility boundary and unimodal above it
+ * in practice. */
+static void isotropic_search(triangle_search *s, int evaluations)
+{
+    double x[TRIOPT_DIM] = {0, 0, 0, 0};
+    golden_section(s, x, 1u << 1 | 1u << 2, 0.0, 1.0, evaluations);
 }
 
 /* Anisotropic refinement of the best point so far. From the best point's x, squeezing
@@ -314,34 +329,10 @@ static void anisotropic_search(triangle_search *s, int directions, int golden_st
     }
     if (best_axis == 0)
         return;
-    const double g = 0.6180339887498949;
-    int axis = best_axis;
     double x[TRIOPT_DIM];
     memcpy(x, start, sizeof x);
     x[3] = best_beta;
-    double a = 0.0, b = start[axis];
-    double c = b - g * (b - a), d = a + g * (b - a), fc, fd;
-    x[axis] = c;
-    fc = search_objective(s, x);
-    x[axis] = d;
-    fd = search_objective_below(s, x, fc);
-    for (int k = 2; k < golden_steps && s->status == TEXOPT_OK; k++) {
-        if (fc < fd) {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - g * (b - a);
-            x[axis] = c;
-            fc = search_objective_below(s, x, fd);
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + g * (b - a);
-            x[axis] = d;
-            fd = search_objective_below(s, x, fc);
-        }
-    }
+    golden_section(s, x, 1u << best_axis, 0.0, start[best_axis], golden_steps);
 }
 
 /* The paper's plan: J = I (E = 0, always feasible), the Latin-hypercube design, then
