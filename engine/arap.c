@@ -8,8 +8,6 @@
 #include <math.h>
 #include <string.h>
 
-#define PI 3.14159265358979323846
-
 static int counted(const texopt_mesh *mesh, size_t t)
 {
     return !(mesh->flags[t] & (TEXOPT_TRI_DEGENERATE_3D | TEXOPT_TRI_DEGENERATE_UV));
@@ -55,24 +53,12 @@ static void isometric_target(const texopt_mesh *mesh, size_t t, double scale,
     for (int r = 0; r < 2; r++)
         for (int c = 0; c < 2; c++)
             J[r][c] = scale * (P[r][0] * Ti[0][c] + P[r][1] * Ti[1][c]);
-    /* J^T J = [[a, b], [b, c]]; S has its eigenvectors and the square roots of its eigenvalues. */
-    double a = J[0][0] * J[0][0] + J[1][0] * J[1][0];
-    double b = J[0][0] * J[0][1] + J[1][0] * J[1][1];
-    double c = J[0][1] * J[0][1] + J[1][1] * J[1][1];
-    double mean = 0.5 * (a + c), half = 0.5 * (a - c), d = sqrt(half * half + b * b);
-    double s1 = sqrt(fmax(0, mean + d)), s2 = sqrt(fmax(0, mean - d));
-    double theta = 0.5 * atan2(2 * b, a - c);
-    if (theta < 0)
-        theta += PI;
-    if (theta < PI / 2) {
-        g->beta = theta;
-        g->lambda1 = s1;
-        g->lambda2 = s2;
-    } else {
-        g->beta = theta - PI / 2;
-        g->lambda1 = s2;
-        g->lambda2 = s1;
-    }
+    /* S = sqrt(J^T J): the eigenvectors of J^T J and the square roots of its eigenvalues. */
+    double JtJ[3] = {J[0][0] * J[0][0] + J[1][0] * J[1][0], J[0][0] * J[0][1] + J[1][0] * J[1][1],
+                     J[0][1] * J[0][1] + J[1][1] * J[1][1]};
+    double mu1, mu2, theta;
+    texopt_sym2_eigen(JtJ, &mu1, &mu2, &theta);
+    texopt_target_set_stretch(g, theta, sqrt(mu1), sqrt(mu2));
     g->w_stretch = 1;
 }
 

@@ -15,7 +15,6 @@
 #include "sample.h"
 
 #define MAX_SUBDIVISION 32
-#define PI 3.14159265358979323846
 
 const texopt_image *texopt_domain_signal_image(const texopt_model *model, const texopt_mesh *mesh)
 {
@@ -107,20 +106,6 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Eigen-decomposition of [[a, b], [b, c]]: mu1 >= mu2 (clamped at 0) and the angle of mu1's
- * eigenvector in [0, pi). */
-static void eig_sym2(const double m[3], double *mu1, double *mu2, double *theta)
-{
-    double mean = 0.5 * (m[0] + m[2]), half = 0.5 * (m[0] - m[2]);
-    double d = sqrt(half * half + m[1] * m[1]);
-    *mu1 = fmax(0, mean + d);
-    *mu2 = fmax(0, mean - d);
-    double t = 0.5 * atan2(2 * m[1], m[0] - m[2]);
-    if (t < 0)
-        t += PI;
-    *theta = t;
-}
-
 static int counted(const texopt_mesh *mesh, size_t t)
 {
     return !(mesh->flags[t] & (TEXOPT_TRI_DEGENERATE_3D | TEXOPT_TRI_DEGENERATE_UV));
@@ -138,7 +123,7 @@ static texopt_status reference_scale(const texopt_mesh *mesh, const double *metr
         if (!counted(mesh, t))
             continue;
         double mu1, mu2, theta;
-        eig_sym2(metric + 3 * t, &mu1, &mu2, &theta);
+        texopt_sym2_eigen(metric + 3 * t, &mu1, &mu2, &theta);
         s[n++] = pow(mu1, exponent);
     }
     *out = 0;
@@ -186,19 +171,10 @@ texopt_status texopt_targets_from_metric(const texopt_mesh *mesh, const double *
         if (flat)
             continue;
         double mu1, mu2, theta;
-        eig_sym2(metric + 3 * t, &mu1, &mu2, &theta);
+        texopt_sym2_eigen(metric + 3 * t, &mu1, &mu2, &theta);
         double along = clamp(pow(mu1, exponent) / ref, lambda_min, 1);
         double across = clamp(pow(mu2, exponent) / ref, lambda_min, 1);
-        /* V(beta) wants beta in [0, pi/2): a direction past pi/2 is the second axis. */
-        if (theta < PI / 2) {
-            g->beta = theta;
-            g->lambda1 = along;
-            g->lambda2 = across;
-        } else {
-            g->beta = theta - PI / 2;
-            g->lambda1 = across;
-            g->lambda2 = along;
-        }
+        texopt_target_set_stretch(g, theta, along, across);
     }
     return TEXOPT_OK;
 }

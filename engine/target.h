@@ -19,4 +19,12 @@ typedef struct texopt_triangle_target {
     int evaluations; /* loss evaluations spent on this triangle */
 } texopt_triangle_target;
 
+/* Eigen-decomposition of the symmetric 2x2 matrix [[m0, m1], [m1, m2]]: eigenvalues
+ * mu1 >= mu2 (clamped at 0) and the direction theta in [0, pi) of mu1's eigenvector. */
+void texopt_sym2_eigen(const double m[3], double *mu1, double *mu2, double *theta);
+
+/* Sets beta, lambda1, lambda2 of g for the scale `along` in direction theta in [0, pi) and
+ * `across` perpendicular to it (beta folded into [0, pi/2), the scales swapped past it). */
+void texopt_target_set_stretch(texopt_triangle_target *g, double theta, double along, double across);
+
 #endif
