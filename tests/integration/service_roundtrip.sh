@@ -101,24 +101,29 @@ grep -qi '^access-control-allow-methods: GET, HEAD, POST, OPTIONS' "$WORK/header
 curl -s -o "$WORK/spec.yaml" "${AUTH[@]}" "$BASE/openapi.yaml"
 cmp -s "$WORK/spec.yaml" "$TEXOPT_SOURCE_DIR/openapi.yaml" || fail "served openapi.yaml differs from the file"
 
-# A job the engine refuses after it was queued: the target_loss budget, which the pipeline
-# answers "unsupported" for as long as it is not implemented (then the job just succeeds).
+# A job the engine refuses after it was queued: a texture too small for the charts.
+[ "$(post_glb "$SPOT" "method=tewari&texture_width=4&texture_height=4")" = 202 ] ||
+  fail "4x4 upload: $(cat "$WORK/resp")"
+bad=$(json "$WORK/resp" 'd["id"]')
+wait_state "$bad" failed 120
+curl -s -o "$WORK/bad.json" "${AUTH[@]}" "$BASE/v1/jobs/$bad"
+[ "$(json "$WORK/bad.json" 'd["problem"]["status"]')" = 413 ] || fail "failed job's problem: $(cat "$WORK/bad.json")"
+[ "$(json "$WORK/bad.json" 'd["problem"]["type"]')" = urn:texopt:problem:model-too-large ] || fail "problem type"
+grep -q 'do not fit' "$WORK/bad.json" || fail "failed job's problem does not say why"
+grep -qi '^retry-after' <(curl -s -D - -o /dev/null "${AUTH[@]}" "$BASE/v1/jobs/$bad") && fail "Retry-After on a finished job"
+expect_problem 409 "$(curl -s -o "$WORK/resp" -D "$WORK/headers" -w '%{http_code}' "${AUTH[@]}" "$BASE/v1/jobs/$bad/result")" job-not-succeeded
+
+# The target_loss budget through the API: the job succeeds and its statistics hold the search.
 [ "$(post_glb "$SPOT" "method=input&target_loss=0.05")" = 202 ] || fail "target_loss upload: $(cat "$WORK/resp")"
 tl=$(json "$WORK/resp" 'd["id"]')
-for _ in $(seq 600); do
-  curl -s -o "$WORK/tl.json" "${AUTH[@]}" "$BASE/v1/jobs/$tl"
-  case "$(json "$WORK/tl.json" 'd["state"]')" in succeeded|failed) break ;; esac
-  sleep 0.1
-done
-if [ "$(json "$WORK/tl.json" 'd["state"]')" = failed ]; then
-  [ "$(json "$WORK/tl.json" 'd["problem"]["status"]')" = 422 ] || fail "failed job's problem: $(cat "$WORK/tl.json")"
-  [ "$(json "$WORK/tl.json" 'd["problem"]["type"]')" = urn:texopt:problem:unsupported-model ] || fail "problem type"
-  grep -q 'target_loss' "$WORK/tl.json" || fail "failed job's problem does not say why"
-  grep -qi '^retry-after' <(curl -s -D - -o /dev/null "${AUTH[@]}" "$BASE/v1/jobs/$tl") && fail "Retry-After on a finished job"
-  expect_problem 409 "$(curl -s -o "$WORK/resp" -D "$WORK/headers" -w '%{http_code}' "${AUTH[@]}" "$BASE/v1/jobs/$tl/result")" job-not-succeeded
-else
-  [ "$(json "$WORK/tl.json" 'd["state"]')" = succeeded ] || fail "target_loss job did not finish"
-fi
+wait_state "$tl" succeeded 120
+curl -s -o "$WORK/tl_stats.json" "${AUTH[@]}" "$BASE/v1/jobs/$tl/stats"
+/usr/bin/python3 - "$WORK/tl_stats.json" <<'PY' || fail "target_loss statistics: $(cat "$WORK/tl_stats.json")"
+import json, sys
+t = json.load(open(sys.argv[1]))["target_search"]
+assert t["target_loss"] == 0.05 and t["reached"] is True and t["q"] <= 0.05, t
+assert 0 < t["relative_cost"] < 1, t
+PY
 
 # Delete a finished job: its files go, and so does the job.
 [ "$(curl -s -o /dev/null -w '%{http_code}' -X DELETE "${AUTH[@]}" "$BASE/v1/jobs/$id")" = 204 ] || fail "delete"
