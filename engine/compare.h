@@ -20,7 +20,7 @@
  * smallest relative cost whose q is at most a target, by bisection on log(c_r) assuming q
  * falls as the cost grows. It takes a callback "q at this cost", so the pipeline answers it
  * without re-running the stages that do not depend on the budget (pipeline.c, budget
- * target_loss); texopt_search_target_loss_file answers it with whole pipeline runs.
+ * target_loss).
  *
  * Does not: draw anything (report.h), parse command lines. */
 #ifndef TEXOPT_COMPARE_H
@@ -123,13 +123,5 @@ texopt_status texopt_search_target_loss(texopt_loss_at_cost_fn loss_at, void *us
                                         double cost_min, double cost_max, double tolerance,
                                         int max_evaluations, texopt_target_search *out, char *err,
                                         size_t err_len);
-
-/* The same with whole pipeline runs: params->method at each relative cost, evaluated against
- * the input (eval options may be NULL); the output of the chosen cost is left at output_glb
- * (temp + rename). params->target_loss is the target. */
-texopt_status texopt_search_target_loss_file(const char *input_path, const char *output_glb,
-                                             const texopt_params *params,
-                                             const texopt_evaluate_options *eval,
-                                             texopt_target_search *out, char *err, size_t err_len);
 
 #endif

@@ -1,13 +1,12 @@
-/* test_compare_slow.c - compare and the whole-file target_loss search through the real
- * pipeline (engine/compare.h), on tests/data/Fox with the cheap "input" method. */
+/* test_compare_slow.c - compare through the real pipeline (engine/compare.h), on
+ * tests/data/Fox with the cheap "input" method. (The target_loss budget is tested in
+ * test_pipeline_budget, through the pipeline that runs it.) */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "compare.h"
-#include "gltf_io.h"
 #include "report.h"
 #include "test.h"
 
@@ -75,34 +74,4 @@ TEST(compare_refuses_bad_options)
     const double fine[] = {0.5};
     opt.costs = fine;
     CHECK(texopt_compare("/nonexistent/model.glb", &opt, &r, err, sizeof err) != TEXOPT_OK);
-}
-
-TEST(target_loss_search_through_files)
-{
-    char path[1024], out[1100], err[512] = "";
-    fox_path(path, sizeof path);
-    snprintf(out, sizeof out, "%s/texopt_search_%d.glb", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp", (int)getpid());
-    texopt_params p;
-    memset(&p, 0, sizeof p);
-    p.method = TEXOPT_METHOD_INPUT;
-    p.target_loss = 0.05;
-    texopt_evaluate_options eo = {.resolution = 300, .threads = 2};
-    texopt_target_search s;
-    CHECK_OK(texopt_search_target_loss_file(path, out, &p, &eo, &s, err, sizeof err), err);
-    CHECK(s.reached);
-    CHECK(s.q <= 0.05);
-    CHECK(s.relative_cost < 1.0 && s.relative_cost >= 0.02);
-    CHECK(s.evaluations >= 3 && s.evaluations <= 10);
-    /* The file left behind is the chosen cost's output and has that loss. */
-    texopt_model *in = NULL, *res = NULL;
-    CHECK_OK(texopt_model_load(&in, path, NULL, err, sizeof err), err);
-    texopt_status st = texopt_model_load(&res, out, NULL, err, sizeof err);
-    texopt_evaluation ev;
-    if (st == TEXOPT_OK)
-        st = texopt_evaluate(in, res, &eo, &ev, err, sizeof err);
-    texopt_model_destroy(in);
-    texopt_model_destroy(res);
-    remove(out);
-    CHECK_OK(st, err);
-    CHECK_NEAR(ev.q, s.q, 1e-12);
 }
