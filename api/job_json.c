@@ -63,13 +63,8 @@ cJSON *api_job_to_json(const job_record *job)
     cJSON_AddStringToObject(model, "name", job->model_name);
     cJSON_AddNumberToObject(model, "upload_bytes", (double)job->upload_bytes);
     cJSON_AddItemToObject(o, "params", api_params_to_json(&job->params));
-    if (job->state == JOB_FAILED) {
-        cJSON *p = cJSON_AddObjectToObject(o, "problem");
-        cJSON_AddStringToObject(p, "type", job->problem.type);
-        cJSON_AddStringToObject(p, "title", job->problem.title);
-        cJSON_AddNumberToObject(p, "status", job->problem.status);
-        cJSON_AddStringToObject(p, "detail", job->problem.detail);
-    }
+    if (job->state == JOB_FAILED)
+        job_problem_add_json(o, &job->problem);
     add_links(o, job->id);
     return o;
 }

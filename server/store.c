@@ -52,6 +52,15 @@ int job_state_finished(job_state state)
     return state == JOB_SUCCEEDED || state == JOB_FAILED || state == JOB_CANCELED;
 }
 
+void job_problem_add_json(struct cJSON *parent, const job_problem *problem)
+{
+    cJSON *p = cJSON_AddObjectToObject(parent, "problem");
+    cJSON_AddStringToObject(p, "type", problem->type);
+    cJSON_AddStringToObject(p, "title", problem->title);
+    cJSON_AddNumberToObject(p, "status", problem->status);
+    cJSON_AddStringToObject(p, "detail", problem->detail);
+}
+
 int64_t store_now_ms(void)
 {
     struct timespec ts;
@@ -87,13 +96,8 @@ static char *record_to_json(const job_record *r)
     cJSON_AddStringToObject(o, "request_digest", r->request_digest);
     cJSON_AddNumberToObject(o, "upload_bytes", (double)r->upload_bytes);
     cJSON_AddItemToObject(o, "params", api_params_to_json(&r->params));
-    if (r->state == JOB_FAILED) {
-        cJSON *p = cJSON_AddObjectToObject(o, "problem");
-        cJSON_AddNumberToObject(p, "status", r->problem.status);
-        cJSON_AddStringToObject(p, "type", r->problem.type);
-        cJSON_AddStringToObject(p, "title", r->problem.title);
-        cJSON_AddStringToObject(p, "detail", r->problem.detail);
-    }
+    if (r->state == JOB_FAILED)
+        job_problem_add_json(o, &r->problem);
     char *text = cJSON_PrintUnformatted(o);
     cJSON_Delete(o);
     return text;

@@ -45,6 +45,11 @@ typedef struct job_problem {
     char detail[512];
 } job_problem;
 
+struct cJSON;
+/* Adds `problem` as the object "problem" of `parent`: the one spelling of a failed job's
+ * problem, shared by the API's job view and the store's job.json. */
+void job_problem_add_json(struct cJSON *parent, const job_problem *problem);
+
 /* A copy of one job's fields. */
 typedef struct job_record {
     char id[JOB_ID_LEN + 1];
