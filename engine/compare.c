@@ -55,6 +55,9 @@ static texopt_status check_options(const texopt_compare_options *opt, char *err,
         if ((unsigned)opt->methods[m] >= TEXOPT_METHOD_COUNT)
             return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "compare: unknown method %d",
                                (int)opt->methods[m]);
+    if (opt->given_outputs && (opt->cost_count != 1 || opt->reuse_layout))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "compare: given outputs need exactly one cost and no layout reuse");
     for (int c = 0; c < opt->cost_count; c++)
         if (!(opt->costs[c] > 0 && opt->costs[c] <= 4))
             return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
@@ -313,7 +316,12 @@ texopt_status texopt_compare(const char *input_path, const texopt_compare_option
         curve->point_count = opt->cost_count;
         for (int c = 0; c < opt->cost_count; c++)
             point_init(&curve->points[c], opt->costs[c]);
-        if (!opt->reuse_layout || curve->method == TEXOPT_METHOD_INPUT)
+        const char *given = opt->given_outputs ? opt->given_outputs[m] : NULL;
+        if (given) {
+            st = measure_point(&x, curve, 0, given, err, err_len);
+            if (st == TEXOPT_OK)
+                st = fatal(&curve->points[0], err, err_len);
+        } else if (!opt->reuse_layout || curve->method == TEXOPT_METHOD_INPUT)
             st = run_curve_full(&x, curve, err, err_len);
         else
             st = run_curve_reusing_layout(&x, curve, err, err_len);

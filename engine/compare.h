@@ -71,6 +71,10 @@ typedef struct texopt_compare_options {
     int reuse_layout;              /* nonzero: each layout once, smaller costs resampled (fast,
                                       pessimistic for layout methods); 0: one run per point */
     const texopt_monitor *monitor; /* cancel flag; progress as stage "compare" (per method) */
+    /* NULL, or method_count entries: a non-NULL one is an existing output of that method at
+     * costs[0] (e.g. a service job's result), measured instead of running the pipeline again;
+     * only with cost_count == 1 and without reuse_layout. */
+    const char *const *given_outputs;
 } texopt_compare_options;
 
 typedef struct texopt_compare_result {

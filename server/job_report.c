@@ -42,8 +42,13 @@ texopt_status job_write_report(const char *input, const char *dir, const char *t
     if (s != TEXOPT_OK)
         return s;
     texopt_method methods[2] = {TEXOPT_METHOD_INPUT, params->method};
-    char work[PATH_MAX], report[PATH_MAX];
+    char work[PATH_MAX], report[PATH_MAX], result_glb[PATH_MAX];
     snprintf(work, sizeof work, "%s/report-work", dir);
+    snprintf(result_glb, sizeof result_glb, "%s/result.glb", dir);
+    /* The job's own result stands for its method: only the input layout is run here. */
+    const char *given[2] = {NULL, result_glb};
+    if (params->method == TEXOPT_METHOD_INPUT)
+        given[0] = result_glb;
     snprintf(report, sizeof report, "%s/report.html", dir);
     if (fs_mkdir_p(work) != 0)
         return texopt_fail(err, err_len, TEXOPT_E_IO, "report: cannot create %s", work);
@@ -58,6 +63,7 @@ texopt_status job_write_report(const char *input, const char *dir, const char *t
     opt.evaluate.resolution = params->eval_resolution;
     opt.work_dir = work;
     opt.monitor = monitor;
+    opt.given_outputs = given;
     texopt_compare_result result;
     s = texopt_compare(input, &opt, &result, err, err_len);
     if (s == TEXOPT_OK) {

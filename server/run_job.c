@@ -58,16 +58,17 @@ void run_job(job_store *store, service_metrics *metrics, store_job *job, const j
     snprintf(result, sizeof result, "%s/result.glb", dir);
     snprintf(stats, sizeof stats, "%s/stats.json", dir);
 
-    /* With a report the optimisation is the first half of the job, the comparison the second. */
+    /* With a report, the comparison (one input-layout run and two evaluations) is the last
+     * fifth of the job's progress. */
     int evaluate = record->params.evaluate != 0;
-    job_watch watch = {store, metrics, job, "", 0, 0, evaluate ? 0.5 : 1.0};
+    job_watch watch = {store, metrics, job, "", 0, 0, evaluate ? 0.8 : 1.0};
     texopt_monitor monitor = {on_progress, &watch, cancel};
     char err[512] = "";
     texopt_status status = texopt_optimize_file(input, result, stats, &record->params, &monitor, err, sizeof err);
     close_stage(&watch);
     if (status == TEXOPT_OK && evaluate) {
-        watch.offset = 0.5;
-        watch.scale = 0.5;
+        watch.offset = 0.8;
+        watch.scale = 0.2;
         char why[512] = "";
         texopt_status rs = job_write_report(input, dir, record->model_name, &record->params, &monitor, why,
                                             sizeof why);

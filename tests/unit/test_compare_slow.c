@@ -75,3 +75,40 @@ TEST(compare_refuses_bad_options)
     opt.costs = fine;
     CHECK(texopt_compare("/nonexistent/model.glb", &opt, &r, err, sizeof err) != TEXOPT_OK);
 }
+
+/* A given output is measured as it is, not produced again: Fox itself standing for the arap
+ * method at c_r 0.5 comes back with q 0 and the input's full cost, which no arap run at 0.5
+ * could give. */
+TEST(compare_measures_given_output)
+{
+    char path[1024], err[512] = "";
+    fox_path(path, sizeof path);
+    const texopt_method methods[] = {TEXOPT_METHOD_INPUT, TEXOPT_METHOD_ARAP};
+    const char *given[] = {NULL, path};
+    const double costs[] = {0.5};
+    texopt_compare_options opt;
+    memset(&opt, 0, sizeof opt);
+    opt.methods = methods;
+    opt.method_count = 2;
+    opt.costs = costs;
+    opt.cost_count = 1;
+    opt.evaluate.resolution = 300;
+    opt.given_outputs = given;
+    texopt_compare_result r;
+    CHECK_OK(texopt_compare(path, &opt, &r, err, sizeof err), err);
+    const texopt_compare_point *in = &r.curves[0].points[0], *arap = &r.curves[1].points[0];
+    CHECK_MSG(in->status == TEXOPT_OK && arap->status == TEXOPT_OK, "%s / %s", in->message, arap->message);
+    CHECK_NEAR(in->cost_achieved, 0.5, 0.02);
+    CHECK(in->q > 0);
+    CHECK(arap->q == 0.0);
+    CHECK_NEAR(arap->cost_achieved, 1.0, 1e-12);
+    CHECK(arap->seconds_optimize == 0.0);
+    CHECK(r.curves[1].showcase != NULL);
+    texopt_compare_result_destroy(&r);
+
+    const double two[] = {0.5, 0.25};
+    opt.costs = two;
+    opt.cost_count = 2;
+    CHECK(texopt_compare(path, &opt, &r, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "given outputs") != NULL);
+}
