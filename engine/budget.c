@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "chart_orient.h"
 #include "coverage.h"
 
 #define MAX_SIDE 16384
@@ -458,6 +459,24 @@ static texopt_status check_request(const texopt_budget_request *req, double area
     return TEXOPT_OK;
 }
 
+/* Turns the charts whose triangles all ignore rotation (w_rotation 0) to their smallest
+ * bounding rectangle: their objective is blind to the angle, the packing is not. */
+static texopt_status orient_free_charts(const texopt_mesh *mesh, const double *texel,
+                                        const texopt_triangle_target *targets, double *oriented, char *err,
+                                        size_t err_len)
+{
+    uint8_t *turnable = malloc(mesh->chart_count ? mesh->chart_count : 1);
+    if (!turnable)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the chart orientation");
+    memset(turnable, 1, mesh->chart_count);
+    for (size_t t = 0; t < mesh->triangle_count; t++)
+        if (mesh->chart_of[t] < mesh->chart_count && targets[t].w_rotation != 0)
+            turnable[mesh->chart_of[t]] = 0;
+    texopt_status st = texopt_chart_orient(mesh, texel, turnable, oriented, NULL, err, err_len);
+    free(turnable);
+    return st;
+}
+
 texopt_status texopt_budget_fit(const texopt_mesh *mesh, const double *texel,
                                 const texopt_budget_request *req, double *texel_out,
                                 texopt_budget_result *res, char *err, size_t err_len)
@@ -471,14 +490,19 @@ texopt_status texopt_budget_fit(const texopt_mesh *mesh, const double *texel,
     size_t n = 2 * (mesh->vertex_count ? mesh->vertex_count : 1);
     w.scaled = malloc(n * sizeof(double));
     w.packed = malloc(n * sizeof(double));
-    if (!w.scaled || !w.packed)
+    double *oriented = req->targets ? malloc(n * sizeof(double)) : NULL;
+    if (!w.scaled || !w.packed || (req->targets && !oriented))
         st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the budget search");
-    else if (req->kind == TEXOPT_BUDGET_RELATIVE_COST)
-        st = fit_relative_cost(&w, req, area, texel_out, res, err, err_len);
-    else
-        st = fit_texture_size(&w, req, area, texel_out, res, err, err_len);
+    if (st == TEXOPT_OK && oriented) {
+        st = orient_free_charts(mesh, texel, req->targets, oriented, err, err_len);
+        w.texel = oriented;
+    }
+    if (st == TEXOPT_OK)
+        st = req->kind == TEXOPT_BUDGET_RELATIVE_COST ? fit_relative_cost(&w, req, area, texel_out, res, err, err_len)
+                                                      : fit_texture_size(&w, req, area, texel_out, res, err, err_len);
     free(w.scaled);
     free(w.packed);
+    free(oriented);
     if (st != TEXOPT_OK)
         return st;
     res->packings = w.packings;

@@ -15,7 +15,9 @@
  *  - texture size W x H: the largest scale whose packing fits in exactly W x H, by
  *    bisection on the scale (to 0.2%).
  * Does not: choose the layout's shape (stage 2 does) or rebake.
- * Packing is pack.h (translations and quarter turns, gutters). */
+ * Packing is pack.h (translations and quarter turns, gutters); charts whose rotation is free
+ * (see `targets`) are turned by chart_orient.h first (any angle, rigid), so their output is
+ * that turn followed by the packer's quarter turn and translation. */
 #ifndef TEXOPT_BUDGET_H
 #define TEXOPT_BUDGET_H
 
@@ -24,6 +26,7 @@
 #include "pack.h"
 #include "params.h"
 #include "status.h"
+#include "target.h"
 
 typedef struct texopt_budget_request {
     texopt_budget kind;                  /* RELATIVE_COST or TEXTURE_SIZE */
@@ -32,6 +35,14 @@ typedef struct texopt_budget_request {
     double input_cost;                   /* covered texels of the input layout, > 0 */
     int input_width, input_height;       /* input frame, for the aspect */
     texopt_pack_options pack;            /* gutter, cell; zero = defaults */
+    const texopt_triangle_target *targets; /* may be NULL: the per-triangle targets the
+                                            layout was solved for. A chart none of whose
+                                            triangles cares about rotation (w_rotation 0: every
+                                            chart of the baselines, flat charts of the
+                                            perceptual method) is first turned to its
+                                            smallest bounding rectangle (chart_orient.h);
+                                            the others, and all with NULL, keep their angle
+                                            up to the packer's quarter turns */
     const texopt_monitor *monitor;       /* may be NULL; checked for cancellation between
                                             packings (TEXOPT_E_CANCELED) */
 } texopt_budget_request;
