@@ -306,7 +306,18 @@ static void select_active_signals(texopt_triloss *tl, int b)
     batch->lead = 0;
 }
 
-/* I_hat: the input textures looked up at p_hat, as signals. */
+/* The signals first..end-1 of a batch that read the same image as signal `first`. */
+static int same_image_run_end(const texopt_triloss *tl, const loss_batch *batch, int first)
+{
+    int end = first + 1;
+    while (end < batch->signal_count &&
+           tl->signals[batch->first_signal + end].image == tl->signals[batch->first_signal + first].image)
+        end++;
+    return end;
+}
+
+/* I_hat: the input textures looked up at p_hat, as signals; one lookup per image and pixel
+ * serves every signal (channel) of that image. */
 static void sample_references(texopt_triloss *tl)
 {
     size_t px = (size_t)tl->size * (size_t)tl->size;
@@ -314,23 +325,29 @@ static void sample_references(texopt_triloss *tl)
     for (int b = 0; b < tl->batch_count; b++) {
         const loss_batch *batch = &tl->batches[b];
         float *block = tl->reference + tl->n * (size_t)batch->first_signal;
-        for (int s = 0; s < batch->signal_count; s++) {
-            const loss_signal *sig = &tl->signals[batch->first_signal + s];
-            const texopt_image *img = &tl->model->images[sig->image];
-            float *image_out = tl->ref_img + px * (size_t)(batch->first_signal + s);
+        for (int first = 0, end; first < batch->signal_count; first = end) {
+            end = same_image_run_end(tl, batch, first);
+            const texopt_image *img = &tl->model->images[tl->signals[batch->first_signal + first].image];
             for (size_t k = 0; k < tl->n; k++) {
                 float v[4];
                 texopt_sample_bilinear(img, tl->wrap_s, tl->wrap_t, tl->phat[2 * k] * batch->sx,
                                        tl->phat[2 * k + 1] * batch->sy, v);
-                float value = sig->channel < 0 ? texopt_luma(v, img->channels) : v[sig->channel];
-                block[k * (size_t)batch->signal_count + (size_t)s] = value;
-                image_out[tl->pixel[k]] = value;
+                for (int s = first; s < end; s++) {
+                    const loss_signal *sig = &tl->signals[batch->first_signal + s];
+                    float value = sig->channel < 0 ? texopt_luma(v, img->channels) : v[sig->channel];
+                    block[k * (size_t)batch->signal_count + (size_t)s] = value;
+                    tl->ref_img[px * (size_t)(batch->first_signal + s) + (size_t)tl->pixel[k]] = value;
+                }
             }
-            /* Cannot fail: the image is the viewport the reference was created for. */
-            texopt_gmsd_reference_set(tl->gmsd_ref[batch->first_signal + s], image_out,
-                                      tl->mask, tl->size, tl->size);
         }
         select_active_signals(tl, b);
+        /* Only the active signals are compared (signal_loss). Cannot fail: the images are
+         * the viewport the references were created for. */
+        for (int j = 0; j < batch->active_count; j++) {
+            int s = batch->first_signal + tl->active[batch->first_signal + j];
+            texopt_gmsd_reference_set(tl->gmsd_ref[s], tl->ref_img + px * (size_t)s, tl->mask,
+                                      tl->size, tl->size);
+        }
     }
 }
 

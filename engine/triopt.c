@@ -38,7 +38,7 @@
 /* Default polish stop: polish_patience evaluations in a row that gain less than this share
  * of f (BENCHMARKS.md, "Stage 1"). */
 #define TRIOPT_POLISH_STOP 0.001
-#define TRIOPT_POLISH_PATIENCE 2
+#define TRIOPT_POLISH_PATIENCE 1
 
 typedef struct resolved_options {
     double epsilon, lambda_min;
@@ -300,39 +300,95 @@ static void isotropic_search(triangle_search *s, int evaluations)
     golden_section(s, x, 1u << 1 | 1u << 2, 0.0, 1.0, evaluations);
 }
 
-/* Anisotropic refinement of the best point so far. From the best point's x, squeezing
- * lambda1 or lambda2 to 0.6 of its unit coordinate is probed at `directions` orientations
- * beta = k pi / (2 directions) (2: the texel axes and diagonals, where paper Fig. 7 puts
- * grid-aligned detail; more: edges at any angle); the best probe that improves f is refined
- * by a golden-section search of the squeezed coordinate over [0, its start] with
- * `golden_steps` points. */
-static void anisotropic_search(triangle_search *s, int directions, int golden_steps)
+/* The best squeeze probed so far in one anisotropic refinement: the point it started from
+ * (its coordinates as the probe saw them), the squeezed axis and orientation, and f. */
+typedef struct squeeze {
+    double start[TRIOPT_DIM];
+    int axis; /* 0: nothing beat the refinement's starting f */
+    double beta, f;
+} squeeze;
+
+/* Probes squeezing `axis` of `start` to 0.6 of its unit coordinate at orientation `beta`
+ * (unit coordinate, in steps of 1/directions; may leave [0, 1)) and keeps it in *best when
+ * it lowers f. An orientation outside [0, 1) is the same J with beta wrapped by a quarter
+ * turn and lambda1, lambda2 exchanged: V(b + pi/2) diag(l2, l1) V(b + pi/2)^T =
+ * V(b) diag(l1, l2) V(b)^T, so the probe neighbours its orientation on either side. */
+static void probe_squeeze(triangle_search *s, const double start[TRIOPT_DIM], int axis,
+                          double beta, squeeze *best)
+{
+    double from[TRIOPT_DIM];
+    memcpy(from, start, sizeof from);
+    if (beta < 0.0 || beta >= 1.0) {
+        beta -= floor(beta);
+        axis = 3 - axis;
+        from[1] = start[2];
+        from[2] = start[1];
+    }
+    double x[TRIOPT_DIM];
+    memcpy(x, from, sizeof x);
+    x[3] = beta;
+    x[axis] = 0.6 * from[axis];
+    double f = search_objective_below(s, x, best->f);
+    if (f < best->f) {
+        memcpy(best->start, from, sizeof best->start);
+        best->axis = axis;
+        best->beta = beta;
+        best->f = f;
+    }
+}
+
+/* Both axes at orientation beta. */
+static void probe_both_axes(triangle_search *s, const double start[TRIOPT_DIM], double beta,
+                            squeeze *best)
+{
+    for (int axis = 1; axis <= 2 && s->status == TEXOPT_OK; axis++)
+        probe_squeeze(s, start, axis, beta, best);
+}
+
+/* Where to squeeze an isotropic start (lambda1 = lambda2): both axes at every other of the
+ * `directions` orientations, then the two orientations next to the best probe (coarse to
+ * fine: directions + 2 probes for the resolution of 2 x directions). */
+static void probe_every_orientation(triangle_search *s, const double start[TRIOPT_DIM],
+                                    int directions, squeeze *best)
+{
+    int step = directions >= 4 && directions % 2 == 0 ? 2 : 1;
+    for (int k = 0; k < directions && s->status == TEXOPT_OK; k += step)
+        probe_both_axes(s, start, (double)k / directions, best);
+    if (step == 1 || best->axis == 0)
+        return;
+    squeeze coarse = *best;
+    for (int side = -1; side <= 1 && s->status == TEXOPT_OK; side += 2)
+        probe_squeeze(s, coarse.start, coarse.axis, coarse.beta + (double)side / directions, best);
+}
+
+/* Anisotropic refinement of the best point so far: probes squeezing lambda1 or lambda2 to
+ * 0.6 of its unit coordinate at orientations beta = k pi / (2 directions) (2: the texel
+ * axes and diagonals, where paper Fig. 7 puts grid-aligned detail; more: edges at any
+ * angle); the best probe that improves f is refined by a golden-section search of the
+ * squeezed coordinate over [0, its start] with `golden_steps` points. The first refinement
+ * probes every orientation (coarse to fine); a later one starts from an anisotropic point
+ * whose orientation already fits the texture, so it probes only that orientation and its
+ * two neighbours (6 probes instead of 2 x directions: BENCHMARKS.md, "Stage 1"). */
+static void anisotropic_search(triangle_search *s, int directions, int golden_steps, int first)
 {
     if (!isfinite(s->best_f) || golden_steps < 2)
         return;
     double start[TRIOPT_DIM];
     memcpy(start, s->best_x, sizeof start);
-    int best_axis = 0;
-    double best_beta = 0.0, best_probe = s->best_f;
-    for (int k = 0; k < 2 * directions && s->status == TEXOPT_OK; k++) {
-        double x[TRIOPT_DIM];
-        memcpy(x, start, sizeof x);
-        int axis = 1 + (k & 1);
-        x[3] = (double)(k / 2) / directions;
-        x[axis] = 0.6 * start[axis];
-        double f = search_objective_below(s, x, best_probe);
-        if (f < best_probe) {
-            best_probe = f;
-            best_axis = axis;
-            best_beta = x[3];
-        }
+    squeeze best = {.axis = 0, .f = s->best_f};
+    if (first) {
+        probe_every_orientation(s, start, directions, &best);
+    } else {
+        probe_both_axes(s, start, start[3], &best);
+        for (int side = -1; side <= 1 && s->status == TEXOPT_OK; side += 2)
+            probe_both_axes(s, start, start[3] + (double)side / directions, &best);
     }
-    if (best_axis == 0)
+    if (best.axis == 0)
         return;
     double x[TRIOPT_DIM];
-    memcpy(x, start, sizeof x);
-    x[3] = best_beta;
-    golden_section(s, x, 1u << best_axis, 0.0, start[best_axis], golden_steps);
+    memcpy(x, best.start, sizeof x);
+    x[3] = best.beta;
+    golden_section(s, x, 1u << best.axis, 0.0, best.start[best.axis], golden_steps);
 }
 
 /* The paper's plan: J = I (E = 0, always feasible), the Latin-hypercube design, then
@@ -416,7 +472,8 @@ static texopt_status optimise_triangle(worker *w, uint32_t t, texopt_triangle_ta
         for (int pass = 0; !flat && pass < opt->anisotropic_passes && s.status == TEXOPT_OK;
              pass++) {
             double before = s.best_f;
-            anisotropic_search(&s, opt->anisotropic_directions, opt->anisotropic_steps);
+            anisotropic_search(&s, opt->anisotropic_directions, opt->anisotropic_steps,
+                               pass == 0);
             if (!(s.best_f < before))
                 break;
         }

@@ -18,15 +18,17 @@
  *     Flat-coloured and smoothly shaded triangles end here after one evaluation.
  *  2. A golden-section search over isotropic shrinks lambda I (isotropic_steps evaluations),
  *     then up to anisotropic_passes anisotropic refinements: from the best point, probe
- *     squeezing lambda1 or lambda2 at anisotropic_directions orientations beta (default 8:
- *     edges of real textures run at any angle; 2 would be the texel axes and diagonals of
- *     Fig. 7), and golden-section search the best probe's direction (anisotropic_steps
- *     evaluations).
+ *     squeezing lambda1 or lambda2 at orientations beta on a grid of anisotropic_directions
+ *     (default 8: edges of real textures run at any angle; 2 would be the texel axes and
+ *     diagonals of Fig. 7), and golden-section search the best probe's direction
+ *     (anisotropic_steps evaluations). The first refinement probes coarse to fine (every
+ *     other orientation, then the two next to the best: directions + 2 probes); later ones
+ *     only the orientation found and its two neighbours (6 probes).
  *  3. A Bayesian-optimisation polish (unless iterations = -1) whose surrogate starts from
  *     every point steps 1-2 evaluated (known values, no new design) and that stops after
  *     polish_patience evaluations in a row gaining less than polish_stop of f, or at the
  *     lower bound: `iterations` (default 100, the paper's budget) is a cap the default
- *     stop rarely reaches (it adds 1-2.5 evaluations per triangle on the benchmark models).
+ *     stop rarely reaches (it adds about 1 evaluation per triangle on the benchmark models).
  * Candidates whose area term alone (E = 0) cannot beat the point a search compares them
  * with are not evaluated: the search's decisions and result are the same.
  * The `plain` option runs the paper's plan instead (J = I, the design, the iterations), the
@@ -78,7 +80,7 @@ typedef struct texopt_triopt_options {
     double polish_stop;  /* the polish ends after polish_patience evaluations in a row that
                             lower the best f by less than this share of it; 0 -> 0.001,
                             < 0 -> never (all `iterations`) */
-    int polish_patience; /* 0 -> 2 */
+    int polish_patience; /* 0 -> 1 */
     uint32_t stride;     /* optimise triangles 0, stride, 2 stride, ...; 0 or 1 -> all.
                             Others are left as J = I, zero weights, 0 evaluations. */
 } texopt_triopt_options;
