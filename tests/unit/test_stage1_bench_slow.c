@@ -190,6 +190,9 @@ static const bench_variant full_variants[] = {
     {"defaults, 2 anisotropic passes", {.anisotropic_passes = 2}},
     {"defaults, 2+2 weight samples", {.weight_samples = 2}},
     {"defaults, 4 directions", {.anisotropic_directions = 4}},
+    {"defaults, aniso 6, 2 passes", {.anisotropic_steps = 6, .anisotropic_passes = 2}},
+    {"defaults, aniso 5, 2 passes", {.anisotropic_steps = 5, .anisotropic_passes = 2}},
+    {"defaults, aniso 6, 1 pass", {.anisotropic_steps = 6, .anisotropic_passes = 1}},
 };
 
 /* TEXOPT_STAGE1_VARIANTS=i,j,... (indices into full_variants) runs only those; unset: all.
