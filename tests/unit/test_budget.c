@@ -342,6 +342,17 @@ TEST(charts_free_to_turn_are_turned_to_their_smallest_box_before_packing)
         CHECK(scaled_rigid(mesh, mesh->texel, turned, r_turned.scale, c, 0));
         CHECK_MSG(!scaled_rigid(mesh, mesh->texel, turned, r_turned.scale, c, 1), "chart %zu was not turned", c);
     }
+    /* A texture-size budget turns them too: a fixed texture holds them at a larger scale. */
+    req.kind = TEXOPT_BUDGET_TEXTURE_SIZE;
+    req.texture_width = req.texture_height = 512;
+    CHECK_OK(texopt_budget_fit(mesh, mesh->texel, &req, turned, &r_turned, err, sizeof err), err);
+    req.targets = NULL;
+    CHECK_OK(texopt_budget_fit(mesh, mesh->texel, &req, as_is, &r_as_is, err, sizeof err), err);
+    printf("turned rectangles in 512x512: scale %.3f as they stand, %.3f turned\n", r_as_is.scale, r_turned.scale);
+    CHECK(r_turned.scale > 1.1 * r_as_is.scale);
+    CHECK(!charts_overlap(mesh, turned, 512, 512));
+    for (size_t c = 1; c < CHARTS; c++)
+        CHECK(scaled_rigid(mesh, mesh->texel, turned, r_turned.scale, c, 0));
     free(as_is);
     free(turned);
     free(targets);
