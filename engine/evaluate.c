@@ -1,7 +1,8 @@
 /* evaluate.c - whole-mesh loss q: 20 views, GMSD on covered luma, mean (Sun et al. 2022, 5.1).
  *
- * Each view is rasterised once from the reference geometry and shaded twice (meshrender.h),
- * so both images cover exactly the same pixels; the GMSD mask is that coverage. Views are
+ * Each view is rasterised once from the reference geometry and shaded for the reference and
+ * for every candidate (meshrender.h), so all images cover exactly the same pixels; the GMSD
+ * mask is that coverage, and the reference side of GMSD is prepared once per view. Views are
  * independent and run on `threads` workers, each with its own raster, images and GMSD
  * workspace; results are written to per-view slots, so the sum is the same for any thread
  * count. Does not: render with OSMesa (see meshrender.c for why), evaluate other textures
@@ -96,13 +97,15 @@ texopt_status texopt_evaluate_default_resolution(const texopt_model *model, int 
 }
 
 typedef struct eval_job {
-    const texopt_model *reference, *candidate;
+    const texopt_model *reference;
+    const texopt_model *const *candidates;
+    int candidate_count;
     const texopt_view *views;
     int side;
     int threads;
     atomic_int next_view;
     atomic_int failed;
-    texopt_evaluation *out;
+    texopt_evaluation *out; /* per candidate */
     double *triangle_error_sum; /* threads x triangle_count, NULL when not asked */
     size_t *triangle_error_count;
     texopt_status status;
@@ -110,7 +113,8 @@ typedef struct eval_job {
     pthread_mutex_t lock; /* guards status/err and the monitor callback */
     int views_done;
     const texopt_monitor *monitor;
-    texopt_texture_filter **ref_filters, **cand_filters; /* per image; NULL: bilinear */
+    texopt_texture_filter **ref_filters;   /* per image; NULL: bilinear */
+    texopt_texture_filter ***cand_filters; /* per candidate, per image; NULL: bilinear */
 } eval_job;
 
 /* Mip pyramids of every decoded image a base colour binding uses, with its wrap modes. */
@@ -168,10 +172,30 @@ static void luma_of(const texopt_image *img, float *luma)
         luma[i] = texopt_luma(img->pixels + 3 * i, 3);
 }
 
-/* Renders, compares and accounts one view; returns a status with the message in msg. */
-static texopt_status evaluate_view(eval_job *job, int worker, int v, texopt_gmsd_workspace *ws,
-                                   float *luma_ref, float *luma_cand, unsigned char *mask,
-                                   char *msg, size_t msg_len)
+/* Per worker: the screen-sized buffers of one view. */
+typedef struct view_buffers {
+    texopt_gmsd_workspace *ws;
+    texopt_gmsd_reference *prepared;
+    float *luma_ref, *luma_cand;
+    unsigned char *mask;
+} view_buffers;
+
+/* Adds one candidate's per-pixel luma error of a view to the worker's triangle sums. */
+static void account_triangle_error(eval_job *job, int worker, const texopt_raster *raster, const view_buffers *b)
+{
+    size_t n = (size_t)job->side * (size_t)job->side, tc = job->reference->triangle_count;
+    double *sum = job->triangle_error_sum + (size_t)worker * tc;
+    size_t *cnt = job->triangle_error_count + (size_t)worker * tc;
+    for (size_t i = 0; i < n; i++)
+        if (raster->triangle[i] >= 0) {
+            sum[raster->triangle[i]] += fabs((double)b->luma_ref[i] - b->luma_cand[i]);
+            cnt[raster->triangle[i]]++;
+        }
+}
+
+/* Renders one view of the reference once (raster, shading, GMSD reference side) and
+ * compares every candidate with it; returns a status with the message in msg. */
+static texopt_status evaluate_view(eval_job *job, int worker, int v, view_buffers *b, char *msg, size_t msg_len)
 {
     texopt_raster raster;
     texopt_image ref_img = {0}, cand_img = {0};
@@ -179,30 +203,29 @@ static texopt_status evaluate_view(eval_job *job, int worker, int v, texopt_gmsd
                                                    &raster, msg, msg_len);
     if (st == TEXOPT_OK)
         st = texopt_meshrender_shade_filtered(job->reference, &raster, job->ref_filters, &ref_img, msg, msg_len);
-    if (st == TEXOPT_OK)
-        st = texopt_meshrender_shade_filtered(job->candidate, &raster, job->cand_filters, &cand_img, msg,
-                                              msg_len);
     if (st == TEXOPT_OK) {
         size_t n = (size_t)job->side * (size_t)job->side;
-        luma_of(&ref_img, luma_ref);
-        luma_of(&cand_img, luma_cand);
+        luma_of(&ref_img, b->luma_ref);
         for (size_t i = 0; i < n; i++)
-            mask[i] = raster.triangle[i] >= 0;
-        double g = texopt_gmsd_ws(ws, luma_ref, luma_cand, mask, job->side, job->side);
+            b->mask[i] = raster.triangle[i] >= 0;
+        if (!texopt_gmsd_reference_set(b->prepared, b->luma_ref, b->mask, job->side, job->side))
+            st = texopt_fail(msg, msg_len, TEXOPT_E_INVALID_ARGUMENT, "view %d: bad GMSD reference", v);
+    }
+    for (int c = 0; c < job->candidate_count && st == TEXOPT_OK; c++) {
+        st = texopt_meshrender_shade_filtered(job->candidates[c], &raster,
+                                              job->cand_filters ? job->cand_filters[c] : NULL, &cand_img, msg,
+                                              msg_len);
+        if (st != TEXOPT_OK)
+            break;
+        luma_of(&cand_img, b->luma_cand);
+        texopt_image_destroy(&cand_img);
+        double g = texopt_gmsd_against(b->ws, b->prepared, b->luma_cand);
         if (!isfinite(g))
             st = texopt_fail(msg, msg_len, TEXOPT_E_NUMERIC, "GMSD of view %d is not finite", v);
-        job->out->view_gmsd[v] = g;
-        job->out->view_pixels[v] = raster.covered;
-        if (st == TEXOPT_OK && job->triangle_error_sum) {
-            size_t tc = job->reference->triangle_count;
-            double *sum = job->triangle_error_sum + (size_t)worker * tc;
-            size_t *cnt = job->triangle_error_count + (size_t)worker * tc;
-            for (size_t i = 0; i < n; i++)
-                if (raster.triangle[i] >= 0) {
-                    sum[raster.triangle[i]] += fabs((double)luma_ref[i] - luma_cand[i]);
-                    cnt[raster.triangle[i]]++;
-                }
-        }
+        job->out[c].view_gmsd[v] = g;
+        job->out[c].view_pixels[v] = raster.covered;
+        if (st == TEXOPT_OK && job->triangle_error_sum)
+            account_triangle_error(job, worker, &raster, b);
     }
     texopt_image_destroy(&ref_img);
     texopt_image_destroy(&cand_img);
@@ -227,10 +250,13 @@ static void *eval_worker_run(void *arg)
     eval_worker *w = arg;
     eval_job *job = w->job;
     size_t n = (size_t)job->side * (size_t)job->side;
-    texopt_gmsd_workspace *ws = texopt_gmsd_workspace_create(job->side, job->side);
-    float *luma_ref = malloc(n * sizeof(float)), *luma_cand = malloc(n * sizeof(float));
-    unsigned char *mask = malloc(n);
-    if (!ws || !luma_ref || !luma_cand || !mask) {
+    view_buffers b;
+    b.ws = texopt_gmsd_workspace_create(job->side, job->side);
+    b.prepared = texopt_gmsd_reference_create(job->side, job->side);
+    b.luma_ref = malloc(n * sizeof(float));
+    b.luma_cand = malloc(n * sizeof(float));
+    b.mask = malloc(n);
+    if (!b.ws || !b.prepared || !b.luma_ref || !b.luma_cand || !b.mask) {
         job_fail(job, TEXOPT_E_NOMEM, "no memory for the evaluation views");
     } else {
         char msg[256];
@@ -245,7 +271,7 @@ static void *eval_worker_run(void *arg)
             if (v >= TEXOPT_VIEW_COUNT)
                 break;
             msg[0] = 0;
-            texopt_status st = evaluate_view(job, w->index, v, ws, luma_ref, luma_cand, mask, msg, sizeof msg);
+            texopt_status st = evaluate_view(job, w->index, v, &b, msg, sizeof msg);
             if (st != TEXOPT_OK) {
                 job_fail(job, st, msg);
                 break;
@@ -253,10 +279,11 @@ static void *eval_worker_run(void *arg)
             report_view_done(job);
         }
     }
-    texopt_gmsd_workspace_destroy(ws);
-    free(luma_ref);
-    free(luma_cand);
-    free(mask);
+    texopt_gmsd_workspace_destroy(b.ws);
+    texopt_gmsd_reference_destroy(b.prepared);
+    free(b.luma_ref);
+    free(b.luma_cand);
+    free(b.mask);
     return NULL;
 }
 
@@ -282,100 +309,147 @@ static texopt_status run_views(eval_job *job)
     return job->status;
 }
 
-texopt_status texopt_evaluate(const texopt_model *reference, const texopt_model *candidate,
-                              const texopt_evaluate_options *opt, texopt_evaluation *out,
-                              char *err, size_t err_len)
+static void destroy_candidate_filters(texopt_texture_filter ***f, const texopt_model *const *candidates, int count)
+{
+    if (!f)
+        return;
+    for (int c = 0; c < count; c++)
+        destroy_filters(f[c], candidates[c]->image_count);
+    free(f);
+}
+
+/* The mip pyramids of the reference and every candidate (mipmapped evaluation). */
+static texopt_status build_all_filters(eval_job *job, char *err, size_t err_len)
+{
+    texopt_status st = build_filters(job->reference, &job->ref_filters, err, err_len);
+    if (st == TEXOPT_OK) {
+        job->cand_filters = calloc((size_t)job->candidate_count, sizeof *job->cand_filters);
+        if (!job->cand_filters)
+            st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for texture filters");
+    }
+    for (int c = 0; c < job->candidate_count && st == TEXOPT_OK; c++)
+        st = build_filters(job->candidates[c], &job->cand_filters[c], err, err_len);
+    return st;
+}
+
+/* Checks the candidates against the reference; the views and screen side to use. */
+static texopt_status prepare_views(const texopt_model *reference, const texopt_model *const *candidates, int count,
+                                   const texopt_evaluate_options *opt, texopt_view *views, int *side, char *err,
+                                   size_t err_len)
+{
+    if (opt->resolution < 0 || opt->resolution > 16384 || (opt->resolution > 0 && opt->resolution < 8))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "resolution %d is outside [8, 16384]", opt->resolution);
+    if (opt->triangle_error && count != 1)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "per-triangle errors are measured for one candidate at a time");
+    for (int c = 0; c < count; c++) {
+        if (!candidates[c])
+            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "candidate %d is missing", c);
+        texopt_status st = texopt_meshrender_same_geometry(reference, candidates[c], err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
+        if (!reference->uvs || !candidates[c]->uvs)
+            return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "both models need TEXCOORD_0");
+    }
+    texopt_status st = texopt_meshrender_views(reference, views, err, err_len);
+    *side = opt->resolution;
+    if (st == TEXOPT_OK && *side == 0)
+        st = texopt_evaluate_default_resolution(reference, side, err, err_len);
+    return st;
+}
+
+/* Mean over the views of each candidate's GMSD, into out[c]. */
+static void finish_results(const eval_job *job, double t0, texopt_evaluation *out)
+{
+    double seconds = now_seconds() - t0;
+    for (int c = 0; c < job->candidate_count; c++) {
+        double sum = 0;
+        for (int v = 0; v < TEXOPT_VIEW_COUNT; v++)
+            sum += job->out[c].view_gmsd[v];
+        job->out[c].q = sum / TEXOPT_VIEW_COUNT;
+        job->out[c].resolution = job->side;
+        job->out[c].seconds = seconds;
+        out[c] = job->out[c];
+    }
+}
+
+static void sum_triangle_errors(const eval_job *job, double *triangle_error)
+{
+    size_t tc = job->reference->triangle_count;
+    for (size_t t = 0; t < tc; t++) {
+        double s = 0;
+        size_t c = 0;
+        for (int w = 0; w < job->threads; w++) {
+            s += job->triangle_error_sum[(size_t)w * tc + t];
+            c += job->triangle_error_count[(size_t)w * tc + t];
+        }
+        triangle_error[t] = c ? s / (double)c : 0.0;
+    }
+}
+
+texopt_status texopt_evaluate_many(const texopt_model *reference, const texopt_model *const *candidates,
+                                   int candidate_count, const texopt_evaluate_options *opt, texopt_evaluation *out,
+                                   char *err, size_t err_len)
 {
     texopt_evaluate_options defaults = {0};
     if (!opt)
         opt = &defaults;
-    if (!reference || !candidate || !out)
+    if (!reference || !candidates || candidate_count < 1 || !out)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "missing model or output");
-    if (opt->resolution < 0 || opt->resolution > 16384 || (opt->resolution > 0 && opt->resolution < 8))
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "resolution %d is outside [8, 16384]", opt->resolution);
-    texopt_status st = texopt_meshrender_same_geometry(reference, candidate, err, err_len);
-    if (st != TEXOPT_OK)
-        return st;
-    if (!reference->uvs || !candidate->uvs)
-        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "both models need TEXCOORD_0");
     double t0 = now_seconds();
     texopt_view views[TEXOPT_VIEW_COUNT];
-    st = texopt_meshrender_views(reference, views, err, err_len);
+    int side = 0;
+    texopt_status st = prepare_views(reference, candidates, candidate_count, opt, views, &side, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    int side = opt->resolution;
-    if (side == 0) {
-        st = texopt_evaluate_default_resolution(reference, &side, err, err_len);
-        if (st != TEXOPT_OK)
-            return st;
-    }
-    texopt_evaluation result;
-    memset(&result, 0, sizeof result);
-    result.resolution = side;
-
     eval_job job;
     memset(&job, 0, sizeof job);
     job.reference = reference;
-    job.candidate = candidate;
+    job.candidates = candidates;
+    job.candidate_count = candidate_count;
     job.views = views;
     job.side = side;
     job.threads = opt->threads <= 0 ? 1 : (opt->threads > TEXOPT_VIEW_COUNT ? TEXOPT_VIEW_COUNT : opt->threads);
-    job.out = &result;
     job.monitor = opt->monitor;
+    job.out = calloc((size_t)candidate_count, sizeof *job.out);
     atomic_init(&job.next_view, 0);
     atomic_init(&job.failed, 0);
     pthread_mutex_init(&job.lock, NULL);
-    if (opt->mipmapped) {
-        st = build_filters(reference, &job.ref_filters, err, err_len);
-        if (st == TEXOPT_OK)
-            st = build_filters(candidate, &job.cand_filters, err, err_len);
-        if (st != TEXOPT_OK) {
-            destroy_filters(job.ref_filters, reference->image_count);
-            destroy_filters(job.cand_filters, candidate->image_count);
-            pthread_mutex_destroy(&job.lock);
-            return st;
-        }
-    }
+    if (!job.out)
+        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the evaluations");
+    if (st == TEXOPT_OK && opt->mipmapped)
+        st = build_all_filters(&job, err, err_len);
     size_t tc = reference->triangle_count;
-    if (opt->triangle_error) {
+    if (st == TEXOPT_OK && opt->triangle_error) {
         job.triangle_error_sum = calloc((size_t)job.threads * tc, sizeof(double));
         job.triangle_error_count = calloc((size_t)job.threads * tc, sizeof(size_t));
-        if (!job.triangle_error_sum || !job.triangle_error_count) {
-            free(job.triangle_error_sum);
-            free(job.triangle_error_count);
-            destroy_filters(job.ref_filters, reference->image_count);
-            destroy_filters(job.cand_filters, candidate->image_count);
-            pthread_mutex_destroy(&job.lock);
-            return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for per-triangle errors");
-        }
+        if (!job.triangle_error_sum || !job.triangle_error_count)
+            st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for per-triangle errors");
     }
-    st = run_views(&job);
-    if (st != TEXOPT_OK)
-        texopt_fail(err, err_len, st, "%s", job.err);
-    if (st == TEXOPT_OK && opt->triangle_error) {
-        for (size_t t = 0; t < tc; t++) {
-            double s = 0;
-            size_t c = 0;
-            for (int w = 0; w < job.threads; w++) {
-                s += job.triangle_error_sum[(size_t)w * tc + t];
-                c += job.triangle_error_count[(size_t)w * tc + t];
-            }
-            opt->triangle_error[t] = c ? s / (double)c : 0.0;
-        }
+    if (st == TEXOPT_OK) {
+        st = run_views(&job);
+        if (st != TEXOPT_OK)
+            texopt_fail(err, err_len, st, "%s", job.err);
     }
+    if (st == TEXOPT_OK && opt->triangle_error)
+        sum_triangle_errors(&job, opt->triangle_error);
+    if (st == TEXOPT_OK)
+        finish_results(&job, t0, out);
     free(job.triangle_error_sum);
     free(job.triangle_error_count);
     destroy_filters(job.ref_filters, reference->image_count);
-    destroy_filters(job.cand_filters, candidate->image_count);
+    destroy_candidate_filters(job.cand_filters, candidates, candidate_count);
+    free(job.out);
     pthread_mutex_destroy(&job.lock);
-    if (st != TEXOPT_OK)
-        return st;
-    double sum = 0;
-    for (int v = 0; v < TEXOPT_VIEW_COUNT; v++)
-        sum += result.view_gmsd[v];
-    result.q = sum / TEXOPT_VIEW_COUNT;
-    result.seconds = now_seconds() - t0;
-    *out = result;
-    return TEXOPT_OK;
+    return st;
+}
+
+texopt_status texopt_evaluate(const texopt_model *reference, const texopt_model *candidate,
+                              const texopt_evaluate_options *opt, texopt_evaluation *out,
+                              char *err, size_t err_len)
+{
+    if (!candidate)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "missing model or output");
+    return texopt_evaluate_many(reference, &candidate, 1, opt, out, err, err_len);
 }

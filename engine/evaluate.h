@@ -70,4 +70,14 @@ texopt_status texopt_evaluate(const texopt_model *reference, const texopt_model 
                               const texopt_evaluate_options *opt, texopt_evaluation *out,
                               char *err, size_t err_len);
 
+/* Whole-mesh loss of several candidates (candidate_count >= 1, all with the reference's
+ * triangles) against one reference, into out[0..candidate_count): each view of the reference
+ * is rasterised and shaded once for all of them, so choosing among candidates costs one
+ * reference render instead of one per candidate; out[c] is bit for bit what
+ * texopt_evaluate returns for candidate c (seconds: the whole call's). opt->triangle_error
+ * needs candidate_count == 1. */
+texopt_status texopt_evaluate_many(const texopt_model *reference, const texopt_model *const *candidates,
+                                   int candidate_count, const texopt_evaluate_options *opt,
+                                   texopt_evaluation *out, char *err, size_t err_len);
+
 #endif

@@ -11,7 +11,9 @@
  * Methods:
  *   "perceptual": stage 1 targets; two candidate layouts per budget, the targets allocated
  *     to the budget (allocate.h) and the targets as they are (a uniform scale by the
- *     budget), and the one with the smaller whole-mesh loss q (evaluate.h) is kept.
+ *     budget), and the one with the smaller whole-mesh loss q (evaluate.h) is kept. The
+ *     candidates bake only base colour (all q looks at) and are evaluated in one pass; the
+ *     kept one's other images are baked after the choice.
  *   "input": the input layout kept as it is (UVs untouched, seams, overlaps and wrapping
  *     included) and each texture resampled with the prefilter of texture_filter.h to the
  *     budget: a relative cost c_r scales both sides by sqrt(c_r) (rounded to whole texels),
@@ -178,6 +180,9 @@ typedef struct job_output {
     int domain_count;
     double **solved;             /* per domain: stage 2's layout in input texels (kept for
                                     the loss share of a chosen candidate), NULL when none */
+    double **packed;             /* per domain: the packed layout in output texels (kept to
+                                    bake a chosen candidate's remaining images), NULL when none */
+    int *packed_size;            /* per domain: its output width and height */
 } job_output;
 
 static void job_output_destroy(job_output *o, int image_count)
@@ -188,10 +193,13 @@ static void job_output_destroy(job_output *o, int image_count)
     free(o->images);
     free(o->edit_images);
     free(o->uvs);
-    if (o->solved)
-        for (int d = 0; d < o->domain_count; d++)
-            free(o->solved[d]);
+    for (int d = 0; d < o->domain_count; d++) {
+        free(o->solved[d]);
+        free(o->packed[d]);
+    }
     free(o->solved);
+    free(o->packed);
+    free(o->packed_size);
     memset(o, 0, sizeof *o);
 }
 
@@ -409,6 +417,8 @@ struct texopt_job {
     double budget_from;        /* the job's progress where the budget's part begins */
     const stage_weights *weights;
     int allocating;            /* the run in progress allocates the targets (allocate.h) */
+    int evaluated_images_only; /* the run in progress is a candidate: it bakes only the images
+                                  the evaluation reads (bake_remaining_images does the rest) */
 };
 
 static void stage1_options(const texopt_params *params, texopt_triopt_options *topt)
@@ -571,11 +581,25 @@ static int normal_map_needs_rotation(const texopt_model *model, const texopt_dom
     return normal;
 }
 
-/* Re-bakes every image of the domain from the input layout into the packed one. */
+/* Whether the whole-mesh evaluation (meshrender.h) reads the image: a base colour bound
+ * through TEXCOORD_0. */
+static int image_is_evaluated(const texopt_model *model, int image)
+{
+    for (int m = 0; m < model->material_count; m++) {
+        const texopt_texture_ref *r = &model->materials[m].slot[TEXOPT_SLOT_BASE_COLOR];
+        if (r->image == image && r->texcoord == 0)
+            return 1;
+    }
+    return 0;
+}
+
+/* Re-bakes the images of the domain from the input layout into the packed one: those not
+ * baked yet, and of those only the evaluated ones when evaluated_only (a candidate's images
+ * that the choice between candidates does not look at are baked for the winner alone). */
 static texopt_status rebake_domain(const texopt_model *model, const texopt_mesh *mesh,
                                    const double *packed, int width, int height, int threads,
-                                   job_output *out, texopt_domain_stats *ds, job_monitor *jm,
-                                   double from, double to, char *err, size_t err_len)
+                                   int evaluated_only, job_output *out, texopt_domain_stats *ds,
+                                   job_monitor *jm, double from, double to, char *err, size_t err_len)
 {
     const texopt_domain *dom = &model->domains[mesh->domain];
     size_t n = 2 * (mesh->vertex_count ? mesh->vertex_count : 1);
@@ -608,6 +632,8 @@ static texopt_status rebake_domain(const texopt_model *model, const texopt_mesh 
         image_output_size(src, dom, width, height, &w, &h);
         is->output_width = w;
         is->output_height = h;
+        if (out->edit_images[im] || (evaluated_only && !image_is_evaluated(model, im)))
+            continue;
         texopt_wrap ws, wt;
         image_wrap(model, im, &ws, &wt);
         st = texopt_image_create(&out->images[im], w, h, src->channels, err, err_len);
@@ -713,8 +739,8 @@ static texopt_status run_optimised_method(const texopt_job *job, int d, const te
         ds->packing_efficiency = br.packing_efficiency;
         ds->repacked = 1;
         double t0 = now_seconds();
-        st = rebake_domain(job->model, mesh, packed, br.width, br.height, worker_threads(p), out, ds, jm,
-                           bake_from, to, err, err_len);
+        st = rebake_domain(job->model, mesh, packed, br.width, br.height, worker_threads(p),
+                           job->evaluated_images_only, out, ds, jm, bake_from, to, err, err_len);
         ds->seconds_bake = now_seconds() - t0;
     }
     if (st == TEXOPT_OK)
@@ -722,6 +748,10 @@ static texopt_status run_optimised_method(const texopt_job *job, int d, const te
     if (st == TEXOPT_OK && out->solved) {
         out->solved[d] = texel_new;
         texel_new = NULL;
+        out->packed[d] = packed;
+        packed = NULL;
+        out->packed_size[2 * d] = br.width;
+        out->packed_size[2 * d + 1] = br.height;
     }
     free(texel_new);
     free(packed);
@@ -757,10 +787,13 @@ static texopt_status alloc_output(const texopt_model *model, int method, job_out
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the output images");
     if (method == TEXOPT_METHOD_INPUT)
         return TEXOPT_OK;
-    out->domain_count = model->domain_count;
-    out->solved = calloc((size_t)(model->domain_count > 0 ? model->domain_count : 1), sizeof *out->solved);
-    if (!out->solved)
+    size_t n_domains = (size_t)(model->domain_count > 0 ? model->domain_count : 1);
+    out->solved = calloc(n_domains, sizeof *out->solved);
+    out->packed = calloc(n_domains, sizeof *out->packed);
+    out->packed_size = calloc(2 * n_domains, sizeof *out->packed_size);
+    if (!out->solved || !out->packed || !out->packed_size)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the solved layouts");
+    out->domain_count = model->domain_count;
     return alloc_uvs(model, &out->uvs, err, err_len);
 }
 
@@ -811,31 +844,48 @@ static void fill_job_params(texopt_job_stats *js, const texopt_params *p)
     js->seed = (unsigned long long)p->seed;
 }
 
-/* The whole-mesh loss q (evaluate.h) of an output against the input, in memory: the
- * candidate is the input model seen through the new UVs and images (a shallow view that
- * owns nothing). */
-static texopt_status evaluate_output(const texopt_model *model, const job_output *out,
-                                     const texopt_params *p, job_monitor *jm, texopt_evaluation *ev,
-                                     char *err, size_t err_len)
+#define MAX_EVALUATED_OUTPUTS 2
+
+/* The whole-mesh loss q (evaluate.h) of each of n outputs against the input, in memory, in
+ * one pass over the views (the input rendered once for all): each candidate is the input
+ * model seen through the new UVs and images (a shallow view that owns nothing). */
+static texopt_status evaluate_outputs(const texopt_model *model, const job_output *const *outs, int n,
+                                      const texopt_params *p, job_monitor *jm, texopt_evaluation *ev, char *err,
+                                      size_t err_len)
 {
-    texopt_image *images = calloc((size_t)(model->image_count > 0 ? model->image_count : 1), sizeof *images);
-    if (!images)
+    texopt_model candidates[MAX_EVALUATED_OUTPUTS];
+    const texopt_model *views[MAX_EVALUATED_OUTPUTS];
+    size_t k = (size_t)(model->image_count > 0 ? model->image_count : 1);
+    texopt_image *images = calloc((size_t)n * k, sizeof *images);
+    if (!images || n > MAX_EVALUATED_OUTPUTS) {
+        free(images);
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the evaluation");
-    for (int i = 0; i < model->image_count; i++)
-        images[i] = out->edit_images[i] ? *out->edit_images[i] : model->images[i];
-    texopt_model candidate = *model;
-    candidate.images = images;
-    if (out->uvs)
-        candidate.uvs = out->uvs;
-    candidate.document = NULL;
-    candidate.destroy_document = NULL;
+    }
+    for (int c = 0; c < n; c++) {
+        texopt_image *own = images + (size_t)c * k;
+        for (int i = 0; i < model->image_count; i++)
+            own[i] = outs[c]->edit_images[i] ? *outs[c]->edit_images[i] : model->images[i];
+        candidates[c] = *model;
+        candidates[c].images = own;
+        if (outs[c]->uvs)
+            candidates[c].uvs = outs[c]->uvs;
+        candidates[c].document = NULL;
+        candidates[c].destroy_document = NULL;
+        views[c] = &candidates[c];
+    }
     texopt_evaluate_options opt = {0};
     opt.resolution = p->eval_resolution;
     opt.threads = p->threads > 0 ? p->threads : 2;
     opt.monitor = &jm->inner;
-    texopt_status st = texopt_evaluate(model, &candidate, &opt, ev, err, err_len);
+    texopt_status st = texopt_evaluate_many(model, views, n, &opt, ev, err, err_len);
     free(images);
     return st;
+}
+
+static texopt_status evaluate_output(const texopt_model *model, const job_output *out, const texopt_params *p,
+                                     job_monitor *jm, texopt_evaluation *ev, char *err, size_t err_len)
+{
+    return evaluate_outputs(model, &out, 1, p, jm, ev, err, err_len);
 }
 
 static void free_domain_stats(texopt_domain_stats *ds, int n)
@@ -883,13 +933,10 @@ static texopt_status run_candidate(texopt_job *job, const texopt_params *p, int 
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for candidate statistics");
     job->stats.domains = c->domains;
     job->allocating = allocating;
-    double split = from + 0.8 * (to - from);
-    texopt_status st = run_budget(job, p, 0, &c->out, from, split, err, err_len);
-    if (st == TEXOPT_OK) {
-        job_stage(&job->jm, "evaluate", split, to);
-        st = evaluate_output(job->model, &c->out, p, &job->jm, &c->ev, err, err_len);
-    }
+    job->evaluated_images_only = 1;
+    texopt_status st = run_budget(job, p, 0, &c->out, from, to, err, err_len);
     job->allocating = 0;
+    job->evaluated_images_only = 0;
     job->stats.domains = job_domains;
     return st;
 }
@@ -904,13 +951,35 @@ static texopt_status measure_chosen_loss_share(texopt_job *job, const job_output
     return st;
 }
 
+/* Bakes the images of the kept candidate that the choice did not need (run_candidate baked
+ * only the evaluated ones), into the layouts it packed. */
+static texopt_status bake_remaining_images(texopt_job *job, const texopt_params *p, job_output *out, double from,
+                                           double to, char *err, size_t err_len)
+{
+    texopt_status st = TEXOPT_OK;
+    int n = job->model->domain_count;
+    for (int d = 0; d < n && st == TEXOPT_OK; d++) {
+        if (!out->packed || !out->packed[d])
+            continue;
+        texopt_domain_stats *ds = &job->stats.domains[d];
+        double t0 = now_seconds();
+        st = rebake_domain(job->model, job->domains[d].mesh, out->packed[d], out->packed_size[2 * d],
+                           out->packed_size[2 * d + 1], worker_threads(p), 0, out, ds, &job->jm,
+                           from + (to - from) * d / n, from + (to - from) * (d + 1) / n, err, err_len);
+        ds->seconds_bake += now_seconds() - t0;
+    }
+    return st;
+}
+
 /* One budget into *out. For perceptual, two candidate layouts are made and the one with the
  * smaller whole-mesh loss q is kept (its evaluation in *ev, *evaluated = 1): the targets
  * allocated to the budget (allocate.h) and stage 1's own targets scaled uniformly by the
  * budget. Neither wins everywhere (BENCHMARKS.md "Quality": the allocation lowers q on Fox
- * and Duck, raises it on spot), and q is what the product minimises. Both candidates are
- * held until the choice (their images: twice the output's memory) so the winner is not
- * rebuilt, and the per-triangle loss share is measured on the winner only. */
+ * and Duck, raises it on spot), and q is what the product minimises. The candidates bake
+ * only the images q looks at (base colour) and are held until the choice, so the winner is
+ * not rebuilt; its other images are left to bake_remaining_images (not needed at all by the
+ * target_loss search's steps), and the per-triangle loss share is measured on the winner
+ * only. */
 static texopt_status run_best_budget(texopt_job *job, const texopt_params *p, int with_stats, job_output *out,
                                      double from, double to, texopt_evaluation *ev, int *evaluated, char *err,
                                      size_t err_len)
@@ -919,11 +988,21 @@ static texopt_status run_best_budget(texopt_job *job, const texopt_params *p, in
     job->allocating = 0;
     if (p->method != TEXOPT_METHOD_PERCEPTUAL)
         return run_budget(job, p, with_stats, out, from, to, err, err_len);
-    double half = (to - from) / 2;
+    double half = 0.4 * (to - from);
     candidate allocated = {0}, uniform = {0};
     texopt_status st = run_candidate(job, p, 1, &allocated, from, from + half, err, err_len);
     if (st == TEXOPT_OK)
-        st = run_candidate(job, p, 0, &uniform, from + half, to, err, err_len);
+        st = run_candidate(job, p, 0, &uniform, from + half, from + 2 * half, err, err_len);
+    if (st == TEXOPT_OK) {
+        job_stage(&job->jm, "evaluate", from + 2 * half, to);
+        const job_output *outs[2] = {&allocated.out, &uniform.out};
+        texopt_evaluation evs[2];
+        st = evaluate_outputs(job->model, outs, 2, p, &job->jm, evs, err, err_len);
+        if (st == TEXOPT_OK) {
+            allocated.ev = evs[0];
+            uniform.ev = evs[1];
+        }
+    }
     if (st == TEXOPT_OK) {
         texopt_job_stats *js = &job->stats;
         js->has_allocation_choice = 1;
@@ -1123,8 +1202,12 @@ texopt_status texopt_job_write(texopt_job *job, const texopt_job_budget *budget,
     texopt_evaluation ev;
     int evaluated = 0;
     js->has_allocation_choice = 0;
+    /* A perceptual job's kept candidate bakes its remaining images from here. */
+    double baked = p.method == TEXOPT_METHOD_PERCEPTUAL ? from + 0.85 * (end - tail - from) : end - tail;
     if (st == TEXOPT_OK)
-        st = run_best_budget(job, &p, stats_json != NULL, &out, from, end - tail, &ev, &evaluated, err, err_len);
+        st = run_best_budget(job, &p, stats_json != NULL, &out, from, baked, &ev, &evaluated, err, err_len);
+    if (st == TEXOPT_OK)
+        st = bake_remaining_images(job, &p, &out, baked, end - tail, err, err_len);
     if (st == TEXOPT_OK)
         st = check_cancel(&job->jm, err, err_len);
     if (st == TEXOPT_OK && p.evaluate && !evaluated) {

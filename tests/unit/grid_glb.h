@@ -1,7 +1,8 @@
 /* grid_glb.h - a textured n x n grid written as a small .glb, for the pipeline tests
  * (header only; test_pipeline.c and test_pipeline_models_slow.c). The grid lies over
  * [0,1]^2 with UV = (x, y), u32 indices, one material whose base colour is a tex x tex PNG
- * of one of the fixtures' patterns (tests/support/fixtures.h), default sampler (REPEAT). */
+ * of one of the fixtures' patterns (tests/support/fixtures.h), default sampler (REPEAT);
+ * optionally the same PNG a second time as the metallic-roughness image. */
 #ifndef TEXOPT_TEST_GRID_GLB_H
 #define TEXOPT_TEST_GRID_GLB_H
 
@@ -20,8 +21,9 @@ static inline void grid_put32(unsigned char *p, uint32_t v)
 }
 
 /* Writes an n x n grid over [0,1]^2 (UV = (x, y)) with a tex x tex texture of `pattern` as
- * a .glb at path. Returns 0 on success. */
-static inline int write_grid_glb(const char *path, int n, int tex, const char *pattern)
+ * a .glb at path; with twin_image, image 1 (metallicRoughness) has the same pixels as image
+ * 0 (baseColor). Returns 0 on success. */
+static inline int write_grid_glb_images(const char *path, int n, int tex, const char *pattern, int twin_image)
 {
     texopt_image img;
     if (texopt_image_create(&img, tex, tex, 3, NULL, 0) != TEXOPT_OK || fixture_fill_pattern(&img, pattern) != 0)
@@ -59,15 +61,17 @@ static inline int write_grid_glb(const char *path, int n, int tex, const char *p
     int jl = snprintf(json, sizeof json,
         "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
         "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1},\"indices\":2,\"material\":0}]}],"
-        "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}],"
-        "\"textures\":[{\"source\":0}],\"images\":[{\"bufferView\":3,\"mimeType\":\"image/png\"}],"
+        "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}%s}}],"
+        "\"textures\":[{\"source\":0}%s],\"images\":[{\"bufferView\":3,\"mimeType\":\"image/png\"}%s],"
         "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[1,1,0]},"
         "{\"bufferView\":1,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC2\"},"
         "{\"bufferView\":2,\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"}],"
         "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},"
         "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}],"
         "\"buffers\":[{\"byteLength\":%zu}]}",
-        nv, nv, nt * 3, pos_len, pos_len, uv_len, pos_len + uv_len, idx_len, png_at, png_len, bin_len);
+        twin_image ? ",\"metallicRoughnessTexture\":{\"index\":1}" : "", twin_image ? ",{\"source\":1}" : "",
+        twin_image ? ",{\"bufferView\":3,\"mimeType\":\"image/png\"}" : "", nv, nv, nt * 3, pos_len,
+        pos_len, uv_len, pos_len + uv_len, idx_len, png_at, png_len, bin_len);
     size_t jpad = ((size_t)jl + 3) / 4 * 4, total = 12 + 8 + jpad + 8 + bin_len;
     unsigned char *glb = calloc(1, total);
     memcpy(glb, "glTF", 4);
@@ -87,6 +91,11 @@ static inline int write_grid_glb(const char *path, int n, int tex, const char *p
         ok = 0;
     free(glb);
     return ok ? 0 : -1;
+}
+
+static inline int write_grid_glb(const char *path, int n, int tex, const char *pattern)
+{
+    return write_grid_glb_images(path, n, tex, pattern, 0);
 }
 
 #endif

@@ -6,8 +6,10 @@
 #include "evaluate.h"
 #include "fixtures.h"
 #include "gltf_io.h"
+#include "gmsd.h"
 #include "meshrender.h"
 #include "resize.h"
+#include "sample.h"
 #include "test.h"
 
 /* A sphere whose texture is the "half" pattern: flat on one side, text-like detail on the
@@ -122,6 +124,89 @@ TEST(thread_count_does_not_change_the_result)
     CHECK_MSG(detail > 1.0, "detail %g", detail);
     texopt_model_destroy(ref);
     texopt_model_destroy(cand);
+}
+
+/* GMSD of one view computed here from the renderer's pieces with the plain (unprepared)
+ * GMSD, as an independent check of the evaluation's per-view value. */
+static double direct_view_gmsd(const texopt_model *ref, const texopt_model *cand, int view, int side)
+{
+    texopt_view views[TEXOPT_VIEW_COUNT];
+    texopt_raster r;
+    texopt_image a = {0}, b = {0};
+    char err[256];
+    if (texopt_meshrender_views(ref, views, err, sizeof err) != TEXOPT_OK ||
+        texopt_meshrender_rasterize(ref, &views[view], side, &r, err, sizeof err) != TEXOPT_OK)
+        return NAN;
+    size_t n = (size_t)side * side;
+    float *la = malloc(n * sizeof(float)), *lb = malloc(n * sizeof(float));
+    unsigned char *mask = malloc(n);
+    double g = NAN;
+    if (la && lb && mask && texopt_meshrender_shade(ref, &r, &a, err, sizeof err) == TEXOPT_OK &&
+        texopt_meshrender_shade(cand, &r, &b, err, sizeof err) == TEXOPT_OK) {
+        for (size_t i = 0; i < n; i++) {
+            la[i] = texopt_luma(a.pixels + 3 * i, 3);
+            lb[i] = texopt_luma(b.pixels + 3 * i, 3);
+            mask[i] = r.triangle[i] >= 0;
+        }
+        g = texopt_gmsd(la, lb, mask, side, side);
+    }
+    free(la);
+    free(lb);
+    free(mask);
+    texopt_image_destroy(&a);
+    texopt_image_destroy(&b);
+    texopt_raster_destroy(&r);
+    return g;
+}
+
+static int same_evaluation(const texopt_evaluation *a, const texopt_evaluation *b)
+{
+    int same = a->q == b->q && a->resolution == b->resolution;
+    for (int v = 0; v < TEXOPT_VIEW_COUNT; v++)
+        same = same && a->view_gmsd[v] == b->view_gmsd[v] && a->view_pixels[v] == b->view_pixels[v];
+    return same;
+}
+
+TEST(several_candidates_score_exactly_as_each_alone)
+{
+    texopt_model *ref = detailed_sphere(), *c1 = detailed_sphere(), *c2 = detailed_sphere();
+    CHECK(ref && c1 && c2);
+    CHECK(shrink_texture(c1, 0, 96) == 0);
+    CHECK(shrink_texture(c2, 0, 32) == 0);
+    const texopt_model *cands[3] = {c1, c2, ref};
+    char err[256] = "";
+    for (int mip = 0; mip < 2; mip++) {
+        texopt_evaluate_options many = {.resolution = 160, .threads = 2, .mipmapped = mip};
+        texopt_evaluate_options alone = {.resolution = 160, .threads = 1, .mipmapped = mip};
+        texopt_evaluation all[3], one;
+        CHECK_OK(texopt_evaluate_many(ref, cands, 3, &many, all, err, sizeof err), err);
+        for (int c = 0; c < 3; c++) {
+            CHECK_OK(texopt_evaluate(ref, cands[c], &alone, &one, err, sizeof err), err);
+            CHECK_MSG(same_evaluation(&all[c], &one), "mipmapped %d candidate %d: q %.6g alone %.6g", mip, c,
+                      all[c].q, one.q);
+        }
+        CHECK(all[0].q > 0.01 && all[1].q > all[0].q && all[2].q == 0.0);
+    }
+    texopt_evaluate_options plain = {.resolution = 160, .threads = 2};
+    texopt_evaluation all[2];
+    CHECK_OK(texopt_evaluate_many(ref, cands, 2, &plain, all, err, sizeof err), err);
+    for (int v = 0; v < TEXOPT_VIEW_COUNT; v += 7)
+        CHECK(all[1].view_gmsd[v] == direct_view_gmsd(ref, c2, v, 160));
+    /* Per-triangle errors belong to one candidate. */
+    double *tri_err = calloc(ref->triangle_count, sizeof(double));
+    plain.triangle_error = tri_err;
+    CHECK(texopt_evaluate_many(ref, cands, 2, &plain, all, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    free(tri_err);
+    /* Every candidate must have the reference's triangles. */
+    texopt_model *other = fixture_uv_sphere(24, 12, 64);
+    const texopt_model *mixed[2] = {c1, other};
+    plain.triangle_error = NULL;
+    CHECK(other && texopt_evaluate_many(ref, mixed, 2, &plain, all, err, sizeof err) != TEXOPT_OK);
+    CHECK(texopt_evaluate_many(ref, cands, 0, &plain, all, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    texopt_model_destroy(other);
+    texopt_model_destroy(ref);
+    texopt_model_destroy(c1);
+    texopt_model_destroy(c2);
 }
 
 TEST(mipmapped_lookups_are_reported_separately)

@@ -71,6 +71,32 @@ TEST(perceptual_keeps_the_better_of_the_allocated_and_uniform_layouts)
     scratch_free(&s);
 }
 
+/* The candidates bake only base colour for the choice; the kept one's other images are baked
+ * afterwards into its own layout: an image with base colour's pixels comes out identical. */
+TEST(perceptual_bakes_every_image_into_the_kept_layout)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 4, 64, "half") == 0);
+    CHECK(write_grid_glb_images(s.in, 4, 64, "half", 1) == 0);
+    texopt_params p = {0};
+    p.threads = 1;
+    p.iterations = 5;
+    p.relative_cost = 0.5;
+    p.eval_resolution = 96;
+    char err[512] = "";
+    CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+    texopt_model *out = load(s.out);
+    CHECK(out && out->image_count == 2);
+    const texopt_image *a = &out->images[0], *b = &out->images[1];
+    CHECK(a->width < 64 && a->width == b->width && a->height == b->height && a->channels == b->channels);
+    CHECK(memcmp(a->pixels, b->pixels, sizeof(float) * a->width * a->height * a->channels) == 0);
+    texopt_model_destroy(out);
+    cJSON *st = read_json(s.stats);
+    CHECK(cJSON_GetObjectItem(st, "allocation_choice") != NULL);
+    cJSON_Delete(st);
+    scratch_free(&s);
+}
+
 TEST(target_loss_finds_the_smallest_cost_meeting_the_target)
 {
     check_target_loss(TEXOPT_METHOD_INPUT, 0.08);
