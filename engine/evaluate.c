@@ -165,13 +165,6 @@ static void job_fail(eval_job *job, texopt_status st, const char *msg)
     atomic_store(&job->failed, 1);
 }
 
-static void luma_of(const texopt_image *img, float *luma)
-{
-    size_t n = (size_t)img->width * (size_t)img->height;
-    for (size_t i = 0; i < n; i++)
-        luma[i] = texopt_luma(img->pixels + 3 * i, 3);
-}
-
 /* Per worker: the screen-sized buffers of one view. */
 typedef struct view_buffers {
     texopt_gmsd_workspace *ws;
@@ -198,27 +191,22 @@ static void account_triangle_error(eval_job *job, int worker, const texopt_raste
 static texopt_status evaluate_view(eval_job *job, int worker, int v, view_buffers *b, char *msg, size_t msg_len)
 {
     texopt_raster raster;
-    texopt_image ref_img = {0}, cand_img = {0};
     texopt_status st = texopt_meshrender_rasterize(job->reference, &job->views[v], job->side,
                                                    &raster, msg, msg_len);
     if (st == TEXOPT_OK)
-        st = texopt_meshrender_shade_filtered(job->reference, &raster, job->ref_filters, &ref_img, msg, msg_len);
+        st = texopt_meshrender_shade_luma(job->reference, &raster, job->ref_filters, b->luma_ref, msg, msg_len);
     if (st == TEXOPT_OK) {
         size_t n = (size_t)job->side * (size_t)job->side;
-        luma_of(&ref_img, b->luma_ref);
         for (size_t i = 0; i < n; i++)
             b->mask[i] = raster.triangle[i] >= 0;
         if (!texopt_gmsd_reference_set(b->prepared, b->luma_ref, b->mask, job->side, job->side))
             st = texopt_fail(msg, msg_len, TEXOPT_E_INVALID_ARGUMENT, "view %d: bad GMSD reference", v);
     }
     for (int c = 0; c < job->candidate_count && st == TEXOPT_OK; c++) {
-        st = texopt_meshrender_shade_filtered(job->candidates[c], &raster,
-                                              job->cand_filters ? job->cand_filters[c] : NULL, &cand_img, msg,
-                                              msg_len);
+        st = texopt_meshrender_shade_luma(job->candidates[c], &raster,
+                                          job->cand_filters ? job->cand_filters[c] : NULL, b->luma_cand, msg, msg_len);
         if (st != TEXOPT_OK)
             break;
-        luma_of(&cand_img, b->luma_cand);
-        texopt_image_destroy(&cand_img);
         double g = texopt_gmsd_against(b->ws, b->prepared, b->luma_cand);
         if (!isfinite(g))
             st = texopt_fail(msg, msg_len, TEXOPT_E_NUMERIC, "GMSD of view %d is not finite", v);
@@ -227,8 +215,6 @@ static texopt_status evaluate_view(eval_job *job, int worker, int v, view_buffer
         if (st == TEXOPT_OK && job->triangle_error_sum)
             account_triangle_error(job, worker, &raster, b);
     }
-    texopt_image_destroy(&ref_img);
-    texopt_image_destroy(&cand_img);
     texopt_raster_destroy(&raster);
     return st;
 }

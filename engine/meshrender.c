@@ -301,12 +301,24 @@ static void to_rgb(const float *texel, int channels, float *rgb)
     }
 }
 
-static texopt_status shade(const texopt_model *model, const texopt_raster *raster,
-                           struct texopt_texture_filter *const *filters, texopt_image *out, char *err,
-                           size_t err_len)
+/* Shades every pixel of the raster into out: 3 floats (RGB) per pixel, or with `luma` the
+ * luma of those RGB values (texopt_luma), 1 float per pixel; background pixels are 0. */
+static void store_pixel(const float rgb[3], int luma, float *px)
 {
-    memset(out, 0, sizeof *out);
-    if (!model || !raster || !raster->triangle)
+    if (luma) {
+        px[0] = texopt_luma(rgb, 3);
+    } else {
+        px[0] = rgb[0];
+        px[1] = rgb[1];
+        px[2] = rgb[2];
+    }
+}
+
+static texopt_status shade_pixels(const texopt_model *model, const texopt_raster *raster,
+                                  struct texopt_texture_filter *const *filters, int luma, float *out, char *err,
+                                  size_t err_len)
+{
+    if (!model || !raster || !raster->triangle || !out)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "nothing to shade");
     if (!model->uvs)
         return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "model has no TEXCOORD_0 to shade with");
@@ -319,30 +331,26 @@ static texopt_status shade(const texopt_model *model, const texopt_raster *raste
     texopt_status st = triangle_bindings(model, &ref, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    st = texopt_image_create(out, raster->side, raster->side, 3, err, err_len);
-    if (st != TEXOPT_OK) {
-        free(ref);
-        return st;
-    }
+    int stride = luma ? 1 : 3;
     size_t n = (size_t)raster->side * (size_t)raster->side;
     int32_t jac_tri = -1; /* the triangle whose footprint jac holds */
     double jac[4] = {1, 0, 0, 1};
     int jac_ok = 0;
     for (size_t i = 0; i < n; i++) {
         int32_t tri = raster->triangle[i];
-        if (tri < 0)
-            continue;
-        if ((size_t)tri >= model->triangle_count) {
+        float rgb[3] = {0, 0, 0};
+        float *px = out + (size_t)stride * i;
+        if (tri >= 0 && (size_t)tri >= model->triangle_count) {
             free(ref);
-            texopt_image_destroy(out);
             return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                                "raster names triangle %d but the model has %zu", (int)tri,
                                model->triangle_count);
         }
-        float *rgb = out->pixels + 3 * i;
-        const texopt_texture_ref *r = ref[tri];
+        const texopt_texture_ref *r = tri >= 0 ? ref[tri] : NULL;
         if (!r) {
-            rgb[0] = rgb[1] = rgb[2] = 0.5f;
+            if (tri >= 0)
+                rgb[0] = rgb[1] = rgb[2] = 0.5f;
+            store_pixel(rgb, luma, px);
             continue;
         }
         const texopt_image *img = &model->images[r->image];
@@ -359,9 +367,25 @@ static texopt_status shade(const texopt_model *model, const texopt_raster *raste
         else
             texopt_sample_bilinear(img, r->wrap_s, r->wrap_t, x, y, texel);
         to_rgb(texel, img->channels, rgb);
+        store_pixel(rgb, luma, px);
     }
     free(ref);
     return TEXOPT_OK;
+}
+
+static texopt_status shade(const texopt_model *model, const texopt_raster *raster,
+                           struct texopt_texture_filter *const *filters, texopt_image *out, char *err,
+                           size_t err_len)
+{
+    memset(out, 0, sizeof *out);
+    if (!raster || raster->side <= 0)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "nothing to shade");
+    texopt_status st = texopt_image_create(out, raster->side, raster->side, 3, err, err_len);
+    if (st == TEXOPT_OK)
+        st = shade_pixels(model, raster, filters, 0, out->pixels, err, err_len);
+    if (st != TEXOPT_OK)
+        texopt_image_destroy(out);
+    return st;
 }
 
 texopt_status texopt_meshrender_shade(const texopt_model *model, const texopt_raster *raster,
@@ -375,6 +399,13 @@ texopt_status texopt_meshrender_shade_filtered(const texopt_model *model, const 
                                                texopt_image *out, char *err, size_t err_len)
 {
     return shade(model, raster, filters, out, err, err_len);
+}
+
+texopt_status texopt_meshrender_shade_luma(const texopt_model *model, const texopt_raster *raster,
+                                           struct texopt_texture_filter *const *filters, float *luma, char *err,
+                                           size_t err_len)
+{
+    return shade_pixels(model, raster, filters, 1, luma, err, err_len);
 }
 
 texopt_status texopt_meshrender_same_geometry(const texopt_model *reference,

@@ -76,6 +76,13 @@ texopt_status texopt_meshrender_shade_filtered(const texopt_model *model, const 
                                                struct texopt_texture_filter *const *filters,
                                                texopt_image *out, char *err, size_t err_len);
 
+/* As texopt_meshrender_shade_filtered (filters may be NULL: bilinear), writing only each
+ * pixel's luma (texopt_luma of the RGB that function would write, so the same bits) into
+ * the caller's side x side floats: what the evaluation compares, without an RGB image. */
+texopt_status texopt_meshrender_shade_luma(const texopt_model *model, const texopt_raster *raster,
+                                           struct texopt_texture_filter *const *filters, float *luma,
+                                           char *err, size_t err_len);
+
 /* Succeeds when candidate has the same triangles as reference: equal triangle count and every
  * corner at the same position (within 1e-5 of the bounding-box diagonal). The message names
  * the first triangle that differs. */
