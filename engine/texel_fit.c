@@ -247,6 +247,49 @@ static void update_direction(fit_ctx *c, int y0, int y1, double *sums, float *sc
         }
 }
 
+/* acc = (T x T + ridge) p at an inside texel (p at pt, rows w texels apart): the generic
+ * loop below in the same order of operations (same bits), unrolled for a channel count the
+ * compiler knows. */
+static inline void apply_inside(const float *pt, size_t w, int ch, float ridge, float *acc)
+{
+    for (int k = 0; k < ch; k++)
+        acc[k] = ridge * pt[k];
+    for (int oy = -1; oy <= 1; oy++) {
+        const float *row = pt + (ptrdiff_t)oy * (ptrdiff_t)w * ch;
+        for (int ox = -1; ox <= 1; ox++) {
+            float kv = T1[oy + 1] * T1[ox + 1];
+            const float *pn = row + ox * ch;
+            for (int k = 0; k < ch; k++)
+                acc[k] += kv * pn[k];
+        }
+    }
+}
+
+static void accumulate_q(float *qt, const float *pt, const float *acc, int ch, double *sums)
+{
+    for (int k = 0; k < ch; k++) {
+        qt[k] = acc[k];
+        sums[0] += (double)pt[k] * acc[k];
+    }
+}
+
+static void apply_inside_any(const float *pt, size_t w, int ch, float ridge, float *acc)
+{
+    switch (ch) {
+    case 1:
+        apply_inside(pt, w, 1, ridge, acc);
+        break;
+    case 3:
+        apply_inside(pt, w, 3, ridge, acc);
+        break;
+    case 4:
+        apply_inside(pt, w, 4, ridge, acc);
+        break;
+    default:
+        apply_inside(pt, w, ch, ridge, acc);
+    }
+}
+
 /* q = (K + ridge I) p on free texels. sums[0] = p . q. p is zero wherever the fit may not
  * change a texel, so inside texels run the constant stencil without tests. */
 static void apply_matrix(fit_ctx *c, int y0, int y1, double *sums, float *scratch)
@@ -259,15 +302,15 @@ static void apply_matrix(fit_ctx *c, int y0, int y1, double *sums, float *scratc
             size_t t = (size_t)y * c->w + x;
             if (c->is_free[t] == NOT_FREE)
                 continue;
-            float k9[9];
-            if (c->is_free[t] == FREE_INSIDE) {
-                for (int i = 0; i < 9; i++)
-                    k9[i] = T1[i / 3] * T1[i % 3];
-            } else {
-                gather_stencil(c, x, y, k9);
-            }
             const float *pt = c->p + t * ch;
             float acc[4];
+            if (c->is_free[t] == FREE_INSIDE) {
+                apply_inside_any(pt, (size_t)c->w, ch, ridge, acc);
+                accumulate_q(c->q + t * ch, pt, acc, ch, sums);
+                continue;
+            }
+            float k9[9];
+            gather_stencil(c, x, y, k9);
             for (int k = 0; k < ch; k++)
                 acc[k] = ridge * pt[k];
             for (int oy = -1; oy <= 1; oy++) {
@@ -283,11 +326,7 @@ static void apply_matrix(fit_ctx *c, int y0, int y1, double *sums, float *scratc
                         acc[k] += kv * pn[k];
                 }
             }
-            float *qt = c->q + t * ch;
-            for (int k = 0; k < ch; k++) {
-                qt[k] = acc[k];
-                sums[0] += (double)pt[k] * acc[k];
-            }
+            accumulate_q(c->q + t * ch, pt, acc, ch, sums);
         }
 }
 
