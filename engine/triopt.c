@@ -205,7 +205,23 @@ static double variance(const double *v, int n)
     return var / n;
 }
 
-/* Eq. 17: how much E moves when only the rotation, or only the stretch, changes. */
+/* A random permutation of 0..n-1 into perm (Fisher-Yates). */
+static void shuffle(texopt_rng *rng, int *perm, int n)
+{
+    for (int k = 0; k < n; k++)
+        perm[k] = k;
+    for (int k = n - 1; k > 0; k--) {
+        int j = (int)texopt_rng_below(rng, (uint32_t)k + 1);
+        int tmp = perm[k];
+        perm[k] = perm[j];
+        perm[j] = tmp;
+    }
+}
+
+/* Eq. 17: how much E moves when only the rotation, or only the stretch, changes. The
+ * stretch samples form a Latin hypercube: each of lambda1, lambda2, beta uniform and
+ * stratified into n strata, which ranks the triangles' w_stretch closer to a dense
+ * estimate than independent draws at the same cost (BENCHMARKS.md, "Stage 1"). */
 static texopt_status sensitivity_weights(worker *w, uint32_t t, texopt_triangle_target *o,
                                          char *err, size_t err_len)
 {
@@ -227,11 +243,14 @@ static texopt_status sensitivity_weights(worker *w, uint32_t t, texopt_triangle_
             return st;
     }
     o->w_rotation = variance(values, n);
+    int strata[3][64];
+    for (int d = 0; d < 3; d++)
+        shuffle(&rng, strata[d], n);
     double span = 1.0 - opt->lambda_min;
     for (int k = 0; k < n; k++) {
-        double l1 = opt->lambda_min + span * texopt_rng_uniform(&rng);
-        double l2 = opt->lambda_min + span * texopt_rng_uniform(&rng);
-        double beta = texopt_rng_uniform(&rng) * QUARTER_TURN;
+        double l1 = opt->lambda_min + span * (strata[0][k] + texopt_rng_uniform(&rng)) / n;
+        double l2 = opt->lambda_min + span * (strata[1][k] + texopt_rng_uniform(&rng)) / n;
+        double beta = (strata[2][k] + texopt_rng_uniform(&rng)) / n * QUARTER_TURN;
         texopt_jacobian_from_params(o->alpha, l1, l2, beta, J);
         texopt_status st = texopt_triloss_eval(w->loss, J, INFINITY, &values[k], err, err_len);
         if (st != TEXOPT_OK)

@@ -36,7 +36,7 @@
  *
  * Weights (eq. 17): w_rotation = variance of E over weight_samples stratified uniform
  * alpha at (lambda1*, lambda2*, beta*); w_stretch = variance of E over weight_samples
- * uniform (lambda1, lambda2, beta) at alpha*. Both are population variances (divide by the
+ * uniform (lambda1, lambda2, beta) at alpha*, drawn as a Latin hypercube. Both are population variances (divide by the
  * count) of the exact E (not clipped at eps).
  *
  * Determinism: triangle t draws from seed_t = mix(seed, t) and nothing else, and threads

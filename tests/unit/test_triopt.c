@@ -229,7 +229,7 @@ TEST(few_weight_samples_agree_with_dense_sampling)
 {
     /* Eq. 17 from the default 4 samples per weight must estimate the same variances as 32
      * samples: over the stripe strip their sums agree within a factor 1.6 (measured 0.83 for
-     * the rotation, 1.43 for the stretch; samples missing part of the range move them
+     * the rotation, 1.22 for the stretch; samples missing part of the range move them
      * further), and both are positive (turning or stretching stripes off their squeeze
      * changes the loss). */
     texopt_triopt_options few = {.iterations = -1, .threads = 2, .seed = 5, .weight_samples = 4};
