@@ -6,7 +6,8 @@
  * bilinear taps are within one texel of its texel, so the normal matrix K = A^T A couples
  * only 3x3 neighbourhoods. Where every sample around a texel counts (the inside of a chart,
  * nearly all texels) its row of K is the constant stencil T x T, T = (3/8, 5/4, 3/8), so
- * K is not stored: rows near chart borders are gathered from the samples when needed.
+ * K is not stored for them: the rows of texels near chart borders are gathered from the
+ * samples once and kept per row block, in the order the passes visit them.
  * Every pass gathers (a texel writes only itself), so threads never conflict. The unknown
  * is the change from x0: fixed texels simply stay at zero change and x0 enters through the
  * starting residual A^T (ref - A x0), computed per row block from references asked for
@@ -37,6 +38,8 @@ typedef struct fit_ctx {
     uint8_t *is_free; /* per texel: NOT_FREE, FREE_BORDER or FREE_INSIDE */
     float *inv_diag;  /* per free texel: 1 / (K_tt + ridge), the Jacobi preconditioner */
     float *r, *p, *q; /* ch per texel */
+    float **border_k9;    /* per row block: the K rows of its FREE_BORDER texels, 9 floats each */
+    size_t *border_count; /* per row block */
     double alpha, beta;
     size_t scratch_floats; /* per worker, for the pass that needs one */
     atomic_int no_memory;
@@ -148,10 +151,30 @@ static int inside_stencil(const fit_ctx *c, int x, int y)
     return 1;
 }
 
-/* Marks the free texels (touched by a counted sample, not fixed) and their preconditioner. */
+/* Appends the K row of the block's next border texel; 0 when out of memory. */
+static int keep_border_row(fit_ctx *c, int block, size_t *capacity, const float k9[9])
+{
+    size_t n = c->border_count[block];
+    if (n == *capacity) {
+        size_t grown = *capacity ? 2 * *capacity : 256;
+        float *more = realloc(c->border_k9[block], grown * 9 * sizeof *more);
+        if (!more)
+            return 0;
+        c->border_k9[block] = more;
+        *capacity = grown;
+    }
+    memcpy(c->border_k9[block] + 9 * n, k9, 9 * sizeof *k9);
+    c->border_count[block] = n + 1;
+    return 1;
+}
+
+/* Marks the free texels (touched by a counted sample, not fixed), their preconditioner and
+ * the K rows of the border ones. */
 static void mark_free(fit_ctx *c, int y0, int y1, double *sums, float *scratch)
 {
     (void)scratch;
+    int block = y0 / BLOCK_ROWS;
+    size_t capacity = 0;
     for (int y = y0; y < y1; y++)
         for (int x = 0; x < c->w; x++) {
             size_t t = (size_t)y * c->w + x;
@@ -167,6 +190,10 @@ static void mark_free(fit_ctx *c, int y0, int y1, double *sums, float *scratch)
                 gather_stencil(c, x, y, k9);
                 if (!(k9[4] > 0))
                     continue;
+                if (!keep_border_row(c, block, &capacity, k9)) {
+                    atomic_store(&c->no_memory, 1);
+                    continue;
+                }
                 c->is_free[t] = FREE_BORDER;
             }
             c->inv_diag[t] = (float)(1.0 / (k9[4] + c->pb->ridge));
@@ -297,6 +324,7 @@ static void apply_matrix(fit_ctx *c, int y0, int y1, double *sums, float *scratc
     (void)scratch;
     int ch = c->ch;
     float ridge = (float)c->pb->ridge;
+    const float *border = c->border_k9[y0 / BLOCK_ROWS];
     for (int y = y0; y < y1; y++)
         for (int x = 0; x < c->w; x++) {
             size_t t = (size_t)y * c->w + x;
@@ -309,8 +337,8 @@ static void apply_matrix(fit_ctx *c, int y0, int y1, double *sums, float *scratc
                 accumulate_q(c->q + t * ch, pt, acc, ch, sums);
                 continue;
             }
-            float k9[9];
-            gather_stencil(c, x, y, k9);
+            const float *k9 = border;
+            border += 9;
             for (int k = 0; k < ch; k++)
                 acc[k] = ridge * pt[k];
             for (int oy = -1; oy <= 1; oy++) {
@@ -422,8 +450,10 @@ texopt_status texopt_texel_fit(const texopt_texel_fit_problem *problem, uint8_t 
     c.p = calloc(n * (size_t)c.ch, sizeof *c.p);
     c.q = malloc(n * (size_t)c.ch * sizeof *c.q);
     double *block_sums = malloc((size_t)blocks * MAX_SUMS * sizeof *block_sums);
+    c.border_k9 = calloc((size_t)blocks, sizeof *c.border_k9);
+    c.border_count = calloc((size_t)blocks, sizeof *c.border_count);
     texopt_texel_fit_report rep = {0};
-    if (!c.is_free || !c.inv_diag || !c.r || !c.p || !c.q || !block_sums) {
+    if (!c.is_free || !c.inv_diag || !c.r || !c.p || !c.q || !block_sums || !c.border_k9 || !c.border_count) {
         st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %dx%d texel fit", c.w, c.h);
     } else {
         double sums[MAX_SUMS];
@@ -451,5 +481,9 @@ texopt_status texopt_texel_fit(const texopt_texel_fit_problem *problem, uint8_t 
     free(c.p);
     free(c.q);
     free(block_sums);
+    for (int b = 0; c.border_k9 && b < blocks; b++)
+        free(c.border_k9[b]);
+    free(c.border_k9);
+    free(c.border_count);
     return st;
 }

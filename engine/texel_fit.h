@@ -13,8 +13,8 @@
  * Solved by conjugate gradients with a Jacobi preconditioner on the 3x3-stencil normal
  * equations; rows are shared among threads in fixed blocks and every sum is taken in block
  * order, so the result does not depend on the thread count. Memory: 1 + 4 + 12 * channels
- * bytes per texel besides the image. Values are clamped to [0, 1]
- * (the engine's image contract, image.h) after the solve.
+ * bytes per texel besides the image, and 36 per free texel next to a chart border. Values
+ * are clamped to [0, 1] (the engine's image contract, image.h) after the solve.
  * Does not: decide where the references come from or which texels to fix (rebake.h does).
  *
  * Implements the "least-squares fit for bilinear reconstruction" alternative of the re-bake
