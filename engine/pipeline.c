@@ -668,6 +668,7 @@ static void budget_request(const job_domain *jd, const texopt_params *p, job_mon
     req->input_cost = (double)jd->input_coverage.covered_texels;
     req->input_width = jd->mesh->width;
     req->input_height = jd->mesh->height;
+    req->targets = jd->targets; /* charts free to rotate are turned to their smallest box */
     req->monitor = &jm->inner;
 }
 
