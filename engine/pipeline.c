@@ -855,13 +855,13 @@ static texopt_status evaluate_outputs(const texopt_model *model, const job_outpu
                                       size_t err_len)
 {
     texopt_model candidates[MAX_EVALUATED_OUTPUTS];
-    const texopt_model *views[MAX_EVALUATED_OUTPUTS];
+    const texopt_model *shown[MAX_EVALUATED_OUTPUTS];
+    if (n < 1 || n > MAX_EVALUATED_OUTPUTS)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "evaluation of %d outputs", n);
     size_t k = (size_t)(model->image_count > 0 ? model->image_count : 1);
     texopt_image *images = calloc((size_t)n * k, sizeof *images);
-    if (!images || n > MAX_EVALUATED_OUTPUTS) {
-        free(images);
+    if (!images)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the evaluation");
-    }
     for (int c = 0; c < n; c++) {
         texopt_image *own = images + (size_t)c * k;
         for (int i = 0; i < model->image_count; i++)
@@ -872,13 +872,13 @@ static texopt_status evaluate_outputs(const texopt_model *model, const job_outpu
             candidates[c].uvs = outs[c]->uvs;
         candidates[c].document = NULL;
         candidates[c].destroy_document = NULL;
-        views[c] = &candidates[c];
+        shown[c] = &candidates[c];
     }
     texopt_evaluate_options opt = {0};
     opt.resolution = p->eval_resolution;
     opt.threads = p->threads > 0 ? p->threads : 2;
     opt.monitor = &jm->inner;
-    texopt_status st = texopt_evaluate_many(model, views, n, &opt, ev, err, err_len);
+    texopt_status st = texopt_evaluate_many(model, shown, n, &opt, ev, err, err_len);
     free(images);
     return st;
 }
