@@ -952,6 +952,15 @@ static texopt_status measure_chosen_loss_share(texopt_job *job, const job_output
     return st;
 }
 
+/* What a candidate's layouts and bakes took (its share of the statistics' stage seconds). */
+static double candidate_seconds(const candidate *c, int domain_count)
+{
+    double s = 0;
+    for (int d = 0; d < domain_count; d++)
+        s += c->domains[d].seconds_stage2 + c->domains[d].seconds_pack + c->domains[d].seconds_bake;
+    return s;
+}
+
 /* Bakes the images of the kept candidate that the choice did not need (run_candidate baked
  * only the evaluated ones), into the layouts it packed. */
 static texopt_status bake_remaining_images(texopt_job *job, const texopt_params *p, job_output *out, double from,
@@ -1011,6 +1020,8 @@ static texopt_status run_best_budget(texopt_job *job, const texopt_params *p, in
         js->q_uniform = uniform.ev.q;
         js->allocation_chosen = allocated.ev.q < uniform.ev.q;
         candidate *kept = js->allocation_chosen ? &allocated : &uniform;
+        js->seconds_choice_evaluate = allocated.ev.seconds;
+        js->seconds_other_candidate = candidate_seconds(js->allocation_chosen ? &uniform : &allocated, js->domain_count);
         free_domain_stats(js->domains, js->domain_count);
         js->domains = kept->domains;
         kept->domains = NULL;

@@ -145,6 +145,9 @@ static cJSON *job_json(const texopt_job_stats *s)
         cJSON_AddNumberToObject(a, "q_allocated", s->q_allocated);
         cJSON_AddNumberToObject(a, "q_uniform", s->q_uniform);
         cJSON_AddStringToObject(a, "chosen", s->allocation_chosen ? "allocated" : "uniform");
+        cJSON *t = cJSON_AddObjectToObject(a, "seconds");
+        cJSON_AddNumberToObject(t, "evaluate", s->seconds_choice_evaluate);
+        cJSON_AddNumberToObject(t, "other_candidate", s->seconds_other_candidate);
     }
     if (s->has_evaluation) {
         cJSON *e = cJSON_AddObjectToObject(root, "evaluation");

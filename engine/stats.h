@@ -82,6 +82,8 @@ typedef struct texopt_job_stats {
     int has_allocation_choice;   /* perceptual: q of both candidate layouts (pipeline.c) */
     double q_allocated, q_uniform;
     int allocation_chosen;       /* 1: the allocated layout was kept, 0: the uniform one */
+    double seconds_choice_evaluate; /* the evaluation pass of both candidates */
+    double seconds_other_candidate; /* the discarded candidate's stage 2, packing and bake */
     int has_evaluation;          /* params.evaluate: whole-mesh loss of the result */
     double q;                    /* evaluate.h: mean GMSD over the 20 views */
     int eval_resolution;

@@ -22,6 +22,8 @@ static void check_choice(cJSON *st, double relative_cost)
     cJSON *chosen = cJSON_GetObjectItem(choice, "chosen");
     int allocated = cJSON_IsString(chosen) && strcmp(chosen->valuestring, "allocated") == 0;
     CHECK(allocated == (qa < qu));
+    cJSON *seconds = cJSON_GetObjectItem(choice, "seconds");
+    CHECK(number_at(seconds, "evaluate", NULL) > 0 && number_at(seconds, "other_candidate", NULL) > 0);
     CHECK_NEAR(number_at(st, "evaluation", "q"), fmin(qa, qu), 0);
     cJSON *d = first_domain(st);
     double area_scale = number_at(d, "stage1", "area_scale_mean");
