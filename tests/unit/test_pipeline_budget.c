@@ -37,6 +37,17 @@ static void check_choice(cJSON *st, double relative_cost)
     }
 }
 
+/* A perceptual job small enough for every build: one thread, 5 BO iterations, 96 px views. */
+static texopt_params small_perceptual_job(double relative_cost)
+{
+    texopt_params p = {0};
+    p.threads = 1;
+    p.iterations = 5;
+    p.relative_cost = relative_cost;
+    p.eval_resolution = 96;
+    return p;
+}
+
 TEST(perceptual_keeps_the_better_of_the_allocated_and_uniform_layouts)
 {
     /* Half flat, half text: stage 1 shrinks the flat half far more than the budget does, so
@@ -44,12 +55,8 @@ TEST(perceptual_keeps_the_better_of_the_allocated_and_uniform_layouts)
      * about its final size. */
     scratch s;
     CHECK(scratch_init(&s, 4, 64, "half") == 0);
-    texopt_params p = {0};
-    p.threads = 1;
-    p.iterations = 5;
-    p.relative_cost = 0.9;
+    texopt_params p = small_perceptual_job(0.9);
     p.evaluate = 1;
-    p.eval_resolution = 96;
     char err[512] = "";
     CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
     cJSON *st = read_json(s.stats);
@@ -80,11 +87,7 @@ TEST(perceptual_bakes_every_image_into_the_kept_layout)
     scratch s;
     CHECK(scratch_init(&s, 4, 64, "half") == 0);
     CHECK(write_grid_glb_images(s.in, 4, 64, "half", 1) == 0);
-    texopt_params p = {0};
-    p.threads = 1;
-    p.iterations = 5;
-    p.relative_cost = 0.5;
-    p.eval_resolution = 96;
+    texopt_params p = small_perceptual_job(0.5);
     char err[512] = "";
     CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
     texopt_model *out = load(s.out);
