@@ -96,6 +96,18 @@ TEST(perceptual_bakes_every_image_into_the_kept_layout)
     CHECK(a->width < 64 && a->width == b->width && a->height == b->height && a->channels == b->channels);
     CHECK(memcmp(a->pixels, b->pixels, sizeof(float) * a->width * a->height * a->channels) == 0);
     texopt_model_destroy(out);
+    /* A baseline bakes both images after its layout, on two threads side by side (one
+     * thread each): the same images as one after the other. */
+    p.method = TEXOPT_METHOD_TEWARI;
+    CHECK_OK(texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err), err);
+    p.threads = 2;
+    CHECK_OK(texopt_optimize_file(s.in, s.again, NULL, &p, NULL, err, sizeof err), err);
+    CHECK(same_output(s.out, s.again));
+    out = load(s.again);
+    CHECK(out && out->image_count == 2 && out->images[0].width < 64);
+    CHECK(out && memcmp(out->images[0].pixels, out->images[1].pixels,
+                        sizeof(float) * out->images[0].width * out->images[0].height * out->images[0].channels) == 0);
+    texopt_model_destroy(out);
     cJSON *st = read_json(s.stats);
     CHECK(cJSON_GetObjectItem(st, "allocation_choice") != NULL);
     cJSON_Delete(st);
