@@ -15,6 +15,16 @@ static void fox_path(char *path, size_t len)
     snprintf(path, len, "%s/Fox/Fox.glb", TEXOPT_TEST_DATA_DIR);
 }
 
+static void options_for(texopt_compare_options *opt, const texopt_method *methods, int method_count,
+                        const double *costs, int cost_count)
+{
+    memset(opt, 0, sizeof *opt);
+    opt->methods = methods;
+    opt->method_count = method_count;
+    opt->costs = costs;
+    opt->cost_count = cost_count;
+}
+
 TEST(compare_input_method_curve)
 {
     char path[1024], err[512] = "";
@@ -22,11 +32,7 @@ TEST(compare_input_method_curve)
     const texopt_method methods[] = {TEXOPT_METHOD_INPUT};
     const double costs[] = {1.0, 0.25, 0.0625};
     texopt_compare_options opt;
-    memset(&opt, 0, sizeof opt);
-    opt.methods = methods;
-    opt.method_count = 1;
-    opt.costs = costs;
-    opt.cost_count = 3;
+    options_for(&opt, methods, 1, costs, 3);
     opt.showcase_cost = 0.25;
     opt.evaluate.resolution = 400;
     opt.evaluate.threads = 2;
@@ -63,11 +69,7 @@ TEST(compare_refuses_bad_options)
     const texopt_method methods[] = {TEXOPT_METHOD_INPUT};
     const double costs[] = {5.0};
     texopt_compare_options opt;
-    memset(&opt, 0, sizeof opt);
-    opt.methods = methods;
-    opt.method_count = 1;
-    opt.costs = costs;
-    opt.cost_count = 1;
+    options_for(&opt, methods, 1, costs, 1);
     texopt_compare_result r;
     CHECK(texopt_compare(path, &opt, &r, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     CHECK(strstr(err, "cost 5") != NULL);
@@ -87,11 +89,7 @@ TEST(compare_measures_given_output)
     const char *given[] = {NULL, path};
     const double costs[] = {0.5};
     texopt_compare_options opt;
-    memset(&opt, 0, sizeof opt);
-    opt.methods = methods;
-    opt.method_count = 2;
-    opt.costs = costs;
-    opt.cost_count = 1;
+    options_for(&opt, methods, 2, costs, 1);
     opt.evaluate.resolution = 300;
     opt.given_outputs = given;
     texopt_compare_result r;
