@@ -467,6 +467,23 @@ static int band_cholesky_sse2(double *band, int n, int kd, const int *last, doub
 #define BAKE_HAVE_AVX2 1
 typedef double bake_v4 __attribute__((vector_size(32)));
 
+/* subtract_scaled with four lanes: row[u] -= f * column[u] for u in [0, count). */
+__attribute__((target("avx2,fma"), always_inline)) static inline void
+subtract_scaled_avx2(double *restrict row, const double *restrict column, double f, int count)
+{
+    bake_v4 fv = {f, f, f, f};
+    int u = 0;
+    for (; u + 4 <= count; u += 4) {
+        bake_v4 a, c;
+        memcpy(&a, row + u, sizeof a);
+        memcpy(&c, column + u, sizeof c);
+        a -= fv * c;
+        memcpy(row + u, &a, sizeof a);
+    }
+    for (; u < count; u++)
+        row[u] -= f * column[u];
+}
+
 /* The same with four lanes and fused multiply-adds, for CPUs that have them (checked at
  * run time): 1.5x the two-lane loop. */
 __attribute__((target("avx2,fma"))) static int band_cholesky_avx2(double *band, int n, int kd,
@@ -478,22 +495,8 @@ __attribute__((target("avx2,fma"))) static int band_cholesky_avx2(double *band, 
         int m = scale_column(band, j, kd, last, column);
         if (m < 0)
             return 0;
-        for (int t = 0; t < m; t++) {
-            double *restrict row = band + (size_t)(j + 1 + t) * ld + kd - t;
-            const double *restrict col = column;
-            double f = column[t];
-            bake_v4 fv = {f, f, f, f};
-            int u = 0, count = t + 1;
-            for (; u + 4 <= count; u += 4) {
-                bake_v4 a, c;
-                memcpy(&a, row + u, sizeof a);
-                memcpy(&c, col + u, sizeof c);
-                a -= fv * c;
-                memcpy(row + u, &a, sizeof a);
-            }
-            for (; u < count; u++)
-                row[u] -= f * col[u];
-        }
+        for (int t = 0; t < m; t++)
+            subtract_scaled_avx2(band + (size_t)(j + 1 + t) * ld + kd - t, column, column[t], t + 1);
     }
     return 1;
 }
@@ -627,17 +630,8 @@ __attribute__((target("avx2,fma"))) static void band_solve_one_avx2(const double
         const double *li = band + (size_t)i * ld + kd - i;
         double xi = x[i] / li[i];
         x[i] = xi;
-        bake_v4 fv = {xi, xi, xi, xi};
         int k = envelope_first[i];
-        for (; k + 4 <= i; k += 4) {
-            bake_v4 a, c;
-            memcpy(&a, x + k, sizeof a);
-            memcpy(&c, li + k, sizeof c);
-            a -= fv * c;
-            memcpy(x + k, &a, sizeof a);
-        }
-        for (; k < i; k++)
-            x[k] -= xi * li[k];
+        subtract_scaled_avx2(x + k, li + k, xi, i - k);
     }
 }
 #endif
