@@ -15,57 +15,14 @@
 #include "grid_glb.h"
 #include "image_io.h"
 #include "pipeline.h"
+#include "pipeline_scratch.h"
 #include "test.h"
-
-typedef struct scratch {
-    char dir[64], in[128], out[128], stats[128];
-} scratch;
-
-static int scratch_init(scratch *s, int n, int tex, const char *pattern)
-{
-    snprintf(s->dir, sizeof s->dir, "/tmp/texopt_pipeline_XXXXXX");
-    if (!mkdtemp(s->dir))
-        return -1;
-    snprintf(s->in, sizeof s->in, "%s/in.glb", s->dir);
-    snprintf(s->out, sizeof s->out, "%s/out.glb", s->dir);
-    snprintf(s->stats, sizeof s->stats, "%s/stats.json", s->dir);
-    return write_grid_glb(s->in, n, tex, pattern);
-}
-
-static void scratch_free(scratch *s)
-{
-    unlink(s->in);
-    unlink(s->out);
-    unlink(s->stats);
-    rmdir(s->dir);
-}
-
-static cJSON *read_json(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    char buf[65536];
-    size_t n = fread(buf, 1, sizeof buf - 1, f);
-    fclose(f);
-    buf[n] = '\0';
-    return cJSON_Parse(buf);
-}
 
 static double domain_number(cJSON *root, const char *key)
 {
     cJSON *d = cJSON_GetArrayItem(cJSON_GetObjectItem(root, "domains"), 0);
     cJSON *v = cJSON_GetObjectItem(d, key);
     return cJSON_IsNumber(v) ? v->valuedouble : NAN;
-}
-
-static texopt_model *load(const char *path)
-{
-    texopt_model *m = NULL;
-    char err[256];
-    if (texopt_model_load(&m, path, NULL, err, sizeof err) != TEXOPT_OK)
-        return NULL;
-    return m;
 }
 
 TEST(input_method_quarter_cost_halves_each_side)

@@ -12,43 +12,8 @@
 #include "gltf_io.h"
 #include "grid_glb.h"
 #include "pipeline.h"
+#include "pipeline_scratch.h"
 #include "test.h"
-
-typedef struct scratch {
-    char dir[64], out[128], stats[128];
-} scratch;
-
-static int scratch_init(scratch *s)
-{
-    snprintf(s->dir, sizeof s->dir, "/tmp/texopt_pipeslow_XXXXXX");
-    if (!mkdtemp(s->dir))
-        return -1;
-    snprintf(s->out, sizeof s->out, "%s/out.glb", s->dir);
-    snprintf(s->stats, sizeof s->stats, "%s/stats.json", s->dir);
-    return 0;
-}
-
-static void scratch_free(scratch *s)
-{
-    char path[160];
-    snprintf(path, sizeof path, "%s/in.glb", s->dir);
-    unlink(path);
-    unlink(s->out);
-    unlink(s->stats);
-    rmdir(s->dir);
-}
-
-static cJSON *read_json(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    static char buf[1 << 18];
-    size_t n = fread(buf, 1, sizeof buf - 1, f);
-    fclose(f);
-    buf[n] = '\0';
-    return cJSON_Parse(buf);
-}
 
 static double domain_number(cJSON *root, int d, const char *group, const char *key)
 {
@@ -73,7 +38,7 @@ static int validate(const char *path)
 static void check_model(const char *relative, texopt_method method, double cr)
 {
     scratch s;
-    CHECK(scratch_init(&s) == 0);
+    CHECK(scratch_init(&s, 0, 0, NULL) == 0);
     char in[512];
     snprintf(in, sizeof in, "%s/%s", TEXOPT_TEST_DATA_DIR, relative);
     texopt_params p = {0};
@@ -153,16 +118,14 @@ static void half_area_ratios(const texopt_model *in, const texopt_model *out, do
 TEST(half_grid_flat_half_gets_fewer_texels)
 {
     scratch s;
-    CHECK(scratch_init(&s) == 0);
-    char in_path[160];
-    snprintf(in_path, sizeof in_path, "%s/in.glb", s.dir);
-    CHECK(write_grid_glb(in_path, 6, 96, "half") == 0);
+    CHECK(scratch_init(&s, 0, 0, NULL) == 0);
+    CHECK(write_grid_glb(s.in, 6, 96, "half") == 0);
     texopt_params p = {0};
     p.iterations = 20;
     char err[512] = "";
-    CHECK_OK(texopt_optimize_file(in_path, s.out, s.stats, &p, NULL, err, sizeof err), err);
+    CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
     texopt_model *in = NULL, *out = NULL;
-    CHECK_OK(texopt_model_load(&in, in_path, NULL, err, sizeof err), err);
+    CHECK_OK(texopt_model_load(&in, s.in, NULL, err, sizeof err), err);
     CHECK_OK(texopt_model_load(&out, s.out, NULL, err, sizeof err), err);
     double left, right;
     half_area_ratios(in, out, &left, &right);
