@@ -11,17 +11,6 @@
 #include "mesh.h"
 #include "test.h"
 
-/* The mesh of a 4 x 4 grid on a 64^2 texture: 32 triangles of 32 texels each. */
-static texopt_mesh *grid_mesh(texopt_model **model)
-{
-    *model = fixture_grid(4, 64, "flat");
-    texopt_mesh *mesh = NULL;
-    char err[256];
-    if (!*model || texopt_mesh_create(&mesh, *model, 0, err, sizeof err) != TEXOPT_OK)
-        return NULL;
-    return mesh;
-}
-
 /* Targets with varied sizes: triangle t gets lambdas from a small table, anisotropic. */
 static void varied_targets(const texopt_mesh *mesh, texopt_triangle_target *t)
 {
@@ -37,6 +26,39 @@ static void varied_targets(const texopt_mesh *mesh, texopt_triangle_target *t)
     }
 }
 
+/* The mesh of a 4 x 4 grid on a 64^2 texture (32 triangles of 32 texels each), varied
+ * targets `in` on it and a zeroed array `out` of as many. */
+typedef struct grid_case {
+    texopt_model *model;
+    texopt_mesh *mesh;
+    size_t n;
+    texopt_triangle_target *in, *out;
+} grid_case;
+
+static int grid_case_open(grid_case *g)
+{
+    memset(g, 0, sizeof *g);
+    char err[256];
+    g->model = fixture_grid(4, 64, "flat");
+    if (!g->model || texopt_mesh_create(&g->mesh, g->model, 0, err, sizeof err) != TEXOPT_OK)
+        return -1;
+    g->n = g->mesh->triangle_count;
+    g->in = calloc(g->n, sizeof *g->in);
+    g->out = calloc(g->n, sizeof *g->out);
+    if (!g->in || !g->out)
+        return -1;
+    varied_targets(g->mesh, g->in);
+    return 0;
+}
+
+static void grid_case_close(grid_case *g)
+{
+    free(g->in);
+    free(g->out);
+    texopt_mesh_destroy(g->mesh);
+    texopt_model_destroy(g->model);
+}
+
 static double total_area(const texopt_mesh *mesh, const texopt_triangle_target *t)
 {
     double a = 0;
@@ -47,12 +69,11 @@ static double total_area(const texopt_mesh *mesh, const texopt_triangle_target *
 
 TEST(allocation_meets_the_request_and_caps_at_input_density)
 {
-    texopt_model *model;
-    texopt_mesh *mesh = grid_mesh(&model);
-    CHECK(mesh != NULL);
-    size_t n = mesh->triangle_count;
-    texopt_triangle_target *in = calloc(n, sizeof *in), *out = calloc(n, sizeof *out);
-    varied_targets(mesh, in);
+    grid_case g;
+    CHECK(grid_case_open(&g) == 0);
+    texopt_mesh *mesh = g.mesh;
+    size_t n = g.n;
+    texopt_triangle_target *in = g.in, *out = g.out;
     double input_area = 64.0 * 64.0;
     char err[256] = "";
     texopt_allocation rep;
@@ -70,20 +91,16 @@ TEST(allocation_meets_the_request_and_caps_at_input_density)
         CHECK(fabs(out[i].lambda2 - rep.scale * in[i].lambda2) < 1e-12 || out[i].lambda2 == 1);
         CHECK(out[i].alpha == in[i].alpha && out[i].beta == in[i].beta && out[i].w_stretch == in[i].w_stretch);
     }
-    free(in);
-    free(out);
-    texopt_mesh_destroy(mesh);
-    texopt_model_destroy(model);
+    grid_case_close(&g);
 }
 
 TEST(small_request_scales_every_target_by_one_factor)
 {
-    texopt_model *model;
-    texopt_mesh *mesh = grid_mesh(&model);
-    CHECK(mesh != NULL);
-    size_t n = mesh->triangle_count;
-    texopt_triangle_target *in = calloc(n, sizeof *in), *out = calloc(n, sizeof *out);
-    varied_targets(mesh, in);
+    grid_case g;
+    CHECK(grid_case_open(&g) == 0);
+    texopt_mesh *mesh = g.mesh;
+    size_t n = g.n;
+    texopt_triangle_target *in = g.in, *out = g.out;
     double own = total_area(mesh, in);
     char err[256] = "";
     texopt_allocation rep;
@@ -92,42 +109,33 @@ TEST(small_request_scales_every_target_by_one_factor)
     CHECK_EQ_INT((int)rep.capped, 0);
     for (size_t i = 0; i < n; i++)
         CHECK_NEAR(out[i].lambda1 / in[i].lambda1, 0.5, 1e-9);
-    free(in);
-    free(out);
-    texopt_mesh_destroy(mesh);
-    texopt_model_destroy(model);
+    grid_case_close(&g);
 }
 
 TEST(request_past_the_input_area_gives_input_density_everywhere)
 {
-    texopt_model *model;
-    texopt_mesh *mesh = grid_mesh(&model);
-    CHECK(mesh != NULL);
-    size_t n = mesh->triangle_count;
-    texopt_triangle_target *t = calloc(n, sizeof *t);
-    varied_targets(mesh, t);
+    grid_case g;
+    CHECK(grid_case_open(&g) == 0);
+    size_t n = g.n;
+    texopt_triangle_target *t = g.in;
     char err[256] = "";
     texopt_allocation rep;
     /* In place (out == in) and more than the caps allow: every value at 1. */
-    CHECK_OK(texopt_allocate_targets(mesh, t, 2 * 64.0 * 64.0, NULL, t, &rep, err, sizeof err), err);
+    CHECK_OK(texopt_allocate_targets(g.mesh, t, 2 * 64.0 * 64.0, NULL, t, &rep, err, sizeof err), err);
     for (size_t i = 0; i < n; i++)
         CHECK(t[i].lambda1 == 1 && t[i].lambda2 == 1);
     CHECK_EQ_INT((int)rep.capped, (int)n);
     CHECK_NEAR(rep.area_allocated, 64.0 * 64.0, 1e-9);
-    free(t);
-    texopt_mesh_destroy(mesh);
-    texopt_model_destroy(model);
+    grid_case_close(&g);
 }
 
 TEST(lossless_targets_grow_slower_and_the_rest_take_the_budget)
 {
-    texopt_model *model;
-    texopt_mesh *mesh = grid_mesh(&model);
-    CHECK(mesh != NULL);
-    size_t n = mesh->triangle_count;
-    texopt_triangle_target *in = calloc(n, sizeof *in), *plain = calloc(n, sizeof *plain),
-                           *kept = calloc(n, sizeof *kept);
-    varied_targets(mesh, in);
+    grid_case g;
+    CHECK(grid_case_open(&g) == 0);
+    texopt_mesh *mesh = g.mesh;
+    size_t n = g.n;
+    texopt_triangle_target *in = g.in, *plain = g.out, *kept = calloc(n, sizeof *kept);
     double request = 0.3 * 64.0 * 64.0;
     char err[256] = "";
     texopt_allocation rp, rk;
@@ -160,21 +168,16 @@ TEST(lossless_targets_grow_slower_and_the_rest_take_the_budget)
             CHECK_NEAR(kept[i].lambda1, sqrt(rk.scale) * in[i].lambda1, 1e-12);
         else if (kept[i].lambda1 < 1)
             CHECK_NEAR(kept[i].lambda1, rk.scale * in[i].lambda1, 1e-12);
-    free(in);
-    free(plain);
     free(kept);
-    texopt_mesh_destroy(mesh);
-    texopt_model_destroy(model);
+    grid_case_close(&g);
 }
 
 TEST(bad_targets_and_requests_are_refused)
 {
-    texopt_model *model;
-    texopt_mesh *mesh = grid_mesh(&model);
-    CHECK(mesh != NULL);
-    size_t n = mesh->triangle_count;
-    texopt_triangle_target *t = calloc(n, sizeof *t), *out = calloc(n, sizeof *out);
-    varied_targets(mesh, t);
+    grid_case g;
+    CHECK(grid_case_open(&g) == 0);
+    texopt_mesh *mesh = g.mesh;
+    texopt_triangle_target *t = g.in, *out = g.out;
     char err[256] = "";
     CHECK(texopt_allocate_targets(mesh, t, 0, NULL, out, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     CHECK(texopt_allocate_targets(mesh, t, NAN, NULL, out, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
@@ -182,8 +185,5 @@ TEST(bad_targets_and_requests_are_refused)
     CHECK(texopt_allocate_targets(mesh, t, 100, NULL, out, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     CHECK(strstr(err, "triangle 3") != NULL);
     CHECK(texopt_allocate_targets(NULL, t, 100, NULL, out, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
-    free(t);
-    free(out);
-    texopt_mesh_destroy(mesh);
-    texopt_model_destroy(model);
+    grid_case_close(&g);
 }
