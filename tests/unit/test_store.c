@@ -20,6 +20,24 @@ static char *temp_dir(char *buf)
     return mkdtemp(buf);
 }
 
+/* A store in a fresh temporary data directory (root: 64 bytes), or NULL. */
+static job_store *open_temp_store(char *root)
+{
+    char err[256] = "";
+    if (!temp_dir(root))
+        return NULL;
+    job_store *s = store_open(root, err, sizeof err);
+    if (!s)
+        fprintf(stderr, "store_open: %s\n", err);
+    return s;
+}
+
+static void close_temp_store(job_store *s, const char *root)
+{
+    store_close(s);
+    fs_remove_tree(root);
+}
+
 /* A queued record in a fresh job directory. */
 static int new_job(job_store *s, job_record *r, const char *key, int64_t created_ms)
 {
@@ -42,9 +60,8 @@ static int new_job(job_store *s, job_record *r, const char *key, int64_t created
 TEST(records_survive_reopening)
 {
     char root[64], err[256] = "";
-    CHECK(temp_dir(root));
-    job_store *s = store_open(root, err, sizeof err);
-    CHECK_MSG(s != NULL, "%s", err);
+    job_store *s = open_temp_store(root);
+    CHECK(s != NULL);
     job_record a;
     CHECK_EQ_INT(new_job(s, &a, "", 1000), STORE_OK);
     store_close(s);
@@ -59,15 +76,14 @@ TEST(records_survive_reopening)
     CHECK(strcmp(b.input_rel, "input/model.glb") == 0);
     CHECK(strcmp(b.request_digest, "00112233aabbccdd") == 0);
     CHECK_EQ_INT(b.created_ms, 1000);
-    store_close(s);
-    fs_remove_tree(root);
+    close_temp_store(s, root);
 }
 
 TEST(interrupted_jobs_come_back_queued_and_finished_ones_stay)
 {
     char root[64], err[256] = "";
-    CHECK(temp_dir(root));
-    job_store *s = store_open(root, err, sizeof err);
+    job_store *s = open_temp_store(root);
+    CHECK(s != NULL);
     job_record a, b, got;
     CHECK_EQ_INT(new_job(s, &a, "", 1), STORE_OK);
     CHECK_EQ_INT(new_job(s, &b, "", 2), STORE_OK);
@@ -103,8 +119,7 @@ TEST(interrupted_jobs_come_back_queued_and_finished_ones_stay)
     CHECK(strcmp(ids[0], a.id) == 0);
     free(ids);
     store_close(after);
-    store_close(s);
-    fs_remove_tree(root);
+    close_temp_store(s, root);
 }
 
 TEST(a_directory_without_job_json_is_removed_at_open)
@@ -117,15 +132,14 @@ TEST(a_directory_without_job_json_is_removed_at_open)
     CHECK(s != NULL);
     snprintf(half, sizeof half, "%s/jobs/abcdefabcdefabcdefabcdefabcdefab", root);
     CHECK(access(half, F_OK) != 0);
-    store_close(s);
-    fs_remove_tree(root);
+    close_temp_store(s, root);
 }
 
 TEST(an_idempotency_key_returns_the_first_job)
 {
-    char root[64], err[256] = "";
-    CHECK(temp_dir(root));
-    job_store *s = store_open(root, err, sizeof err);
+    char root[64];
+    job_store *s = open_temp_store(root);
+    CHECK(s != NULL);
     job_record a, b, existing;
     CHECK_EQ_INT(new_job(s, &a, "key-1", 1), STORE_OK);
     char dir[PATH_MAX];
@@ -139,15 +153,14 @@ TEST(an_idempotency_key_returns_the_first_job)
     CHECK_EQ_INT(store_find_key(s, "key-1", &existing), STORE_OK);
     CHECK(strcmp(existing.id, a.id) == 0);
     CHECK_EQ_INT(store_find_key(s, "key-2", &existing), STORE_NOT_FOUND);
-    store_close(s);
-    fs_remove_tree(root);
+    close_temp_store(s, root);
 }
 
 TEST(cancel_and_delete_follow_the_state)
 {
-    char root[64], err[256] = "", dir[PATH_MAX];
-    CHECK(temp_dir(root));
-    job_store *s = store_open(root, err, sizeof err);
+    char root[64], dir[PATH_MAX];
+    job_store *s = open_temp_store(root);
+    CHECK(s != NULL);
     job_record q, r, got;
     CHECK_EQ_INT(new_job(s, &q, "", 1), STORE_OK);
     CHECK_EQ_INT(new_job(s, &r, "", 2), STORE_OK);
@@ -171,15 +184,14 @@ TEST(cancel_and_delete_follow_the_state)
     CHECK(access(dir, F_OK) != 0);
     CHECK_EQ_INT(store_get(s, q.id, &got), STORE_NOT_FOUND);
     CHECK_EQ_INT(store_delete(s, q.id), STORE_NOT_FOUND);
-    store_close(s);
-    fs_remove_tree(root);
+    close_temp_store(s, root);
 }
 
 TEST(failed_jobs_keep_their_problem_across_reopening)
 {
     char root[64], err[256] = "";
-    CHECK(temp_dir(root));
-    job_store *s = store_open(root, err, sizeof err);
+    job_store *s = open_temp_store(root);
+    CHECK(s != NULL);
     job_record a, got;
     CHECK_EQ_INT(new_job(s, &a, "", 1), STORE_OK);
     const atomic_int *cancel;
@@ -192,15 +204,14 @@ TEST(failed_jobs_keep_their_problem_across_reopening)
     CHECK_EQ_INT(got.problem.status, 422);
     CHECK(strcmp(got.problem.detail, "domain 0: no texture") == 0);
     store_close(again);
-    store_close(s);
-    fs_remove_tree(root);
+    close_temp_store(s, root);
 }
 
 TEST(list_is_newest_first_and_pages)
 {
-    char root[64], err[256] = "";
-    CHECK(temp_dir(root));
-    job_store *s = store_open(root, err, sizeof err);
+    char root[64];
+    job_store *s = open_temp_store(root);
+    CHECK(s != NULL);
     job_record jobs[5], page[2];
     for (int i = 0; i < 5; i++)
         CHECK_EQ_INT(new_job(s, &jobs[i], "", 100 + i), STORE_OK);
@@ -218,8 +229,7 @@ TEST(list_is_newest_first_and_pages)
     store_counts(s, counts);
     CHECK_EQ_INT(counts[JOB_QUEUED], 5);
     CHECK_EQ_INT(counts[JOB_RUNNING], 0);
-    store_close(s);
-    fs_remove_tree(root);
+    close_temp_store(s, root);
 }
 
 typedef struct progress_thread {
@@ -237,9 +247,9 @@ static void *report_later(void *arg)
 
 TEST(event_waiters_wake_on_progress_and_time_out_otherwise)
 {
-    char root[64], err[256] = "";
-    CHECK(temp_dir(root));
-    job_store *s = store_open(root, err, sizeof err);
+    char root[64];
+    job_store *s = open_temp_store(root);
+    CHECK(s != NULL);
     job_record a, got;
     CHECK_EQ_INT(new_job(s, &a, "", 1), STORE_OK);
     const atomic_int *cancel;
@@ -268,15 +278,14 @@ TEST(event_waiters_wake_on_progress_and_time_out_otherwise)
     CHECK_EQ_INT(store_wait_event(s, a.id, got.event_seq, 5000, &got), -4);
     CHECK_EQ_INT(store_wait_event(s, "ffffffffffffffffffffffffffffffff", 0, 10, &got), -4);
     store_finish(s, j, JOB_SUCCEEDED, NULL);
-    store_close(s);
-    fs_remove_tree(root);
+    close_temp_store(s, root);
 }
 
 TEST(expiry_removes_only_old_finished_jobs)
 {
-    char root[64], err[256] = "";
-    CHECK(temp_dir(root));
-    job_store *s = store_open(root, err, sizeof err);
+    char root[64];
+    job_store *s = open_temp_store(root);
+    CHECK(s != NULL);
     job_record a, b, got;
     CHECK_EQ_INT(new_job(s, &a, "", 1), STORE_OK);
     CHECK_EQ_INT(new_job(s, &b, "", 2), STORE_OK);
@@ -286,6 +295,5 @@ TEST(expiry_removes_only_old_finished_jobs)
     CHECK_EQ_INT(store_expire(s, finished + 6000, 5000), 1);
     CHECK_EQ_INT(store_get(s, a.id, &got), STORE_NOT_FOUND);
     CHECK_EQ_INT(store_get(s, b.id, &got), STORE_OK); /* queued: never expires */
-    store_close(s);
-    fs_remove_tree(root);
+    close_temp_store(s, root);
 }
