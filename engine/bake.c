@@ -6,9 +6,9 @@
  * Does not render, convert colour or measure the loss.
  *
  * Why banded: the footprints of a 64x64 screen window mapped by one linear J form a dense
- * patch of texels. Numbered in texture row-major order, a footprint's four texels are at
- * most about one patch row apart, so A^T A has a band of that width and Cholesky costs
- * n kd^2 instead of n^3 / 3. Texels are numbered through a dense map over the patch's
+ * patch of texels. Numbered in texture row-major order (column-major for a patch wider than
+ * tall), a footprint's four texels are at most about one patch row (column) apart, so A^T A
+ * has a band of that width and Cholesky costs n kd^2 instead of n^3 / 3. Texels are numbered through a dense map over the patch's
  * bounding box (no hashing, no sorting) when the box is small, which is the normal case;
  * footprints that straddle a wrap seam or scatter over a huge texture go through a hash
  * map and a sort instead. When a minified patch has more touched texels than pixels, the
@@ -138,6 +138,11 @@ int texopt_bake_last_texel_count(const texopt_bake_workspace *ws)
     return ws ? ws->last_unknowns : 0;
 }
 
+int texopt_bake_last_bandwidth(const texopt_bake_workspace *ws)
+{
+    return ws && ws->last_unknowns > 0 ? ws->last_kd : 0;
+}
+
 texopt_bake_side texopt_bake_last_side(const texopt_bake_workspace *ws)
 {
     return ws ? (texopt_bake_side)ws->last_side : TEXOPT_BAKE_SIDE_AUTO;
@@ -201,8 +206,14 @@ static cell_box gather_footprints(texopt_bake_workspace *ws, int pixel_count,
     return box;
 }
 
-/* Numbers the touched texels in row-major order through a dense map over the box. Touched
- * slots are marked with a byte (plain stores), so the row-major scan reads 8 slots a load
+/* Numbers the touched texels through a dense map over the box, row by row when the box is
+ * at least as tall as wide and column by column when it is wider. A footprint couples a
+ * texel with the next row (column), so A^T A's band is about one row (column) of the patch;
+ * for an elliptic patch the chord along the box's shorter side is the shorter one, and
+ * Cholesky costs n kd^2 (squeezed candidates lying along the texture's x axis had bands
+ * as wide as the patch: BENCHMARKS.md, "Stage 1"). In column order the footprint's
+ * entries 1 and 2 (and their weights) swap, so its four unknowns stay ascending. Touched
+ * slots are marked with a byte (plain stores), so the scan reads 8 slots a load
  * and the marks take a quarter of the cache an int per slot did (the box may hold up to
  * BAKE_BOX_FACTOR x entries slots, and a minified or rotated patch touches only part of it;
  * numbering through an int per slot was ~9% of a DamagedHelmet triangle's CPU). The scan
@@ -211,13 +222,23 @@ static int number_through_box(texopt_bake_workspace *ws, int pixel_count, cell_b
 {
     unsigned char *marks = ws->box_marks;
     int *box = ws->box;
+    int by_column = b.cols > b.rows;
+    int row_step = by_column ? 1 : b.cols, col_step = by_column ? b.rows : 1;
     for (int q = 0; q < pixel_count; q++) {
         const int *rc = ws->rc + 4 * (size_t)q;
         int *cell = ws->cell + 4 * (size_t)q;
         for (int k = 0; k < 4; k++) {
-            int slot = (rc[2 + (k >> 1)] - b.row0) * b.cols + (rc[k & 1] - b.col0);
+            int slot = (rc[2 + (k >> 1)] - b.row0) * row_step + (rc[k & 1] - b.col0) * col_step;
             marks[slot] = 1;
             cell[k] = slot;
+        }
+        if (by_column) {
+            double *w = ws->weight + 4 * (size_t)q, tw = w[1];
+            int tc = cell[1];
+            cell[1] = cell[2];
+            cell[2] = tc;
+            w[1] = w[2];
+            w[2] = tw;
         }
     }
     int n = 0;
@@ -763,10 +784,10 @@ static void reconstruct(const texopt_bake_workspace *ws, int pixel_count, int ch
 }
 
 /* The pixel side. When the footprints spread over more texels than there are pixels (a
- * one-ring minified on screen), the texel system is large and, numbered row-major over a
- * wide patch, has a wide band. With y = x - m (m the mean reference, per channel) the fit is
- * min |A y - b'|^2 + r |y|^2 with b' = b - m A 1, whose minimiser is, by the push-through
- * identity (A^T A + r I)^-1 A^T = A^T (A A^T + r I)^-1,
+ * one-ring minified on screen), the texel system is large and, numbered by rows or columns
+ * over a wide patch, has a wide band. With y = x - m (m the mean reference, per channel) the
+ * fit is min |A y - b'|^2 + r |y|^2 with b' = b - m A 1, whose minimiser is, by the
+ * push-through identity (A^T A + r I)^-1 A^T = A^T (A A^T + r I)^-1,
  *     y = A^T z,   (A A^T + r I) z = b'.
  * A A^T is pixels x pixels, couples only pixels that share a texel (screen neighbours when
  * minified) and, in the caller's pixel order (row-major on screen), has a narrow band. The

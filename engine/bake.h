@@ -14,8 +14,9 @@
  * Returns the reconstruction A x, i.e.
  * what the screen shows with the baked texture (DESIGN.md 3.1).
  *
- * Speed: the touched texels are numbered in texture row-major order, so A^T A is banded
- * (bandwidth about one patch row, only its envelope is worked on) and is solved with
+ * Speed: the touched texels are numbered in texture row-major order, or column-major when
+ * the patch is wider than tall, so A^T A is banded (bandwidth about one patch row or column,
+ * the shorter; only its envelope is worked on) and is solved with
  * banded Cholesky: an own vectorised loop for narrow bands, LAPACK dpbtrf for wide ones
  * (bake.c says why).
  * The workspace owns every buffer and only grows, so the hot loop does not allocate once it
@@ -92,6 +93,9 @@ texopt_status texopt_bake_refit(texopt_bake_workspace *ws, const float *referenc
 
 /* Number of unknown texels of the last successful fit (for benchmarks and tests). */
 int texopt_bake_last_texel_count(const texopt_bake_workspace *ws);
+
+/* Bandwidth kd of the system the last successful fit factored (for benchmarks and tests). */
+int texopt_bake_last_bandwidth(const texopt_bake_workspace *ws);
 
 /* The side (TEXEL or PIXEL) the last successful fit solved; AUTO before any. */
 texopt_bake_side texopt_bake_last_side(const texopt_bake_workspace *ws);

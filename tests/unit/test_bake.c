@@ -157,6 +157,9 @@ TEST(bake_equals_a_dense_normal_equation_solve)
     /* Straddles the texture's corner under REPEAT: footprints wrap across both seams. */
     check_against_dense(TEXOPT_WRAP_REPEAT, shrink_rotate, -4.1, -3.2, 1e-3, 16, 12);
     check_against_dense(TEXOPT_WRAP_MIRROR, shrink_rotate, -4.1, -3.2, 1e-3, 16, 12);
+    /* A patch wider than tall: its texels are numbered column by column. */
+    const double wide[4] = {0.9, 0.1, -0.05, 0.3};
+    check_against_dense(TEXOPT_WRAP_CLAMP, wide, 1.3, 2.7, 1e-3, 24, 20);
     /* A strong ridge pulls toward the mean: the dense solve includes it the same way. */
     const double identity[4] = {1, 0, 0, 1};
     check_against_dense(TEXOPT_WRAP_CLAMP, identity, 0.25, 0.1, 0.5, 24, 24);
@@ -269,6 +272,41 @@ TEST(every_factorisation_path_reproduces_a_bilinear_reference)
                     CHECK_NEAR(out[k], first_path[k], 1e-6);
             }
         }
+    }
+    texopt_bake_workspace_destroy(ws);
+    texopt_image_destroy(&tex);
+}
+
+TEST(wide_and_tall_patches_are_banded_along_their_short_side)
+{
+    /* A 65 x 10 texel patch and its transpose: numbered along the short side, the band is
+     * about 10 texels either way (numbered by rows, the wide one's would be ~66), and the fit
+     * of a reference in the range of A is exact. */
+    enum { S = 64, W = 128, H = 128 };
+    texopt_image tex;
+    char err[256] = "";
+    CHECK_OK(texopt_image_create(&tex, W, H, 1, err, sizeof err), err);
+    for (int k = 0; k < W * H; k++)
+        tex.pixels[k] = (float)pattern(k % W, k / W, 0);
+    static double pos[2 * S * S];
+    static float ref[S * S], out[S * S];
+    texopt_bake_workspace *ws = texopt_bake_workspace_create(S * S, 1);
+    CHECK(ws != NULL);
+    const double shapes[2][4] = {{1.0, 0.0, 0.0, 0.125}, {0.125, 0.0, 0.0, 1.0}};
+    for (int i = 0; i < 2; i++) {
+        screen_positions(S, shapes[i], 10.0, 12.0, pos);
+        for (int q = 0; q < S * S; q++)
+            texopt_sample_bilinear(&tex, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, pos[2 * q],
+                                   pos[2 * q + 1], ref + q);
+        CHECK_OK(texopt_bake_fit(ws, S * S, pos, ref, 1, W, H, TEXOPT_WRAP_CLAMP,
+                                 TEXOPT_WRAP_CLAMP, 1e-9, out, err, sizeof err),
+                 err);
+        CHECK(texopt_bake_last_side(ws) == TEXOPT_BAKE_SIDE_TEXEL);
+        CHECK_EQ_INT(texopt_bake_last_texel_count(ws), 65 * 10);
+        CHECK_MSG(texopt_bake_last_bandwidth(ws) <= 11, "shape %d: bandwidth %d", i,
+                  texopt_bake_last_bandwidth(ws));
+        for (int q = 0; q < S * S; q++)
+            CHECK_NEAR(out[q], ref[q], 1e-5);
     }
     texopt_bake_workspace_destroy(ws);
     texopt_image_destroy(&tex);
