@@ -222,23 +222,23 @@ static int number_through_box(texopt_bake_workspace *ws, int pixel_count, cell_b
 {
     unsigned char *marks = ws->box_marks;
     int *box = ws->box;
+    static const int row_order[4] = {0, 1, 2, 3}, column_order[4] = {0, 2, 1, 3};
     int by_column = b.cols > b.rows;
     int row_step = by_column ? 1 : b.cols, col_step = by_column ? b.rows : 1;
+    const int *order = by_column ? column_order : row_order;
     for (int q = 0; q < pixel_count; q++) {
         const int *rc = ws->rc + 4 * (size_t)q;
         int *cell = ws->cell + 4 * (size_t)q;
         for (int k = 0; k < 4; k++) {
-            int slot = (rc[2 + (k >> 1)] - b.row0) * row_step + (rc[k & 1] - b.col0) * col_step;
+            int e = order[k];
+            int slot = (rc[2 + (e >> 1)] - b.row0) * row_step + (rc[e & 1] - b.col0) * col_step;
             marks[slot] = 1;
             cell[k] = slot;
         }
         if (by_column) {
-            double *w = ws->weight + 4 * (size_t)q, tw = w[1];
-            int tc = cell[1];
-            cell[1] = cell[2];
-            cell[2] = tc;
+            double *w = ws->weight + 4 * (size_t)q, w1 = w[1];
             w[1] = w[2];
-            w[2] = tw;
+            w[2] = w1;
         }
     }
     int n = 0;
