@@ -620,3 +620,81 @@ TEST(fit_weight_sets_how_fast_targets_pull)
     free(tg);
     texopt_mesh_destroy(m);
 }
+
+/* Anchors on a 6 x 6 grid held to its own shape: corner vertex c (not the chart's pinned
+ * vertex 0) pulled `shift` texels along x with weight w. */
+static texopt_status solve_with_anchor(const texopt_mesh *m, const texopt_triangle_target *tg, size_t c,
+                                       double shift, double w, double *out, char *err, size_t err_len)
+{
+    size_t n = 2 * m->vertex_count;
+    double *anchor = malloc(n * sizeof *anchor), *weight = calloc(n, sizeof *weight);
+    memcpy(anchor, m->texel, n * sizeof *anchor);
+    anchor[2 * c] += shift;
+    weight[2 * c] = w;
+    texopt_meshwise_options o = {.anchor = anchor, .anchor_weight = weight};
+    texopt_status st = texopt_meshwise_solve(m, tg, NULL, &o, out, NULL, NULL, err, err_len);
+    free(anchor);
+    free(weight);
+    return st;
+}
+
+TEST(an_anchor_pulls_its_vertex_along_its_axis_only)
+{
+    texopt_mesh *m = grid_mesh(6, 8.0, 0.0, 1);
+    texopt_triangle_target *tg = uniform_targets(m->triangle_count, 1, 1, 0, 0, 1, 1);
+    double *weak = calloc(2 * m->vertex_count, sizeof *weak), *strong = calloc(2 * m->vertex_count, sizeof *strong);
+    char err[256] = "";
+    size_t c = m->vertex_count - 1; /* the corner opposite the pinned vertex */
+    CHECK_OK(solve_with_anchor(m, tg, c, 6.0, 1.0, weak, err, sizeof err), err);
+    CHECK_OK(solve_with_anchor(m, tg, c, 6.0, 100.0, strong, err, sizeof err), err);
+    double moved_weak = weak[2 * c] - m->texel[2 * c], moved_strong = strong[2 * c] - m->texel[2 * c];
+    CHECK_MSG(moved_weak > 0.3 && moved_weak < moved_strong && moved_strong > 4.0 && moved_strong < 6.0,
+              "moved %.3f (weight 1) and %.3f (weight 100) of 6 texels", moved_weak, moved_strong);
+    /* No pull along y: the corner's y moves only as the stretched grid drags it. */
+    CHECK(fabs(strong[2 * c + 1] - m->texel[2 * c + 1]) < 0.5 * moved_strong);
+    CHECK_EQ_INT((int)texopt_count_flipped(m, strong), 0);
+    free(weak);
+    free(strong);
+    free(tg);
+    texopt_mesh_destroy(m);
+}
+
+TEST(zero_anchor_weights_change_nothing)
+{
+    texopt_mesh *m = grid_mesh(6, 8.0, 0.3, 1);
+    texopt_triangle_target *tg = uniform_targets(m->triangle_count, 0.7, 0.5, 0.2, 0.3, 1, 1);
+    double *plain = calloc(2 * m->vertex_count, sizeof *plain), *anchored = calloc(2 * m->vertex_count, sizeof *anchored);
+    char err[256] = "";
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, plain, NULL, NULL, err, sizeof err), err);
+    CHECK_OK(solve_with_anchor(m, tg, 9, 50.0, 0.0, anchored, err, sizeof err), err);
+    for (size_t i = 0; i < 2 * m->vertex_count; i++)
+        CHECK_NEAR(anchored[i], plain[i], 1e-6);
+    free(plain);
+    free(anchored);
+    free(tg);
+    texopt_mesh_destroy(m);
+}
+
+TEST(bad_anchors_are_refused)
+{
+    texopt_mesh *m = grid_mesh(3, 8.0, 0.0, 1);
+    texopt_triangle_target *tg = uniform_targets(m->triangle_count, 1, 1, 0, 0, 1, 1);
+    size_t n = 2 * m->vertex_count;
+    double *out = calloc(n, sizeof *out), *anchor = calloc(n, sizeof *anchor), *weight = calloc(n, sizeof *weight);
+    char err[256] = "";
+    texopt_meshwise_options o = {.anchor = anchor};
+    CHECK(texopt_meshwise_solve(m, tg, NULL, &o, out, NULL, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "together") != NULL);
+    o.anchor_weight = weight;
+    weight[3] = -1.0;
+    CHECK(texopt_meshwise_solve(m, tg, NULL, &o, out, NULL, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    weight[3] = 1.0;
+    anchor[3] = NAN;
+    CHECK(texopt_meshwise_solve(m, tg, NULL, &o, out, NULL, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "vertex 1") != NULL);
+    free(out);
+    free(anchor);
+    free(weight);
+    free(tg);
+    texopt_mesh_destroy(m);
+}
