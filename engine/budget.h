@@ -17,7 +17,9 @@
  * Does not: choose the layout's shape (stage 2 does) or rebake.
  * Packing is pack.h (translations and quarter turns, gutters); charts whose rotation is free
  * (see `targets`) are turned by chart_orient.h first (any angle, rigid), so their output is
- * that turn followed by the packer's quarter turn and translation. */
+ * that turn followed by the packer's quarter turn and translation. With
+ * `reshape_efficiency`, a packing short of it is tried again with the low-fill charts
+ * reshaped toward their boxes (chart_reshape.h), and the tighter packing kept. */
 #ifndef TEXOPT_BUDGET_H
 #define TEXOPT_BUDGET_H
 
@@ -43,6 +45,14 @@ typedef struct texopt_budget_request {
                                             smallest bounding rectangle (chart_orient.h);
                                             the others, and all with NULL, keep their angle
                                             up to the packer's quarter turns */
+    double reshape_efficiency;           /* 0 = off: charts keep their shape. In (0, 1]: when
+                                            the packing's efficiency falls short of it,
+                                            charts filling little of their axis-aligned box
+                                            are pulled toward it (chart_reshape.h, with the
+                                            targets' weights; after any turn) by as much as
+                                            the shortfall needs, and packed again; the
+                                            tighter packing is kept */
+    int threads;                         /* for the reshape's solves; 0 -> 1 */
     const texopt_monitor *monitor;       /* may be NULL; checked for cancellation between
                                             packings (TEXOPT_E_CANCELED) */
 } texopt_budget_request;
