@@ -19,11 +19,12 @@
 #define START_ORDERS 3
 #define WIDTH_LO 0.75          /* strip widths tried, relative to the estimate */
 #define WIDTH_HI 1.35
-/* Packing efficiency follows the aggregate box fill only weakly: spot's perceptual layout
- * went from 0.619 to 0.779 aggregate fill (x1.26) for 0.704 -> 0.748 efficiency (x1.06).
- * So the fill gain asked for is the efficiency's shortfall to this power. */
-#define RESHAPE_RESPONSE 4.0
-#define RESHAPE_MAX_FILL 0.9 /* the most box fill any chart is pulled toward */
+/* Box fill a reshape lifts the charts below it to. Measured on spot, Fox and Duck (BENCHMARKS.md
+ * "Packing efficiency"): asking each chart for what the efficiency's shortfall needs (the
+ * aggregate fill raised by (0.75 / efficiency)^4, efficiency following the fill only weakly)
+ * cost q up to +148% (Duck); one goal of 0.8 for every chart gained less efficiency on Fox
+ * but moved q by -8% to +16%. */
+#define RESHAPE_BOX_FILL 0.8
 
 static int round_up4(double x)
 {
@@ -501,9 +502,8 @@ static texopt_status fit_budget(work *w, const texopt_budget_request *req, doubl
 }
 
 /* When the packing `res` falls short of req->reshape_efficiency: the charts of w->texel
- * pulled toward their boxes by as much as that shortfall needs (chart_reshape.h: the
- * aggregate box fill raised by (target / efficiency)^RESHAPE_RESPONSE, the lowest charts
- * first), packed again, and kept when they pack tighter. */
+ * filling less than RESHAPE_BOX_FILL of their boxes pulled toward it (chart_reshape.h),
+ * packed again, and kept when they pack tighter. */
 static texopt_status reshape_when_short(work *w, const texopt_budget_request *req, double *texel_out,
                                         texopt_budget_result *res, char *err, size_t err_len)
 {
@@ -513,8 +513,7 @@ static texopt_status reshape_when_short(work *w, const texopt_budget_request *re
     double *reshaped = malloc(n * sizeof(double)), *packed = malloc(n * sizeof(double));
     texopt_status st = reshaped && packed ? TEXOPT_OK
                                           : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the chart reshape");
-    texopt_reshape_options o = {.box_fill = RESHAPE_MAX_FILL, .threads = req->threads};
-    o.fill_gain = pow(req->reshape_efficiency / res->packing_efficiency, RESHAPE_RESPONSE);
+    texopt_reshape_options o = {.box_fill = RESHAPE_BOX_FILL, .threads = req->threads};
     if (st == TEXOPT_OK)
         st = texopt_chart_reshape(w->mesh, w->texel, req->targets, &o, reshaped, NULL, err, err_len);
     texopt_budget_result second = {0};

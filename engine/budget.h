@@ -46,12 +46,11 @@ typedef struct texopt_budget_request {
                                             the others, and all with NULL, keep their angle
                                             up to the packer's quarter turns */
     double reshape_efficiency;           /* 0 = off: charts keep their shape. In (0, 1]: when
-                                            the packing's efficiency falls short of it,
+                                            the packing's efficiency falls short of it, the
                                             charts filling little of their axis-aligned box
                                             are pulled toward it (chart_reshape.h, with the
-                                            targets' weights; after any turn) by as much as
-                                            the shortfall needs, and packed again; the
-                                            tighter packing is kept */
+                                            targets' weights; after any turn) and packed
+                                            again; the tighter packing is kept */
     int threads;                         /* for the reshape's solves; 0 -> 1 */
     const texopt_monitor *monitor;       /* may be NULL; checked for cancellation between
                                             packings (TEXOPT_E_CANCELED) */

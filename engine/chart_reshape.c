@@ -570,39 +570,6 @@ static texopt_status climb(reshape *r, const double *texel, double goal, int thr
     return st;
 }
 
-/* Aggregate box fill if every chart that can be reshaped and fills less than g reached g. */
-static double lifted_fill(const reshape *r, double g)
-{
-    double area = 0.0, box = 0.0;
-    for (size_t c = 0; c < r->charts; c++) {
-        const chart_shape *s = &r->shape[c];
-        if (!(s->area > 0.0))
-            continue;
-        double f = fill_of(s);
-        area += s->area;
-        box += s->area / (r->folded[c] ? f : fmax(f, g));
-    }
-    return box > 0.0 ? area / box : 1.0;
-}
-
-/* The per-chart goal that lifts the aggregate fill by `gain` when every chart below it
- * reaches it (the fewest charts, each moved the least: the lowest are lifted first), at
- * most cap. */
-static double needed_goal(const reshape *r, double fill_before, double gain, double cap)
-{
-    double wanted = fill_before * gain, lo = 0.0, hi = cap;
-    if (lifted_fill(r, cap) <= wanted)
-        return cap;
-    for (int i = 0; i < 50; i++) {
-        double mid = 0.5 * (lo + hi);
-        if (lifted_fill(r, mid) < wanted)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    return hi;
-}
-
 texopt_status texopt_chart_reshape(const texopt_mesh *mesh, const double *texel,
                                    const texopt_triangle_target *targets,
                                    const texopt_reshape_options *opt, double *texel_out,
@@ -614,19 +581,14 @@ texopt_status texopt_chart_reshape(const texopt_mesh *mesh, const double *texel,
     if (!(opt->box_fill > 0.0 && opt->box_fill <= 1.0))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "reshape: goal box fill %g is not in (0, 1]",
                            opt->box_fill);
-    if (!(opt->fill_gain == 0.0 || (opt->fill_gain >= 1.0 && isfinite(opt->fill_gain))))
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "reshape: fill gain %g is neither 0 nor >= 1",
-                           opt->fill_gain);
     texopt_reshape_report rep;
     memset(&rep, 0, sizeof rep);
     reshape r;
     texopt_status st = reshape_init(&r, mesh, texel, targets, err, err_len);
     if (st == TEXOPT_OK) {
         total_fill(&r, &rep.fill_before);
-        rep.goal = opt->fill_gain > 0.0 ? needed_goal(&r, rep.fill_before, opt->fill_gain, opt->box_fill)
-                                        : opt->box_fill;
         memcpy(texel_out, texel, 2 * mesh->vertex_count * sizeof *texel_out);
-        st = climb(&r, texel, rep.goal, opt->threads, texel_out, &rep, err, err_len);
+        st = climb(&r, texel, opt->box_fill, opt->threads, texel_out, &rep, err, err_len);
     }
     if (st == TEXOPT_OK) {
         measure_charts(&r, texel_out);

@@ -29,17 +29,11 @@
 #include "target.h"
 
 typedef struct texopt_reshape_options {
-    double box_fill;  /* goal box fill in (0, 1]: charts below it are reshaped; with
-                         fill_gain, the most any chart is asked for */
-    double fill_gain; /* 0, or >= 1: the goal is instead the lowest per-chart fill that,
-                         reached by every chart below it, raises the aggregate fill (sum of
-                         areas / sum of box areas) by this factor: how much each chart must
-                         gain, the lowest lifted first */
-    int threads;      /* for the solves; 0 -> 1 */
+    double box_fill; /* goal box fill in (0, 1]: charts below it are reshaped */
+    int threads;     /* for the solves; 0 -> 1 */
 } texopt_reshape_options;
 
 typedef struct texopt_reshape_report {
-    double goal;        /* per-chart box fill aimed at */
     int charts_below;   /* charts below the goal before (folded ones included) */
     int charts_reshaped;
     int charts_reaching; /* reshaped charts that reached the goal */

@@ -360,7 +360,7 @@ TEST(charts_free_to_turn_are_turned_to_their_smallest_box_before_packing)
     texopt_mesh_destroy(mesh);
 }
 
-TEST(round_charts_reshaped_toward_their_boxes_pack_tighter_at_the_same_cost)
+TEST(round_charts_reshaped_toward_their_boxes_pack_tighter_at_the_same_cost_only_when_short)
 {
     texopt_mesh *mesh = disc_charts(6, 6, 32, 0);
     CHECK(mesh != NULL);
@@ -376,12 +376,17 @@ TEST(round_charts_reshaped_toward_their_boxes_pack_tighter_at_the_same_cost)
     req.reshape_efficiency = 0.9;
     CHECK_OK(texopt_budget_fit(mesh, mesh->texel, &req, squared, &r_squared, err, sizeof err), err);
     printf("discs: efficiency %.3f round, %.3f reshaped\n", r_round.packing_efficiency, r_squared.packing_efficiency);
-    CHECK_MSG(r_squared.packing_efficiency > r_round.packing_efficiency + 0.03, "%.3f -> %.3f",
+    /* Discs fill pi/4 of their boxes; lifted to the budget's goal of 0.8 they gain a little. */
+    CHECK_MSG(r_squared.packing_efficiency > r_round.packing_efficiency + 0.01, "%.3f -> %.3f",
               r_round.packing_efficiency, r_squared.packing_efficiency);
     CHECK(fabs(packed_cost(mesh, squared, r_squared.width, r_squared.height) / req.input_cost - 1) <= 0.02);
     CHECK(!charts_overlap(mesh, squared, r_squared.width, r_squared.height));
     for (size_t t = 0; t < mesh->triangle_count; t++)
         CHECK(handmesh_doubled_area(squared, mesh->triangle + 3 * t, 2) > 0);
+    /* A packing already at the requested efficiency is not reshaped. */
+    req.reshape_efficiency = 0.9 * r_round.packing_efficiency;
+    CHECK_OK(texopt_budget_fit(mesh, mesh->texel, &req, squared, &r_squared, err, sizeof err), err);
+    CHECK(memcmp(squared, round, sizeof(double) * n) == 0);
     req.reshape_efficiency = 1.5;
     CHECK(texopt_budget_fit(mesh, mesh->texel, &req, squared, &r_squared, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     CHECK(strstr(err, "reshape") != NULL);

@@ -185,29 +185,6 @@ TEST(a_disc_fills_more_of_its_box_and_no_more_than_asked)
     texopt_mesh_destroy(m);
 }
 
-TEST(a_fill_gain_asks_each_chart_for_what_the_aggregate_needs)
-{
-    texopt_mesh *m = disc_charts(3, 5, 32, 0);
-    char err[256];
-    double *out = malloc(2 * m->vertex_count * sizeof *out);
-    texopt_reshape_options o = {.box_fill = 0.95, .fill_gain = 1.06, .threads = 1};
-    texopt_reshape_report rep;
-    CHECK_OK(texopt_chart_reshape(m, m->texel, NULL, &o, out, &rep, err, sizeof err), err);
-    /* Equal discs: every one is lifted to the aggregate fill times the gain. */
-    CHECK_NEAR(rep.goal, 1.06 * rep.fill_before, 1e-6);
-    for (uint32_t c = 0; c < 3; c++) {
-        double fill = box_fill(m, out, c);
-        CHECK_MSG(fill >= rep.goal && fill < rep.goal + 0.05, "disc %u: %.3f for goal %.3f", c, fill, rep.goal);
-    }
-    o.fill_gain = 3.0; /* more than any chart can give: capped by box_fill */
-    CHECK_OK(texopt_chart_reshape(m, m->texel, NULL, &o, out, &rep, err, sizeof err), err);
-    CHECK_NEAR(rep.goal, 0.95, 1e-12);
-    o.fill_gain = 0.5;
-    CHECK(texopt_chart_reshape(m, m->texel, NULL, &o, out, &rep, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
-    free(out);
-    texopt_mesh_destroy(m);
-}
-
 /* Filling an L's notch from both of its sides sweeps the two sides into each other: the
  * stronger pulls fold the chart over itself, and the reshape must stop before they do. */
 TEST(an_l_shaped_chart_never_folds_over_itself)
