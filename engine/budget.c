@@ -19,11 +19,11 @@
 #define START_ORDERS 3
 #define WIDTH_LO 0.75          /* strip widths tried, relative to the estimate */
 #define WIDTH_HI 1.35
-/* Box fill a reshape lifts the charts below it to. Measured on spot, Fox and Duck (BENCHMARKS.md
- * "Packing efficiency"): asking each chart for what the efficiency's shortfall needs (the
- * aggregate fill raised by (0.75 / efficiency)^4, efficiency following the fill only weakly)
- * cost q up to +148% (Duck); one goal of 0.8 for every chart gained less efficiency on Fox
- * but moved q by -8% to +16%. */
+/* Box fill a reshape lifts the charts below it to. Measured on the perceptual layouts of
+ * spot, Fox and Duck (BENCHMARKS.md "Packing efficiency"): asking each chart for what the
+ * efficiency's shortfall needs (the aggregate fill raised by (0.75 / efficiency)^4,
+ * efficiency following the fill only weakly) cost q up to +148% (Duck); one goal of 0.8
+ * for every chart gained less efficiency on Fox and Duck but moved q by -8% to +16%. */
 #define RESHAPE_BOX_FILL 0.8
 
 static int round_up4(double x)
@@ -488,11 +488,10 @@ static texopt_status orient_free_charts(const texopt_mesh *mesh, const double *t
     return st;
 }
 
-/* The search of the request's budget kind on w->texel. */
-static texopt_status fit_budget(work *w, const texopt_budget_request *req, double *texel_out,
+/* The search of the request's budget kind on w->texel, whose triangles cover `area`. */
+static texopt_status fit_budget(work *w, const texopt_budget_request *req, double area, double *texel_out,
                                 texopt_budget_result *res, char *err, size_t err_len)
 {
-    double area = layout_area(w->mesh, w->texel);
     texopt_status st = req->kind == TEXOPT_BUDGET_RELATIVE_COST
                            ? fit_relative_cost(w, req, area, texel_out, res, err, err_len)
                            : fit_texture_size(w, req, area, texel_out, res, err, err_len);
@@ -519,7 +518,7 @@ static texopt_status reshape_when_short(work *w, const texopt_budget_request *re
     texopt_budget_result second = {0};
     if (st == TEXOPT_OK) {
         w->texel = reshaped;
-        st = fit_budget(w, req, packed, &second, err, err_len);
+        st = fit_budget(w, req, layout_area(w->mesh, reshaped), packed, &second, err, err_len);
     }
     if (st == TEXOPT_OK && second.packing_efficiency > res->packing_efficiency) {
         *res = second;
@@ -535,7 +534,8 @@ texopt_status texopt_budget_fit(const texopt_mesh *mesh, const double *texel,
                                 texopt_budget_result *res, char *err, size_t err_len)
 {
     memset(res, 0, sizeof *res);
-    texopt_status st = check_request(req, layout_area(mesh, texel), err, err_len);
+    double area = layout_area(mesh, texel);
+    texopt_status st = check_request(req, area, err, err_len);
     if (st != TEXOPT_OK)
         return st;
     work w = {mesh, texel, &req->pack, NULL, NULL, 0, req->pack.sequence, req->pack.rule, req->monitor, req->pack.cell, 0};
@@ -550,7 +550,7 @@ texopt_status texopt_budget_fit(const texopt_mesh *mesh, const double *texel,
         w.texel = oriented;
     }
     if (st == TEXOPT_OK)
-        st = fit_budget(&w, req, texel_out, res, err, err_len);
+        st = fit_budget(&w, req, area, texel_out, res, err, err_len);
     if (st == TEXOPT_OK)
         st = reshape_when_short(&w, req, texel_out, res, err, err_len);
     free(w.scaled);
