@@ -550,12 +550,8 @@ static texopt_status climb(reshape *r, const double *texel, double goal, int thr
             r->pull[c] = g[c].pull;
         measure_charts(r, texel); /* anchors are set on the starting boxes */
         set_anchors(r, texel, r->pull, goal);
-        texopt_meshwise_options o = {0};
-        o.max_iterations = SOLVE_ITERATIONS;
-        o.threads = threads;
-        o.fit_weight = FIT_WEIGHT;
-        o.anchor = r->anchor;
-        o.anchor_weight = r->weight;
+        texopt_meshwise_options o = {.max_iterations = SOLVE_ITERATIONS, .threads = threads,
+                                     .fit_weight = FIT_WEIGHT, .anchor = r->anchor, .anchor_weight = r->weight};
         st = texopt_meshwise_solve(r->mesh, r->targets, texel, &o, r->solved, NULL, NULL, err, err_len);
         if (st != TEXOPT_OK)
             break;
