@@ -3,8 +3,11 @@
  * The allocated area A(s) = sum a_i min(cap, s l1_i) min(cap, s l2_i) (lossless targets
  * with s^growth in place of s) is continuous and non-decreasing in s, so s is found by
  * bisection on log s.
+ * texopt_reallocate_by_error multiplies each target's area by a step from its on-screen
+ * error and rescales with the same water-filling; the error of the one-ring instead of the
+ * triangle's own measured worse on Fox (BENCHMARKS.md "Quality").
  * Does not: look at the texture, the loss curve of a triangle beyond its stage-1 loss, or
- * the layout. */
+ * the layout; measure the errors (evaluate.h does). */
 #include "allocate.h"
 
 #include <math.h>
@@ -127,4 +130,54 @@ texopt_status texopt_allocate_targets(const texopt_mesh *mesh, const texopt_tria
     if (report)
         *report = rep;
     return TEXOPT_OK;
+}
+
+/* Mean of the errors over the counted triangles, weighted by 3D area. */
+static double mean_error(const texopt_mesh *mesh, const double *error)
+{
+    double sum = 0, weight = 0;
+    for (size_t t = 0; t < mesh->triangle_count; t++)
+        if (counted(mesh, t)) {
+            sum += mesh->area_3d[t] * error[t];
+            weight += mesh->area_3d[t];
+        }
+    return weight > 0 ? sum / weight : 0;
+}
+
+static texopt_status check_reallocate(const texopt_mesh *mesh, const double *error,
+                                      const texopt_reallocate_options *opt, char *err, size_t err_len)
+{
+    if (!opt || !(opt->gamma > 0) || !(opt->step_min > 0) || !(opt->step_min <= 1) || !(opt->step_max >= 1) ||
+        !isfinite(opt->step_max) || !(opt->cap > 0) || !isfinite(opt->cap))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "reallocate: needs gamma > 0, 0 < step_min <= 1 <= step_max, cap > 0");
+    for (size_t t = 0; t < mesh->triangle_count; t++)
+        if (!(error[t] >= 0) || !isfinite(error[t]))
+            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                               "reallocate: triangle %zu has error %g (must be finite, >= 0)", t, error[t]);
+    return TEXOPT_OK;
+}
+
+texopt_status texopt_reallocate_by_error(const texopt_mesh *mesh, const texopt_triangle_target *in,
+                                         const double *error, double area_requested,
+                                         const texopt_reallocate_options *opt, texopt_triangle_target *out,
+                                         texopt_allocation *report, char *err, size_t err_len)
+{
+    if (!mesh || !in || !error || !out)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "reallocate: missing mesh, targets or errors");
+    texopt_status st = check_reallocate(mesh, error, opt, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    double mean = mean_error(mesh, error), floor = 0.05 * mean;
+    for (size_t t = 0; t < mesh->triangle_count; t++) {
+        out[t] = in[t];
+        if (!counted(mesh, t) || !(mean > 0))
+            continue;
+        double m = pow((error[t] + floor) / (mean + floor), opt->gamma);
+        m = sqrt(fmin(opt->step_max, fmax(opt->step_min, m)));
+        out[t].lambda1 *= m;
+        out[t].lambda2 *= m;
+    }
+    texopt_allocate_options rescale = {0, 0, opt->cap, 0};
+    return texopt_allocate_targets(mesh, out, area_requested, &rescale, out, report, err, err_len);
 }

@@ -57,4 +57,26 @@ texopt_status texopt_allocate_targets(const texopt_mesh *mesh, const texopt_tria
                                       texopt_triangle_target *out, texopt_allocation *report,
                                       char *err, size_t err_len);
 
+/* Closed-loop reallocation from what the screen shows (Sun et al. 2022's principle, the
+ * perceptual loss on screen, applied to the whole mesh; pipeline.c iterates it). error[t]
+ * (mesh->triangle_count entries, >= 0) is triangle t's on-screen error under the layout that
+ * the targets in produced (evaluate.h triangle_error). Each triangle's target area is
+ * multiplied by ((e_t + f) / (e_mean + f))^gamma, clamped to [step_min, step_max], where
+ * e_mean is the mean error weighted by 3D area (pixels seen) and f = 0.05 e_mean keeps an
+ * error-free triangle from vanishing in one step; singular values are scaled by the square
+ * root (anisotropy, orientation and rotation kept); then everything is rescaled to
+ * area_requested with singular values capped at cap (texopt_allocate_targets): triangles
+ * the screen shows as lossy may go above input density, where the re-bake and the
+ * renderer's bilinear lookups blur less. With all errors 0 the targets are only rescaled. */
+typedef struct texopt_reallocate_options {
+    double gamma;              /* > 0 */
+    double step_min, step_max; /* 0 < step_min <= 1 <= step_max */
+    double cap;                /* > 0 */
+} texopt_reallocate_options;
+
+texopt_status texopt_reallocate_by_error(const texopt_mesh *mesh, const texopt_triangle_target *in,
+                                         const double *error, double area_requested,
+                                         const texopt_reallocate_options *opt, texopt_triangle_target *out,
+                                         texopt_allocation *report, char *err, size_t err_len);
+
 #endif

@@ -1,4 +1,4 @@
-/* evaluate.c - whole-mesh loss q: 20 views, GMSD on covered luma, mean (Sun et al. 2022, 5.1).
+/* evaluate.c - whole-mesh loss q: 20 views (or 12), GMSD on covered luma, mean (Sun et al. 2022, 5.1).
  *
  * Each view is rasterised once from the reference geometry and shaded for the reference and
  * for every candidate (meshrender.h), so all images cover exactly the same pixels; the GMSD
@@ -101,6 +101,7 @@ typedef struct eval_job {
     const texopt_model *const *candidates;
     int candidate_count;
     const texopt_view *views;
+    int view_count;
     int side;
     int threads;
     atomic_int next_view;
@@ -224,7 +225,7 @@ static void report_view_done(eval_job *job)
     pthread_mutex_lock(&job->lock);
     job->views_done++;
     texopt_progress p = {.stage = "evaluate",
-                         .stage_fraction = (double)job->views_done / TEXOPT_VIEW_COUNT,
+                         .stage_fraction = (double)job->views_done / job->view_count,
                          .fraction = -1,
                          .eta_seconds = -1};
     texopt_monitor_report(job->monitor, &p);
@@ -254,7 +255,7 @@ static void *eval_worker_run(void *arg)
                 break;
             }
             int v = atomic_fetch_add(&job->next_view, 1);
-            if (v >= TEXOPT_VIEW_COUNT)
+            if (v >= job->view_count)
                 break;
             msg[0] = 0;
             texopt_status st = evaluate_view(job, w->index, v, &b, msg, sizeof msg);
@@ -320,8 +321,8 @@ static texopt_status build_all_filters(eval_job *job, char *err, size_t err_len)
 
 /* Checks the candidates against the reference; the views and screen side to use. */
 static texopt_status prepare_views(const texopt_model *reference, const texopt_model *const *candidates, int count,
-                                   const texopt_evaluate_options *opt, texopt_view *views, int *side, char *err,
-                                   size_t err_len)
+                                   const texopt_evaluate_options *opt, texopt_view *views, int *view_count,
+                                   int *side, char *err, size_t err_len)
 {
     if (opt->resolution < 0 || opt->resolution > 16384 || (opt->resolution > 0 && opt->resolution < 8))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
@@ -338,7 +339,7 @@ static texopt_status prepare_views(const texopt_model *reference, const texopt_m
         if (!reference->uvs || !candidates[c]->uvs)
             return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "both models need TEXCOORD_0");
     }
-    texopt_status st = texopt_meshrender_views(reference, views, err, err_len);
+    texopt_status st = texopt_meshrender_camera_set(reference, opt->cameras, views, view_count, err, err_len);
     *side = opt->resolution;
     if (st == TEXOPT_OK && *side == 0)
         st = texopt_evaluate_default_resolution(reference, side, err, err_len);
@@ -351,9 +352,10 @@ static void finish_results(const eval_job *job, double t0, texopt_evaluation *ou
     double seconds = now_seconds() - t0;
     for (int c = 0; c < job->candidate_count; c++) {
         double sum = 0;
-        for (int v = 0; v < TEXOPT_VIEW_COUNT; v++)
+        for (int v = 0; v < job->view_count; v++)
             sum += job->out[c].view_gmsd[v];
-        job->out[c].q = sum / TEXOPT_VIEW_COUNT;
+        job->out[c].q = sum / job->view_count;
+        job->out[c].view_count = job->view_count;
         job->out[c].resolution = job->side;
         job->out[c].seconds = seconds;
         out[c] = job->out[c];
@@ -385,8 +387,9 @@ texopt_status texopt_evaluate_many(const texopt_model *reference, const texopt_m
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "missing model or output");
     double t0 = now_seconds();
     texopt_view views[TEXOPT_VIEW_COUNT];
-    int side = 0;
-    texopt_status st = prepare_views(reference, candidates, candidate_count, opt, views, &side, err, err_len);
+    int side = 0, view_count = 0;
+    texopt_status st =
+        prepare_views(reference, candidates, candidate_count, opt, views, &view_count, &side, err, err_len);
     if (st != TEXOPT_OK)
         return st;
     eval_job job;
@@ -395,8 +398,9 @@ texopt_status texopt_evaluate_many(const texopt_model *reference, const texopt_m
     job.candidates = candidates;
     job.candidate_count = candidate_count;
     job.views = views;
+    job.view_count = view_count;
     job.side = side;
-    job.threads = opt->threads <= 0 ? 1 : (opt->threads > TEXOPT_VIEW_COUNT ? TEXOPT_VIEW_COUNT : opt->threads);
+    job.threads = opt->threads <= 0 ? 1 : (opt->threads > view_count ? view_count : opt->threads);
     job.monitor = opt->monitor;
     job.out = calloc((size_t)candidate_count, sizeof *job.out);
     atomic_init(&job.next_view, 0);

@@ -2,7 +2,8 @@
  *
  * Sun et al. 2022, "Efficient Texture Parameterization Driven by Perceptual-Loss-on-Screen",
  * section 5.1: render the reference (input UVs, input textures) and the candidate (new UVs,
- * new textures) from the 20 dodecahedron cameras of meshrender.h with bilinear lookups,
+ * new textures) from the 20 dodecahedron cameras of meshrender.h (or, on request, its 12
+ * icosahedron cameras) with bilinear lookups,
  * compute GMSD (gmsd.h) on the luma of the pixels covered in both, and average over the
  * views. q(input, input) is exactly 0; larger is worse.
  *
@@ -35,10 +36,14 @@ typedef struct texopt_evaluate_options {
      * The report colours the UV layout by it. */
     double *triangle_error;
     const texopt_monitor *monitor; /* stage "evaluate", checked between views; may be NULL */
+    /* Which cameras (meshrender.h): 0, the dodecahedron's 20, is q as the paper and the
+     * benchmark define it; the icosahedron's 12 are for tuning a layout on other views. */
+    texopt_camera_set cameras;
 } texopt_evaluate_options;
 
 typedef struct texopt_evaluation {
-    double q;                                /* mean of view_gmsd */
+    double q;                                /* mean of view_gmsd[0..view_count) */
+    int view_count;                          /* 20, or 12 with the icosahedron's cameras */
     double view_gmsd[TEXOPT_VIEW_COUNT];
     size_t view_pixels[TEXOPT_VIEW_COUNT];   /* covered pixels per view */
     int resolution;                          /* screen side used */

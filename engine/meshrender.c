@@ -1,6 +1,7 @@
 /* meshrender.c - the evaluation's whole-model renderer: a plain C depth-buffered rasteriser.
  *
- * Sun et al. 2022, section 5.1 (20 dodecahedron cameras, bilinear texture lookups).
+ * Sun et al. 2022, section 5.1 (20 dodecahedron cameras, bilinear texture lookups); the 12
+ * icosahedron cameras are a second set that looks between them (meshrender.h says why).
  * Why not OSMesa: the evaluation needs, for two models with the same geometry, the same
  * covered pixels and, per pixel, a bilinear lookup at the interpolated UV. A CPU raster
  * that stores triangle id + barycentrics per pixel gives exactly that: the geometry is
@@ -55,6 +56,24 @@ static void dodecahedron_vertices(double out[TEXOPT_VIEW_COUNT][3])
     }
 }
 
+/* Unit vectors to the 12 vertices of the regular icosahedron dual to the dodecahedron above,
+ * (0,±φ,±1), (±1,0,±φ), (±φ,±1,0): the directions of its face centres, each 37.4 degrees
+ * from its 5 nearest dodecahedron cameras. (The icosahedron (0,±1,±φ) ... would put every
+ * camera 10.7 degrees from one of the dodecahedron's.) */
+static int icosahedron_vertices(double out[TEXOPT_VIEW_COUNT][3])
+{
+    const double phi = (1.0 + sqrt(5.0)) / 2.0, len = sqrt(1.0 + phi * phi);
+    int n = 0;
+    for (int a = -1; a <= 1; a += 2)
+        for (int b = -1; b <= 1; b += 2) {
+            double p[3][3] = {{0, a * phi, b}, {a, 0, b * phi}, {a * phi, b, 0}};
+            for (int k = 0; k < 3; k++, n++)
+                for (int j = 0; j < 3; j++)
+                    out[n][j] = p[k][j] / len;
+        }
+    return n;
+}
+
 static void cross3(const double a[3], const double b[3], double out[3])
 {
     out[0] = a[1] * b[2] - a[2] * b[1];
@@ -93,7 +112,16 @@ static void view_axes(texopt_view *view)
 texopt_status texopt_meshrender_views(const texopt_model *model, texopt_view *views, char *err,
                                       size_t err_len)
 {
-    if (!model || !views || model->triangle_count == 0 || model->vertex_count == 0 || !model->positions)
+    int count;
+    return texopt_meshrender_camera_set(model, TEXOPT_CAMERAS_DODECAHEDRON, views, &count, err, err_len);
+}
+
+texopt_status texopt_meshrender_camera_set(const texopt_model *model, texopt_camera_set set, texopt_view *views,
+                                           int *count, char *err, size_t err_len)
+{
+    if (set != TEXOPT_CAMERAS_DODECAHEDRON && set != TEXOPT_CAMERAS_ICOSAHEDRON)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "unknown camera set %d", (int)set);
+    if (!model || !views || !count || model->triangle_count == 0 || model->vertex_count == 0 || !model->positions)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "model has no triangles to render");
     double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
     for (size_t v = 0; v < model->vertex_count; v++)
@@ -117,8 +145,13 @@ texopt_status texopt_meshrender_views(const texopt_model *model, texopt_view *vi
     if (!(radius > 0))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "model has a zero-size bounding box");
     double dirs[TEXOPT_VIEW_COUNT][3];
-    dodecahedron_vertices(dirs);
-    for (int i = 0; i < TEXOPT_VIEW_COUNT; i++) {
+    int n = TEXOPT_VIEW_COUNT;
+    if (set == TEXOPT_CAMERAS_ICOSAHEDRON)
+        n = icosahedron_vertices(dirs);
+    else
+        dodecahedron_vertices(dirs);
+    *count = n;
+    for (int i = 0; i < n; i++) {
         memcpy(views[i].centre, centre, sizeof centre);
         memcpy(views[i].direction, dirs[i], sizeof dirs[i]);
         /* A hair of margin keeps the silhouette off the last pixel row. */

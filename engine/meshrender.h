@@ -48,6 +48,19 @@ typedef struct texopt_raster {
 texopt_status texopt_meshrender_views(const texopt_model *model, texopt_view *views, char *err,
                                       size_t err_len);
 
+/* Camera sets. The dodecahedron's 20 are the evaluation's (the paper's, what q and the
+ * benchmark report). The icosahedron's 12 look from the dodecahedron's face centres, between
+ * those 20: a layout tuned on what one set sees (the pipeline's closed-loop refinement) is
+ * then graded on views it was not tuned on. */
+typedef enum texopt_camera_set {
+    TEXOPT_CAMERAS_DODECAHEDRON = 0,
+    TEXOPT_CAMERAS_ICOSAHEDRON
+} texopt_camera_set;
+
+/* As texopt_meshrender_views for any set: views[0..*count) (room for TEXOPT_VIEW_COUNT). */
+texopt_status texopt_meshrender_camera_set(const texopt_model *model, texopt_camera_set set, texopt_view *views,
+                                           int *count, char *err, size_t err_len);
+
 /* Rasterises every triangle of the model into *out (allocated here; free with
  * texopt_raster_destroy), depth-tested, pixel centres sampled. side in [8, 16384]. */
 texopt_status texopt_meshrender_rasterize(const texopt_model *model, const texopt_view *view,

@@ -37,6 +37,8 @@ void texopt_params_resolve(texopt_params *p)
         p->iterations = 100;
     if (p->lambda_min == 0)
         p->lambda_min = 0.1;
+    if (p->refinements == 0)
+        p->refinements = 2;
 }
 
 texopt_status texopt_params_validate(const texopt_params *p, char *err, size_t err_len)
@@ -70,6 +72,9 @@ texopt_status texopt_params_validate(const texopt_params *p, char *err, size_t e
     if (p->eval_resolution < 0 || p->eval_resolution > 8192)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "eval_resolution: %d is outside 0 .. 8192", p->eval_resolution);
+    if (p->refinements < -1 || p->refinements > 20)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "refinements: %d is outside -1 .. 20", p->refinements);
     if (!isfinite(p->relative_cost) || !isfinite(p->epsilon))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "parameters must be finite");
     return TEXOPT_OK;

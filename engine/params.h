@@ -2,7 +2,7 @@
  *
  * A zero-initialised texopt_params means the defaults (the paper's, where it has one):
  * perceptual method, relative cost 1.0, epsilon 0.01, 100 iterations, lambda_min 0.1,
- * all cores, seed 0, no evaluation. texopt_params_resolve fills the zeros;
+ * all cores, seed 0, no evaluation, 2 refinement rounds. texopt_params_resolve fills the zeros;
  * texopt_params_validate says which field is out of range. */
 #ifndef TEXOPT_PARAMS_H
 #define TEXOPT_PARAMS_H
@@ -42,6 +42,9 @@ typedef struct texopt_params {
     uint64_t seed;
     int evaluate;           /* non-zero: run the whole-mesh evaluation after the bake */
     int eval_resolution;    /* evaluation screen side in pixels; 0 -> automatic */
+    int refinements;        /* perceptual: most rounds of the closed-loop refinement of the
+                               kept layout by its on-screen error (pipeline.c refine_kept);
+                               0 -> 2, -1 -> none */
 } texopt_params;
 
 const char *texopt_method_name(texopt_method method);

@@ -1,7 +1,8 @@
 /* test_allocate.c - water-filling of per-triangle targets to a texel budget (allocate.c), on
  * the meshes of generated grids: the allocated area meets the request, no singular value
  * passes input density, uncapped targets keep their ratios, lossless targets can grow slower,
- * and bad input is refused. */
+ * and bad input is refused; the closed-loop reallocation moves area to the triangles with
+ * on-screen error, within its step and cap. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -185,5 +186,83 @@ TEST(bad_targets_and_requests_are_refused)
     CHECK(texopt_allocate_targets(mesh, t, 100, NULL, out, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     CHECK(strstr(err, "triangle 3") != NULL);
     CHECK(texopt_allocate_targets(NULL, t, 100, NULL, out, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    grid_case_close(&g);
+}
+
+static double target_area(const texopt_mesh *mesh, const texopt_triangle_target *t, size_t i)
+{
+    return fabs(mesh->area_texel[i]) * t[i].lambda1 * t[i].lambda2;
+}
+
+TEST(reallocation_moves_texels_to_the_triangles_shown_wrong)
+{
+    grid_case g;
+    CHECK(grid_case_open(&g) == 0);
+    texopt_mesh *mesh = g.mesh;
+    size_t n = g.n;
+    double *error = calloc(n, sizeof *error), request = 0.3 * 64.0 * 64.0;
+    texopt_triangle_target *before = calloc(n, sizeof *before);
+    for (size_t i = 0; i < n / 2; i++)
+        error[i] = 1; /* the first half is shown wrong, the rest exactly */
+    texopt_reallocate_options opt = {0.5, 0.5, 2.0, 2.0};
+    char err[256] = "";
+    texopt_allocation rep;
+    texopt_allocate_options same_cap = {0, 0, 2.0, 0};
+    CHECK_OK(texopt_allocate_targets(mesh, g.in, request, &same_cap, before, NULL, err, sizeof err), err);
+    CHECK_OK(texopt_reallocate_by_error(mesh, g.in, error, request, &opt, g.out, &rep, err, sizeof err), err);
+    CHECK_NEAR(total_area(mesh, g.out), request, 1e-6 * request);
+    double wrong_before = 0, wrong_after = 0;
+    for (size_t i = 0; i < n / 2; i++) {
+        wrong_before += target_area(mesh, before, i);
+        wrong_after += target_area(mesh, g.out, i);
+    }
+    CHECK(wrong_after > 1.2 * wrong_before);
+    /* Equal 3D areas: mean error 0.5, floor 0.025; the step is (1.025 / 0.525)^0.5 on the
+     * wrong half and (0.025 / 0.525)^0.5, clamped to 0.5, on the rest, times one common
+     * factor. Anisotropy, angles and weights stay; nothing passes the cap. */
+    double up = sqrt(1.025 / 0.525), down = 0.5;
+    for (size_t i = 0; i < n; i++) {
+        CHECK(g.out[i].lambda1 <= 2 && g.out[i].lambda2 <= 2);
+        CHECK(g.out[i].alpha == g.in[i].alpha && g.out[i].beta == g.in[i].beta);
+        CHECK(g.out[i].w_stretch == g.in[i].w_stretch);
+        if (g.out[i].lambda1 < 2 && g.out[i].lambda2 < 2) {
+            CHECK_NEAR(g.out[i].lambda1 / g.out[i].lambda2, g.in[i].lambda1 / g.in[i].lambda2, 1e-9);
+            double step = target_area(mesh, g.out, i) / target_area(mesh, g.in, i);
+            CHECK_NEAR(step, rep.scale * rep.scale * (i < n / 2 ? up : down), 1e-9 * step);
+        }
+    }
+    /* No error anywhere: the targets are only rescaled. */
+    memset(error, 0, n * sizeof *error);
+    CHECK_OK(texopt_reallocate_by_error(mesh, g.in, error, request, &opt, g.out, NULL, err, sizeof err), err);
+    for (size_t i = 0; i < n; i++)
+        CHECK(g.out[i].lambda1 == before[i].lambda1 && g.out[i].lambda2 == before[i].lambda2);
+    free(error);
+    free(before);
+    grid_case_close(&g);
+}
+
+TEST(reallocation_refuses_bad_errors_and_steps)
+{
+    grid_case g;
+    CHECK(grid_case_open(&g) == 0);
+    double *error = calloc(g.n, sizeof *error);
+    texopt_reallocate_options opt = {0.5, 0.5, 2.0, 2.0}, bad = opt;
+    char err[256] = "";
+    error[5] = -1;
+    CHECK(texopt_reallocate_by_error(g.mesh, g.in, error, 100, &opt, g.out, NULL, err, sizeof err) ==
+          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "triangle 5") != NULL);
+    error[5] = NAN;
+    CHECK(texopt_reallocate_by_error(g.mesh, g.in, error, 100, &opt, g.out, NULL, err, sizeof err) ==
+          TEXOPT_E_INVALID_ARGUMENT);
+    error[5] = 0;
+    bad.step_min = 1.5;
+    CHECK(texopt_reallocate_by_error(g.mesh, g.in, error, 100, &bad, g.out, NULL, err, sizeof err) ==
+          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_reallocate_by_error(g.mesh, g.in, error, 100, NULL, g.out, NULL, err, sizeof err) ==
+          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_reallocate_by_error(g.mesh, g.in, NULL, 100, &opt, g.out, NULL, err, sizeof err) ==
+          TEXOPT_E_INVALID_ARGUMENT);
+    free(error);
     grid_case_close(&g);
 }

@@ -46,6 +46,7 @@ TEST(identical_models_have_zero_loss)
     CHECK_OK(texopt_evaluate(a, b, &opt, &ev, err, sizeof err), err);
     CHECK(ev.q == 0.0);
     CHECK_EQ_INT(ev.resolution, 256);
+    CHECK_EQ_INT(ev.view_count, TEXOPT_VIEW_COUNT);
     for (int v = 0; v < TEXOPT_VIEW_COUNT; v++) {
         CHECK(ev.view_gmsd[v] == 0.0);
         /* The unit sphere fills pi/4 of a window 2.02 wide: 0.77 of the pixels. */
@@ -76,6 +77,34 @@ TEST(loss_grows_as_the_texture_is_downscaled)
     }
     CHECK(last > 0.1); /* 1/8 of the texels is far from invisible */
     texopt_model_destroy(ref);
+}
+
+/* The icosahedron's 12 cameras (for tuning on other views than q's): q is the mean of 12
+ * views, close to but not the dodecahedron's, and 0 for the model itself. */
+TEST(icosahedron_cameras_give_a_twelve_view_loss)
+{
+    texopt_model *ref = detailed_sphere(), *cand = detailed_sphere();
+    CHECK(ref && cand);
+    CHECK(shrink_texture(cand, 0, 64) == 0);
+    char err[256] = "";
+    texopt_evaluate_options dod = {.resolution = 160, .threads = 2}, ico = dod;
+    ico.cameras = TEXOPT_CAMERAS_ICOSAHEDRON;
+    texopt_evaluation a, b, self;
+    CHECK_OK(texopt_evaluate(ref, cand, &dod, &a, err, sizeof err), err);
+    CHECK_OK(texopt_evaluate(ref, cand, &ico, &b, err, sizeof err), err);
+    CHECK_OK(texopt_evaluate(ref, ref, &ico, &self, err, sizeof err), err);
+    CHECK_EQ_INT(b.view_count, 12);
+    double sum = 0;
+    for (int v = 0; v < 12; v++) {
+        CHECK(b.view_pixels[v] > 0);
+        sum += b.view_gmsd[v];
+    }
+    CHECK_NEAR(b.q, sum / 12, 1e-15);
+    CHECK(b.q != a.q);
+    CHECK_NEAR(b.q, a.q, 0.3 * a.q);
+    CHECK(self.q == 0.0);
+    texopt_model_destroy(ref);
+    texopt_model_destroy(cand);
 }
 
 TEST(flat_texture_survives_any_downscale)

@@ -54,6 +54,42 @@ TEST(views_are_the_dodecahedron_vertices)
     texopt_model_destroy(m);
 }
 
+/* The second camera set: 12 icosahedron vertices, each with 5 nearest neighbours at the
+ * angle whose cosine is 1/sqrt(5), and none of them a dodecahedron camera (each is a face
+ * centre of the dodecahedron: its nearest dodecahedron cameras are 5, all equally far). */
+TEST(icosahedron_views_look_between_the_dodecahedron_views)
+{
+    texopt_model *m = fixture_uv_sphere(12, 6, 16);
+    CHECK(m);
+    texopt_view ico[TEXOPT_VIEW_COUNT], dod[TEXOPT_VIEW_COUNT];
+    int n = 0, nd = 0;
+    char err[256] = "";
+    CHECK_OK(texopt_meshrender_camera_set(m, TEXOPT_CAMERAS_ICOSAHEDRON, ico, &n, err, sizeof err), err);
+    CHECK_OK(texopt_meshrender_camera_set(m, TEXOPT_CAMERAS_DODECAHEDRON, dod, &nd, err, sizeof err), err);
+    CHECK_EQ_INT(n, 12);
+    CHECK_EQ_INT(nd, TEXOPT_VIEW_COUNT);
+    for (int i = 0; i < n; i++) {
+        CHECK_NEAR(dot(ico[i].direction, ico[i].direction), 1, 1e-12);
+        CHECK_NEAR(dot(ico[i].right, ico[i].direction), 0, 1e-12);
+        CHECK_NEAR(ico[i].half_extent, 1.01, 1e-6);
+        int near = 0;
+        for (int j = 0; j < n; j++)
+            near += j != i && fabs(dot(ico[i].direction, ico[j].direction) - 1 / sqrt(5.0)) < 1e-9;
+        CHECK_EQ_INT(near, 5);
+        double best = -2;
+        for (int j = 0; j < nd; j++)
+            best = fmax(best, dot(ico[i].direction, dod[j].direction));
+        int closest = 0;
+        for (int j = 0; j < nd; j++)
+            closest += fabs(dot(ico[i].direction, dod[j].direction) - best) < 1e-9;
+        CHECK(best < 0.8);
+        CHECK_EQ_INT(closest, 5);
+    }
+    CHECK(texopt_meshrender_camera_set(m, (texopt_camera_set)7, ico, &n, err, sizeof err) ==
+          TEXOPT_E_INVALID_ARGUMENT);
+    texopt_model_destroy(m);
+}
+
 /* A view looking down -z at the unit quad [0,1]^2, the window exactly [0,1]^2 (no margin). */
 static texopt_view quad_view(void)
 {

@@ -13,6 +13,7 @@ TEST(zero_params_resolve_to_paper_defaults)
     CHECK_EQ_INT(p.iterations, 100);
     CHECK_NEAR(p.relative_cost, 1.0, 0);
     CHECK(p.method == TEXOPT_METHOD_PERCEPTUAL);
+    CHECK_EQ_INT(p.refinements, 2);
     char err[128] = "";
     CHECK_OK(texopt_params_validate(&p, err, sizeof err), err);
 }
@@ -30,6 +31,12 @@ TEST(out_of_range_fields_are_named)
     p.texture_width = 0;
     CHECK(texopt_params_validate(&p, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     CHECK(strstr(err, "texture_size") != NULL);
+    p.budget = TEXOPT_BUDGET_RELATIVE_COST;
+    p.refinements = -1; /* none: valid */
+    CHECK_OK(texopt_params_validate(&p, err, sizeof err), err);
+    p.refinements = -2;
+    CHECK(texopt_params_validate(&p, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "refinements") != NULL);
 }
 
 TEST(method_names_round_trip)

@@ -1,9 +1,11 @@
 /* test_pipeline_budget.c - the per-budget part of the pipeline (pipeline.h texopt_job_*):
  * one job writes several budgets exactly as separate runs would; a perceptual job keeps the
- * better of its allocated and uniform candidate layouts; the target_loss budget
+ * better of its allocated and uniform candidate layouts, and its closed-loop refinement gives
+ * the triangles with on-screen error more texels; the target_loss budget
  * returns a cost whose q meets the target while a cost one search step smaller does not;
  * bad targets are refused. Models are generated grids (grid_glb.h); the same checks on the
  * perceptual method are in test_pipeline_budget_slow.c. */
+#include "evaluate.h"
 #include "pipeline_budget_checks.h"
 
 TEST(one_job_writes_each_budget_as_a_separate_run_would)
@@ -57,6 +59,7 @@ TEST(perceptual_keeps_the_better_of_the_allocated_and_uniform_layouts)
     CHECK(scratch_init(&s, 4, 64, "half") == 0);
     texopt_params p = small_perceptual_job(0.9);
     p.evaluate = 1;
+    p.refinements = -1; /* q is then the kept candidate's (the refinement: test below) */
     char err[512] = "";
     CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
     cJSON *st = read_json(s.stats);
@@ -77,6 +80,59 @@ TEST(perceptual_keeps_the_better_of_the_allocated_and_uniform_layouts)
     double reached = number_at(first_domain(st), "relative_cost", NULL);
     check_choice(st, reached);
     cJSON_Delete(st);
+    scratch_free(&s);
+}
+
+/* Share of the output texels (UV area times texture size) on triangles whose input UVs lie
+ * in the detailed half (u > 0.5) of the "half" texture. */
+static double detailed_share(const texopt_model *in, const texopt_model *out)
+{
+    double detailed = 0, total = 0;
+    for (size_t t = 0; t < out->triangle_count; t++) {
+        const uint32_t *v = &out->triangles[3 * t];
+        const float *a = &out->uvs[2 * v[0]], *b = &out->uvs[2 * v[1]], *c = &out->uvs[2 * v[2]];
+        double area = 0.5 * fabs((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]));
+        double u = (in->uvs[2 * v[0]] + in->uvs[2 * v[1]] + in->uvs[2 * v[2]]) / 3;
+        total += area;
+        detailed += u > 0.5 ? area : 0;
+    }
+    return detailed / total;
+}
+
+/* q of out against in on a camera set, at the job's 96 px; -1 when it cannot be measured. */
+static double q_on(const texopt_model *in, const texopt_model *out, texopt_camera_set cameras)
+{
+    texopt_evaluate_options eo = {.resolution = 96, .threads = 1, .cameras = cameras};
+    texopt_evaluation ev;
+    char err[256] = "";
+    return texopt_evaluate(in, out, &eo, &ev, err, sizeof err) == TEXOPT_OK ? ev.q : -1;
+}
+
+/* The closed-loop refinement (pipeline.c refine_kept) on a half-flat, half-text grid: the
+ * on-screen error is on the text, so the refined layout gives the text half more of the
+ * same budget, and its loss on the cameras it was tuned on (the icosahedron's) is lower. */
+TEST(refinement_moves_texels_to_the_detailed_half)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 8, 64, "half") == 0);
+    texopt_params p = small_perceptual_job(0.8);
+    p.refinements = -1;
+    char err[512] = "";
+    CHECK_OK(texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err), err);
+    p.refinements = 0; /* the default rounds */
+    CHECK_OK(texopt_optimize_file(s.in, s.again, NULL, &p, NULL, err, sizeof err), err);
+    texopt_model *in = load(s.in), *plain = load(s.out), *refined = load(s.again);
+    CHECK(in && plain && refined);
+    if (in && plain && refined) {
+        double before = detailed_share(in, plain), after = detailed_share(in, refined);
+        double q_before = q_on(in, plain, TEXOPT_CAMERAS_ICOSAHEDRON);
+        double q_after = q_on(in, refined, TEXOPT_CAMERAS_ICOSAHEDRON);
+        CHECK_MSG(after > before + 0.02, "detailed share %.4f -> %.4f", before, after);
+        CHECK(q_after >= 0 && q_after < q_before);
+    }
+    texopt_model_destroy(in);
+    texopt_model_destroy(plain);
+    texopt_model_destroy(refined);
     scratch_free(&s);
 }
 
