@@ -50,6 +50,7 @@ struct texopt_triloss {
     double radius;       /* max |p_hat - c| over covered pixels (infinity norm) */
     float *reference;    /* per batch: n x active_count values, at n * first_signal */
     int *active;         /* per batch: its active signals' indices, at first_signal */
+    unsigned char *deciding; /* per signal: it gave E in an evaluation since the prepare */
     float *ref_img;      /* per signal: size x size image, 0 where uncovered */
     unsigned char *mask; /* size x size */
     texopt_gmsd_reference **gmsd_ref; /* per signal: its GMSD side prepared once */
@@ -191,6 +192,7 @@ texopt_status texopt_triloss_create(texopt_triloss **out, const texopt_model *mo
         tl->phat = malloc(2 * px * sizeof *tl->phat);
         tl->reference = malloc(px * (size_t)tl->signal_count * sizeof *tl->reference);
         tl->active = malloc((size_t)tl->signal_count * sizeof *tl->active);
+        tl->deciding = calloc((size_t)tl->signal_count, 1);
         tl->split = malloc(px * TRILOSS_BATCH_MAX * sizeof *tl->split);
         tl->ref_img = calloc(px * (size_t)tl->signal_count, sizeof *tl->ref_img);
         tl->mask = calloc(px, 1);
@@ -203,7 +205,8 @@ texopt_status texopt_triloss_create(texopt_triloss **out, const texopt_model *mo
         int refs_ok = tl->gmsd_ref != NULL;
         for (int s = 0; refs_ok && s < tl->signal_count; s++)
             refs_ok = (tl->gmsd_ref[s] = texopt_gmsd_reference_create(viewport, viewport)) != NULL;
-        if (!tl->pixel || !tl->phat || !tl->reference || !tl->active || !tl->split || !tl->ref_img || !tl->mask ||
+        if (!tl->pixel || !tl->phat || !tl->reference || !tl->active || !tl->deciding ||
+            !tl->split || !tl->ref_img || !tl->mask ||
             !tl->pos || !tl->recon || !tl->dist_img || !tl->bake || !tl->gmsd || !refs_ok)
             st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "triloss: out of memory for a %dx%d view",
                              viewport, viewport);
@@ -227,6 +230,7 @@ void texopt_triloss_destroy(texopt_triloss *tl)
     free(tl->phat);
     free(tl->reference);
     free(tl->active);
+    free(tl->deciding);
     free(tl->split);
     free(tl->ref_img);
     free(tl->mask);
@@ -279,6 +283,16 @@ static int signals_equal(const float *block, size_t n, int stride, int s, int t)
     return 1;
 }
 
+/* Keeps the columns `columns[0..count)` (ascending) of an n x stride row-major block, in
+ * place as n x count: row k moves to k * count <= k * stride, so the forward order never
+ * overwrites a value it has still to read. */
+static void keep_columns(float *block, size_t n, int stride, const int *columns, int count)
+{
+    for (size_t k = 0; k < n; k++)
+        for (int j = 0; j < count; j++)
+            block[k * (size_t)count + (size_t)j] = block[k * (size_t)stride + (size_t)columns[j]];
+}
+
 /* Which signals of batch b the candidates must bake, and their references compacted in
  * place (n x active_count). Left out, on this triangle: a signal constant over the covered
  * pixels (the bake reproduces a constant under every J, so its GMSD is 0 up to rounding:
@@ -298,10 +312,7 @@ static void select_active_signals(texopt_triloss *tl, int b)
         if (keep)
             active[count++] = s;
     }
-    /* Row k moves to k * count <= k * stride: forward order never overwrites unread values. */
-    for (size_t k = 0; k < tl->n; k++)
-        for (int j = 0; j < count; j++)
-            block[k * (size_t)count + (size_t)j] = block[k * (size_t)stride + (size_t)active[j]];
+    keep_columns(block, tl->n, stride, active, count);
     batch->active_count = count;
     batch->lead = 0;
 }
@@ -359,6 +370,7 @@ texopt_status texopt_triloss_prepare(texopt_triloss *tl, uint32_t triangle, char
     texopt_status st = texopt_uvraster_render(tl->raster, tl->mesh, triangle, err, err_len);
     if (st != TEXOPT_OK)
         return st;
+    memset(tl->deciding, 0, (size_t)tl->signal_count);
     const uint32_t *tri = tl->mesh->triangle + 3 * (size_t)triangle;
     /* J pivots about the texel centre nearest the centroid: a quarter turn about a texel
      * centre maps the texel lattice onto itself, so the loss keeps the 90-degree symmetry of
@@ -410,9 +422,24 @@ static texopt_status signal_loss(texopt_triloss *tl, const loss_batch *batch, in
     return TEXOPT_OK;
 }
 
+/* The running maximum of an evaluation and the signal that set it. */
+typedef struct loss_max {
+    double value;
+    int signal; /* -1 while every E so far is 0 */
+} loss_max;
+
+static void raise_max(loss_max *m, const texopt_triloss *tl, const loss_batch *batch, int j,
+                      double e)
+{
+    if (e > m->value) {
+        m->value = e;
+        m->signal = batch->first_signal + tl->active[batch->first_signal + j];
+    }
+}
+
 /* The batch's largest E over its active signals, all baked in one fit. */
 static texopt_status batch_loss_together(texopt_triloss *tl, loss_batch *batch, const float *block,
-                                         int grid_w, int grid_h, double *worst, char *err,
+                                         int grid_w, int grid_h, loss_max *worst, char *err,
                                          size_t err_len)
 {
     int count = batch->active_count;
@@ -429,7 +456,7 @@ static texopt_status batch_loss_together(texopt_triloss *tl, loss_batch *batch, 
             top = e;
             batch->lead = j;
         }
-        *worst = fmax(*worst, e);
+        raise_max(worst, tl, batch, j, e);
     }
     return st;
 }
@@ -439,7 +466,7 @@ static texopt_status batch_loss_together(texopt_triloss *tl, loss_batch *batch, 
  * otherwise they are, reusing the lead's factorisation. */
 static texopt_status batch_loss_lead_first(texopt_triloss *tl, loss_batch *batch,
                                            const float *block, int grid_w, int grid_h,
-                                           double stop_above, double *worst, char *err,
+                                           double stop_above, loss_max *worst, char *err,
                                            size_t err_len)
 {
     int count = batch->active_count, lead = batch->lead;
@@ -453,8 +480,8 @@ static texopt_status batch_loss_lead_first(texopt_triloss *tl, loss_batch *batch
         st = signal_loss(tl, batch, lead, 0, 1, &top, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    *worst = fmax(*worst, top);
-    if (*worst >= stop_above)
+    raise_max(worst, tl, batch, lead, top);
+    if (worst->value >= stop_above)
         return TEXOPT_OK;
     int rest = count - 1;
     for (size_t k = 0; k < tl->n; k++)
@@ -471,7 +498,7 @@ static texopt_status batch_loss_lead_first(texopt_triloss *tl, loss_batch *batch
             top = e;
             batch->lead = j;
         }
-        *worst = fmax(*worst, e);
+        raise_max(worst, tl, batch, j, e);
     }
     return st;
 }
@@ -485,7 +512,7 @@ texopt_status texopt_triloss_eval(texopt_triloss *tl, const double jacobian[4],
     *out_loss = 0.0;
     if (tl->n == 0)
         return TEXOPT_OK;
-    double worst = 0.0;
+    loss_max worst = {0.0, -1};
     for (int b = 0; b < tl->batch_count; b++) {
         loss_batch *batch = &tl->batches[b];
         if (batch->active_count == 0)
@@ -501,11 +528,35 @@ texopt_status texopt_triloss_eval(texopt_triloss *tl, const double jacobian[4],
                 : batch_loss_together(tl, batch, block, grid_w, grid_h, &worst, err, err_len);
         if (st != TEXOPT_OK)
             return st;
-        if (worst >= stop_above)
+        if (worst.value >= stop_above)
             break;
     }
-    *out_loss = worst;
+    if (worst.signal >= 0)
+        tl->deciding[worst.signal] = 1;
+    *out_loss = worst.value;
     return TEXOPT_OK;
+}
+
+void texopt_triloss_keep_deciding(texopt_triloss *tl)
+{
+    int any = 0;
+    for (int s = 0; tl && s < tl->signal_count; s++)
+        any |= tl->deciding[s];
+    if (!any)
+        return;
+    for (int b = 0; b < tl->batch_count; b++) {
+        loss_batch *batch = &tl->batches[b];
+        int *active = tl->active + batch->first_signal, keep[TRILOSS_BATCH_MAX], kept = 0;
+        for (int j = 0; j < batch->active_count; j++)
+            if (tl->deciding[batch->first_signal + active[j]])
+                keep[kept++] = j;
+        keep_columns(tl->reference + tl->n * (size_t)batch->first_signal, tl->n,
+                     batch->active_count, keep, kept);
+        for (int j = 0; j < kept; j++)
+            active[j] = active[keep[j]];
+        batch->active_count = kept;
+        batch->lead = 0;
+    }
 }
 
 const texopt_uvraster *texopt_triloss_raster(const texopt_triloss *tl)

@@ -67,6 +67,14 @@ texopt_status texopt_triloss_eval(texopt_triloss *loss, const double jacobian[4]
                                   double stop_above, double *out_loss, char *err,
                                   size_t err_len);
 
+/* Until the next texopt_triloss_prepare, compares only the deciding signals: those that gave
+ * the returned E of some evaluation since the prepare (the maximum, or the signal that
+ * reached stop_above). E is then the maximum over them, at most the full one. Triopt
+ * evaluates eq. 17's weight samples this way after the search: on DamagedHelmet 2.5 of 8
+ * active signals decide, and the weights rank the triangles as the full maximum does
+ * (BENCHMARKS.md, "Stage 1"). Does nothing when no signal has decided (every E was 0). */
+void texopt_triloss_keep_deciding(texopt_triloss *loss);
+
 /* The raster of the prepared triangle (covered pixels, camera). */
 const texopt_uvraster *texopt_triloss_raster(const texopt_triloss *loss);
 

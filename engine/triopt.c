@@ -510,7 +510,10 @@ static texopt_status optimise_triangle(worker *w, uint32_t t, texopt_triangle_ta
     if (st != TEXOPT_OK)
         return st;
     store_optimum(&s, lm, o);
-    return flat ? TEXOPT_OK : sensitivity_weights(w, t, o, err, err_len);
+    if (flat)
+        return TEXOPT_OK;
+    texopt_triloss_keep_deciding(w->loss);
+    return sensitivity_weights(w, t, o, err, err_len);
 }
 
 static int triangle_selected(const stage_shared *sh, size_t t)

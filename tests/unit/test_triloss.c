@@ -307,6 +307,41 @@ TEST(early_stop_solves_the_leading_signal_first_and_agrees_with_the_full_loss)
     texopt_model_destroy(m);
 }
 
+TEST(keep_deciding_compares_only_the_signals_that_gave_e_until_the_next_prepare)
+{
+    /* Vertical stripes in red, horizontal ones in green: squeezed across x only red breaks
+     * and decides E. Kept to the deciding signals, a squeeze across y (where green decides)
+     * sees red alone, so its E falls to red's; the squeeze across x keeps its E; the next
+     * prepare compares every signal again. */
+    texopt_model *m = with_occlusion(-2, 0.5);
+    CHECK(m);
+    char err[256] = "";
+    texopt_mesh *mesh = NULL;
+    texopt_triloss *loss = NULL;
+    CHECK_OK(texopt_mesh_create(&mesh, m, 0, err, sizeof err), err);
+    CHECK_OK(texopt_triloss_create(&loss, m, mesh, 64, err, sizeof err), err);
+    const uint32_t t = 2 * (4 * 8 + 4);
+    double across_x[4], across_y[4], ex, ey, ex_kept, ey_kept, ey_again;
+    texopt_jacobian_from_params(0.0, 0.4, 1.0, 0.0, across_x);
+    texopt_jacobian_from_params(0.0, 1.0, 0.4, 0.0, across_y);
+    CHECK_OK(texopt_triloss_prepare(loss, t, err, sizeof err), err);
+    CHECK_OK(texopt_triloss_eval(loss, across_y, INFINITY, &ey, err, sizeof err), err);
+    CHECK_OK(texopt_triloss_prepare(loss, t, err, sizeof err), err);
+    CHECK_OK(texopt_triloss_eval(loss, across_x, INFINITY, &ex, err, sizeof err), err);
+    texopt_triloss_keep_deciding(loss);
+    CHECK_OK(texopt_triloss_eval(loss, across_x, INFINITY, &ex_kept, err, sizeof err), err);
+    CHECK_OK(texopt_triloss_eval(loss, across_y, INFINITY, &ey_kept, err, sizeof err), err);
+    CHECK(ex > 0.05 && ey > 0.05);
+    CHECK_MSG(fabs(ex_kept - ex) < 1e-9 * ex, "%.17g vs %.17g", ex_kept, ex);
+    CHECK_MSG(ey_kept < 0.5 * ey, "green ignored: %g vs %g", ey_kept, ey);
+    CHECK_OK(texopt_triloss_prepare(loss, t, err, sizeof err), err);
+    CHECK_OK(texopt_triloss_eval(loss, across_y, INFINITY, &ey_again, err, sizeof err), err);
+    CHECK_MSG(fabs(ey_again - ey) < 1e-9 * ey, "%.17g vs %.17g", ey_again, ey);
+    texopt_triloss_destroy(loss);
+    texopt_mesh_destroy(mesh);
+    texopt_model_destroy(m);
+}
+
 TEST(triloss_rejects_bad_input)
 {
     loss_fixture f;
