@@ -368,22 +368,26 @@ static int reserve_band(texopt_bake_workspace *ws, size_t needed, int kd)
     return 1;
 }
 
-/* row[c] += f * v[c] over `channels` doubles, two lanes at a time (the same products and
- * sums as the scalar loop). */
-static inline void add_scaled_channels(double *restrict row, const double *restrict v, double f,
-                                       int channels)
+/* row[u] -= f * column[u] for u in [0, count): two lanes at a time (SSE2, baseline x86-64;
+ * GCC and Clang vector extensions elsewhere), unaligned through memcpy. */
+static inline void subtract_scaled(double *restrict row, const double *restrict column,
+                                   double f, int count)
 {
     bake_v2 fv = {f, f};
-    int c = 0;
-    for (; c + 2 <= channels; c += 2) {
-        bake_v2 a, b;
-        memcpy(&a, row + c, sizeof a);
-        memcpy(&b, v + c, sizeof b);
-        a += fv * b;
-        memcpy(row + c, &a, sizeof a);
+    int u = 0;
+    for (; u + 4 <= count; u += 4) {
+        bake_v2 a, b, c, d;
+        memcpy(&a, row + u, sizeof a);
+        memcpy(&b, row + u + 2, sizeof b);
+        memcpy(&c, column + u, sizeof c);
+        memcpy(&d, column + u + 2, sizeof d);
+        a -= fv * c;
+        b -= fv * d;
+        memcpy(row + u, &a, sizeof a);
+        memcpy(row + u + 2, &b, sizeof b);
     }
-    if (c < channels)
-        row[c] += f * v[c];
+    for (; u < count; u++)
+        row[u] -= f * column[u];
 }
 
 /* A^T ref + ridge mean as right-hand sides (ws->rhs, n x channels). A pixel's reference is
@@ -404,8 +408,8 @@ static void assemble_texel_rhs(texopt_bake_workspace *ws, int pixel_count, int n
             wide[ch] = ref[ch];
             mean[ch] += wide[ch];
         }
-        for (int k = 0; k < 4; k++)
-            add_scaled_channels(rhs + (size_t)c[k] * channels, wide, w[k], channels);
+        for (int k = 0; k < 4; k++) /* += w v, as -= (-w) v: the same bits */
+            subtract_scaled(rhs + (size_t)c[k] * channels, wide, -w[k], channels);
     }
     for (int ch = 0; ch < channels; ch++) {
         double m = mean[ch] / pixel_count;
@@ -443,27 +447,6 @@ static void assemble_normal_equations(texopt_bake_workspace *ws, int pixel_count
         band[(size_t)kd + (size_t)i * ld] += ridge;
 }
 
-/* row[u] -= f * column[u] for u in [0, count): two lanes at a time (SSE2, baseline x86-64;
- * GCC and Clang vector extensions elsewhere), unaligned through memcpy. */
-static void subtract_scaled(double *restrict row, const double *restrict column, double f,
-                            int count)
-{
-    bake_v2 fv = {f, f};
-    int u = 0;
-    for (; u + 4 <= count; u += 4) {
-        bake_v2 a, b, c, d;
-        memcpy(&a, row + u, sizeof a);
-        memcpy(&b, row + u + 2, sizeof b);
-        memcpy(&c, column + u, sizeof c);
-        memcpy(&d, column + u + 2, sizeof d);
-        a -= fv * c;
-        b -= fv * d;
-        memcpy(row + u, &a, sizeof a);
-        memcpy(row + u + 2, &b, sizeof b);
-    }
-    for (; u < count; u++)
-        row[u] -= f * column[u];
-}
 
 /* Gathers column j of L below the diagonal into `column` after scaling it by the pivot.
  * Returns the number of rows below j in the envelope, or -1 when A is not positive
@@ -644,23 +627,6 @@ static double dot2(const double *a, const double *b, int count)
     return s;
 }
 
-/* row[c] -= f * src[c] for the channels of one texel, two lanes at a time. */
-static inline void subtract_row(double *restrict row, const double *restrict src, double f,
-                                int channels)
-{
-    bake_v2 fv = {f, f};
-    int c = 0;
-    for (; c + 2 <= channels; c += 2) {
-        bake_v2 a, b;
-        memcpy(&a, row + c, sizeof a);
-        memcpy(&b, src + c, sizeof b);
-        a -= fv * b;
-        memcpy(row + c, &a, sizeof a);
-    }
-    for (; c < channels; c++)
-        row[c] -= f * src[c];
-}
-
 /* Several channels: every row of L is read once per triangular solve for all of them (the
  * channels of a texel are the vector lanes), instead of once per channel. */
 static void band_solve_channels(const double *band, int n, int kd, const int *envelope_first,
@@ -671,7 +637,7 @@ static void band_solve_channels(const double *band, int n, int kd, const int *en
         const double *li = band + (size_t)i * ld + kd - i;
         double *xi = rhs + (size_t)i * channels;
         for (int k = envelope_first[i]; k < i; k++)
-            subtract_row(xi, rhs + (size_t)k * channels, li[k], channels);
+            subtract_scaled(xi, rhs + (size_t)k * channels, li[k], channels);
         for (int c = 0; c < channels; c++)
             xi[c] /= li[i];
     }
@@ -681,7 +647,7 @@ static void band_solve_channels(const double *band, int n, int kd, const int *en
         for (int c = 0; c < channels; c++)
             xi[c] /= li[i];
         for (int k = envelope_first[i]; k < i; k++)
-            subtract_row(rhs + (size_t)k * channels, xi, li[k], channels);
+            subtract_scaled(rhs + (size_t)k * channels, xi, li[k], channels);
     }
 }
 

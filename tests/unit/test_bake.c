@@ -207,6 +207,25 @@ TEST(reconstruction_error_falls_as_texels_grow)
     CHECK(previous < 0.05);
 }
 
+/* pattern() channel 0 as a one-channel w x h texture. */
+static texopt_status pattern_texture(texopt_image *tex, int w, int h, char *err, size_t err_len)
+{
+    texopt_status st = texopt_image_create(tex, w, h, 1, err, err_len);
+    for (int k = 0; st == TEXOPT_OK && k < w * h; k++)
+        tex->pixels[k] = (float)pattern(k % w, k / w, 0);
+    return st;
+}
+
+/* A reference in the range of A: the texture looked up at the side x side screen positions
+ * p = J q + t, which are written to pos. */
+static void reference_through(const texopt_image *tex, texopt_wrap wrap, int side,
+                              const double jac[4], double tx, double ty, double *pos, float *ref)
+{
+    screen_positions(side, jac, tx, ty, pos);
+    for (int q = 0; q < side * side; q++)
+        texopt_sample_bilinear(tex, wrap, wrap, pos[2 * q], pos[2 * q + 1], ref + q);
+}
+
 TEST(bilinear_reference_in_the_range_of_a_is_reproduced)
 {
     /* The reference is itself a bilinear lookup of a texture on the candidate grid, so the
@@ -214,16 +233,11 @@ TEST(bilinear_reference_in_the_range_of_a_is_reproduced)
     enum { S = 48, W = 20, H = 20 };
     texopt_image tex;
     char err[256] = "";
-    CHECK_OK(texopt_image_create(&tex, W, H, 1, err, sizeof err), err);
-    for (int k = 0; k < W * H; k++)
-        tex.pixels[k] = (float)pattern(k % W, k / W, 0);
+    CHECK_OK(pattern_texture(&tex, W, H, err, sizeof err), err);
     static double pos[2 * S * S];
     static float ref[S * S], out[S * S];
     const double jac[4] = {0.3, 0.05, -0.04, 0.31};
-    screen_positions(S, jac, 2.0, 3.0, pos);
-    for (int q = 0; q < S * S; q++)
-        texopt_sample_bilinear(&tex, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, pos[2 * q],
-                               pos[2 * q + 1], ref + q);
+    reference_through(&tex, TEXOPT_WRAP_REPEAT, S, jac, 2.0, 3.0, pos, ref);
     texopt_bake_workspace *ws = texopt_bake_workspace_create(S * S, 1);
     CHECK_OK(texopt_bake_fit(ws, S * S, pos, ref, 1, W, H, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT,
                              1e-9, out, err, sizeof err),
@@ -285,19 +299,14 @@ TEST(wide_and_tall_patches_are_banded_along_their_short_side)
     enum { S = 64, W = 128, H = 128 };
     texopt_image tex;
     char err[256] = "";
-    CHECK_OK(texopt_image_create(&tex, W, H, 1, err, sizeof err), err);
-    for (int k = 0; k < W * H; k++)
-        tex.pixels[k] = (float)pattern(k % W, k / W, 0);
+    CHECK_OK(pattern_texture(&tex, W, H, err, sizeof err), err);
     static double pos[2 * S * S];
     static float ref[S * S], out[S * S];
     texopt_bake_workspace *ws = texopt_bake_workspace_create(S * S, 1);
     CHECK(ws != NULL);
     const double shapes[2][4] = {{1.0, 0.0, 0.0, 0.125}, {0.125, 0.0, 0.0, 1.0}};
     for (int i = 0; i < 2; i++) {
-        screen_positions(S, shapes[i], 10.0, 12.0, pos);
-        for (int q = 0; q < S * S; q++)
-            texopt_sample_bilinear(&tex, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, pos[2 * q],
-                                   pos[2 * q + 1], ref + q);
+        reference_through(&tex, TEXOPT_WRAP_CLAMP, S, shapes[i], 10.0, 12.0, pos, ref);
         CHECK_OK(texopt_bake_fit(ws, S * S, pos, ref, 1, W, H, TEXOPT_WRAP_CLAMP,
                                  TEXOPT_WRAP_CLAMP, 1e-9, out, err, sizeof err),
                  err);

@@ -14,16 +14,22 @@ typedef struct loss_fixture {
     texopt_triloss *loss;
 } loss_fixture;
 
-static int fixture_open(loss_fixture *f, int n, int tex, const char *pattern, int viewport)
+/* A loss evaluator over domain 0 of `model`, which the fixture then owns (NULL fails). */
+static int fixture_open_model(loss_fixture *f, texopt_model *model, int viewport)
 {
     char err[256] = "";
-    f->model = fixture_grid(n, tex, pattern);
+    f->model = model;
     f->mesh = NULL;
     f->loss = NULL;
     if (!f->model || texopt_mesh_create(&f->mesh, f->model, 0, err, sizeof err) != TEXOPT_OK)
         return 0;
     return texopt_triloss_create(&f->loss, f->model, f->mesh, viewport, err, sizeof err) ==
            TEXOPT_OK;
+}
+
+static int fixture_open(loss_fixture *f, int n, int tex, const char *pattern, int viewport)
+{
+    return fixture_open_model(f, fixture_grid(n, tex, pattern), viewport);
 }
 
 static void fixture_close(loss_fixture *f)
@@ -245,18 +251,13 @@ static texopt_model *with_occlusion(double green, double blue)
 static double occlusion_loss(texopt_model *m, const double J[4])
 {
     char err[256] = "";
-    texopt_mesh *mesh = NULL;
-    texopt_triloss *loss = NULL;
+    loss_fixture f;
     double e = NAN;
-    if (m && texopt_mesh_create(&mesh, m, 0, err, sizeof err) == TEXOPT_OK &&
-        texopt_triloss_create(&loss, m, mesh, 64, err, sizeof err) == TEXOPT_OK &&
-        texopt_triloss_signal_count(loss) == 4 &&
-        texopt_triloss_prepare(loss, 2 * (4 * 8 + 4), err, sizeof err) == TEXOPT_OK &&
-        texopt_triloss_eval(loss, J, INFINITY, &e, err, sizeof err) != TEXOPT_OK)
+    if (fixture_open_model(&f, m, 64) && texopt_triloss_signal_count(f.loss) == 4 &&
+        texopt_triloss_prepare(f.loss, 2 * (4 * 8 + 4), err, sizeof err) == TEXOPT_OK &&
+        texopt_triloss_eval(f.loss, J, INFINITY, &e, err, sizeof err) != TEXOPT_OK)
         e = NAN;
-    texopt_triloss_destroy(loss);
-    texopt_mesh_destroy(mesh);
-    texopt_model_destroy(m);
+    fixture_close(&f);
     return e;
 }
 
@@ -282,13 +283,10 @@ TEST(early_stop_solves_the_leading_signal_first_and_agrees_with_the_full_loss)
     /* Two different signals (vertical and horizontal stripes): with a stop that is not
      * reached the lead-first evaluation gives the full maximum (to rounding); a stop below
      * the leading signal's E returns at least the stop; the next evaluations agree again. */
-    texopt_model *m = with_occlusion(-2, 0.5);
-    CHECK(m);
+    loss_fixture f;
+    CHECK(fixture_open_model(&f, with_occlusion(-2, 0.5), 64));
+    texopt_triloss *loss = f.loss;
     char err[256] = "";
-    texopt_mesh *mesh = NULL;
-    texopt_triloss *loss = NULL;
-    CHECK_OK(texopt_mesh_create(&mesh, m, 0, err, sizeof err), err);
-    CHECK_OK(texopt_triloss_create(&loss, m, mesh, 64, err, sizeof err), err);
     CHECK_OK(texopt_triloss_prepare(loss, 2 * (4 * 8 + 4), err, sizeof err), err);
     for (int k = 0; k < 3; k++) {
         double J[4], full, lead_first, cut;
@@ -302,9 +300,7 @@ TEST(early_stop_solves_the_leading_signal_first_and_agrees_with_the_full_loss)
         CHECK_OK(texopt_triloss_eval(loss, J, 0.5 * full, &cut, err, sizeof err), err);
         CHECK(cut >= 0.5 * full && cut <= full * (1 + 1e-9));
     }
-    texopt_triloss_destroy(loss);
-    texopt_mesh_destroy(mesh);
-    texopt_model_destroy(m);
+    fixture_close(&f);
 }
 
 TEST(keep_deciding_compares_only_the_signals_that_gave_e_until_the_next_prepare)
@@ -313,13 +309,10 @@ TEST(keep_deciding_compares_only_the_signals_that_gave_e_until_the_next_prepare)
      * and decides E. Kept to the deciding signals, a squeeze across y (where green decides)
      * sees red alone, so its E falls to red's; the squeeze across x keeps its E; the next
      * prepare compares every signal again. */
-    texopt_model *m = with_occlusion(-2, 0.5);
-    CHECK(m);
+    loss_fixture f;
+    CHECK(fixture_open_model(&f, with_occlusion(-2, 0.5), 64));
+    texopt_triloss *loss = f.loss;
     char err[256] = "";
-    texopt_mesh *mesh = NULL;
-    texopt_triloss *loss = NULL;
-    CHECK_OK(texopt_mesh_create(&mesh, m, 0, err, sizeof err), err);
-    CHECK_OK(texopt_triloss_create(&loss, m, mesh, 64, err, sizeof err), err);
     const uint32_t t = 2 * (4 * 8 + 4);
     double across_x[4], across_y[4], ex, ey, ex_kept, ey_kept, ey_again;
     texopt_jacobian_from_params(0.0, 0.4, 1.0, 0.0, across_x);
@@ -337,9 +330,7 @@ TEST(keep_deciding_compares_only_the_signals_that_gave_e_until_the_next_prepare)
     CHECK_OK(texopt_triloss_prepare(loss, t, err, sizeof err), err);
     CHECK_OK(texopt_triloss_eval(loss, across_y, INFINITY, &ey_again, err, sizeof err), err);
     CHECK_MSG(fabs(ey_again - ey) < 1e-9 * ey, "%.17g vs %.17g", ey_again, ey);
-    texopt_triloss_destroy(loss);
-    texopt_mesh_destroy(mesh);
-    texopt_model_destroy(m);
+    fixture_close(&f);
 }
 
 TEST(triloss_rejects_bad_input)
