@@ -8,12 +8,13 @@
  * Why banded: the footprints of a 64x64 screen window mapped by one linear J form a dense
  * patch of texels. Numbered in texture row-major order (column-major for a patch wider than
  * tall), a footprint's four texels are at most about one patch row (column) apart, so A^T A
- * has a band of that width and Cholesky costs n kd^2 instead of n^3 / 3. Texels are numbered through a dense map over the patch's
- * bounding box (no hashing, no sorting) when the box is small, which is the normal case;
- * footprints that straddle a wrap seam or scatter over a huge texture go through a hash
- * map and a sort instead. When a minified patch has more touched texels than pixels, the
- * pixel-side system A A^T + r I (push-through identity, see solve notes below) is factored
- * instead when its band is cheaper: same minimiser, smaller and narrower system. */
+ * has a band of that width and Cholesky costs n kd^2 instead of n^3 / 3. Texels are
+ * numbered through a dense map over the patch's bounding box (no hashing, no sorting) when
+ * the box is small, which is the normal case; footprints that straddle a wrap seam or
+ * scatter over a huge texture go through a hash map and a sort instead. When a minified
+ * patch has more touched texels than pixels, the pixel-side system A A^T + r I (push-through
+ * identity, see solve notes below) is factored instead when its band is cheaper: same
+ * minimiser, smaller and narrower system. */
 #include "bake.h"
 
 #include <lapacke.h>
@@ -392,7 +393,7 @@ static inline void subtract_scaled(double *restrict row, const double *restrict 
 
 /* A^T ref + ridge mean as right-hand sides (ws->rhs, n x channels). A pixel's reference is
  * widened to doubles once for its four texels (the per-texel float conversions and the
- * scalar channel loop were 8% of a DamagedHelmet triangle's profile). */
+ * scalar channel loop were 8% of the DamagedHelmet stage-1 bench's samples). */
 static void assemble_texel_rhs(texopt_bake_workspace *ws, int pixel_count, int n,
                                const float *reference, int channels, double ridge)
 {
@@ -446,7 +447,6 @@ static void assemble_normal_equations(texopt_bake_workspace *ws, int pixel_count
     for (int i = 0; i < n; i++)
         band[(size_t)kd + (size_t)i * ld] += ridge;
 }
-
 
 /* Gathers column j of L below the diagonal into `column` after scaling it by the pivot.
  * Returns the number of rows below j in the envelope, or -1 when A is not positive
@@ -531,7 +531,7 @@ subtract_scaled2_avx2(double *restrict row, const double *restrict c0, double f0
 /* The same with four lanes and fused multiply-adds, for CPUs that have them (checked at
  * run time): 1.5x the two-lane loop. Columns are taken two at a time (a rank-2 update), so
  * the triangle below is loaded and stored once per pair: column j is scaled and applied to
- * column j+1 only, column j+1 is scaled, then both update the rows below (12-20% less
+ * column j+1 only, column j+1 is scaled, then both update the rows below (8-20% less
  * Cholesky time on the stage-1 bench; `column` holds 2 (kd + 1) doubles). Rows past
  * last[j] have L(i, j) = 0 and take column j+1 alone. */
 __attribute__((target("avx2,fma"))) static int band_cholesky_avx2(double *band, int n, int kd,
