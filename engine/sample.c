@@ -79,13 +79,46 @@ void texopt_bilinear_footprint(int width, int height, texopt_wrap wrap_s, texopt
     index[3] = row[1] * width + col[1];
 }
 
+/* x moved by whole periods of a repeating axis (REPEAT: n texels, MIRROR: 2n) into its first
+ * period, when that is exact: for x >= k p with k = floor(x / p) >= 1, x - k p is exact
+ * (Sterbenz: k p <= x < 2 k p), so the footprint's weights are the same bits and its texels
+ * the same after wrapping. Anything else is returned as it is. Lookups on UVs beyond [0, 1]
+ * (DamagedHelmet's v lies in [1, 2]) then take the in-grid path of texopt_sample_bilinear
+ * instead of two integer divisions per lookup. */
+static double into_first_period(double x, int n, texopt_wrap wrap)
+{
+    double period = wrap == TEXOPT_WRAP_REPEAT ? n : wrap == TEXOPT_WRAP_MIRROR ? 2.0 * n : 0.0;
+    if (!(period > 0.0 && x >= period && x <= TEXOPT_SAMPLE_COORD_LIMIT))
+        return x;
+    double shifted = x - floor(x / period) * period;
+    return shifted >= 0.0 && shifted < period ? shifted : x;
+}
+
 void texopt_sample_bilinear(const texopt_image *img, texopt_wrap ws, texopt_wrap wt, double x,
                             double y, float *out)
 {
     int index[4];
     double weight[4];
-    int channels = img->channels;
-    texopt_bilinear_footprint(img->width, img->height, ws, wt, x, y, index, weight);
+    int channels = img->channels, width = img->width;
+    x = into_first_period(x, width, ws);
+    y = into_first_period(y, img->height, wt);
+    if (x >= 0.5 && y >= 0.5 && x < width - 0.5 && y < img->height - 0.5) {
+        /* Inside the grid: texopt_bilinear_cells' arithmetic without its clamps and wraps
+         * (xs, ys >= 0, so truncation is floor). */
+        double xs = x - 0.5, ys = y - 0.5;
+        int x0 = (int)xs, y0 = (int)ys;
+        double fx = xs - x0, fy = ys - y0;
+        index[0] = y0 * width + x0;
+        index[1] = index[0] + 1;
+        index[2] = index[0] + width;
+        index[3] = index[2] + 1;
+        weight[0] = (1.0 - fx) * (1.0 - fy);
+        weight[1] = fx * (1.0 - fy);
+        weight[2] = (1.0 - fx) * fy;
+        weight[3] = fx * fy;
+    } else {
+        texopt_bilinear_footprint(width, img->height, ws, wt, x, y, index, weight);
+    }
     for (int c = 0; c < channels; c++) {
         double sum = 0.0;
         for (int k = 0; k < 4; k++)

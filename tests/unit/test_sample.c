@@ -47,6 +47,53 @@ TEST(bilinear_at_texel_centre_returns_that_texel)
     texopt_image_destroy(&img);
 }
 
+/* The lookup written out from texopt_bilinear_footprint, the general (wrapping) path. */
+static void lookup_through_footprint(const texopt_image *img, texopt_wrap wrap, double x,
+                                     double y, float *out)
+{
+    int idx[4];
+    double w[4];
+    texopt_bilinear_footprint(img->width, img->height, wrap, wrap, x, y, idx, w);
+    for (int c = 0; c < img->channels; c++) {
+        double sum = 0.0;
+        for (int k = 0; k < 4; k++)
+            sum += w[k] * (double)img->pixels[(size_t)idx[k] * (size_t)img->channels + (size_t)c];
+        out[c] = (float)sum;
+    }
+}
+
+TEST(whole_periods_and_the_in_grid_path_give_the_same_bits)
+{
+    /* UVs beyond [0, 1] (DamagedHelmet's v lies in [1, 2]) are moved into the first period
+     * and then read inside the grid: the same bits as the wrapping footprint at the original
+     * position, for REPEAT (period 16) and MIRROR (period 32), inside and across the seams. */
+    texopt_image img = ramp_image(16, 9, 0.37, -0.21, 0.6);
+    for (int i = 0; i < img.width * img.height; i++)
+        img.pixels[2 * i + 1] = (float)((i * 7919) % 101) / 101.0f; /* not bilinear */
+    const texopt_wrap wraps[2] = {TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_MIRROR};
+    unsigned s = 7;
+    for (int m = 0; m < 2; m++) {
+        int px = m ? 32 : 16, py = m ? 18 : 9;
+        for (int k = 0; k < 400; k++) {
+            /* anywhere in the first period (MIRROR's mirrored half too), in multiples of
+             * 1/1024 so that adding whole periods is exact */
+            s = s * 1664525u + 1013904223u;
+            double x = (double)((s >> 8) % (unsigned)(px * 1024)) / 1024.0;
+            s = s * 1664525u + 1013904223u;
+            double y = (double)((s >> 8) % (unsigned)(py * 1024)) / 1024.0;
+            float base[2], far[2], general[2];
+            texopt_sample_bilinear(&img, wraps[m], wraps[m], x, y, base);
+            lookup_through_footprint(&img, wraps[m], x, y, general);
+            double fx = x + px * (1 + k % 3), fy = y + py * (3 - k % 3);
+            texopt_sample_bilinear(&img, wraps[m], wraps[m], fx, fy, far);
+            CHECK_MSG(base[0] == general[0] && base[1] == general[1], "(%g, %g)", x, y);
+            CHECK_MSG(far[0] == base[0] && far[1] == base[1], "(%g, %g) vs (%g, %g)", fx, fy,
+                      x, y);
+        }
+    }
+    texopt_image_destroy(&img);
+}
+
 static void footprint_x(texopt_wrap wrap, double x, int idx[4], double w[4])
 {
     texopt_bilinear_footprint(4, 3, wrap, TEXOPT_WRAP_CLAMP, x, 1.5, idx, w);
