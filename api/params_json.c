@@ -15,6 +15,7 @@ static const char *const budget_names[TEXOPT_BUDGET_COUNT] = {
 static const char *const known_keys[] = {
     "method", "budget", "relative_cost", "texture_width", "texture_height", "target_loss",
     "epsilon", "iterations", "lambda_min", "threads", "seed", "evaluate", "eval_resolution",
+    "refinements", "packing_efficiency",
 };
 
 static int is_known_key(const char *key)
@@ -157,6 +158,14 @@ static texopt_status read_rest(const cJSON *obj, texopt_params *p, char *err, si
         return s;
     if (present)
         p->eval_resolution = (int)v;
+    if ((s = get_integer(obj, "refinements", 0, 20, &v, &present, err, err_len)) != TEXOPT_OK)
+        return s;
+    if (present)
+        p->refinements = v == 0 ? -1 : (int)v; /* the engine's 0 means its default */
+    if ((s = get_number(obj, "packing_efficiency", &v, &present, err, err_len)) != TEXOPT_OK)
+        return s;
+    if (present)
+        p->packing_efficiency = v;
     const cJSON *e = cJSON_GetObjectItemCaseSensitive(obj, "evaluate");
     if (e && !cJSON_IsBool(e))
         return bad(err, err_len, "evaluate", "must be true or false");
@@ -244,5 +253,7 @@ cJSON *api_params_to_json(const texopt_params *p)
     cJSON_AddNumberToObject(o, "seed", (double)p->seed);
     cJSON_AddBoolToObject(o, "evaluate", p->evaluate != 0);
     cJSON_AddNumberToObject(o, "eval_resolution", p->eval_resolution);
+    cJSON_AddNumberToObject(o, "refinements", p->refinements > 0 ? p->refinements : 0);
+    cJSON_AddNumberToObject(o, "packing_efficiency", p->packing_efficiency);
     return o;
 }

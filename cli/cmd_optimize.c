@@ -42,6 +42,12 @@ static void usage(FILE *out)
             "  --lambda-min L           smallest per-axis scale stage 1 may choose (default 0.1)\n"
             "  --threads T              worker threads (default: every core)\n"
             "  --seed S                 random seed (default 0)\n"
+            "  --refinements N          perceptual: most closed-loop refinement rounds of the\n"
+            "                           kept layout by its on-screen error, 0-20 (default 2;\n"
+            "                           0: none)\n"
+            "  --packing-efficiency E   reshape the charts that fill little of their box and\n"
+            "                           pack again when the packing falls short of E, [0, 1)\n"
+            "                           (default 0: never; changes q either way at equal cost)\n"
             "  --stats PATH             write the job statistics as JSON\n"
             "  --evaluate               measure the whole-mesh perceptual loss q of the result\n"
             "                           against the input (into the statistics)\n"
@@ -152,6 +158,10 @@ static int parse_option(optimize_args *a, const char *opt, const char *val)
         a->params.threads = (int)n;
     else if (strcmp(opt, "--seed") == 0 && parse_long(val, &n) && n >= 0)
         a->params.seed = (uint64_t)n;
+    else if (strcmp(opt, "--refinements") == 0 && parse_long(val, &n) && n >= 0 && n <= 20)
+        a->params.refinements = n == 0 ? -1 : (int)n; /* the engine's 0 means its default */
+    else if (strcmp(opt, "--packing-efficiency") == 0 && parse_double(val, &d) && d >= 0 && d < 1)
+        a->params.packing_efficiency = d;
     else {
         fprintf(stderr, "texopt optimize: bad option or value: %s %s\n", opt, val);
         return EXIT_USAGE;

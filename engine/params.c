@@ -75,6 +75,9 @@ texopt_status texopt_params_validate(const texopt_params *p, char *err, size_t e
     if (p->refinements < -1 || p->refinements > 20)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "refinements: %d is outside -1 .. 20", p->refinements);
+    if (!(p->packing_efficiency >= 0 && p->packing_efficiency < 1))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "packing_efficiency: %g is outside [0, 1)", p->packing_efficiency);
     if (!isfinite(p->relative_cost) || !isfinite(p->epsilon))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "parameters must be finite");
     return TEXOPT_OK;

@@ -2,7 +2,7 @@
  *
  * A zero-initialised texopt_params means the defaults (the paper's, where it has one):
  * perceptual method, relative cost 1.0, epsilon 0.01, 100 iterations, lambda_min 0.1,
- * all cores, seed 0, no evaluation, 2 refinement rounds. texopt_params_resolve fills the zeros;
+ * all cores, seed 0, no evaluation, 2 refinement rounds, no chart reshaping. texopt_params_resolve fills the zeros;
  * texopt_params_validate says which field is out of range. */
 #ifndef TEXOPT_PARAMS_H
 #define TEXOPT_PARAMS_H
@@ -45,6 +45,9 @@ typedef struct texopt_params {
     int refinements;        /* perceptual: most rounds of the closed-loop refinement of the
                                kept layout by its on-screen error (pipeline.c refine_kept);
                                0 -> 2, -1 -> none */
+    double packing_efficiency; /* [0, 1): when a packing's efficiency falls short of it, the
+                               charts filling little of their box are reshaped toward it and
+                               packed again (budget.h reshape_efficiency); 0 -> never */
 } texopt_params;
 
 const char *texopt_method_name(texopt_method method);

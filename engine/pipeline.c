@@ -770,6 +770,8 @@ static void budget_request(const job_domain *jd, const texopt_params *p, job_mon
     req->input_width = jd->mesh->width;
     req->input_height = jd->mesh->height;
     req->targets = jd->targets; /* charts free to rotate are turned to their smallest box */
+    req->reshape_efficiency = p->packing_efficiency;
+    req->threads = worker_threads(p);
     req->monitor = &jm->inner;
 }
 
@@ -944,6 +946,8 @@ static void fill_job_params(texopt_job_stats *js, const texopt_params *p)
     js->iterations = p->iterations;
     js->threads = p->threads;
     js->seed = (unsigned long long)p->seed;
+    js->refinements = p->refinements > 0 ? p->refinements : 0;
+    js->packing_efficiency = p->packing_efficiency;
 }
 
 #define MAX_EVALUATED_OUTPUTS 2
@@ -1175,15 +1179,19 @@ static texopt_status refinement_trial(texopt_job *job, const texopt_params *p, t
  * q is lower; a round that is not lower is retried from the best layout with half the step
  * (gamma), as a backtracking line search. Errors and q are measured on the icosahedron's
  * 12 cameras, not on the dodecahedron's 20 that define q (meshrender.h): the layout is not
- * tuned on the views it is graded on. *replaced counts the rounds kept; kept->ev is then
- * the icosahedron's. */
+ * tuned on the views it is graded on. The rounds tried and kept, the 12-view q before and
+ * after and their time go to the statistics (allocation_choice.refinement); after a kept
+ * round kept->ev is the icosahedron's. */
 static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candidate *kept, int allocated,
-                                 double from, double to, int *replaced, char *err, size_t err_len)
+                                 double from, double to, char *err, size_t err_len)
 {
-    *replaced = 0;
     int rounds = p->refinements, nd = job->model->domain_count;
+    texopt_job_stats *js = &job->stats;
+    js->refinement_rounds = js->refinement_kept = 0;
+    js->seconds_refinement = 0;
     if (rounds <= 0)
         return TEXOPT_OK;
+    double t0 = now_seconds();
     size_t tc = job->model->triangle_count ? job->model->triangle_count : 1, nda = (size_t)(nd > 0 ? nd : 1);
     texopt_triangle_target **best = calloc(nda, sizeof *best), **next = calloc(nda, sizeof *next);
     double *error = malloc(tc * sizeof *error), *next_error = malloc(tc * sizeof *error);
@@ -1200,6 +1208,7 @@ static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candid
         job_stage(&job->jm, "evaluate", from, from + span);
         st = evaluate_outputs_on(job->model, &shown, 1, p, TEXOPT_CAMERAS_ICOSAHEDRON, error, &job->jm, &best_ev,
                                  err, err_len);
+        js->q_refinement_before = best_ev.q;
     }
     texopt_reallocate_options step = refinement_step;
     for (int r = 0; r < rounds && st == TEXOPT_OK; r++) {
@@ -1220,12 +1229,15 @@ static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candid
             double *e = error;
             error = next_error;
             next_error = e;
-            (*replaced)++;
+            js->refinement_kept++;
         } else
             step.gamma *= 0.5;
         free_domain_stats(trial.domains, nd);
         job_output_destroy(&trial.out, job->model->image_count);
+        js->refinement_rounds = r + 1;
     }
+    js->q_refinement_after = js->refinement_kept ? best_ev.q : js->q_refinement_before;
+    js->seconds_refinement = now_seconds() - t0;
     free_targets(best, nd);
     free_targets(next, nd);
     free(error);
@@ -1257,7 +1269,6 @@ static texopt_status run_best_budget(texopt_job *job, const texopt_params *p, in
     int refining = p->refinements > 0;
     double half = (refining ? 0.3 : 0.4) * (to - from), chosen = refining ? from + 0.7 * (to - from) : to;
     candidate allocated = {0}, uniform = {0};
-    int refined = 0;
     texopt_status st = run_candidate(job, p, 1, &allocated, from, from + half, err, err_len);
     if (st == TEXOPT_OK)
         st = run_candidate(job, p, 0, &uniform, from + half, from + 2 * half, err, err_len);
@@ -1284,7 +1295,7 @@ static texopt_status run_best_budget(texopt_job *job, const texopt_params *p, in
         free_domain_stats(other->domains, js->domain_count);
         other->domains = NULL;
         job_output_destroy(&other->out, job->model->image_count);
-        st = refine_kept(job, p, kept, js->allocation_chosen, chosen, to, &refined, err, err_len);
+        st = refine_kept(job, p, kept, js->allocation_chosen, chosen, to, err, err_len);
         free_domain_stats(js->domains, js->domain_count);
         js->domains = kept->domains;
         kept->domains = NULL;
@@ -1293,7 +1304,7 @@ static texopt_status run_best_budget(texopt_job *job, const texopt_params *p, in
         *ev = kept->ev;
         if (with_stats && st == TEXOPT_OK)
             st = measure_chosen_loss_share(job, out, err, err_len);
-        *evaluated = st == TEXOPT_OK && !refined; /* a refined layout's q is the icosahedron's */
+        *evaluated = st == TEXOPT_OK && !js->refinement_kept; /* a refined layout's q is the icosahedron's */
     }
     int n = job->stats.domain_count;
     free_domain_stats(allocated.domains, n);

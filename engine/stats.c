@@ -124,6 +124,8 @@ static cJSON *job_json(const texopt_job_stats *s)
     cJSON_AddNumberToObject(p, "iterations", s->iterations);
     cJSON_AddNumberToObject(p, "threads", s->threads);
     cJSON_AddNumberToObject(p, "seed", (double)s->seed);
+    cJSON_AddNumberToObject(p, "refinements", s->refinements);
+    cJSON_AddNumberToObject(p, "packing_efficiency", s->packing_efficiency);
     cJSON *t = cJSON_AddObjectToObject(root, "seconds");
     cJSON_AddNumberToObject(t, "load", s->seconds_load);
     cJSON_AddNumberToObject(t, "save", s->seconds_save);
@@ -148,6 +150,14 @@ static cJSON *job_json(const texopt_job_stats *s)
         cJSON *t = cJSON_AddObjectToObject(a, "seconds");
         cJSON_AddNumberToObject(t, "evaluate", s->seconds_choice_evaluate);
         cJSON_AddNumberToObject(t, "other_candidate", s->seconds_other_candidate);
+        cJSON *r = cJSON_AddObjectToObject(a, "refinement");
+        cJSON_AddNumberToObject(r, "rounds", s->refinement_rounds);
+        cJSON_AddNumberToObject(r, "kept", s->refinement_kept);
+        if (s->refinement_rounds > 0) {
+            cJSON_AddNumberToObject(r, "q_before", s->q_refinement_before);
+            cJSON_AddNumberToObject(r, "q_after", s->q_refinement_after);
+        }
+        cJSON_AddNumberToObject(r, "seconds", s->seconds_refinement);
     }
     if (s->has_evaluation) {
         cJSON *e = cJSON_AddObjectToObject(root, "evaluation");

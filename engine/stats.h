@@ -72,6 +72,8 @@ typedef struct texopt_job_stats {
     double epsilon, lambda_min;
     int iterations, threads;
     unsigned long long seed;
+    int refinements;             /* rounds asked for (0: none) */
+    double packing_efficiency;   /* reshape goal asked for (0: none) */
     double seconds_load, seconds_save, seconds_total;
     int has_search;              /* budget target_loss: the search over the relative cost */
     double target_loss;          /* the q asked for */
@@ -84,6 +86,10 @@ typedef struct texopt_job_stats {
     int allocation_chosen;       /* 1: the allocated layout was kept, 0: the uniform one */
     double seconds_choice_evaluate; /* the evaluation pass of both candidates */
     double seconds_other_candidate; /* the discarded candidate's stage 2, packing and bake */
+    int refinement_rounds;       /* closed-loop rounds tried on the kept candidate ... */
+    int refinement_kept;         /* ... and kept (each lowered q_refinement) */
+    double q_refinement_before, q_refinement_after; /* on the refinement's 12 cameras */
+    double seconds_refinement;   /* its renders and rounds */
     int has_evaluation;          /* params.evaluate: whole-mesh loss of the result */
     double q;                    /* evaluate.h: mean GMSD over the 20 views */
     int eval_resolution;

@@ -22,6 +22,8 @@ TEST(empty_object_gives_paper_defaults)
     CHECK_EQ_INT(p.iterations, 100);
     CHECK_NEAR(p.lambda_min, 0.1, 0);
     CHECK_EQ_INT(p.evaluate, 0);
+    CHECK_EQ_INT(p.refinements, 2);
+    CHECK_NEAR(p.packing_efficiency, 0, 0);
 }
 
 TEST(every_key_is_read)
@@ -30,7 +32,7 @@ TEST(every_key_is_read)
     char err[256] = "";
     CHECK_OK(parse("{\"method\":\"arap\",\"relative_cost\":0.25,\"epsilon\":0.02,\"iterations\":7,"
                    "\"lambda_min\":0.3,\"threads\":3,\"seed\":123456789012,\"evaluate\":true,"
-                   "\"eval_resolution\":256}", &p, err), err);
+                   "\"eval_resolution\":256,\"refinements\":5,\"packing_efficiency\":0.75}", &p, err), err);
     CHECK_EQ_INT(p.method, TEXOPT_METHOD_ARAP);
     CHECK_NEAR(p.relative_cost, 0.25, 0);
     CHECK_NEAR(p.epsilon, 0.02, 0);
@@ -40,6 +42,10 @@ TEST(every_key_is_read)
     CHECK(p.seed == 123456789012ull);
     CHECK_EQ_INT(p.evaluate, 1);
     CHECK_EQ_INT(p.eval_resolution, 256);
+    CHECK_EQ_INT(p.refinements, 5);
+    CHECK_NEAR(p.packing_efficiency, 0.75, 0);
+    CHECK_OK(parse("{\"refinements\":0}", &p, err), err);
+    CHECK_EQ_INT(p.refinements, -1); /* none, not the engine's default */
 }
 
 TEST(budget_is_inferred_from_its_value)
@@ -84,6 +90,10 @@ TEST(bad_params_are_refused_by_name)
     check_refused("{\"budget\":\"target_loss\"}", "needs the target_loss");
     check_refused("{\"budget\":\"relative_cost\",\"target_loss\":0.1}", "does not match");
     check_refused("{\"seed\":-1}", "params.seed");
+    check_refused("{\"refinements\":21}", "params.refinements");
+    check_refused("{\"refinements\":-1}", "params.refinements");
+    check_refused("{\"packing_efficiency\":1}", "packing_efficiency");
+    check_refused("{\"packing_efficiency\":-0.1}", "packing_efficiency");
     check_refused("[1,2]", "must be a JSON object");
     check_refused("{\"method\":\"input\",", "not valid JSON");
 }
@@ -109,11 +119,14 @@ TEST(params_survive_a_json_round_trip)
     texopt_params p, q;
     char err[256] = "";
     CHECK_OK(parse("{\"method\":\"tewari\",\"texture_width\":300,\"texture_height\":200,\"epsilon\":0.03,"
-                   "\"iterations\":9,\"seed\":77,\"evaluate\":true}", &p, err), err);
-    cJSON *o = api_params_to_json(&p);
-    CHECK(o != NULL);
-    texopt_status s = api_params_from_json(o, &q, err, sizeof err);
-    cJSON_Delete(o);
-    CHECK_OK(s, err);
-    CHECK(memcmp(&p, &q, sizeof p) == 0);
+                   "\"iterations\":9,\"seed\":77,\"evaluate\":true,\"packing_efficiency\":0.8}", &p, err), err);
+    for (int refinements = -1; refinements <= 3; refinements += 4) {
+        p.refinements = refinements; /* none, and some */
+        cJSON *o = api_params_to_json(&p);
+        CHECK(o != NULL);
+        texopt_status s = api_params_from_json(o, &q, err, sizeof err);
+        cJSON_Delete(o);
+        CHECK_OK(s, err);
+        CHECK(memcmp(&p, &q, sizeof p) == 0);
+    }
 }

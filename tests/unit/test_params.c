@@ -37,6 +37,12 @@ TEST(out_of_range_fields_are_named)
     p.refinements = -2;
     CHECK(texopt_params_validate(&p, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     CHECK(strstr(err, "refinements") != NULL);
+    p.refinements = 0;
+    p.packing_efficiency = 1; /* a packing cannot be that tight */
+    CHECK(texopt_params_validate(&p, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "packing_efficiency") != NULL);
+    p.packing_efficiency = NAN;
+    CHECK(texopt_params_validate(&p, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
 }
 
 TEST(method_names_round_trip)

@@ -120,7 +120,17 @@ TEST(refinement_moves_texels_to_the_detailed_half)
     char err[512] = "";
     CHECK_OK(texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err), err);
     p.refinements = 0; /* the default rounds */
-    CHECK_OK(texopt_optimize_file(s.in, s.again, NULL, &p, NULL, err, sizeof err), err);
+    CHECK_OK(texopt_optimize_file(s.in, s.again, s.stats, &p, NULL, err, sizeof err), err);
+    cJSON *st = read_json(s.stats);
+    cJSON *rounds = cJSON_GetObjectItem(cJSON_GetObjectItem(st, "allocation_choice"), "refinement");
+    CHECK(rounds != NULL);
+    double kept = number_at(rounds, "kept", NULL);
+    CHECK_NEAR(number_at(rounds, "rounds", NULL), 2, 0);
+    CHECK(kept >= 1 && kept <= 2);
+    CHECK(number_at(rounds, "q_after", NULL) < number_at(rounds, "q_before", NULL));
+    CHECK(number_at(rounds, "seconds", NULL) > 0);
+    CHECK_NEAR(number_at(st, "params", "refinements"), 2, 0);
+    cJSON_Delete(st);
     texopt_model *in = load(s.in), *plain = load(s.out), *refined = load(s.again);
     CHECK(in && plain && refined);
     if (in && plain && refined) {
