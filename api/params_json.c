@@ -161,7 +161,7 @@ static texopt_status read_rest(const cJSON *obj, texopt_params *p, char *err, si
     if ((s = get_integer(obj, "refinements", 0, 20, &v, &present, err, err_len)) != TEXOPT_OK)
         return s;
     if (present)
-        p->refinements = v == 0 ? -1 : (int)v; /* the engine's 0 means its default */
+        texopt_params_set_refinement_rounds(p, (int)v);
     if ((s = get_number(obj, "packing_efficiency", &v, &present, err, err_len)) != TEXOPT_OK)
         return s;
     if (present)
@@ -253,7 +253,7 @@ cJSON *api_params_to_json(const texopt_params *p)
     cJSON_AddNumberToObject(o, "seed", (double)p->seed);
     cJSON_AddBoolToObject(o, "evaluate", p->evaluate != 0);
     cJSON_AddNumberToObject(o, "eval_resolution", p->eval_resolution);
-    cJSON_AddNumberToObject(o, "refinements", p->refinements > 0 ? p->refinements : 0);
+    cJSON_AddNumberToObject(o, "refinements", texopt_params_refinement_rounds(p));
     cJSON_AddNumberToObject(o, "packing_efficiency", p->packing_efficiency);
     return o;
 }

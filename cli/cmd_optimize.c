@@ -159,7 +159,7 @@ static int parse_option(optimize_args *a, const char *opt, const char *val)
     else if (strcmp(opt, "--seed") == 0 && parse_long(val, &n) && n >= 0)
         a->params.seed = (uint64_t)n;
     else if (strcmp(opt, "--refinements") == 0 && parse_long(val, &n) && n >= 0 && n <= 20)
-        a->params.refinements = n == 0 ? -1 : (int)n; /* the engine's 0 means its default */
+        texopt_params_set_refinement_rounds(&a->params, (int)n);
     else if (strcmp(opt, "--packing-efficiency") == 0 && parse_double(val, &d) && d >= 0 && d < 1)
         a->params.packing_efficiency = d;
     else {

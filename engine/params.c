@@ -41,6 +41,16 @@ void texopt_params_resolve(texopt_params *p)
         p->refinements = 2;
 }
 
+int texopt_params_refinement_rounds(const texopt_params *p)
+{
+    return p->refinements > 0 ? p->refinements : 0;
+}
+
+void texopt_params_set_refinement_rounds(texopt_params *p, int rounds)
+{
+    p->refinements = rounds == 0 ? -1 : rounds;
+}
+
 texopt_status texopt_params_validate(const texopt_params *p, char *err, size_t err_len)
 {
     if ((unsigned)p->method >= TEXOPT_METHOD_COUNT)

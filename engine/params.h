@@ -57,6 +57,11 @@ texopt_method texopt_method_from_name(const char *name);
 /* Replaces zero fields by their defaults. */
 void texopt_params_resolve(texopt_params *params);
 
+/* Refinement rounds as users count them (0: none), from and into the field's encoding, where
+ * 0 is the default and -1 none. The getter reads a resolved params struct. */
+int texopt_params_refinement_rounds(const texopt_params *params);
+void texopt_params_set_refinement_rounds(texopt_params *params, int rounds);
+
 /* Checks a resolved params struct; the message names the offending field. */
 texopt_status texopt_params_validate(const texopt_params *params, char *err, size_t err_len);
 

@@ -946,7 +946,7 @@ static void fill_job_params(texopt_job_stats *js, const texopt_params *p)
     js->iterations = p->iterations;
     js->threads = p->threads;
     js->seed = (unsigned long long)p->seed;
-    js->refinements = p->refinements > 0 ? p->refinements : 0;
+    js->refinements = texopt_params_refinement_rounds(p);
     js->packing_efficiency = p->packing_efficiency;
 }
 
@@ -1185,7 +1185,7 @@ static texopt_status refinement_trial(texopt_job *job, const texopt_params *p, t
 static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candidate *kept, int allocated,
                                  double from, double to, char *err, size_t err_len)
 {
-    int rounds = p->refinements, nd = job->model->domain_count;
+    int rounds = texopt_params_refinement_rounds(p), nd = job->model->domain_count;
     texopt_job_stats *js = &job->stats;
     js->refinement_rounds = js->refinement_kept = 0;
     js->seconds_refinement = 0;
@@ -1236,7 +1236,8 @@ static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candid
         job_output_destroy(&trial.out, job->model->image_count);
         js->refinement_rounds = r + 1;
     }
-    js->q_refinement_after = js->refinement_kept ? best_ev.q : js->q_refinement_before;
+    if (st == TEXOPT_OK)
+        js->q_refinement_after = best_ev.q; /* the kept layout's; unchanged when no round was kept */
     js->seconds_refinement = now_seconds() - t0;
     free_targets(best, nd);
     free_targets(next, nd);
@@ -1266,7 +1267,7 @@ static texopt_status run_best_budget(texopt_job *job, const texopt_params *p, in
     if (p->method != TEXOPT_METHOD_PERCEPTUAL)
         return run_budget(job, p, with_stats, out, from, to, err, err_len);
     /* Progress: the candidates, their evaluation, then the refinement's rounds. */
-    int refining = p->refinements > 0;
+    int refining = texopt_params_refinement_rounds(p) > 0;
     double half = (refining ? 0.3 : 0.4) * (to - from), chosen = refining ? from + 0.7 * (to - from) : to;
     candidate allocated = {0}, uniform = {0};
     texopt_status st = run_candidate(job, p, 1, &allocated, from, from + half, err, err_len);

@@ -45,6 +45,18 @@ TEST(out_of_range_fields_are_named)
     CHECK(texopt_params_validate(&p, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
 }
 
+TEST(refinement_rounds_count_as_users_do)
+{
+    texopt_params p = {0};
+    texopt_params_resolve(&p);
+    CHECK_EQ_INT(texopt_params_refinement_rounds(&p), 2); /* the default */
+    texopt_params_set_refinement_rounds(&p, 0);
+    CHECK_EQ_INT(p.refinements, -1); /* none, not "default" */
+    CHECK_EQ_INT(texopt_params_refinement_rounds(&p), 0);
+    texopt_params_set_refinement_rounds(&p, 3);
+    CHECK_EQ_INT(texopt_params_refinement_rounds(&p), 3);
+}
+
 TEST(method_names_round_trip)
 {
     for (int m = 0; m < TEXOPT_METHOD_COUNT; m++)
