@@ -35,6 +35,10 @@ static void usage(FILE *out)
             "  --resolution N      evaluation render side (default: 1.25 sqrt(covered texels))\n"
             "  --mipmap            evaluate with prefiltered (mip-mapped) lookups, not bilinear\n"
             "  --iterations N      most stage-1 polish iterations per triangle (default 100)\n"
+            "  --epsilon E         perceptual loss threshold of stage 1 (default 0.01)\n"
+            "  --seed S            random seed (default 0)\n"
+            "  --refinements N     perceptual: most closed-loop refinement rounds, 0-20\n"
+            "                      (default 2; 0 = none), as in texopt optimize\n"
             "  --threads T         worker threads (default: every core)\n"
             "  --reuse-layout      each layout method once, at the largest cost; smaller costs by\n"
             "                      resampling its re-baked textures (much faster, but measurably\n"
@@ -162,6 +166,17 @@ int cmd_compare(int argc, char **argv)
             bad = !v || cli_parse_int(v, 8, 16384, &opt.evaluate.resolution) != 0;
         } else if (!strcmp(a, "--iterations")) {
             bad = !v || cli_parse_int(v, 1, 100000, &opt.params.iterations) != 0;
+        } else if (!strcmp(a, "--epsilon")) {
+            bad = !v || cli_parse_double(v, 0, 1, &opt.params.epsilon) != 0 || !(opt.params.epsilon > 0 && opt.params.epsilon < 1);
+        } else if (!strcmp(a, "--seed")) {
+            int seed = 0;
+            bad = !v || cli_parse_int(v, 0, 2147483647, &seed) != 0;
+            opt.params.seed = (uint64_t)seed;
+        } else if (!strcmp(a, "--refinements")) {
+            int rounds = 0;
+            bad = !v || cli_parse_int(v, 0, 20, &rounds) != 0;
+            if (!bad)
+                texopt_params_set_refinement_rounds(&opt.params, rounds);
         } else if (!strcmp(a, "--threads")) {
             bad = !v || cli_parse_int(v, 1, 256, &opt.params.threads) != 0;
             if (!bad)

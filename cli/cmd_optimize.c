@@ -6,6 +6,7 @@
  * cancel flag; the job stops at its next checkpoint and the command exits 3. Implements no
  * part of Sun et al. 2022 itself; it is the asset-pipeline front end of the engine. */
 #include <errno.h>
+#include <math.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,6 +15,7 @@
 
 #include "cancel.h"
 #include "commands.h"
+#include "numbers.h"
 #include "params.h"
 #include "pipeline.h"
 
@@ -94,10 +96,7 @@ static void show_progress(void *user, const texopt_progress *p)
 
 static int parse_double(const char *s, double *out)
 {
-    char *end;
-    errno = 0;
-    *out = strtod(s, &end);
-    return errno == 0 && end != s && *end == '\0';
+    return cli_parse_double(s, -HUGE_VAL, HUGE_VAL, out) == 0;
 }
 
 static int parse_long(const char *s, long long *out)

@@ -4,7 +4,9 @@
 # `texopt optimize --method input`) has q > 0 and the asked cost, that compare's JSON holds
 # one curve per method with q growing as the cost falls, and that the HTML report parses
 # (python3 html.parser), is balanced, holds one plot curve per method and references
-# nothing outside itself. Also the usage errors' exit codes.
+# nothing outside itself; that compare passes its stage-1 and refinement options on (its
+# perceptual point with --refinements 0 is the q of `texopt optimize --refinements 0`, which
+# differs from the default's two rounds on Fox at c_r 0.3). Also the usage errors' exit codes.
 set -euo pipefail
 : "${TEXOPT_BIN:?TEXOPT_BIN must point to the texopt executable}"
 : "${TEXOPT_SOURCE_DIR:?TEXOPT_SOURCE_DIR must point to the source tree}"
@@ -21,6 +23,12 @@ FOX="$TEXOPT_SOURCE_DIR/tests/data/Fox/Fox.glb"
     fail "evaluate of the reduced Fox exited $?"
 "$TEXOPT_BIN" compare "$FOX" --methods input --costs 1,0.25,0.0625 --resolution 200 --quiet \
     --json "$WORK/curves.json" -o "$WORK/report.html" > "$WORK/table.txt" || fail "compare exited $?"
+"$TEXOPT_BIN" optimize "$FOX" -o "$WORK/plain.glb" --relative-cost 0.3 --refinements 0 --seed 3 --quiet ||
+    fail "optimize --refinements 0 exited $?"
+"$TEXOPT_BIN" evaluate "$FOX" "$WORK/plain.glb" --resolution 200 --json > "$WORK/plain.json" ||
+    fail "evaluate of the unrefined Fox exited $?"
+"$TEXOPT_BIN" compare "$FOX" --methods perceptual --costs 0.3 --refinements 0 --seed 3 --resolution 200 \
+    --quiet --json "$WORK/plain_curves.json" > /dev/null || fail "compare --refinements 0 exited $?"
 
 /usr/bin/python3 - "$WORK" <<'EOF'
 import html.parser, json, sys
@@ -51,6 +59,11 @@ if qs[0] != 0 or not (qs[0] < qs[1] < qs[2]):
 # The same reduction through compare and through optimize + evaluate gives the same loss.
 if abs(qs[1] - quarter["q"]) > 1e-9:
     fail(f"compare q {qs[1]} vs evaluate q {quarter['q']}")
+
+plain = json.load(open(f"{work}/plain.json"))["q"]
+plain_point = json.load(open(f"{work}/plain_curves.json"))["curves"]["perceptual"][0]["q"]
+if abs(plain_point - plain) > 1e-9:
+    fail(f"compare --refinements 0 q {plain_point} vs optimize --refinements 0 q {plain}")
 
 class Checker(html.parser.HTMLParser):
     void = {"img", "meta", "br", "line", "circle", "rect", "polyline"}
@@ -101,6 +114,8 @@ set +e
 "$TEXOPT_BIN" evaluate "$FOX" > /dev/null 2>&1; [ $? -eq 2 ] || fail "evaluate with one model should exit 2"
 "$TEXOPT_BIN" compare "$FOX" --methods nosuch > /dev/null 2>&1; [ $? -eq 2 ] || fail "unknown method should exit 2"
 "$TEXOPT_BIN" compare "$FOX" --costs 0,1 > /dev/null 2>&1; [ $? -eq 2 ] || fail "cost 0 should exit 2"
+"$TEXOPT_BIN" compare "$FOX" --refinements 21 > /dev/null 2>&1; [ $? -eq 2 ] || fail "21 refinements should exit 2"
+"$TEXOPT_BIN" compare "$FOX" --epsilon 1 > /dev/null 2>&1; [ $? -eq 2 ] || fail "epsilon 1 should exit 2"
 "$TEXOPT_BIN" evaluate "$FOX" "$WORK/missing.glb" > /dev/null 2>&1; [ $? -eq 1 ] || fail "missing model should exit 1"
 set -e
 echo "evaluate_compare: ok"
