@@ -1,7 +1,8 @@
 /* camera.c - builds the per-triangle orthographic camera of Sun et al. 2022, appendix A.
  *
- * Only geometry: a frame (C, R, U, N) and a square window fitted to the one-ring. It does
- * not rasterise (uvraster.c) and never touches textures. */
+ * Only geometry: a frame (C, R, U, N) and a square window fitted to the one-ring, or
+ * narrowed to a zoom the caller measured. It does not rasterise (uvraster.c), and never
+ * touches textures: the texel density comes from the caller. */
 #include "camera.h"
 
 #include <math.h>
@@ -93,6 +94,41 @@ texopt_status texopt_camera_create(texopt_camera *camera, const double a[3], con
                            "camera: one-ring has no extent on screen");
     fit_square_window(camera, box);
     return TEXOPT_OK;
+}
+
+double texopt_camera_zoom(const texopt_camera *camera, double texels_per_unit)
+{
+    return texels_per_unit * camera->window_side / camera->size;
+}
+
+/* The window's left (or bottom) edge for a side `side` along one axis: centred on the
+ * centroid (0), then moved into the range that keeps the triangle [t0, t1] and stays within
+ * the paper's window [w0, w0 + wide]; that range is never empty because side covers
+ * [t0, t1] and [t0, t1] lies in the paper's window. */
+static double narrowed_edge(double side, double t0, double t1, double w0, double wide)
+{
+    double lo = fmax(t1 - side, w0), hi = fmin(t0, w0 + wide - side);
+    return fmin(fmax(-0.5 * side, lo), hi);
+}
+
+void texopt_camera_limit_zoom(texopt_camera *camera, const double a[3], const double b[3],
+                              const double c[3], double texels_per_unit, double max_zoom)
+{
+    if (!(max_zoom > 0.0) || !(texels_per_unit > 0.0) || !isfinite(texels_per_unit))
+        return;
+    double side = max_zoom * camera->size / texels_per_unit;
+    double tri[4] = {INFINITY, INFINITY, -INFINITY, -INFINITY};
+    include_point(camera, a, tri);
+    include_point(camera, b, tri);
+    include_point(camera, c, tri);
+    side = fmax(side, fmax(tri[2] - tri[0], tri[3] - tri[1]) * (1.0 + 1e-6));
+    if (!(side < camera->window_side))
+        return;
+    camera->window_x0 =
+        narrowed_edge(side, tri[0], tri[2], camera->window_x0, camera->window_side);
+    camera->window_y0 =
+        narrowed_edge(side, tri[1], tri[3], camera->window_y0, camera->window_side);
+    camera->window_side = side;
 }
 
 void texopt_camera_project(const texopt_camera *camera, const double point[3], double screen[2],

@@ -7,6 +7,11 @@
  * (R, U), padded on its short side to a square so that pixels are square, and it is mapped
  * onto a size x size viewport. Row 0 of the viewport is the top (largest U).
  *
+ * The paper's window makes the zoom depend on the ring's size: a ring spanning 180 texels
+ * is seen at 2.8 input texels per pixel, so a shrink to half is invisible there while the
+ * evaluation (evaluate.h) shows about one texel per pixel. texopt_camera_limit_zoom narrows
+ * such a window, at the same pixel count, to a given number of texels per pixel.
+ *
  * This header only builds the frame and projects points; rasterising lives in uvraster.h. */
 #ifndef TEXOPT_CAMERA_H
 #define TEXOPT_CAMERA_H
@@ -14,6 +19,9 @@
 #include <stddef.h>
 
 #include "status.h"
+
+/* Stage 1's default for texopt_camera_limit_zoom (BENCHMARKS.md "Quality"). */
+#define TEXOPT_CAMERA_MAX_ZOOM 1.25
 
 typedef struct texopt_camera {
     double center[3];   /* the triangle's centroid C */
@@ -33,6 +41,19 @@ typedef struct texopt_camera {
 texopt_status texopt_camera_create(texopt_camera *camera, const double a[3], const double b[3],
                                    const double c[3], const double *ring_points,
                                    size_t point_count, int size, char *err, size_t err_len);
+
+/* The input texels per pixel the camera shows where the surface has texels_per_unit texels
+ * per world unit (square root of texel area over 3D area). */
+double texopt_camera_zoom(const texopt_camera *camera, double texels_per_unit);
+
+/* Narrows the window of a camera from texopt_camera_create on the triangle (a, b, c) so that
+ * it shows at most max_zoom input texels per pixel at texels_per_unit, keeping the viewport
+ * size: centred on the centroid, moved only as far as needed to keep the whole triangle and
+ * to stay inside the paper's window, and never narrower than the triangle, which is
+ * always seen whole. A window already at or under max_zoom, max_zoom <= 0 or a
+ * texels_per_unit that is not positive and finite leave the camera as it is. */
+void texopt_camera_limit_zoom(texopt_camera *camera, const double a[3], const double b[3],
+                              const double c[3], double texels_per_unit, double max_zoom);
 
 /* Projects a world point to continuous viewport coordinates: screen[0] grows to the right in
  * pixels (pixel i covers [i, i + 1)), screen[1] grows downwards (row j covers [j, j + 1)),

@@ -20,6 +20,7 @@ texopt_status texopt_uvraster_create(texopt_uvraster **out, int size, char *err,
     size_t n = (size_t)size * (size_t)size;
     if (r) {
         r->size = size;
+        r->max_zoom = TEXOPT_CAMERA_MAX_ZOOM;
         r->texel = calloc(2 * n, sizeof *r->texel);
         r->face = malloc(n * sizeof *r->face);
         r->depth = malloc(n * sizeof *r->depth);
@@ -131,6 +132,17 @@ static void rasterise_face(texopt_uvraster *r, const texopt_mesh *mesh, uint32_t
     }
 }
 
+/* Texels per world unit over the one-ring: its texel area over its 3D area. */
+static double ring_texels_per_unit(const texopt_uvraster *r, const texopt_mesh *mesh, size_t n)
+{
+    double texel = 0.0, world = 0.0;
+    for (size_t f = 0; f < n; f++) {
+        texel += fabs(mesh->area_texel[r->ring[f]]);
+        world += mesh->area_3d[r->ring[f]];
+    }
+    return world > 0.0 ? sqrt(texel / world) : 0.0;
+}
+
 texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh *mesh,
                                      uint32_t triangle, char *err, size_t err_len)
 {
@@ -156,6 +168,9 @@ texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh 
     if (st != TEXOPT_OK)
         return texopt_fail(err, err_len, st, "uvraster: triangle %u is degenerate in 3D",
                            triangle);
+    texopt_camera_limit_zoom(&raster->camera, point_of_vertex(mesh, tri[0]),
+                             point_of_vertex(mesh, tri[1]), point_of_vertex(mesh, tri[2]),
+                             ring_texels_per_unit(raster, mesh, n), raster->max_zoom);
     clear_buffer(raster);
     for (size_t f = 0; f < n; f++)
         rasterise_face(raster, mesh, raster->ring[f]);

@@ -24,6 +24,8 @@
 
 typedef struct texopt_uvraster {
     int size;           /* viewport side */
+    double max_zoom;    /* input texels a pixel may show (camera.h texopt_camera_limit_zoom);
+                           TEXOPT_CAMERA_MAX_ZOOM from create, 0 keeps the paper's window */
     texopt_camera camera;
     size_t covered;     /* pixels covered by the one-ring */
     double *texel;      /* 2 per pixel, row-major from the top: p_hat(q); 0 where uncovered */

@@ -1,4 +1,6 @@
 /* test_camera.c - the per-triangle orthographic camera (Sun et al. 2022, appendix A). */
+#include <string.h>
+
 #include "camera.h"
 #include "test.h"
 
@@ -94,4 +96,81 @@ TEST(camera_rejects_degenerate_input)
     double d[3] = {0, 1, 0};
     CHECK(texopt_camera_create(&cam, a, b, d, NULL, 0, 1, err, sizeof err) ==
           TEXOPT_E_INVALID_ARGUMENT);
+}
+
+/* Projects the corners and checks each lies inside the viewport. */
+static int corners_inside(const texopt_camera *cam, const double *corners[3])
+{
+    for (int i = 0; i < 3; i++) {
+        double s[2];
+        texopt_camera_project(cam, corners[i], s, NULL);
+        if (!(s[0] >= 0 && s[0] <= cam->size && s[1] >= 0 && s[1] <= cam->size))
+            return 0;
+    }
+    return 1;
+}
+
+TEST(limited_zoom_narrows_the_window_about_the_centroid)
+{
+    /* A small triangle at the origin in a ring 20 units wide. */
+    double a[3] = {0.5, 0, 0}, b[3] = {-0.25, 0.4, 0}, c[3] = {-0.25, -0.4, 0};
+    double ring[6] = {-10, -10, 0, 10, 10, 0};
+    texopt_camera paper, cam;
+    char err[256] = "";
+    CHECK_OK(texopt_camera_create(&paper, a, b, c, ring, 2, 64, err, sizeof err), err);
+    /* 8 texels per unit: the paper's window (20 units) shows 8 * 20 / 64 = 2.5 texels a pixel. */
+    CHECK_NEAR(texopt_camera_zoom(&paper, 8.0), 8.0 * paper.window_side / 64, 1e-12);
+    CHECK_NEAR(texopt_camera_zoom(&paper, 8.0), 2.5, 1e-4);
+    cam = paper;
+    texopt_camera_limit_zoom(&cam, a, b, c, 8.0, 1.0);
+    CHECK_NEAR(texopt_camera_zoom(&cam, 8.0), 1.0, 1e-12);
+    CHECK_NEAR(cam.window_side, 8.0, 1e-12);
+    /* Centred on the centroid, which the frame's origin is. */
+    CHECK_NEAR(cam.window_x0, -4.0, 1e-12);
+    CHECK_NEAR(cam.window_y0, -4.0, 1e-12);
+    const double *corners[3] = {a, b, c};
+    CHECK(corners_inside(&cam, corners));
+    /* The frame does not move: only the window narrows. */
+    CHECK(memcmp(cam.center, paper.center, sizeof cam.center) == 0);
+    CHECK(memcmp(cam.right, paper.right, sizeof cam.right) == 0);
+    CHECK(cam.size == 64);
+}
+
+TEST(limited_zoom_keeps_the_triangle_and_stays_inside_the_papers_window)
+{
+    /* The triangle spans 6 units and sits at the edge of its ring: a 2-unit window about the
+     * centroid would cut it, and one centred there would leave the ring. */
+    double a[3] = {4, 0, 0}, b[3] = {-2, 3, 0}, c[3] = {-2, -3, 0};
+    double ring[3] = {-20, 0, 0};
+    texopt_camera paper, cam;
+    char err[256] = "";
+    CHECK_OK(texopt_camera_create(&paper, a, b, c, ring, 1, 32, err, sizeof err), err);
+    cam = paper;
+    texopt_camera_limit_zoom(&cam, a, b, c, 16.0, 1.0);
+    const double *corners[3] = {a, b, c};
+    CHECK(corners_inside(&cam, corners));
+    /* As narrow as the triangle allows: its 6 units along R and U. */
+    CHECK_NEAR(cam.window_side, 6.0, 1e-4);
+    CHECK(cam.window_x0 >= paper.window_x0 - 1e-12);
+    CHECK(cam.window_y0 >= paper.window_y0 - 1e-12);
+    CHECK(cam.window_x0 + cam.window_side <= paper.window_x0 + paper.window_side + 1e-12);
+    CHECK(cam.window_y0 + cam.window_side <= paper.window_y0 + paper.window_side + 1e-12);
+}
+
+TEST(limited_zoom_leaves_a_window_under_the_limit_or_without_density_alone)
+{
+    double a[3] = {1, 0, 0}, b[3] = {0, 1, 0}, c[3] = {-1, -1, 0};
+    double ring[3] = {-5, 0, 0};
+    texopt_camera paper, cam;
+    char err[256] = "";
+    CHECK_OK(texopt_camera_create(&paper, a, b, c, ring, 1, 64, err, sizeof err), err);
+    /* Only the window can change; compared exactly. */
+    double density[5] = {0.5 * 64 / paper.window_side, 0, NAN, INFINITY, 100.0};
+    double limit[5] = {1.0, 1.0, 1.0, 1.0, 0.0};
+    for (int i = 0; i < 5; i++) {
+        cam = paper;
+        texopt_camera_limit_zoom(&cam, a, b, c, density[i], limit[i]);
+        CHECK(cam.window_x0 == paper.window_x0 && cam.window_y0 == paper.window_y0 &&
+              cam.window_side == paper.window_side);
+    }
 }
