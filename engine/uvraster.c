@@ -21,11 +21,13 @@ texopt_status texopt_uvraster_create(texopt_uvraster **out, int size, char *err,
     if (r) {
         r->size = size;
         r->max_zoom = TEXOPT_CAMERA_MAX_ZOOM;
+        r->max_covered = TEXOPT_UVRASTER_MAX_COVERED;
         r->texel = calloc(2 * n, sizeof *r->texel);
         r->face = malloc(n * sizeof *r->face);
         r->depth = malloc(n * sizeof *r->depth);
+        r->nearest = malloc(n * sizeof *r->nearest);
     }
-    if (!r || !r->texel || !r->face || !r->depth) {
+    if (!r || !r->texel || !r->face || !r->depth || !r->nearest) {
         texopt_uvraster_destroy(r);
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "uvraster: out of memory for %dx%d",
                            size, size);
@@ -41,6 +43,7 @@ void texopt_uvraster_destroy(texopt_uvraster *raster)
     free(raster->texel);
     free(raster->face);
     free(raster->depth);
+    free(raster->nearest);
     free(raster->ring);
     free(raster->ring_points);
     free(raster);
@@ -143,6 +146,86 @@ static double ring_texels_per_unit(const texopt_uvraster *r, const texopt_mesh *
     return world > 0.0 ? sqrt(texel / world) : 0.0;
 }
 
+/* Squared distance from (x, y) to the triangle s: 0 inside (either orientation), else to
+ * the nearest edge. */
+static double distance2_to_triangle(const double s[3][2], double x, double y)
+{
+    double best = INFINITY;
+    int negative = 0, positive = 0;
+    for (int k = 0; k < 3; k++) {
+        const double *a = s[k], *b = s[(k + 1) % 3];
+        double ex = b[0] - a[0], ey = b[1] - a[1], px = x - a[0], py = y - a[1];
+        double cross = ex * py - ey * px;
+        negative |= cross < 0.0;
+        positive |= cross > 0.0;
+        double len2 = ex * ex + ey * ey;
+        double t = len2 > 0.0 ? fmin(fmax((px * ex + py * ey) / len2, 0.0), 1.0) : 0.0;
+        double dx = px - t * ex, dy = py - t * ey;
+        best = fmin(best, dx * dx + dy * dy);
+    }
+    return negative && positive ? best : 0.0;
+}
+
+/* The k-th smallest (0-based) of v[0..n), k < n; reorders v. Hoare selection with the
+ * middle element as pivot: linear on average, deterministic. */
+static double kth_smallest(double *v, size_t n, size_t k)
+{
+    ptrdiff_t lo = 0, hi = (ptrdiff_t)n - 1, want = (ptrdiff_t)k;
+    while (lo < hi) {
+        double pivot = v[lo + (hi - lo) / 2];
+        ptrdiff_t i = lo, j = hi;
+        while (i <= j) {
+            while (v[i] < pivot)
+                i++;
+            while (v[j] > pivot)
+                j--;
+            if (i <= j) {
+                double t = v[i];
+                v[i++] = v[j];
+                v[j--] = t;
+            }
+        }
+        if (want <= j)
+            hi = j;
+        else if (want >= i)
+            lo = i;
+        else
+            return v[want]; /* between the two parts: equal to the pivot */
+    }
+    return v[want];
+}
+
+/* Uncovers all but the max_covered covered pixels nearest the triangle (uvraster.h). The
+ * depth buffer, no longer needed, holds each covered pixel's squared distance. */
+static void keep_nearest_pixels(texopt_uvraster *r, const texopt_mesh *mesh, uint32_t triangle)
+{
+    if (r->max_covered == 0 || r->covered <= r->max_covered)
+        return;
+    const uint32_t *tri = mesh->triangle + 3 * (size_t)triangle;
+    double s[3][2], z;
+    for (int k = 0; k < 3; k++)
+        texopt_camera_project(&r->camera, point_of_vertex(mesh, tri[k]), s[k], &z);
+    size_t px = (size_t)r->size * (size_t)r->size, n = 0;
+    for (size_t q = 0; q < px; q++) {
+        if (r->face[q] < 0)
+            continue;
+        double x = (double)(q % (size_t)r->size) + 0.5, y = (double)(q / (size_t)r->size) + 0.5;
+        r->depth[q] = r->face[q] == (int32_t)triangle ? 0.0 : distance2_to_triangle(s, x, y);
+        r->nearest[n++] = r->depth[q];
+    }
+    /* Keep what is strictly nearer than the first pixel past the budget: at most max_covered
+     * stay (more only if the triangle itself covers more), and pixels at one distance go
+     * together unless rounding tells them apart. */
+    double cut = kth_smallest(r->nearest, n, r->max_covered);
+    for (size_t q = 0; q < px; q++) {
+        if (r->face[q] < 0 || r->depth[q] < cut || r->depth[q] == 0.0)
+            continue;
+        r->face[q] = -1;
+        r->texel[2 * q] = r->texel[2 * q + 1] = 0.0;
+        r->covered--;
+    }
+}
+
 texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh *mesh,
                                      uint32_t triangle, char *err, size_t err_len)
 {
@@ -168,11 +251,14 @@ texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh 
     if (st != TEXOPT_OK)
         return texopt_fail(err, err_len, st, "uvraster: triangle %u is degenerate in 3D",
                            triangle);
+    double paper_side = raster->camera.window_side;
     texopt_camera_limit_zoom(&raster->camera, point_of_vertex(mesh, tri[0]),
                              point_of_vertex(mesh, tri[1]), point_of_vertex(mesh, tri[2]),
                              ring_texels_per_unit(raster, mesh, n), raster->max_zoom);
     clear_buffer(raster);
     for (size_t f = 0; f < n; f++)
         rasterise_face(raster, mesh, raster->ring[f]);
+    if (raster->camera.window_side < paper_side)
+        keep_nearest_pixels(raster, mesh, triangle);
     return TEXOPT_OK;
 }

@@ -22,16 +22,29 @@
 #include "mesh.h"
 #include "status.h"
 
+/* Where texopt_camera_limit_zoom narrows the window, the one-ring fills it edge to edge and
+ * every evaluation would bake and compare all size^2 pixels, 2-4x what the paper's window
+ * shows of the same ring. A narrowed raster therefore keeps only the max_covered covered
+ * pixels nearest the triangle (screen distance to its projection; the triangle's own pixels
+ * always kept); the others are uncovered exactly like
+ * pixels outside the ring, so the bake, the GMSD mask and the loss follow. Rings the paper's
+ * window shows at or under the limit are rasterised as before, whole. BENCHMARKS.md,
+ * "Stage 1", for the value. */
+#define TEXOPT_UVRASTER_MAX_COVERED 1400
+
 typedef struct texopt_uvraster {
     int size;           /* viewport side */
     double max_zoom;    /* input texels a pixel may show (camera.h texopt_camera_limit_zoom);
                            TEXOPT_CAMERA_MAX_ZOOM from create, 0 keeps the paper's window */
+    size_t max_covered; /* pixels a narrowed window keeps, those nearest the triangle;
+                           TEXOPT_UVRASTER_MAX_COVERED from create, 0 keeps every pixel */
     texopt_camera camera;
     size_t covered;     /* pixels covered by the one-ring */
     double *texel;      /* 2 per pixel, row-major from the top: p_hat(q); 0 where uncovered */
     int32_t *face;      /* per pixel: covering mesh triangle, -1 where uncovered */
     /* scratch, reused across triangles */
     double *depth;
+    double *nearest;    /* squared distances of the covered pixels, for the selection */
     uint32_t *ring;
     size_t ring_cap;
     double *ring_points;
@@ -44,8 +57,9 @@ texopt_status texopt_uvraster_create(texopt_uvraster **out, int size, char *err,
 void texopt_uvraster_destroy(texopt_uvraster *raster);
 
 /* Builds the camera of `triangle` and rasterises its one-ring (texopt_mesh_one_ring) into
- * the buffer. Fails with TEXOPT_E_INVALID_ARGUMENT for a triangle index out of range or a
- * degenerate triangle; allocates only when a one-ring is larger than any seen before. */
+ * the buffer, trimmed to max_covered pixels where the camera's zoom was limited. Fails with
+ * TEXOPT_E_INVALID_ARGUMENT for a triangle index out of range or a degenerate triangle;
+ * allocates only when a one-ring is larger than any seen before. */
 texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh *mesh,
                                      uint32_t triangle, char *err, size_t err_len);
 
