@@ -34,6 +34,8 @@ static void usage(FILE *out)
             "  --json PATH         write the curves as JSON\n"
             "  --resolution N      evaluation render side (default: 1.25 sqrt(covered texels))\n"
             "  --mipmap            evaluate with prefiltered (mip-mapped) lookups, not bilinear\n"
+            "  --texture SLOT      the texture q measures, as texopt evaluate --texture (default\n"
+            "                      baseColor; the methods still lay out by their own rules)\n"
             "  --iterations N      most stage-1 polish iterations per triangle (default 100)\n"
             "  --epsilon E         perceptual loss threshold of stage 1 (default 0.01)\n"
             "  --seed S            random seed (default 0)\n"
@@ -164,6 +166,9 @@ int cmd_compare(int argc, char **argv)
             json = v;
         } else if (!strcmp(a, "--resolution")) {
             bad = !v || cli_parse_int(v, 8, 16384, &opt.evaluate.resolution) != 0;
+        } else if (!strcmp(a, "--texture")) {
+            opt.evaluate.slot = texopt_evaluate_slot_from_name(v);
+            bad = opt.evaluate.slot == TEXOPT_SLOT_COUNT;
         } else if (!strcmp(a, "--iterations")) {
             bad = !v || cli_parse_int(v, 1, 100000, &opt.params.iterations) != 0;
         } else if (!strcmp(a, "--epsilon")) {

@@ -1,4 +1,5 @@
-/* cmd_evaluate.c - `texopt evaluate IN OUT.glb [--resolution N] [--threads T] [--mipmap] [--json]`.
+/* cmd_evaluate.c - `texopt evaluate IN OUT.glb [--resolution N] [--threads T] [--mipmap]
+ * [--texture SLOT] [--json]`.
  *
  * Compares any two models with the same triangles (an input and texopt's output, or the
  * output of another tool): the whole-mesh perceptual loss q of Sun et al. 2022, section 5.1
@@ -14,11 +15,13 @@
 #include "numbers.h"
 #include "evaluate.h"
 #include "gltf_io.h"
+#include "info.h"
 
 static void usage(FILE *out)
 {
     fprintf(out,
-            "usage: texopt evaluate IN OUT.glb [--resolution N] [--threads T] [--mipmap] [--json]\n"
+            "usage: texopt evaluate IN OUT.glb [--resolution N] [--threads T] [--mipmap]\n"
+            "                      [--texture SLOT] [--json]\n"
             "\n"
             "Renders IN and OUT from 20 cameras around the model and prints their whole-mesh\n"
             "perceptual loss q (GMSD, 0 = identical; Sun et al. 2022, section 5.1) and the cost\n"
@@ -29,6 +32,10 @@ static void usage(FILE *out)
             "                   the input texture at about one texel per pixel)\n"
             "  --threads T      views rendered in parallel (default 2)\n"
             "  --mipmap         prefiltered (mip-mapped, anisotropic) lookups instead of bilinear\n"
+            "  --texture SLOT   the material texture both renders show: baseColor (default),\n"
+            "                   normal, metallicRoughness, occlusion or emissive (also base,\n"
+            "                   mr, ao); a data texture's RGB encoding is compared as an image.\n"
+            "                   IN must have a texture in SLOT (base colour excepted)\n"
             "  --json           print one JSON object instead of text\n"
             "  -h, --help       this text\n");
 }
@@ -47,12 +54,14 @@ static cJSON *cost_json(const texopt_cost *c)
     return o;
 }
 
-static void print_json(const texopt_evaluation *ev, int mipmapped, const texopt_cost *in, const texopt_cost *out)
+static void print_json(const texopt_evaluation *ev, const texopt_evaluate_options *opt, const texopt_cost *in,
+                       const texopt_cost *out)
 {
     cJSON *root = cJSON_CreateObject();
     cJSON_AddNumberToObject(root, "q", ev->q);
     cJSON_AddNumberToObject(root, "resolution", ev->resolution);
-    cJSON_AddStringToObject(root, "lookup", mipmapped ? "mipmapped" : "bilinear");
+    cJSON_AddStringToObject(root, "lookup", opt->mipmapped ? "mipmapped" : "bilinear");
+    cJSON_AddStringToObject(root, "texture", texopt_slot_name(opt->slot));
     cJSON *views = cJSON_AddArrayToObject(root, "view_gmsd");
     for (int v = 0; v < TEXOPT_VIEW_COUNT; v++)
         cJSON_AddItemToArray(views, cJSON_CreateNumber(ev->view_gmsd[v]));
@@ -68,10 +77,11 @@ static void print_json(const texopt_evaluation *ev, int mipmapped, const texopt_
     cJSON_Delete(root);
 }
 
-static void print_text(const texopt_evaluation *ev, int mipmapped, const texopt_cost *in, const texopt_cost *out)
+static void print_text(const texopt_evaluation *ev, const texopt_evaluate_options *opt, const texopt_cost *in,
+                       const texopt_cost *out)
 {
-    printf("q (whole-mesh GMSD, 20 views at %d px, %s lookups): %.6f\n", ev->resolution,
-           mipmapped ? "mip-mapped" : "bilinear", ev->q);
+    printf("q (whole-mesh GMSD of %s, 20 views at %d px, %s lookups): %.6f\n", texopt_slot_name(opt->slot),
+           ev->resolution, opt->mipmapped ? "mip-mapped" : "bilinear", ev->q);
     printf("relative cost c_r: %.4f\n",
            in->covered_texels ? (double)out->covered_texels / (double)in->covered_texels : 0);
     printf("%-22s %14s %14s\n", "", "input", "output");
@@ -98,6 +108,14 @@ int cmd_evaluate(int argc, char **argv)
             json = 1;
         } else if (!strcmp(a, "--mipmap")) {
             opt.mipmapped = 1;
+        } else if (!strcmp(a, "--texture")) {
+            opt.slot = texopt_evaluate_slot_from_name(i + 1 < argc ? argv[i + 1] : NULL);
+            if (opt.slot == TEXOPT_SLOT_COUNT) {
+                fprintf(stderr, "texopt evaluate: --texture needs baseColor, normal, metallicRoughness, "
+                                "occlusion or emissive\n");
+                return EXIT_USAGE;
+            }
+            i++;
         } else if (!strcmp(a, "--resolution") || !strcmp(a, "--threads")) {
             int *dst = a[2] == 'r' ? &opt.resolution : &opt.threads;
             int hi = a[2] == 'r' ? 16384 : 64, lo = a[2] == 'r' ? 8 : 1;
@@ -136,9 +154,9 @@ int cmd_evaluate(int argc, char **argv)
         st = texopt_evaluate_cost(out, &cout, err, sizeof err);
     if (st == TEXOPT_OK) {
         if (json)
-            print_json(&ev, opt.mipmapped, &cin, &cout);
+            print_json(&ev, &opt, &cin, &cout);
         else
-            print_text(&ev, opt.mipmapped, &cin, &cout);
+            print_text(&ev, &opt, &cin, &cout);
     } else {
         fprintf(stderr, "texopt evaluate: %s: %s\n", texopt_strerror(st), err);
     }

@@ -20,6 +20,7 @@
 
 #include "atomic_file.h"
 #include "gltf_io.h"
+#include "info.h"
 #include "pipeline.h"
 
 static double now_seconds(void)
@@ -291,9 +292,12 @@ texopt_status texopt_compare(const char *input_path, const texopt_compare_option
     r.showcase_cost = pick_showcase(opt);
     st = texopt_model_load(&r.input, input_path, NULL, err, err_len);
     if (st == TEXOPT_OK)
+        st = texopt_evaluate_check_slot(r.input, opt->evaluate.slot, err, err_len);
+    if (st == TEXOPT_OK)
         st = texopt_evaluate_cost(r.input, &r.input_cost, err, err_len);
     r.resolution = opt->evaluate.resolution;
     r.mipmapped = opt->evaluate.mipmapped != 0;
+    r.slot = opt->evaluate.slot;
     if (st == TEXOPT_OK && r.resolution == 0)
         st = texopt_evaluate_default_resolution(r.input, &r.resolution, err, err_len);
     char dir[1024] = "", tmp_glb[1100];
@@ -364,6 +368,7 @@ texopt_status texopt_compare_write_json(const texopt_compare_result *r, const ch
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for JSON");
     cJSON_AddNumberToObject(root, "resolution", r->resolution);
     cJSON_AddStringToObject(root, "lookup", r->mipmapped ? "mipmapped" : "bilinear");
+    cJSON_AddStringToObject(root, "texture", texopt_slot_name(r->slot));
     cJSON_AddNumberToObject(root, "input_covered_texels", (double)r->input_cost.covered_texels);
     cJSON_AddNumberToObject(root, "input_texture_pixels", (double)r->input_cost.texture_pixels);
     cJSON *curves = cJSON_AddObjectToObject(root, "curves");

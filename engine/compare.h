@@ -66,7 +66,8 @@ typedef struct texopt_compare_options {
     int cost_count;
     double showcase_cost;          /* the cost whose outputs are kept for the report; 0 ->
                                       the listed cost closest to 0.3 */
-    texopt_evaluate_options evaluate; /* resolution and threads (triangle_error ignored) */
+    texopt_evaluate_options evaluate; /* resolution, threads, lookups and texture slot
+                                         (triangle_error ignored) */
     const char *work_dir;          /* temporary outputs; NULL -> $TMPDIR or /tmp */
     int reuse_layout;              /* nonzero: each layout once, smaller costs resampled (fast,
                                       pessimistic for layout methods); 0: one run per point */
@@ -82,6 +83,7 @@ typedef struct texopt_compare_result {
     texopt_compare_curve curves[TEXOPT_METHOD_COUNT];
     int resolution;           /* evaluation screen side */
     int mipmapped;            /* evaluated with mip-mapped lookups (evaluate.h) */
+    texopt_slot slot;         /* the texture q measured (evaluate.h; base colour by default) */
     double showcase_cost;
     texopt_cost input_cost;
     texopt_model *input;      /* the input, loaded */

@@ -5,8 +5,8 @@
  * mask is that coverage, and the reference side of GMSD is prepared once per view. Views are
  * independent and run on `threads` workers, each with its own raster, images and GMSD
  * workspace; results are written to per-view slots, so the sum is the same for any thread
- * count. Does not: render with OSMesa (see meshrender.c for why), evaluate other textures
- * than base colour. */
+ * count. The texture slot (base colour by default) only changes which binding meshrender
+ * shades. Does not: render with OSMesa (see meshrender.c for why), look at two slots at once. */
 #include "evaluate.h"
 
 #include <math.h>
@@ -15,11 +15,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <time.h>
 
 #include "coverage.h"
 #include "distortion.h"
 #include "gmsd.h"
+#include "info.h"
 #include "mesh.h"
 #include "sample.h"
 #include "texture_filter.h"
@@ -53,6 +55,35 @@ static texopt_status domains_distortion(const texopt_model *model, double *out, 
         counted += dist.counted;
     }
     *out = counted ? sum / (double)counted : 0;
+    return TEXOPT_OK;
+}
+
+texopt_slot texopt_evaluate_slot_from_name(const char *name)
+{
+    static const struct {
+        const char *name;
+        texopt_slot slot;
+    } short_names[] = {{"base", TEXOPT_SLOT_BASE_COLOR}, {"mr", TEXOPT_SLOT_METALLIC_ROUGHNESS},
+                       {"ao", TEXOPT_SLOT_OCCLUSION}};
+    if (!name)
+        return TEXOPT_SLOT_COUNT;
+    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++)
+        if (!strcasecmp(name, texopt_slot_name((texopt_slot)s)))
+            return (texopt_slot)s;
+    for (size_t i = 0; i < sizeof short_names / sizeof short_names[0]; i++)
+        if (!strcasecmp(name, short_names[i].name))
+            return short_names[i].slot;
+    return TEXOPT_SLOT_COUNT;
+}
+
+texopt_status texopt_evaluate_check_slot(const texopt_model *reference, texopt_slot slot, char *err, size_t err_len)
+{
+    if ((int)slot < 0 || slot >= TEXOPT_SLOT_COUNT)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "unknown texture slot %d", (int)slot);
+    if (slot != TEXOPT_SLOT_BASE_COLOR && !texopt_meshrender_has_texture(reference, slot))
+        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                           "the reference has no %s texture (read through TEXCOORD_0) to evaluate",
+                           texopt_slot_name(slot));
     return TEXOPT_OK;
 }
 
@@ -104,6 +135,7 @@ typedef struct eval_job {
     int view_count;
     int side;
     int threads;
+    texopt_slot slot;
     atomic_int next_view;
     atomic_int failed;
     texopt_evaluation *out; /* per candidate */
@@ -118,8 +150,8 @@ typedef struct eval_job {
     texopt_texture_filter ***cand_filters; /* per candidate, per image; NULL: bilinear */
 } eval_job;
 
-/* Mip pyramids of every decoded image a base colour binding uses, with its wrap modes. */
-static texopt_status build_filters(const texopt_model *m, texopt_texture_filter ***out, char *err,
+/* Mip pyramids of every image the evaluated slot's bindings use, with their wrap modes. */
+static texopt_status build_filters(const texopt_model *m, texopt_slot slot, texopt_texture_filter ***out, char *err,
                                    size_t err_len)
 {
     texopt_texture_filter **f = calloc(m->image_count > 0 ? (size_t)m->image_count : 1, sizeof *f);
@@ -127,11 +159,8 @@ static texopt_status build_filters(const texopt_model *m, texopt_texture_filter 
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for texture filters");
     *out = f;
     for (int p = 0; p < m->primitive_count; p++) {
-        int mat = m->primitives[p].material;
-        if (mat < 0 || mat >= m->material_count)
-            continue;
-        const texopt_texture_ref *r = &m->materials[mat].slot[TEXOPT_SLOT_BASE_COLOR];
-        if (r->image < 0 || r->image >= m->image_count || f[r->image] || !m->images[r->image].pixels)
+        const texopt_texture_ref *r = texopt_meshrender_binding(m, p, slot);
+        if (!r || f[r->image])
             continue;
         texopt_status st = texopt_texture_filter_create(&f[r->image], &m->images[r->image], r->wrap_s,
                                                         r->wrap_t, err, err_len);
@@ -195,7 +224,7 @@ static texopt_status evaluate_view(eval_job *job, int worker, int v, view_buffer
     texopt_status st = texopt_meshrender_rasterize(job->reference, &job->views[v], job->side,
                                                    &raster, msg, msg_len);
     if (st == TEXOPT_OK)
-        st = texopt_meshrender_shade_luma(job->reference, &raster, job->ref_filters, b->luma_ref, msg, msg_len);
+        st = texopt_meshrender_shade_luma(job->reference, &raster, job->slot, job->ref_filters, b->luma_ref, msg, msg_len);
     if (st == TEXOPT_OK) {
         size_t n = (size_t)job->side * (size_t)job->side;
         for (size_t i = 0; i < n; i++)
@@ -204,7 +233,7 @@ static texopt_status evaluate_view(eval_job *job, int worker, int v, view_buffer
             st = texopt_fail(msg, msg_len, TEXOPT_E_INVALID_ARGUMENT, "view %d: bad GMSD reference", v);
     }
     for (int c = 0; c < job->candidate_count && st == TEXOPT_OK; c++) {
-        st = texopt_meshrender_shade_luma(job->candidates[c], &raster,
+        st = texopt_meshrender_shade_luma(job->candidates[c], &raster, job->slot,
                                           job->cand_filters ? job->cand_filters[c] : NULL, b->luma_cand, msg, msg_len);
         if (st != TEXOPT_OK)
             break;
@@ -308,14 +337,14 @@ static void destroy_candidate_filters(texopt_texture_filter ***f, const texopt_m
 /* The mip pyramids of the reference and every candidate (mipmapped evaluation). */
 static texopt_status build_all_filters(eval_job *job, char *err, size_t err_len)
 {
-    texopt_status st = build_filters(job->reference, &job->ref_filters, err, err_len);
+    texopt_status st = build_filters(job->reference, job->slot, &job->ref_filters, err, err_len);
     if (st == TEXOPT_OK) {
         job->cand_filters = calloc((size_t)job->candidate_count, sizeof *job->cand_filters);
         if (!job->cand_filters)
             st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for texture filters");
     }
     for (int c = 0; c < job->candidate_count && st == TEXOPT_OK; c++)
-        st = build_filters(job->candidates[c], &job->cand_filters[c], err, err_len);
+        st = build_filters(job->candidates[c], job->slot, &job->cand_filters[c], err, err_len);
     return st;
 }
 
@@ -327,6 +356,9 @@ static texopt_status prepare_views(const texopt_model *reference, const texopt_m
     if (opt->resolution < 0 || opt->resolution > 16384 || (opt->resolution > 0 && opt->resolution < 8))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "resolution %d is outside [8, 16384]", opt->resolution);
+    texopt_status st = texopt_evaluate_check_slot(reference, opt->slot, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
     if (opt->triangle_error && count != 1)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "per-triangle errors are measured for one candidate at a time");
@@ -339,7 +371,7 @@ static texopt_status prepare_views(const texopt_model *reference, const texopt_m
         if (!reference->uvs || !candidates[c]->uvs)
             return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "both models need TEXCOORD_0");
     }
-    texopt_status st = texopt_meshrender_camera_set(reference, opt->cameras, views, view_count, err, err_len);
+    st = texopt_meshrender_camera_set(reference, opt->cameras, views, view_count, err, err_len);
     *side = opt->resolution;
     if (st == TEXOPT_OK && *side == 0)
         st = texopt_evaluate_default_resolution(reference, side, err, err_len);
@@ -400,6 +432,7 @@ texopt_status texopt_evaluate_many(const texopt_model *reference, const texopt_m
     job.views = views;
     job.view_count = view_count;
     job.side = side;
+    job.slot = opt->slot;
     job.threads = opt->threads <= 0 ? 1 : (opt->threads > view_count ? view_count : opt->threads);
     job.monitor = opt->monitor;
     job.out = calloc((size_t)candidate_count, sizeof *job.out);

@@ -14,7 +14,20 @@
  * Lookups are bilinear by default (the paper's setting); with `mipmapped` both renders use
  * the prefiltered lookups of texture_filter.h, reported separately.
  *
- * Does not: optimise or bake, and only looks at base colour. */
+ * Texture: base colour by default (the paper's q, what every benchmark reports). `slot`
+ * measures another texture of the material instead (normal, metallic-roughness, occlusion,
+ * emissive), as stage 1 treats each signal "in its own encoding": the data texture's RGB
+ * encoding is rendered and compared as if it were a colour image (luma, GMSD), not decoded
+ * or lit; so normal-slot q says how much of the normal map's encoded detail survived, not
+ * how the shading changed. (Stage 1 compares a data texture per channel; one luma mixes the
+ * channels, so detail in a channel luma weighs little, such as blue, counts less here.) Triangles whose material has no texture in the slot are mid grey
+ * in both renders, as untextured triangles are for base colour. A reference with no texture
+ * at all in a slot other than base colour is refused (TEXOPT_E_UNSUPPORTED, naming the
+ * slot): q would be 0 and look like a perfect result. (Base colour keeps its old rule, q of
+ * grey against grey, because the pipeline evaluates every model by it.) A candidate without
+ * the texture is measured: mid grey against the reference's map.
+ *
+ * Does not: optimise or bake, light the model, or look at more than one slot per call. */
 #ifndef TEXOPT_EVALUATE_H
 #define TEXOPT_EVALUATE_H
 
@@ -39,6 +52,9 @@ typedef struct texopt_evaluate_options {
     /* Which cameras (meshrender.h): 0, the dodecahedron's 20, is q as the paper and the
      * benchmark define it; the icosahedron's 12 are for tuning a layout on other views. */
     texopt_camera_set cameras;
+    /* The texture both renders shade (see the top of this file); TEXOPT_SLOT_BASE_COLOR (0)
+     * is the paper's q. */
+    texopt_slot slot;
 } texopt_evaluate_options;
 
 typedef struct texopt_evaluation {
@@ -60,6 +76,15 @@ typedef struct texopt_cost {
     double symmetric_dirichlet;  /* eq. 24 (distortion.h), mean over domains weighted by
                                     counted triangles; +inf with a flipped triangle */
 } texopt_cost;
+
+/* The slot a user names: a glTF material field ("baseColor", "normal", "metallicRoughness",
+ * "occlusion", "emissive", case-insensitive) or a short name ("base", "mr", "ao"); NULL or
+ * unknown -> TEXOPT_SLOT_COUNT. */
+texopt_slot texopt_evaluate_slot_from_name(const char *name);
+
+/* Succeeds when `slot` can be evaluated against this reference: a known slot, and for any
+ * slot but base colour a texture in it somewhere (the refusal described at the top). */
+texopt_status texopt_evaluate_check_slot(const texopt_model *reference, texopt_slot slot, char *err, size_t err_len);
 
 /* Measures model's layout cost. */
 texopt_status texopt_evaluate_cost(const texopt_model *model, texopt_cost *out, char *err,

@@ -20,7 +20,11 @@
  * Mip-mapped shading (optional, reported separately by the evaluation) uses the prefiltered
  * lookups of texture_filter.h with the per-triangle screen-to-texel Jacobian.
  *
- * Does not: light, blend alpha, or compare images (evaluate.c). */
+ * The luma shading reads any one texture slot of the material (base colour, or a data
+ * texture such as the normal map, whose RGB encoding is then shaded as if it were a colour
+ * image); the RGB shadings read base colour, what the report shows.
+ *
+ * Does not: light, blend alpha, decode normals or channels, or compare images (evaluate.c). */
 #include "meshrender.h"
 
 #include <float.h>
@@ -262,8 +266,29 @@ texopt_status texopt_meshrender_rasterize(const texopt_model *model, const texop
     return TEXOPT_OK;
 }
 
-/* Per model triangle, the base colour texture binding that shades it (NULL: mid grey). */
-static texopt_status triangle_bindings(const texopt_model *model, const texopt_texture_ref ***out,
+const texopt_texture_ref *texopt_meshrender_binding(const texopt_model *model, int primitive, texopt_slot slot)
+{
+    if (primitive < 0 || primitive >= model->primitive_count || (int)slot < 0 || slot >= TEXOPT_SLOT_COUNT)
+        return NULL;
+    int mat = model->primitives[primitive].material;
+    if (mat < 0 || mat >= model->material_count)
+        return NULL;
+    const texopt_texture_ref *r = &model->materials[mat].slot[slot];
+    if (r->image < 0 || r->image >= model->image_count || r->texcoord != 0 || !model->images[r->image].pixels)
+        return NULL;
+    return r;
+}
+
+int texopt_meshrender_has_texture(const texopt_model *model, texopt_slot slot)
+{
+    for (int p = 0; model && p < model->primitive_count; p++)
+        if (texopt_meshrender_binding(model, p, slot))
+            return 1;
+    return 0;
+}
+
+/* Per model triangle, the binding of `slot` that shades it (NULL: mid grey). */
+static texopt_status triangle_bindings(const texopt_model *model, texopt_slot slot, const texopt_texture_ref ***out,
                                        char *err, size_t err_len)
 {
     const texopt_texture_ref **ref = calloc(model->triangle_count ? model->triangle_count : 1, sizeof *ref);
@@ -271,11 +296,8 @@ static texopt_status triangle_bindings(const texopt_model *model, const texopt_t
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the triangle materials");
     for (int p = 0; p < model->primitive_count; p++) {
         const texopt_primitive *prim = &model->primitives[p];
-        if (prim->material < 0 || prim->material >= model->material_count)
-            continue;
-        const texopt_texture_ref *r = &model->materials[prim->material].slot[TEXOPT_SLOT_BASE_COLOR];
-        if (r->image < 0 || r->image >= model->image_count || r->texcoord != 0 ||
-            !model->images[r->image].pixels)
+        const texopt_texture_ref *r = texopt_meshrender_binding(model, p, slot);
+        if (!r)
             continue;
         for (size_t t = prim->first_triangle;
              t < prim->first_triangle + prim->triangle_count && t < model->triangle_count; t++)
@@ -347,12 +369,14 @@ static void store_pixel(const float rgb[3], int luma, float *px)
     }
 }
 
-static texopt_status shade_pixels(const texopt_model *model, const texopt_raster *raster,
+static texopt_status shade_pixels(const texopt_model *model, const texopt_raster *raster, texopt_slot slot,
                                   struct texopt_texture_filter *const *filters, int luma, float *out, char *err,
                                   size_t err_len)
 {
     if (!model || !raster || !raster->triangle || !out)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "nothing to shade");
+    if ((int)slot < 0 || slot >= TEXOPT_SLOT_COUNT)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "unknown texture slot %d", (int)slot);
     if (!model->uvs)
         return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "model has no TEXCOORD_0 to shade with");
     for (size_t t = 0; t < model->triangle_count; t++)
@@ -361,7 +385,7 @@ static texopt_status shade_pixels(const texopt_model *model, const texopt_raster
                 return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                                    "triangle %zu names a vertex past the vertex count", t);
     const texopt_texture_ref **ref = NULL;
-    texopt_status st = triangle_bindings(model, &ref, err, err_len);
+    texopt_status st = triangle_bindings(model, slot, &ref, err, err_len);
     if (st != TEXOPT_OK)
         return st;
     int stride = luma ? 1 : 3;
@@ -415,7 +439,7 @@ static texopt_status shade(const texopt_model *model, const texopt_raster *raste
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "nothing to shade");
     texopt_status st = texopt_image_create(out, raster->side, raster->side, 3, err, err_len);
     if (st == TEXOPT_OK)
-        st = shade_pixels(model, raster, filters, 0, out->pixels, err, err_len);
+        st = shade_pixels(model, raster, TEXOPT_SLOT_BASE_COLOR, filters, 0, out->pixels, err, err_len);
     if (st != TEXOPT_OK)
         texopt_image_destroy(out);
     return st;
@@ -434,11 +458,11 @@ texopt_status texopt_meshrender_shade_filtered(const texopt_model *model, const 
     return shade(model, raster, filters, out, err, err_len);
 }
 
-texopt_status texopt_meshrender_shade_luma(const texopt_model *model, const texopt_raster *raster,
+texopt_status texopt_meshrender_shade_luma(const texopt_model *model, const texopt_raster *raster, texopt_slot slot,
                                            struct texopt_texture_filter *const *filters, float *luma, char *err,
                                            size_t err_len)
 {
-    return shade_pixels(model, raster, filters, 1, luma, err, err_len);
+    return shade_pixels(model, raster, slot, filters, 1, luma, err, err_len);
 }
 
 texopt_status texopt_meshrender_same_geometry(const texopt_model *reference,

@@ -90,11 +90,22 @@ texopt_status texopt_meshrender_shade_filtered(const texopt_model *model, const 
                                                texopt_image *out, char *err, size_t err_len);
 
 /* As texopt_meshrender_shade_filtered (filters may be NULL: bilinear), writing only each
- * pixel's luma (texopt_luma of the RGB that function would write, so the same bits) into
- * the caller's side x side floats: what the evaluation compares, without an RGB image. */
-texopt_status texopt_meshrender_shade_luma(const texopt_model *model, const texopt_raster *raster,
+ * pixel's luma into the caller's side x side floats: what the evaluation compares, without
+ * an RGB image. The texture read is the material's `slot` (the shading functions above read
+ * TEXOPT_SLOT_BASE_COLOR; with it this gives texopt_luma of the RGB they write, the same
+ * bits). Any other slot is shaded exactly the same way: its RGB encoding as if it were a
+ * colour image (a normal map's XYZ as RGB, metallic-roughness's unused/roughness/metallic),
+ * and triangles whose material has no texture in the slot are mid grey. */
+texopt_status texopt_meshrender_shade_luma(const texopt_model *model, const texopt_raster *raster, texopt_slot slot,
                                            struct texopt_texture_filter *const *filters, float *luma,
                                            char *err, size_t err_len);
+
+/* The texture binding of `slot` that shades primitive's triangles: its material's, when it
+ * names a decoded image through TEXCOORD_0; NULL otherwise (mid grey). */
+const texopt_texture_ref *texopt_meshrender_binding(const texopt_model *model, int primitive, texopt_slot slot);
+
+/* Nonzero when some primitive of the model is shaded from a texture in `slot`. */
+int texopt_meshrender_has_texture(const texopt_model *model, texopt_slot slot);
 
 /* Succeeds when candidate has the same triangles as reference: equal triangle count and every
  * corner at the same position (within 1e-5 of the bounding-box diagonal). The message names

@@ -6,7 +6,10 @@
 # (python3 html.parser), is balanced, holds one plot curve per method and references
 # nothing outside itself; that compare passes its stage-1 and refinement options on (its
 # perceptual point with --refinements 0 is the q of `texopt optimize --refinements 0`, which
-# differs from the default's two rounds on Fox at c_r 0.3). Also the usage errors' exit codes.
+# differs from the default's two rounds on Fox at c_r 0.3). --texture: the JSON names the
+# slot, `--texture base` is the default's q, a slot Fox has no texture in (normal) is an
+# engine error naming it (exit 1), an unknown slot a usage error. Also the usage errors'
+# exit codes.
 set -euo pipefail
 : "${TEXOPT_BIN:?TEXOPT_BIN must point to the texopt executable}"
 : "${TEXOPT_SOURCE_DIR:?TEXOPT_SOURCE_DIR must point to the source tree}"
@@ -21,6 +24,8 @@ FOX="$TEXOPT_SOURCE_DIR/tests/data/Fox/Fox.glb"
     fail "optimize --method input exited $?"
 "$TEXOPT_BIN" evaluate "$FOX" "$WORK/quarter.glb" --resolution 200 --json > "$WORK/quarter.json" ||
     fail "evaluate of the reduced Fox exited $?"
+"$TEXOPT_BIN" evaluate "$FOX" "$WORK/quarter.glb" --resolution 200 --texture base --json > "$WORK/quarter_base.json" ||
+    fail "evaluate --texture base exited $?"
 "$TEXOPT_BIN" compare "$FOX" --methods input --costs 1,0.25,0.0625 --resolution 200 --quiet \
     --json "$WORK/curves.json" -o "$WORK/report.html" > "$WORK/table.txt" || fail "compare exited $?"
 "$TEXOPT_BIN" optimize "$FOX" -o "$WORK/plain.glb" --relative-cost 0.3 --refinements 0 --seed 3 --quiet ||
@@ -39,7 +44,7 @@ def fail(msg):
 same = json.load(open(f"{work}/self.json"))
 if same["q"] != 0 or same["relative_cost"] != 1 or len(same["view_gmsd"]) != 20:
     fail(f"self evaluation: {same}")
-if same["resolution"] != 200 or same["lookup"] != "bilinear":
+if same["resolution"] != 200 or same["lookup"] != "bilinear" or same["texture"] != "baseColor":
     fail(f"self evaluation settings: {same}")
 quarter = json.load(open(f"{work}/quarter.json"))
 if not quarter["q"] > 0.004:
@@ -48,8 +53,13 @@ if abs(quarter["relative_cost"] - 0.25) > 0.02:
     fail(f"reduced Fox relative cost {quarter['relative_cost']}")
 if quarter["output"]["texture_pixels"] != 512 * 512:
     fail(f"reduced Fox texture pixels {quarter['output']['texture_pixels']}")
+quarter_base = json.load(open(f"{work}/quarter_base.json"))
+if quarter_base["q"] != quarter["q"] or quarter_base["texture"] != "baseColor":
+    fail(f"--texture base: {quarter_base['q']} {quarter_base['texture']} vs default q {quarter['q']}")
 
 curves = json.load(open(f"{work}/curves.json"))
+if curves["texture"] != "baseColor":
+    fail(f"compare texture {curves['texture']}")
 if list(curves["curves"]) != ["input"]:
     fail(f"curves: {list(curves['curves'])}")
 pts = curves["curves"]["input"]
@@ -117,5 +127,11 @@ set +e
 "$TEXOPT_BIN" compare "$FOX" --refinements 21 > /dev/null 2>&1; [ $? -eq 2 ] || fail "21 refinements should exit 2"
 "$TEXOPT_BIN" compare "$FOX" --epsilon 1 > /dev/null 2>&1; [ $? -eq 2 ] || fail "epsilon 1 should exit 2"
 "$TEXOPT_BIN" evaluate "$FOX" "$WORK/missing.glb" > /dev/null 2>&1; [ $? -eq 1 ] || fail "missing model should exit 1"
+"$TEXOPT_BIN" evaluate "$FOX" "$FOX" --texture nosuch > /dev/null 2>&1; [ $? -eq 2 ] || fail "unknown slot should exit 2"
+"$TEXOPT_BIN" evaluate "$FOX" "$FOX" --texture > /dev/null 2>&1; [ $? -eq 2 ] || fail "--texture without a slot should exit 2"
+"$TEXOPT_BIN" compare "$FOX" --texture nosuch > /dev/null 2>&1; [ $? -eq 2 ] || fail "compare: unknown slot should exit 2"
+"$TEXOPT_BIN" evaluate "$FOX" "$FOX" --texture normal --resolution 64 > /dev/null 2> "$WORK/normal.err"
+[ $? -eq 1 ] || fail "a slot Fox has no texture in should exit 1"
+grep -q "no normal texture" "$WORK/normal.err" || fail "the missing slot's error does not name it: $(cat "$WORK/normal.err")"
 set -e
 echo "evaluate_compare: ok"

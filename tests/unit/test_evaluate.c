@@ -258,6 +258,102 @@ TEST(mipmapped_lookups_are_reported_separately)
     texopt_model_destroy(cand);
 }
 
+/* Adds a 256 x 256 normal map of `pattern` (image 1) to a detailed sphere's material. */
+static texopt_model *sphere_with_normal_map(const char *pattern)
+{
+    texopt_model *m = detailed_sphere();
+    char err[256];
+    texopt_image *images = m ? realloc(m->images, 2 * sizeof *images) : NULL;
+    if (images)
+        m->images = images;
+    char **names = images ? realloc(m->image_names, 2 * sizeof *names) : NULL;
+    if (!names) {
+        texopt_model_destroy(m);
+        return NULL;
+    }
+    m->image_names = names;
+    names[1] = NULL;
+    if (texopt_image_create(&m->images[1], 256, 256, 3, err, sizeof err) != TEXOPT_OK) {
+        texopt_model_destroy(m);
+        return NULL;
+    }
+    m->image_count = 2;
+    if (fixture_fill_pattern(&m->images[1], pattern) != 0) {
+        texopt_model_destroy(m);
+        return NULL;
+    }
+    m->materials[0].slot[TEXOPT_SLOT_NORMAL] = m->materials[0].slot[TEXOPT_SLOT_BASE_COLOR];
+    m->materials[0].slot[TEXOPT_SLOT_NORMAL].image = 1;
+    return m;
+}
+
+/* The slot option really reads the normal map: a downscaled normal map is seen by the
+ * normal slot (bilinear and mip-mapped) and not by base colour, a downscaled base colour the
+ * other way round, and a model against itself is 0 in every slot. */
+TEST(normal_slot_sees_the_normal_map_and_only_it)
+{
+    texopt_model *ref = sphere_with_normal_map("stripes45"), *coarse_normal = sphere_with_normal_map("stripes45"),
+                 *coarse_base = sphere_with_normal_map("stripes45");
+    CHECK(ref && coarse_normal && coarse_base);
+    CHECK(shrink_texture(coarse_normal, 1, 32) == 0);
+    CHECK(shrink_texture(coarse_base, 0, 32) == 0);
+    char err[256] = "";
+    for (int mip = 0; mip <= 1; mip++) {
+        texopt_evaluate_options base = {.resolution = 200, .threads = 2, .mipmapped = mip}, normal = base;
+        normal.slot = TEXOPT_SLOT_NORMAL;
+        texopt_evaluation self, n_of_n, b_of_n, n_of_b, b_of_b;
+        CHECK_OK(texopt_evaluate(ref, ref, &normal, &self, err, sizeof err), err);
+        CHECK_OK(texopt_evaluate(ref, coarse_normal, &normal, &n_of_n, err, sizeof err), err);
+        CHECK_OK(texopt_evaluate(ref, coarse_normal, &base, &b_of_n, err, sizeof err), err);
+        CHECK_OK(texopt_evaluate(ref, coarse_base, &normal, &n_of_b, err, sizeof err), err);
+        CHECK_OK(texopt_evaluate(ref, coarse_base, &base, &b_of_b, err, sizeof err), err);
+        CHECK(self.q == 0.0);
+        CHECK_MSG(n_of_n.q > 0.05, "mip %d: normal map at 1/8: normal q %.4f", mip, n_of_n.q);
+        CHECK(b_of_n.q == 0.0);
+        CHECK(n_of_b.q == 0.0);
+        CHECK(b_of_b.q > 0.05);
+    }
+    texopt_model_destroy(ref);
+    texopt_model_destroy(coarse_normal);
+    texopt_model_destroy(coarse_base);
+}
+
+/* A reference without the slot's texture is refused (its q would be a meaningless 0); a
+ * candidate that lost it is measured as mid grey against the map. */
+TEST(a_slot_the_reference_lacks_is_refused)
+{
+    texopt_model *plain = detailed_sphere(), *mapped = sphere_with_normal_map("checker");
+    CHECK(plain && mapped);
+    char err[256] = "";
+    texopt_evaluate_options opt = {.resolution = 96, .slot = TEXOPT_SLOT_NORMAL};
+    texopt_evaluation ev;
+    CHECK(texopt_evaluate(plain, plain, &opt, &ev, err, sizeof err) == TEXOPT_E_UNSUPPORTED);
+    CHECK(strstr(err, "normal") != NULL);
+    CHECK_OK(texopt_evaluate(mapped, plain, &opt, &ev, err, sizeof err), err);
+    CHECK(ev.q > 0.05);
+    opt.slot = TEXOPT_SLOT_EMISSIVE;
+    CHECK(texopt_evaluate(mapped, mapped, &opt, &ev, err, sizeof err) == TEXOPT_E_UNSUPPORTED);
+    opt.slot = (texopt_slot)7;
+    CHECK(texopt_evaluate(mapped, mapped, &opt, &ev, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    texopt_model_destroy(plain);
+    texopt_model_destroy(mapped);
+}
+
+TEST(slot_names_are_the_gltf_fields_and_short_forms)
+{
+    CHECK_EQ_INT(texopt_evaluate_slot_from_name("baseColor"), TEXOPT_SLOT_BASE_COLOR);
+    CHECK_EQ_INT(texopt_evaluate_slot_from_name("base"), TEXOPT_SLOT_BASE_COLOR);
+    CHECK_EQ_INT(texopt_evaluate_slot_from_name("Normal"), TEXOPT_SLOT_NORMAL);
+    CHECK_EQ_INT(texopt_evaluate_slot_from_name("metallicroughness"), TEXOPT_SLOT_METALLIC_ROUGHNESS);
+    CHECK_EQ_INT(texopt_evaluate_slot_from_name("mr"), TEXOPT_SLOT_METALLIC_ROUGHNESS);
+    CHECK_EQ_INT(texopt_evaluate_slot_from_name("occlusion"), TEXOPT_SLOT_OCCLUSION);
+    CHECK_EQ_INT(texopt_evaluate_slot_from_name("ao"), TEXOPT_SLOT_OCCLUSION);
+    CHECK_EQ_INT(texopt_evaluate_slot_from_name("emissive"), TEXOPT_SLOT_EMISSIVE);
+    CHECK_EQ_INT(texopt_evaluate_slot_from_name("normals"), TEXOPT_SLOT_COUNT);
+    CHECK_EQ_INT(texopt_evaluate_slot_from_name(""), TEXOPT_SLOT_COUNT);
+    CHECK_EQ_INT(texopt_evaluate_slot_from_name(NULL), TEXOPT_SLOT_COUNT);
+}
+
 TEST(different_geometry_is_refused)
 {
     texopt_model *a = fixture_uv_sphere(24, 12, 64), *b = fixture_uv_sphere(24, 12, 64);

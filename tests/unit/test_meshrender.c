@@ -5,6 +5,7 @@
 
 #include "fixtures.h"
 #include "meshrender.h"
+#include "sample.h"
 #include "test.h"
 #include "texture_filter.h"
 
@@ -185,6 +186,80 @@ TEST(mipmapped_shading_averages_minified_stripes)
     texopt_image_destroy(&plain);
     texopt_image_destroy(&filtered);
     texopt_texture_filter_destroy(filters[0]);
+    texopt_raster_destroy(&r);
+    texopt_model_destroy(m);
+}
+
+/* A quad whose two triangles are two primitives: the first's material has a "gradient"
+ * normal map, the second's none. Luma shading of the normal slot reads the map on the first
+ * and is mid grey on the second; base colour ("flat") is the same on both. */
+TEST(luma_shading_reads_the_chosen_slot)
+{
+    texopt_model *m = fixture_textured_quad(32, "flat");
+    CHECK(m);
+    char err[256] = "";
+    texopt_image *images = realloc(m->images, 2 * sizeof *images);
+    texopt_primitive *prims = realloc(m->primitives, 2 * sizeof *prims);
+    if (images)
+        m->images = images;
+    if (prims)
+        m->primitives = prims;
+    texopt_material *mats = realloc(m->materials, 2 * sizeof *mats);
+    if (mats)
+        m->materials = mats;
+    char **names = realloc(m->image_names, 2 * sizeof *names);
+    if (names) {
+        m->image_names = names;
+        names[1] = NULL;
+    }
+    CHECK(images && prims && mats && names);
+    CHECK_OK(texopt_image_create(&m->images[1], 32, 32, 3, err, sizeof err), err);
+    m->image_count = 2;
+    CHECK(fixture_fill_pattern(&m->images[1], "gradient") == 0);
+    m->materials[1] = m->materials[0];
+    m->material_count = 2;
+    m->materials[0].slot[TEXOPT_SLOT_NORMAL] = m->materials[0].slot[TEXOPT_SLOT_BASE_COLOR];
+    m->materials[0].slot[TEXOPT_SLOT_NORMAL].image = 1;
+    m->primitives[1] = m->primitives[0];
+    m->primitive_count = 2;
+    m->primitives[0].triangle_count = 1;
+    m->primitives[1].first_triangle = 1;
+    m->primitives[1].triangle_count = 1;
+    m->primitives[1].material = 1;
+    CHECK(texopt_meshrender_has_texture(m, TEXOPT_SLOT_NORMAL));
+    CHECK(!texopt_meshrender_has_texture(m, TEXOPT_SLOT_OCCLUSION));
+    CHECK(texopt_meshrender_binding(m, 0, TEXOPT_SLOT_NORMAL) != NULL);
+    CHECK(texopt_meshrender_binding(m, 1, TEXOPT_SLOT_NORMAL) == NULL);
+
+    texopt_view v = quad_view();
+    texopt_raster r;
+    CHECK_OK(texopt_meshrender_rasterize(m, &v, 32, &r, err, sizeof err), err);
+    float *normal = malloc(32 * 32 * sizeof *normal), *base = malloc(32 * 32 * sizeof *base);
+    float *ao = malloc(32 * 32 * sizeof *ao);
+    CHECK(normal && base && ao);
+    CHECK_OK(texopt_meshrender_shade_luma(m, &r, TEXOPT_SLOT_NORMAL, NULL, normal, err, sizeof err), err);
+    CHECK_OK(texopt_meshrender_shade_luma(m, &r, TEXOPT_SLOT_BASE_COLOR, NULL, base, err, sizeof err), err);
+    CHECK_OK(texopt_meshrender_shade_luma(m, &r, TEXOPT_SLOT_OCCLUSION, NULL, ao, err, sizeof err), err);
+    const float flat[3] = {0.6f, 0.4f, 0.2f};
+    int seen[2] = {0, 0};
+    for (int j = 1; j < 31; j++)
+        for (int i = 1; i < 31; i++) {
+            size_t k = (size_t)j * 32 + (size_t)i;
+            int tri = r.triangle[k];
+            CHECK(tri == 0 || tri == 1);
+            seen[tri]++;
+            /* The gradient at u = (i + 0.5)/32, v = 1 - (j + 0.5)/32 (bilinear of a ramp). */
+            const float grad[3] = {(float)((i + 0.5) / 32), (float)(1 - (j + 0.5) / 32), 0.25f};
+            CHECK_NEAR(normal[k], tri == 0 ? texopt_luma(grad, 3) : 0.5f, 1e-5);
+            CHECK_NEAR(base[k], texopt_luma(flat, 3), 1e-6);
+            CHECK(ao[k] == 0.5f);
+        }
+    CHECK(seen[0] > 300 && seen[1] > 300);
+    CHECK(texopt_meshrender_shade_luma(m, &r, TEXOPT_SLOT_COUNT, NULL, ao, err, sizeof err) ==
+          TEXOPT_E_INVALID_ARGUMENT);
+    free(normal);
+    free(base);
+    free(ao);
     texopt_raster_destroy(&r);
     texopt_model_destroy(m);
 }
