@@ -8,7 +8,7 @@
 # perceptual point with --refinements 0 is the q of `texopt optimize --refinements 0`, which
 # differs from the default's two rounds on Fox at c_r 0.3). --texture: the JSON names the
 # slot, `--texture base` is the default's q, a slot Fox has no texture in (normal) is an
-# engine error naming it (exit 1), an unknown slot a usage error. Also the usage errors'
+# engine error naming it (exit 1, evaluate and compare), an unknown slot a usage error. Also the usage errors'
 # exit codes.
 set -euo pipefail
 : "${TEXOPT_BIN:?TEXOPT_BIN must point to the texopt executable}"
@@ -133,5 +133,8 @@ set +e
 "$TEXOPT_BIN" evaluate "$FOX" "$FOX" --texture normal --resolution 64 > /dev/null 2> "$WORK/normal.err"
 [ $? -eq 1 ] || fail "a slot Fox has no texture in should exit 1"
 grep -q "no normal texture" "$WORK/normal.err" || fail "the missing slot's error does not name it: $(cat "$WORK/normal.err")"
+"$TEXOPT_BIN" compare "$FOX" --texture normal --methods input --costs 1 --quiet > /dev/null 2> "$WORK/cnormal.err"
+[ $? -eq 1 ] || fail "compare of a slot Fox has no texture in should exit 1"
+grep -q "no normal texture" "$WORK/cnormal.err" || fail "compare's missing slot error: $(cat "$WORK/cnormal.err")"
 set -e
 echo "evaluate_compare: ok"
