@@ -199,20 +199,45 @@ static double pixel_distance_to_triangle(const texopt_uvraster *r, const texopt_
     return best;
 }
 
+/* A fixture_grid(8, tex_size, "half") mesh and two 64-pixel rasters of it: `whole` never
+ * drops a covered pixel (max_covered 0), `other` has create's defaults. */
+typedef struct raster_pair {
+    texopt_model *model;
+    texopt_mesh *mesh;
+    texopt_uvraster *whole, *other;
+} raster_pair;
+
+static int raster_pair_open(raster_pair *p, int tex_size)
+{
+    char err[256] = "";
+    memset(p, 0, sizeof *p);
+    p->model = fixture_grid(8, tex_size, "half");
+    if (!p->model || texopt_mesh_create(&p->mesh, p->model, 0, err, sizeof err) != TEXOPT_OK ||
+        texopt_uvraster_create(&p->whole, 64, err, sizeof err) != TEXOPT_OK ||
+        texopt_uvraster_create(&p->other, 64, err, sizeof err) != TEXOPT_OK)
+        return 0;
+    p->whole->max_covered = 0;
+    return 1;
+}
+
+static void raster_pair_close(raster_pair *p)
+{
+    texopt_uvraster_destroy(p->whole);
+    texopt_uvraster_destroy(p->other);
+    texopt_mesh_destroy(p->mesh);
+    texopt_model_destroy(p->model);
+}
+
 TEST(a_narrowed_window_keeps_the_pixels_nearest_the_triangle)
 {
     char err[256] = "";
     /* 32 texels per quad: the paper's window shows these rings at about 2 texels per pixel,
      * the limited window is filled by the ring edge to edge. */
-    texopt_model *model = fixture_grid(8, 256, "half");
-    CHECK(model);
-    texopt_mesh *mesh = NULL;
-    texopt_uvraster *whole = NULL, *kept = NULL;
-    CHECK_OK(texopt_mesh_create(&mesh, model, 0, err, sizeof err), err);
-    CHECK_OK(texopt_uvraster_create(&whole, 64, err, sizeof err), err);
-    CHECK_OK(texopt_uvraster_create(&kept, 64, err, sizeof err), err);
+    raster_pair pair;
+    CHECK(raster_pair_open(&pair, 256));
+    const texopt_mesh *mesh = pair.mesh;
+    texopt_uvraster *whole = pair.whole, *kept = pair.other;
     CHECK_EQ_INT(kept->max_covered, TEXOPT_UVRASTER_MAX_COVERED);
-    whole->max_covered = 0;
     uint32_t t = 2 * (3 * 8 + 5);
     CHECK_OK(texopt_uvraster_render(whole, mesh, t, err, sizeof err), err);
     CHECK_OK(texopt_uvraster_render(kept, mesh, t, err, sizeof err), err);
@@ -247,23 +272,16 @@ TEST(a_narrowed_window_keeps_the_pixels_nearest_the_triangle)
     /* Nearest to rounding: mirror-image pixels may differ in the last bits of a distance. */
     CHECK(farthest_kept <= nearest_dropped + 1e-9);
     CHECK(farthest_kept > 5.0);
-    texopt_uvraster_destroy(whole);
-    texopt_uvraster_destroy(kept);
-    texopt_mesh_destroy(mesh);
-    texopt_model_destroy(model);
+    raster_pair_close(&pair);
 }
 
 TEST(a_ring_under_the_zoom_limit_is_rasterised_whole)
 {
     char err[256] = "";
-    texopt_model *model = fixture_grid(8, 64, "half");
-    CHECK(model);
-    texopt_mesh *mesh = NULL;
-    texopt_uvraster *whole = NULL, *small = NULL;
-    CHECK_OK(texopt_mesh_create(&mesh, model, 0, err, sizeof err), err);
-    CHECK_OK(texopt_uvraster_create(&whole, 64, err, sizeof err), err);
-    CHECK_OK(texopt_uvraster_create(&small, 64, err, sizeof err), err);
-    whole->max_covered = 0;
+    raster_pair pair;
+    CHECK(raster_pair_open(&pair, 64));
+    const texopt_mesh *mesh = pair.mesh;
+    texopt_uvraster *whole = pair.whole, *small = pair.other;
     small->max_covered = 16; /* far below any ring's coverage: must not apply here */
     for (uint32_t t = 0; t < mesh->triangle_count; t += 5) {
         CHECK_OK(texopt_uvraster_render(whole, mesh, t, err, sizeof err), err);
@@ -273,8 +291,5 @@ TEST(a_ring_under_the_zoom_limit_is_rasterised_whole)
         CHECK(memcmp(small->face, whole->face, 64 * 64 * sizeof *whole->face) == 0);
         CHECK(memcmp(small->texel, whole->texel, 2 * 64 * 64 * sizeof *whole->texel) == 0);
     }
-    texopt_uvraster_destroy(whole);
-    texopt_uvraster_destroy(small);
-    texopt_mesh_destroy(mesh);
-    texopt_model_destroy(model);
+    raster_pair_close(&pair);
 }
