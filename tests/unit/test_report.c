@@ -102,6 +102,13 @@ TEST(report_is_self_contained_with_one_curve_per_method)
     CHECK(strstr(html, "&lt;b&gt;tewari&lt;/b&gt;") != NULL);
     CHECK(strstr(html, "sphere &amp; &lt;friends&gt;") != NULL);
     CHECK(strstr(html, "<friends>") == NULL);
+    /* The loss is said to be the base colour's unless another slot was measured. */
+    CHECK(strstr(html, "q of the baseColor texture") != NULL);
+    free(html);
+    html = NULL;
+    r.slot = TEXOPT_SLOT_NORMAL;
+    CHECK_OK(texopt_report_html(&r, &opt, &html, err, sizeof err), err);
+    CHECK(strstr(html, "q of the normal texture") != NULL);
     /* Points are drawn in order of achieved cost: x grows along the input polyline. */
     const char *pl = strstr(strstr(html, "data-method=\"input\""), "points=\"");
     CHECK(pl);
