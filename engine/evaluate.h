@@ -20,8 +20,9 @@
  * encoding is rendered and compared as if it were a colour image (luma, GMSD), not decoded
  * or lit; so normal-slot q says how much of the normal map's encoded detail survived, not
  * how the shading changed. (Stage 1 compares a data texture per channel; one luma mixes the
- * channels, so detail in a channel luma weighs little, such as blue, counts less here.) Triangles whose material has no texture in the slot are mid grey
- * in both renders, as untextured triangles are for base colour. A reference with no texture
+ * channels, so detail in a channel that luma weighs little, such as blue, counts less here.)
+ * Triangles whose material has no texture in the slot are mid grey in both renders, as
+ * untextured triangles are for base colour. A reference with no texture
  * at all in a slot other than base colour is refused (TEXOPT_E_UNSUPPORTED, naming the
  * slot): q would be 0 and look like a perfect result. (Base colour keeps its old rule, q of
  * grey against grey, because the pipeline evaluates every model by it.) A candidate without
