@@ -1147,6 +1147,21 @@ static texopt_status reallocate_domains(const texopt_job *job, texopt_triangle_t
     return st;
 }
 
+/* Per domain, a copy of `from` (the next round's targets start as the kept ones: a domain
+ * the reallocation skips keeps them). */
+static texopt_status copy_targets(const texopt_job *job, texopt_triangle_target *const *from,
+                                  texopt_triangle_target **out, char *err, size_t err_len)
+{
+    for (int d = 0; d < job->model->domain_count; d++) {
+        size_t n = job->domains[d].mesh->triangle_count;
+        out[d] = malloc((n ? n : 1) * sizeof *out[d]);
+        if (!out[d])
+            return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the refined targets");
+        memcpy(out[d], from[d], n * sizeof *out[d]);
+    }
+    return TEXOPT_OK;
+}
+
 static void free_targets(texopt_triangle_target **targets, int n)
 {
     for (int d = 0; targets && d < n; d++)
@@ -1200,7 +1215,7 @@ static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candid
                            ? kept_targets(job, allocated, kept->domains, best, err, err_len)
                            : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the refinement");
     if (st == TEXOPT_OK)
-        st = kept_targets(job, allocated, kept->domains, next, err, err_len);
+        st = copy_targets(job, best, next, err, err_len);
     const job_output *shown = &kept->out;
     texopt_evaluation best_ev;
     double span = (to - from) / (rounds + 1);
