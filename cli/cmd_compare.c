@@ -14,6 +14,7 @@
 #include "commands.h"
 #include "numbers.h"
 #include "compare.h"
+#include "info.h"
 #include "report.h"
 
 static void usage(FILE *out)
@@ -36,6 +37,9 @@ static void usage(FILE *out)
             "  --mipmap            evaluate with prefiltered (mip-mapped) lookups, not bilinear\n"
             "  --texture SLOT      the texture q measures, as texopt evaluate --texture (default\n"
             "                      baseColor; the methods still lay out by their own rules)\n"
+            "  --every-texture     also measure q on every other texture slot IN has (normal,\n"
+            "                      metallicRoughness, ...): printed as one table per slot and\n"
+            "                      in the JSON as q_by_texture\n"
             "  --iterations N      most stage-1 polish iterations per triangle (default 100)\n"
             "  --epsilon E         perceptual loss threshold of stage 1 (default 0.01)\n"
             "  --seed S            random seed (default 0)\n"
@@ -95,8 +99,15 @@ static void show_progress(void *user, const texopt_progress *p)
         fprintf(stderr, "compare: %3.0f%% of the methods done\n", 100.0 * p->stage_fraction);
 }
 
-static void print_table(const texopt_compare_result *r, const double *costs, int cost_count)
+/* q of one slot: the headline table, or with --every-texture one more per slot. */
+static void print_slot_table(const texopt_compare_result *r, texopt_slot slot, const double *costs,
+                             int cost_count)
 {
+    int several = 0;
+    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++)
+        several += r->slot_measured[s] != 0;
+    if (several > 1)
+        printf("%sq on %s:\n", slot == r->slot ? "" : "\n", texopt_slot_name(slot));
     printf("%-11s", "method");
     for (int c = 0; c < cost_count; c++)
         printf("  c_r=%-6.2f", costs[c]);
@@ -106,12 +117,20 @@ static void print_table(const texopt_compare_result *r, const double *costs, int
         for (int c = 0; c < r->curves[m].point_count; c++) {
             const texopt_compare_point *p = &r->curves[m].points[c];
             if (p->status == TEXOPT_OK)
-                printf("  %-10.5f", p->q);
+                printf("  %-10.5f", p->q_by_slot[slot]);
             else
                 printf("  %-10s", "failed");
         }
         printf("\n");
     }
+}
+
+static void print_table(const texopt_compare_result *r, const double *costs, int cost_count)
+{
+    print_slot_table(r, r->slot, costs, cost_count);
+    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++)
+        if (r->slot_measured[s] && s != (int)r->slot)
+            print_slot_table(r, (texopt_slot)s, costs, cost_count);
     for (int m = 0; m < r->curve_count; m++)
         for (int c = 0; c < r->curves[m].point_count; c++) {
             const texopt_compare_point *p = &r->curves[m].points[c];
@@ -144,6 +163,9 @@ int cmd_compare(int argc, char **argv)
             takes = 0;
         } else if (!strcmp(a, "--mipmap")) {
             opt.evaluate.mipmapped = 1;
+            takes = 0;
+        } else if (!strcmp(a, "--every-texture")) {
+            opt.every_slot = 1;
             takes = 0;
         } else if (!strcmp(a, "--reuse-layout")) {
             opt.reuse_layout = 1;

@@ -21,6 +21,7 @@
 #include "atomic_file.h"
 #include "gltf_io.h"
 #include "info.h"
+#include "meshrender.h"
 #include "pipeline.h"
 
 static double now_seconds(void)
@@ -77,12 +78,34 @@ static double pick_showcase(const texopt_compare_options *opt)
     return best;
 }
 
-/* Loads the output at glb, evaluates it against the input and fills pt (q, achieved cost,
- * texture memory). With keep, the loaded model is handed to *model and the per-triangle
- * errors written to tri_err. */
+/* q of every slot in `slots` but the headline one, into pt->q_by_slot. */
+static texopt_status measure_other_slots(const texopt_model *input, const texopt_model *out,
+                                         const texopt_compare_options *opt, const int *slots,
+                                         texopt_compare_point *pt)
+{
+    texopt_status st = TEXOPT_OK;
+    for (int s = 0; s < TEXOPT_SLOT_COUNT && st == TEXOPT_OK; s++) {
+        if (!slots[s] || s == (int)opt->evaluate.slot)
+            continue;
+        texopt_evaluate_options eo = opt->evaluate;
+        eo.slot = (texopt_slot)s;
+        eo.triangle_error = NULL;
+        eo.monitor = opt->monitor;
+        texopt_evaluation ev;
+        st = texopt_evaluate(input, out, &eo, &ev, pt->message, sizeof pt->message);
+        if (st == TEXOPT_OK)
+            pt->q_by_slot[s] = ev.q;
+    }
+    return st;
+}
+
+/* Loads the output at glb, evaluates it against the input in every slot of `slots` and fills
+ * pt (q, achieved cost, texture memory). With keep, the loaded model is handed to *model and
+ * the per-triangle errors (headline slot) written to tri_err. */
 static texopt_status measure_output(const texopt_model *input, const texopt_cost *input_cost,
-                                    const texopt_compare_options *opt, const char *glb, int keep,
-                                    texopt_compare_point *pt, texopt_model **model, double *tri_err)
+                                    const texopt_compare_options *opt, const int *slots,
+                                    const char *glb, int keep, texopt_compare_point *pt,
+                                    texopt_model **model, double *tri_err)
 {
     char *msg = pt->message;
     size_t len = sizeof pt->message;
@@ -96,6 +119,10 @@ static texopt_status measure_output(const texopt_model *input, const texopt_cost
         eo.triangle_error = keep ? tri_err : NULL;
         eo.monitor = opt->monitor;
         st = texopt_evaluate(input, out, &eo, &ev, msg, len);
+    }
+    if (st == TEXOPT_OK) {
+        pt->q_by_slot[opt->evaluate.slot] = ev.q;
+        st = measure_other_slots(input, out, opt, slots, pt);
     }
     if (st == TEXOPT_OK)
         st = texopt_evaluate_cost(out, &cost_out, msg, len);
@@ -139,6 +166,8 @@ static void point_init(texopt_compare_point *pt, double cost)
     memset(pt, 0, sizeof *pt);
     pt->cost_requested = cost;
     pt->q = NAN;
+    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++)
+        pt->q_by_slot[s] = NAN;
 }
 
 typedef struct run_ctx {
@@ -146,6 +175,7 @@ typedef struct run_ctx {
     const texopt_model *input;
     const texopt_cost *input_cost;
     const texopt_compare_options *opt;
+    const int *slots; /* texopt_compare_result.slot_measured */
     double showcase_cost;
     const char *tmp_glb, *layout_glb;
 } run_ctx;
@@ -159,7 +189,8 @@ static texopt_status measure_point(const run_ctx *x, texopt_compare_curve *curve
     double *tri_err = NULL;
     if (keep && !(tri_err = calloc(x->input->triangle_count ? x->input->triangle_count : 1, sizeof *tri_err)))
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for triangle errors");
-    texopt_status st = measure_output(x->input, x->input_cost, x->opt, glb, keep, pt, &curve->showcase, tri_err);
+    texopt_status st = measure_output(x->input, x->input_cost, x->opt, x->slots, glb, keep, pt, &curve->showcase,
+                                      tri_err);
     if (keep && st == TEXOPT_OK)
         curve->showcase_triangle_error = tri_err;
     else
@@ -265,6 +296,13 @@ static void report_progress(const texopt_compare_options *opt, int done, int tot
     texopt_monitor_report(opt->monitor, &p);
 }
 
+static void mark_measured_slots(const texopt_model *input, const texopt_compare_options *opt, int *measured)
+{
+    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++)
+        measured[s] = s == (int)opt->evaluate.slot ||
+                      (opt->every_slot && texopt_meshrender_has_texture(input, (texopt_slot)s));
+}
+
 static texopt_status make_work_dir(const texopt_compare_options *opt, char *dir, size_t len,
                                    char *err, size_t err_len)
 {
@@ -298,6 +336,8 @@ texopt_status texopt_compare(const char *input_path, const texopt_compare_option
     r.resolution = opt->evaluate.resolution;
     r.mipmapped = opt->evaluate.mipmapped != 0;
     r.slot = opt->evaluate.slot;
+    if (st == TEXOPT_OK)
+        mark_measured_slots(r.input, opt, r.slot_measured);
     if (st == TEXOPT_OK && r.resolution == 0)
         st = texopt_evaluate_default_resolution(r.input, &r.resolution, err, err_len);
     char dir[1024] = "", tmp_glb[1100];
@@ -312,7 +352,7 @@ texopt_status texopt_compare(const char *input_path, const texopt_compare_option
     snprintf(layout_glb, sizeof layout_glb, "%s/layout.glb", dir);
     texopt_compare_options o = *opt;
     o.evaluate.resolution = r.resolution;
-    run_ctx x = {input_path, r.input, &r.input_cost, &o, r.showcase_cost, tmp_glb, layout_glb};
+    run_ctx x = {input_path, r.input, &r.input_cost, &o, r.slot_measured, r.showcase_cost, tmp_glb, layout_glb};
     r.curve_count = opt->method_count;
     for (int m = 0; m < opt->method_count && st == TEXOPT_OK; m++) {
         texopt_compare_curve *curve = &r.curves[m];
@@ -340,7 +380,21 @@ texopt_status texopt_compare(const char *input_path, const texopt_compare_option
     return TEXOPT_OK;
 }
 
-static cJSON *point_json(const texopt_compare_point *pt)
+/* "q_by_texture": {slot name: q} when more than the headline slot was measured. */
+static void add_q_by_slot(cJSON *o, const texopt_compare_point *pt, const int *slots)
+{
+    int n = 0;
+    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++)
+        n += slots[s] != 0;
+    if (n < 2)
+        return;
+    cJSON *by = cJSON_AddObjectToObject(o, "q_by_texture");
+    for (int s = 0; by && s < TEXOPT_SLOT_COUNT; s++)
+        if (slots[s])
+            cJSON_AddNumberToObject(by, texopt_slot_name((texopt_slot)s), pt->q_by_slot[s]);
+}
+
+static cJSON *point_json(const texopt_compare_point *pt, const int *slots)
 {
     cJSON *o = cJSON_CreateObject();
     cJSON_AddNumberToObject(o, "cost_requested", pt->cost_requested);
@@ -351,6 +405,7 @@ static cJSON *point_json(const texopt_compare_point *pt)
         cJSON_AddNumberToObject(o, "packing_efficiency", pt->packing_efficiency);
         cJSON_AddNumberToObject(o, "seconds_optimize", pt->seconds_optimize);
         cJSON_AddNumberToObject(o, "seconds_evaluate", pt->seconds_evaluate);
+        add_q_by_slot(o, pt, slots);
     } else {
         cJSON_AddStringToObject(o, "error", texopt_strerror(pt->status));
         cJSON_AddStringToObject(o, "message", pt->message);
@@ -375,7 +430,7 @@ texopt_status texopt_compare_write_json(const texopt_compare_result *r, const ch
     for (int c = 0; c < r->curve_count; c++) {
         cJSON *arr = cJSON_AddArrayToObject(curves, texopt_method_name(r->curves[c].method));
         for (int i = 0; i < r->curves[c].point_count; i++)
-            cJSON_AddItemToArray(arr, point_json(&r->curves[c].points[i]));
+            cJSON_AddItemToArray(arr, point_json(&r->curves[c].points[i], r->slot_measured));
     }
     char *text = cJSON_Print(root);
     cJSON_Delete(root);

@@ -41,6 +41,9 @@ typedef struct texopt_compare_point {
     double cost_requested;    /* c_r asked of the pipeline */
     double cost_achieved;     /* covered texels of the output / of the input */
     double q;                 /* whole-mesh loss against the input */
+    double q_by_slot[TEXOPT_SLOT_COUNT]; /* q of each texture slot the result measured
+                                            (texopt_compare_result.slot_measured; the
+                                            headline slot's entry is q); NAN elsewhere */
     uint64_t texture_pixels;  /* texture memory of the output */
     double packing_efficiency;
     double seconds_optimize, seconds_evaluate;
@@ -71,6 +74,11 @@ typedef struct texopt_compare_options {
     const char *work_dir;          /* temporary outputs; NULL -> $TMPDIR or /tmp */
     int reuse_layout;              /* nonzero: each layout once, smaller costs resampled (fast,
                                       pessimistic for layout methods); 0: one run per point */
+    int every_slot;                /* nonzero: besides evaluate.slot, q of every other slot in
+                                      which the input has a texture (q_by_slot): the methods
+                                      lay out for different signals (ssp and tewari read base
+                                      colour, perceptual every texture), so one slot's q does
+                                      not rank them on a model with several maps */
     const texopt_monitor *monitor; /* cancel flag; progress as stage "compare" (per method) */
     /* NULL, or method_count entries: a non-NULL one is an existing output of that method at
      * costs[0] (e.g. a service job's result), measured instead of running the pipeline again;
@@ -84,6 +92,9 @@ typedef struct texopt_compare_result {
     int resolution;           /* evaluation screen side */
     int mipmapped;            /* evaluated with mip-mapped lookups (evaluate.h) */
     texopt_slot slot;         /* the texture q measured (evaluate.h; base colour by default) */
+    int slot_measured[TEXOPT_SLOT_COUNT]; /* nonzero for the slots in the points' q_by_slot:
+                                             `slot`, and with every_slot each other one the
+                                             input has a texture in */
     double showcase_cost;
     texopt_cost input_cost;
     texopt_model *input;      /* the input, loaded */

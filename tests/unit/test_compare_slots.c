@@ -1,0 +1,116 @@
+/* test_compare_slots.c - compare's q of every texture slot (engine/compare.h every_slot), on
+ * a generated quad whose base colour is detailed and whose normal map is flat: a downscale
+ * loses base-colour detail and none of the normal map's, so the two q must differ, and a
+ * slot the input does not use must not be measured. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "compare.h"
+#include "gltf_builder.h"
+#include "test.h"
+
+/* The builder's quad (a 64 x 64 texture where every texel differs) plus a flat 64 x 64
+ * normal map, written as a .glb into dir; path receives its name. */
+static int write_quad_with_flat_normal_map(const char *dir, char *path, size_t len)
+{
+    quad_doc doc;
+    if (!quad_doc_init(&doc, 64, 64))
+        return 0;
+    texopt_image flat;
+    unsigned char *png = NULL;
+    size_t png_len = 0;
+    int ok = texopt_image_create(&flat, 64, 64, 3, NULL, 0) == TEXOPT_OK;
+    if (ok) {
+        for (int y = 0; y < 64; y++)
+            for (int x = 0; x < 64; x++) {
+                float *p = texopt_image_at(&flat, x, y);
+                p[0] = p[1] = 0.5f;
+                p[2] = 1.0f;
+            }
+        ok = texopt_image_encode_png(&flat, &png, &png_len, NULL, 0) == TEXOPT_OK;
+        texopt_image_destroy(&flat);
+    }
+    int view = ok ? quad_doc_add_view(&doc, png, png_len) : -1;
+    free(png);
+    char image[96];
+    snprintf(image, sizeof image, "{\"bufferView\":3,\"mimeType\":\"image/png\"},{\"bufferView\":%d,\"mimeType\":\"image/png\"}", view);
+    ok = view > 0 &&
+         builder_replace(&doc.json, "{\"bufferView\":3,\"mimeType\":\"image/png\"}", image) &&
+         builder_replace(&doc.json, "\"textures\":[{\"source\":0,\"sampler\":0}]",
+                         "\"textures\":[{\"source\":0,\"sampler\":0},{\"source\":1,\"sampler\":0}]") &&
+         builder_replace(&doc.json, "\"baseColorTexture\":{\"index\":0}}",
+                         "\"baseColorTexture\":{\"index\":0}},\"normalTexture\":{\"index\":1}");
+    size_t glb_len = 0;
+    unsigned char *glb = ok ? builder_glb(doc.json, doc.bin, doc.bin_len, &glb_len) : NULL;
+    snprintf(path, len, "%s/quad.glb", dir);
+    ok = glb && builder_write(path, glb, glb_len);
+    free(glb);
+    quad_doc_free(&doc);
+    return ok;
+}
+
+static texopt_status compare_input_method(const char *path, int every_slot, texopt_compare_result *r,
+                                          char *err, size_t err_len)
+{
+    static const texopt_method methods[] = {TEXOPT_METHOD_INPUT};
+    static const double costs[] = {0.25};
+    texopt_compare_options opt;
+    memset(&opt, 0, sizeof opt);
+    opt.methods = methods;
+    opt.method_count = 1;
+    opt.costs = costs;
+    opt.cost_count = 1;
+    opt.evaluate.resolution = 128;
+    opt.evaluate.threads = 2;
+    opt.every_slot = every_slot;
+    return texopt_compare(path, &opt, r, err, err_len);
+}
+
+TEST(every_slot_measures_each_texture_the_input_has)
+{
+    char dir[64], path[128], err[512] = "";
+    CHECK(builder_tempdir(dir));
+    CHECK(write_quad_with_flat_normal_map(dir, path, sizeof path));
+    texopt_compare_result r;
+    CHECK_OK(compare_input_method(path, 1, &r, err, sizeof err), err);
+    const texopt_compare_point *p = &r.curves[0].points[0];
+    CHECK_MSG(p->status == TEXOPT_OK, "%s", p->message);
+    CHECK(r.slot_measured[TEXOPT_SLOT_BASE_COLOR] && r.slot_measured[TEXOPT_SLOT_NORMAL]);
+    CHECK(!r.slot_measured[TEXOPT_SLOT_METALLIC_ROUGHNESS] && !r.slot_measured[TEXOPT_SLOT_EMISSIVE]);
+    /* The headline q is base colour's; the detailed texture loses a lot at a quarter of its
+     * texels, the flat normal map nothing. */
+    CHECK(p->q_by_slot[TEXOPT_SLOT_BASE_COLOR] == p->q);
+    CHECK_MSG(p->q > 0.01, "base colour q %.5f", p->q);
+    CHECK_MSG(p->q_by_slot[TEXOPT_SLOT_NORMAL] < 1e-4, "normal q %.6f", p->q_by_slot[TEXOPT_SLOT_NORMAL]);
+    CHECK(isnan(p->q_by_slot[TEXOPT_SLOT_METALLIC_ROUGHNESS]));
+    char json[160];
+    snprintf(json, sizeof json, "%s/curves.json", dir);
+    CHECK_OK(texopt_compare_write_json(&r, json, err, sizeof err), err);
+    FILE *f = fopen(json, "rb");
+    CHECK(f != NULL);
+    char text[4096] = "";
+    size_t n = f ? fread(text, 1, sizeof text - 1, f) : 0;
+    if (f)
+        fclose(f);
+    text[n] = 0;
+    CHECK(strstr(text, "\"q_by_texture\"") != NULL && strstr(text, "\"normal\"") != NULL);
+    CHECK(strstr(text, "metallicRoughness") == NULL);
+    texopt_compare_result_destroy(&r);
+
+    /* Without the option only the headline slot is measured, and the JSON stays as it was. */
+    CHECK_OK(compare_input_method(path, 0, &r, err, sizeof err), err);
+    p = &r.curves[0].points[0];
+    CHECK(r.slot_measured[TEXOPT_SLOT_BASE_COLOR] && !r.slot_measured[TEXOPT_SLOT_NORMAL]);
+    CHECK(p->q_by_slot[TEXOPT_SLOT_BASE_COLOR] == p->q && isnan(p->q_by_slot[TEXOPT_SLOT_NORMAL]));
+    CHECK_OK(texopt_compare_write_json(&r, json, err, sizeof err), err);
+    f = fopen(json, "rb");
+    n = f ? fread(text, 1, sizeof text - 1, f) : 0;
+    if (f)
+        fclose(f);
+    text[n] = 0;
+    CHECK(n > 0 && strstr(text, "q_by_texture") == NULL);
+    texopt_compare_result_destroy(&r);
+    builder_rmdir(dir);
+}
