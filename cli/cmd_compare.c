@@ -42,7 +42,7 @@ static void usage(FILE *out)
             "                      in the JSON as q_by_texture\n"
             "  --iterations N      most stage-1 polish iterations per triangle (default 100)\n"
             "  --epsilon E         perceptual loss threshold of stage 1 (default 0.01)\n"
-            "  --seed S            random seed (default 0)\n"
+            "  --seed S            random seed, 0 to 2^53 (default 0)\n"
             "  --refinements N     perceptual: most closed-loop refinement rounds, 0-20\n"
             "                      (default 2; 0 = none), as in texopt optimize\n"
             "  --threads T         worker threads (default: every core)\n"
@@ -196,9 +196,7 @@ int cmd_compare(int argc, char **argv)
         } else if (!strcmp(a, "--epsilon")) {
             bad = !v || cli_parse_double(v, 0, 1, &opt.params.epsilon) != 0 || !(opt.params.epsilon > 0 && opt.params.epsilon < 1);
         } else if (!strcmp(a, "--seed")) {
-            int seed = 0;
-            bad = !v || cli_parse_int(v, 0, 2147483647, &seed) != 0;
-            opt.params.seed = (uint64_t)seed;
+            bad = !v || cli_parse_seed(v, &opt.params.seed) != 0;
         } else if (!strcmp(a, "--refinements")) {
             int rounds = 0;
             bad = !v || cli_parse_int(v, 0, 20, &rounds) != 0;

@@ -43,7 +43,7 @@ static void usage(FILE *out)
             "                           (default 100; the polish stops once it stops paying)\n"
             "  --lambda-min L           smallest per-axis scale stage 1 may choose (default 0.1)\n"
             "  --threads T              worker threads (default: every core)\n"
-            "  --seed S                 random seed (default 0)\n"
+            "  --seed S                 random seed, 0 to 2^53 (default 0)\n"
             "  --refinements N          perceptual: most closed-loop refinement rounds of the\n"
             "                           kept layout by its on-screen error, 0-20 (default 2;\n"
             "                           0: none)\n"
@@ -124,6 +124,7 @@ static int parse_option(optimize_args *a, const char *opt, const char *val)
 {
     double d;
     long long n;
+    uint64_t seed;
     if (strcmp(opt, "-o") == 0 || strcmp(opt, "--output") == 0)
         a->output = val;
     else if (strcmp(opt, "--stats") == 0)
@@ -155,8 +156,8 @@ static int parse_option(optimize_args *a, const char *opt, const char *val)
         a->params.iterations = (int)n;
     else if (strcmp(opt, "--threads") == 0 && parse_long(val, &n) && n > 0 && n < 100000)
         a->params.threads = (int)n;
-    else if (strcmp(opt, "--seed") == 0 && parse_long(val, &n) && n >= 0)
-        a->params.seed = (uint64_t)n;
+    else if (strcmp(opt, "--seed") == 0 && cli_parse_seed(val, &seed) == 0)
+        a->params.seed = seed;
     else if (strcmp(opt, "--refinements") == 0 && parse_long(val, &n) && n >= 0 && n <= 20)
         texopt_params_set_refinement_rounds(&a->params, (int)n);
     else if (strcmp(opt, "--packing-efficiency") == 0 && parse_double(val, &d) && d >= 0 && d < 1)

@@ -9,7 +9,7 @@
 # differs from the default's two rounds on Fox at c_r 0.3). --texture: the JSON names the
 # slot, `--texture base` is the default's q, a slot Fox has no texture in (normal) is an
 # engine error naming it (exit 1, evaluate and compare), an unknown slot a usage error. Also the usage errors'
-# exit codes.
+# exit codes, the seed's range included.
 set -euo pipefail
 : "${TEXOPT_BIN:?TEXOPT_BIN must point to the texopt executable}"
 : "${TEXOPT_SOURCE_DIR:?TEXOPT_SOURCE_DIR must point to the source tree}"
@@ -28,11 +28,11 @@ FOX="$TEXOPT_SOURCE_DIR/tests/data/Fox/Fox.glb"
     fail "evaluate --texture base exited $?"
 "$TEXOPT_BIN" compare "$FOX" --methods input --costs 1,0.25,0.0625 --resolution 200 --quiet \
     --json "$WORK/curves.json" -o "$WORK/report.html" > "$WORK/table.txt" || fail "compare exited $?"
-"$TEXOPT_BIN" optimize "$FOX" -o "$WORK/plain.glb" --relative-cost 0.3 --refinements 0 --seed 3 --quiet ||
+"$TEXOPT_BIN" optimize "$FOX" -o "$WORK/plain.glb" --relative-cost 0.3 --refinements 0 --seed 4294967299 --quiet ||
     fail "optimize --refinements 0 exited $?"
 "$TEXOPT_BIN" evaluate "$FOX" "$WORK/plain.glb" --resolution 200 --json > "$WORK/plain.json" ||
     fail "evaluate of the unrefined Fox exited $?"
-"$TEXOPT_BIN" compare "$FOX" --methods perceptual --costs 0.3 --refinements 0 --seed 3 --resolution 200 \
+"$TEXOPT_BIN" compare "$FOX" --methods perceptual --costs 0.3 --refinements 0 --seed 4294967299 --resolution 200 \
     --quiet --json "$WORK/plain_curves.json" > /dev/null || fail "compare --refinements 0 exited $?"
 
 /usr/bin/python3 - "$WORK" <<'EOF'
@@ -126,6 +126,13 @@ set +e
 "$TEXOPT_BIN" compare "$FOX" --costs 0,1 > /dev/null 2>&1; [ $? -eq 2 ] || fail "cost 0 should exit 2"
 "$TEXOPT_BIN" compare "$FOX" --refinements 21 > /dev/null 2>&1; [ $? -eq 2 ] || fail "21 refinements should exit 2"
 "$TEXOPT_BIN" compare "$FOX" --epsilon 1 > /dev/null 2>&1; [ $? -eq 2 ] || fail "epsilon 1 should exit 2"
+# Seeds: 0 to 2^53 in both commands, as in the service's JSON (the runs above use 2^32 + 3).
+for cmd in compare optimize; do
+    for seed in -1 9007199254740993 1e3; do
+        "$TEXOPT_BIN" $cmd "$FOX" -o "$WORK/never.glb" --seed "$seed" > /dev/null 2>&1
+        [ $? -eq 2 ] || fail "$cmd --seed $seed should exit 2"
+    done
+done
 "$TEXOPT_BIN" evaluate "$FOX" "$WORK/missing.glb" > /dev/null 2>&1; [ $? -eq 1 ] || fail "missing model should exit 1"
 "$TEXOPT_BIN" evaluate "$FOX" "$FOX" --texture nosuch > /dev/null 2>&1; [ $? -eq 2 ] || fail "unknown slot should exit 2"
 "$TEXOPT_BIN" evaluate "$FOX" "$FOX" --texture > /dev/null 2>&1; [ $? -eq 2 ] || fail "--texture without a slot should exit 2"
