@@ -78,18 +78,19 @@ static double pick_showcase(const texopt_compare_options *opt)
     return best;
 }
 
-/* q of every slot in `slots` but the headline one, into pt->q_by_slot. */
-static texopt_status measure_other_slots(const texopt_model *input, const texopt_model *out,
-                                         const texopt_compare_options *opt, const int *slots,
-                                         texopt_compare_point *pt)
+/* q of every slot in `slots` (the headline one, opt->evaluate.slot, always among them) into
+ * pt->q_by_slot; the per-triangle errors, when tri_err is not NULL, are the headline's. */
+static texopt_status measure_slots(const texopt_model *input, const texopt_model *out,
+                                   const texopt_compare_options *opt, const int *slots, double *tri_err,
+                                   texopt_compare_point *pt)
 {
     texopt_status st = TEXOPT_OK;
     for (int s = 0; s < TEXOPT_SLOT_COUNT && st == TEXOPT_OK; s++) {
-        if (!slots[s] || s == (int)opt->evaluate.slot)
+        if (!slots[s])
             continue;
         texopt_evaluate_options eo = opt->evaluate;
         eo.slot = (texopt_slot)s;
-        eo.triangle_error = NULL;
+        eo.triangle_error = s == (int)opt->evaluate.slot ? tri_err : NULL;
         eo.monitor = opt->monitor;
         texopt_evaluation ev;
         st = texopt_evaluate(input, out, &eo, &ev, pt->message, sizeof pt->message);
@@ -111,25 +112,16 @@ static texopt_status measure_output(const texopt_model *input, const texopt_cost
     size_t len = sizeof pt->message;
     texopt_model *out = NULL;
     texopt_status st = texopt_model_load(&out, glb, NULL, msg, len);
-    texopt_evaluation ev;
     texopt_cost cost_out;
     double t0 = now_seconds();
-    if (st == TEXOPT_OK) {
-        texopt_evaluate_options eo = opt->evaluate;
-        eo.triangle_error = keep ? tri_err : NULL;
-        eo.monitor = opt->monitor;
-        st = texopt_evaluate(input, out, &eo, &ev, msg, len);
-    }
-    if (st == TEXOPT_OK) {
-        pt->q_by_slot[opt->evaluate.slot] = ev.q;
-        st = measure_other_slots(input, out, opt, slots, pt);
-    }
+    if (st == TEXOPT_OK)
+        st = measure_slots(input, out, opt, slots, keep ? tri_err : NULL, pt);
     if (st == TEXOPT_OK)
         st = texopt_evaluate_cost(out, &cost_out, msg, len);
     pt->seconds_evaluate = now_seconds() - t0;
     pt->status = st;
     if (st == TEXOPT_OK) {
-        pt->q = ev.q;
+        pt->q = pt->q_by_slot[opt->evaluate.slot];
         pt->cost_achieved = input_cost->covered_texels
                                 ? (double)cost_out.covered_texels / (double)input_cost->covered_texels
                                 : 0;

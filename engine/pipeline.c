@@ -1101,24 +1101,32 @@ static texopt_status bake_remaining_images(texopt_job *job, const texopt_params 
  * e_mean)^0.5 within [0.5, 2] per round, singular values up to twice input density. */
 static const texopt_reallocate_options refinement_step = {0.5, 0.5, 2.0, 2.0};
 
+/* Per domain, room for one target per triangle in out[d]. */
+static texopt_status alloc_domain_targets(const texopt_job *job, texopt_triangle_target **out, char *err,
+                                          size_t err_len)
+{
+    for (int d = 0; d < job->model->domain_count; d++) {
+        size_t n = job->domains[d].mesh->triangle_count;
+        if (!(out[d] = malloc((n ? n : 1) * sizeof *out[d])))
+            return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the refined targets");
+    }
+    return TEXOPT_OK;
+}
+
 /* Per domain, the targets the kept candidate was solved from: stage 1's as they are
  * (uniform) or allocated (allocate.h) at the cost the candidate reached. */
 static texopt_status kept_targets(const texopt_job *job, int allocated, const texopt_domain_stats *ds,
                                   texopt_triangle_target **out, char *err, size_t err_len)
 {
-    texopt_status st = TEXOPT_OK;
+    texopt_status st = alloc_domain_targets(job, out, err, err_len);
     for (int d = 0; d < job->model->domain_count && st == TEXOPT_OK; d++) {
         const job_domain *jd = &job->domains[d];
-        size_t n = jd->mesh->triangle_count;
-        out[d] = malloc((n ? n : 1) * sizeof *out[d]);
-        if (!out[d])
-            return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the refined targets");
         double area = ds[d].relative_cost * (double)jd->input_coverage.covered_texels;
         if (allocated && area > 0)
             st = texopt_allocate_targets(jd->mesh, jd->targets, area, &perceptual_allocation, out[d], NULL, err,
                                          err_len);
         else
-            memcpy(out[d], jd->targets, n * sizeof *out[d]);
+            memcpy(out[d], jd->targets, jd->mesh->triangle_count * sizeof *out[d]);
     }
     return st;
 }
@@ -1152,14 +1160,10 @@ static texopt_status reallocate_domains(const texopt_job *job, texopt_triangle_t
 static texopt_status copy_targets(const texopt_job *job, texopt_triangle_target *const *from,
                                   texopt_triangle_target **out, char *err, size_t err_len)
 {
-    for (int d = 0; d < job->model->domain_count; d++) {
-        size_t n = job->domains[d].mesh->triangle_count;
-        out[d] = malloc((n ? n : 1) * sizeof *out[d]);
-        if (!out[d])
-            return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the refined targets");
-        memcpy(out[d], from[d], n * sizeof *out[d]);
-    }
-    return TEXOPT_OK;
+    texopt_status st = alloc_domain_targets(job, out, err, err_len);
+    for (int d = 0; d < job->model->domain_count && st == TEXOPT_OK; d++)
+        memcpy(out[d], from[d], job->domains[d].mesh->triangle_count * sizeof *out[d]);
+    return st;
 }
 
 static void free_targets(texopt_triangle_target **targets, int n)
