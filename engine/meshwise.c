@@ -58,6 +58,7 @@
 #include <time.h>
 
 #include "distortion.h"
+#include "tri_bins.h"
 
 #define PI 3.14159265358979323846
 #define BARRIER_FRACTION 0.5
@@ -630,101 +631,6 @@ static int8_t *chart_orientations(const solver *sv)
     return sign;
 }
 
-/* A uniform grid of bins over the input texel plane holding the majority-side triangles of
- * folded charts, for point location. */
-typedef struct tri_grid {
-    double x0, y0, cell;
-    size_t nx, ny;
-    uint32_t *start; /* nx * ny + 1 */
-    uint32_t *tri;
-} tri_grid;
-
-static void tri_bounds(const texopt_mesh *m, const tri_frame *f, double lo[2], double hi[2])
-{
-    for (int a = 0; a < 2; a++) {
-        lo[a] = hi[a] = m->texel[2 * (size_t)f->v[0] + a];
-        for (int j = 1; j < 3; j++) {
-            double p = m->texel[2 * (size_t)f->v[j] + a];
-            lo[a] = fmin(lo[a], p);
-            hi[a] = fmax(hi[a], p);
-        }
-    }
-}
-
-static size_t bin_of(const tri_grid *g, double p, int axis)
-{
-    double q = (p - (axis ? g->y0 : g->x0)) / g->cell;
-    size_t n = axis ? g->ny : g->nx;
-    if (!(q > 0.0))
-        return 0;
-    return q >= (double)(n - 1) ? n - 1 : (size_t)q;
-}
-
-/* Builds the grid over the triangles with keep[t] set. Returns 0 when out of memory. */
-static int grid_build(tri_grid *g, const solver *sv, const unsigned char *keep)
-{
-    const texopt_mesh *m = sv->mesh;
-    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, area = 0.0;
-    size_t count = 0;
-    for (size_t t = 0; t < sv->tri_count; t++) {
-        if (!keep[t])
-            continue;
-        double a[2], b[2];
-        tri_bounds(m, &sv->tri[t], a, b);
-        for (int k = 0; k < 2; k++) {
-            lo[k] = fmin(lo[k], a[k]);
-            hi[k] = fmax(hi[k], b[k]);
-        }
-        area += sv->tri[t].area;
-        count++;
-    }
-    memset(g, 0, sizeof *g);
-    if (count == 0)
-        return 1;
-    /* About two triangles per bin where they are, and never more than 4 bins per triangle
-     * (or 1024) in all: folded charts far apart must not make a huge empty grid. */
-    g->cell = sqrt(2.0 * area / (double)count);
-    if (!(g->cell > 0.0))
-        g->cell = 1.0;
-    double max_bins = fmax(1024.0, 4.0 * (double)count);
-    while (((hi[0] - lo[0]) / g->cell + 1.0) * ((hi[1] - lo[1]) / g->cell + 1.0) > max_bins)
-        g->cell *= 1.5;
-    g->x0 = lo[0];
-    g->y0 = lo[1];
-    g->nx = (size_t)((hi[0] - lo[0]) / g->cell) + 1;
-    g->ny = (size_t)((hi[1] - lo[1]) / g->cell) + 1;
-    g->start = calloc(g->nx * g->ny + 1, sizeof *g->start);
-    if (!g->start)
-        return 0;
-    for (int pass = 0; pass < 2; pass++) {
-        for (size_t t = 0; t < sv->tri_count; t++) {
-            if (!keep[t])
-                continue;
-            double a[2], b[2];
-            tri_bounds(m, &sv->tri[t], a, b);
-            for (size_t j = bin_of(g, a[1], 1); j <= bin_of(g, b[1], 1); j++)
-                for (size_t i = bin_of(g, a[0], 0); i <= bin_of(g, b[0], 0); i++) {
-                    if (pass == 0)
-                        g->start[j * g->nx + i + 1]++;
-                    else
-                        g->tri[g->start[j * g->nx + i]++] = (uint32_t)t;
-                }
-        }
-        if (pass == 0) {
-            for (size_t b = 0; b < g->nx * g->ny; b++)
-                g->start[b + 1] += g->start[b];
-            g->tri = malloc((g->start[g->nx * g->ny] ? g->start[g->nx * g->ny] : 1) * sizeof *g->tri);
-            if (!g->tri)
-                return 0;
-        }
-    }
-    /* The fill pass advanced every start to the next bin's; shift back. */
-    for (size_t b = g->nx * g->ny; b > 0; b--)
-        g->start[b] = g->start[b - 1];
-    g->start[0] = 0;
-    return 1;
-}
-
 /* Barycentric weights of p in triangle f (input texels); 1 when p is inside (with a
  * tolerance of 1e-9 of the weights). */
 static int barycentric(const texopt_mesh *m, const tri_frame *f, const double p[2], double w[3])
@@ -749,7 +655,7 @@ static texopt_status find_fold_ties(solver *sv, char *err, size_t err_len)
     unsigned char *side = calloc(nv, 1);     /* bit 0: majority triangle, bit 1: minority */
     unsigned char *majority = calloc(nt, 1); /* majority triangle of a folded chart */
     unsigned char *folded = calloc(m->chart_count ? m->chart_count : 1, 1);
-    tri_grid grid = {0};
+    texopt_tri_bins grid = {0};
     texopt_status st = TEXOPT_OK;
     if (!sign || !side || !majority || !folded) {
         st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory");
@@ -770,16 +676,14 @@ static texopt_status find_fold_ties(solver *sv, char *err, size_t err_len)
     for (size_t t = 0; t < sv->tri_count; t++)
         majority[t] = sv->tri[t].barrier && folded[m->chart_of[t]] &&
                       sv->tri[t].orientation == sign[m->chart_of[t]];
-    if (!grid_build(&grid, sv, majority)) {
-        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory");
+    if ((st = texopt_tri_bins_build(&grid, m, majority, err, err_len)) != TEXOPT_OK)
         goto done;
-    }
     size_t cap = 0;
     for (size_t v = 0; v < sv->vertex_count && grid.start; v++) {
         if (side[v] != 2 || sv->rep_of[v] != v)
             continue;
         const double *p = m->texel + 2 * v;
-        size_t b = bin_of(&grid, p[1], 1) * grid.nx + bin_of(&grid, p[0], 0);
+        size_t b = texopt_tri_bins_index(&grid, p[1], 1) * grid.nx + texopt_tri_bins_index(&grid, p[0], 0);
         for (uint32_t k = grid.start[b]; k < grid.start[b + 1]; k++) {
             const tri_frame *f = &sv->tri[grid.tri[k]];
             double w[3];
@@ -809,8 +713,7 @@ done:
     free(side);
     free(majority);
     free(folded);
-    free(grid.start);
-    free(grid.tri);
+    texopt_tri_bins_free(&grid);
     return st;
 }
 

@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "tri_bins.h"
+
 #define NONE UINT32_MAX
 
 /* The unwrapped texel grid over every usable triangle: cell (i, j) has its centre at
@@ -251,71 +253,6 @@ static texopt_status find_groups(work *w, texopt_texel_share *s, char *err, size
 
 /* ---- ties ----------------------------------------------------------------------------- */
 
-#define BIN 8.0 /* texels a side of a point-location bin */
-
-/* The usable triangles of primaries that have secondaries, binned by their boxes. */
-typedef struct tri_bins {
-    double x0, y0;
-    size_t nx, ny;
-    uint32_t *start; /* nx * ny + 1 */
-    uint32_t *tri;
-} tri_bins;
-
-static size_t bin_index(const tri_bins *b, double p, int axis)
-{
-    double q = floor((p - (axis ? b->y0 : b->x0)) / BIN);
-    size_t n = axis ? b->ny : b->nx;
-    return q < 0.0 ? 0 : q >= (double)n ? n - 1 : (size_t)q;
-}
-
-static void triangle_box(const texopt_mesh *m, uint32_t t, double lo[2], double hi[2])
-{
-    for (int a = 0; a < 2; a++) {
-        lo[a] = fmin(fmin(corner(m, t, 0)[a], corner(m, t, 1)[a]), corner(m, t, 2)[a]);
-        hi[a] = fmax(fmax(corner(m, t, 0)[a], corner(m, t, 1)[a]), corner(m, t, 2)[a]);
-    }
-}
-
-static int bins_build(tri_bins *b, const work *w, const uint8_t *has_secondary)
-{
-    const texopt_mesh *m = w->m;
-    b->x0 = w->g.x0;
-    b->y0 = w->g.y0;
-    b->nx = (size_t)((double)w->g.nx / BIN) + 1;
-    b->ny = (size_t)((double)w->g.ny / BIN) + 1;
-    b->start = calloc(b->nx * b->ny + 1, sizeof *b->start);
-    if (!b->start)
-        return 0;
-    for (int pass = 0; pass < 2; pass++) {
-        for (size_t c = 0; c < m->chart_count; c++) {
-            if (!has_secondary[c])
-                continue;
-            for (uint32_t k = w->tri_start[c]; k < w->tri_start[c + 1]; k++) {
-                double lo[2], hi[2];
-                triangle_box(m, w->tri_of_chart[k], lo, hi);
-                for (size_t j = bin_index(b, lo[1], 1); j <= bin_index(b, hi[1], 1); j++)
-                    for (size_t i = bin_index(b, lo[0], 0); i <= bin_index(b, hi[0], 0); i++) {
-                        if (pass == 0)
-                            b->start[j * b->nx + i + 1]++;
-                        else
-                            b->tri[b->start[j * b->nx + i]++] = w->tri_of_chart[k];
-                    }
-            }
-        }
-        if (pass == 0) {
-            for (size_t i = 0; i < b->nx * b->ny; i++)
-                b->start[i + 1] += b->start[i];
-            b->tri = malloc((b->start[b->nx * b->ny] ? b->start[b->nx * b->ny] : 1) * sizeof *b->tri);
-            if (!b->tri)
-                return 0;
-        }
-    }
-    for (size_t i = b->nx * b->ny; i > 0; i--) /* the fill advanced each start to the next */
-        b->start[i] = b->start[i - 1];
-    b->start[0] = 0;
-    return 1;
-}
-
 static double cross(const double o[2], const double a[2], const double b[2])
 {
     return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
@@ -351,13 +288,15 @@ static double closest_point(const texopt_mesh *m, uint32_t t, const double p[2],
 
 /* The tie of vertex v to the nearest triangle of chart `primary` within the tolerance;
  * 0 when there is none. */
-static int locate(const texopt_mesh *m, const tri_bins *b, uint32_t primary, uint32_t v, texopt_texel_tie *tie)
+static int locate(const texopt_mesh *m, const texopt_tri_bins *b, uint32_t primary, uint32_t v, texopt_texel_tie *tie)
 {
     const double *p = m->texel + 2 * (size_t)v;
     const double tol = TEXOPT_TEXEL_SHARE_TOLERANCE;
     double best = INFINITY;
-    for (size_t j = bin_index(b, p[1] - tol, 1); j <= bin_index(b, p[1] + tol, 1); j++)
-        for (size_t i = bin_index(b, p[0] - tol, 0); i <= bin_index(b, p[0] + tol, 0); i++)
+    if (!b->start)
+        return 0;
+    for (size_t j = texopt_tri_bins_index(b, p[1] - tol, 1); j <= texopt_tri_bins_index(b, p[1] + tol, 1); j++)
+        for (size_t i = texopt_tri_bins_index(b, p[0] - tol, 0); i <= texopt_tri_bins_index(b, p[0] + tol, 0); i++)
             for (uint32_t k = b->start[j * b->nx + i]; k < b->start[j * b->nx + i + 1]; k++) {
                 uint32_t t = b->tri[k];
                 double w[3], d;
@@ -378,16 +317,19 @@ static texopt_status find_ties(const work *w, texopt_texel_share *s, char *err, 
     const texopt_mesh *m = w->m;
     size_t nc = m->chart_count, nv = m->vertex_count ? m->vertex_count : 1;
     uint8_t *has_secondary = calloc(nc ? nc : 1, 1), *seen = calloc(nv, 1);
-    tri_bins b = {0};
+    unsigned char *primary_tri = calloc(m->triangle_count ? m->triangle_count : 1, 1);
+    texopt_tri_bins b = {0};
     texopt_status st = TEXOPT_OK;
     size_t cap = 0;
-    if (!has_secondary || !seen)
+    if (!has_secondary || !seen || !primary_tri)
         st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "texel share: no memory for %zu vertices", nv);
     for (size_t c = 0; c < nc && st == TEXOPT_OK; c++)
         if (s->primary_of[c] != c)
             has_secondary[s->primary_of[c]] = 1;
-    if (st == TEXOPT_OK && !bins_build(&b, w, has_secondary))
-        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "texel share: no memory for the point location");
+    for (size_t t = 0; t < m->triangle_count && st == TEXOPT_OK; t++)
+        primary_tri[t] = has_secondary[m->chart_of[t]] && usable(m, t);
+    if (st == TEXOPT_OK)
+        st = texopt_tri_bins_build(&b, m, primary_tri, err, err_len);
     for (uint32_t c = 0; c < nc && st == TEXOPT_OK; c++) {
         if (s->primary_of[c] == c)
             continue;
@@ -414,8 +356,8 @@ static texopt_status find_ties(const work *w, texopt_texel_share *s, char *err, 
     }
     free(has_secondary);
     free(seen);
-    free(b.start);
-    free(b.tri);
+    free(primary_tri);
+    texopt_tri_bins_free(&b);
     return st;
 }
 

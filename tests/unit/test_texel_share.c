@@ -92,17 +92,11 @@ static int through_primary(const texopt_mesh *m, const double *x, const double p
 {
     for (size_t t = 0; t < m->triangle_count; t++) {
         const uint32_t *tri = m->triangle + 3 * t;
-        if (m->chart_of[t] != 0)
-            continue;
-        const double *a = m->texel + 2 * tri[0], *b = m->texel + 2 * tri[1], *c = m->texel + 2 * tri[2];
-        double det = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-        double w1 = ((p[0] - a[0]) * (c[1] - a[1]) - (p[1] - a[1]) * (c[0] - a[0])) / det;
-        double w2 = ((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])) / det;
-        double w0 = 1.0 - w1 - w2;
-        if (w0 < -1e-9 || w1 < -1e-9 || w2 < -1e-9)
+        double w[3];
+        if (m->chart_of[t] != 0 || !handmesh_barycentric(m, t, p, w))
             continue;
         for (int k = 0; k < 2; k++)
-            q[k] = w0 * x[2 * tri[0] + k] + w1 * x[2 * tri[1] + k] + w2 * x[2 * tri[2] + k];
+            q[k] = w[0] * x[2 * tri[0] + k] + w[1] * x[2 * tri[1] + k] + w[2] * x[2 * tri[2] + k];
         return 1;
     }
     return 0;
