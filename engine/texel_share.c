@@ -399,13 +399,23 @@ texopt_status texopt_texel_share_create(texopt_texel_share **out, const texopt_m
     if (!out || !mesh)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "texel share: NULL output or mesh");
     *out = NULL;
+    if (mesh->triangle_count &&
+        (!mesh->texel || !mesh->triangle || !mesh->flags || !mesh->area_texel || !mesh->chart_of))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "texel share: the mesh lacks texels, triangles, flags, areas or charts");
     if (mesh->chart_count >= NONE / 4)
         return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "texel share: %zu charts", mesh->chart_count);
-    for (size_t t = 0; t < mesh->triangle_count; t++)
+    for (size_t t = 0; t < mesh->triangle_count; t++) {
         if (mesh->chart_of[t] >= mesh->chart_count)
             return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                                "texel share: triangle %zu in chart %u past chart count %zu", t, mesh->chart_of[t],
                                mesh->chart_count);
+        for (int j = 0; j < 3; j++)
+            if (mesh->triangle[3 * t + j] >= mesh->vertex_count)
+                return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                                   "texel share: triangle %zu uses vertex %u past vertex count %zu", t,
+                                   mesh->triangle[3 * t + j], mesh->vertex_count);
+    }
     texopt_texel_share *s = calloc(1, sizeof *s);
     work w = {.m = mesh};
     if (!s || !(s->primary_of = malloc((mesh->chart_count ? mesh->chart_count : 1) * sizeof *s->primary_of))) {

@@ -250,7 +250,7 @@ TEST(charts_on_their_own_texels_form_no_group)
     texopt_mesh_destroy(m);
 }
 
-TEST(bad_chart_index_is_refused)
+TEST(bad_meshes_are_refused)
 {
     texopt_mesh *m = pair_mesh(REPEATED);
     m->chart_of[3] = 7;
@@ -258,6 +258,11 @@ TEST(bad_chart_index_is_refused)
     char err[256] = "";
     CHECK(texopt_texel_share_create(&share, m, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     CHECK(share == NULL && strstr(err, "chart 7") != NULL);
+    m->chart_of[3] = 0;
+    m->triangle[5] = (uint32_t)m->vertex_count;
+    CHECK(texopt_texel_share_create(&share, m, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(share == NULL && strstr(err, "past vertex count") != NULL);
+    CHECK(texopt_texel_share_create(NULL, m, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     texopt_mesh_destroy(m);
 }
 
