@@ -512,7 +512,7 @@ static texopt_status reshape_when_short(work *w, const texopt_budget_request *re
     double *reshaped = malloc(n * sizeof(double)), *packed = malloc(n * sizeof(double));
     texopt_status st = reshaped && packed ? TEXOPT_OK
                                           : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the chart reshape");
-    texopt_reshape_options o = {.box_fill = RESHAPE_BOX_FILL, .threads = req->threads};
+    texopt_reshape_options o = {.box_fill = RESHAPE_BOX_FILL, .threads = req->threads, .keep = req->keep_shape};
     if (st == TEXOPT_OK)
         st = texopt_chart_reshape(w->mesh, w->texel, req->targets, &o, reshaped, NULL, err, err_len);
     texopt_budget_result second = {0};

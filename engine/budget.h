@@ -51,6 +51,9 @@ typedef struct texopt_budget_request {
                                             are pulled toward it (chart_reshape.h, with the
                                             targets' weights; after any turn) and packed
                                             again; the tighter packing is kept */
+    const uint8_t *keep_shape;           /* may be NULL: per chart, nonzero = never reshaped
+                                            (a sharing group, texel_share.h: its charts must
+                                            stay on each other) */
     int threads;                         /* for the reshape's solves; 0 -> 1 */
     const texopt_monitor *monitor;       /* may be NULL; checked for cancellation between
                                             packings (TEXOPT_E_CANCELED) */

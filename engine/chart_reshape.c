@@ -526,8 +526,8 @@ static int next_rung(reshape *r, uint32_t c, rung_state *g, double goal, double 
 
 /* The ladder (next_rung) for every chart below the goal at once: charts are independent
  * in the solve, so one solve serves every chart's current weight. */
-static texopt_status climb(reshape *r, const double *texel, double goal, int threads, double *texel_out,
-                           texopt_reshape_report *rep, char *err, size_t err_len)
+static texopt_status climb(reshape *r, const double *texel, double goal, int threads, const uint8_t *keep,
+                           double *texel_out, texopt_reshape_report *rep, char *err, size_t err_len)
 {
     rung_state *g = calloc(r->charts ? r->charts : 1, sizeof *g);
     if (!g)
@@ -537,7 +537,7 @@ static texopt_status climb(reshape *r, const double *texel, double goal, int thr
         g[c].best = r->shape[c];
         int below = fill_of(&r->shape[c]) < goal && r->shape[c].area > 0.0;
         rep->charts_below += below;
-        if (below && !r->folded[c]) {
+        if (below && !r->folded[c] && !(keep && keep[c])) {
             g[c].pull = FIRST_WEIGHT;
             g[c].overlap = overlap_share(r, c, texel);
             rep->charts_reshaped++;
@@ -584,7 +584,7 @@ texopt_status texopt_chart_reshape(const texopt_mesh *mesh, const double *texel,
     if (st == TEXOPT_OK) {
         total_fill(&r, &rep.fill_before);
         memcpy(texel_out, texel, 2 * mesh->vertex_count * sizeof *texel_out);
-        st = climb(&r, texel, opt->box_fill, opt->threads, texel_out, &rep, err, err_len);
+        st = climb(&r, texel, opt->box_fill, opt->threads, opt->keep, texel_out, &rep, err, err_len);
     }
     if (st == TEXOPT_OK) {
         measure_charts(&r, texel_out);

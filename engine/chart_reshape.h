@@ -17,7 +17,8 @@
  * barrier prevents flips, not that) ends the chart's climb at the last result kept.
  * Charts are independent in the solve, so one solve serves every chart's rung.
  * Does not: cut (same charts, same connectivity, seams stay seams), reshape folded charts
- * (a chart holding both input orientations: its halves must stay on each other) or inner
+ * (a chart holding both input orientations: its halves must stay on each other) or the
+ * charts the caller keeps (opt->keep: sharing groups), or inner
  * boundaries (holes), scale to a budget or pack (budget.h, pack.h). Deterministic. */
 #ifndef TEXOPT_CHART_RESHAPE_H
 #define TEXOPT_CHART_RESHAPE_H
@@ -31,6 +32,9 @@
 typedef struct texopt_reshape_options {
     double box_fill; /* goal box fill in (0, 1]: charts below it are reshaped */
     int threads;     /* for the solves; 0 -> 1 */
+    const uint8_t *keep; /* may be NULL: per chart, nonzero = not reshaped, like a folded
+                            chart (a sharing group, texel_share.h: the solve here does not
+                            hold its charts on each other) */
 } texopt_reshape_options;
 
 typedef struct texopt_reshape_report {

@@ -35,6 +35,10 @@
  *    curvature 2 kappa = 100x the mean diagonal of the fitting Hessian: the residual is
  *    about 1% of the halves' disagreement (< 0.1 texel in the tests). The ties are
  *    quadratic, so they join the constant Hessian.
+ *  - Sharing groups (opt->share, texel_share.h: separate charts on one texel region) are
+ *    the same thing across charts: one pin per group, coincident vertices of the group
+ *    merged, and each secondary vertex tied (add_shared_ties, same kappa) to the point of
+ *    its primary's triangle that texel_share.h found under it, whatever its orientation.
  *  - Anchors (optional, chart_reshape.h): a quadratic pull of single coordinates, per axis,
  *    so it only adds to the diagonal of that axis' system; the two axes then differ and
  *    are factorised separately every iteration (the shared fitting factor is not used).
@@ -54,6 +58,7 @@
 #include <time.h>
 
 #include "distortion.h"
+#include "tri_bins.h"
 
 #define PI 3.14159265358979323846
 #define BARRIER_FRACTION 0.5
@@ -129,7 +134,9 @@ typedef struct solver {
     const double *anchor, *anchor_weight; /* optional positional term (meshwise.h) */
     double anchor_stiffness;   /* h of that term: the mean fitting diagonal */
     uint32_t *rep_of;          /* per vertex: the vertex whose unknown it shares */
-    uint32_t *chart_of_vertex; /* per used vertex: its chart */
+    uint32_t *chart_of_vertex; /* per used vertex: its chart's sharing group */
+    const texopt_texel_share *share; /* may be NULL: every chart is its own group */
+    size_t shared_ties;        /* the last ties: secondaries held on their primaries */
 
     double *x, *trial, *grad, *step;
 } solver;
@@ -511,9 +518,16 @@ static texopt_status merge_coincident(solver *sv, const uint32_t *chart_of_verte
     return TEXOPT_OK;
 }
 
+/* The sharing group of a chart (texel_share.h): its primary, or itself. */
+static uint32_t group_of(const solver *sv, uint32_t chart)
+{
+    return sv->share ? sv->share->primary_of[chart] : chart;
+}
+
 /* Free unknowns: every vertex used by a triangle with an input area, except one pinned
- * vertex per chart (the first vertex of the chart's first such triangle); coincident
- * vertices of a chart share one (merge_coincident). */
+ * vertex per sharing group (the first vertex of its primary's first such triangle: the
+ * secondaries follow the primary through their ties); coincident vertices of a group share
+ * one (merge_coincident: exact twins and same-point charts then share exactly). */
 static texopt_status number_unknowns(solver *sv, char *err, size_t err_len)
 {
     const texopt_mesh *m = sv->mesh;
@@ -532,14 +546,14 @@ static texopt_status number_unknowns(solver *sv, char *err, size_t err_len)
         const tri_frame *f = &sv->tri[t];
         if (!f->barrier)
             continue;
-        uint32_t chart = m->chart_of[t];
-        if (chart >= m->chart_count) {
+        if (m->chart_of[t] >= m->chart_count) {
             st = texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                             "meshwise: triangle %zu in chart %u past chart count %zu", t, chart,
+                             "meshwise: triangle %zu in chart %u past chart count %zu", t, m->chart_of[t],
                              m->chart_count);
             break;
         }
-        if (!pinned_chart[chart]) {
+        uint32_t chart = group_of(sv, m->chart_of[t]);
+        if (!pinned_chart[chart] && chart == m->chart_of[t]) {
             pinned_chart[chart] = 1;
             pins[pin_count++] = f->v[0];
         }
@@ -617,101 +631,6 @@ static int8_t *chart_orientations(const solver *sv)
     return sign;
 }
 
-/* A uniform grid of bins over the input texel plane holding the majority-side triangles of
- * folded charts, for point location. */
-typedef struct tri_grid {
-    double x0, y0, cell;
-    size_t nx, ny;
-    uint32_t *start; /* nx * ny + 1 */
-    uint32_t *tri;
-} tri_grid;
-
-static void tri_bounds(const texopt_mesh *m, const tri_frame *f, double lo[2], double hi[2])
-{
-    for (int a = 0; a < 2; a++) {
-        lo[a] = hi[a] = m->texel[2 * (size_t)f->v[0] + a];
-        for (int j = 1; j < 3; j++) {
-            double p = m->texel[2 * (size_t)f->v[j] + a];
-            lo[a] = fmin(lo[a], p);
-            hi[a] = fmax(hi[a], p);
-        }
-    }
-}
-
-static size_t bin_of(const tri_grid *g, double p, int axis)
-{
-    double q = (p - (axis ? g->y0 : g->x0)) / g->cell;
-    size_t n = axis ? g->ny : g->nx;
-    if (!(q > 0.0))
-        return 0;
-    return q >= (double)(n - 1) ? n - 1 : (size_t)q;
-}
-
-/* Builds the grid over the triangles with keep[t] set. Returns 0 when out of memory. */
-static int grid_build(tri_grid *g, const solver *sv, const unsigned char *keep)
-{
-    const texopt_mesh *m = sv->mesh;
-    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, area = 0.0;
-    size_t count = 0;
-    for (size_t t = 0; t < sv->tri_count; t++) {
-        if (!keep[t])
-            continue;
-        double a[2], b[2];
-        tri_bounds(m, &sv->tri[t], a, b);
-        for (int k = 0; k < 2; k++) {
-            lo[k] = fmin(lo[k], a[k]);
-            hi[k] = fmax(hi[k], b[k]);
-        }
-        area += sv->tri[t].area;
-        count++;
-    }
-    memset(g, 0, sizeof *g);
-    if (count == 0)
-        return 1;
-    /* About two triangles per bin where they are, and never more than 4 bins per triangle
-     * (or 1024) in all: folded charts far apart must not make a huge empty grid. */
-    g->cell = sqrt(2.0 * area / (double)count);
-    if (!(g->cell > 0.0))
-        g->cell = 1.0;
-    double max_bins = fmax(1024.0, 4.0 * (double)count);
-    while (((hi[0] - lo[0]) / g->cell + 1.0) * ((hi[1] - lo[1]) / g->cell + 1.0) > max_bins)
-        g->cell *= 1.5;
-    g->x0 = lo[0];
-    g->y0 = lo[1];
-    g->nx = (size_t)((hi[0] - lo[0]) / g->cell) + 1;
-    g->ny = (size_t)((hi[1] - lo[1]) / g->cell) + 1;
-    g->start = calloc(g->nx * g->ny + 1, sizeof *g->start);
-    if (!g->start)
-        return 0;
-    for (int pass = 0; pass < 2; pass++) {
-        for (size_t t = 0; t < sv->tri_count; t++) {
-            if (!keep[t])
-                continue;
-            double a[2], b[2];
-            tri_bounds(m, &sv->tri[t], a, b);
-            for (size_t j = bin_of(g, a[1], 1); j <= bin_of(g, b[1], 1); j++)
-                for (size_t i = bin_of(g, a[0], 0); i <= bin_of(g, b[0], 0); i++) {
-                    if (pass == 0)
-                        g->start[j * g->nx + i + 1]++;
-                    else
-                        g->tri[g->start[j * g->nx + i]++] = (uint32_t)t;
-                }
-        }
-        if (pass == 0) {
-            for (size_t b = 0; b < g->nx * g->ny; b++)
-                g->start[b + 1] += g->start[b];
-            g->tri = malloc((g->start[g->nx * g->ny] ? g->start[g->nx * g->ny] : 1) * sizeof *g->tri);
-            if (!g->tri)
-                return 0;
-        }
-    }
-    /* The fill pass advanced every start to the next bin's; shift back. */
-    for (size_t b = g->nx * g->ny; b > 0; b--)
-        g->start[b] = g->start[b - 1];
-    g->start[0] = 0;
-    return 1;
-}
-
 /* Barycentric weights of p in triangle f (input texels); 1 when p is inside (with a
  * tolerance of 1e-9 of the weights). */
 static int barycentric(const texopt_mesh *m, const tri_frame *f, const double p[2], double w[3])
@@ -736,7 +655,7 @@ static texopt_status find_fold_ties(solver *sv, char *err, size_t err_len)
     unsigned char *side = calloc(nv, 1);     /* bit 0: majority triangle, bit 1: minority */
     unsigned char *majority = calloc(nt, 1); /* majority triangle of a folded chart */
     unsigned char *folded = calloc(m->chart_count ? m->chart_count : 1, 1);
-    tri_grid grid = {0};
+    texopt_tri_bins grid = {0};
     texopt_status st = TEXOPT_OK;
     if (!sign || !side || !majority || !folded) {
         st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory");
@@ -744,7 +663,7 @@ static texopt_status find_fold_ties(solver *sv, char *err, size_t err_len)
     }
     for (size_t t = 0; t < sv->tri_count; t++) {
         const tri_frame *f = &sv->tri[t];
-        if (!f->barrier)
+        if (!f->barrier || group_of(sv, m->chart_of[t]) != m->chart_of[t]) /* secondaries: add_shared_ties */
             continue;
         int minority = f->orientation != sign[m->chart_of[t]];
         for (int j = 0; j < 3; j++)
@@ -757,16 +676,14 @@ static texopt_status find_fold_ties(solver *sv, char *err, size_t err_len)
     for (size_t t = 0; t < sv->tri_count; t++)
         majority[t] = sv->tri[t].barrier && folded[m->chart_of[t]] &&
                       sv->tri[t].orientation == sign[m->chart_of[t]];
-    if (!grid_build(&grid, sv, majority)) {
-        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory");
+    if ((st = texopt_tri_bins_build(&grid, m, majority, err, err_len)) != TEXOPT_OK)
         goto done;
-    }
     size_t cap = 0;
     for (size_t v = 0; v < sv->vertex_count && grid.start; v++) {
         if (side[v] != 2 || sv->rep_of[v] != v)
             continue;
         const double *p = m->texel + 2 * v;
-        size_t b = bin_of(&grid, p[1], 1) * grid.nx + bin_of(&grid, p[0], 0);
+        size_t b = texopt_tri_bins_index(&grid, p[1], 1) * grid.nx + texopt_tri_bins_index(&grid, p[0], 0);
         for (uint32_t k = grid.start[b]; k < grid.start[b + 1]; k++) {
             const tri_frame *f = &sv->tri[grid.tri[k]];
             double w[3];
@@ -796,9 +713,45 @@ done:
     free(side);
     free(majority);
     free(folded);
-    free(grid.start);
-    free(grid.tri);
+    texopt_tri_bins_free(&grid);
     return st;
+}
+
+/* The ties of the sharing groups (texel_share.h), after the fold ties: each secondary
+ * vertex held on the point of its primary's triangle it lay on in the input, like a fold's
+ * minority vertex. A vertex sharing the unknown of another needs no tie of its own (its
+ * representative has one, or is the primary's), and a fixed one would pull the primary. */
+static texopt_status add_shared_ties(solver *sv, char *err, size_t err_len)
+{
+    const texopt_texel_share *share = sv->share;
+    if (!share || share->tie_count == 0)
+        return TEXOPT_OK;
+    fold_tie *grown = realloc(sv->ties, (sv->tie_count + share->tie_count) * sizeof *grown);
+    if (!grown)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory for %zu ties",
+                           share->tie_count);
+    sv->ties = grown;
+    for (size_t k = 0; k < share->tie_count; k++) {
+        const texopt_texel_tie *t = &share->ties[k];
+        int in_range = t->vertex < sv->vertex_count;
+        for (int j = 0; j < 3; j++)
+            in_range = in_range && t->corner[j] < sv->vertex_count;
+        if (!in_range)
+            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                               "meshwise: shared-texel tie %zu uses a vertex past vertex count %zu", k,
+                               sv->vertex_count);
+        if (sv->rep_of[t->vertex] != t->vertex || unknown_of(sv, t->vertex) < 0)
+            continue;
+        fold_tie *tie = &sv->ties[sv->tie_count++];
+        tie->v[0] = t->vertex;
+        tie->c[0] = 1.0;
+        for (int j = 0; j < 3; j++) {
+            tie->v[j + 1] = t->corner[j];
+            tie->c[j + 1] = -t->weight[j];
+        }
+        sv->shared_ties++;
+    }
+    return TEXOPT_OK;
 }
 
 static size_t pattern_nnz(const solver *sv)
@@ -1249,6 +1202,7 @@ static texopt_status solver_init(solver *sv, const texopt_mesh *mesh,
     sv->w_b = opt && opt->barrier_weight > 0.0 ? opt->barrier_weight : 1.0;
     sv->anchor = opt ? opt->anchor : NULL;
     sv->anchor_weight = opt ? opt->anchor_weight : NULL;
+    sv->share = opt ? opt->share : NULL;
     size_t nt = sv->tri_count ? sv->tri_count : 1, nv = sv->vertex_count ? sv->vertex_count : 1;
     sv->tri = calloc(nt, sizeof *sv->tri);
     sv->st = calloc(nt, sizeof *sv->st);
@@ -1275,6 +1229,8 @@ static texopt_status solver_init(solver *sv, const texopt_mesh *mesh,
     if (sv->unknowns == 0)
         return TEXOPT_OK;
     if ((st = find_fold_ties(sv, err, err_len)) != TEXOPT_OK)
+        return st;
+    if ((st = add_shared_ties(sv, err, err_len)) != TEXOPT_OK)
         return st;
     if ((st = build_pattern(sv, err, err_len)) != TEXOPT_OK)
         return st;
@@ -1392,6 +1348,10 @@ texopt_status texopt_meshwise_solve(const texopt_mesh *mesh, const texopt_triang
                 opt->fit_weight < 0.0 || opt->threads < 0))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "meshwise: negative option (iterations, tolerance, weights or threads)");
+    if (opt && opt->share && opt->share->chart_count != mesh->chart_count)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "meshwise: sharing groups of %zu charts for a mesh of %zu", opt->share->chart_count,
+                           mesh->chart_count);
     texopt_status checked = opt ? check_anchors(mesh, opt, err, err_len) : TEXOPT_OK;
     if (checked != TEXOPT_OK)
         return checked;
@@ -1418,7 +1378,8 @@ texopt_status texopt_meshwise_solve(const texopt_mesh *mesh, const texopt_triang
         memcpy(texel_out, sv.x, 2 * mesh->vertex_count * sizeof *texel_out);
         rep.barrier_weight_final = sv.w_b;
         rep.factorizations = sv.ax[0].factorizations + sv.ax[1].factorizations;
-        rep.fold_ties = (int)sv.tie_count;
+        rep.fold_ties = (int)(sv.tie_count - sv.shared_ties);
+        rep.shared_ties = (int)sv.shared_ties;
         for (size_t v = 0; v < mesh->vertex_count && sv.rep_of; v++)
             rep.merged_vertices += sv.rep_of[v] != v;
         rep.seconds = seconds_since(&start);

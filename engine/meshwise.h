@@ -41,11 +41,13 @@
  *    vertices move with their neighbours.
  *
  * Overlapping / mirrored input charts (Duck, DamagedHelmet):
- *  - Separate charts that overlap (mirrored halves cut apart): NOT kept shared. Each chart is
- *    solved on its own, the copies generally get different deformations, the packer places
- *    them apart (pack.h places every chart separately) and the cost counts both. Sharing
- *    would force one deformation onto two surface regions whose perceptual targets differ,
- *    and the packer could not exploit it anyway.
+ *  - Separate charts that overlap (mirrored or repeated parts cut apart): kept shared when
+ *    the caller passes their sharing groups (opt->share, texel_share.h: a chart whose texels
+ *    lie mostly on a larger one's). The group is pinned once, coincident vertices share an
+ *    unknown, and every vertex of a secondary is tied like a fold's minority vertex to the
+ *    point of the primary triangle it lay on in the input, whatever the orientations and
+ *    tessellations: one compromise deformation for both surface places, paid for once.
+ *    Without opt->share each chart is solved on its own.
  *  - Folded charts (mirrored halves joined along a fold line inside one chart; Duck has 2,
  *    DamagedHelmet 25): kept shared. Vertices of one chart at bit-identical input (and
  *    starting) texel positions share one unknown, so the halves keep lying exactly on each
@@ -68,6 +70,7 @@
 #include "monitor.h"
 #include "status.h"
 #include "target.h"
+#include "texel_share.h"
 
 #define TEXOPT_MESHWISE_MAX_REPORTED 256
 
@@ -86,6 +89,11 @@ typedef struct texopt_meshwise_options {
      * every triangle unflipped. */
     const double *anchor;        /* 2 per vertex, texel units of the solve */
     const double *anchor_weight; /* 2 per vertex */
+    /* Optional sharing groups of this mesh (texel_share.h): each group is pinned once (on
+     * its primary), its coincident vertices share unknowns and the secondaries' vertices
+     * are tied to their primary's triangles like a fold's minority side. NULL: every chart
+     * alone. */
+    const texopt_texel_share *share;
 } texopt_meshwise_options;
 
 typedef struct texopt_meshwise_report {
@@ -101,6 +109,7 @@ typedef struct texopt_meshwise_report {
     int factorizations;    /* numeric CHOLMOD factorisations done */
     int merged_vertices;   /* vertices sharing the unknown of a coincident one (folds) */
     int fold_ties;         /* minority-side fold vertices tied to the majority side */
+    int shared_ties;       /* secondary vertices tied to their primary (opt->share) */
 } texopt_meshwise_report;
 
 /* Computes new texel positions of every mesh vertex (2 per vertex, texel units of the input

@@ -3,10 +3,12 @@
  * Implements engine/pipeline.h, the product of Sun et al. 2022, "Efficient Texture
  * Parameterization Driven by Perceptual-Loss-on-Screen", end to end, in two parts:
  *   job_create (budget-independent): load (io/gltf_io) -> per texture domain: mesh, input
- *     coverage, per-triangle targets (stage 1, triopt.h, or a baseline's);
+ *     coverage, charts sharing texels (texel_share.h), per-triangle targets (stage 1,
+ *     triopt.h, or a baseline's);
  *   job_write (per budget): per domain: allocate.h rescales the targets to the budget
  *     (perceptual) ->
- *     stage 2 (meshwise.h) -> budget.h packs the charts anew and corrects the scale ->
+ *     stage 2 (meshwise.h, each sharing group's secondaries tied to its primary) ->
+ *     budget.h packs the charts anew, a sharing group as one, and corrects the scale ->
  *     re-bake every image of the domain -> [evaluate] -> save .glb -> statistics (stats.h).
  * Methods:
  *   "perceptual": stage 1 targets; two candidate layouts per budget, the targets allocated
@@ -65,6 +67,7 @@
 #include "ssp.h"
 #include "stats.h"
 #include "tewari.h"
+#include "texel_share.h"
 #include "texture_filter.h"
 #include "triopt.h"
 
@@ -411,7 +414,15 @@ typedef struct job_domain {
     texopt_mesh *mesh;
     texopt_triangle_target *targets; /* stage 1 or a baseline; NULL for method "input" */
     texopt_coverage input_coverage;
+    texopt_texel_share *share; /* charts sharing texels; NULL for method "input" */
 } job_domain;
+
+/* The sharing groups stage 2 and the budget work with, NULL when no chart shares another's
+ * texels (the layout is then exactly what it is without them). */
+static const texopt_texel_share *sharing(const job_domain *jd)
+{
+    return jd->share && jd->share->secondary_count > 0 ? jd->share : NULL;
+}
 
 struct texopt_job {
     texopt_params params;
@@ -463,6 +474,8 @@ static texopt_status prepare_domain(texopt_job *job, int d, double from, double 
     if (params->method == TEXOPT_METHOD_INPUT)
         return TEXOPT_OK;
     st = texopt_coverage_measure(jd->mesh, NULL, &jd->input_coverage, err, err_len);
+    if (st == TEXOPT_OK)
+        st = texopt_texel_share_create(&jd->share, jd->mesh, err, err_len);
     if (st != TEXOPT_OK)
         return st;
     size_t n = jd->mesh->triangle_count ? jd->mesh->triangle_count : 1;
@@ -527,6 +540,7 @@ static texopt_status solve_layout(const texopt_job *job, int d, double relative_
     if (st == TEXOPT_OK) {
         texopt_meshwise_options mopt = {0};
         mopt.threads = params->threads > 0 ? params->threads : 2;
+        mopt.share = sharing(jd);
         texopt_meshwise_report mrep;
         st = texopt_meshwise_solve(mesh, targets, NULL, &mopt, texel_new, &mrep, &jm->inner, err, err_len);
         if (st == TEXOPT_OK)
@@ -772,6 +786,7 @@ static void budget_request(const job_domain *jd, const texopt_params *p, job_mon
     req->targets = jd->targets; /* charts free to rotate are turned to their smallest box */
     req->reshape_efficiency = p->packing_efficiency;
     req->threads = worker_threads(p);
+    req->keep_shape = sharing(jd) ? jd->share->grouped : NULL;
     req->monitor = &jm->inner;
 }
 
@@ -798,7 +813,9 @@ static texopt_status layout_for_budget(const texopt_job *job, int d, const texop
             break;
         job_stage(jm, "pack", split, to);
         double t0 = now_seconds();
-        st = texopt_budget_fit(jd->mesh, texel_new, &req, packed, br, err, err_len);
+        /* a sharing group packs as one chart, its secondaries on the primary's texels */
+        const texopt_mesh *charts = sharing(jd) ? &jd->share->view : jd->mesh;
+        st = texopt_budget_fit(charts, texel_new, &req, packed, br, err, err_len);
         ds->seconds_pack = now_seconds() - t0;
         if (st != TEXOPT_OK || p->budget != TEXOPT_BUDGET_TEXTURE_SIZE || !job->allocating ||
             fabs(log(br->relative_cost / cost)) <= log(RESOLVE_RATIO) || !(br->relative_cost > 0))
@@ -1399,6 +1416,7 @@ void texopt_job_destroy(texopt_job *job)
         return;
     for (int d = 0; job->domains && job->model && d < job->model->domain_count; d++) {
         texopt_mesh_destroy(job->domains[d].mesh);
+        texopt_texel_share_destroy(job->domains[d].share);
         free(job->domains[d].targets);
     }
     free(job->domains);

@@ -58,3 +58,14 @@ void handmesh_finish(texopt_mesh *m)
                                 (at < 0 ? TEXOPT_TRI_FLIPPED : 0));
     }
 }
+
+int handmesh_barycentric(const texopt_mesh *m, size_t t, const double p[2], double w[3])
+{
+    const uint32_t *tri = m->triangle + 3 * t;
+    const double *a = m->texel + 2 * tri[0], *b = m->texel + 2 * tri[1], *c = m->texel + 2 * tri[2];
+    double det = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    w[1] = ((p[0] - a[0]) * (c[1] - a[1]) - (p[1] - a[1]) * (c[0] - a[0])) / det;
+    w[2] = ((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])) / det;
+    w[0] = 1.0 - w[1] - w[2];
+    return w[0] >= -1e-9 && w[1] >= -1e-9 && w[2] >= -1e-9;
+}

@@ -21,6 +21,10 @@ texopt_mesh *handmesh_alloc(size_t vertex_count, size_t triangle_count);
  * (the first two used): positive for counter-clockwise corners. */
 double handmesh_doubled_area(const double *p, const uint32_t *t, int stride);
 
+/* Barycentric weights of input texel point p in triangle t (mesh->texel); 1 when p is
+ * inside it (weights >= -1e-9). */
+int handmesh_barycentric(const texopt_mesh *m, size_t t, const double p[2], double w[3]);
+
 /* area_3d (true 3D area), area_texel (signed) and the DEGENERATE_3D / DEGENERATE_UV /
  * FLIPPED flags of every triangle. */
 void handmesh_finish(texopt_mesh *m);

@@ -1,5 +1,5 @@
-/* grid_glb.h - a textured n x n grid written as a small .glb, for the pipeline tests
- * (header only; test_pipeline.c and test_pipeline_models_slow.c). The grid lies over
+/* grid_glb.h - a textured n x n grid (or any small mesh) written as a small .glb, for the
+ * pipeline tests (header only; test_pipeline.c and test_pipeline_models_slow.c). The grid lies over
  * [0,1]^2 with UV = (x, y), u32 indices, one material whose base colour is a tex x tex PNG
  * of one of the fixtures' patterns (tests/support/fixtures.h), default sampler (REPEAT);
  * optionally the same PNG a second time as the metallic-roughness image. */
@@ -20,10 +20,11 @@ static inline void grid_put32(unsigned char *p, uint32_t v)
         p[i] = (unsigned char)(v >> (8 * i));
 }
 
-/* Writes an n x n grid over [0,1]^2 (UV = (x, y)) with a tex x tex texture of `pattern` as
- * a .glb at path; with twin_image, image 1 (metallicRoughness) has the same pixels as image
- * 0 (baseColor). Returns 0 on success. */
-static inline int write_grid_glb_images(const char *path, int n, int tex, const char *pattern, int twin_image)
+/* Writes a mesh (positions 3 floats and UVs 2 floats per vertex, u32 triangles) with a
+ * tex x tex texture of `pattern` as a .glb at path; with twin_image, image 1
+ * (metallicRoughness) has the same pixels as image 0 (baseColor). Returns 0 on success. */
+static inline int write_mesh_glb(const char *path, const float *positions, const float *uvs, size_t nv,
+                                 const uint32_t *triangles, size_t nt, int tex, const char *pattern, int twin_image)
 {
     texopt_image img;
     if (texopt_image_create(&img, tex, tex, 3, NULL, 0) != TEXOPT_OK || fixture_fill_pattern(&img, pattern) != 0)
@@ -34,26 +35,17 @@ static inline int write_grid_glb_images(const char *path, int n, int tex, const 
     texopt_image_destroy(&img);
     if (st != TEXOPT_OK)
         return -1;
-    size_t nv = (size_t)(n + 1) * (n + 1), nt = 2 * (size_t)n * n;
     size_t pos_len = nv * 12, uv_len = nv * 8, idx_len = nt * 12;
     size_t png_at = pos_len + uv_len + idx_len, bin_len = (png_at + png_len + 3) / 4 * 4;
     unsigned char *bin = calloc(1, bin_len);
-    float *pos = (float *)bin, *uv = (float *)(bin + pos_len);
-    uint32_t *idx = (uint32_t *)(bin + pos_len + uv_len);
-    for (int j = 0; j <= n; j++)
-        for (int i = 0; i <= n; i++) {
-            size_t v = (size_t)j * (n + 1) + i;
-            pos[3 * v] = (float)i / n;
-            pos[3 * v + 1] = (float)j / n;
-            pos[3 * v + 2] = 0;
-            uv[2 * v] = (float)i / n;
-            uv[2 * v + 1] = (float)j / n;
-        }
-    for (int j = 0; j < n; j++)
-        for (int i = 0; i < n; i++) {
-            uint32_t a = (uint32_t)(j * (n + 1) + i), b = a + 1, c = a + (uint32_t)n + 2, d = a + (uint32_t)n + 1;
-            uint32_t *t = idx + 6 * (size_t)(j * n + i);
-            t[0] = a, t[1] = b, t[2] = c, t[3] = a, t[4] = c, t[5] = d;
+    memcpy(bin, positions, pos_len);
+    memcpy(bin + pos_len, uvs, uv_len);
+    memcpy(bin + pos_len + uv_len, triangles, idx_len);
+    float lo[3] = {positions[0], positions[1], positions[2]}, hi[3] = {positions[0], positions[1], positions[2]};
+    for (size_t v = 0; v < nv; v++)
+        for (int k = 0; k < 3; k++) {
+            lo[k] = positions[3 * v + k] < lo[k] ? positions[3 * v + k] : lo[k];
+            hi[k] = positions[3 * v + k] > hi[k] ? positions[3 * v + k] : hi[k];
         }
     memcpy(bin + png_at, png, png_len);
     free(png);
@@ -63,14 +55,15 @@ static inline int write_grid_glb_images(const char *path, int n, int tex, const 
         "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1},\"indices\":2,\"material\":0}]}],"
         "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}%s}}],"
         "\"textures\":[{\"source\":0}%s],\"images\":[{\"bufferView\":3,\"mimeType\":\"image/png\"}%s],"
-        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[1,1,0]},"
+        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\",\"min\":[%.9g,%.9g,%.9g],\"max\":[%.9g,%.9g,%.9g]},"
         "{\"bufferView\":1,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC2\"},"
         "{\"bufferView\":2,\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"}],"
         "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},"
         "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}],"
         "\"buffers\":[{\"byteLength\":%zu}]}",
         twin_image ? ",\"metallicRoughnessTexture\":{\"index\":1}" : "", twin_image ? ",{\"source\":1}" : "",
-        twin_image ? ",{\"bufferView\":3,\"mimeType\":\"image/png\"}" : "", nv, nv, nt * 3, pos_len,
+        twin_image ? ",{\"bufferView\":3,\"mimeType\":\"image/png\"}" : "", nv, (double)lo[0], (double)lo[1],
+        (double)lo[2], (double)hi[0], (double)hi[1], (double)hi[2], nv, nt * 3, pos_len,
         pos_len, uv_len, pos_len + uv_len, idx_len, png_at, png_len, bin_len);
     size_t jpad = ((size_t)jl + 3) / 4 * 4, total = 12 + 8 + jpad + 8 + bin_len;
     unsigned char *glb = calloc(1, total);
@@ -91,6 +84,38 @@ static inline int write_grid_glb_images(const char *path, int n, int tex, const 
         ok = 0;
     free(glb);
     return ok ? 0 : -1;
+}
+
+/* Writes an n x n grid over [0,1]^2 (UV = (x, y)) with a tex x tex texture of `pattern` as
+ * a .glb at path (write_mesh_glb). Returns 0 on success. */
+static inline int write_grid_glb_images(const char *path, int n, int tex, const char *pattern, int twin_image)
+{
+    size_t nv = (size_t)(n + 1) * (n + 1), nt = 2 * (size_t)n * n;
+    float *pos = malloc(nv * 12), *uv = malloc(nv * 8);
+    uint32_t *idx = malloc(nt * 12);
+    int r = -1;
+    if (pos && uv && idx) {
+        for (int j = 0; j <= n; j++)
+            for (int i = 0; i <= n; i++) {
+                size_t v = (size_t)j * (n + 1) + i;
+                pos[3 * v] = (float)i / n;
+                pos[3 * v + 1] = (float)j / n;
+                pos[3 * v + 2] = 0;
+                uv[2 * v] = (float)i / n;
+                uv[2 * v + 1] = (float)j / n;
+            }
+        for (int j = 0; j < n; j++)
+            for (int i = 0; i < n; i++) {
+                uint32_t a = (uint32_t)(j * (n + 1) + i), b = a + 1, c = a + (uint32_t)n + 2, d = a + (uint32_t)n + 1;
+                uint32_t *t = idx + 6 * (size_t)(j * n + i);
+                t[0] = a, t[1] = b, t[2] = c, t[3] = a, t[4] = c, t[5] = d;
+            }
+        r = write_mesh_glb(path, pos, uv, nv, idx, nt, tex, pattern, twin_image);
+    }
+    free(pos);
+    free(uv);
+    free(idx);
+    return r;
 }
 
 static inline int write_grid_glb(const char *path, int n, int tex, const char *pattern)

@@ -254,6 +254,26 @@ TEST(a_folded_chart_keeps_its_shape)
     texopt_mesh_destroy(m);
 }
 
+TEST(a_kept_chart_keeps_its_shape)
+{
+    /* The L is pulled toward its box unless the caller keeps it (a sharing group). */
+    texopt_mesh *m = l_and_square();
+    const uint8_t keep[2] = {1, 0};
+    double *out = malloc(2 * m->vertex_count * sizeof *out);
+    texopt_reshape_options o = {.box_fill = 0.9, .threads = 1, .keep = keep};
+    texopt_reshape_report rep;
+    char err[256];
+    CHECK_OK(texopt_chart_reshape(m, m->texel, NULL, &o, out, &rep, err, sizeof err), err);
+    CHECK(chart_unchanged(m, m->texel, out, 0));
+    CHECK_EQ_INT(rep.charts_below, 1);
+    CHECK_EQ_INT(rep.charts_reshaped, 0);
+    o.keep = NULL;
+    CHECK_OK(texopt_chart_reshape(m, m->texel, NULL, &o, out, &rep, err, sizeof err), err);
+    CHECK_EQ_INT(rep.charts_reshaped, 1);
+    free(out);
+    texopt_mesh_destroy(m);
+}
+
 TEST(bad_requests_are_refused)
 {
     texopt_mesh *m = l_and_square();

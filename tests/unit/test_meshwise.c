@@ -522,17 +522,11 @@ static int map_through_left_half(const texopt_mesh *m, const double *out, int n,
     size_t per_row = 2 * (size_t)n + 1;
     for (size_t t = 0; t < m->triangle_count; t++) {
         const uint32_t *tri = m->triangle + 3 * t;
-        if (tri[0] % per_row >= (size_t)n || m->area_texel[t] <= 0.0)
-            continue; /* right half */
-        const double *a = m->texel + 2 * tri[0], *b = m->texel + 2 * tri[1], *c = m->texel + 2 * tri[2];
-        double det = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-        double w1 = ((p[0] - a[0]) * (c[1] - a[1]) - (p[1] - a[1]) * (c[0] - a[0])) / det;
-        double w2 = ((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])) / det;
-        double w0 = 1.0 - w1 - w2;
-        if (w0 < -1e-9 || w1 < -1e-9 || w2 < -1e-9)
-            continue;
+        double w[3];
+        if (tri[0] % per_row >= (size_t)n || m->area_texel[t] <= 0.0 || !handmesh_barycentric(m, t, p, w))
+            continue; /* right half, or not p's */
         for (int k = 0; k < 2; k++)
-            q[k] = w0 * out[2 * tri[0] + k] + w1 * out[2 * tri[1] + k] + w2 * out[2 * tri[2] + k];
+            q[k] = w[0] * out[2 * tri[0] + k] + w[1] * out[2 * tri[1] + k] + w[2] * out[2 * tri[2] + k];
         return 1;
     }
     return 0;

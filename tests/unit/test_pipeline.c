@@ -10,10 +10,12 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "coverage.h"
 #include "fixtures.h"
 #include "gltf_io.h"
 #include "grid_glb.h"
 #include "image_io.h"
+#include "mesh.h"
 #include "pipeline.h"
 #include "pipeline_scratch.h"
 #include "test.h"
@@ -266,5 +268,61 @@ TEST(evaluation_is_zero_for_the_identity_and_positive_after_a_reduction)
     CHECK(ev != NULL);
     CHECK(cJSON_GetObjectItem(ev, "q")->valuedouble > 0.01);
     cJSON_Delete(st);
+    scratch_free(&s);
+}
+
+/* Two parts far apart in 3D reading the same texels (the second mirrored, as in
+ * DamagedHelmet): every layout method keeps them on the same texels (texel_share.h), so
+ * the output's texel area stays about twice its covered texels, as in the input. Solved
+ * apart it would be about equal to them. */
+TEST(parts_sharing_texels_keep_sharing_them)
+{
+    int n = 4;
+    size_t per = (size_t)(n + 1) * (n + 1), nt = 4 * (size_t)n * n;
+    float pos[2 * 25 * 3], uv[2 * 25 * 2];
+    uint32_t tri[4 * 16 * 3];
+    for (int part = 0; part < 2; part++)
+        for (int j = 0; j <= n; j++)
+            for (int i = 0; i <= n; i++) {
+                size_t v = part * per + (size_t)j * (n + 1) + i;
+                pos[3 * v] = (part ? -1.0f : 1.0f) * ((float)i / n + 0.5f);
+                pos[3 * v + 1] = (float)j / n;
+                pos[3 * v + 2] = 0;
+                uv[2 * v] = 0.125f + 0.5f * (float)i / n;
+                uv[2 * v + 1] = 0.125f + 0.5f * (float)j / n;
+            }
+    for (int part = 0; part < 2; part++)
+        for (int j = 0; j < n; j++)
+            for (int i = 0; i < n; i++) {
+                uint32_t a = (uint32_t)(part * per + (size_t)j * (n + 1) + i), b = a + 1;
+                uint32_t c = a + (uint32_t)n + 2, d = a + (uint32_t)n + 1;
+                uint32_t *t = tri + 6 * ((size_t)part * n * n + (size_t)j * n + i);
+                uint32_t forward[6] = {a, b, c, a, c, d}, mirrored[6] = {a, c, b, a, d, c};
+                memcpy(t, part ? mirrored : forward, sizeof forward);
+            }
+    scratch s;
+    CHECK(scratch_init(&s, 0, 0, NULL) == 0);
+    CHECK(write_mesh_glb(s.in, pos, uv, 2 * per, tri, nt, 64, "checker", 0) == 0);
+    const texopt_method methods[2] = {TEXOPT_METHOD_ARAP, TEXOPT_METHOD_PERCEPTUAL};
+    for (int k = 0; k < 2; k++) {
+        texopt_params p = {0};
+        p.method = methods[k];
+        p.relative_cost = 0.5;
+        char err[512] = "";
+        CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+        cJSON *st = read_json(s.stats);
+        CHECK_NEAR(domain_number(st, "relative_cost"), 0.5, 0.02);
+        cJSON_Delete(st);
+        texopt_model *out = NULL;
+        texopt_mesh *mesh = NULL;
+        texopt_coverage cov;
+        CHECK_OK(texopt_model_load(&out, s.out, NULL, err, sizeof err), err);
+        CHECK_OK(texopt_mesh_create(&mesh, out, 0, err, sizeof err), err);
+        CHECK_OK(texopt_coverage_measure(mesh, NULL, &cov, err, sizeof err), err);
+        CHECK_EQ_INT(mesh->chart_count, 2);
+        CHECK(cov.texel_area > 1.8 * (double)cov.covered_texels);
+        texopt_mesh_destroy(mesh);
+        texopt_model_destroy(out);
+    }
     scratch_free(&s);
 }
