@@ -28,6 +28,13 @@ static double cap_of(const texopt_allocate_options *opt)
     return opt && opt->cap > 0 ? opt->cap : 1;
 }
 
+/* What triangle t's texels cost in the budget at the input's density. */
+static double paid_area(const texopt_mesh *mesh, size_t t, const texopt_allocate_options *opt)
+{
+    double a = fabs(mesh->area_texel[t]);
+    return opt && opt->paid ? opt->paid[t] * a : a;
+}
+
 static double capped(double s, double lambda, double cap)
 {
     double v = s * lambda;
@@ -42,7 +49,7 @@ static double area_at(const texopt_mesh *mesh, const texopt_triangle_target *in,
     for (size_t t = 0; t < mesh->triangle_count; t++) {
         if (!counted(mesh, t))
             continue;
-        double a = fabs(mesh->area_texel[t]);
+        double a = paid_area(mesh, t, opt);
         if (lossless(opt, &in[t])) {
             double g = pow(s, opt->lossless_growth);
             sum += a * capped(g, in[t].lambda1, cap_of(opt)) * capped(g, in[t].lambda2, cap_of(opt));
@@ -65,6 +72,16 @@ static texopt_status check_targets(const texopt_mesh *mesh, const texopt_triangl
                                "allocate: triangle %zu has singular values %g, %g (must be positive)", t, l1, l2);
         *lambda_min = fmin(*lambda_min, fmin(l1, l2));
     }
+    return TEXOPT_OK;
+}
+
+static texopt_status check_paid(const texopt_mesh *mesh, const texopt_allocate_options *opt, char *err,
+                                size_t err_len)
+{
+    for (size_t t = 0; opt && opt->paid && t < mesh->triangle_count; t++)
+        if (!(opt->paid[t] >= 0 && opt->paid[t] <= 1))
+            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                               "allocate: triangle %zu pays %g of its texels (must be in [0, 1])", t, opt->paid[t]);
     return TEXOPT_OK;
 }
 
@@ -98,11 +115,13 @@ texopt_status texopt_allocate_targets(const texopt_mesh *mesh, const texopt_tria
                            area_requested);
     double lambda_min;
     texopt_status st = check_targets(mesh, in, &lambda_min, err, err_len);
+    if (st == TEXOPT_OK)
+        st = check_paid(mesh, opt, err, err_len);
     if (st != TEXOPT_OK)
         return st;
     /* Lossless targets alone may already exceed a small request: then everything scales. */
     double cap = cap_of(opt);
-    texopt_allocate_options none = {0, 0, cap, 0};
+    texopt_allocate_options none = {0, 0, cap, 0, opt ? opt->paid : NULL};
     if (opt && opt->slow_lossless && area_at(mesh, in, 1e-9, opt) >= area_requested)
         opt = &none;
     /* Past cap / lambda_min every singular value is capped: the area cannot grow further. */
@@ -111,7 +130,7 @@ texopt_status texopt_allocate_targets(const texopt_mesh *mesh, const texopt_tria
     for (size_t t = 0; t < mesh->triangle_count; t++) {
         texopt_triangle_target tt = in[t];
         if (counted(mesh, t)) {
-            double a = fabs(mesh->area_texel[t]);
+            double a = paid_area(mesh, t, opt);
             rep.area_input += a;
             if (lossless(opt, &tt)) {
                 rep.lossless++;
@@ -178,6 +197,6 @@ texopt_status texopt_reallocate_by_error(const texopt_mesh *mesh, const texopt_t
         out[t].lambda1 *= m;
         out[t].lambda2 *= m;
     }
-    texopt_allocate_options rescale = {0, 0, opt->cap, 0};
+    texopt_allocate_options rescale = {0, 0, opt->cap, 0, opt->paid};
     return texopt_allocate_targets(mesh, out, area_requested, &rescale, out, report, err, err_len);
 }

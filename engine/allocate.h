@@ -37,6 +37,12 @@ typedef struct texopt_allocate_options {
     double cap;             /* largest singular value allowed; 0 -> 1 (input density) */
     double lossless_growth; /* with slow_lossless: lossless targets are scaled by
                                s^lossless_growth (0: kept as they are) */
+    /* May be NULL (every triangle pays for its texels): per triangle, the share of its texel
+     * area it pays for, a_i above becoming paid[i] a_i. Triangles lying on texels that others
+     * pay for (a fold's minority side, a sharing group's secondaries: texel_share.h) pay 0,
+     * so that the areas add up to covered texels, which is what the budget counts. They are
+     * still scaled like the others. */
+    const double *paid;
 } texopt_allocate_options;
 
 typedef struct texopt_allocation {
@@ -50,8 +56,8 @@ typedef struct texopt_allocation {
 } texopt_allocation;
 
 /* Writes to out (mesh->triangle_count entries; may equal in) the targets in rescaled to a
- * total texel area of area_requested (> 0). a_i is |mesh->area_texel|; degenerate triangles
- * are copied unchanged. opt and report may be NULL. */
+ * total texel area of area_requested (> 0). a_i is |mesh->area_texel| (times opt->paid[i]
+ * when given); degenerate triangles are copied unchanged. opt and report may be NULL. */
 texopt_status texopt_allocate_targets(const texopt_mesh *mesh, const texopt_triangle_target *in,
                                       double area_requested, const texopt_allocate_options *opt,
                                       texopt_triangle_target *out, texopt_allocation *report,
@@ -72,6 +78,7 @@ typedef struct texopt_reallocate_options {
     double gamma;              /* > 0 */
     double step_min, step_max; /* 0 < step_min <= 1 <= step_max */
     double cap;                /* > 0 */
+    const double *paid;        /* as texopt_allocate_options.paid; may be NULL */
 } texopt_reallocate_options;
 
 texopt_status texopt_reallocate_by_error(const texopt_mesh *mesh, const texopt_triangle_target *in,

@@ -415,6 +415,8 @@ typedef struct job_domain {
     texopt_triangle_target *targets; /* stage 1 or a baseline; NULL for method "input" */
     texopt_coverage input_coverage;
     texopt_texel_share *share; /* charts sharing texels; NULL for method "input" */
+    double *paid; /* per triangle, the share of its texels it pays for (allocate.h); NULL
+                     when every triangle pays for all of its own */
 } job_domain;
 
 /* The sharing groups stage 2 and the budget work with, NULL when no chart shares another's
@@ -449,6 +451,21 @@ static void stage1_options(const texopt_params *params, texopt_triopt_options *t
     topt->seed = params->seed;
 }
 
+/* jd->paid (texel_share.h texopt_texel_share_paid), left NULL when every triangle pays. */
+static texopt_status find_paid_shares(job_domain *jd, char *err, size_t err_len)
+{
+    size_t n = jd->mesh->triangle_count;
+    if (n == 0)
+        return TEXOPT_OK;
+    if (!(jd->paid = malloc(n * sizeof *jd->paid)))
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the texel shares");
+    if (texopt_texel_share_paid(jd->share, jd->mesh, jd->paid) == 0) {
+        free(jd->paid);
+        jd->paid = NULL;
+    }
+    return TEXOPT_OK;
+}
+
 /* The budget-independent part of one domain: mesh, input coverage, targets (stage 1). */
 static texopt_status prepare_domain(texopt_job *job, int d, double from, double to, char *err,
                                     size_t err_len)
@@ -476,6 +493,8 @@ static texopt_status prepare_domain(texopt_job *job, int d, double from, double 
     st = texopt_coverage_measure(jd->mesh, NULL, &jd->input_coverage, err, err_len);
     if (st == TEXOPT_OK)
         st = texopt_texel_share_create(&jd->share, jd->mesh, err, err_len);
+    if (st == TEXOPT_OK)
+        st = find_paid_shares(jd, err, err_len);
     if (st != TEXOPT_OK)
         return st;
     size_t n = jd->mesh->triangle_count ? jd->mesh->triangle_count : 1;
@@ -501,7 +520,17 @@ static texopt_status prepare_domain(texopt_job *job, int d, double from, double 
  * the whole-mesh evaluation (BENCHMARKS.md "Quality"): capped at input density; lossless
  * optima (flat colour at lambda_min) grow only by sqrt(s) (kept at lambda_min, q rose with
  * the cost). It is one of two candidates (run_best_budget). */
-static const texopt_allocate_options perceptual_allocation = {1, 1e-6, 1.0, 0.5};
+static const texopt_allocate_options perceptual_allocation = {1, 1e-6, 1.0, 0.5, NULL};
+
+/* perceptual_allocation for one domain: its triangles lying on texels others pay for (folds,
+ * sharing groups) cost nothing, so the targets add up to covered texels, the budget's unit
+ * (without it DamagedHelmet's allocation saw half its budget). */
+static texopt_allocate_options domain_allocation(const job_domain *jd)
+{
+    texopt_allocate_options o = perceptual_allocation;
+    o.paid = jd->paid;
+    return o;
+}
 
 /* The targets, rescaled to relative cost c_r when job->allocating (allocate.h, a
  * perceptual candidate), solved by stage 2 into texel_new (input texel units). The baselines' targets are solved as they are
@@ -526,8 +555,8 @@ static texopt_status solve_layout(const texopt_job *job, int d, double relative_
             return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the allocated targets");
         texopt_allocation rep;
         double area = relative_cost * (double)jd->input_coverage.covered_texels;
-        st = texopt_allocate_targets(mesh, targets, area > 0 ? area : 1, &perceptual_allocation, allocated, &rep,
-                                     err, err_len);
+        texopt_allocate_options o = domain_allocation(jd);
+        st = texopt_allocate_targets(mesh, targets, area > 0 ? area : 1, &o, allocated, &rep, err, err_len);
         if (st == TEXOPT_OK) {
             size_t n = mesh->triangle_count ? mesh->triangle_count : 1;
             ds->has_allocation = 1;
@@ -1116,7 +1145,7 @@ static texopt_status bake_remaining_images(texopt_job *job, const texopt_params 
 /* The closed-loop refinement's step (allocate.h texopt_reallocate_by_error), the best of
  * those measured on Fox, spot and Duck (BENCHMARKS.md "Quality"): area steps of (e_t /
  * e_mean)^0.5 within [0.5, 2] per round, singular values up to twice input density. */
-static const texopt_reallocate_options refinement_step = {0.5, 0.5, 2.0, 2.0};
+static const texopt_reallocate_options refinement_step = {0.5, 0.5, 2.0, 2.0, NULL};
 
 /* Per domain, room for one target per triangle in out[d]. */
 static texopt_status alloc_domain_targets(const texopt_job *job, texopt_triangle_target **out, char *err,
@@ -1139,9 +1168,9 @@ static texopt_status kept_targets(const texopt_job *job, int allocated, const te
     for (int d = 0; d < job->model->domain_count && st == TEXOPT_OK; d++) {
         const job_domain *jd = &job->domains[d];
         double area = ds[d].relative_cost * (double)jd->input_coverage.covered_texels;
+        texopt_allocate_options o = domain_allocation(jd);
         if (allocated && area > 0)
-            st = texopt_allocate_targets(jd->mesh, jd->targets, area, &perceptual_allocation, out[d], NULL, err,
-                                         err_len);
+            st = texopt_allocate_targets(jd->mesh, jd->targets, area, &o, out[d], NULL, err, err_len);
         else
             memcpy(out[d], jd->targets, jd->mesh->triangle_count * sizeof *out[d]);
     }
@@ -1167,7 +1196,9 @@ static texopt_status reallocate_domains(const texopt_job *job, texopt_triangle_t
             continue;
         for (size_t t = 0; t < mesh->triangle_count; t++)
             scratch[t] = model_error[mesh->model_triangle[t]];
-        st = texopt_reallocate_by_error(mesh, from[d], scratch, area, step, targets[d], NULL, err, err_len);
+        texopt_reallocate_options o = *step;
+        o.paid = jd->paid;
+        st = texopt_reallocate_by_error(mesh, from[d], scratch, area, &o, targets[d], NULL, err, err_len);
     }
     return st;
 }
@@ -1417,6 +1448,7 @@ void texopt_job_destroy(texopt_job *job)
     for (int d = 0; job->domains && job->model && d < job->model->domain_count; d++) {
         texopt_mesh_destroy(job->domains[d].mesh);
         texopt_texel_share_destroy(job->domains[d].share);
+        free(job->domains[d].paid);
         free(job->domains[d].targets);
     }
     free(job->domains);

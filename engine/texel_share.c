@@ -455,3 +455,17 @@ void texopt_texel_share_destroy(texopt_texel_share *share)
     free(share->grouped);
     free(share);
 }
+
+size_t texopt_texel_share_paid(const texopt_texel_share *share, const texopt_mesh *mesh, double *paid)
+{
+    size_t free_riders = 0;
+    for (size_t t = 0; t < mesh->triangle_count; t++) {
+        uint32_t c = mesh->chart_of[t];
+        int secondary = share->primary_of[c] != c;
+        int minority = mesh->chart_sign && mesh->area_texel[t] != 0.0 &&
+                       (mesh->area_texel[t] > 0.0 ? 1 : -1) != mesh->chart_sign[c];
+        paid[t] = secondary || minority ? 0.0 : 1.0;
+        free_riders += secondary || minority;
+    }
+    return free_riders;
+}

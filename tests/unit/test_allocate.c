@@ -130,6 +130,37 @@ TEST(request_past_the_input_area_gives_input_density_everywhere)
     grid_case_close(&g);
 }
 
+/* Triangles on texels others pay for (paid 0: a fold's minority side, a sharing group's
+ * secondaries) cost nothing but scale with the rest: a request of a quarter of the paying
+ * targets' own area halves every target, the free ones too. */
+TEST(triangles_that_pay_nothing_cost_nothing_but_scale_alike)
+{
+    grid_case g;
+    CHECK(grid_case_open(&g) == 0);
+    double *paid = malloc(g.n * sizeof *paid), own = 0;
+    for (size_t i = 0; i < g.n; i++) {
+        paid[i] = i % 2 ? 0.0 : 1.0;
+        own += paid[i] * fabs(g.mesh->area_texel[i]) * g.in[i].lambda1 * g.in[i].lambda2;
+    }
+    texopt_allocate_options opt = {.paid = paid};
+    char err[256] = "";
+    texopt_allocation rep;
+    CHECK_OK(texopt_allocate_targets(g.mesh, g.in, 0.25 * own, &opt, g.out, &rep, err, sizeof err), err);
+    CHECK_NEAR(rep.scale, 0.5, 1e-9);
+    CHECK_NEAR(rep.area_allocated, 0.25 * own, 1e-9 * own);
+    for (size_t i = 0; i < g.n; i++)
+        CHECK_NEAR(g.out[i].lambda1 / g.in[i].lambda1, 0.5, 1e-9);
+    /* Without the shares the same request is spread over twice the area: smaller targets. */
+    CHECK_OK(texopt_allocate_targets(g.mesh, g.in, 0.25 * own, NULL, g.out, &rep, err, sizeof err), err);
+    CHECK(rep.scale < 0.45);
+    paid[5] = 1.5;
+    CHECK(texopt_allocate_targets(g.mesh, g.in, 0.25 * own, &opt, g.out, &rep, err, sizeof err) ==
+          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "triangle 5") != NULL);
+    free(paid);
+    grid_case_close(&g);
+}
+
 TEST(lossless_targets_grow_slower_and_the_rest_take_the_budget)
 {
     grid_case g;
@@ -140,7 +171,7 @@ TEST(lossless_targets_grow_slower_and_the_rest_take_the_budget)
     double request = 0.3 * 64.0 * 64.0;
     char err[256] = "";
     texopt_allocation rp, rk;
-    texopt_allocate_options keep = {1, 1e-6, 0, 0};
+    texopt_allocate_options keep = {1, 1e-6, 0, 0, NULL};
     CHECK_OK(texopt_allocate_targets(mesh, in, request, NULL, plain, &rp, err, sizeof err), err);
     CHECK_OK(texopt_allocate_targets(mesh, in, request, &keep, kept, &rk, err, sizeof err), err);
     CHECK_NEAR(rk.area_allocated, request, 1e-6 * request);
@@ -161,7 +192,7 @@ TEST(lossless_targets_grow_slower_and_the_rest_take_the_budget)
     CHECK_EQ_INT((int)rk.lossless, 0);
     CHECK_NEAR(rk.area_allocated, tiny, 1e-6 * tiny);
     /* Growth 0.5: lossless targets scale by sqrt(s), the others by s. */
-    texopt_allocate_options half = {1, 1e-6, 0, 0.5};
+    texopt_allocate_options half = {1, 1e-6, 0, 0.5, NULL};
     CHECK_OK(texopt_allocate_targets(mesh, in, request, &half, kept, &rk, err, sizeof err), err);
     CHECK_NEAR(rk.area_allocated, request, 1e-6 * request);
     for (size_t i = 0; i < n; i++)
@@ -204,10 +235,10 @@ TEST(reallocation_moves_texels_to_the_triangles_shown_wrong)
     texopt_triangle_target *before = calloc(n, sizeof *before);
     for (size_t i = 0; i < n / 2; i++)
         error[i] = 1; /* the first half is shown wrong, the rest exactly */
-    texopt_reallocate_options opt = {0.5, 0.5, 2.0, 2.0};
+    texopt_reallocate_options opt = {0.5, 0.5, 2.0, 2.0, NULL};
     char err[256] = "";
     texopt_allocation rep;
-    texopt_allocate_options same_cap = {0, 0, 2.0, 0};
+    texopt_allocate_options same_cap = {0, 0, 2.0, 0, NULL};
     CHECK_OK(texopt_allocate_targets(mesh, g.in, request, &same_cap, before, NULL, err, sizeof err), err);
     CHECK_OK(texopt_reallocate_by_error(mesh, g.in, error, request, &opt, g.out, &rep, err, sizeof err), err);
     CHECK_NEAR(total_area(mesh, g.out), request, 1e-6 * request);
@@ -246,7 +277,7 @@ TEST(reallocation_refuses_bad_errors_and_steps)
     grid_case g;
     CHECK(grid_case_open(&g) == 0);
     double *error = calloc(g.n, sizeof *error);
-    texopt_reallocate_options opt = {0.5, 0.5, 2.0, 2.0}, bad = opt;
+    texopt_reallocate_options opt = {0.5, 0.5, 2.0, 2.0, NULL}, bad = opt;
     char err[256] = "";
     error[5] = -1;
     CHECK(texopt_reallocate_by_error(g.mesh, g.in, error, 100, &opt, g.out, NULL, err, sizeof err) ==

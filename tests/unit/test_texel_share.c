@@ -284,3 +284,48 @@ TEST(groups_of_another_mesh_are_refused_by_the_solve)
     texopt_texel_share_destroy(share);
     texopt_mesh_destroy(m);
 }
+
+/* Who pays for shared texels in a budget of covered texels (allocate.h `paid`): a
+ * secondary's triangles pay nothing, so the paid area is the primary's, which is what the
+ * input covers; a triangle wound against its chart (a fold's minority side) pays nothing;
+ * charts on their own texels all pay. */
+TEST(secondaries_and_fold_minorities_pay_nothing)
+{
+    texopt_mesh *m = pair_mesh(MIRRORED_RETRIANGULATED);
+    texopt_texel_share *share = NULL;
+    char err[256] = "";
+    CHECK_OK(texopt_texel_share_create(&share, m, err, sizeof err), err);
+    double *paid = calloc(m->triangle_count, sizeof *paid);
+    size_t free_riders = texopt_texel_share_paid(share, m, paid);
+    CHECK_EQ_INT(free_riders, 2 * 7 * 7);
+    double paid_area = 0, primary = 0;
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        CHECK(paid[t] == (m->chart_of[t] == 0 ? 1.0 : 0.0));
+        paid_area += paid[t] * fabs(m->area_texel[t]);
+        primary += m->chart_of[t] == 0 ? fabs(m->area_texel[t]) : 0.0;
+    }
+    texopt_coverage in;
+    CHECK_OK(texopt_coverage_measure(m, NULL, &in, err, sizeof err), err);
+    CHECK_NEAR(paid_area, SIZE * SIZE, 1e-6);
+    CHECK_NEAR(paid_area, primary, 1e-9);
+    CHECK(fabs(paid_area - (double)in.covered_texels) < 0.05 * SIZE * SIZE);
+    texopt_texel_share_destroy(share);
+    free(paid);
+    texopt_mesh_destroy(m);
+
+    m = pair_mesh(HALF_SHIFTED); /* no group: both charts pay, until one triangle folds */
+    CHECK_OK(texopt_texel_share_create(&share, m, err, sizeof err), err);
+    paid = calloc(m->triangle_count, sizeof *paid);
+    CHECK_EQ_INT(texopt_texel_share_paid(share, m, paid), 0);
+    for (size_t t = 0; t < m->triangle_count; t++)
+        CHECK(paid[t] == 1.0);
+    m->chart_sign = malloc(m->chart_count);
+    for (size_t c = 0; c < m->chart_count; c++)
+        m->chart_sign[c] = (int8_t)(m->area_texel[0] > 0 ? 1 : -1);
+    m->area_texel[3] = -m->area_texel[3];
+    CHECK_EQ_INT(texopt_texel_share_paid(share, m, paid), 1);
+    CHECK(paid[3] == 0.0 && paid[2] == 1.0);
+    texopt_texel_share_destroy(share);
+    free(paid);
+    texopt_mesh_destroy(m);
+}
