@@ -7,7 +7,8 @@
  * workspace; results are written to per-view slots, so the sum is the same for any thread
  * count. The texture slot (base colour by default) changes which binding meshrender shades
  * and, for normal maps, turns the candidate's XY per triangle back to the reference's
- * tangent frame (evaluate.h). Does not: render with OSMesa (see meshrender.c for why), look at two slots at once. */
+ * tangent frame (evaluate.h). Does not: render with OSMesa (see meshrender.c for why), look
+ * at two slots at once. */
 #include "evaluate.h"
 
 #include <math.h>
@@ -21,9 +22,9 @@
 
 #include "coverage.h"
 #include "distortion.h"
+#include "gltf_tangents.h"
 #include "gmsd.h"
 #include "info.h"
-#include "gltf_tangents.h"
 #include "mesh.h"
 #include "sample.h"
 #include "texel_map.h"
