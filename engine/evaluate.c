@@ -5,8 +5,10 @@
  * mask is that coverage, and the reference side of GMSD is prepared once per view. Views are
  * independent and run on `threads` workers, each with its own raster, images and GMSD
  * workspace; results are written to per-view slots, so the sum is the same for any thread
- * count. The texture slot (base colour by default) only changes which binding meshrender
- * shades. Does not: render with OSMesa (see meshrender.c for why), look at two slots at once. */
+ * count. The texture slot (base colour by default) changes which binding meshrender shades
+ * and, for normal maps, turns the candidate's XY per triangle back to the reference's
+ * tangent frame (evaluate.h). Does not: render with OSMesa (see meshrender.c for why), look
+ * at two slots at once. */
 #include "evaluate.h"
 
 #include <math.h>
@@ -20,10 +22,12 @@
 
 #include "coverage.h"
 #include "distortion.h"
+#include "gltf_tangents.h"
 #include "gmsd.h"
 #include "info.h"
 #include "mesh.h"
 #include "sample.h"
+#include "texel_map.h"
 #include "texture_filter.h"
 
 static double now_seconds(void)
@@ -148,6 +152,7 @@ typedef struct eval_job {
     const texopt_monitor *monitor;
     texopt_texture_filter **ref_filters;   /* per image; NULL: bilinear */
     texopt_texture_filter ***cand_filters; /* per candidate, per image; NULL: bilinear */
+    double **cand_turns; /* per candidate: normal-map turns (meshrender.h), NULL: none */
 } eval_job;
 
 /* Mip pyramids of every image the evaluated slot's bindings use, with their wrap modes. */
@@ -224,7 +229,8 @@ static texopt_status evaluate_view(eval_job *job, int worker, int v, view_buffer
     texopt_status st = texopt_meshrender_rasterize(job->reference, &job->views[v], job->side,
                                                    &raster, msg, msg_len);
     if (st == TEXOPT_OK)
-        st = texopt_meshrender_shade_luma(job->reference, &raster, job->slot, job->ref_filters, b->luma_ref, msg, msg_len);
+        st = texopt_meshrender_shade_luma(job->reference, &raster, job->slot, job->ref_filters, NULL, b->luma_ref,
+                                          msg, msg_len);
     if (st == TEXOPT_OK) {
         size_t n = (size_t)job->side * (size_t)job->side;
         for (size_t i = 0; i < n; i++)
@@ -234,7 +240,8 @@ static texopt_status evaluate_view(eval_job *job, int worker, int v, view_buffer
     }
     for (int c = 0; c < job->candidate_count && st == TEXOPT_OK; c++) {
         st = texopt_meshrender_shade_luma(job->candidates[c], &raster, job->slot,
-                                          job->cand_filters ? job->cand_filters[c] : NULL, b->luma_cand, msg, msg_len);
+                                          job->cand_filters ? job->cand_filters[c] : NULL,
+                                          job->cand_turns ? job->cand_turns[c] : NULL, b->luma_cand, msg, msg_len);
         if (st != TEXOPT_OK)
             break;
         double g = texopt_gmsd_against(b->ws, b->prepared, b->luma_cand);
@@ -348,6 +355,103 @@ static texopt_status build_all_filters(eval_job *job, char *err, size_t err_len)
     return st;
 }
 
+/* Per triangle of model, the image its `slot` binding reads (NULL: none, mid grey). */
+static void triangle_images(const texopt_model *model, texopt_slot slot, const texopt_image **img)
+{
+    for (int p = 0; p < model->primitive_count; p++) {
+        const texopt_primitive *prim = &model->primitives[p];
+        const texopt_texture_ref *r = texopt_meshrender_binding(model, p, slot);
+        for (size_t t = prim->first_triangle;
+             r && t < prim->first_triangle + prim->triangle_count && t < model->triangle_count; t++)
+            img[t] = &model->images[r->image];
+    }
+}
+
+/* Whether a renderer shades candidate primitive p with stored tangents. A candidate with no
+ * file behind it (the pipeline's, in memory) is the reference seen through new UVs: it has
+ * the reference's attributes. */
+static int stores_tangents(const texopt_model *reference, const texopt_model *candidate, int p)
+{
+    return texopt_primitive_has_tangents(candidate->document ? candidate : reference, p);
+}
+
+/* The turn (cos, sin) that brings candidate triangle t's normal XY back to the reference's
+ * tangent frame: the inverse of the rotation the re-bake gave it (texel_map.h), from the map
+ * candidate texel -> reference texel of the two images; none (1, 0) when either side has no
+ * normal map or the candidate's triangle is degenerate. */
+static void triangle_turn(const texopt_model *reference, const texopt_model *candidate, size_t t,
+                          const texopt_image *ref_img, const texopt_image *cand_img, double *turn)
+{
+    turn[0] = 1;
+    turn[1] = 0;
+    if (!ref_img || !cand_img)
+        return;
+    double from[3][2], to[3][2], m[4];
+    for (int k = 0; k < 3; k++) {
+        uint32_t a = reference->triangles[3 * t + k], b = candidate->triangles[3 * t + k];
+        from[k][0] = reference->uvs[2 * (size_t)a] * ref_img->width;
+        from[k][1] = reference->uvs[2 * (size_t)a + 1] * ref_img->height;
+        to[k][0] = candidate->uvs[2 * (size_t)b] * cand_img->width;
+        to[k][1] = candidate->uvs[2 * (size_t)b + 1] * cand_img->height;
+    }
+    if (!texopt_texel_map((const double(*)[2])from, (const double(*)[2])to, m, NULL))
+        return;
+    double c, s;
+    texopt_texel_map_rotation(m, &c, &s);
+    turn[0] = c;
+    turn[1] = -s;
+}
+
+/* The normal-map turns of one candidate (see evaluate.h): per triangle, none where the
+ * candidate's primitive stores tangents (the re-bake did not turn those either). */
+static texopt_status candidate_turns(const texopt_model *reference, const texopt_model *candidate, double **out,
+                                     char *err, size_t err_len)
+{
+    size_t tc = reference->triangle_count;
+    const texopt_image **ref_img = calloc(tc ? tc : 1, sizeof *ref_img);
+    const texopt_image **cand_img = calloc(tc ? tc : 1, sizeof *cand_img);
+    double *turn = malloc((tc ? tc : 1) * 2 * sizeof *turn);
+    if (!ref_img || !cand_img || !turn) {
+        free(ref_img);
+        free(cand_img);
+        free(turn);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the normal-map turns");
+    }
+    triangle_images(reference, TEXOPT_SLOT_NORMAL, ref_img);
+    triangle_images(candidate, TEXOPT_SLOT_NORMAL, cand_img);
+    for (int p = 0; p < candidate->primitive_count; p++) {
+        const texopt_primitive *prim = &candidate->primitives[p];
+        if (!stores_tangents(reference, candidate, p))
+            continue;
+        for (size_t t = prim->first_triangle; t < prim->first_triangle + prim->triangle_count && t < tc; t++)
+            cand_img[t] = NULL;
+    }
+    for (size_t t = 0; t < tc; t++)
+        triangle_turn(reference, candidate, t, ref_img[t], cand_img[t], turn + 2 * t);
+    free(ref_img);
+    free(cand_img);
+    *out = turn;
+    return TEXOPT_OK;
+}
+
+static texopt_status build_all_turns(eval_job *job, char *err, size_t err_len)
+{
+    job->cand_turns = calloc((size_t)job->candidate_count, sizeof *job->cand_turns);
+    if (!job->cand_turns)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the normal-map turns");
+    texopt_status st = TEXOPT_OK;
+    for (int c = 0; c < job->candidate_count && st == TEXOPT_OK; c++)
+        st = candidate_turns(job->reference, job->candidates[c], &job->cand_turns[c], err, err_len);
+    return st;
+}
+
+static void destroy_turns(double **turns, int count)
+{
+    for (int c = 0; turns && c < count; c++)
+        free(turns[c]);
+    free(turns);
+}
+
 /* Checks the candidates against the reference; the views and screen side to use. */
 static texopt_status prepare_views(const texopt_model *reference, const texopt_model *const *candidates, int count,
                                    const texopt_evaluate_options *opt, texopt_view *views, int *view_count,
@@ -443,6 +547,8 @@ texopt_status texopt_evaluate_many(const texopt_model *reference, const texopt_m
         st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the evaluations");
     if (st == TEXOPT_OK && opt->mipmapped)
         st = build_all_filters(&job, err, err_len);
+    if (st == TEXOPT_OK && opt->slot == TEXOPT_SLOT_NORMAL)
+        st = build_all_turns(&job, err, err_len);
     size_t tc = reference->triangle_count;
     if (st == TEXOPT_OK && opt->triangle_error) {
         job.triangle_error_sum = calloc((size_t)job.threads * tc, sizeof(double));
@@ -463,6 +569,7 @@ texopt_status texopt_evaluate_many(const texopt_model *reference, const texopt_m
     free(job.triangle_error_count);
     destroy_filters(job.ref_filters, reference->image_count);
     destroy_candidate_filters(job.cand_filters, candidates, candidate_count);
+    destroy_turns(job.cand_turns, candidate_count);
     free(job.out);
     pthread_mutex_destroy(&job.lock);
     return st;

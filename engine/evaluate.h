@@ -17,10 +17,21 @@
  * Texture: base colour by default (the paper's q, what every benchmark reports). `slot`
  * measures another texture of the material instead (normal, metallic-roughness, occlusion,
  * emissive), as stage 1 treats each signal "in its own encoding": the data texture's RGB
- * encoding is rendered and compared as if it were a colour image (luma, GMSD), not decoded
- * or lit; so normal-slot q says how much of the normal map's encoded detail survived, not
- * how the shading changed. (Stage 1 compares a data texture per channel; one luma mixes the
- * channels, so detail in a channel that luma weighs little, such as blue, counts less here.)
+ * encoding is rendered and compared as if it were a colour image (luma, GMSD), not lit.
+ * (Stage 1 compares a data texture per channel; one luma mixes the channels, so detail in a
+ * channel that luma weighs little, such as blue, counts less here.)
+ *
+ * Normal maps are compared in one tangent frame, the reference's. A renderer derives the
+ * tangents of a primitive without TANGENT from its UVs, so a layout that rotates a triangle
+ * rotates its frame, and the re-bake (rebake.h) turns the map's XY with it: correct for
+ * lighting, but a different image. So on every candidate triangle whose primitive stores no
+ * TANGENT (a candidate without a file, as the pipeline's in memory, counts as having the
+ * reference's attributes), the looked-up XY is turned back by the rotation of that
+ * triangle's map reference texel -> candidate texel (the two normal images' sizes and UVs;
+ * texel_map.h, the re-bake's own function), before the luma. With stored tangents nothing
+ * is turned, as the re-bake turned nothing. Normal-slot q then says how much of the map's
+ * detail survived as a renderer would shade it, up to lighting; a map that was not turned
+ * where it had to be scores worse. Other slots are not turned.
  * Triangles whose material has no texture in the slot are mid grey in both renders, as
  * untextured triangles are for base colour. A reference with no texture
  * at all in a slot other than base colour is refused (TEXOPT_E_UNSUPPORTED, naming the

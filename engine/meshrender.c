@@ -22,9 +22,11 @@
  *
  * The luma shading reads any one texture slot of the material (base colour, or a data
  * texture such as the normal map, whose RGB encoding is then shaded as if it were a colour
- * image); the RGB shadings read base colour, what the report shows.
+ * image, its XY turned per triangle when the caller asks: texel_map.h); the RGB shadings
+ * read base colour, what the report shows.
  *
- * Does not: light, blend alpha, decode normals or channels, or compare images (evaluate.c). */
+ * Does not: light, blend alpha, decode normals or channels, choose the turns (evaluate.c),
+ * or compare images. */
 #include "meshrender.h"
 
 #include <float.h>
@@ -33,6 +35,7 @@
 #include <string.h>
 
 #include "sample.h"
+#include "texel_map.h"
 #include "texture_filter.h"
 
 /* Unit vectors to the 20 vertices of a regular dodecahedron: (±1,±1,±1), (0,±1/φ,±φ),
@@ -370,8 +373,8 @@ static void store_pixel(const float rgb[3], int luma, float *px)
 }
 
 static texopt_status shade_pixels(const texopt_model *model, const texopt_raster *raster, texopt_slot slot,
-                                  struct texopt_texture_filter *const *filters, int luma, float *out, char *err,
-                                  size_t err_len)
+                                  struct texopt_texture_filter *const *filters, const double *turn, int luma,
+                                  float *out, char *err, size_t err_len)
 {
     if (!model || !raster || !raster->triangle || !out)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "nothing to shade");
@@ -423,6 +426,8 @@ static texopt_status shade_pixels(const texopt_model *model, const texopt_raster
             texopt_texture_filter_sample(f, x, y, jac, texel);
         else
             texopt_sample_bilinear(img, r->wrap_s, r->wrap_t, x, y, texel);
+        if (turn && img->channels >= 2)
+            texopt_normal_turn(turn[2 * tri], turn[2 * tri + 1], texel);
         to_rgb(texel, img->channels, rgb);
         store_pixel(rgb, luma, px);
     }
@@ -439,7 +444,7 @@ static texopt_status shade(const texopt_model *model, const texopt_raster *raste
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "nothing to shade");
     texopt_status st = texopt_image_create(out, raster->side, raster->side, 3, err, err_len);
     if (st == TEXOPT_OK)
-        st = shade_pixels(model, raster, TEXOPT_SLOT_BASE_COLOR, filters, 0, out->pixels, err, err_len);
+        st = shade_pixels(model, raster, TEXOPT_SLOT_BASE_COLOR, filters, NULL, 0, out->pixels, err, err_len);
     if (st != TEXOPT_OK)
         texopt_image_destroy(out);
     return st;
@@ -459,10 +464,10 @@ texopt_status texopt_meshrender_shade_filtered(const texopt_model *model, const 
 }
 
 texopt_status texopt_meshrender_shade_luma(const texopt_model *model, const texopt_raster *raster, texopt_slot slot,
-                                           struct texopt_texture_filter *const *filters, float *luma, char *err,
-                                           size_t err_len)
+                                           struct texopt_texture_filter *const *filters, const double *normal_turn,
+                                           float *luma, char *err, size_t err_len)
 {
-    return shade_pixels(model, raster, slot, filters, 1, luma, err, err_len);
+    return shade_pixels(model, raster, slot, filters, normal_turn, 1, luma, err, err_len);
 }
 
 texopt_status texopt_meshrender_same_geometry(const texopt_model *reference,

@@ -95,10 +95,13 @@ texopt_status texopt_meshrender_shade_filtered(const texopt_model *model, const 
  * TEXOPT_SLOT_BASE_COLOR; with it this gives texopt_luma of the RGB they write, the same
  * bits). Any other slot is shaded exactly the same way: its RGB encoding as if it were a
  * colour image (a normal map's XYZ as RGB, metallic-roughness's unused/roughness/metallic),
- * and triangles whose material has no texture in the slot are mid grey. */
+ * and triangles whose material has no texture in the slot are mid grey. normal_turn (NULL:
+ * none) holds per model triangle a rotation (cos, sin) by which each looked-up texel's first
+ * two channels, an encoded tangent-space XY, are turned (texopt_normal_turn) before the luma:
+ * how the evaluation brings a re-baked normal map back to the reference's tangent frame. */
 texopt_status texopt_meshrender_shade_luma(const texopt_model *model, const texopt_raster *raster, texopt_slot slot,
-                                           struct texopt_texture_filter *const *filters, float *luma,
-                                           char *err, size_t err_len);
+                                           struct texopt_texture_filter *const *filters, const double *normal_turn,
+                                           float *luma, char *err, size_t err_len);
 
 /* The texture binding of `slot` that shades primitive's triangles: its material's, when it
  * names a decoded image through TEXCOORD_0; NULL otherwise (mid grey). */

@@ -19,6 +19,7 @@
 
 #include "dilate.h"
 #include "texel_fit.h"
+#include "texel_map.h"
 #include "texture_filter.h"
 
 #define RIM_DISTANCE 0.7072 /* half the diagonal of a texel, slightly rounded up */
@@ -72,31 +73,16 @@ static int map_triangle(const texopt_rebake_layout *layout, size_t t, const texo
         p[i][0] = layout->uv_in[2 * v[i]] * in->width;
         p[i][1] = layout->uv_in[2 * v[i] + 1] * in->height;
     }
-    double e1x = tri->q[1][0] - tri->q[0][0], e1y = tri->q[1][1] - tri->q[0][1];
-    double e2x = tri->q[2][0] - tri->q[0][0], e2y = tri->q[2][1] - tri->q[0][1];
-    tri->area2 = e1x * e2y - e2x * e1y;
-    tri->valid = 0;
-    if (!(fabs(tri->area2) > 1e-12) || !isfinite(tri->area2))
+    tri->valid = texopt_texel_map((const double(*)[2])p, (const double(*)[2])tri->q, tri->m, &tri->area2);
+    if (!tri->valid)
         return 0;
-    tri->valid = 1;
-    double f1x = p[1][0] - p[0][0], f1y = p[1][1] - p[0][1];
-    double f2x = p[2][0] - p[0][0], f2y = p[2][1] - p[0][1];
-    /* M = [f1 f2] [e1 e2]^-1 */
-    double inv = 1.0 / tri->area2;
-    double i00 = e2y * inv, i01 = -e2x * inv, i10 = -e1y * inv, i11 = e1x * inv;
-    tri->m[0] = f1x * i00 + f2x * i10;
-    tri->m[1] = f1x * i01 + f2x * i11;
-    tri->m[2] = f1y * i00 + f2y * i10;
-    tri->m[3] = f1y * i01 + f2y * i11;
     tri->p0[0] = p[0][0];
     tri->p0[1] = p[0][1];
     for (int i = 0; i < 3; i++) {
         const double *a = tri->q[(i + 1) % 3], *b = tri->q[(i + 2) % 3];
         tri->edge_len[i] = hypot(b[0] - a[0], b[1] - a[1]);
     }
-    double theta = atan2(tri->m[2] - tri->m[1], tri->m[0] + tri->m[3]);
-    tri->rot_c = cos(theta);
-    tri->rot_s = sin(theta);
+    texopt_texel_map_rotation(tri->m, &tri->rot_c, &tri->rot_s);
     /* Largest singular value of m <= 1, from the eigenvalues of m m^T. */
     double a = tri->m[0] * tri->m[0] + tri->m[1] * tri->m[1];
     double d = tri->m[2] * tri->m[2] + tri->m[3] * tri->m[3];
@@ -126,11 +112,8 @@ static void lookup(const bake_context *ctx, const mapped_triangle *tri, const do
     double iy = tri->p0[1] + tri->m[2] * dx + tri->m[3] * dy;
     double foot[4] = {tri->m[0] * scale, tri->m[1] * scale, tri->m[2] * scale, tri->m[3] * scale};
     texopt_texture_filter_sample(ctx->filter, ix, iy, foot, o);
-    if (ctx->normal_map && ctx->channels >= 2) {
-        double a = 2.0 * o[0] - 1.0, b = 2.0 * o[1] - 1.0;
-        o[0] = (float)(0.5 * (tri->rot_c * a - tri->rot_s * b + 1.0));
-        o[1] = (float)(0.5 * (tri->rot_s * a + tri->rot_c * b + 1.0));
-    }
+    if (ctx->normal_map && ctx->channels >= 2)
+        texopt_normal_turn(tri->rot_c, tri->rot_s, o);
 }
 
 static void bake_texel(const bake_context *ctx, const mapped_triangle *tri, int x, int y,

@@ -237,9 +237,9 @@ TEST(luma_shading_reads_the_chosen_slot)
     float *normal = malloc(32 * 32 * sizeof *normal), *base = malloc(32 * 32 * sizeof *base);
     float *ao = malloc(32 * 32 * sizeof *ao);
     CHECK(normal && base && ao);
-    CHECK_OK(texopt_meshrender_shade_luma(m, &r, TEXOPT_SLOT_NORMAL, NULL, normal, err, sizeof err), err);
-    CHECK_OK(texopt_meshrender_shade_luma(m, &r, TEXOPT_SLOT_BASE_COLOR, NULL, base, err, sizeof err), err);
-    CHECK_OK(texopt_meshrender_shade_luma(m, &r, TEXOPT_SLOT_OCCLUSION, NULL, ao, err, sizeof err), err);
+    CHECK_OK(texopt_meshrender_shade_luma(m, &r, TEXOPT_SLOT_NORMAL, NULL, NULL, normal, err, sizeof err), err);
+    CHECK_OK(texopt_meshrender_shade_luma(m, &r, TEXOPT_SLOT_BASE_COLOR, NULL, NULL, base, err, sizeof err), err);
+    CHECK_OK(texopt_meshrender_shade_luma(m, &r, TEXOPT_SLOT_OCCLUSION, NULL, NULL, ao, err, sizeof err), err);
     const float flat[3] = {0.6f, 0.4f, 0.2f};
     int seen[2] = {0, 0};
     for (int j = 1; j < 31; j++)
@@ -255,7 +255,7 @@ TEST(luma_shading_reads_the_chosen_slot)
             CHECK(ao[k] == 0.5f);
         }
     CHECK(seen[0] > 300 && seen[1] > 300);
-    CHECK(texopt_meshrender_shade_luma(m, &r, TEXOPT_SLOT_COUNT, NULL, ao, err, sizeof err) ==
+    CHECK(texopt_meshrender_shade_luma(m, &r, TEXOPT_SLOT_COUNT, NULL, NULL, ao, err, sizeof err) ==
           TEXOPT_E_INVALID_ARGUMENT);
     free(normal);
     free(base);
