@@ -355,18 +355,6 @@ static texopt_status build_all_filters(eval_job *job, char *err, size_t err_len)
     return st;
 }
 
-/* Per triangle of model, the image its `slot` binding reads (NULL: none, mid grey). */
-static void triangle_images(const texopt_model *model, texopt_slot slot, const texopt_image **img)
-{
-    for (int p = 0; p < model->primitive_count; p++) {
-        const texopt_primitive *prim = &model->primitives[p];
-        const texopt_texture_ref *r = texopt_meshrender_binding(model, p, slot);
-        for (size_t t = prim->first_triangle;
-             r && t < prim->first_triangle + prim->triangle_count && t < model->triangle_count; t++)
-            img[t] = &model->images[r->image];
-    }
-}
-
 /* Whether a renderer shades candidate primitive p with stored tangents. A candidate with no
  * file behind it (the pipeline's, in memory) is the reference seen through new UVs: it has
  * the reference's attributes. */
@@ -380,12 +368,13 @@ static int stores_tangents(const texopt_model *reference, const texopt_model *ca
  * candidate texel -> reference texel of the two images; none (1, 0) when either side has no
  * normal map or the candidate's triangle is degenerate. */
 static void triangle_turn(const texopt_model *reference, const texopt_model *candidate, size_t t,
-                          const texopt_image *ref_img, const texopt_image *cand_img, double *turn)
+                          const texopt_texture_ref *ref_map, const texopt_texture_ref *cand_map, double *turn)
 {
     turn[0] = 1;
     turn[1] = 0;
-    if (!ref_img || !cand_img)
+    if (!ref_map || !cand_map)
         return;
+    const texopt_image *ref_img = &reference->images[ref_map->image], *cand_img = &candidate->images[cand_map->image];
     double from[3][2], to[3][2], m[4];
     for (int k = 0; k < 3; k++) {
         uint32_t a = reference->triangles[3 * t + k], b = candidate->triangles[3 * t + k];
@@ -408,28 +397,27 @@ static texopt_status candidate_turns(const texopt_model *reference, const texopt
                                      char *err, size_t err_len)
 {
     size_t tc = reference->triangle_count;
-    const texopt_image **ref_img = calloc(tc ? tc : 1, sizeof *ref_img);
-    const texopt_image **cand_img = calloc(tc ? tc : 1, sizeof *cand_img);
+    const texopt_texture_ref **ref_map = NULL, **cand_map = NULL;
     double *turn = malloc((tc ? tc : 1) * 2 * sizeof *turn);
-    if (!ref_img || !cand_img || !turn) {
-        free(ref_img);
-        free(cand_img);
-        free(turn);
-        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the normal-map turns");
-    }
-    triangle_images(reference, TEXOPT_SLOT_NORMAL, ref_img);
-    triangle_images(candidate, TEXOPT_SLOT_NORMAL, cand_img);
-    for (int p = 0; p < candidate->primitive_count; p++) {
+    texopt_status st = turn ? texopt_meshrender_triangle_bindings(reference, TEXOPT_SLOT_NORMAL, &ref_map, err, err_len)
+                            : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the normal-map turns");
+    if (st == TEXOPT_OK)
+        st = texopt_meshrender_triangle_bindings(candidate, TEXOPT_SLOT_NORMAL, &cand_map, err, err_len);
+    for (int p = 0; p < candidate->primitive_count && st == TEXOPT_OK; p++) {
         const texopt_primitive *prim = &candidate->primitives[p];
         if (!stores_tangents(reference, candidate, p))
             continue;
         for (size_t t = prim->first_triangle; t < prim->first_triangle + prim->triangle_count && t < tc; t++)
-            cand_img[t] = NULL;
+            cand_map[t] = NULL;
     }
-    for (size_t t = 0; t < tc; t++)
-        triangle_turn(reference, candidate, t, ref_img[t], cand_img[t], turn + 2 * t);
-    free(ref_img);
-    free(cand_img);
+    for (size_t t = 0; t < tc && st == TEXOPT_OK; t++)
+        triangle_turn(reference, candidate, t, ref_map[t], cand_map[t], turn + 2 * t);
+    free(ref_map);
+    free(cand_map);
+    if (st != TEXOPT_OK) {
+        free(turn);
+        return st;
+    }
     *out = turn;
     return TEXOPT_OK;
 }

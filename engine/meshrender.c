@@ -290,9 +290,8 @@ int texopt_meshrender_has_texture(const texopt_model *model, texopt_slot slot)
     return 0;
 }
 
-/* Per model triangle, the binding of `slot` that shades it (NULL: mid grey). */
-static texopt_status triangle_bindings(const texopt_model *model, texopt_slot slot, const texopt_texture_ref ***out,
-                                       char *err, size_t err_len)
+texopt_status texopt_meshrender_triangle_bindings(const texopt_model *model, texopt_slot slot,
+                                                 const texopt_texture_ref ***out, char *err, size_t err_len)
 {
     const texopt_texture_ref **ref = calloc(model->triangle_count ? model->triangle_count : 1, sizeof *ref);
     if (!ref)
@@ -388,7 +387,7 @@ static texopt_status shade_pixels(const texopt_model *model, const texopt_raster
                 return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                                    "triangle %zu names a vertex past the vertex count", t);
     const texopt_texture_ref **ref = NULL;
-    texopt_status st = triangle_bindings(model, slot, &ref, err, err_len);
+    texopt_status st = texopt_meshrender_triangle_bindings(model, slot, &ref, err, err_len);
     if (st != TEXOPT_OK)
         return st;
     int stride = luma ? 1 : 3;

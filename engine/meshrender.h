@@ -107,6 +107,12 @@ texopt_status texopt_meshrender_shade_luma(const texopt_model *model, const texo
  * names a decoded image through TEXCOORD_0; NULL otherwise (mid grey). */
 const texopt_texture_ref *texopt_meshrender_binding(const texopt_model *model, int primitive, texopt_slot slot);
 
+/* Per model triangle, the binding of `slot` that shades it (texopt_meshrender_binding of its
+ * primitive; NULL: mid grey), in *out (triangle_count entries, allocated here; the caller
+ * frees it). */
+texopt_status texopt_meshrender_triangle_bindings(const texopt_model *model, texopt_slot slot,
+                                                 const texopt_texture_ref ***out, char *err, size_t err_len);
+
 /* Nonzero when some primitive of the model is shaded from a texture in `slot`. */
 int texopt_meshrender_has_texture(const texopt_model *model, texopt_slot slot);
 
