@@ -41,7 +41,7 @@ static void usage(FILE *out)
             "                      metallicRoughness, ...): printed as one table per slot and\n"
             "                      in the JSON as q_by_texture\n"
             "  --iterations N      most stage-1 polish iterations per triangle (default 100)\n"
-            "  --epsilon E         perceptual loss threshold of stage 1 (default 0.01)\n"
+            "  --epsilon E         perceptual loss threshold of stage 1 (default 0.03)\n"
             "  --seed S            random seed, 0 to 2^53 (default 0)\n"
             "  --refinements N     perceptual: most closed-loop refinement rounds, 0-20\n"
             "                      (default 2; 0 = none), as in texopt optimize\n"

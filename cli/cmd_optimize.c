@@ -38,7 +38,7 @@ static void usage(FILE *out)
             "  --target-loss Q          the smallest relative cost (searched in [0.01, 1]) whose\n"
             "                           whole-mesh loss q against the input is at most Q, (0, 1);\n"
             "                           q and the search are in the statistics\n"
-            "  --epsilon E              perceptual loss threshold of stage 1 (default 0.01)\n"
+            "  --epsilon E              perceptual loss threshold of stage 1 (default 0.03)\n"
             "  --iterations N           most Bayesian-optimisation polish iterations per triangle\n"
             "                           (default 100; the polish stops once it stops paying)\n"
             "  --lambda-min L           smallest per-axis scale stage 1 may choose (default 0.1)\n"

@@ -32,7 +32,7 @@ void texopt_params_resolve(texopt_params *p)
     if (p->relative_cost == 0)
         p->relative_cost = 1.0;
     if (p->epsilon == 0)
-        p->epsilon = 0.01;
+        p->epsilon = TEXOPT_DEFAULT_EPSILON;
     if (p->iterations == 0)
         p->iterations = 100;
     if (p->lambda_min == 0)

@@ -1,7 +1,7 @@
 /* params.h - what a user asks of one optimisation job.
  *
  * A zero-initialised texopt_params means the defaults (the paper's, where it has one):
- * perceptual method, relative cost 1.0, epsilon 0.01, 100 iterations, lambda_min 0.1,
+ * perceptual method, relative cost 1.0, epsilon 0.03 (not the paper's 0.01: below), 100 iterations, lambda_min 0.1,
  * all cores, seed 0, no evaluation, 2 refinement rounds, no chart reshaping. texopt_params_resolve fills the zeros;
  * texopt_params_validate says which field is out of range. */
 #ifndef TEXOPT_PARAMS_H
@@ -10,6 +10,16 @@
 #include <stdint.h>
 
 #include "status.h"
+
+/* Stage 1's loss threshold when the user gives none. Every job has a texel budget that the
+ * targets are rescaled to (allocate.h), so epsilon does not fix how much each triangle loses,
+ * only the targets' relative areas: the larger it is, the further triangles whose loss rises
+ * slowly (shading, mild gradients) shrink next to those whose loss rises steeply (edges,
+ * text), which then get a larger share of any budget. The paper's 0.01 gave edges too small
+ * a share at low costs; 0.02-0.05 measured better, 0.03 (the plateau's middle) below 0.01 at
+ * 40 of the 48 points of the eight benchmark models (BENCHMARKS.md, "Stage 1's loss
+ * threshold"). */
+#define TEXOPT_DEFAULT_EPSILON 0.03
 
 typedef enum texopt_method {
     TEXOPT_METHOD_PERCEPTUAL = 0, /* stage 1 + stage 2 (the paper) */
@@ -34,7 +44,7 @@ typedef struct texopt_params {
     int texture_width;      /* with TEXOPT_BUDGET_TEXTURE_SIZE */
     int texture_height;
     double target_loss;     /* with TEXOPT_BUDGET_TARGET_LOSS */
-    double epsilon;         /* loss threshold of stage 1; 0 -> 0.01 */
+    double epsilon;         /* loss threshold of stage 1; 0 -> TEXOPT_DEFAULT_EPSILON */
     int iterations;         /* most Bayesian-optimisation polish iterations per triangle (the
                                polish stops earlier once it stops paying); 0 -> 100 */
     double lambda_min;      /* smallest singular value stage 1 may choose; 0 -> 0.1 */

@@ -18,7 +18,7 @@ TEST(empty_object_gives_paper_defaults)
     CHECK_EQ_INT(p.method, TEXOPT_METHOD_PERCEPTUAL);
     CHECK_EQ_INT(p.budget, TEXOPT_BUDGET_RELATIVE_COST);
     CHECK_NEAR(p.relative_cost, 1.0, 0);
-    CHECK_NEAR(p.epsilon, 0.01, 0);
+    CHECK_NEAR(p.epsilon, 0.03, 0);
     CHECK_EQ_INT(p.iterations, 100);
     CHECK_NEAR(p.lambda_min, 0.1, 0);
     CHECK_EQ_INT(p.evaluate, 0);

@@ -9,7 +9,7 @@ TEST(zero_params_resolve_to_paper_defaults)
 {
     texopt_params p = {0};
     texopt_params_resolve(&p);
-    CHECK_NEAR(p.epsilon, 0.01, 0);
+    CHECK_NEAR(p.epsilon, TEXOPT_DEFAULT_EPSILON, 0);
     CHECK_EQ_INT(p.iterations, 100);
     CHECK_NEAR(p.relative_cost, 1.0, 0);
     CHECK(p.method == TEXOPT_METHOD_PERCEPTUAL);
