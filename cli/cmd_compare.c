@@ -42,6 +42,8 @@ static void usage(FILE *out)
             "                      in the JSON as q_by_texture\n"
             "  --iterations N      most stage-1 polish iterations per triangle (default 100)\n"
             "  --epsilon E         perceptual loss threshold of stage 1 (default 0.03)\n"
+            "  --lambda-min L      smallest per-axis scale a target may have, in (0, 1)\n"
+            "                      (default 0.1)\n"
             "  --seed S            random seed, 0 to 2^53 (default 0)\n"
             "  --refinements N     perceptual: most closed-loop refinement rounds, 0-20\n"
             "                      (default 2; 0 = none), as in texopt optimize\n"
@@ -195,6 +197,9 @@ int cmd_compare(int argc, char **argv)
             bad = !v || cli_parse_int(v, 1, 100000, &opt.params.iterations) != 0;
         } else if (!strcmp(a, "--epsilon")) {
             bad = !v || cli_parse_double(v, 0, 1, &opt.params.epsilon) != 0 || !(opt.params.epsilon > 0 && opt.params.epsilon < 1);
+        } else if (!strcmp(a, "--lambda-min")) {
+            bad = !v || cli_parse_double(v, 0, 1, &opt.params.lambda_min) != 0 ||
+                  !(opt.params.lambda_min > 0 && opt.params.lambda_min < 1);
         } else if (!strcmp(a, "--seed")) {
             bad = !v || cli_parse_seed(v, &opt.params.seed) != 0;
         } else if (!strcmp(a, "--refinements")) {

@@ -5,8 +5,9 @@
 # one curve per method with q growing as the cost falls, and that the HTML report parses
 # (python3 html.parser), is balanced, holds one plot curve per method and references
 # nothing outside itself; that compare passes its stage-1 and refinement options on (its
-# perceptual point with --refinements 0 is the q of `texopt optimize --refinements 0`, which
-# differs from the default's two rounds on Fox at c_r 0.3). --texture: the JSON names the
+# perceptual point with --refinements 0, --epsilon and --lambda-min is the q of `texopt
+# optimize` with the same options, which differs from the default's two rounds on Fox at c_r
+# 0.3). --texture: the JSON names the
 # slot, `--texture base` is the default's q, a slot Fox has no texture in (normal) is an
 # engine error naming it (exit 1, evaluate and compare), an unknown slot a usage error. Also the usage errors'
 # exit codes, the seed's range included.
@@ -28,12 +29,13 @@ FOX="$TEXOPT_SOURCE_DIR/tests/data/Fox/Fox.glb"
     fail "evaluate --texture base exited $?"
 "$TEXOPT_BIN" compare "$FOX" --methods input --costs 1,0.25,0.0625 --resolution 200 --quiet \
     --json "$WORK/curves.json" -o "$WORK/report.html" > "$WORK/table.txt" || fail "compare exited $?"
-"$TEXOPT_BIN" optimize "$FOX" -o "$WORK/plain.glb" --relative-cost 0.3 --refinements 0 --seed 4294967299 --quiet ||
+"$TEXOPT_BIN" optimize "$FOX" -o "$WORK/plain.glb" --relative-cost 0.3 --refinements 0 --seed 4294967299 \
+    --epsilon 0.02 --lambda-min 0.2 --quiet ||
     fail "optimize --refinements 0 exited $?"
 "$TEXOPT_BIN" evaluate "$FOX" "$WORK/plain.glb" --resolution 200 --json > "$WORK/plain.json" ||
     fail "evaluate of the unrefined Fox exited $?"
 "$TEXOPT_BIN" compare "$FOX" --methods perceptual --costs 0.3 --refinements 0 --seed 4294967299 --resolution 200 \
-    --quiet --json "$WORK/plain_curves.json" > /dev/null || fail "compare --refinements 0 exited $?"
+    --epsilon 0.02 --lambda-min 0.2 --quiet --json "$WORK/plain_curves.json" > /dev/null || fail "compare --refinements 0 exited $?"
 
 /usr/bin/python3 - "$WORK" <<'EOF'
 import html.parser, json, sys
@@ -126,6 +128,9 @@ set +e
 "$TEXOPT_BIN" compare "$FOX" --costs 0,1 > /dev/null 2>&1; [ $? -eq 2 ] || fail "cost 0 should exit 2"
 "$TEXOPT_BIN" compare "$FOX" --refinements 21 > /dev/null 2>&1; [ $? -eq 2 ] || fail "21 refinements should exit 2"
 "$TEXOPT_BIN" compare "$FOX" --epsilon 1 > /dev/null 2>&1; [ $? -eq 2 ] || fail "epsilon 1 should exit 2"
+for lm in 0 1 x; do
+    "$TEXOPT_BIN" compare "$FOX" --lambda-min $lm > /dev/null 2>&1; [ $? -eq 2 ] || fail "lambda-min $lm should exit 2"
+done
 # Seeds: 0 to 2^53 in both commands, as in the service's JSON (the runs above use 2^32 + 3).
 for cmd in compare optimize; do
     for seed in -1 9007199254740993 1e3; do
