@@ -42,7 +42,7 @@ static void usage(FILE *out)
             "                      in the JSON as q_by_texture\n"
             "  --iterations N      most stage-1 polish iterations per triangle (default 100)\n"
             "  --epsilon E         perceptual loss threshold of stage 1 (default 0.03)\n"
-            "  --lambda-min L      smallest per-axis scale a target may have, in (0, 1)\n"
+            "  --lambda-min L      smallest per-axis scale stage 1 may choose, in (0, 1)\n"
             "                      (default 0.1)\n"
             "  --seed S            random seed, 0 to 2^53 (default 0)\n"
             "  --refinements N     perceptual: most closed-loop refinement rounds, 0-20\n"

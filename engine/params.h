@@ -1,9 +1,10 @@
 /* params.h - what a user asks of one optimisation job.
  *
  * A zero-initialised texopt_params means the defaults (the paper's, where it has one):
- * perceptual method, relative cost 1.0, epsilon 0.03 (not the paper's 0.01: below), 100 iterations, lambda_min 0.1,
- * all cores, seed 0, no evaluation, 2 refinement rounds, no chart reshaping. texopt_params_resolve fills the zeros;
- * texopt_params_validate says which field is out of range. */
+ * perceptual method, relative cost 1.0, epsilon 0.03 (not the paper's 0.01: below), 100
+ * iterations, lambda_min 0.1, all cores, seed 0, no evaluation, 2 refinement rounds, no chart
+ * reshaping. texopt_params_resolve fills the zeros; texopt_params_validate says which field
+ * is out of range. */
 #ifndef TEXOPT_PARAMS_H
 #define TEXOPT_PARAMS_H
 

@@ -7,10 +7,9 @@
 # nothing outside itself; that compare passes its stage-1 and refinement options on (its
 # perceptual point with --refinements 0, --epsilon and --lambda-min is the q of `texopt
 # optimize` with the same options, which differs from the default's two rounds on Fox at c_r
-# 0.3). --texture: the JSON names the
-# slot, `--texture base` is the default's q, a slot Fox has no texture in (normal) is an
-# engine error naming it (exit 1, evaluate and compare), an unknown slot a usage error. Also the usage errors'
-# exit codes, the seed's range included.
+# 0.3). --texture: the JSON names the slot, `--texture base` is the default's q, a slot Fox
+# has no texture in (normal) is an engine error naming it (exit 1, evaluate and compare), an
+# unknown slot a usage error. Also the usage errors' exit codes, the seed's range included.
 set -euo pipefail
 : "${TEXOPT_BIN:?TEXOPT_BIN must point to the texopt executable}"
 : "${TEXOPT_SOURCE_DIR:?TEXOPT_SOURCE_DIR must point to the source tree}"
