@@ -25,8 +25,8 @@
  * image, its XY turned per triangle when the caller asks: texel_map.h); the RGB shadings
  * read base colour, what the report shows.
  *
- * Does not: light, blend alpha, decode normals or channels, choose the turns (evaluate.c),
- * or compare images. */
+ * Does not: light (lit_shade.h does, from these shadings), blend alpha, decode normals or
+ * channels, choose the turns (evaluate.c), or compare images. */
 #include "meshrender.h"
 
 #include <float.h>
@@ -467,6 +467,13 @@ texopt_status texopt_meshrender_shade_luma(const texopt_model *model, const texo
                                            float *luma, char *err, size_t err_len)
 {
     return shade_pixels(model, raster, slot, filters, normal_turn, 1, luma, err, err_len);
+}
+
+texopt_status texopt_meshrender_shade_rgb(const texopt_model *model, const texopt_raster *raster, texopt_slot slot,
+                                          struct texopt_texture_filter *const *filters, const double *normal_turn,
+                                          float *rgb, char *err, size_t err_len)
+{
+    return shade_pixels(model, raster, slot, filters, normal_turn, 0, rgb, err, err_len);
 }
 
 texopt_status texopt_meshrender_same_geometry(const texopt_model *reference,

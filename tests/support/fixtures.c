@@ -113,6 +113,18 @@ static int add_texture(texopt_model *m, int tex_w, int tex_h, const char *patter
     return 0;
 }
 
+void fixture_fill_normal_map(texopt_image *img)
+{
+    for (int y = 0; y < img->height; y++)
+        for (int x = 0; x < img->width; x++) {
+            double a = (x / 8) % 2 ? 0.6 : -0.6, b = (y / 4) % 2 ? 0.3 : -0.3;
+            float *p = texopt_image_at(img, x, y);
+            p[0] = (float)(0.5 + 0.5 * a);
+            p[1] = (float)(0.5 + 0.5 * b);
+            p[2] = (float)(0.5 + 0.5 * sqrt(1.0 - a * a - b * b));
+        }
+}
+
 texopt_model *fixture_model_from_arrays(const float *positions, const float *uvs,
                                         size_t vertex_count, const uint32_t *triangles,
                                         size_t triangle_count, int tex_w, int tex_h,

@@ -34,6 +34,11 @@
  * 3 channels. */
 int fixture_fill_pattern(texopt_image *img, const char *pattern);
 
+/* A tangent-space normal map with edges in X and in Y (at different periods, so a quarter
+ * turn changes which channel carries which stripes), encoded in [0, 1], unit length; any
+ * size, 3 or more channels. */
+void fixture_fill_normal_map(texopt_image *img);
+
 /* A model from raw arrays (copied): positions (3 per vertex), uvs (2 per vertex),
  * triangles (3 per triangle), with one tex_w x tex_h RGB texture of `pattern`. The building
  * block of the other fixtures, and the way a test builds an odd layout (mirrored, flipped,

@@ -23,20 +23,6 @@ static const float quad_pos[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
 static const float quad_uv[8] = {0, 0, 1, 0, 1, 1, 0, 1};
 static const uint32_t quad_tris[6] = {0, 1, 2, 0, 2, 3};
 
-/* A tangent-space normal map with edges in X and in Y (at different periods, so a quarter
- * turn changes which channel carries which stripes), encoded in [0, 1], unit length. */
-static void fill_normal_map(texopt_image *img)
-{
-    for (int y = 0; y < img->height; y++)
-        for (int x = 0; x < img->width; x++) {
-            double a = (x / 8) % 2 ? 0.6 : -0.6, b = (y / 4) % 2 ? 0.3 : -0.3;
-            float *p = texopt_image_at(img, x, y);
-            p[0] = (float)(0.5 + 0.5 * a);
-            p[1] = (float)(0.5 + 0.5 * b);
-            p[2] = (float)(0.5 + 0.5 * sqrt(1.0 - a * a - b * b));
-        }
-}
-
 /* The quad with UVs `uv` whose one image (side x side) is both its base colour and its
  * normal map, so the base-colour q of a candidate is its normal map read unturned. */
 static texopt_model *quad_with_normal_map(const float *uv, int side)
@@ -91,7 +77,7 @@ static texopt_model *reference_quad(void)
 {
     texopt_model *ref = quad_with_normal_map(quad_uv, TEX);
     if (ref)
-        fill_normal_map(&ref->images[0]);
+        fixture_fill_normal_map(&ref->images[0]);
     return ref;
 }
 
@@ -179,7 +165,7 @@ static double stored_tangent_case(const char *dir, int tangents, int drop_candid
     double q = NAN;
     if (texopt_image_create(&normal, TEX, TEX, 3, NULL, 0) != TEXOPT_OK)
         return q;
-    fill_normal_map(&normal);
+    fixture_fill_normal_map(&normal);
     char *json = write_quad_gltf(dir, &normal, tangents);
     texopt_image_destroy(&normal);
     texopt_model *ref = NULL, *cand = NULL;

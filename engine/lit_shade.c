@@ -1,0 +1,219 @@
+/* lit_shade.c - lit luma of a model from its maps (lit_shade.h): the reference's tangent
+ * frames, the view's light, and the per-pixel combination of the four shadings meshrender
+ * reads (base colour, occlusion, normal, emissive). Does not: sample textures itself (every
+ * lookup, filtering and normal-map turn is meshrender's shade_pixels), compare images. */
+#include "lit_shade.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sample.h"
+
+struct texopt_lit_frames {
+    size_t triangle_count;
+    /* Per triangle T, B, N (unit); T = B = 0 where the UV map is degenerate (n = N). */
+    double *tbn;
+};
+
+static void sub3(const float *a, const float *b, double out[3])
+{
+    for (int k = 0; k < 3; k++)
+        out[k] = (double)a[k] - b[k];
+}
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static void cross3(const double a[3], const double b[3], double out[3])
+{
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* Scales v to unit length; 0 when it is too short to have a direction. */
+static int normalize3(double v[3])
+{
+    double len = sqrt(dot3(v, v));
+    if (!(len > 1e-30) || !isfinite(len))
+        return 0;
+    for (int k = 0; k < 3; k++)
+        v[k] /= len;
+    return 1;
+}
+
+/* T, B, N of triangle t; N = 0 as well when the triangle itself is degenerate (it then
+ * covers no pixel: meshrender skips edge-on and zero-area triangles). */
+static void triangle_frame(const texopt_model *m, size_t t, double *tbn)
+{
+    memset(tbn, 0, 9 * sizeof *tbn);
+    const uint32_t *c = m->triangles + 3 * t;
+    double e1[3], e2[3];
+    sub3(m->positions + 3 * (size_t)c[1], m->positions + 3 * (size_t)c[0], e1);
+    sub3(m->positions + 3 * (size_t)c[2], m->positions + 3 * (size_t)c[0], e2);
+    double *T = tbn, *B = tbn + 3, *N = tbn + 6;
+    cross3(e1, e2, N);
+    if (!normalize3(N))
+        return;
+    const float *u0 = m->uvs + 2 * (size_t)c[0], *u1 = m->uvs + 2 * (size_t)c[1], *u2 = m->uvs + 2 * (size_t)c[2];
+    double du1 = (double)u1[0] - u0[0], dv1 = (double)u1[1] - u0[1];
+    double du2 = (double)u2[0] - u0[0], dv2 = (double)u2[1] - u0[1];
+    double r = du1 * dv2 - du2 * dv1;
+    if (!(fabs(r) > 1e-14))
+        return;
+    double dpdv[3];
+    for (int k = 0; k < 3; k++) {
+        T[k] = (e1[k] * dv2 - e2[k] * dv1) / r;
+        dpdv[k] = (e2[k] * du1 - e1[k] * du2) / r;
+    }
+    double tn = dot3(T, N);
+    for (int k = 0; k < 3; k++)
+        T[k] -= tn * N[k];
+    if (!normalize3(T)) {
+        memset(tbn, 0, 6 * sizeof *tbn);
+        return;
+    }
+    /* glTF's +Y of a normal map is up in the image, i.e. towards -v. */
+    double NxT[3];
+    cross3(N, T, NxT);
+    double sign = dot3(NxT, dpdv) > 0 ? -1.0 : 1.0;
+    for (int k = 0; k < 3; k++)
+        B[k] = sign * NxT[k];
+}
+
+texopt_status texopt_lit_frames_create(const texopt_model *reference, texopt_lit_frames **out, char *err,
+                                       size_t err_len)
+{
+    *out = NULL;
+    if (!reference || !reference->uvs || !reference->positions)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "lighting needs positions and TEXCOORD_0");
+    texopt_lit_frames *f = calloc(1, sizeof *f);
+    size_t tc = reference->triangle_count;
+    if (f)
+        f->tbn = malloc((tc ? tc : 1) * 9 * sizeof *f->tbn);
+    if (!f || !f->tbn) {
+        texopt_lit_frames_destroy(f);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the tangent frames");
+    }
+    f->triangle_count = tc;
+    for (size_t t = 0; t < tc; t++) {
+        for (int k = 0; k < 3; k++)
+            if (reference->triangles[3 * t + k] >= reference->vertex_count) {
+                texopt_lit_frames_destroy(f);
+                return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                                   "triangle %zu names a vertex past the vertex count", t);
+            }
+        triangle_frame(reference, t, f->tbn + 9 * t);
+    }
+    *out = f;
+    return TEXOPT_OK;
+}
+
+void texopt_lit_frames_destroy(texopt_lit_frames *frames)
+{
+    if (!frames)
+        return;
+    free(frames->tbn);
+    free(frames);
+}
+
+int texopt_lit_has_maps(const texopt_model *model)
+{
+    return texopt_meshrender_has_texture(model, TEXOPT_SLOT_NORMAL) ||
+           texopt_meshrender_has_texture(model, TEXOPT_SLOT_OCCLUSION) ||
+           texopt_meshrender_has_texture(model, TEXOPT_SLOT_EMISSIVE);
+}
+
+void texopt_lit_light(const texopt_view *view, double l[3])
+{
+    for (int k = 0; k < 3; k++)
+        l[k] = 0.5 * view->right[k] + 0.5 * view->up[k] + 0.7 * view->direction[k];
+    normalize3(l);
+}
+
+/* The lit share of the light at a pixel of a face with frame tbn, from its normal-map texel
+ * (NULL: the face normal). */
+static double lambert(const double *tbn, const float *texel, const double l[3])
+{
+    const double *T = tbn, *B = tbn + 3, *N = tbn + 6;
+    double n[3];
+    memcpy(n, N, sizeof n);
+    if (texel && dot3(T, T) > 0) {
+        double x = 2.0 * texel[0] - 1, y = 2.0 * texel[1] - 1, z = 2.0 * texel[2] - 1;
+        for (int k = 0; k < 3; k++)
+            n[k] = x * T[k] + y * B[k] + z * N[k];
+        if (!normalize3(n))
+            memcpy(n, N, sizeof n);
+    }
+    double d = dot3(n, l);
+    return TEXOPT_LIT_AMBIENT + (1.0 - TEXOPT_LIT_AMBIENT) * (d > 0 ? d : 0);
+}
+
+/* Multiplies luma by occlusion and the diffuse light on every covered pixel. */
+static texopt_status apply_light(const texopt_model *model, const texopt_raster *raster, const texopt_lit_frames *frames,
+                                 struct texopt_texture_filter *const *filters, const double *normal_turn, float *scratch,
+                                 float *luma, char *err, size_t err_len)
+{
+    const texopt_texture_ref **occ = NULL, **nrm = NULL;
+    texopt_status st = texopt_meshrender_triangle_bindings(model, TEXOPT_SLOT_OCCLUSION, &occ, err, err_len);
+    if (st == TEXOPT_OK)
+        st = texopt_meshrender_shade_rgb(model, raster, TEXOPT_SLOT_OCCLUSION, filters, NULL, scratch, err, err_len);
+    size_t n = (size_t)raster->side * (size_t)raster->side;
+    for (size_t i = 0; i < n && st == TEXOPT_OK; i++)
+        if (raster->triangle[i] >= 0 && occ[raster->triangle[i]])
+            luma[i] *= scratch[3 * i];
+    if (st == TEXOPT_OK)
+        st = texopt_meshrender_triangle_bindings(model, TEXOPT_SLOT_NORMAL, &nrm, err, err_len);
+    if (st == TEXOPT_OK)
+        st = texopt_meshrender_shade_rgb(model, raster, TEXOPT_SLOT_NORMAL, filters, normal_turn, scratch, err,
+                                         err_len);
+    double l[3];
+    texopt_lit_light(&raster->view, l);
+    for (size_t i = 0; i < n && st == TEXOPT_OK; i++) {
+        int32_t t = raster->triangle[i];
+        if (t >= 0)
+            luma[i] *= (float)lambert(frames->tbn + 9 * (size_t)t, nrm[t] ? scratch + 3 * i : NULL, l);
+    }
+    free(occ);
+    free(nrm);
+    return st;
+}
+
+/* Adds the emissive texture's luma where the material has one. */
+static texopt_status add_emission(const texopt_model *model, const texopt_raster *raster,
+                                  struct texopt_texture_filter *const *filters, float *scratch, float *luma, char *err,
+                                  size_t err_len)
+{
+    const texopt_texture_ref **em = NULL;
+    texopt_status st = texopt_meshrender_triangle_bindings(model, TEXOPT_SLOT_EMISSIVE, &em, err, err_len);
+    if (st == TEXOPT_OK)
+        st = texopt_meshrender_shade_luma(model, raster, TEXOPT_SLOT_EMISSIVE, filters, NULL, scratch, err, err_len);
+    size_t n = (size_t)raster->side * (size_t)raster->side;
+    for (size_t i = 0; i < n && st == TEXOPT_OK; i++)
+        if (raster->triangle[i] >= 0 && em[raster->triangle[i]])
+            luma[i] += scratch[i];
+    free(em);
+    return st;
+}
+
+texopt_status texopt_lit_shade(const texopt_model *model, const texopt_raster *raster, const texopt_lit_frames *frames,
+                               struct texopt_texture_filter *const *filters, const double *normal_turn, float *scratch,
+                               float *luma, char *err, size_t err_len)
+{
+    if (!model || !raster || !frames || !scratch || !luma)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "nothing to light");
+    if (model->triangle_count != frames->triangle_count)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "the model has %zu triangles, the tangent frames %zu", model->triangle_count,
+                           frames->triangle_count);
+    texopt_status st =
+        texopt_meshrender_shade_luma(model, raster, TEXOPT_SLOT_BASE_COLOR, filters, NULL, luma, err, err_len);
+    if (st == TEXOPT_OK)
+        st = apply_light(model, raster, frames, filters, normal_turn, scratch, luma, err, err_len);
+    if (st == TEXOPT_OK)
+        st = add_emission(model, raster, filters, scratch, luma, err, err_len);
+    return st;
+}
