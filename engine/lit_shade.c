@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "sample.h"
+#include "vec3.h"
 
 struct texopt_lit_frames {
     size_t triangle_count;
@@ -22,29 +23,6 @@ static void sub3(const float *a, const float *b, double out[3])
         out[k] = (double)a[k] - b[k];
 }
 
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static void cross3(const double a[3], const double b[3], double out[3])
-{
-    out[0] = a[1] * b[2] - a[2] * b[1];
-    out[1] = a[2] * b[0] - a[0] * b[2];
-    out[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-/* Scales v to unit length; 0 when it is too short to have a direction. */
-static int normalize3(double v[3])
-{
-    double len = sqrt(dot3(v, v));
-    if (!(len > 1e-30) || !isfinite(len))
-        return 0;
-    for (int k = 0; k < 3; k++)
-        v[k] /= len;
-    return 1;
-}
-
 /* T, B, N of triangle t; N = 0 as well when the triangle itself is degenerate (it then
  * covers no pixel: meshrender skips edge-on and zero-area triangles). */
 static void triangle_frame(const texopt_model *m, size_t t, double *tbn)
@@ -55,8 +33,8 @@ static void triangle_frame(const texopt_model *m, size_t t, double *tbn)
     sub3(m->positions + 3 * (size_t)c[1], m->positions + 3 * (size_t)c[0], e1);
     sub3(m->positions + 3 * (size_t)c[2], m->positions + 3 * (size_t)c[0], e2);
     double *T = tbn, *B = tbn + 3, *N = tbn + 6;
-    cross3(e1, e2, N);
-    if (!normalize3(N))
+    texopt_cross3(e1, e2, N);
+    if (!texopt_normalize3(N))
         return;
     const float *u0 = m->uvs + 2 * (size_t)c[0], *u1 = m->uvs + 2 * (size_t)c[1], *u2 = m->uvs + 2 * (size_t)c[2];
     double du1 = (double)u1[0] - u0[0], dv1 = (double)u1[1] - u0[1];
@@ -69,17 +47,17 @@ static void triangle_frame(const texopt_model *m, size_t t, double *tbn)
         T[k] = (e1[k] * dv2 - e2[k] * dv1) / r;
         dpdv[k] = (e2[k] * du1 - e1[k] * du2) / r;
     }
-    double tn = dot3(T, N);
+    double tn = texopt_dot3(T, N);
     for (int k = 0; k < 3; k++)
         T[k] -= tn * N[k];
-    if (!normalize3(T)) {
+    if (!texopt_normalize3(T)) {
         memset(tbn, 0, 6 * sizeof *tbn);
         return;
     }
     /* glTF's +Y of a normal map is up in the image, i.e. towards -v. */
     double NxT[3];
-    cross3(N, T, NxT);
-    double sign = dot3(NxT, dpdv) > 0 ? -1.0 : 1.0;
+    texopt_cross3(N, T, NxT);
+    double sign = texopt_dot3(NxT, dpdv) > 0 ? -1.0 : 1.0;
     for (int k = 0; k < 3; k++)
         B[k] = sign * NxT[k];
 }
@@ -131,7 +109,7 @@ void texopt_lit_light(const texopt_view *view, double l[3])
 {
     for (int k = 0; k < 3; k++)
         l[k] = 0.5 * view->right[k] + 0.5 * view->up[k] + 0.7 * view->direction[k];
-    normalize3(l);
+    texopt_normalize3(l);
 }
 
 /* The lit share of the light at a pixel of a face with frame tbn, from its normal-map texel
@@ -141,61 +119,49 @@ static double lambert(const double *tbn, const float *texel, const double l[3])
     const double *T = tbn, *B = tbn + 3, *N = tbn + 6;
     double n[3];
     memcpy(n, N, sizeof n);
-    if (texel && dot3(T, T) > 0) {
+    if (texel && texopt_dot3(T, T) > 0) {
         double x = 2.0 * texel[0] - 1, y = 2.0 * texel[1] - 1, z = 2.0 * texel[2] - 1;
         for (int k = 0; k < 3; k++)
             n[k] = x * T[k] + y * B[k] + z * N[k];
-        if (!normalize3(n))
+        if (!texopt_normalize3(n))
             memcpy(n, N, sizeof n);
     }
-    double d = dot3(n, l);
+    double d = texopt_dot3(n, l);
     return TEXOPT_LIT_AMBIENT + (1.0 - TEXOPT_LIT_AMBIENT) * (d > 0 ? d : 0);
 }
 
-/* Multiplies luma by occlusion and the diffuse light on every covered pixel. */
-static texopt_status apply_light(const texopt_model *model, const texopt_raster *raster, const texopt_lit_frames *frames,
-                                 struct texopt_texture_filter *const *filters, const double *normal_turn, float *scratch,
-                                 float *luma, char *err, size_t err_len)
+/* The factors of L after base colour, in the order L applies them. */
+typedef enum lit_term { LIT_OCCLUSION, LIT_DIFFUSE, LIT_EMISSION } lit_term;
+
+/* Applies one term to every covered pixel of luma from its texture (shaded into scratch as
+ * RGB; a triangle whose material has none keeps the term's default: occlusion 1, n = N, no
+ * emission). */
+static texopt_status apply_term(const texopt_model *model, const texopt_raster *raster, const texopt_lit_frames *frames,
+                                struct texopt_texture_filter *const *filters, const double *normal_turn, lit_term term,
+                                float *scratch, float *luma, char *err, size_t err_len)
 {
-    const texopt_texture_ref **occ = NULL, **nrm = NULL;
-    texopt_status st = texopt_meshrender_triangle_bindings(model, TEXOPT_SLOT_OCCLUSION, &occ, err, err_len);
+    static const texopt_slot slot[] = {TEXOPT_SLOT_OCCLUSION, TEXOPT_SLOT_NORMAL, TEXOPT_SLOT_EMISSIVE};
+    const texopt_texture_ref **bound = NULL;
+    texopt_status st = texopt_meshrender_triangle_bindings(model, slot[term], &bound, err, err_len);
     if (st == TEXOPT_OK)
-        st = texopt_meshrender_shade_rgb(model, raster, TEXOPT_SLOT_OCCLUSION, filters, NULL, scratch, err, err_len);
-    size_t n = (size_t)raster->side * (size_t)raster->side;
-    for (size_t i = 0; i < n && st == TEXOPT_OK; i++)
-        if (raster->triangle[i] >= 0 && occ[raster->triangle[i]])
-            luma[i] *= scratch[3 * i];
-    if (st == TEXOPT_OK)
-        st = texopt_meshrender_triangle_bindings(model, TEXOPT_SLOT_NORMAL, &nrm, err, err_len);
-    if (st == TEXOPT_OK)
-        st = texopt_meshrender_shade_rgb(model, raster, TEXOPT_SLOT_NORMAL, filters, normal_turn, scratch, err,
-                                         err_len);
+        st = texopt_meshrender_shade_rgb(model, raster, slot[term], filters, term == LIT_DIFFUSE ? normal_turn : NULL,
+                                         scratch, err, err_len);
     double l[3];
     texopt_lit_light(&raster->view, l);
+    size_t n = (size_t)raster->side * (size_t)raster->side;
     for (size_t i = 0; i < n && st == TEXOPT_OK; i++) {
         int32_t t = raster->triangle[i];
-        if (t >= 0)
-            luma[i] *= (float)lambert(frames->tbn + 9 * (size_t)t, nrm[t] ? scratch + 3 * i : NULL, l);
+        if (t < 0)
+            continue;
+        const float *texel = bound[t] ? scratch + 3 * i : NULL;
+        if (term == LIT_DIFFUSE)
+            luma[i] *= (float)lambert(frames->tbn + 9 * (size_t)t, texel, l);
+        else if (texel && term == LIT_OCCLUSION)
+            luma[i] *= texel[0];
+        else if (texel)
+            luma[i] += texopt_luma(texel, 3);
     }
-    free(occ);
-    free(nrm);
-    return st;
-}
-
-/* Adds the emissive texture's luma where the material has one. */
-static texopt_status add_emission(const texopt_model *model, const texopt_raster *raster,
-                                  struct texopt_texture_filter *const *filters, float *scratch, float *luma, char *err,
-                                  size_t err_len)
-{
-    const texopt_texture_ref **em = NULL;
-    texopt_status st = texopt_meshrender_triangle_bindings(model, TEXOPT_SLOT_EMISSIVE, &em, err, err_len);
-    if (st == TEXOPT_OK)
-        st = texopt_meshrender_shade_luma(model, raster, TEXOPT_SLOT_EMISSIVE, filters, NULL, scratch, err, err_len);
-    size_t n = (size_t)raster->side * (size_t)raster->side;
-    for (size_t i = 0; i < n && st == TEXOPT_OK; i++)
-        if (raster->triangle[i] >= 0 && em[raster->triangle[i]])
-            luma[i] += scratch[i];
-    free(em);
+    free(bound);
     return st;
 }
 
@@ -211,9 +177,7 @@ texopt_status texopt_lit_shade(const texopt_model *model, const texopt_raster *r
                            frames->triangle_count);
     texopt_status st =
         texopt_meshrender_shade_luma(model, raster, TEXOPT_SLOT_BASE_COLOR, filters, NULL, luma, err, err_len);
-    if (st == TEXOPT_OK)
-        st = apply_light(model, raster, frames, filters, normal_turn, scratch, luma, err, err_len);
-    if (st == TEXOPT_OK)
-        st = add_emission(model, raster, filters, scratch, luma, err, err_len);
+    for (lit_term term = LIT_OCCLUSION; term <= LIT_EMISSION && st == TEXOPT_OK; term++)
+        st = apply_term(model, raster, frames, filters, normal_turn, term, scratch, luma, err, err_len);
     return st;
 }

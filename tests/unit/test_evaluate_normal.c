@@ -13,7 +13,6 @@
 #include "fixtures.h"
 #include "gltf_io.h"
 #include "image_io.h"
-#include "rebake.h"
 #include "test.h"
 
 #define TEX 64
@@ -48,15 +47,7 @@ static void turned_uvs(double degrees, float *uv)
 static texopt_model *rebaked_candidate(const texopt_model *ref, const float *uv, int side, int normal_map)
 {
     texopt_model *cand = quad_with_normal_map(uv, side);
-    double uv_in[8], uv_out[8];
-    for (int i = 0; i < 8; i++) {
-        uv_in[i] = ref->uvs[i];
-        uv_out[i] = uv[i];
-    }
-    texopt_rebake_layout layout = {2, quad_tris, uv_in, uv_out, 1};
-    char err[256] = "";
-    if (cand && texopt_rebake_image(&ref->images[0], TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, normal_map, &layout,
-                                    &cand->images[0], NULL, NULL, err, sizeof err) != TEXOPT_OK) {
+    if (cand && fixture_rebake(ref, cand, 0, normal_map) != 0) {
         texopt_model_destroy(cand);
         return NULL;
     }
