@@ -20,7 +20,8 @@ static const float quad_uv[8] = {0, 0, 1, 0, 1, 1, 0, 1};
 static const float quarter_turned_uv[8] = {1, 0, 1, 1, 0, 1, 0, 0};
 static const uint32_t quad_tris[6] = {0, 1, 2, 0, 2, 3};
 
-/* Appends a side x side RGB image to the model and binds it to `slot` of its material. */
+/* Appends a side x side RGB image to the model and binds it to `slot` of its material;
+ * returns it (valid until the next addition), or NULL. */
 static texopt_image *add_slot_image(texopt_model *m, texopt_slot slot, int side)
 {
     texopt_image *images = realloc(m->images, (size_t)(m->image_count + 1) * sizeof *images);
@@ -66,14 +67,13 @@ static texopt_model *lit_quad(const float *uv)
     texopt_model *m = fixture_model_from_arrays(quad_pos, uv, 4, quad_tris, 2, TEX, TEX, "checker");
     if (!m)
         return NULL;
-    texopt_image *normal = add_slot_image(m, TEXOPT_SLOT_NORMAL, TEX);
-    texopt_image *occlusion = normal ? add_slot_image(m, TEXOPT_SLOT_OCCLUSION, TEX) : NULL;
-    if (!occlusion) {
+    /* Each addition may move the image array: fill them once both are there. */
+    if (!add_slot_image(m, TEXOPT_SLOT_NORMAL, TEX) || !add_slot_image(m, TEXOPT_SLOT_OCCLUSION, TEX)) {
         texopt_model_destroy(m);
         return NULL;
     }
-    fixture_fill_normal_map(normal);
-    fill_occlusion(occlusion, 1.0);
+    fixture_fill_normal_map(&m->images[1]);
+    fill_occlusion(&m->images[2], 1.0);
     return m;
 }
 
