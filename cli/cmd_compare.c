@@ -35,11 +35,13 @@ static void usage(FILE *out)
             "  --json PATH         write the curves as JSON\n"
             "  --resolution N      evaluation render side (default: 1.25 sqrt(covered texels))\n"
             "  --mipmap            evaluate with prefiltered (mip-mapped) lookups, not bilinear\n"
-            "  --texture SLOT      the texture q measures, as texopt evaluate --texture (default\n"
-            "                      baseColor; the methods still lay out by their own rules)\n"
+            "  --texture SLOT      the texture q measures, a slot of texopt evaluate --texture\n"
+            "                      (default baseColor; the methods still lay out by their own\n"
+            "                      rules)\n"
             "  --every-texture     also measure q on every other texture slot IN has (normal,\n"
-            "                      metallicRoughness, ...): printed as one table per slot and\n"
-            "                      in the JSON as q_by_texture\n"
+            "                      metallicRoughness, ...) and, when IN has a normal, occlusion\n"
+            "                      or emissive map, lit (texopt evaluate --texture lit): printed\n"
+            "                      as one table each and in the JSON as q_by_texture\n"
             "  --iterations N      most stage-1 polish iterations per triangle (default 100)\n"
             "  --epsilon E         perceptual loss threshold of stage 1 (default 0.03)\n"
             "  --lambda-min L      smallest per-axis scale stage 1 may choose, in (0, 1)\n"
@@ -102,14 +104,13 @@ static void show_progress(void *user, const texopt_progress *p)
 }
 
 /* q of one slot: the headline table, or with --every-texture one more per slot. */
-static void print_slot_table(const texopt_compare_result *r, texopt_slot slot, const double *costs,
-                             int cost_count)
+static void print_slot_table(const texopt_compare_result *r, int slot, const double *costs, int cost_count)
 {
     int several = 0;
-    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++)
+    for (int s = 0; s < TEXOPT_COMPARE_MEASURES; s++)
         several += r->slot_measured[s] != 0;
     if (several > 1)
-        printf("%sq on %s:\n", slot == r->slot ? "" : "\n", texopt_slot_name(slot));
+        printf("%sq on %s:\n", slot == (int)r->slot ? "" : "\n", texopt_compare_measure_name(slot));
     printf("%-11s", "method");
     for (int c = 0; c < cost_count; c++)
         printf("  c_r=%-6.2f", costs[c]);
@@ -130,9 +131,9 @@ static void print_slot_table(const texopt_compare_result *r, texopt_slot slot, c
 static void print_table(const texopt_compare_result *r, const double *costs, int cost_count)
 {
     print_slot_table(r, r->slot, costs, cost_count);
-    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++)
+    for (int s = 0; s < TEXOPT_COMPARE_MEASURES; s++)
         if (r->slot_measured[s] && s != (int)r->slot)
-            print_slot_table(r, (texopt_slot)s, costs, cost_count);
+            print_slot_table(r, s, costs, cost_count);
     for (int m = 0; m < r->curve_count; m++)
         for (int c = 0; c < r->curves[m].point_count; c++) {
             const texopt_compare_point *p = &r->curves[m].points[c];

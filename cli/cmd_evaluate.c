@@ -1,5 +1,5 @@
 /* cmd_evaluate.c - `texopt evaluate IN OUT.glb [--resolution N] [--threads T] [--mipmap]
- * [--texture SLOT] [--json]`.
+ * [--texture SLOT|lit] [--json]`.
  *
  * Compares any two models with the same triangles (an input and texopt's output, or the
  * output of another tool): the whole-mesh perceptual loss q of Sun et al. 2022, section 5.1
@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "commands.h"
 #include "numbers.h"
@@ -21,7 +22,7 @@ static void usage(FILE *out)
 {
     fprintf(out,
             "usage: texopt evaluate IN OUT.glb [--resolution N] [--threads T] [--mipmap]\n"
-            "                      [--texture SLOT] [--json]\n"
+            "                      [--texture SLOT|lit] [--json]\n"
             "\n"
             "Renders IN and OUT from 20 cameras around the model and prints their whole-mesh\n"
             "perceptual loss q (GMSD, 0 = identical; Sun et al. 2022, section 5.1) and the cost\n"
@@ -35,7 +36,9 @@ static void usage(FILE *out)
             "  --texture SLOT   the material texture both renders show: baseColor (default),\n"
             "                   normal, metallicRoughness, occlusion or emissive (also base,\n"
             "                   mr, ao); a data texture's RGB encoding is compared as an image.\n"
-            "                   IN must have a texture in SLOT (base colour excepted)\n"
+            "                   IN must have a texture in SLOT (base colour excepted).\n"
+            "                   lit: the model lit by one light per view from base colour,\n"
+            "                   occlusion, normal and emissive maps (engine/lit_shade.h)\n"
             "  --json           print one JSON object instead of text\n"
             "  -h, --help       this text\n");
 }
@@ -54,6 +57,12 @@ static cJSON *cost_json(const texopt_cost *c)
     return o;
 }
 
+/* "lit", or the evaluated slot's name. */
+static const char *texture_name(const texopt_evaluate_options *opt)
+{
+    return opt->lit ? "lit" : texopt_slot_name(opt->slot);
+}
+
 static void print_json(const texopt_evaluation *ev, const texopt_evaluate_options *opt, const texopt_cost *in,
                        const texopt_cost *out)
 {
@@ -61,7 +70,7 @@ static void print_json(const texopt_evaluation *ev, const texopt_evaluate_option
     cJSON_AddNumberToObject(root, "q", ev->q);
     cJSON_AddNumberToObject(root, "resolution", ev->resolution);
     cJSON_AddStringToObject(root, "lookup", opt->mipmapped ? "mipmapped" : "bilinear");
-    cJSON_AddStringToObject(root, "texture", texopt_slot_name(opt->slot));
+    cJSON_AddStringToObject(root, "texture", texture_name(opt));
     cJSON *views = cJSON_AddArrayToObject(root, "view_gmsd");
     for (int v = 0; v < TEXOPT_VIEW_COUNT; v++)
         cJSON_AddItemToArray(views, cJSON_CreateNumber(ev->view_gmsd[v]));
@@ -80,7 +89,7 @@ static void print_json(const texopt_evaluation *ev, const texopt_evaluate_option
 static void print_text(const texopt_evaluation *ev, const texopt_evaluate_options *opt, const texopt_cost *in,
                        const texopt_cost *out)
 {
-    printf("q (whole-mesh GMSD of %s, 20 views at %d px, %s lookups): %.6f\n", texopt_slot_name(opt->slot),
+    printf("q (whole-mesh GMSD of %s, 20 views at %d px, %s lookups): %.6f\n", texture_name(opt),
            ev->resolution, opt->mipmapped ? "mip-mapped" : "bilinear", ev->q);
     printf("relative cost c_r: %.4f\n",
            in->covered_texels ? (double)out->covered_texels / (double)in->covered_texels : 0);
@@ -109,10 +118,12 @@ int cmd_evaluate(int argc, char **argv)
         } else if (!strcmp(a, "--mipmap")) {
             opt.mipmapped = 1;
         } else if (!strcmp(a, "--texture")) {
-            opt.slot = texopt_evaluate_slot_from_name(i + 1 < argc ? argv[i + 1] : NULL);
+            const char *name = i + 1 < argc ? argv[i + 1] : NULL;
+            opt.lit = name && !strcasecmp(name, "lit");
+            opt.slot = opt.lit ? TEXOPT_SLOT_BASE_COLOR : texopt_evaluate_slot_from_name(name);
             if (opt.slot == TEXOPT_SLOT_COUNT) {
                 fprintf(stderr, "texopt evaluate: --texture needs baseColor, normal, metallicRoughness, "
-                                "occlusion or emissive\n");
+                                "occlusion, emissive or lit\n");
                 return EXIT_USAGE;
             }
             i++;

@@ -7,6 +7,8 @@
 
 #include <math.h>
 
+#include "vec3.h"
+
 static void sub3(const double a[3], const double b[3], double out[3])
 {
     out[0] = a[0] - b[0];
@@ -14,35 +16,12 @@ static void sub3(const double a[3], const double b[3], double out[3])
     out[2] = a[2] - b[2];
 }
 
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static void cross3(const double a[3], const double b[3], double out[3])
-{
-    out[0] = a[1] * b[2] - a[2] * b[1];
-    out[1] = a[2] * b[0] - a[0] * b[2];
-    out[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static int normalize3(double v[3])
-{
-    double n = sqrt(dot3(v, v));
-    if (!(n > 0.0) || !isfinite(n))
-        return 0;
-    v[0] /= n;
-    v[1] /= n;
-    v[2] /= n;
-    return 1;
-}
-
 /* Grows the (R, U) bounding box by one point. */
 static void include_point(const texopt_camera *camera, const double p[3], double box[4])
 {
     double d[3];
     sub3(p, camera->center, d);
-    double x = dot3(d, camera->right), y = dot3(d, camera->up);
+    double x = texopt_dot3(d, camera->right), y = texopt_dot3(d, camera->up);
     if (x < box[0]) box[0] = x;
     if (y < box[1]) box[1] = y;
     if (x > box[2]) box[2] = x;
@@ -75,12 +54,12 @@ texopt_status texopt_camera_create(texopt_camera *camera, const double a[3], con
     double ab[3], ac[3];
     sub3(b, a, ab);
     sub3(c, a, ac);
-    cross3(ab, ac, camera->normal);
+    texopt_cross3(ab, ac, camera->normal);
     sub3(a, camera->center, camera->right);
-    if (!normalize3(camera->normal) || !normalize3(camera->right))
+    if (!texopt_normalize3(camera->normal) || !texopt_normalize3(camera->right))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "camera: degenerate triangle has no normal");
-    cross3(camera->normal, camera->right, camera->up);
+    texopt_cross3(camera->normal, camera->right, camera->up);
     camera->size = size;
 
     double box[4] = {INFINITY, INFINITY, -INFINITY, -INFINITY};
@@ -137,8 +116,8 @@ void texopt_camera_project(const texopt_camera *camera, const double point[3], d
     double d[3];
     sub3(point, camera->center, d);
     double scale = camera->size / camera->window_side;
-    screen[0] = (dot3(d, camera->right) - camera->window_x0) * scale;
-    screen[1] = (camera->window_y0 + camera->window_side - dot3(d, camera->up)) * scale;
+    screen[0] = (texopt_dot3(d, camera->right) - camera->window_x0) * scale;
+    screen[1] = (camera->window_y0 + camera->window_side - texopt_dot3(d, camera->up)) * scale;
     if (depth)
-        *depth = dot3(d, camera->normal);
+        *depth = texopt_dot3(d, camera->normal);
 }

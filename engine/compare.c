@@ -21,6 +21,7 @@
 #include "atomic_file.h"
 #include "gltf_io.h"
 #include "info.h"
+#include "lit_shade.h"
 #include "meshrender.h"
 #include "pipeline.h"
 
@@ -85,11 +86,12 @@ static texopt_status measure_slots(const texopt_model *input, const texopt_model
                                    texopt_compare_point *pt)
 {
     texopt_status st = TEXOPT_OK;
-    for (int s = 0; s < TEXOPT_SLOT_COUNT && st == TEXOPT_OK; s++) {
+    for (int s = 0; s < TEXOPT_COMPARE_MEASURES && st == TEXOPT_OK; s++) {
         if (!slots[s])
             continue;
         texopt_evaluate_options eo = opt->evaluate;
-        eo.slot = (texopt_slot)s;
+        eo.lit = s == TEXOPT_COMPARE_LIT;
+        eo.slot = eo.lit ? TEXOPT_SLOT_BASE_COLOR : (texopt_slot)s;
         eo.triangle_error = s == (int)opt->evaluate.slot ? tri_err : NULL;
         eo.monitor = opt->monitor;
         texopt_evaluation ev;
@@ -158,7 +160,7 @@ static void point_init(texopt_compare_point *pt, double cost)
     memset(pt, 0, sizeof *pt);
     pt->cost_requested = cost;
     pt->q = NAN;
-    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++)
+    for (int s = 0; s < TEXOPT_COMPARE_MEASURES; s++)
         pt->q_by_slot[s] = NAN;
 }
 
@@ -293,6 +295,9 @@ static void mark_measured_slots(const texopt_model *input, const texopt_compare_
     for (int s = 0; s < TEXOPT_SLOT_COUNT; s++)
         measured[s] = s == (int)opt->evaluate.slot ||
                       (opt->every_slot && texopt_meshrender_has_texture(input, (texopt_slot)s));
+    /* Without a map that lighting reads besides base colour, lit would be base colour's q
+     * through a shading both renders share: nothing new. */
+    measured[TEXOPT_COMPARE_LIT] = opt->every_slot && texopt_lit_has_maps(input);
 }
 
 static texopt_status make_work_dir(const texopt_compare_options *opt, char *dir, size_t len,
@@ -372,18 +377,23 @@ texopt_status texopt_compare(const char *input_path, const texopt_compare_option
     return TEXOPT_OK;
 }
 
+const char *texopt_compare_measure_name(int m)
+{
+    return m == TEXOPT_COMPARE_LIT ? "lit" : texopt_slot_name((texopt_slot)m);
+}
+
 /* "q_by_texture": {slot name: q} when more than the headline slot was measured. */
 static void add_q_by_slot(cJSON *o, const texopt_compare_point *pt, const int *slots)
 {
     int n = 0;
-    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++)
+    for (int s = 0; s < TEXOPT_COMPARE_MEASURES; s++)
         n += slots[s] != 0;
     if (n < 2)
         return;
     cJSON *by = cJSON_AddObjectToObject(o, "q_by_texture");
-    for (int s = 0; by && s < TEXOPT_SLOT_COUNT; s++)
+    for (int s = 0; by && s < TEXOPT_COMPARE_MEASURES; s++)
         if (slots[s])
-            cJSON_AddNumberToObject(by, texopt_slot_name((texopt_slot)s), pt->q_by_slot[s]);
+            cJSON_AddNumberToObject(by, texopt_compare_measure_name(s), pt->q_by_slot[s]);
 }
 
 static cJSON *point_json(const texopt_compare_point *pt, const int *slots)

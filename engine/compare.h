@@ -37,13 +37,18 @@
 
 #define TEXOPT_COMPARE_MAX_COSTS 16
 
+/* The measures a point can hold: one per texture slot (texopt_slot), then the lit luma of
+ * all maps (evaluate.h `lit`) at index TEXOPT_COMPARE_LIT, named "lit". */
+#define TEXOPT_COMPARE_LIT TEXOPT_SLOT_COUNT
+#define TEXOPT_COMPARE_MEASURES (TEXOPT_SLOT_COUNT + 1)
+
 typedef struct texopt_compare_point {
     double cost_requested;    /* c_r asked of the pipeline */
     double cost_achieved;     /* covered texels of the output / of the input */
     double q;                 /* whole-mesh loss against the input */
-    double q_by_slot[TEXOPT_SLOT_COUNT]; /* q of each texture slot the result measured
-                                            (texopt_compare_result.slot_measured; the
-                                            headline slot's entry is q); NAN elsewhere */
+    double q_by_slot[TEXOPT_COMPARE_MEASURES]; /* q of each measure the result measured
+                                                  (texopt_compare_result.slot_measured; the
+                                                  headline slot's entry is q); NAN elsewhere */
     uint64_t texture_pixels;  /* texture memory of the output */
     double packing_efficiency;
     double seconds_optimize, seconds_evaluate;
@@ -75,7 +80,8 @@ typedef struct texopt_compare_options {
     int reuse_layout;              /* nonzero: each layout once, smaller costs resampled (fast,
                                       pessimistic for layout methods); 0: one run per point */
     int every_slot;                /* nonzero: besides evaluate.slot, q of every other slot in
-                                      which the input has a texture (q_by_slot): the methods
+                                      which the input has a texture (q_by_slot), and lit when
+                                      it has a normal, occlusion or emissive map: the methods
                                       lay out for different signals (ssp and tewari read base
                                       colour, perceptual every texture), so one slot's q does
                                       not rank them on a model with several maps */
@@ -92,9 +98,10 @@ typedef struct texopt_compare_result {
     int resolution;           /* evaluation screen side */
     int mipmapped;            /* evaluated with mip-mapped lookups (evaluate.h) */
     texopt_slot slot;         /* the texture q measured (evaluate.h; base colour by default) */
-    int slot_measured[TEXOPT_SLOT_COUNT]; /* nonzero for the slots in the points' q_by_slot:
-                                             `slot`, and with every_slot each other one the
-                                             input has a texture in */
+    int slot_measured[TEXOPT_COMPARE_MEASURES]; /* nonzero for the measures in the points'
+                                                   q_by_slot: `slot`, and with every_slot
+                                                   each other one the input has a texture
+                                                   in, and lit (texopt_lit_has_maps) */
     double showcase_cost;
     texopt_cost input_cost;
     texopt_model *input;      /* the input, loaded */
@@ -108,6 +115,9 @@ texopt_status texopt_compare(const char *input_path, const texopt_compare_option
                              texopt_compare_result *out, char *err, size_t err_len);
 
 void texopt_compare_result_destroy(texopt_compare_result *result);
+
+/* The name of measure m of q_by_slot: the slot's (texopt_slot_name), or "lit". */
+const char *texopt_compare_measure_name(int m);
 
 /* Writes the curves as JSON (temp + fsync + rename). */
 texopt_status texopt_compare_write_json(const texopt_compare_result *result, const char *path,

@@ -7,8 +7,9 @@
  * workspace; results are written to per-view slots, so the sum is the same for any thread
  * count. The texture slot (base colour by default) changes which binding meshrender shades
  * and, for normal maps, turns the candidate's XY per triangle back to the reference's
- * tangent frame (evaluate.h). Does not: render with OSMesa (see meshrender.c for why), look
- * at two slots at once. */
+ * tangent frame (evaluate.h); lit evaluation shades every map through lit_shade.h with the
+ * same turns. Does not: render with OSMesa (see meshrender.c for why), look at two slots at
+ * once. */
 #include "evaluate.h"
 
 #include <math.h>
@@ -25,6 +26,7 @@
 #include "gltf_tangents.h"
 #include "gmsd.h"
 #include "info.h"
+#include "lit_shade.h"
 #include "mesh.h"
 #include "sample.h"
 #include "texel_map.h"
@@ -91,6 +93,15 @@ texopt_status texopt_evaluate_check_slot(const texopt_model *reference, texopt_s
     return TEXOPT_OK;
 }
 
+texopt_status texopt_evaluate_check_lit(const texopt_model *reference, char *err, size_t err_len)
+{
+    if (!texopt_meshrender_has_texture(reference, TEXOPT_SLOT_BASE_COLOR) && !texopt_lit_has_maps(reference))
+        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                           "the reference has no baseColor, normal, occlusion or emissive texture (read through "
+                           "TEXCOORD_0) to light");
+    return TEXOPT_OK;
+}
+
 texopt_status texopt_evaluate_cost(const texopt_model *model, texopt_cost *out, char *err,
                                    size_t err_len)
 {
@@ -140,6 +151,7 @@ typedef struct eval_job {
     int side;
     int threads;
     texopt_slot slot;
+    texopt_lit_frames *lit; /* the reference's tangent frames when lit, NULL otherwise */
     atomic_int next_view;
     atomic_int failed;
     texopt_evaluation *out; /* per candidate */
@@ -155,22 +167,27 @@ typedef struct eval_job {
     double **cand_turns; /* per candidate: normal-map turns (meshrender.h), NULL: none */
 } eval_job;
 
-/* Mip pyramids of every image the evaluated slot's bindings use, with their wrap modes. */
-static texopt_status build_filters(const texopt_model *m, texopt_slot slot, texopt_texture_filter ***out, char *err,
-                                   size_t err_len)
+/* Mip pyramids of every image the evaluated slot's bindings use (every slot lighting reads
+ * when lit), with their wrap modes. */
+static texopt_status build_filters(const texopt_model *m, texopt_slot slot, int lit, texopt_texture_filter ***out,
+                                   char *err, size_t err_len)
 {
     texopt_texture_filter **f = calloc(m->image_count > 0 ? (size_t)m->image_count : 1, sizeof *f);
     if (!f)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for texture filters");
     *out = f;
-    for (int p = 0; p < m->primitive_count; p++) {
-        const texopt_texture_ref *r = texopt_meshrender_binding(m, p, slot);
-        if (!r || f[r->image])
+    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++) {
+        if (lit ? s == TEXOPT_SLOT_METALLIC_ROUGHNESS : s != (int)slot)
             continue;
-        texopt_status st = texopt_texture_filter_create(&f[r->image], &m->images[r->image], r->wrap_s,
-                                                        r->wrap_t, err, err_len);
-        if (st != TEXOPT_OK)
-            return st;
+        for (int p = 0; p < m->primitive_count; p++) {
+            const texopt_texture_ref *r = texopt_meshrender_binding(m, p, (texopt_slot)s);
+            if (!r || f[r->image])
+                continue;
+            texopt_status st = texopt_texture_filter_create(&f[r->image], &m->images[r->image], r->wrap_s,
+                                                            r->wrap_t, err, err_len);
+            if (st != TEXOPT_OK)
+                return st;
+        }
     }
     return TEXOPT_OK;
 }
@@ -205,6 +222,7 @@ typedef struct view_buffers {
     texopt_gmsd_workspace *ws;
     texopt_gmsd_reference *prepared;
     float *luma_ref, *luma_cand;
+    float *scratch; /* 3 per pixel when lit, NULL otherwise */
     unsigned char *mask;
 } view_buffers;
 
@@ -221,6 +239,16 @@ static void account_triangle_error(eval_job *job, int worker, const texopt_raste
         }
 }
 
+/* One model's luma of a raster: the evaluated slot, or lit. */
+static texopt_status shade_luma(const eval_job *job, const texopt_model *model, const texopt_raster *raster,
+                                texopt_texture_filter *const *filters, const double *turn, view_buffers *b,
+                                float *luma, char *msg, size_t msg_len)
+{
+    if (job->lit)
+        return texopt_lit_shade(model, raster, job->lit, filters, turn, b->scratch, luma, msg, msg_len);
+    return texopt_meshrender_shade_luma(model, raster, job->slot, filters, turn, luma, msg, msg_len);
+}
+
 /* Renders one view of the reference once (raster, shading, GMSD reference side) and
  * compares every candidate with it; returns a status with the message in msg. */
 static texopt_status evaluate_view(eval_job *job, int worker, int v, view_buffers *b, char *msg, size_t msg_len)
@@ -229,8 +257,7 @@ static texopt_status evaluate_view(eval_job *job, int worker, int v, view_buffer
     texopt_status st = texopt_meshrender_rasterize(job->reference, &job->views[v], job->side,
                                                    &raster, msg, msg_len);
     if (st == TEXOPT_OK)
-        st = texopt_meshrender_shade_luma(job->reference, &raster, job->slot, job->ref_filters, NULL, b->luma_ref,
-                                          msg, msg_len);
+        st = shade_luma(job, job->reference, &raster, job->ref_filters, NULL, b, b->luma_ref, msg, msg_len);
     if (st == TEXOPT_OK) {
         size_t n = (size_t)job->side * (size_t)job->side;
         for (size_t i = 0; i < n; i++)
@@ -239,9 +266,8 @@ static texopt_status evaluate_view(eval_job *job, int worker, int v, view_buffer
             st = texopt_fail(msg, msg_len, TEXOPT_E_INVALID_ARGUMENT, "view %d: bad GMSD reference", v);
     }
     for (int c = 0; c < job->candidate_count && st == TEXOPT_OK; c++) {
-        st = texopt_meshrender_shade_luma(job->candidates[c], &raster, job->slot,
-                                          job->cand_filters ? job->cand_filters[c] : NULL,
-                                          job->cand_turns ? job->cand_turns[c] : NULL, b->luma_cand, msg, msg_len);
+        st = shade_luma(job, job->candidates[c], &raster, job->cand_filters ? job->cand_filters[c] : NULL,
+                        job->cand_turns ? job->cand_turns[c] : NULL, b, b->luma_cand, msg, msg_len);
         if (st != TEXOPT_OK)
             break;
         double g = texopt_gmsd_against(b->ws, b->prepared, b->luma_cand);
@@ -279,7 +305,8 @@ static void *eval_worker_run(void *arg)
     b.luma_ref = malloc(n * sizeof(float));
     b.luma_cand = malloc(n * sizeof(float));
     b.mask = malloc(n);
-    if (!b.ws || !b.prepared || !b.luma_ref || !b.luma_cand || !b.mask) {
+    b.scratch = job->lit ? malloc(3 * n * sizeof(float)) : NULL;
+    if (!b.ws || !b.prepared || !b.luma_ref || !b.luma_cand || !b.mask || (job->lit && !b.scratch)) {
         job_fail(job, TEXOPT_E_NOMEM, "no memory for the evaluation views");
     } else {
         char msg[256];
@@ -307,6 +334,7 @@ static void *eval_worker_run(void *arg)
     free(b.luma_ref);
     free(b.luma_cand);
     free(b.mask);
+    free(b.scratch);
     return NULL;
 }
 
@@ -344,14 +372,15 @@ static void destroy_candidate_filters(texopt_texture_filter ***f, const texopt_m
 /* The mip pyramids of the reference and every candidate (mipmapped evaluation). */
 static texopt_status build_all_filters(eval_job *job, char *err, size_t err_len)
 {
-    texopt_status st = build_filters(job->reference, job->slot, &job->ref_filters, err, err_len);
+    int lit = job->lit != NULL;
+    texopt_status st = build_filters(job->reference, job->slot, lit, &job->ref_filters, err, err_len);
     if (st == TEXOPT_OK) {
         job->cand_filters = calloc((size_t)job->candidate_count, sizeof *job->cand_filters);
         if (!job->cand_filters)
             st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for texture filters");
     }
     for (int c = 0; c < job->candidate_count && st == TEXOPT_OK; c++)
-        st = build_filters(job->candidates[c], job->slot, &job->cand_filters[c], err, err_len);
+        st = build_filters(job->candidates[c], job->slot, lit, &job->cand_filters[c], err, err_len);
     return st;
 }
 
@@ -448,7 +477,8 @@ static texopt_status prepare_views(const texopt_model *reference, const texopt_m
     if (opt->resolution < 0 || opt->resolution > 16384 || (opt->resolution > 0 && opt->resolution < 8))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "resolution %d is outside [8, 16384]", opt->resolution);
-    texopt_status st = texopt_evaluate_check_slot(reference, opt->slot, err, err_len);
+    texopt_status st = opt->lit ? texopt_evaluate_check_lit(reference, err, err_len)
+                                : texopt_evaluate_check_slot(reference, opt->slot, err, err_len);
     if (st != TEXOPT_OK)
         return st;
     if (opt->triangle_error && count != 1)
@@ -533,9 +563,11 @@ texopt_status texopt_evaluate_many(const texopt_model *reference, const texopt_m
     pthread_mutex_init(&job.lock, NULL);
     if (!job.out)
         st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the evaluations");
+    if (st == TEXOPT_OK && opt->lit)
+        st = texopt_lit_frames_create(reference, &job.lit, err, err_len);
     if (st == TEXOPT_OK && opt->mipmapped)
         st = build_all_filters(&job, err, err_len);
-    if (st == TEXOPT_OK && opt->slot == TEXOPT_SLOT_NORMAL)
+    if (st == TEXOPT_OK && (opt->lit || opt->slot == TEXOPT_SLOT_NORMAL))
         st = build_all_turns(&job, err, err_len);
     size_t tc = reference->triangle_count;
     if (st == TEXOPT_OK && opt->triangle_error) {
@@ -558,6 +590,7 @@ texopt_status texopt_evaluate_many(const texopt_model *reference, const texopt_m
     destroy_filters(job.ref_filters, reference->image_count);
     destroy_candidate_filters(job.cand_filters, candidates, candidate_count);
     destroy_turns(job.cand_turns, candidate_count);
+    texopt_lit_frames_destroy(job.lit);
     free(job.out);
     pthread_mutex_destroy(&job.lock);
     return st;

@@ -39,7 +39,15 @@
  * grey against grey, because the pipeline evaluates every model by it.) A candidate without
  * the texture is measured: mid grey against the reference's map.
  *
- * Does not: optimise or bake, light the model, or look at more than one slot per call. */
+ * Lit (option `lit`): instead of one slot, the luma of the model lit by one light from every
+ * map that shades it (lit_shade.h: base colour, occlusion, the normal map turned back to the
+ * reference's tangent frame as above, emissive): what a user sees of all the textures a
+ * layout re-bakes. An option beside `slot` rather than a slot of its own, because
+ * texopt_slot names a material's textures and lit reads four of them. A reference with no
+ * texture in any of those four is refused (TEXOPT_E_UNSUPPORTED), as a slot without one:
+ * q would be 0 for any layout.
+ *
+ * Does not: optimise or bake, shade specular, or look at more than one slot per call. */
 #ifndef TEXOPT_EVALUATE_H
 #define TEXOPT_EVALUATE_H
 
@@ -67,6 +75,8 @@ typedef struct texopt_evaluate_options {
     /* The texture both renders shade (see the top of this file); TEXOPT_SLOT_BASE_COLOR (0)
      * is the paper's q. */
     texopt_slot slot;
+    /* Nonzero: the lit luma of every map (see the top of this file); `slot` is then not read. */
+    int lit;
 } texopt_evaluate_options;
 
 typedef struct texopt_evaluation {
@@ -97,6 +107,10 @@ texopt_slot texopt_evaluate_slot_from_name(const char *name);
 /* Succeeds when `slot` can be evaluated against this reference: a known slot, and for any
  * slot but base colour a texture in it somewhere (the refusal described at the top). */
 texopt_status texopt_evaluate_check_slot(const texopt_model *reference, texopt_slot slot, char *err, size_t err_len);
+
+/* Succeeds when the lit luma can be evaluated against this reference: a texture in base
+ * colour, normal, occlusion or emissive somewhere (the refusal described at the top). */
+texopt_status texopt_evaluate_check_lit(const texopt_model *reference, char *err, size_t err_len);
 
 /* Measures model's layout cost. */
 texopt_status texopt_evaluate_cost(const texopt_model *model, texopt_cost *out, char *err,

@@ -25,8 +25,8 @@
  * image, its XY turned per triangle when the caller asks: texel_map.h); the RGB shadings
  * read base colour, what the report shows.
  *
- * Does not: light, blend alpha, decode normals or channels, choose the turns (evaluate.c),
- * or compare images. */
+ * Does not: light (lit_shade.h does, from these shadings), blend alpha, decode normals or
+ * channels, choose the turns (evaluate.c), or compare images. */
 #include "meshrender.h"
 
 #include <float.h>
@@ -37,6 +37,7 @@
 #include "sample.h"
 #include "texel_map.h"
 #include "texture_filter.h"
+#include "vec3.h"
 
 /* Unit vectors to the 20 vertices of a regular dodecahedron: (±1,±1,±1), (0,±1/φ,±φ),
  * (±1/φ,±φ,0), (±φ,0,±1/φ). */
@@ -81,25 +82,6 @@ static int icosahedron_vertices(double out[TEXOPT_VIEW_COUNT][3])
     return n;
 }
 
-static void cross3(const double a[3], const double b[3], double out[3])
-{
-    out[0] = a[1] * b[2] - a[2] * b[1];
-    out[1] = a[2] * b[0] - a[0] * b[2];
-    out[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static void normalize3(double v[3])
-{
-    double len = sqrt(dot3(v, v));
-    for (int k = 0; k < 3; k++)
-        v[k] /= len;
-}
-
 /* Screen axes for a camera looking along -direction with world +Y as "up" where possible. */
 static void view_axes(texopt_view *view)
 {
@@ -110,10 +92,10 @@ static void view_axes(texopt_view *view)
     }
     /* right = up x direction, so (right, up, direction) is right-handed and the camera sees
      * the scene unmirrored. */
-    cross3(world_up, view->direction, view->right);
-    normalize3(view->right);
-    cross3(view->direction, view->right, view->up);
-    normalize3(view->up);
+    texopt_cross3(world_up, view->direction, view->right);
+    texopt_normalize3(view->right);
+    texopt_cross3(view->direction, view->right, view->up);
+    texopt_normalize3(view->up);
 }
 
 texopt_status texopt_meshrender_views(const texopt_model *model, texopt_view *views, char *err,
@@ -147,7 +129,7 @@ texopt_status texopt_meshrender_camera_set(const texopt_model *model, texopt_cam
         double d[3];
         for (int k = 0; k < 3; k++)
             d[k] = model->positions[3 * v + k] - centre[k];
-        radius = fmax(radius, sqrt(dot3(d, d)));
+        radius = fmax(radius, sqrt(texopt_dot3(d, d)));
     }
     if (!(radius > 0))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "model has a zero-size bounding box");
@@ -182,9 +164,9 @@ static void project(const texopt_view *view, int side, const float *p, double ou
 {
     double d[3] = {p[0] - view->centre[0], p[1] - view->centre[1], p[2] - view->centre[2]};
     double scale = side / (2.0 * view->half_extent);
-    out[0] = (dot3(d, view->right) + view->half_extent) * scale;
-    out[1] = (view->half_extent - dot3(d, view->up)) * scale;
-    out[2] = dot3(d, view->direction);
+    out[0] = (texopt_dot3(d, view->right) + view->half_extent) * scale;
+    out[1] = (view->half_extent - texopt_dot3(d, view->up)) * scale;
+    out[2] = texopt_dot3(d, view->direction);
 }
 
 static void rasterize_triangle(texopt_raster *r, float *depth, int32_t tri, const double s[3][3])
@@ -467,6 +449,13 @@ texopt_status texopt_meshrender_shade_luma(const texopt_model *model, const texo
                                            float *luma, char *err, size_t err_len)
 {
     return shade_pixels(model, raster, slot, filters, normal_turn, 1, luma, err, err_len);
+}
+
+texopt_status texopt_meshrender_shade_rgb(const texopt_model *model, const texopt_raster *raster, texopt_slot slot,
+                                          struct texopt_texture_filter *const *filters, const double *normal_turn,
+                                          float *rgb, char *err, size_t err_len)
+{
+    return shade_pixels(model, raster, slot, filters, normal_turn, 0, rgb, err, err_len);
 }
 
 texopt_status texopt_meshrender_same_geometry(const texopt_model *reference,

@@ -103,6 +103,14 @@ texopt_status texopt_meshrender_shade_luma(const texopt_model *model, const texo
                                            struct texopt_texture_filter *const *filters, const double *normal_turn,
                                            float *luma, char *err, size_t err_len);
 
+/* As texopt_meshrender_shade_luma, writing each pixel's RGB (3 floats, a one-channel texture
+ * repeated) into the caller's side x side x 3 floats: what a shading that decodes the texels
+ * itself (lit_shade.h) reads. Where the material has no texture in `slot` the pixel is mid
+ * grey, as there. */
+texopt_status texopt_meshrender_shade_rgb(const texopt_model *model, const texopt_raster *raster, texopt_slot slot,
+                                          struct texopt_texture_filter *const *filters, const double *normal_turn,
+                                          float *rgb, char *err, size_t err_len);
+
 /* The texture binding of `slot` that shades primitive's triangles: its material's, when it
  * names a decoded image through TEXCOORD_0; NULL otherwise (mid grey). */
 const texopt_texture_ref *texopt_meshrender_binding(const texopt_model *model, int primitive, texopt_slot slot);

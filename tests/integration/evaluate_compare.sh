@@ -7,9 +7,10 @@
 # nothing outside itself; that compare passes its stage-1 and refinement options on (its
 # perceptual point with --refinements 0, --epsilon and --lambda-min is the q of `texopt
 # optimize` with the same options, which differs from the default's two rounds on Fox at c_r
-# 0.3). --texture: the JSON names the slot, `--texture base` is the default's q, a slot Fox
-# has no texture in (normal) is an engine error naming it (exit 1, evaluate and compare), an
-# unknown slot a usage error. Also the usage errors' exit codes, the seed's range included.
+# 0.3). --texture: the JSON names the slot, `--texture base` is the default's q, `--texture
+# lit` is another measure (Fox has only base colour: lit, not 0, not base colour's q), a slot
+# Fox has no texture in (normal) is an engine error naming it (exit 1, evaluate and compare),
+# an unknown slot a usage error. Also the usage errors' exit codes, the seed's range included.
 set -euo pipefail
 : "${TEXOPT_BIN:?TEXOPT_BIN must point to the texopt executable}"
 : "${TEXOPT_SOURCE_DIR:?TEXOPT_SOURCE_DIR must point to the source tree}"
@@ -26,6 +27,8 @@ FOX="$TEXOPT_SOURCE_DIR/tests/data/Fox/Fox.glb"
     fail "evaluate of the reduced Fox exited $?"
 "$TEXOPT_BIN" evaluate "$FOX" "$WORK/quarter.glb" --resolution 200 --texture base --json > "$WORK/quarter_base.json" ||
     fail "evaluate --texture base exited $?"
+"$TEXOPT_BIN" evaluate "$FOX" "$WORK/quarter.glb" --resolution 200 --texture lit --json > "$WORK/quarter_lit.json" ||
+    fail "evaluate --texture lit exited $?"
 "$TEXOPT_BIN" compare "$FOX" --methods input --costs 1,0.25,0.0625 --resolution 200 --quiet \
     --json "$WORK/curves.json" -o "$WORK/report.html" > "$WORK/table.txt" || fail "compare exited $?"
 "$TEXOPT_BIN" optimize "$FOX" -o "$WORK/plain.glb" --relative-cost 0.3 --refinements 0 --seed 4294967299 \
@@ -54,6 +57,9 @@ if abs(quarter["relative_cost"] - 0.25) > 0.02:
     fail(f"reduced Fox relative cost {quarter['relative_cost']}")
 if quarter["output"]["texture_pixels"] != 512 * 512:
     fail(f"reduced Fox texture pixels {quarter['output']['texture_pixels']}")
+quarter_lit = json.load(open(f"{work}/quarter_lit.json"))
+if quarter_lit["texture"] != "lit" or not quarter_lit["q"] > 0 or quarter_lit["q"] == quarter["q"]:
+    fail(f"--texture lit: {quarter_lit['q']} {quarter_lit['texture']} (base colour q {quarter['q']})")
 quarter_base = json.load(open(f"{work}/quarter_base.json"))
 if quarter_base["q"] != quarter["q"] or quarter_base["texture"] != "baseColor":
     fail(f"--texture base: {quarter_base['q']} {quarter_base['texture']} vs default q {quarter['q']}")
@@ -141,6 +147,7 @@ done
 "$TEXOPT_BIN" evaluate "$FOX" "$FOX" --texture nosuch > /dev/null 2>&1; [ $? -eq 2 ] || fail "unknown slot should exit 2"
 "$TEXOPT_BIN" evaluate "$FOX" "$FOX" --texture > /dev/null 2>&1; [ $? -eq 2 ] || fail "--texture without a slot should exit 2"
 "$TEXOPT_BIN" compare "$FOX" --texture nosuch > /dev/null 2>&1; [ $? -eq 2 ] || fail "compare: unknown slot should exit 2"
+"$TEXOPT_BIN" compare "$FOX" --texture lit > /dev/null 2>&1; [ $? -eq 2 ] || fail "compare: lit is no headline slot, exit 2"
 "$TEXOPT_BIN" evaluate "$FOX" "$FOX" --texture normal --resolution 64 > /dev/null 2> "$WORK/normal.err"
 [ $? -eq 1 ] || fail "a slot Fox has no texture in should exit 1"
 grep -q "no normal texture" "$WORK/normal.err" || fail "the missing slot's error does not name it: $(cat "$WORK/normal.err")"

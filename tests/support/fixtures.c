@@ -10,6 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "rebake.h"
+
 static const float flat_colour[3] = {0.6f, 0.4f, 0.2f};
 
 static void set_rgb(float *px, int channels, float r, float g, float b)
@@ -111,6 +113,38 @@ static int add_texture(texopt_model *m, int tex_w, int tex_h, const char *patter
         m->materials[0].slot[s] = (texopt_texture_ref){-1, 0, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT};
     m->materials[0].slot[TEXOPT_SLOT_BASE_COLOR].image = 0;
     return 0;
+}
+
+void fixture_fill_normal_map(texopt_image *img)
+{
+    for (int y = 0; y < img->height; y++)
+        for (int x = 0; x < img->width; x++) {
+            double a = (x / 8) % 2 ? 0.6 : -0.6, b = (y / 4) % 2 ? 0.3 : -0.3;
+            float *p = texopt_image_at(img, x, y);
+            p[0] = (float)(0.5 + 0.5 * a);
+            p[1] = (float)(0.5 + 0.5 * b);
+            p[2] = (float)(0.5 + 0.5 * sqrt(1.0 - a * a - b * b));
+        }
+}
+
+int fixture_rebake(const texopt_model *ref, texopt_model *cand, int image, int normal_map)
+{
+    if (!ref || !cand || ref->vertex_count != cand->vertex_count || image < 0 || image >= ref->image_count ||
+        image >= cand->image_count)
+        return -1;
+    size_t n = 2 * ref->vertex_count;
+    double *uv_in = malloc(n * sizeof *uv_in), *uv_out = malloc(n * sizeof *uv_out);
+    int ok = uv_in && uv_out;
+    for (size_t i = 0; ok && i < n; i++) {
+        uv_in[i] = ref->uvs[i];
+        uv_out[i] = cand->uvs[i];
+    }
+    texopt_rebake_layout layout = {ref->triangle_count, ref->triangles, uv_in, uv_out, 1};
+    ok = ok && texopt_rebake_image(&ref->images[image], TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, normal_map, &layout,
+                                   &cand->images[image], NULL, NULL, NULL, 0) == TEXOPT_OK;
+    free(uv_in);
+    free(uv_out);
+    return ok ? 0 : -1;
 }
 
 texopt_model *fixture_model_from_arrays(const float *positions, const float *uvs,

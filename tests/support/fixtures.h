@@ -34,6 +34,17 @@
  * 3 channels. */
 int fixture_fill_pattern(texopt_image *img, const char *pattern);
 
+/* A tangent-space normal map with edges in X and in Y (at different periods, so a quarter
+ * turn changes which channel carries which stripes), encoded in [0, 1], unit length; any
+ * size, 3 or more channels. */
+void fixture_fill_normal_map(texopt_image *img);
+
+/* Re-bakes ref->images[image] (read over ref's UVs, repeat wrap) into cand->images[image]
+ * (over cand's UVs, allocated with its size and ref's channels); both models must share
+ * their vertex and triangle lists. normal_map: turn the tangent-space XY with each triangle
+ * (rebake.h). Returns 0, or -1 on any failure. */
+int fixture_rebake(const texopt_model *ref, texopt_model *cand, int image, int normal_map);
+
 /* A model from raw arrays (copied): positions (3 per vertex), uvs (2 per vertex),
  * triangles (3 per triangle), with one tex_w x tex_h RGB texture of `pattern`. The building
  * block of the other fixtures, and the way a test builds an odd layout (mirrored, flipped,

@@ -1,7 +1,7 @@
 /* test_compare_slots.c - compare's q of every texture slot (engine/compare.h every_slot), on
  * a generated quad whose base colour is detailed and whose normal map is flat: a downscale
  * loses base-colour detail and none of the normal map's, so the two q must differ, and a
- * slot the input does not use must not be measured. */
+ * slot the input does not use must not be measured; lit (the input has a normal map) is. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -85,6 +85,9 @@ TEST(every_slot_measures_each_texture_the_input_has)
     CHECK_MSG(p->q > 0.01, "base colour q %.5f", p->q);
     CHECK_MSG(p->q_by_slot[TEXOPT_SLOT_NORMAL] < 1e-4, "normal q %.6f", p->q_by_slot[TEXOPT_SLOT_NORMAL]);
     CHECK(isnan(p->q_by_slot[TEXOPT_SLOT_METALLIC_ROUGHNESS]));
+    /* With a normal map lit is measured too: it sees the lost base-colour detail, shaded. */
+    CHECK(r.slot_measured[TEXOPT_COMPARE_LIT]);
+    CHECK_MSG(p->q_by_slot[TEXOPT_COMPARE_LIT] > 0.01, "lit q %.5f", p->q_by_slot[TEXOPT_COMPARE_LIT]);
     char json[160];
     snprintf(json, sizeof json, "%s/curves.json", dir);
     CHECK_OK(texopt_compare_write_json(&r, json, err, sizeof err), err);
@@ -96,6 +99,7 @@ TEST(every_slot_measures_each_texture_the_input_has)
         fclose(f);
     text[n] = 0;
     CHECK(strstr(text, "\"q_by_texture\"") != NULL && strstr(text, "\"normal\"") != NULL);
+    CHECK(strstr(text, "\"lit\"") != NULL);
     CHECK(strstr(text, "metallicRoughness") == NULL);
     texopt_compare_result_destroy(&r);
 
@@ -104,6 +108,7 @@ TEST(every_slot_measures_each_texture_the_input_has)
     p = &r.curves[0].points[0];
     CHECK(r.slot_measured[TEXOPT_SLOT_BASE_COLOR] && !r.slot_measured[TEXOPT_SLOT_NORMAL]);
     CHECK(p->q_by_slot[TEXOPT_SLOT_BASE_COLOR] == p->q && isnan(p->q_by_slot[TEXOPT_SLOT_NORMAL]));
+    CHECK(!r.slot_measured[TEXOPT_COMPARE_LIT] && isnan(p->q_by_slot[TEXOPT_COMPARE_LIT]));
     CHECK_OK(texopt_compare_write_json(&r, json, err, sizeof err), err);
     f = fopen(json, "rb");
     n = f ? fread(text, 1, sizeof text - 1, f) : 0;

@@ -13,7 +13,6 @@
 #include "fixtures.h"
 #include "gltf_io.h"
 #include "image_io.h"
-#include "rebake.h"
 #include "test.h"
 
 #define TEX 64
@@ -22,20 +21,6 @@
 static const float quad_pos[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
 static const float quad_uv[8] = {0, 0, 1, 0, 1, 1, 0, 1};
 static const uint32_t quad_tris[6] = {0, 1, 2, 0, 2, 3};
-
-/* A tangent-space normal map with edges in X and in Y (at different periods, so a quarter
- * turn changes which channel carries which stripes), encoded in [0, 1], unit length. */
-static void fill_normal_map(texopt_image *img)
-{
-    for (int y = 0; y < img->height; y++)
-        for (int x = 0; x < img->width; x++) {
-            double a = (x / 8) % 2 ? 0.6 : -0.6, b = (y / 4) % 2 ? 0.3 : -0.3;
-            float *p = texopt_image_at(img, x, y);
-            p[0] = (float)(0.5 + 0.5 * a);
-            p[1] = (float)(0.5 + 0.5 * b);
-            p[2] = (float)(0.5 + 0.5 * sqrt(1.0 - a * a - b * b));
-        }
-}
 
 /* The quad with UVs `uv` whose one image (side x side) is both its base colour and its
  * normal map, so the base-colour q of a candidate is its normal map read unturned. */
@@ -62,15 +47,7 @@ static void turned_uvs(double degrees, float *uv)
 static texopt_model *rebaked_candidate(const texopt_model *ref, const float *uv, int side, int normal_map)
 {
     texopt_model *cand = quad_with_normal_map(uv, side);
-    double uv_in[8], uv_out[8];
-    for (int i = 0; i < 8; i++) {
-        uv_in[i] = ref->uvs[i];
-        uv_out[i] = uv[i];
-    }
-    texopt_rebake_layout layout = {2, quad_tris, uv_in, uv_out, 1};
-    char err[256] = "";
-    if (cand && texopt_rebake_image(&ref->images[0], TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, normal_map, &layout,
-                                    &cand->images[0], NULL, NULL, err, sizeof err) != TEXOPT_OK) {
+    if (cand && fixture_rebake(ref, cand, 0, normal_map) != 0) {
         texopt_model_destroy(cand);
         return NULL;
     }
@@ -91,7 +68,7 @@ static texopt_model *reference_quad(void)
 {
     texopt_model *ref = quad_with_normal_map(quad_uv, TEX);
     if (ref)
-        fill_normal_map(&ref->images[0]);
+        fixture_fill_normal_map(&ref->images[0]);
     return ref;
 }
 
@@ -179,7 +156,7 @@ static double stored_tangent_case(const char *dir, int tangents, int drop_candid
     double q = NAN;
     if (texopt_image_create(&normal, TEX, TEX, 3, NULL, 0) != TEXOPT_OK)
         return q;
-    fill_normal_map(&normal);
+    fixture_fill_normal_map(&normal);
     char *json = write_quad_gltf(dir, &normal, tangents);
     texopt_image_destroy(&normal);
     texopt_model *ref = NULL, *cand = NULL;

@@ -1,0 +1,183 @@
+/* lit_shade.c - lit luma of a model from its maps (lit_shade.h): the reference's tangent
+ * frames, the view's light, and the per-pixel combination of the four shadings meshrender
+ * reads (base colour, occlusion, normal, emissive). Does not: sample textures itself (every
+ * lookup, filtering and normal-map turn is meshrender's shade_pixels), compare images. */
+#include "lit_shade.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sample.h"
+#include "vec3.h"
+
+struct texopt_lit_frames {
+    size_t triangle_count;
+    /* Per triangle T, B, N (unit); T = B = 0 where the UV map is degenerate (n = N). */
+    double *tbn;
+};
+
+static void sub3(const float *a, const float *b, double out[3])
+{
+    for (int k = 0; k < 3; k++)
+        out[k] = (double)a[k] - b[k];
+}
+
+/* T, B, N of triangle t; N = 0 as well when the triangle itself is degenerate (it then
+ * covers no pixel: meshrender skips edge-on and zero-area triangles). */
+static void triangle_frame(const texopt_model *m, size_t t, double *tbn)
+{
+    memset(tbn, 0, 9 * sizeof *tbn);
+    const uint32_t *c = m->triangles + 3 * t;
+    double e1[3], e2[3];
+    sub3(m->positions + 3 * (size_t)c[1], m->positions + 3 * (size_t)c[0], e1);
+    sub3(m->positions + 3 * (size_t)c[2], m->positions + 3 * (size_t)c[0], e2);
+    double *T = tbn, *B = tbn + 3, *N = tbn + 6;
+    texopt_cross3(e1, e2, N);
+    if (!texopt_normalize3(N))
+        return;
+    const float *u0 = m->uvs + 2 * (size_t)c[0], *u1 = m->uvs + 2 * (size_t)c[1], *u2 = m->uvs + 2 * (size_t)c[2];
+    double du1 = (double)u1[0] - u0[0], dv1 = (double)u1[1] - u0[1];
+    double du2 = (double)u2[0] - u0[0], dv2 = (double)u2[1] - u0[1];
+    double r = du1 * dv2 - du2 * dv1;
+    if (!(fabs(r) > 1e-14))
+        return;
+    double dpdv[3];
+    for (int k = 0; k < 3; k++) {
+        T[k] = (e1[k] * dv2 - e2[k] * dv1) / r;
+        dpdv[k] = (e2[k] * du1 - e1[k] * du2) / r;
+    }
+    double tn = texopt_dot3(T, N);
+    for (int k = 0; k < 3; k++)
+        T[k] -= tn * N[k];
+    if (!texopt_normalize3(T)) {
+        memset(tbn, 0, 6 * sizeof *tbn);
+        return;
+    }
+    /* glTF's +Y of a normal map is up in the image, i.e. towards -v. */
+    double NxT[3];
+    texopt_cross3(N, T, NxT);
+    double sign = texopt_dot3(NxT, dpdv) > 0 ? -1.0 : 1.0;
+    for (int k = 0; k < 3; k++)
+        B[k] = sign * NxT[k];
+}
+
+texopt_status texopt_lit_frames_create(const texopt_model *reference, texopt_lit_frames **out, char *err,
+                                       size_t err_len)
+{
+    *out = NULL;
+    if (!reference || !reference->uvs || !reference->positions)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "lighting needs positions and TEXCOORD_0");
+    texopt_lit_frames *f = calloc(1, sizeof *f);
+    size_t tc = reference->triangle_count;
+    if (f)
+        f->tbn = malloc((tc ? tc : 1) * 9 * sizeof *f->tbn);
+    if (!f || !f->tbn) {
+        texopt_lit_frames_destroy(f);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the tangent frames");
+    }
+    f->triangle_count = tc;
+    for (size_t t = 0; t < tc; t++) {
+        for (int k = 0; k < 3; k++)
+            if (reference->triangles[3 * t + k] >= reference->vertex_count) {
+                texopt_lit_frames_destroy(f);
+                return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                                   "triangle %zu names a vertex past the vertex count", t);
+            }
+        triangle_frame(reference, t, f->tbn + 9 * t);
+    }
+    *out = f;
+    return TEXOPT_OK;
+}
+
+void texopt_lit_frames_destroy(texopt_lit_frames *frames)
+{
+    if (!frames)
+        return;
+    free(frames->tbn);
+    free(frames);
+}
+
+int texopt_lit_has_maps(const texopt_model *model)
+{
+    return texopt_meshrender_has_texture(model, TEXOPT_SLOT_NORMAL) ||
+           texopt_meshrender_has_texture(model, TEXOPT_SLOT_OCCLUSION) ||
+           texopt_meshrender_has_texture(model, TEXOPT_SLOT_EMISSIVE);
+}
+
+void texopt_lit_light(const texopt_view *view, double l[3])
+{
+    for (int k = 0; k < 3; k++)
+        l[k] = 0.5 * view->right[k] + 0.5 * view->up[k] + 0.7 * view->direction[k];
+    texopt_normalize3(l);
+}
+
+/* The lit share of the light at a pixel of a face with frame tbn, from its normal-map texel
+ * (NULL: the face normal). */
+static double lambert(const double *tbn, const float *texel, const double l[3])
+{
+    const double *T = tbn, *B = tbn + 3, *N = tbn + 6;
+    double n[3];
+    memcpy(n, N, sizeof n);
+    if (texel && texopt_dot3(T, T) > 0) {
+        double x = 2.0 * texel[0] - 1, y = 2.0 * texel[1] - 1, z = 2.0 * texel[2] - 1;
+        for (int k = 0; k < 3; k++)
+            n[k] = x * T[k] + y * B[k] + z * N[k];
+        if (!texopt_normalize3(n))
+            memcpy(n, N, sizeof n);
+    }
+    double d = texopt_dot3(n, l);
+    return TEXOPT_LIT_AMBIENT + (1.0 - TEXOPT_LIT_AMBIENT) * (d > 0 ? d : 0);
+}
+
+/* The factors of L after base colour, in the order L applies them. */
+typedef enum lit_term { LIT_OCCLUSION, LIT_DIFFUSE, LIT_EMISSION } lit_term;
+
+/* Applies one term to every covered pixel of luma from its texture (shaded into scratch as
+ * RGB; a triangle whose material has none keeps the term's default: occlusion 1, n = N, no
+ * emission). */
+static texopt_status apply_term(const texopt_model *model, const texopt_raster *raster, const texopt_lit_frames *frames,
+                                struct texopt_texture_filter *const *filters, const double *normal_turn, lit_term term,
+                                float *scratch, float *luma, char *err, size_t err_len)
+{
+    static const texopt_slot slot[] = {TEXOPT_SLOT_OCCLUSION, TEXOPT_SLOT_NORMAL, TEXOPT_SLOT_EMISSIVE};
+    const texopt_texture_ref **bound = NULL;
+    texopt_status st = texopt_meshrender_triangle_bindings(model, slot[term], &bound, err, err_len);
+    if (st == TEXOPT_OK)
+        st = texopt_meshrender_shade_rgb(model, raster, slot[term], filters, term == LIT_DIFFUSE ? normal_turn : NULL,
+                                         scratch, err, err_len);
+    double l[3];
+    texopt_lit_light(&raster->view, l);
+    size_t n = (size_t)raster->side * (size_t)raster->side;
+    for (size_t i = 0; i < n && st == TEXOPT_OK; i++) {
+        int32_t t = raster->triangle[i];
+        if (t < 0)
+            continue;
+        const float *texel = bound[t] ? scratch + 3 * i : NULL;
+        if (term == LIT_DIFFUSE)
+            luma[i] *= (float)lambert(frames->tbn + 9 * (size_t)t, texel, l);
+        else if (texel && term == LIT_OCCLUSION)
+            luma[i] *= texel[0];
+        else if (texel)
+            luma[i] += texopt_luma(texel, 3);
+    }
+    free(bound);
+    return st;
+}
+
+texopt_status texopt_lit_shade(const texopt_model *model, const texopt_raster *raster, const texopt_lit_frames *frames,
+                               struct texopt_texture_filter *const *filters, const double *normal_turn, float *scratch,
+                               float *luma, char *err, size_t err_len)
+{
+    if (!model || !raster || !frames || !scratch || !luma)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "nothing to light");
+    if (model->triangle_count != frames->triangle_count)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "the model has %zu triangles, the tangent frames %zu", model->triangle_count,
+                           frames->triangle_count);
+    texopt_status st =
+        texopt_meshrender_shade_luma(model, raster, TEXOPT_SLOT_BASE_COLOR, filters, NULL, luma, err, err_len);
+    for (lit_term term = LIT_OCCLUSION; term <= LIT_EMISSION && st == TEXOPT_OK; term++)
+        st = apply_term(model, raster, frames, filters, normal_turn, term, scratch, luma, err, err_len);
+    return st;
+}

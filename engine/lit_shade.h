@@ -1,0 +1,68 @@
+/* lit_shade.h - the luma of a textured model lit by one directional light: what a user sees
+ * of all the maps a layout re-bakes at once, not of one texture's encoding.
+ *
+ * Per covered pixel of a raster (meshrender.h, the same pixels for reference and candidate):
+ *   L = luma(baseColor) * occlusion * (A + (1 - A) max(0, n . l)) + luma(emissive)
+ * baseColor as the evaluation's q reads it (mid grey 0.5 where the material has none, no
+ * factor); occlusion the occlusion texture's R (1 where none); emissive the emissive
+ * texture's luma (0 where none). model.h does not load emissiveFactor: the texture is taken
+ * at factor 1, as the assets with an emissive map set it (DamagedHelmet, WaterBottle).
+ * n is the normal map's tangent-space normal (2 rgb - 1, renormalised) in world space, or the
+ * face normal N where the material has no normal map.
+ *
+ * Tangent frame: per triangle, from the REFERENCE's positions and UVs (T = dP/du, B = -dP/dv
+ * as glTF's +Y is up in the image, T Gram-Schmidt against the flat face normal N, B = +-N x T
+ * with the sign of the UV winding); where the UV map is degenerate n = N. Vertex normals and
+ * stored TANGENT are not used: both renders shade the same geometry in the same frame (the
+ * reference's), so smooth normals would change both alike, and the candidate's map is turned
+ * back into that frame by the caller (normal_turn, exactly as the evaluation's normal slot,
+ * evaluate.h), so an unchanged layout shades bit for bit the same.
+ *
+ * Light: one directional light per view, fixed to that view's camera,
+ * l = normalize(0.5 right + 0.5 up + 0.7 direction) (texopt_view; direction points at the
+ * camera): faces towards the camera and the upper right are lit, so relief shows as shading
+ * on every visible face instead of vanishing under a head-on light.
+ *
+ * Does not: shade specular or metallic-roughness (that needs a view-dependent BRDF and an
+ * environment; Lambert with the normal map is the part a layout changes most), use
+ * baseColorFactor or vertex colours, or compare images (evaluate.h). */
+#ifndef TEXOPT_LIT_SHADE_H
+#define TEXOPT_LIT_SHADE_H
+
+#include <stddef.h>
+
+#include "meshrender.h"
+#include "model.h"
+#include "status.h"
+
+/* Share of the light that does not depend on n: with none, faces turned from the light are
+ * black in both renders and their maps' detail would count for nothing; 0.3 keeps it
+ * visible at a third of the contrast of lit faces, as a sky/fill light does. */
+#define TEXOPT_LIT_AMBIENT 0.3
+
+struct texopt_texture_filter;
+
+/* Per triangle tangent frames of the reference (see the top). */
+typedef struct texopt_lit_frames texopt_lit_frames;
+
+texopt_status texopt_lit_frames_create(const texopt_model *reference, texopt_lit_frames **out, char *err,
+                                       size_t err_len);
+void texopt_lit_frames_destroy(texopt_lit_frames *frames);
+
+/* Nonzero when the model has a texture that lighting reads besides base colour (normal,
+ * occlusion, emissive): without one, the lit luma is base colour's luma times a shading
+ * both renders share. */
+int texopt_lit_has_maps(const texopt_model *model);
+
+/* The view's light direction l (unit). */
+void texopt_lit_light(const texopt_view *view, double l[3]);
+
+/* The lit luma of `model` (same triangles as the frames' reference) over `raster` into
+ * luma[side * side] (background 0). filters: per image pyramid, or NULL (bilinear);
+ * normal_turn: per triangle (cos, sin) for the normal map's XY (meshrender.h), or NULL;
+ * scratch: 3 floats per pixel, the caller's. */
+texopt_status texopt_lit_shade(const texopt_model *model, const texopt_raster *raster, const texopt_lit_frames *frames,
+                               struct texopt_texture_filter *const *filters, const double *normal_turn, float *scratch,
+                               float *luma, char *err, size_t err_len);
+
+#endif

@@ -1,0 +1,33 @@
+/* vec3.h - the few 3-vector operations the geometry code shares (camera frames, the
+ * evaluation's views, lit shading's tangent frames), inline so each caller keeps its speed.
+ * Does not: hold points as floats (callers convert), or do matrices. */
+#ifndef TEXOPT_VEC3_H
+#define TEXOPT_VEC3_H
+
+#include <math.h>
+
+static inline double texopt_dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static inline void texopt_cross3(const double a[3], const double b[3], double out[3])
+{
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* Scales v to unit length and returns 1; 0, v unchanged, when its length is 0 or not finite. */
+static inline int texopt_normalize3(double v[3])
+{
+    double n = sqrt(texopt_dot3(v, v));
+    if (!(n > 0.0) || !isfinite(n))
+        return 0;
+    v[0] /= n;
+    v[1] /= n;
+    v[2] /= n;
+    return 1;
+}
+
+#endif
