@@ -48,7 +48,7 @@ static void usage(FILE *out)
             "                      (default 0.1)\n"
             "  --seed S            random seed, 0 to 2^53 (default 0)\n"
             "  --refinements N     perceptual: most closed-loop refinement rounds, 0-20\n"
-            "                      (default 2; 0 = none), as in texopt optimize\n"
+            "                      (default 4; 0 = none), as in texopt optimize\n"
             "  --threads T         worker threads (default: every core)\n"
             "  --reuse-layout      each layout method once, at the largest cost; smaller costs by\n"
             "                      resampling its re-baked textures (much faster, but measurably\n"

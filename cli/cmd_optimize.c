@@ -45,7 +45,7 @@ static void usage(FILE *out)
             "  --threads T              worker threads (default: every core)\n"
             "  --seed S                 random seed, 0 to 2^53 (default 0)\n"
             "  --refinements N          perceptual: most closed-loop refinement rounds of the\n"
-            "                           kept layout by its on-screen error, 0-20 (default 2;\n"
+            "                           kept layout by its on-screen error, 0-20 (default 4;\n"
             "                           0: none)\n"
             "  --packing-efficiency E   reshape the charts that fill little of their box and\n"
             "                           pack again when the packing falls short of E, [0, 1)\n"

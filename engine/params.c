@@ -38,7 +38,7 @@ void texopt_params_resolve(texopt_params *p)
     if (p->lambda_min == 0)
         p->lambda_min = 0.1;
     if (p->refinements == 0)
-        p->refinements = 2;
+        p->refinements = TEXOPT_DEFAULT_REFINEMENTS;
 }
 
 int texopt_params_refinement_rounds(const texopt_params *p)

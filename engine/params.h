@@ -2,7 +2,7 @@
  *
  * A zero-initialised texopt_params means the defaults (the paper's, where it has one):
  * perceptual method, relative cost 1.0, epsilon 0.03 (not the paper's 0.01: below), 100
- * iterations, lambda_min 0.1, all cores, seed 0, no evaluation, 2 refinement rounds, no chart
+ * iterations, lambda_min 0.1, all cores, seed 0, no evaluation, 4 refinement rounds, no chart
  * reshaping. texopt_params_resolve fills the zeros; texopt_params_validate says which field
  * is out of range. */
 #ifndef TEXOPT_PARAMS_H
@@ -21,6 +21,12 @@
  * 40 of the 48 points of the eight benchmark models (BENCHMARKS.md, "Stage 1's loss
  * threshold"). */
 #define TEXOPT_DEFAULT_EPSILON 0.03
+
+/* Rounds of the closed-loop refinement when the user gives none (pipeline.c refine_kept). Two
+ * were chosen on Fox, spot and Duck at epsilon 0.01; at 0.03 four are better at most points of
+ * every model measured, multi-map ones included, and DamagedHelmet's whole job stays under
+ * 60 s on two idle cores (BENCHMARKS.md "Stage 1's loss threshold"). */
+#define TEXOPT_DEFAULT_REFINEMENTS 4
 
 typedef enum texopt_method {
     TEXOPT_METHOD_PERCEPTUAL = 0, /* stage 1 + stage 2 (the paper) */
@@ -55,7 +61,7 @@ typedef struct texopt_params {
     int eval_resolution;    /* evaluation screen side in pixels; 0 -> automatic */
     int refinements;        /* perceptual: most rounds of the closed-loop refinement of the
                                kept layout by its on-screen error (pipeline.c refine_kept);
-                               0 -> 2, -1 -> none */
+                               0 -> TEXOPT_DEFAULT_REFINEMENTS, -1 -> none */
     double packing_efficiency; /* [0, 1): when a packing's efficiency falls short of it, the
                                charts filling little of their box are reshaped toward it and
                                packed again (budget.h reshape_efficiency); 0 -> never */

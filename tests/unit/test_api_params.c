@@ -22,7 +22,7 @@ TEST(empty_object_gives_paper_defaults)
     CHECK_EQ_INT(p.iterations, 100);
     CHECK_NEAR(p.lambda_min, 0.1, 0);
     CHECK_EQ_INT(p.evaluate, 0);
-    CHECK_EQ_INT(p.refinements, 2);
+    CHECK_EQ_INT(p.refinements, 4);
     CHECK_NEAR(p.packing_efficiency, 0, 0);
 }
 

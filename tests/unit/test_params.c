@@ -13,7 +13,7 @@ TEST(zero_params_resolve_to_paper_defaults)
     CHECK_EQ_INT(p.iterations, 100);
     CHECK_NEAR(p.relative_cost, 1.0, 0);
     CHECK(p.method == TEXOPT_METHOD_PERCEPTUAL);
-    CHECK_EQ_INT(p.refinements, 2);
+    CHECK_EQ_INT(p.refinements, TEXOPT_DEFAULT_REFINEMENTS);
     char err[128] = "";
     CHECK_OK(texopt_params_validate(&p, err, sizeof err), err);
 }
@@ -49,7 +49,7 @@ TEST(refinement_rounds_count_as_users_do)
 {
     texopt_params p = {0};
     texopt_params_resolve(&p);
-    CHECK_EQ_INT(texopt_params_refinement_rounds(&p), 2); /* the default */
+    CHECK_EQ_INT(texopt_params_refinement_rounds(&p), TEXOPT_DEFAULT_REFINEMENTS);
     texopt_params_set_refinement_rounds(&p, 0);
     CHECK_EQ_INT(p.refinements, -1); /* none, not "default" */
     CHECK_EQ_INT(texopt_params_refinement_rounds(&p), 0);

@@ -128,11 +128,11 @@ TEST(refinement_moves_texels_to_the_detailed_half)
     cJSON *rounds = cJSON_GetObjectItem(cJSON_GetObjectItem(st, "allocation_choice"), "refinement");
     CHECK(rounds != NULL);
     double kept = number_at(rounds, "kept", NULL);
-    CHECK_NEAR(number_at(rounds, "rounds", NULL), 2, 0);
-    CHECK(kept >= 1 && kept <= 2);
+    CHECK_NEAR(number_at(rounds, "rounds", NULL), TEXOPT_DEFAULT_REFINEMENTS, 0);
+    CHECK(kept >= 1 && kept <= TEXOPT_DEFAULT_REFINEMENTS);
     CHECK(number_at(rounds, "q_after", NULL) < number_at(rounds, "q_before", NULL));
     CHECK(number_at(rounds, "seconds", NULL) > 0);
-    CHECK_NEAR(number_at(st, "params", "refinements"), 2, 0);
+    CHECK_NEAR(number_at(st, "params", "refinements"), TEXOPT_DEFAULT_REFINEMENTS, 0);
     cJSON_Delete(st);
     texopt_model *in = load(s.in), *plain = load(s.out), *refined = load(s.again);
     CHECK(in && plain && refined);
