@@ -144,6 +144,12 @@ static void print_table(const texopt_compare_result *r, const double *costs, int
         }
 }
 
+/* A number strictly between 0 and 1 (epsilon, lambda_min); 1 on success. */
+static int parse_open_unit(const char *v, double *out)
+{
+    return v && cli_parse_double(v, 0, 1, out) == 0 && *out > 0 && *out < 1;
+}
+
 int cmd_compare(int argc, char **argv)
 {
     texopt_method methods[TEXOPT_METHOD_COUNT] = {TEXOPT_METHOD_INPUT, TEXOPT_METHOD_SSP, TEXOPT_METHOD_TEWARI,
@@ -197,10 +203,9 @@ int cmd_compare(int argc, char **argv)
         } else if (!strcmp(a, "--iterations")) {
             bad = !v || cli_parse_int(v, 1, 100000, &opt.params.iterations) != 0;
         } else if (!strcmp(a, "--epsilon")) {
-            bad = !v || cli_parse_double(v, 0, 1, &opt.params.epsilon) != 0 || !(opt.params.epsilon > 0 && opt.params.epsilon < 1);
+            bad = !parse_open_unit(v, &opt.params.epsilon);
         } else if (!strcmp(a, "--lambda-min")) {
-            bad = !v || cli_parse_double(v, 0, 1, &opt.params.lambda_min) != 0 ||
-                  !(opt.params.lambda_min > 0 && opt.params.lambda_min < 1);
+            bad = !parse_open_unit(v, &opt.params.lambda_min);
         } else if (!strcmp(a, "--seed")) {
             bad = !v || cli_parse_seed(v, &opt.params.seed) != 0;
         } else if (!strcmp(a, "--refinements")) {
