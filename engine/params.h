@@ -24,8 +24,8 @@
 
 /* Rounds of the closed-loop refinement when the user gives none (pipeline.c refine_kept). Two
  * were chosen on Fox, spot and Duck at epsilon 0.01; at 0.03 four are better at most points of
- * every model measured, multi-map ones included, and DamagedHelmet's whole job stays under
- * 60 s on two idle cores (BENCHMARKS.md "Stage 1's loss threshold"). */
+ * the small models and of WaterBottle, level on DamagedHelmet, whose whole job stays under
+ * 60 s on two idle cores (BENCHMARKS.md "Correction (lead, ninth session)"). */
 #define TEXOPT_DEFAULT_REFINEMENTS 4
 
 typedef enum texopt_method {
