@@ -2,6 +2,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "build_info.h"
 #include "commands.h"
 #include "library_threads.h"
 
@@ -34,7 +35,7 @@ int main(int argc, char **argv)
         return EXIT_OK;
     }
     if (strcmp(argv[1], "--version") == 0) {
-        printf("texopt 0.1.0\n");
+        printf("texopt %s (%s)\n", texopt_version(), texopt_build_revision());
         return EXIT_OK;
     }
     texopt_limit_library_threads();

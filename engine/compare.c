@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include "atomic_file.h"
+#include "build_info.h"
 #include "gltf_io.h"
 #include "info.h"
 #include "lit_shade.h"
@@ -423,6 +424,7 @@ texopt_status texopt_compare_write_json(const texopt_compare_result *r, const ch
     cJSON *root = cJSON_CreateObject();
     if (!root)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for JSON");
+    texopt_build_info_add_json(root);
     cJSON_AddNumberToObject(root, "resolution", r->resolution);
     cJSON_AddStringToObject(root, "lookup", r->mipmapped ? "mipmapped" : "bilinear");
     cJSON_AddStringToObject(root, "texture", texopt_slot_name(r->slot));

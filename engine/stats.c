@@ -5,6 +5,7 @@
 #include <stdlib.h>
 
 #include "atomic_file.h"
+#include "build_info.h"
 
 void texopt_job_stats_destroy(texopt_job_stats *stats)
 {
@@ -110,6 +111,7 @@ static cJSON *domain_json(const texopt_domain_stats *d)
 static cJSON *job_json(const texopt_job_stats *s)
 {
     cJSON *root = cJSON_CreateObject();
+    texopt_build_info_add_json(root);
     cJSON_AddStringToObject(root, "method", s->method ? s->method : "unknown");
     cJSON *p = cJSON_AddObjectToObject(root, "params");
     cJSON_AddStringToObject(p, "budget", s->budget ? s->budget : "unknown");

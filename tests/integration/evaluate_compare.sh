@@ -6,8 +6,8 @@
 # (python3 html.parser), is balanced, holds one plot curve per method and references
 # nothing outside itself; that compare passes its stage-1 and refinement options on (its
 # perceptual point with --refinements 0, --epsilon and --lambda-min is the q of `texopt
-# optimize` with the same options, which differs from the default's two rounds on Fox at c_r
-# 0.3). --texture: the JSON names the slot, `--texture base` is the default's q, `--texture
+# optimize` with the same options, which differs from the default's refined one on Fox at c_r
+# 0.3); that compare's JSON names the build (the version and revision --version prints). --texture: the JSON names the slot, `--texture base` is the default's q, `--texture
 # lit` is another measure (Fox has only base colour: lit, not 0, not base colour's q), a slot
 # Fox has no texture in (normal) is an engine error naming it (exit 1, evaluate and compare),
 # an unknown slot a usage error. Also the usage errors' exit codes, the seed's range included.
@@ -39,6 +39,8 @@ FOX="$TEXOPT_SOURCE_DIR/tests/data/Fox/Fox.glb"
 "$TEXOPT_BIN" compare "$FOX" --methods perceptual --costs 0.3 --refinements 0 --seed 4294967299 --resolution 200 \
     --epsilon 0.02 --lambda-min 0.2 --quiet --json "$WORK/plain_curves.json" > /dev/null || fail "compare --refinements 0 exited $?"
 
+"$TEXOPT_BIN" --version > "$WORK/version.txt" || fail "--version exited $?"
+
 /usr/bin/python3 - "$WORK" <<'EOF'
 import html.parser, json, sys
 work = sys.argv[1]
@@ -65,6 +67,9 @@ if quarter_base["q"] != quarter["q"] or quarter_base["texture"] != "baseColor":
     fail(f"--texture base: {quarter_base['q']} {quarter_base['texture']} vs default q {quarter['q']}")
 
 curves = json.load(open(f"{work}/curves.json"))
+built = curves["texopt"]
+if open(f"{work}/version.txt").read() != f"texopt {built['version']} ({built['revision']})\n":
+    fail(f"compare JSON names {built}, --version says {open(f'{work}/version.txt').read()!r}")
 if curves["texture"] != "baseColor":
     fail(f"compare texture {curves['texture']}")
 if list(curves["curves"]) != ["input"]:

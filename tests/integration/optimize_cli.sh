@@ -3,7 +3,8 @@
 # .glb that loads again, passes the glTF validator (when tools/node_modules has it) and whose
 # stats say the cost is within 2% of the request; --target-loss (method input) meets its
 # target and reports the search; usage errors exit 2, engine failures 1,
-# SIGINT during the perceptual method exits 3 and leaves no output file.
+# SIGINT during the perceptual method exits 3 and leaves no output file. --version and the
+# stats name the source revision the binary was built from (HEAD's commit in a git checkout).
 set -euo pipefail
 bin=${TEXOPT_BIN:?TEXOPT_BIN not set}
 src=${TEXOPT_SOURCE_DIR:?TEXOPT_SOURCE_DIR not set}
@@ -13,6 +14,13 @@ trap 'rm -rf "$tmp"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
 "$bin" optimize --help | grep -q -- "--relative-cost" || fail "--help does not list the options"
+
+version=$("$bin" --version)
+revision=$(printf '%s' "$version" | sed -n 's/^texopt [0-9][0-9.]* (\(.*\))$/\1/p')
+[ -n "$revision" ] || fail "--version is not 'texopt VERSION (REVISION)': $version"
+if head=$(git -C "$src" rev-parse --short=12 HEAD 2>/dev/null); then
+  case "$revision" in *"$head"*) ;; *) fail "--version names $revision, the checkout is at $head" ;; esac
+fi
 
 set +e
 "$bin" optimize "$spot" 2>/dev/null; rc=$?
@@ -36,9 +44,10 @@ set -e
 
 "$bin" optimize "$spot" -o "$tmp/half.glb" --method input --relative-cost 0.5 --stats "$tmp/half.json" 2>"$tmp/progress"
 grep -q "save 100%" "$tmp/progress" || fail "no final progress line: $(cat "$tmp/progress")"
-/usr/bin/python3 - "$tmp/half.json" <<'PY'
+/usr/bin/python3 - "$tmp/half.json" "$revision" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))
+assert s["texopt"]["revision"] == sys.argv[2], s["texopt"]
 d = s["domains"][0]
 assert s["method"] == "input", s["method"]
 assert abs(d["relative_cost"] - 0.5) <= 0.01, d["relative_cost"]
