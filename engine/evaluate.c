@@ -97,7 +97,7 @@ texopt_status texopt_evaluate_check_lit(const texopt_model *reference, char *err
 {
     if (!texopt_meshrender_has_texture(reference, TEXOPT_SLOT_BASE_COLOR) && !texopt_lit_has_maps(reference))
         return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
-                           "the reference has no baseColor, normal, occlusion or emissive texture (read through "
+                           "the reference has no baseColor, metallicRoughness, normal, occlusion or emissive texture (read through "
                            "TEXCOORD_0) to light");
     return TEXOPT_OK;
 }
@@ -177,7 +177,7 @@ static texopt_status build_filters(const texopt_model *m, texopt_slot slot, int 
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for texture filters");
     *out = f;
     for (int s = 0; s < TEXOPT_SLOT_COUNT; s++) {
-        if (lit ? s == TEXOPT_SLOT_METALLIC_ROUGHNESS : s != (int)slot)
+        if (!lit && s != (int)slot)
             continue;
         for (int p = 0; p < m->primitive_count; p++) {
             const texopt_texture_ref *r = texopt_meshrender_binding(m, p, (texopt_slot)s);
@@ -222,7 +222,7 @@ typedef struct view_buffers {
     texopt_gmsd_workspace *ws;
     texopt_gmsd_reference *prepared;
     float *luma_ref, *luma_cand;
-    float *scratch; /* 3 per pixel when lit, NULL otherwise */
+    float *scratch; /* TEXOPT_LIT_SCRATCH_FLOATS per pixel when lit, NULL otherwise */
     unsigned char *mask;
 } view_buffers;
 
@@ -305,7 +305,7 @@ static void *eval_worker_run(void *arg)
     b.luma_ref = malloc(n * sizeof(float));
     b.luma_cand = malloc(n * sizeof(float));
     b.mask = malloc(n);
-    b.scratch = job->lit ? malloc(3 * n * sizeof(float)) : NULL;
+    b.scratch = job->lit ? malloc(TEXOPT_LIT_SCRATCH_FLOATS * n * sizeof(float)) : NULL;
     if (!b.ws || !b.prepared || !b.luma_ref || !b.luma_cand || !b.mask || (job->lit && !b.scratch)) {
         job_fail(job, TEXOPT_E_NOMEM, "no memory for the evaluation views");
     } else {

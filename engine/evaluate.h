@@ -39,15 +39,15 @@
  * grey against grey, because the pipeline evaluates every model by it.) A candidate without
  * the texture is measured: mid grey against the reference's map.
  *
- * Lit (option `lit`): instead of one slot, the luma of the model lit by one light from every
- * map that shades it (lit_shade.h: base colour, occlusion, the normal map turned back to the
- * reference's tangent frame as above, emissive): what a user sees of all the textures a
- * layout re-bakes. An option beside `slot` rather than a slot of its own, because
- * texopt_slot names a material's textures and lit reads four of them. A reference with no
- * texture in any of those four is refused (TEXOPT_E_UNSUPPORTED), as a slot without one:
- * q would be 0 for any layout.
+ * Lit (option `lit`): instead of one slot, the luma of the model lit by one light and a sky
+ * from every map that shades it (lit_shade.h: base colour, metallic-roughness with a specular
+ * highlight, the normal map turned back to the reference's tangent frame as above, occlusion,
+ * emissive): what a user sees of all the textures a layout re-bakes. An option beside `slot`
+ * rather than a slot of its own, because texopt_slot names a material's textures and lit
+ * reads all five. A reference with no texture in any of them is refused
+ * (TEXOPT_E_UNSUPPORTED), as a slot without one: q would be 0 for any layout.
  *
- * Does not: optimise or bake, shade specular, or look at more than one slot per call. */
+ * Does not: optimise or bake, or look at more than one slot per call. */
 #ifndef TEXOPT_EVALUATE_H
 #define TEXOPT_EVALUATE_H
 
@@ -109,7 +109,8 @@ texopt_slot texopt_evaluate_slot_from_name(const char *name);
 texopt_status texopt_evaluate_check_slot(const texopt_model *reference, texopt_slot slot, char *err, size_t err_len);
 
 /* Succeeds when the lit luma can be evaluated against this reference: a texture in base
- * colour, normal, occlusion or emissive somewhere (the refusal described at the top). */
+ * colour, metallic-roughness, normal, occlusion or emissive somewhere (the refusal described
+ * at the top). */
 texopt_status texopt_evaluate_check_lit(const texopt_model *reference, char *err, size_t err_len);
 
 /* Measures model's layout cost. */

@@ -1,6 +1,6 @@
 /* lit_shade.c - lit luma of a model from its maps (lit_shade.h): the reference's tangent
- * frames, the view's light, and the per-pixel combination of the four shadings meshrender
- * reads (base colour, occlusion, normal, emissive). Does not: sample textures itself (every
+ * frames, the view's light, and the per-pixel combination of the five shadings meshrender
+ * reads (base colour, metallic-roughness, normal, occlusion, emissive). Does not: sample textures itself (every
  * lookup, filtering and normal-map turn is meshrender's shade_pixels), compare images. */
 #include "lit_shade.h"
 
@@ -100,7 +100,8 @@ void texopt_lit_frames_destroy(texopt_lit_frames *frames)
 
 int texopt_lit_has_maps(const texopt_model *model)
 {
-    return texopt_meshrender_has_texture(model, TEXOPT_SLOT_NORMAL) ||
+    return texopt_meshrender_has_texture(model, TEXOPT_SLOT_METALLIC_ROUGHNESS) ||
+           texopt_meshrender_has_texture(model, TEXOPT_SLOT_NORMAL) ||
            texopt_meshrender_has_texture(model, TEXOPT_SLOT_OCCLUSION) ||
            texopt_meshrender_has_texture(model, TEXOPT_SLOT_EMISSIVE);
 }
@@ -112,57 +113,108 @@ void texopt_lit_light(const texopt_view *view, double l[3])
     texopt_normalize3(l);
 }
 
-/* The lit share of the light at a pixel of a face with frame tbn, from its normal-map texel
- * (NULL: the face normal). */
-static double lambert(const double *tbn, const float *texel, const double l[3])
+/* The shading normal at a pixel of a face with frame tbn, from its normal-map texel (NULL:
+ * the face normal). */
+static void shading_normal(const double *tbn, const float *texel, double n[3])
 {
     const double *T = tbn, *B = tbn + 3, *N = tbn + 6;
-    double n[3];
-    memcpy(n, N, sizeof n);
+    memcpy(n, N, 3 * sizeof *n);
     if (texel && texopt_dot3(T, T) > 0) {
         double x = 2.0 * texel[0] - 1, y = 2.0 * texel[1] - 1, z = 2.0 * texel[2] - 1;
         for (int k = 0; k < 3; k++)
             n[k] = x * T[k] + y * B[k] + z * N[k];
         if (!texopt_normalize3(n))
-            memcpy(n, N, sizeof n);
+            memcpy(n, N, 3 * sizeof *n);
     }
-    double d = texopt_dot3(n, l);
-    return TEXOPT_LIT_AMBIENT + (1.0 - TEXOPT_LIT_AMBIENT) * (d > 0 ? d : 0);
 }
 
-/* The factors of L after base colour, in the order L applies them. */
-typedef enum lit_term { LIT_OCCLUSION, LIT_DIFFUSE, LIT_EMISSION } lit_term;
+/* Schlick's form of Smith's masking for GGX, k = alpha / 2. */
+static double smith_g1(double cosine, double alpha)
+{
+    double k = 0.5 * alpha;
+    return cosine / (cosine * (1.0 - k) + k);
+}
 
-/* Applies one term to every covered pixel of luma from its texture (shaded into scratch as
- * RGB; a triangle whose material has none keeps the term's default: occlusion 1, n = N, no
- * emission). */
+/* The directional light's specular radiance at a pixel (before occlusion): Cook-Torrance
+ * with GGX distribution, Smith-Schlick visibility and Schlick's Fresnel from f0, scaled like
+ * the diffuse term (a white Lambert surface facing the light returns 1 - A). */
+static double specular(const double n[3], const double l[3], const double v[3], double f0, double roughness)
+{
+    double nl = texopt_dot3(n, l), nv = texopt_dot3(n, v);
+    if (!(nl > 0) || !(nv > 0))
+        return 0;
+    double h[3] = {l[0] + v[0], l[1] + v[1], l[2] + v[2]};
+    if (!texopt_normalize3(h))
+        return 0;
+    double r = roughness > TEXOPT_LIT_MIN_ROUGHNESS ? roughness : TEXOPT_LIT_MIN_ROUGHNESS;
+    double alpha = r * r, a2 = alpha * alpha, nh = texopt_dot3(n, h), vh = texopt_dot3(v, h);
+    double d = nh * nh * (a2 - 1.0) + 1.0;
+    double pi_distribution = a2 / (d * d); /* pi D: the pi of the light's scale cancels D's */
+    double visibility = smith_g1(nl, alpha) * smith_g1(nv, alpha) / (4.0 * nl * nv);
+    double fresnel = f0 + (1.0 - f0) * pow(1.0 - (vh > 0 ? vh : 0), 5);
+    return (1.0 - TEXOPT_LIT_AMBIENT) * pi_distribution * visibility * fresnel * nl;
+}
+
+/* L before occlusion and emission at a pixel of base-colour luma b (see the top). */
+static double surface(double b, double metallic, double roughness, const double n[3], const double l[3],
+                      const double v[3])
+{
+    double nl = texopt_dot3(n, l);
+    double diffuse = TEXOPT_LIT_AMBIENT + (1.0 - TEXOPT_LIT_AMBIENT) * (nl > 0 ? nl : 0);
+    double f0 = TEXOPT_LIT_DIELECTRIC_F0 * (1.0 - metallic) + b * metallic;
+    return b * (1.0 - metallic) * diffuse + f0 * TEXOPT_LIT_AMBIENT + specular(n, l, v, f0, roughness);
+}
+
+/* The passes after base colour, in the order L applies them. */
+typedef enum lit_term { LIT_MATERIAL, LIT_SURFACE, LIT_OCCLUSION, LIT_EMISSION } lit_term;
+
+/* Applies one term to every covered pixel of luma from its texture (shaded into rgb; a
+ * triangle whose material has none keeps the term's default: metallic 0 and roughness 1,
+ * n = N, occlusion 1, no emission). LIT_MATERIAL stores metallic and roughness per pixel in
+ * mr for LIT_SURFACE. */
 static texopt_status apply_term(const texopt_model *model, const texopt_raster *raster, const texopt_lit_frames *frames,
                                 struct texopt_texture_filter *const *filters, const double *normal_turn, lit_term term,
-                                float *scratch, float *luma, char *err, size_t err_len)
+                                float *rgb, float *mr, float *luma, char *err, size_t err_len)
 {
-    static const texopt_slot slot[] = {TEXOPT_SLOT_OCCLUSION, TEXOPT_SLOT_NORMAL, TEXOPT_SLOT_EMISSIVE};
+    static const texopt_slot slot[] = {TEXOPT_SLOT_METALLIC_ROUGHNESS, TEXOPT_SLOT_NORMAL, TEXOPT_SLOT_OCCLUSION,
+                                       TEXOPT_SLOT_EMISSIVE};
     const texopt_texture_ref **bound = NULL;
     texopt_status st = texopt_meshrender_triangle_bindings(model, slot[term], &bound, err, err_len);
     if (st == TEXOPT_OK)
-        st = texopt_meshrender_shade_rgb(model, raster, slot[term], filters, term == LIT_DIFFUSE ? normal_turn : NULL,
-                                         scratch, err, err_len);
+        st = texopt_meshrender_shade_rgb(model, raster, slot[term], filters, term == LIT_SURFACE ? normal_turn : NULL,
+                                         rgb, err, err_len);
     double l[3];
     texopt_lit_light(&raster->view, l);
+    const double *v = raster->view.direction;
     size_t n = (size_t)raster->side * (size_t)raster->side;
     for (size_t i = 0; i < n && st == TEXOPT_OK; i++) {
         int32_t t = raster->triangle[i];
         if (t < 0)
             continue;
-        const float *texel = bound[t] ? scratch + 3 * i : NULL;
-        if (term == LIT_DIFFUSE)
-            luma[i] *= (float)lambert(frames->tbn + 9 * (size_t)t, texel, l);
-        else if (texel && term == LIT_OCCLUSION)
+        const float *texel = bound[t] ? rgb + 3 * i : NULL;
+        if (term == LIT_MATERIAL) {
+            mr[2 * i] = texel ? texel[2] : 0.0f; /* glTF: B metallic, G roughness */
+            mr[2 * i + 1] = texel ? texel[1] : 1.0f;
+        } else if (term == LIT_SURFACE) {
+            double normal[3];
+            shading_normal(frames->tbn + 9 * (size_t)t, texel, normal);
+            luma[i] = (float)surface(luma[i], mr[2 * i], mr[2 * i + 1], normal, l, v);
+        } else if (texel && term == LIT_OCCLUSION)
             luma[i] *= texel[0];
         else if (texel)
             luma[i] += texopt_luma(texel, 3);
     }
     free(bound);
     return st;
+}
+
+/* A display shows at most white: highlights and emission saturate alike in both renders. */
+static void clamp_to_display(const texopt_raster *raster, float *luma)
+{
+    size_t n = (size_t)raster->side * (size_t)raster->side;
+    for (size_t i = 0; i < n; i++)
+        if (luma[i] > 1.0f)
+            luma[i] = 1.0f;
 }
 
 texopt_status texopt_lit_shade(const texopt_model *model, const texopt_raster *raster, const texopt_lit_frames *frames,
@@ -177,7 +229,11 @@ texopt_status texopt_lit_shade(const texopt_model *model, const texopt_raster *r
                            frames->triangle_count);
     texopt_status st =
         texopt_meshrender_shade_luma(model, raster, TEXOPT_SLOT_BASE_COLOR, filters, NULL, luma, err, err_len);
-    for (lit_term term = LIT_OCCLUSION; term <= LIT_EMISSION && st == TEXOPT_OK; term++)
-        st = apply_term(model, raster, frames, filters, normal_turn, term, scratch, luma, err, err_len);
+    size_t pixels = (size_t)raster->side * (size_t)raster->side;
+    for (lit_term term = LIT_MATERIAL; term <= LIT_EMISSION && st == TEXOPT_OK; term++)
+        st = apply_term(model, raster, frames, filters, normal_turn, term, scratch, scratch + 3 * pixels, luma, err,
+                        err_len);
+    if (st == TEXOPT_OK)
+        clamp_to_display(raster, luma);
     return st;
 }

@@ -1,12 +1,22 @@
 /* lit_shade.h - the luma of a textured model lit by one directional light: what a user sees
  * of all the maps a layout re-bakes at once, not of one texture's encoding.
  *
- * Per covered pixel of a raster (meshrender.h, the same pixels for reference and candidate):
- *   L = luma(baseColor) * occlusion * (A + (1 - A) max(0, n . l)) + luma(emissive)
- * baseColor as the evaluation's q reads it (mid grey 0.5 where the material has none, no
- * factor); occlusion the occlusion texture's R (1 where none); emissive the emissive
- * texture's luma (0 where none). model.h does not load emissiveFactor: the texture is taken
- * at factor 1, as the assets with an emissive map set it (DamagedHelmet, WaterBottle).
+ * Per covered pixel of a raster (meshrender.h, the same pixels for reference and candidate),
+ * a metallic-roughness material under one directional light and a uniform grey sky:
+ *   L = min(1, occlusion * (b (1 - m) (A + (1 - A) max(0, n . l)) + f0 A + S) + e)
+ *   f0 = 0.04 (1 - m) + b m,   S = (1 - A) pi D(n . h) V(n . l, n . v) F(v . h) max(0, n . l)
+ * b the luma of baseColor as the evaluation's q reads it (mid grey 0.5 where the material has
+ * none, no factor); m and r the metallic-roughness texture's B and G (0 and 1, a rough
+ * dielectric, where none: the single-texture assets say metallicFactor 0); occlusion its R
+ * (1 where none); e the emissive texture's luma (0 where none). S is Cook-Torrance's
+ * specular: GGX D with alpha = max(r, 0.05)^2, Smith-Schlick V (k = alpha / 2), Schlick's F;
+ * h the half vector of l and the view direction v (orthographic: the camera's direction).
+ * The sky (A) lights the diffuse part and, at f0, the specular one, so a metal is not black
+ * away from its highlight. The roughness map shows as the highlights' size and the metallic
+ * map as the metal's darker diffuse and coloured reflection: what the other terms cannot
+ * tell. The minimum with 1 is what a display without tone mapping shows. model.h loads
+ * no material factors (emissiveFactor, metallicFactor, roughnessFactor): textures are taken
+ * at factor 1, as the assets with those maps set them (DamagedHelmet, WaterBottle).
  * n is the normal map's tangent-space normal (2 rgb - 1, renormalised) in world space, or the
  * face normal N where the material has no normal map.
  *
@@ -23,8 +33,8 @@
  * camera): faces towards the camera and the upper right are lit, so relief shows as shading
  * on every visible face instead of vanishing under a head-on light.
  *
- * Does not: shade specular or metallic-roughness (that needs a view-dependent BRDF and an
- * environment; Lambert with the normal map is the part a layout changes most), use
+ * Does not: light with an environment map or image-based lighting (one light and a uniform
+ * sky), shade colour (luma only: f0 of a metal is its base colour's luma), use
  * baseColorFactor or vertex colours, or compare images (evaluate.h). */
 #ifndef TEXOPT_LIT_SHADE_H
 #define TEXOPT_LIT_SHADE_H
@@ -40,6 +50,15 @@
  * visible at a third of the contrast of lit faces, as a sky/fill light does. */
 #define TEXOPT_LIT_AMBIENT 0.3
 
+/* Reflectance at normal incidence of a dielectric (glTF's 0.04, an index of refraction of
+ * 1.5), and the smallest roughness shaded: below it GGX's highlight is narrower than a
+ * pixel of the evaluation and would alias. */
+#define TEXOPT_LIT_DIELECTRIC_F0 0.04
+#define TEXOPT_LIT_MIN_ROUGHNESS 0.05
+
+/* Floats per pixel of texopt_lit_shade's scratch. */
+#define TEXOPT_LIT_SCRATCH_FLOATS 5
+
 struct texopt_texture_filter;
 
 /* Per triangle tangent frames of the reference (see the top). */
@@ -49,9 +68,9 @@ texopt_status texopt_lit_frames_create(const texopt_model *reference, texopt_lit
                                        size_t err_len);
 void texopt_lit_frames_destroy(texopt_lit_frames *frames);
 
-/* Nonzero when the model has a texture that lighting reads besides base colour (normal,
- * occlusion, emissive): without one, the lit luma is base colour's luma times a shading
- * both renders share. */
+/* Nonzero when the model has a texture that lighting reads besides base colour
+ * (metallic-roughness, normal, occlusion, emissive): without one, the lit luma is base
+ * colour's luma under a shading both renders share. */
 int texopt_lit_has_maps(const texopt_model *model);
 
 /* The view's light direction l (unit). */
@@ -60,7 +79,7 @@ void texopt_lit_light(const texopt_view *view, double l[3]);
 /* The lit luma of `model` (same triangles as the frames' reference) over `raster` into
  * luma[side * side] (background 0). filters: per image pyramid, or NULL (bilinear);
  * normal_turn: per triangle (cos, sin) for the normal map's XY (meshrender.h), or NULL;
- * scratch: 3 floats per pixel, the caller's. */
+ * scratch: TEXOPT_LIT_SCRATCH_FLOATS floats per pixel, the caller's. */
 texopt_status texopt_lit_shade(const texopt_model *model, const texopt_raster *raster, const texopt_lit_frames *frames,
                                struct texopt_texture_filter *const *filters, const double *normal_turn, float *scratch,
                                float *luma, char *err, size_t err_len);
