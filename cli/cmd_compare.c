@@ -35,13 +35,13 @@ static void usage(FILE *out)
             "  --json PATH         write the curves as JSON\n"
             "  --resolution N      evaluation render side (default: 1.25 sqrt(covered texels))\n"
             "  --mipmap            evaluate with prefiltered (mip-mapped) lookups, not bilinear\n"
-            "  --texture SLOT      the texture q measures, a slot of texopt evaluate --texture\n"
-            "                      (default baseColor; the methods still lay out by their own\n"
-            "                      rules)\n"
+            "  --texture SLOT      what q measures, as texopt evaluate --texture: a texture slot\n"
+            "                      (default baseColor) or lit (every map under one light); the\n"
+            "                      methods still lay out by their own rules\n"
             "  --every-texture     also measure q on every other texture slot IN has (normal,\n"
-            "                      metallicRoughness, ...) and, when IN has a normal, occlusion\n"
-            "                      or emissive map, lit (texopt evaluate --texture lit): printed\n"
-            "                      as one table each and in the JSON as q_by_texture\n"
+            "                      metallicRoughness, ...) and, when IN has a map besides base\n"
+            "                      colour, lit (texopt evaluate --texture lit): printed as one\n"
+            "                      table each and in the JSON as q_by_texture\n"
             "  --iterations N      most stage-1 polish iterations per triangle (default 100)\n"
             "  --epsilon E         perceptual loss threshold of stage 1 (default 0.03)\n"
             "  --lambda-min L      smallest per-axis scale stage 1 may choose, in (0, 1)\n"
@@ -110,7 +110,7 @@ static void print_slot_table(const texopt_compare_result *r, int slot, const dou
     for (int s = 0; s < TEXOPT_COMPARE_MEASURES; s++)
         several += r->slot_measured[s] != 0;
     if (several > 1)
-        printf("%sq on %s:\n", slot == (int)r->slot ? "" : "\n", texopt_compare_measure_name(slot));
+        printf("%sq on %s:\n", slot == r->measure ? "" : "\n", texopt_compare_measure_name(slot));
     printf("%-11s", "method");
     for (int c = 0; c < cost_count; c++)
         printf("  c_r=%-6.2f", costs[c]);
@@ -130,9 +130,9 @@ static void print_slot_table(const texopt_compare_result *r, int slot, const dou
 
 static void print_table(const texopt_compare_result *r, const double *costs, int cost_count)
 {
-    print_slot_table(r, r->slot, costs, cost_count);
+    print_slot_table(r, r->measure, costs, cost_count);
     for (int s = 0; s < TEXOPT_COMPARE_MEASURES; s++)
-        if (r->slot_measured[s] && s != (int)r->slot)
+        if (r->slot_measured[s] && s != r->measure)
             print_slot_table(r, s, costs, cost_count);
     for (int m = 0; m < r->curve_count; m++)
         for (int c = 0; c < r->curves[m].point_count; c++) {
@@ -198,8 +198,7 @@ int cmd_compare(int argc, char **argv)
         } else if (!strcmp(a, "--resolution")) {
             bad = !v || cli_parse_int(v, 8, 16384, &opt.evaluate.resolution) != 0;
         } else if (!strcmp(a, "--texture")) {
-            opt.evaluate.slot = texopt_evaluate_slot_from_name(v);
-            bad = opt.evaluate.slot == TEXOPT_SLOT_COUNT;
+            bad = texopt_evaluate_select_measure(&opt.evaluate, v) != 0;
         } else if (!strcmp(a, "--iterations")) {
             bad = !v || cli_parse_int(v, 1, 100000, &opt.params.iterations) != 0;
         } else if (!strcmp(a, "--epsilon")) {

@@ -10,7 +10,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 
 #include "commands.h"
 #include "numbers.h"
@@ -37,8 +36,9 @@ static void usage(FILE *out)
             "                   normal, metallicRoughness, occlusion or emissive (also base,\n"
             "                   mr, ao); a data texture's RGB encoding is compared as an image.\n"
             "                   IN must have a texture in SLOT (base colour excepted).\n"
-            "                   lit: the model lit by one light per view from base colour,\n"
-            "                   occlusion, normal and emissive maps (engine/lit_shade.h)\n"
+            "                   lit: the model lit by one light per view and a grey sky from\n"
+            "                   base colour, metallic-roughness (a specular highlight),\n"
+            "                   normal, occlusion and emissive maps (engine/lit_shade.h)\n"
             "  --json           print one JSON object instead of text\n"
             "  -h, --help       this text\n");
 }
@@ -119,9 +119,7 @@ int cmd_evaluate(int argc, char **argv)
             opt.mipmapped = 1;
         } else if (!strcmp(a, "--texture")) {
             const char *name = i + 1 < argc ? argv[i + 1] : NULL;
-            opt.lit = name && !strcasecmp(name, "lit");
-            opt.slot = opt.lit ? TEXOPT_SLOT_BASE_COLOR : texopt_evaluate_slot_from_name(name);
-            if (opt.slot == TEXOPT_SLOT_COUNT) {
+            if (texopt_evaluate_select_measure(&opt, name) != 0) {
                 fprintf(stderr, "texopt evaluate: --texture needs baseColor, normal, metallicRoughness, "
                                 "occlusion, emissive or lit\n");
                 return EXIT_USAGE;

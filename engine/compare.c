@@ -80,7 +80,13 @@ static double pick_showcase(const texopt_compare_options *opt)
     return best;
 }
 
-/* q of every slot in `slots` (the headline one, opt->evaluate.slot, always among them) into
+/* The measure q reports: opt->evaluate's slot, or lit. */
+static int headline_measure(const texopt_compare_options *opt)
+{
+    return opt->evaluate.lit ? TEXOPT_COMPARE_LIT : (int)opt->evaluate.slot;
+}
+
+/* q of every measure in `slots` (the headline one, headline_measure, always among them) into
  * pt->q_by_slot; the per-triangle errors, when tri_err is not NULL, are the headline's. */
 static texopt_status measure_slots(const texopt_model *input, const texopt_model *out,
                                    const texopt_compare_options *opt, const int *slots, double *tri_err,
@@ -93,7 +99,7 @@ static texopt_status measure_slots(const texopt_model *input, const texopt_model
         texopt_evaluate_options eo = opt->evaluate;
         eo.lit = s == TEXOPT_COMPARE_LIT;
         eo.slot = eo.lit ? TEXOPT_SLOT_BASE_COLOR : (texopt_slot)s;
-        eo.triangle_error = s == (int)opt->evaluate.slot ? tri_err : NULL;
+        eo.triangle_error = s == headline_measure(opt) ? tri_err : NULL;
         eo.monitor = opt->monitor;
         texopt_evaluation ev;
         st = texopt_evaluate(input, out, &eo, &ev, pt->message, sizeof pt->message);
@@ -124,7 +130,7 @@ static texopt_status measure_output(const texopt_model *input, const texopt_cost
     pt->seconds_evaluate = now_seconds() - t0;
     pt->status = st;
     if (st == TEXOPT_OK) {
-        pt->q = pt->q_by_slot[opt->evaluate.slot];
+        pt->q = pt->q_by_slot[headline_measure(opt)];
         pt->cost_achieved = input_cost->covered_texels
                                 ? (double)cost_out.covered_texels / (double)input_cost->covered_texels
                                 : 0;
@@ -294,11 +300,12 @@ static void report_progress(const texopt_compare_options *opt, int done, int tot
 static void mark_measured_slots(const texopt_model *input, const texopt_compare_options *opt, int *measured)
 {
     for (int s = 0; s < TEXOPT_SLOT_COUNT; s++)
-        measured[s] = s == (int)opt->evaluate.slot ||
+        measured[s] = s == headline_measure(opt) ||
                       (opt->every_slot && texopt_meshrender_has_texture(input, (texopt_slot)s));
     /* Without a map that lighting reads besides base colour, lit would be base colour's q
-     * through a shading both renders share: nothing new. */
-    measured[TEXOPT_COMPARE_LIT] = opt->every_slot && texopt_lit_has_maps(input);
+     * through a shading both renders share: nothing new, unless asked for. */
+    measured[TEXOPT_COMPARE_LIT] =
+        headline_measure(opt) == TEXOPT_COMPARE_LIT || (opt->every_slot && texopt_lit_has_maps(input));
 }
 
 static texopt_status make_work_dir(const texopt_compare_options *opt, char *dir, size_t len,
@@ -328,12 +335,13 @@ texopt_status texopt_compare(const char *input_path, const texopt_compare_option
     r.showcase_cost = pick_showcase(opt);
     st = texopt_model_load(&r.input, input_path, NULL, err, err_len);
     if (st == TEXOPT_OK)
-        st = texopt_evaluate_check_slot(r.input, opt->evaluate.slot, err, err_len);
+        st = opt->evaluate.lit ? texopt_evaluate_check_lit(r.input, err, err_len)
+                               : texopt_evaluate_check_slot(r.input, opt->evaluate.slot, err, err_len);
     if (st == TEXOPT_OK)
         st = texopt_evaluate_cost(r.input, &r.input_cost, err, err_len);
     r.resolution = opt->evaluate.resolution;
     r.mipmapped = opt->evaluate.mipmapped != 0;
-    r.slot = opt->evaluate.slot;
+    r.measure = headline_measure(opt);
     if (st == TEXOPT_OK)
         mark_measured_slots(r.input, opt, r.slot_measured);
     if (st == TEXOPT_OK && r.resolution == 0)
@@ -427,7 +435,7 @@ texopt_status texopt_compare_write_json(const texopt_compare_result *r, const ch
     texopt_build_info_add_json(root);
     cJSON_AddNumberToObject(root, "resolution", r->resolution);
     cJSON_AddStringToObject(root, "lookup", r->mipmapped ? "mipmapped" : "bilinear");
-    cJSON_AddStringToObject(root, "texture", texopt_slot_name(r->slot));
+    cJSON_AddStringToObject(root, "texture", texopt_compare_measure_name(r->measure));
     cJSON_AddNumberToObject(root, "input_covered_texels", (double)r->input_cost.covered_texels);
     cJSON_AddNumberToObject(root, "input_texture_pixels", (double)r->input_cost.texture_pixels);
     cJSON *curves = cJSON_AddObjectToObject(root, "curves");

@@ -74,14 +74,14 @@ typedef struct texopt_compare_options {
     int cost_count;
     double showcase_cost;          /* the cost whose outputs are kept for the report; 0 ->
                                       the listed cost closest to 0.3 */
-    texopt_evaluate_options evaluate; /* resolution, threads, lookups and texture slot
-                                         (triangle_error ignored) */
+    texopt_evaluate_options evaluate; /* resolution, threads, lookups and the texture slot or
+                                         lit that q measures (triangle_error ignored) */
     const char *work_dir;          /* temporary outputs; NULL -> $TMPDIR or /tmp */
     int reuse_layout;              /* nonzero: each layout once, smaller costs resampled (fast,
                                       pessimistic for layout methods); 0: one run per point */
-    int every_slot;                /* nonzero: besides evaluate.slot, q of every other slot in
+    int every_slot;                /* nonzero: besides q's measure, q of every other slot in
                                       which the input has a texture (q_by_slot), and lit when
-                                      it has a normal, occlusion or emissive map: the methods
+                                      it has a map besides base colour: the methods
                                       lay out for different signals (ssp and tewari read base
                                       colour, perceptual every texture), so one slot's q does
                                       not rank them on a model with several maps */
@@ -97,9 +97,10 @@ typedef struct texopt_compare_result {
     texopt_compare_curve curves[TEXOPT_METHOD_COUNT];
     int resolution;           /* evaluation screen side */
     int mipmapped;            /* evaluated with mip-mapped lookups (evaluate.h) */
-    texopt_slot slot;         /* the texture q measured (evaluate.h; base colour by default) */
+    int measure;              /* what q measured: a texture slot (evaluate.h; base colour by
+                                 default) or TEXOPT_COMPARE_LIT */
     int slot_measured[TEXOPT_COMPARE_MEASURES]; /* nonzero for the measures in the points'
-                                                   q_by_slot: `slot`, and with every_slot
+                                                   q_by_slot: `measure`, and with every_slot
                                                    each other one the input has a texture
                                                    in, and lit (texopt_lit_has_maps) */
     double showcase_cost;

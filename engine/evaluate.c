@@ -82,6 +82,17 @@ texopt_slot texopt_evaluate_slot_from_name(const char *name)
     return TEXOPT_SLOT_COUNT;
 }
 
+int texopt_evaluate_select_measure(texopt_evaluate_options *opt, const char *name)
+{
+    int lit = name && !strcasecmp(name, "lit");
+    texopt_slot slot = lit ? TEXOPT_SLOT_BASE_COLOR : texopt_evaluate_slot_from_name(name);
+    if (slot == TEXOPT_SLOT_COUNT)
+        return -1;
+    opt->lit = lit;
+    opt->slot = slot;
+    return 0;
+}
+
 texopt_status texopt_evaluate_check_slot(const texopt_model *reference, texopt_slot slot, char *err, size_t err_len)
 {
     if ((int)slot < 0 || slot >= TEXOPT_SLOT_COUNT)

@@ -104,6 +104,10 @@ typedef struct texopt_cost {
  * unknown -> TEXOPT_SLOT_COUNT. */
 texopt_slot texopt_evaluate_slot_from_name(const char *name);
 
+/* What a user asks q to measure: a slot name as above, or "lit" (case-insensitive). Sets
+ * opt->slot and opt->lit and returns 0; -1 for NULL or an unknown name (opt unchanged). */
+int texopt_evaluate_select_measure(texopt_evaluate_options *opt, const char *name);
+
 /* Succeeds when `slot` can be evaluated against this reference: a known slot, and for any
  * slot but base colour a texture in it somewhere (the refusal described at the top). */
 texopt_status texopt_evaluate_check_slot(const texopt_model *reference, texopt_slot slot, char *err, size_t err_len);

@@ -1,7 +1,8 @@
 /* lit_shade.c - lit luma of a model from its maps (lit_shade.h): the reference's tangent
- * frames, the view's light, and the per-pixel combination of the five shadings meshrender
- * reads (base colour, metallic-roughness, normal, occlusion, emissive). Does not: sample textures itself (every
- * lookup, filtering and normal-map turn is meshrender's shade_pixels), compare images. */
+ * frames, the view's light, the material's diffuse and specular response, and the per-pixel
+ * combination of the five shadings meshrender reads (base colour, metallic-roughness,
+ * normal, occlusion, emissive). Does not: sample textures itself (every lookup, filtering
+ * and normal-map turn is meshrender's shade_pixels), compare images. */
 #include "lit_shade.h"
 
 #include <math.h>

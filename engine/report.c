@@ -499,10 +499,11 @@ texopt_status texopt_report_html(const texopt_compare_result *r, const texopt_re
                 "td,th{border:1px solid #ccc;padding:4px;text-align:center}.failed{color:#a00;text-align:left}"
                 "img{image-rendering:pixelated}</style></head><body>\n<h1>");
     sb_escaped(&s, o.title);
-    sb_printf(&s, "</h1>\n<p>Whole-mesh loss q of the %s texture (GMSD over 20 views at %d px, %s lookups, Sun et "
+    sb_printf(&s, "</h1>\n<p>Whole-mesh loss q of the %s%s (GMSD over 20 views at %d px, %s lookups, Sun et "
                   "al. 2022 section 5.1) of every method's layout re-baked at each relative cost. Input: %llu covered "
                   "texels, %llu texture pixels, packing efficiency %.3f.</p>\n<h2>Loss against cost</h2>\n",
-              texopt_slot_name(r->slot), r->resolution, r->mipmapped ? "mip-mapped" : "bilinear",
+              texopt_compare_measure_name(r->measure), r->measure == TEXOPT_COMPARE_LIT ? " render" : " texture",
+              r->resolution, r->mipmapped ? "mip-mapped" : "bilinear",
               (unsigned long long)r->input_cost.covered_texels,
               (unsigned long long)r->input_cost.texture_pixels, r->input_cost.packing_efficiency);
     plot_svg(&s, r);

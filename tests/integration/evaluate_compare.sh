@@ -8,7 +8,8 @@
 # perceptual point with --refinements 0, --epsilon and --lambda-min is the q of `texopt
 # optimize` with the same options, which differs from the default's refined one on Fox at c_r
 # 0.3); that compare's JSON names the build (the version and revision --version prints). --texture: the JSON names the slot, `--texture base` is the default's q, `--texture
-# lit` is another measure (Fox has only base colour: lit, not 0, not base colour's q), a slot
+# lit` is another measure (Fox has only base colour: lit, not 0, not base colour's q; compare
+# --texture lit gives the same q as evaluate --texture lit and names it), a slot
 # Fox has no texture in (normal) is an engine error naming it (exit 1, evaluate and compare),
 # an unknown slot a usage error. Also the usage errors' exit codes, the seed's range included.
 set -euo pipefail
@@ -36,6 +37,8 @@ FOX="$TEXOPT_SOURCE_DIR/tests/data/Fox/Fox.glb"
     fail "optimize --refinements 0 exited $?"
 "$TEXOPT_BIN" evaluate "$FOX" "$WORK/plain.glb" --resolution 200 --json > "$WORK/plain.json" ||
     fail "evaluate of the unrefined Fox exited $?"
+"$TEXOPT_BIN" compare "$FOX" --texture lit --methods input --costs 0.25 --resolution 200 --quiet \
+    --json "$WORK/lit_curves.json" > /dev/null || fail "compare --texture lit exited $?"
 "$TEXOPT_BIN" compare "$FOX" --methods perceptual --costs 0.3 --refinements 0 --seed 4294967299 --resolution 200 \
     --epsilon 0.02 --lambda-min 0.2 --quiet --json "$WORK/plain_curves.json" > /dev/null || fail "compare --refinements 0 exited $?"
 
@@ -62,6 +65,10 @@ if quarter["output"]["texture_pixels"] != 512 * 512:
 quarter_lit = json.load(open(f"{work}/quarter_lit.json"))
 if quarter_lit["texture"] != "lit" or not quarter_lit["q"] > 0 or quarter_lit["q"] == quarter["q"]:
     fail(f"--texture lit: {quarter_lit['q']} {quarter_lit['texture']} (base colour q {quarter['q']})")
+lit_curves = json.load(open(f"{work}/lit_curves.json"))
+lit_point = lit_curves["curves"]["input"][0]["q"]
+if lit_curves["texture"] != "lit" or abs(lit_point - quarter_lit["q"]) > 1e-9:
+    fail(f"compare --texture lit: {lit_curves['texture']} q {lit_point} vs evaluate's {quarter_lit['q']}")
 quarter_base = json.load(open(f"{work}/quarter_base.json"))
 if quarter_base["q"] != quarter["q"] or quarter_base["texture"] != "baseColor":
     fail(f"--texture base: {quarter_base['q']} {quarter_base['texture']} vs default q {quarter['q']}")
@@ -152,7 +159,6 @@ done
 "$TEXOPT_BIN" evaluate "$FOX" "$FOX" --texture nosuch > /dev/null 2>&1; [ $? -eq 2 ] || fail "unknown slot should exit 2"
 "$TEXOPT_BIN" evaluate "$FOX" "$FOX" --texture > /dev/null 2>&1; [ $? -eq 2 ] || fail "--texture without a slot should exit 2"
 "$TEXOPT_BIN" compare "$FOX" --texture nosuch > /dev/null 2>&1; [ $? -eq 2 ] || fail "compare: unknown slot should exit 2"
-"$TEXOPT_BIN" compare "$FOX" --texture lit > /dev/null 2>&1; [ $? -eq 2 ] || fail "compare: lit is no headline slot, exit 2"
 "$TEXOPT_BIN" evaluate "$FOX" "$FOX" --texture normal --resolution 64 > /dev/null 2> "$WORK/normal.err"
 [ $? -eq 1 ] || fail "a slot Fox has no texture in should exit 1"
 grep -q "no normal texture" "$WORK/normal.err" || fail "the missing slot's error does not name it: $(cat "$WORK/normal.err")"

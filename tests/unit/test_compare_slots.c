@@ -1,7 +1,8 @@
 /* test_compare_slots.c - compare's q of every texture slot (engine/compare.h every_slot), on
  * a generated quad whose base colour is detailed and whose normal map is flat: a downscale
  * loses base-colour detail and none of the normal map's, so the two q must differ, and a
- * slot the input does not use must not be measured; lit (the input has a normal map) is. */
+ * slot the input does not use must not be measured; lit (the input has a normal map) is, and
+ * may be q's own measure. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -51,8 +52,8 @@ static int write_quad_with_flat_normal_map(const char *dir, char *path, size_t l
     return ok;
 }
 
-static texopt_status compare_input_method(const char *path, int every_slot, texopt_compare_result *r,
-                                          char *err, size_t err_len)
+static texopt_status compare_input_method(const char *path, int every_slot, const char *measure,
+                                          texopt_compare_result *r, char *err, size_t err_len)
 {
     static const texopt_method methods[] = {TEXOPT_METHOD_INPUT};
     static const double costs[] = {0.25};
@@ -65,6 +66,8 @@ static texopt_status compare_input_method(const char *path, int every_slot, texo
     opt.evaluate.resolution = 128;
     opt.evaluate.threads = 2;
     opt.every_slot = every_slot;
+    if (texopt_evaluate_select_measure(&opt.evaluate, measure) != 0)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "unknown measure %s", measure);
     return texopt_compare(path, &opt, r, err, err_len);
 }
 
@@ -74,7 +77,7 @@ TEST(every_slot_measures_each_texture_the_input_has)
     CHECK(builder_tempdir(dir));
     CHECK(write_quad_with_flat_normal_map(dir, path, sizeof path));
     texopt_compare_result r;
-    CHECK_OK(compare_input_method(path, 1, &r, err, sizeof err), err);
+    CHECK_OK(compare_input_method(path, 1, "baseColor", &r, err, sizeof err), err);
     const texopt_compare_point *p = &r.curves[0].points[0];
     CHECK_MSG(p->status == TEXOPT_OK, "%s", p->message);
     CHECK(r.slot_measured[TEXOPT_SLOT_BASE_COLOR] && r.slot_measured[TEXOPT_SLOT_NORMAL]);
@@ -104,7 +107,7 @@ TEST(every_slot_measures_each_texture_the_input_has)
     texopt_compare_result_destroy(&r);
 
     /* Without the option only the headline slot is measured, and the JSON stays as it was. */
-    CHECK_OK(compare_input_method(path, 0, &r, err, sizeof err), err);
+    CHECK_OK(compare_input_method(path, 0, "baseColor", &r, err, sizeof err), err);
     p = &r.curves[0].points[0];
     CHECK(r.slot_measured[TEXOPT_SLOT_BASE_COLOR] && !r.slot_measured[TEXOPT_SLOT_NORMAL]);
     CHECK(p->q_by_slot[TEXOPT_SLOT_BASE_COLOR] == p->q && isnan(p->q_by_slot[TEXOPT_SLOT_NORMAL]));
@@ -117,5 +120,34 @@ TEST(every_slot_measures_each_texture_the_input_has)
     text[n] = 0;
     CHECK(n > 0 && strstr(text, "q_by_texture") == NULL);
     texopt_compare_result_destroy(&r);
+    builder_rmdir(dir);
+}
+
+/* q may measure lit itself (compare --texture lit): the headline is lit's q, nothing else is
+ * measured without every_slot, and the JSON names it. */
+TEST(lit_can_be_the_headline_measure)
+{
+    char dir[64], path[128], err[512] = "";
+    CHECK(builder_tempdir(dir));
+    CHECK(write_quad_with_flat_normal_map(dir, path, sizeof path));
+    texopt_compare_result r;
+    CHECK_OK(compare_input_method(path, 0, "LIT", &r, err, sizeof err), err);
+    const texopt_compare_point *p = &r.curves[0].points[0];
+    CHECK_MSG(p->status == TEXOPT_OK, "%s", p->message);
+    CHECK(r.measure == TEXOPT_COMPARE_LIT && r.slot_measured[TEXOPT_COMPARE_LIT]);
+    CHECK(!r.slot_measured[TEXOPT_SLOT_BASE_COLOR] && isnan(p->q_by_slot[TEXOPT_SLOT_BASE_COLOR]));
+    CHECK(p->q == p->q_by_slot[TEXOPT_COMPARE_LIT]);
+    CHECK_MSG(p->q > 0.01, "lit q %.5f", p->q);
+    char json[160], text[4096] = "";
+    snprintf(json, sizeof json, "%s/curves.json", dir);
+    CHECK_OK(texopt_compare_write_json(&r, json, err, sizeof err), err);
+    FILE *f = fopen(json, "rb");
+    size_t n = f ? fread(text, 1, sizeof text - 1, f) : 0;
+    if (f)
+        fclose(f);
+    text[n] = 0;
+    CHECK(strstr(text, "\"lit\"") != NULL && strstr(text, "baseColor") == NULL);
+    texopt_compare_result_destroy(&r);
+    CHECK(compare_input_method(path, 0, "shininess", &r, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     builder_rmdir(dir);
 }

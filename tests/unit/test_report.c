@@ -106,7 +106,7 @@ TEST(report_is_self_contained_with_one_curve_per_method)
     CHECK(strstr(html, "q of the baseColor texture") != NULL);
     free(html);
     html = NULL;
-    r.slot = TEXOPT_SLOT_NORMAL;
+    r.measure = TEXOPT_SLOT_NORMAL;
     CHECK_OK(texopt_report_html(&r, &opt, &html, err, sizeof err), err);
     CHECK(strstr(html, "q of the normal texture") != NULL);
     /* Points are drawn in order of achieved cost: x grows along the input polyline. */
