@@ -58,6 +58,7 @@
 #include "distortion.h"
 #include "evaluate.h"
 #include "gltf_io.h"
+#include "lit_shade.h"
 #include "gltf_tangents.h"
 #include "mesh.h"
 #include "meshwise.h"
@@ -1002,8 +1003,9 @@ static void fill_job_params(texopt_job_stats *js, const texopt_params *p)
  * one pass over the views (the input rendered once for all): each candidate is the input
  * model seen through the new UVs and images (a shallow view that owns nothing). */
 static texopt_status evaluate_outputs_on(const texopt_model *model, const job_output *const *outs, int n,
-                                         const texopt_params *p, texopt_camera_set cameras, double *triangle_error,
-                                         job_monitor *jm, texopt_evaluation *ev, char *err, size_t err_len)
+                                         const texopt_params *p, texopt_camera_set cameras, int lit,
+                                         double *triangle_error, job_monitor *jm, texopt_evaluation *ev, char *err,
+                                         size_t err_len)
 {
     texopt_model candidates[MAX_EVALUATED_OUTPUTS];
     const texopt_model *shown[MAX_EVALUATED_OUTPUTS];
@@ -1031,6 +1033,7 @@ static texopt_status evaluate_outputs_on(const texopt_model *model, const job_ou
     opt.monitor = &jm->inner;
     opt.cameras = cameras;
     opt.triangle_error = triangle_error;
+    opt.lit = lit;
     texopt_status st = texopt_evaluate_many(model, shown, n, &opt, ev, err, err_len);
     free(images);
     return st;
@@ -1041,7 +1044,7 @@ static texopt_status evaluate_outputs(const texopt_model *model, const job_outpu
                                       const texopt_params *p, job_monitor *jm, texopt_evaluation *ev, char *err,
                                       size_t err_len)
 {
-    return evaluate_outputs_on(model, outs, n, p, TEXOPT_CAMERAS_DODECAHEDRON, NULL, jm, ev, err, err_len);
+    return evaluate_outputs_on(model, outs, n, p, TEXOPT_CAMERAS_DODECAHEDRON, 0, NULL, jm, ev, err, err_len);
 }
 
 static texopt_status evaluate_output(const texopt_model *model, const job_output *out, const texopt_params *p,
@@ -1086,8 +1089,10 @@ typedef struct candidate {
     texopt_evaluation ev;
 } candidate;
 
-static texopt_status run_candidate(texopt_job *job, const texopt_params *p, int allocating, candidate *c,
-                                   double from, double to, char *err, size_t err_len)
+/* A layout of the budget as a candidate: with images_only, baking only the images the
+ * choice's evaluation reads (base colour), else every image. */
+static texopt_status run_candidate(texopt_job *job, const texopt_params *p, int allocating, int images_only,
+                                   candidate *c, double from, double to, char *err, size_t err_len)
 {
     texopt_domain_stats *job_domains = job->stats.domains;
     c->domains = copy_domain_stats(&job->stats);
@@ -1095,7 +1100,7 @@ static texopt_status run_candidate(texopt_job *job, const texopt_params *p, int 
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for candidate statistics");
     job->stats.domains = c->domains;
     job->allocating = allocating;
-    job->evaluated_images_only = 1;
+    job->evaluated_images_only = images_only;
     texopt_status st = run_budget(job, p, 0, &c->out, from, to, err, err_len);
     job->allocating = 0;
     job->evaluated_images_only = 0;
@@ -1222,20 +1227,32 @@ static void free_targets(texopt_triangle_target **targets, int n)
 }
 
 /* One round of the refinement: the layout of `targets` as a candidate, with its loss and
- * per-triangle errors on the refinement's cameras. */
+ * per-triangle errors on the refinement's cameras, lit or of base colour. */
 static texopt_status refinement_trial(texopt_job *job, const texopt_params *p, texopt_triangle_target **targets,
-                                      candidate *trial, double *triangle_error, double from, double to, char *err,
-                                      size_t err_len)
+                                      int lit, candidate *trial, double *triangle_error, double from, double to,
+                                      char *err, size_t err_len)
 {
     job->refined = targets;
-    texopt_status st = run_candidate(job, p, 0, trial, from, from + 0.8 * (to - from), err, err_len);
+    texopt_status st = run_candidate(job, p, 0, !lit, trial, from, from + 0.8 * (to - from), err, err_len);
     job->refined = NULL;
     const job_output *shown = &trial->out;
     if (st == TEXOPT_OK) {
         job_stage(&job->jm, "evaluate", from + 0.8 * (to - from), to);
-        st = evaluate_outputs_on(job->model, &shown, 1, p, TEXOPT_CAMERAS_ICOSAHEDRON, triangle_error, &job->jm,
+        st = evaluate_outputs_on(job->model, &shown, 1, p, TEXOPT_CAMERAS_ICOSAHEDRON, lit, triangle_error, &job->jm,
                                  &trial->ev, err, err_len);
     }
+    return st;
+}
+
+/* Bakes the images a candidate left out (run_candidate's images_only) into its layouts,
+ * recording them in its own statistics. */
+static texopt_status bake_candidate_images(texopt_job *job, const texopt_params *p, candidate *c, double from,
+                                           double to, char *err, size_t err_len)
+{
+    texopt_domain_stats *job_domains = job->stats.domains;
+    job->stats.domains = c->domains;
+    texopt_status st = bake_remaining_images(job, p, &c->out, from, to, err, err_len);
+    job->stats.domains = job_domains;
     return st;
 }
 
@@ -1246,15 +1263,19 @@ static texopt_status refinement_trial(texopt_job *job, const texopt_params *p, t
  * q is lower; a round that is not lower is retried from the best layout with half the step
  * (gamma), as a backtracking line search. Errors and q are measured on the icosahedron's
  * 12 cameras, not on the dodecahedron's 20 that define q (meshrender.h): the layout is not
- * tuned on the views it is graded on. The rounds tried and kept, the 12-view q before and
- * after and their time go to the statistics (allocation_choice.refinement); after a kept
- * round kept->ev is the icosahedron's. */
+ * tuned on the views it is graded on. The screen is lit (evaluate.h `lit`: every map under
+ * one light, every image baked each round) when the material has maps a light reads besides
+ * base colour, else base colour's: on a glossy multi-map material (WaterBottle) what the
+ * light shows of the normal and roughness maps is what a viewer sees, and base colour's
+ * error alone moved texels away from it (BENCHMARKS.md "Quality"). The rounds tried and
+ * kept, the measure, the 12-view q before and after and their time go to the statistics
+ * (allocation_choice.refinement); after a kept round kept->ev is the icosahedron's. */
 static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candidate *kept, int allocated,
                                  double from, double to, char *err, size_t err_len)
 {
     int rounds = texopt_params_refinement_rounds(p), nd = job->model->domain_count;
     texopt_job_stats *js = &job->stats;
-    js->refinement_rounds = js->refinement_kept = 0;
+    js->refinement_rounds = js->refinement_kept = js->refinement_lit = 0;
     js->seconds_refinement = 0;
     if (rounds <= 0)
         return TEXOPT_OK;
@@ -1268,13 +1289,16 @@ static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candid
                            : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the refinement");
     if (st == TEXOPT_OK)
         st = copy_targets(job, best, next, err, err_len);
+    int lit = js->refinement_lit = texopt_lit_has_maps(job->model);
     const job_output *shown = &kept->out;
     texopt_evaluation best_ev;
     double span = (to - from) / (rounds + 1);
+    if (st == TEXOPT_OK && lit)
+        st = bake_candidate_images(job, p, kept, from, from + 0.5 * span, err, err_len);
     if (st == TEXOPT_OK) {
-        job_stage(&job->jm, "evaluate", from, from + span);
-        st = evaluate_outputs_on(job->model, &shown, 1, p, TEXOPT_CAMERAS_ICOSAHEDRON, error, &job->jm, &best_ev,
-                                 err, err_len);
+        job_stage(&job->jm, "evaluate", from + (lit ? 0.5 * span : 0), from + span);
+        st = evaluate_outputs_on(job->model, &shown, 1, p, TEXOPT_CAMERAS_ICOSAHEDRON, lit, error, &job->jm,
+                                 &best_ev, err, err_len);
         js->q_refinement_before = best_ev.q;
     }
     texopt_reallocate_options step = refinement_step;
@@ -1282,8 +1306,8 @@ static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candid
         candidate trial = {0};
         st = reallocate_domains(job, best, error, kept->domains, &step, scratch, next, err, err_len);
         if (st == TEXOPT_OK)
-            st = refinement_trial(job, p, next, &trial, next_error, from + span * (r + 1), from + span * (r + 2),
-                                  err, err_len);
+            st = refinement_trial(job, p, next, lit, &trial, next_error, from + span * (r + 1),
+                                  from + span * (r + 2), err, err_len);
         if (st == TEXOPT_OK && trial.ev.q < best_ev.q) {
             free_domain_stats(kept->domains, nd);
             job_output_destroy(&kept->out, job->model->image_count);
@@ -1337,9 +1361,9 @@ static texopt_status run_best_budget(texopt_job *job, const texopt_params *p, in
     int refining = texopt_params_refinement_rounds(p) > 0;
     double half = (refining ? 0.3 : 0.4) * (to - from), chosen = refining ? from + 0.7 * (to - from) : to;
     candidate allocated = {0}, uniform = {0};
-    texopt_status st = run_candidate(job, p, 1, &allocated, from, from + half, err, err_len);
+    texopt_status st = run_candidate(job, p, 1, 1, &allocated, from, from + half, err, err_len);
     if (st == TEXOPT_OK)
-        st = run_candidate(job, p, 0, &uniform, from + half, from + 2 * half, err, err_len);
+        st = run_candidate(job, p, 0, 1, &uniform, from + half, from + 2 * half, err, err_len);
     if (st == TEXOPT_OK) {
         job_stage(&job->jm, "evaluate", from + 2 * half, chosen);
         const job_output *outs[2] = {&allocated.out, &uniform.out};

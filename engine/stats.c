@@ -156,6 +156,7 @@ static cJSON *job_json(const texopt_job_stats *s)
         cJSON_AddNumberToObject(r, "rounds", s->refinement_rounds);
         cJSON_AddNumberToObject(r, "kept", s->refinement_kept);
         if (s->refinement_rounds > 0) {
+            cJSON_AddStringToObject(r, "measure", s->refinement_lit ? "lit" : "baseColor");
             cJSON_AddNumberToObject(r, "q_before", s->q_refinement_before);
             cJSON_AddNumberToObject(r, "q_after", s->q_refinement_after);
         }

@@ -88,6 +88,7 @@ typedef struct texopt_job_stats {
     double seconds_other_candidate; /* the discarded candidate's stage 2, packing and bake */
     int refinement_rounds;       /* closed-loop rounds tried on the kept candidate ... */
     int refinement_kept;         /* ... and kept (each lowered q_refinement) */
+    int refinement_lit;          /* the rounds' screen: lit (evaluate.h), else base colour */
     double q_refinement_before, q_refinement_after; /* on the refinement's 12 cameras */
     double seconds_refinement;   /* its renders and rounds */
     int has_evaluation;          /* params.evaluate: whole-mesh loss of the result */

@@ -302,7 +302,7 @@ TEST(parts_sharing_texels_keep_sharing_them)
             }
     scratch s;
     CHECK(scratch_init(&s, 0, 0, NULL) == 0);
-    CHECK(write_mesh_glb(s.in, pos, uv, 2 * per, tri, nt, 64, "checker", 0) == 0);
+    CHECK(write_mesh_glb(s.in, pos, uv, 2 * per, tri, nt, 64, "checker", NULL) == 0);
     const texopt_method methods[2] = {TEXOPT_METHOD_ARAP, TEXOPT_METHOD_PERCEPTUAL};
     for (int k = 0; k < 2; k++) {
         texopt_params p = {0};

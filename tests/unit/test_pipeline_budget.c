@@ -1,7 +1,8 @@
 /* test_pipeline_budget.c - the per-budget part of the pipeline (pipeline.h texopt_job_*):
  * one job writes several budgets exactly as separate runs would; a perceptual job keeps the
  * better of its allocated and uniform candidate layouts, and its closed-loop refinement gives
- * the triangles with on-screen error more texels; the target_loss budget
+ * the triangles with on-screen error (lit when the material has a map besides base colour)
+ * more texels; the target_loss budget
  * returns a cost whose q meets the target while a cost one search step smaller does not;
  * bad targets are refused. Models are generated grids (grid_glb.h); the same checks on the
  * perceptual method are in test_pipeline_budget_slow.c. */
@@ -99,22 +100,27 @@ static double detailed_share(const texopt_model *in, const texopt_model *out)
     return detailed / total;
 }
 
-/* q of out against in on a camera set, at the job's 96 px; -1 when it cannot be measured. */
-static double q_on(const texopt_model *in, const texopt_model *out, texopt_camera_set cameras)
+/* q of out against in on a camera set, at the job's 96 px, lit or of base colour; -1 when it
+ * cannot be measured. */
+static double q_on(const texopt_model *in, const texopt_model *out, texopt_camera_set cameras, int lit)
 {
-    texopt_evaluate_options eo = {.resolution = 96, .threads = 1, .cameras = cameras};
+    texopt_evaluate_options eo = {.resolution = 96, .threads = 1, .cameras = cameras, .lit = lit};
     texopt_evaluation ev;
     char err[256] = "";
     return texopt_evaluate(in, out, &eo, &ev, err, sizeof err) == TEXOPT_OK ? ev.q : -1;
 }
 
-/* The closed-loop refinement (pipeline.c refine_kept) on a half-flat, half-text grid: the
- * on-screen error is on the text, so the refined layout gives the text half more of the
- * same budget, and its loss on the cameras it was tuned on (the icosahedron's) is lower. */
-TEST(refinement_moves_texels_to_the_detailed_half)
+/* The closed-loop refinement (pipeline.c refine_kept) on an 8 x 8 grid whose detail (text)
+ * lies on the u > 0.5 half of base colour, or, with mr_pattern, of the metallic-roughness map
+ * only: the on-screen error (base colour's, or lit when the material has that map) is on the
+ * text, so the refined layout gives the text half more of the same budget, and its loss on
+ * the cameras it was tuned on (the icosahedron's) is lower. */
+static void check_refinement(const char *pattern, const char *mr_pattern)
 {
+    int lit = mr_pattern != NULL;
     scratch s;
-    CHECK(scratch_init(&s, 8, 64, "half") == 0);
+    CHECK(scratch_init(&s, 8, 64, pattern) == 0);
+    CHECK(write_grid_glb_images(s.in, 8, 64, pattern, mr_pattern) == 0);
     texopt_params p = small_perceptual_job(0.8);
     p.refinements = -1;
     /* The paper's threshold, whose targets leave the rounds something to find here (with the
@@ -128,6 +134,8 @@ TEST(refinement_moves_texels_to_the_detailed_half)
     cJSON *rounds = cJSON_GetObjectItem(cJSON_GetObjectItem(st, "allocation_choice"), "refinement");
     CHECK(rounds != NULL);
     double kept = number_at(rounds, "kept", NULL);
+    cJSON *measure = cJSON_GetObjectItem(rounds, "measure");
+    CHECK(cJSON_IsString(measure) && strcmp(measure->valuestring, lit ? "lit" : "baseColor") == 0);
     CHECK_NEAR(number_at(rounds, "rounds", NULL), TEXOPT_DEFAULT_REFINEMENTS, 0);
     CHECK(kept >= 1 && kept <= TEXOPT_DEFAULT_REFINEMENTS);
     CHECK(number_at(rounds, "q_after", NULL) < number_at(rounds, "q_before", NULL));
@@ -138,8 +146,10 @@ TEST(refinement_moves_texels_to_the_detailed_half)
     CHECK(in && plain && refined);
     if (in && plain && refined) {
         double before = detailed_share(in, plain), after = detailed_share(in, refined);
-        double q_before = q_on(in, plain, TEXOPT_CAMERAS_ICOSAHEDRON);
-        double q_after = q_on(in, refined, TEXOPT_CAMERAS_ICOSAHEDRON);
+        double q_before = q_on(in, plain, TEXOPT_CAMERAS_ICOSAHEDRON, lit);
+        double q_after = q_on(in, refined, TEXOPT_CAMERAS_ICOSAHEDRON, lit);
+        printf("  %s: detailed share %.4f -> %.4f, q %.5f -> %.5f\n", lit ? "lit" : "base colour", before, after,
+               q_before, q_after);
         CHECK_MSG(after > before + 0.02, "detailed share %.4f -> %.4f", before, after);
         CHECK(q_after >= 0 && q_after < q_before);
     }
@@ -149,13 +159,25 @@ TEST(refinement_moves_texels_to_the_detailed_half)
     scratch_free(&s);
 }
 
+TEST(refinement_moves_texels_to_the_detailed_half)
+{
+    check_refinement("half", NULL);
+}
+
+/* Base colour flat, the metallic-roughness map half text: base colour's error shows nothing
+ * to move, the lit render's does. */
+TEST(refinement_reads_the_lit_render_when_the_material_has_other_maps)
+{
+    check_refinement("flat", "half");
+}
+
 /* The candidates bake only base colour for the choice; the kept one's other images are baked
  * afterwards into its own layout: an image with base colour's pixels comes out identical. */
 TEST(perceptual_bakes_every_image_into_the_kept_layout)
 {
     scratch s;
     CHECK(scratch_init(&s, 4, 64, "half") == 0);
-    CHECK(write_grid_glb_images(s.in, 4, 64, "half", 1) == 0);
+    CHECK(write_grid_glb_images(s.in, 4, 64, "half", "half") == 0);
     texopt_params p = small_perceptual_job(0.5);
     char err[512] = "";
     CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
