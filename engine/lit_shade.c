@@ -16,6 +16,9 @@ struct texopt_lit_frames {
     size_t triangle_count;
     /* Per triangle T, B, N (unit); T = B = 0 where the UV map is degenerate (n = N). */
     double *tbn;
+    /* Per triangle its material's metallic and roughness factors (glTF's 1 and 1 without a
+     * material). */
+    float *factors;
 };
 
 static void sub3(const float *a, const float *b, double out[3])
@@ -63,6 +66,24 @@ static void triangle_frame(const texopt_model *m, size_t t, double *tbn)
         B[k] = sign * NxT[k];
 }
 
+/* Per triangle of m, its material's metallic and roughness factors into factors (2 each). */
+static void material_factors(const texopt_model *m, float *factors)
+{
+    for (size_t t = 0; t < m->triangle_count; t++)
+        factors[2 * t] = factors[2 * t + 1] = 1.0f;
+    for (int p = 0; p < m->primitive_count; p++) {
+        const texopt_primitive *prim = &m->primitives[p];
+        if (prim->material < 0 || prim->material >= m->material_count)
+            continue;
+        const texopt_material *mat = &m->materials[prim->material];
+        for (size_t t = prim->first_triangle; t < prim->first_triangle + prim->triangle_count && t < m->triangle_count;
+             t++) {
+            factors[2 * t] = (float)mat->metallic_factor;
+            factors[2 * t + 1] = (float)mat->roughness_factor;
+        }
+    }
+}
+
 texopt_status texopt_lit_frames_create(const texopt_model *reference, texopt_lit_frames **out, char *err,
                                        size_t err_len)
 {
@@ -71,9 +92,11 @@ texopt_status texopt_lit_frames_create(const texopt_model *reference, texopt_lit
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "lighting needs positions and TEXCOORD_0");
     texopt_lit_frames *f = calloc(1, sizeof *f);
     size_t tc = reference->triangle_count;
-    if (f)
+    if (f) {
         f->tbn = malloc((tc ? tc : 1) * 9 * sizeof *f->tbn);
-    if (!f || !f->tbn) {
+        f->factors = malloc((tc ? tc : 1) * 2 * sizeof *f->factors);
+    }
+    if (!f || !f->tbn || !f->factors) {
         texopt_lit_frames_destroy(f);
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the tangent frames");
     }
@@ -87,6 +110,7 @@ texopt_status texopt_lit_frames_create(const texopt_model *reference, texopt_lit
             }
         triangle_frame(reference, t, f->tbn + 9 * t);
     }
+    material_factors(reference, f->factors);
     *out = f;
     return TEXOPT_OK;
 }
@@ -96,6 +120,7 @@ void texopt_lit_frames_destroy(texopt_lit_frames *frames)
     if (!frames)
         return;
     free(frames->tbn);
+    free(frames->factors);
     free(frames);
 }
 
@@ -170,8 +195,8 @@ static double surface(double b, double metallic, double roughness, const double 
 typedef enum lit_term { LIT_MATERIAL, LIT_SURFACE, LIT_OCCLUSION, LIT_EMISSION } lit_term;
 
 /* Applies one term to every covered pixel of luma from its texture (shaded into rgb; a
- * triangle whose material has none keeps the term's default: metallic 0 and roughness 1,
- * n = N, occlusion 1, no emission). LIT_MATERIAL stores metallic and roughness per pixel in
+ * triangle whose material has none keeps the term's default: its metallic and roughness
+ * factors alone, n = N, occlusion 1, no emission). LIT_MATERIAL stores metallic and roughness per pixel in
  * mr for LIT_SURFACE. */
 static texopt_status apply_term(const texopt_model *model, const texopt_raster *raster, const texopt_lit_frames *frames,
                                 struct texopt_texture_filter *const *filters, const double *normal_turn, lit_term term,
@@ -194,8 +219,9 @@ static texopt_status apply_term(const texopt_model *model, const texopt_raster *
             continue;
         const float *texel = bound[t] ? rgb + 3 * i : NULL;
         if (term == LIT_MATERIAL) {
-            mr[2 * i] = texel ? texel[2] : 0.0f; /* glTF: B metallic, G roughness */
-            mr[2 * i + 1] = texel ? texel[1] : 1.0f;
+            const float *factor = frames->factors + 2 * (size_t)t; /* glTF: B metallic, G roughness */
+            mr[2 * i] = factor[0] * (texel ? texel[2] : 1.0f);
+            mr[2 * i + 1] = factor[1] * (texel ? texel[1] : 1.0f);
         } else if (term == LIT_SURFACE) {
             double normal[3];
             shading_normal(frames->tbn + 9 * (size_t)t, texel, normal);

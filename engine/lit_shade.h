@@ -6,17 +6,18 @@
  *   L = min(1, occlusion * (b (1 - m) (A + (1 - A) max(0, n . l)) + f0 A + S) + e)
  *   f0 = 0.04 (1 - m) + b m,   S = (1 - A) pi D(n . h) V(n . l, n . v) F(v . h) max(0, n . l)
  * b the luma of baseColor as the evaluation's q reads it (mid grey 0.5 where the material has
- * none, no factor); m and r the metallic-roughness texture's B and G (0 and 1, a rough
- * dielectric, where none: the single-texture assets say metallicFactor 0); occlusion its R
- * (1 where none); e the emissive texture's luma (0 where none). S is Cook-Torrance's
+ * none, no factor); m and r the material's metallic and roughness factors (model.h, glTF's
+ * default 1 and 1) times the metallic-roughness texture's B and G where it has one;
+ * occlusion its R (1 where none); e the emissive texture's luma (0 where none). S is Cook-Torrance's
  * specular: GGX D with alpha = max(r, 0.05)^2, Smith-Schlick V (k = alpha / 2), Schlick's F;
  * h the half vector of l and the view direction v (orthographic: the camera's direction).
  * The sky (A) lights the diffuse part and, at f0, the specular one, so a metal is not black
  * away from its highlight. The roughness map shows as the highlights' size and the metallic
  * map as the metal's darker diffuse and coloured reflection: what the other terms cannot
- * tell. The minimum with 1 is what a display without tone mapping shows. model.h loads
- * no material factors (emissiveFactor, metallicFactor, roughnessFactor): textures are taken
- * at factor 1, as the assets with those maps set them (DamagedHelmet, WaterBottle).
+ * tell. The minimum with 1 is what a display without tone mapping shows. The factors are the
+ * reference's (as the tangent frames): a re-baked output keeps its input's materials. The
+ * emissive texture is taken at factor 1 (model.h does not load emissiveFactor), as the
+ * assets with an emissive map set it (DamagedHelmet, WaterBottle).
  * n is the normal map's tangent-space normal (2 rgb - 1, renormalised) in world space, or the
  * face normal N where the material has no normal map.
  *

@@ -45,6 +45,9 @@ typedef struct texopt_texture_ref {
 
 typedef struct texopt_material {
     texopt_texture_ref slot[TEXOPT_SLOT_COUNT];
+    /* pbrMetallicRoughness's factors (glTF's default 1), which multiply the texture's B and G
+     * or stand alone without one: what a lit render (lit_shade.h) shows of the material. */
+    double metallic_factor, roughness_factor;
 } texopt_material;
 
 typedef struct texopt_primitive {

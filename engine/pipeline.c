@@ -16,7 +16,8 @@
  *     budget), and the one with the smaller whole-mesh loss q (evaluate.h) is kept. The
  *     candidates bake only base colour (all q looks at) and are evaluated in one pass; the
  *     kept one is refined in closed loop from its on-screen error per triangle (refine_kept,
- *     on the icosahedron's cameras) and its other images are baked after that.
+ *     on the icosahedron's cameras; lit, every image baked, when the material has maps a
+ *     light reads) and its other images are baked after that.
  *   "input": the input layout kept as it is (UVs untouched, seams, overlaps and wrapping
  *     included) and each texture resampled with the prefilter of texture_filter.h to the
  *     budget: a relative cost c_r scales both sides by sqrt(c_r) (rounded to whole texels),

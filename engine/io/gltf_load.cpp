@@ -243,6 +243,8 @@ texopt_status convert_materials(const tinygltf::Model &g, texopt_model *model, c
     for (size_t i = 0; i < n; i++) {
         const tinygltf::Material &m = g.materials[i];
         texopt_material *out = &model->materials[i];
+        out->metallic_factor = m.pbrMetallicRoughness.metallicFactor;
+        out->roughness_factor = m.pbrMetallicRoughness.roughnessFactor;
         const tinygltf::TextureInfo &base = m.pbrMetallicRoughness.baseColorTexture;
         const tinygltf::TextureInfo &mr = m.pbrMetallicRoughness.metallicRoughnessTexture;
         struct {

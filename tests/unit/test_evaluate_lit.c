@@ -132,7 +132,7 @@ TEST(lit_q_sees_the_occlusion_map)
 }
 
 /* lit_quad with a metallic-roughness image (image 3): roughness (G) in stripes across u,
- * metallic (B) `metallic` everywhere. */
+ * metallic (B) `metallic` everywhere; the material's factors 1, so the texture decides. */
 static texopt_model *lit_quad_with_material(const float *uv, float metallic)
 {
     texopt_model *m = lit_quad(uv);
@@ -148,6 +148,7 @@ static texopt_model *lit_quad_with_material(const float *uv, float metallic)
             p[1] = (x / 4) % 2 ? 0.9f : 0.2f;
             p[2] = metallic;
         }
+    m->materials[0].metallic_factor = m->materials[0].roughness_factor = 1;
     return m;
 }
 
@@ -163,6 +164,10 @@ TEST(lit_q_sees_the_metallic_roughness_map)
         mr->pixels[3 * i + 1] = 0.2f;
     check_only_lit_sees("metallic instead of dielectric", ref, metal, 0.01); /* measured 0.073 */
     check_only_lit_sees("roughness stripes smoothed", ref, smooth, 0.0005); /* measured 0.00107 */
+    /* metallicFactor 0 (the reference's: both renders use its materials) makes the texture's
+     * B count for nothing, as in a glTF viewer. */
+    ref->materials[0].metallic_factor = 0;
+    CHECK(q_of(ref, metal, 1) == 0.0);
     texopt_model_destroy(ref);
     texopt_model_destroy(metal);
     texopt_model_destroy(smooth);

@@ -83,6 +83,16 @@ TEST(glb_quad_loads_completely)
     CHECK_EQ_INT(m->domains[0].height, 4);
     CHECK_EQ_INT(m->domains[0].wrap_s, TEXOPT_WRAP_CLAMP);
     CHECK(m->document != NULL && m->destroy_document != NULL);
+    /* No factors in the file: glTF's defaults. */
+    CHECK_NEAR(m->materials[0].metallic_factor, 1, 0);
+    CHECK_NEAR(m->materials[0].roughness_factor, 1, 0);
+    texopt_model_destroy(m);
+    CHECK(builder_replace(&doc.json, "\"baseColorTexture\":{\"index\":0}}",
+                          "\"baseColorTexture\":{\"index\":0},\"metallicFactor\":0,\"roughnessFactor\":0.58}"));
+    m = load_quad_json(&doc, doc.json, err, sizeof err, &st);
+    CHECK_OK(st, err);
+    CHECK_NEAR(m->materials[0].metallic_factor, 0, 0);
+    CHECK_NEAR(m->materials[0].roughness_factor, 0.58, 1e-12);
     texopt_model_destroy(m);
     quad_doc_free(&doc);
 }
