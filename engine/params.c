@@ -27,6 +27,19 @@ texopt_method texopt_method_from_name(const char *name)
     return TEXOPT_METHOD_COUNT;
 }
 
+const char *texopt_refine_measure_name(int refine_lit)
+{
+    return refine_lit ? "lit" : "baseColor";
+}
+
+int texopt_refine_measure_from_name(const char *name)
+{
+    for (int lit = 0; lit <= 1; lit++)
+        if (name && strcmp(name, texopt_refine_measure_name(lit)) == 0)
+            return lit;
+    return -1;
+}
+
 void texopt_params_resolve(texopt_params *p)
 {
     if (p->relative_cost == 0)

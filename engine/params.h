@@ -62,6 +62,10 @@ typedef struct texopt_params {
     int refinements;        /* perceptual: most rounds of the closed-loop refinement of the
                                kept layout by its on-screen error (pipeline.c refine_kept);
                                0 -> TEXOPT_DEFAULT_REFINEMENTS, -1 -> none */
+    int refine_lit;         /* perceptual: non-zero: the refinement's screen is the lit render
+                               (evaluate.h `lit`, every image baked each round) when the
+                               material has a map a light reads besides base colour; 0: base
+                               colour's (pipeline.c refine_kept) */
     double packing_efficiency; /* [0, 1): when a packing's efficiency falls short of it, the
                                charts filling little of their box are reshaped toward it and
                                packed again (budget.h reshape_efficiency); 0 -> never */
@@ -73,6 +77,11 @@ texopt_method texopt_method_from_name(const char *name);
 
 /* Replaces zero fields by their defaults. */
 void texopt_params_resolve(texopt_params *params);
+
+/* The refinement's measure as users name it: "baseColor" or "lit" (texopt_params.refine_lit),
+ * and back; -1 for an unknown name. */
+const char *texopt_refine_measure_name(int refine_lit);
+int texopt_refine_measure_from_name(const char *name);
 
 /* Refinement rounds as users count them (0: none), from and into the field's encoding, where
  * 0 is the default and -1 none. The getter reads a resolved params struct. */

@@ -16,8 +16,8 @@
  *     budget), and the one with the smaller whole-mesh loss q (evaluate.h) is kept. The
  *     candidates bake only base colour (all q looks at) and are evaluated in one pass; the
  *     kept one is refined in closed loop from its on-screen error per triangle (refine_kept,
- *     on the icosahedron's cameras; lit, every image baked, when the material has maps a
- *     light reads) and its other images are baked after that.
+ *     on the icosahedron's cameras; with params.refine_lit lit, every image baked, when the
+ *     material has maps a light reads) and its other images are baked after that.
  *   "input": the input layout kept as it is (UVs untouched, seams, overlaps and wrapping
  *     included) and each texture resampled with the prefilter of texture_filter.h to the
  *     budget: a relative cost c_r scales both sides by sqrt(c_r) (rounded to whole texels),
@@ -995,6 +995,7 @@ static void fill_job_params(texopt_job_stats *js, const texopt_params *p)
     js->threads = p->threads;
     js->seed = (unsigned long long)p->seed;
     js->refinements = texopt_params_refinement_rounds(p);
+    js->refine_lit = p->refine_lit != 0;
     js->packing_efficiency = p->packing_efficiency;
 }
 
@@ -1264,13 +1265,15 @@ static texopt_status bake_candidate_images(texopt_job *job, const texopt_params 
  * q is lower; a round that is not lower is retried from the best layout with half the step
  * (gamma), as a backtracking line search. Errors and q are measured on the icosahedron's
  * 12 cameras, not on the dodecahedron's 20 that define q (meshrender.h): the layout is not
- * tuned on the views it is graded on. The screen is lit (evaluate.h `lit`: every map under
- * one light, every image baked each round) when the material has maps a light reads besides
- * base colour, else base colour's: on a glossy multi-map material (WaterBottle) what the
- * light shows of the normal and roughness maps is what a viewer sees, and base colour's
- * error alone moved texels away from it (BENCHMARKS.md "Quality"). The rounds tried and
- * kept, the measure, the 12-view q before and after and their time go to the statistics
- * (allocation_choice.refinement); after a kept round kept->ev is the icosahedron's. */
+ * tuned on the views it is graded on. With p->refine_lit, and when the material has maps a
+ * light reads besides base colour, the screen is lit (evaluate.h `lit`: every map under one
+ * light, every image baked each round), else base colour's: on a glossy multi-map material
+ * what the light shows of the normal and roughness maps is what a viewer sees, and base
+ * colour's error alone moves texels away from it; it costs base colour's q and three to
+ * four times the rounds' time (BENCHMARKS.md "Specular lit loss"), hence not the default.
+ * The rounds tried and kept, the measure, the 12-view q before and after and their time go
+ * to the statistics (allocation_choice.refinement); after a kept round kept->ev is the
+ * icosahedron's. */
 static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candidate *kept, int allocated,
                                  double from, double to, char *err, size_t err_len)
 {
@@ -1290,7 +1293,7 @@ static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candid
                            : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the refinement");
     if (st == TEXOPT_OK)
         st = copy_targets(job, best, next, err, err_len);
-    int lit = js->refinement_lit = texopt_lit_has_maps(job->model);
+    int lit = js->refinement_lit = p->refine_lit && texopt_lit_has_maps(job->model);
     const job_output *shown = &kept->out;
     texopt_evaluation best_ev;
     double span = (to - from) / (rounds + 1);

@@ -6,6 +6,7 @@
 
 #include "atomic_file.h"
 #include "build_info.h"
+#include "params.h"
 
 void texopt_job_stats_destroy(texopt_job_stats *stats)
 {
@@ -127,6 +128,7 @@ static cJSON *job_json(const texopt_job_stats *s)
     cJSON_AddNumberToObject(p, "threads", s->threads);
     cJSON_AddNumberToObject(p, "seed", (double)s->seed);
     cJSON_AddNumberToObject(p, "refinements", s->refinements);
+    cJSON_AddStringToObject(p, "refine_by", texopt_refine_measure_name(s->refine_lit));
     cJSON_AddNumberToObject(p, "packing_efficiency", s->packing_efficiency);
     cJSON *t = cJSON_AddObjectToObject(root, "seconds");
     cJSON_AddNumberToObject(t, "load", s->seconds_load);

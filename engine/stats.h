@@ -73,6 +73,7 @@ typedef struct texopt_job_stats {
     int iterations, threads;
     unsigned long long seed;
     int refinements;             /* rounds asked for (0: none) */
+    int refine_lit;              /* the refinement asked to read the lit render */
     double packing_efficiency;   /* reshape goal asked for (0: none) */
     double seconds_load, seconds_save, seconds_total;
     int has_search;              /* budget target_loss: the search over the relative cost */

@@ -144,6 +144,7 @@ set +e
 "$TEXOPT_BIN" compare "$FOX" --methods nosuch > /dev/null 2>&1; [ $? -eq 2 ] || fail "unknown method should exit 2"
 "$TEXOPT_BIN" compare "$FOX" --costs 0,1 > /dev/null 2>&1; [ $? -eq 2 ] || fail "cost 0 should exit 2"
 "$TEXOPT_BIN" compare "$FOX" --refinements 21 > /dev/null 2>&1; [ $? -eq 2 ] || fail "21 refinements should exit 2"
+"$TEXOPT_BIN" compare "$FOX" --refine-by shininess > /dev/null 2>&1; [ $? -eq 2 ] || fail "unknown --refine-by should exit 2"
 "$TEXOPT_BIN" compare "$FOX" --epsilon 1 > /dev/null 2>&1; [ $? -eq 2 ] || fail "epsilon 1 should exit 2"
 for lm in 0 1 x; do
     "$TEXOPT_BIN" compare "$FOX" --lambda-min $lm > /dev/null 2>&1; [ $? -eq 2 ] || fail "lambda-min $lm should exit 2"

@@ -29,6 +29,9 @@ set +e
 [ $rc -eq 2 ] || fail "two budgets: exit $rc, expected 2"
 "$bin" optimize "$spot" -o "$tmp/x.glb" --method nonsense 2>/dev/null; rc=$?
 [ $rc -eq 2 ] || fail "unknown method: exit $rc, expected 2"
+"$bin" optimize "$spot" -o "$tmp/x.glb" --refine-by shininess 2>"$tmp/err"; rc=$?
+[ $rc -eq 2 ] || fail "unknown --refine-by: exit $rc, expected 2"
+grep -q "refine-by" "$tmp/err" || fail "a bad --refine-by is not named: $(cat "$tmp/err")"
 for bad in 0 1 -0.5 abc; do
   "$bin" optimize "$spot" -o "$tmp/x.glb" --target-loss "$bad" 2>"$tmp/err"; rc=$?
   [ $rc -eq 2 ] || fail "--target-loss $bad: exit $rc, expected 2"

@@ -23,6 +23,7 @@ TEST(empty_object_gives_paper_defaults)
     CHECK_NEAR(p.lambda_min, 0.1, 0);
     CHECK_EQ_INT(p.evaluate, 0);
     CHECK_EQ_INT(p.refinements, 4);
+    CHECK_EQ_INT(p.refine_lit, 0);
     CHECK_NEAR(p.packing_efficiency, 0, 0);
 }
 
@@ -32,7 +33,8 @@ TEST(every_key_is_read)
     char err[256] = "";
     CHECK_OK(parse("{\"method\":\"arap\",\"relative_cost\":0.25,\"epsilon\":0.02,\"iterations\":7,"
                    "\"lambda_min\":0.3,\"threads\":3,\"seed\":123456789012,\"evaluate\":true,"
-                   "\"eval_resolution\":256,\"refinements\":5,\"packing_efficiency\":0.75}", &p, err), err);
+                   "\"eval_resolution\":256,\"refinements\":5,\"refine_by\":\"lit\",\"packing_efficiency\":0.75}",
+                   &p, err), err);
     CHECK_EQ_INT(p.method, TEXOPT_METHOD_ARAP);
     CHECK_NEAR(p.relative_cost, 0.25, 0);
     CHECK_NEAR(p.epsilon, 0.02, 0);
@@ -43,6 +45,7 @@ TEST(every_key_is_read)
     CHECK_EQ_INT(p.evaluate, 1);
     CHECK_EQ_INT(p.eval_resolution, 256);
     CHECK_EQ_INT(p.refinements, 5);
+    CHECK_EQ_INT(p.refine_lit, 1);
     CHECK_NEAR(p.packing_efficiency, 0.75, 0);
     CHECK_OK(parse("{\"refinements\":0}", &p, err), err);
     CHECK_EQ_INT(p.refinements, -1); /* none, not the engine's default */
@@ -92,6 +95,8 @@ TEST(bad_params_are_refused_by_name)
     check_refused("{\"seed\":-1}", "params.seed");
     check_refused("{\"refinements\":21}", "params.refinements");
     check_refused("{\"refinements\":-1}", "params.refinements");
+    check_refused("{\"refine_by\":\"shiny\"}", "params.refine_by");
+    check_refused("{\"refine_by\":1}", "params.refine_by");
     check_refused("{\"packing_efficiency\":1}", "packing_efficiency");
     check_refused("{\"packing_efficiency\":-0.1}", "packing_efficiency");
     check_refused("[1,2]", "must be a JSON object");
@@ -122,6 +127,7 @@ TEST(params_survive_a_json_round_trip)
                    "\"iterations\":9,\"seed\":77,\"evaluate\":true,\"packing_efficiency\":0.8}", &p, err), err);
     for (int refinements = -1; refinements <= 3; refinements += 4) {
         p.refinements = refinements; /* none, and some */
+        p.refine_lit = refinements > 0;
         cJSON *o = api_params_to_json(&p);
         CHECK(o != NULL);
         texopt_status s = api_params_from_json(o, &q, err, sizeof err);

@@ -129,6 +129,7 @@ static void check_refinement(const char *pattern, const char *mr_pattern)
     char err[512] = "";
     CHECK_OK(texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err), err);
     p.refinements = 0; /* the default rounds */
+    p.refine_lit = lit;
     CHECK_OK(texopt_optimize_file(s.in, s.again, s.stats, &p, NULL, err, sizeof err), err);
     cJSON *st = read_json(s.stats);
     cJSON *rounds = cJSON_GetObjectItem(cJSON_GetObjectItem(st, "allocation_choice"), "refinement");
@@ -141,6 +142,8 @@ static void check_refinement(const char *pattern, const char *mr_pattern)
     CHECK(number_at(rounds, "q_after", NULL) < number_at(rounds, "q_before", NULL));
     CHECK(number_at(rounds, "seconds", NULL) > 0);
     CHECK_NEAR(number_at(st, "params", "refinements"), TEXOPT_DEFAULT_REFINEMENTS, 0);
+    cJSON *asked = cJSON_GetObjectItem(cJSON_GetObjectItem(st, "params"), "refine_by");
+    CHECK(cJSON_IsString(asked) && strcmp(asked->valuestring, lit ? "lit" : "baseColor") == 0);
     cJSON_Delete(st);
     texopt_model *in = load(s.in), *plain = load(s.out), *refined = load(s.again);
     CHECK(in && plain && refined);
@@ -164,8 +167,8 @@ TEST(refinement_moves_texels_to_the_detailed_half)
     check_refinement("half", NULL);
 }
 
-/* Base colour flat, the metallic-roughness map half text: base colour's error shows nothing
- * to move, the lit render's does. */
+/* Base colour flat, the metallic-roughness map half text, refine_lit: base colour's error
+ * shows nothing to move, the lit render's does. */
 TEST(refinement_reads_the_lit_render_when_the_material_has_other_maps)
 {
     check_refinement("flat", "half");
@@ -200,7 +203,11 @@ TEST(perceptual_bakes_every_image_into_the_kept_layout)
                         sizeof(float) * out->images[0].width * out->images[0].height * out->images[0].channels) == 0);
     texopt_model_destroy(out);
     cJSON *st = read_json(s.stats);
-    CHECK(cJSON_GetObjectItem(st, "allocation_choice") != NULL);
+    cJSON *rounds = cJSON_GetObjectItem(cJSON_GetObjectItem(st, "allocation_choice"), "refinement");
+    CHECK(rounds != NULL);
+    /* A metallic-roughness map but refine_lit not asked: base colour's screen. */
+    cJSON *measure = cJSON_GetObjectItem(rounds, "measure");
+    CHECK(!measure || (cJSON_IsString(measure) && strcmp(measure->valuestring, "baseColor") == 0));
     cJSON_Delete(st);
     scratch_free(&s);
 }
