@@ -108,8 +108,8 @@ texopt_status texopt_evaluate_check_lit(const texopt_model *reference, char *err
 {
     if (!texopt_meshrender_has_texture(reference, TEXOPT_SLOT_BASE_COLOR) && !texopt_lit_has_maps(reference))
         return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
-                           "the reference has no baseColor, metallicRoughness, normal, occlusion or emissive texture (read through "
-                           "TEXCOORD_0) to light");
+                           "the reference has no baseColor, metallicRoughness, normal, occlusion or emissive "
+                           "texture (read through TEXCOORD_0) to light");
     return TEXOPT_OK;
 }
 
