@@ -245,6 +245,44 @@ TEST(light_comes_from_the_camera_side_upper_right)
     CHECK_NEAR(l[0], 0.5 / sqrt(0.99), 1e-12);
 }
 
+/* A 16 x 16 px view straight down onto the quad (right +x, up +y), its raster, the model's
+ * tangent frames and the shading's scratch: the pixel-level tests below shade through it. */
+#define HEAD_ON_SIDE 16
+typedef struct head_on {
+    texopt_view view;
+    texopt_raster raster;
+    texopt_lit_frames *frames;
+    float *scratch;
+} head_on;
+
+static int head_on_init(head_on *h, const texopt_model *m)
+{
+    const texopt_view view = {{0.5, 0.5, 0}, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}, 1};
+    char err[256] = "";
+    memset(h, 0, sizeof *h);
+    h->view = view;
+    if (texopt_meshrender_rasterize(m, &h->view, HEAD_ON_SIDE, &h->raster, err, sizeof err) != TEXOPT_OK ||
+        texopt_lit_frames_create(m, &h->frames, err, sizeof err) != TEXOPT_OK) {
+        printf("  head-on view: %s\n", err);
+        return 0;
+    }
+    h->scratch = malloc(TEXOPT_LIT_SCRATCH_FLOATS * HEAD_ON_SIDE * HEAD_ON_SIDE * sizeof(float));
+    return h->scratch != NULL;
+}
+
+static void head_on_free(head_on *h)
+{
+    free(h->scratch);
+    texopt_lit_frames_destroy(h->frames);
+    texopt_raster_destroy(&h->raster);
+}
+
+/* The lit luma of m through h into lit (HEAD_ON_SIDE^2 floats). */
+static texopt_status head_on_shade(head_on *h, const texopt_model *m, float *lit, char *err, size_t err_len)
+{
+    return texopt_lit_shade(m, &h->raster, h->frames, NULL, NULL, h->scratch, lit, err, err_len);
+}
+
 /* The quad's u runs along world +x and v along +y, so glTF's normal-map X (+u) points to
  * +x and Y (up in the image, -v) to -y; the light comes from +x, +y: a map tilted to +X
  * lights the face more than a flat one, tilted to -X or +Y less. Checks the tangent frame's
@@ -253,30 +291,24 @@ TEST(normal_map_tilted_towards_the_light_brightens_the_face)
 {
     texopt_model *m = lit_quad(quad_uv);
     CHECK(m);
-    texopt_view view = {{0.5, 0.5, 0}, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}, 1};
-    texopt_raster raster;
+    head_on h;
+    CHECK(head_on_init(&h, m));
     char err[256] = "";
-    CHECK_OK(texopt_meshrender_rasterize(m, &view, 16, &raster, err, sizeof err), err);
-    texopt_lit_frames *frames = NULL;
-    CHECK_OK(texopt_lit_frames_create(m, &frames, err, sizeof err), err);
-    float *scratch = malloc(TEXOPT_LIT_SCRATCH_FLOATS * 16 * 16 * sizeof(float)), lit[4][16 * 16];
-    CHECK(scratch != NULL);
+    float lit[4][HEAD_ON_SIDE * HEAD_ON_SIDE];
     const float tilt[4][3] = {{0.5f, 0.5f, 1.0f}, {0.9f, 0.5f, 0.8f}, {0.1f, 0.5f, 0.8f}, {0.5f, 0.9f, 0.8f}};
     for (int k = 0; k < 4; k++) {
         texopt_image *n = &m->images[1];
         for (size_t i = 0; i < (size_t)n->width * (size_t)n->height; i++)
             memcpy(n->pixels + 3 * i, tilt[k], sizeof tilt[k]);
-        CHECK_OK(texopt_lit_shade(m, &raster, frames, NULL, NULL, scratch, lit[k], err, sizeof err), err);
+        CHECK_OK(head_on_shade(&h, m, lit[k], err, sizeof err), err);
     }
-    size_t centre = 8 * 16 + 8;
+    size_t centre = 8 * HEAD_ON_SIDE + 8;
     printf("  flat %.4f, tilted to +X %.4f, to -X %.4f, to +Y %.4f\n", lit[0][centre], lit[1][centre],
            lit[2][centre], lit[3][centre]);
-    CHECK(raster.triangle[centre] >= 0);
+    CHECK(h.raster.triangle[centre] >= 0);
     CHECK(lit[1][centre] > lit[0][centre] && lit[0][centre] > lit[2][centre]);
     CHECK(lit[3][centre] < lit[0][centre]);
-    free(scratch);
-    texopt_lit_frames_destroy(frames);
-    texopt_raster_destroy(&raster);
+    head_on_free(&h);
     texopt_model_destroy(m);
 }
 
@@ -292,23 +324,19 @@ TEST(highlight_follows_roughness_and_metallic)
     CHECK(m);
     for (size_t i = 0; i < 3 * (size_t)TEX * TEX; i++)
         m->images[0].pixels[i] = 0.5f;
-    texopt_view view = {{0.5, 0.5, 0}, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}, 1};
+    head_on ho;
+    CHECK(head_on_init(&ho, m));
     double l[3], h[3];
-    texopt_lit_light(&view, l);
+    texopt_lit_light(&ho.view, l);
     for (int k = 0; k < 3; k++)
-        h[k] = l[k] + view.direction[k];
+        h[k] = l[k] + ho.view.direction[k];
     double hn = sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
     /* Tangent-space X is world +x, Y world -y (see the test above). */
     const float towards_h[3] = {(float)(0.5 + 0.5 * h[0] / hn), (float)(0.5 - 0.5 * h[1] / hn),
                                 (float)(0.5 + 0.5 * h[2] / hn)};
     const float flat[3] = {0.5f, 0.5f, 1.0f};
-    texopt_raster raster;
     char err[256] = "";
-    CHECK_OK(texopt_meshrender_rasterize(m, &view, 16, &raster, err, sizeof err), err);
-    texopt_lit_frames *frames = NULL;
-    CHECK_OK(texopt_lit_frames_create(m, &frames, err, sizeof err), err);
-    float *scratch = malloc(TEXOPT_LIT_SCRATCH_FLOATS * 16 * 16 * sizeof(float)), lit[6][16 * 16];
-    CHECK(scratch != NULL);
+    float lit[6][HEAD_ON_SIDE * HEAD_ON_SIDE];
     /* normal, roughness, metallic per case */
     const struct { const float *normal; float roughness, metallic; } cases[6] = {
         {towards_h, 0.2f, 0}, {towards_h, 1.0f, 0}, {flat, 0.2f, 0}, {flat, 1.0f, 0}, {flat, 1.0f, 1}, {flat, 0.2f, 1}};
@@ -318,20 +346,18 @@ TEST(highlight_follows_roughness_and_metallic)
             m->images[3].pixels[3 * i + 1] = cases[k].roughness;
             m->images[3].pixels[3 * i + 2] = cases[k].metallic;
         }
-        CHECK_OK(texopt_lit_shade(m, &raster, frames, NULL, NULL, scratch, lit[k], err, sizeof err), err);
+        CHECK_OK(head_on_shade(&ho, m, lit[k], err, sizeof err), err);
     }
-    size_t c = 8 * 16 + 8;
+    size_t c = 8 * HEAD_ON_SIDE + 8;
     printf("  towards h: smooth %.4f rough %.4f; face normal: smooth %.4f rough %.4f, rough metal %.4f, "
            "smooth metal %.4f\n",
            lit[0][c], lit[1][c], lit[2][c], lit[3][c], lit[4][c], lit[5][c]);
-    CHECK(raster.triangle[c] >= 0);
+    CHECK(ho.raster.triangle[c] >= 0);
     CHECK_MSG(lit[0][c] > lit[1][c] + 0.2f, "smooth %.4f rough %.4f", lit[0][c], lit[1][c]);
     CHECK(lit[3][c] > lit[2][c]);
     CHECK(lit[4][c] < 0.75f * lit[3][c] && lit[5][c] < 0.75f * lit[2][c]); /* measured 0.54 and 0.38 */
     for (int k = 0; k < 6; k++)
         CHECK(lit[k][c] >= 0.0f && lit[k][c] <= 1.0f);
-    free(scratch);
-    texopt_lit_frames_destroy(frames);
-    texopt_raster_destroy(&raster);
+    head_on_free(&ho);
     texopt_model_destroy(m);
 }
