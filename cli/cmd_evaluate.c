@@ -57,12 +57,6 @@ static cJSON *cost_json(const texopt_cost *c)
     return o;
 }
 
-/* "lit", or the evaluated slot's name. */
-static const char *texture_name(const texopt_evaluate_options *opt)
-{
-    return opt->lit ? "lit" : texopt_slot_name(opt->slot);
-}
-
 static void print_json(const texopt_evaluation *ev, const texopt_evaluate_options *opt, const texopt_cost *in,
                        const texopt_cost *out)
 {
@@ -70,7 +64,7 @@ static void print_json(const texopt_evaluation *ev, const texopt_evaluate_option
     cJSON_AddNumberToObject(root, "q", ev->q);
     cJSON_AddNumberToObject(root, "resolution", ev->resolution);
     cJSON_AddStringToObject(root, "lookup", opt->mipmapped ? "mipmapped" : "bilinear");
-    cJSON_AddStringToObject(root, "texture", texture_name(opt));
+    cJSON_AddStringToObject(root, "texture", texopt_evaluate_measure_name(opt));
     cJSON *views = cJSON_AddArrayToObject(root, "view_gmsd");
     for (int v = 0; v < TEXOPT_VIEW_COUNT; v++)
         cJSON_AddItemToArray(views, cJSON_CreateNumber(ev->view_gmsd[v]));
@@ -89,7 +83,7 @@ static void print_json(const texopt_evaluation *ev, const texopt_evaluate_option
 static void print_text(const texopt_evaluation *ev, const texopt_evaluate_options *opt, const texopt_cost *in,
                        const texopt_cost *out)
 {
-    printf("q (whole-mesh GMSD of %s, 20 views at %d px, %s lookups): %.6f\n", texture_name(opt),
+    printf("q (whole-mesh GMSD of %s, 20 views at %d px, %s lookups): %.6f\n", texopt_evaluate_measure_name(opt),
            ev->resolution, opt->mipmapped ? "mip-mapped" : "bilinear", ev->q);
     printf("relative cost c_r: %.4f\n",
            in->covered_texels ? (double)out->covered_texels / (double)in->covered_texels : 0);

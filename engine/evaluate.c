@@ -93,6 +93,11 @@ int texopt_evaluate_select_measure(texopt_evaluate_options *opt, const char *nam
     return 0;
 }
 
+const char *texopt_evaluate_measure_name(const texopt_evaluate_options *opt)
+{
+    return opt->lit ? "lit" : texopt_slot_name(opt->slot);
+}
+
 texopt_status texopt_evaluate_check_slot(const texopt_model *reference, texopt_slot slot, char *err, size_t err_len)
 {
     if ((int)slot < 0 || slot >= TEXOPT_SLOT_COUNT)

@@ -108,6 +108,9 @@ texopt_slot texopt_evaluate_slot_from_name(const char *name);
  * opt->slot and opt->lit and returns 0; -1 for NULL or an unknown name (opt unchanged). */
 int texopt_evaluate_select_measure(texopt_evaluate_options *opt, const char *name);
 
+/* The name of what opt measures, as the JSON and the tools write it: "lit" or the slot's. */
+const char *texopt_evaluate_measure_name(const texopt_evaluate_options *opt);
+
 /* Succeeds when `slot` can be evaluated against this reference: a known slot, and for any
  * slot but base colour a texture in it somewhere (the refusal described at the top). */
 texopt_status texopt_evaluate_check_slot(const texopt_model *reference, texopt_slot slot, char *err, size_t err_len);
