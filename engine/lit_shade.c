@@ -196,8 +196,8 @@ typedef enum lit_term { LIT_MATERIAL, LIT_SURFACE, LIT_OCCLUSION, LIT_EMISSION }
 
 /* Applies one term to every covered pixel of luma from its texture (shaded into rgb; a
  * triangle whose material has none keeps the term's default: its metallic and roughness
- * factors alone, n = N, occlusion 1, no emission). LIT_MATERIAL stores metallic and roughness per pixel in
- * mr for LIT_SURFACE. */
+ * factors alone, n = N, occlusion 1, no emission). LIT_MATERIAL stores metallic and
+ * roughness per pixel in mr for LIT_SURFACE. */
 static texopt_status apply_term(const texopt_model *model, const texopt_raster *raster, const texopt_lit_frames *frames,
                                 struct texopt_texture_filter *const *filters, const double *normal_turn, lit_term term,
                                 float *rgb, float *mr, float *luma, char *err, size_t err_len)
