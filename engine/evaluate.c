@@ -181,7 +181,16 @@ typedef struct eval_job {
     texopt_texture_filter **ref_filters;   /* per image; NULL: bilinear */
     texopt_texture_filter ***cand_filters; /* per candidate, per image; NULL: bilinear */
     double **cand_turns; /* per candidate: normal-map turns (meshrender.h), NULL: none */
+    const float *cached_luma; /* per view side x side: the reference's, read instead of shaded */
+    float *stored_luma;       /* per view side x side: where the reference's shading is kept */
 } eval_job;
+
+struct texopt_evaluate_reference {
+    const texopt_model *model;
+    texopt_evaluate_options opt; /* as shaded; triangle_error and reference_views cleared */
+    int side, view_count;
+    float *luma; /* view_count x side x side */
+};
 
 /* Mip pyramids of every image the evaluated slot's bindings use (every slot lighting reads
  * when lit), with their wrap modes. */
@@ -243,14 +252,15 @@ typedef struct view_buffers {
 } view_buffers;
 
 /* Adds one candidate's per-pixel luma error of a view to the worker's triangle sums. */
-static void account_triangle_error(eval_job *job, int worker, const texopt_raster *raster, const view_buffers *b)
+static void account_triangle_error(eval_job *job, int worker, const texopt_raster *raster, const float *luma_ref,
+                                   const view_buffers *b)
 {
     size_t n = (size_t)job->side * (size_t)job->side, tc = job->reference->triangle_count;
     double *sum = job->triangle_error_sum + (size_t)worker * tc;
     size_t *cnt = job->triangle_error_count + (size_t)worker * tc;
     for (size_t i = 0; i < n; i++)
         if (raster->triangle[i] >= 0) {
-            sum[raster->triangle[i]] += fabs((double)b->luma_ref[i] - b->luma_cand[i]);
+            sum[raster->triangle[i]] += fabs((double)luma_ref[i] - b->luma_cand[i]);
             cnt[raster->triangle[i]]++;
         }
 }
@@ -265,20 +275,24 @@ static texopt_status shade_luma(const eval_job *job, const texopt_model *model, 
     return texopt_meshrender_shade_luma(model, raster, job->slot, filters, turn, luma, msg, msg_len);
 }
 
-/* Renders one view of the reference once (raster, shading, GMSD reference side) and
- * compares every candidate with it; returns a status with the message in msg. */
+/* Renders one view of the reference once (raster, shading or the kept shading, GMSD
+ * reference side) and compares every candidate with it; returns a status with the message
+ * in msg. */
 static texopt_status evaluate_view(eval_job *job, int worker, int v, view_buffers *b, char *msg, size_t msg_len)
 {
     texopt_raster raster;
+    size_t n = (size_t)job->side * (size_t)job->side;
+    const float *luma_ref = job->cached_luma ? job->cached_luma + (size_t)v * n : b->luma_ref;
     texopt_status st = texopt_meshrender_rasterize(job->reference, &job->views[v], job->side,
                                                    &raster, msg, msg_len);
-    if (st == TEXOPT_OK)
+    if (st == TEXOPT_OK && !job->cached_luma)
         st = shade_luma(job, job->reference, &raster, job->ref_filters, NULL, b, b->luma_ref, msg, msg_len);
+    if (st == TEXOPT_OK && job->stored_luma)
+        memcpy(job->stored_luma + (size_t)v * n, luma_ref, n * sizeof *luma_ref);
     if (st == TEXOPT_OK) {
-        size_t n = (size_t)job->side * (size_t)job->side;
         for (size_t i = 0; i < n; i++)
             b->mask[i] = raster.triangle[i] >= 0;
-        if (!texopt_gmsd_reference_set(b->prepared, b->luma_ref, b->mask, job->side, job->side))
+        if (!texopt_gmsd_reference_set(b->prepared, luma_ref, b->mask, job->side, job->side))
             st = texopt_fail(msg, msg_len, TEXOPT_E_INVALID_ARGUMENT, "view %d: bad GMSD reference", v);
     }
     for (int c = 0; c < job->candidate_count && st == TEXOPT_OK; c++) {
@@ -292,7 +306,7 @@ static texopt_status evaluate_view(eval_job *job, int worker, int v, view_buffer
         job->out[c].view_gmsd[v] = g;
         job->out[c].view_pixels[v] = raster.covered;
         if (st == TEXOPT_OK && job->triangle_error_sum)
-            account_triangle_error(job, worker, &raster, b);
+            account_triangle_error(job, worker, &raster, luma_ref, b);
     }
     texopt_raster_destroy(&raster);
     return st;
@@ -385,13 +399,16 @@ static void destroy_candidate_filters(texopt_texture_filter ***f, const texopt_m
     free(f);
 }
 
-/* The mip pyramids of the reference and every candidate (mipmapped evaluation). */
-static texopt_status build_all_filters(eval_job *job, char *err, size_t err_len)
+/* The mip pyramids of every candidate and, unless its views are kept, of the reference
+ * (mipmapped evaluation). */
+static texopt_status build_all_filters(eval_job *job, int reference_too, char *err, size_t err_len)
 {
     int lit = job->lit != NULL;
-    texopt_status st = build_filters(job->reference, job->slot, lit, &job->ref_filters, err, err_len);
+    texopt_status st =
+        reference_too ? build_filters(job->reference, job->slot, lit, &job->ref_filters, err, err_len) : TEXOPT_OK;
     if (st == TEXOPT_OK) {
-        job->cand_filters = calloc((size_t)job->candidate_count, sizeof *job->cand_filters);
+        job->cand_filters = calloc((size_t)(job->candidate_count > 0 ? job->candidate_count : 1),
+                                   sizeof *job->cand_filters);
         if (!job->cand_filters)
             st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for texture filters");
     }
@@ -469,7 +486,7 @@ static texopt_status candidate_turns(const texopt_model *reference, const texopt
 
 static texopt_status build_all_turns(eval_job *job, char *err, size_t err_len)
 {
-    job->cand_turns = calloc((size_t)job->candidate_count, sizeof *job->cand_turns);
+    job->cand_turns = calloc((size_t)(job->candidate_count > 0 ? job->candidate_count : 1), sizeof *job->cand_turns);
     if (!job->cand_turns)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the normal-map turns");
     texopt_status st = TEXOPT_OK;
@@ -546,15 +563,23 @@ static void sum_triangle_errors(const eval_job *job, double *triangle_error)
     }
 }
 
-texopt_status texopt_evaluate_many(const texopt_model *reference, const texopt_model *const *candidates,
-                                   int candidate_count, const texopt_evaluate_options *opt, texopt_evaluation *out,
-                                   char *err, size_t err_len)
+/* Whether kept views were shaded as opt asks, of this reference at this side. */
+static int same_reference_views(const texopt_evaluate_reference *kept, const texopt_model *reference,
+                                const texopt_evaluate_options *opt, int side, int view_count)
 {
-    texopt_evaluate_options defaults = {0};
-    if (!opt)
-        opt = &defaults;
-    if (!reference || !candidates || candidate_count < 1 || !out)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "missing model or output");
+    const texopt_evaluate_options *o = &kept->opt;
+    return kept->model == reference && kept->side == side && kept->view_count == view_count &&
+           o->cameras == opt->cameras && !o->mipmapped == !opt->mipmapped && !o->lit == !opt->lit &&
+           (opt->lit || o->slot == opt->slot);
+}
+
+/* The evaluation of candidates against the reference (none when only its views are kept
+ * into `store`, which then receives view_count x side x side floats), into out. */
+static texopt_status run_evaluation(const texopt_model *reference, const texopt_model *const *candidates,
+                                    int candidate_count, const texopt_evaluate_options *opt,
+                                    texopt_evaluate_reference *store, texopt_evaluation *out, char *err,
+                                    size_t err_len)
+{
     double t0 = now_seconds();
     texopt_view views[TEXOPT_VIEW_COUNT];
     int side = 0, view_count = 0;
@@ -562,6 +587,19 @@ texopt_status texopt_evaluate_many(const texopt_model *reference, const texopt_m
         prepare_views(reference, candidates, candidate_count, opt, views, &view_count, &side, err, err_len);
     if (st != TEXOPT_OK)
         return st;
+    const texopt_evaluate_reference *kept = opt->reference_views;
+    if (kept && !same_reference_views(kept, reference, opt, side, view_count))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "the kept reference views were shaded for another reference, screen or measure");
+    if (store) {
+        size_t n = (size_t)side * (size_t)side * (size_t)view_count;
+        store->luma = n <= SIZE_MAX / sizeof *store->luma ? malloc(n * sizeof *store->luma) : NULL;
+        if (!store->luma)
+            return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory to keep %d views of %d x %d pixels",
+                               view_count, side, side);
+        store->side = side;
+        store->view_count = view_count;
+    }
     eval_job job;
     memset(&job, 0, sizeof job);
     job.reference = reference;
@@ -573,7 +611,9 @@ texopt_status texopt_evaluate_many(const texopt_model *reference, const texopt_m
     job.slot = opt->slot;
     job.threads = opt->threads <= 0 ? 1 : (opt->threads > view_count ? view_count : opt->threads);
     job.monitor = opt->monitor;
-    job.out = calloc((size_t)candidate_count, sizeof *job.out);
+    job.cached_luma = kept ? kept->luma : NULL;
+    job.stored_luma = store ? store->luma : NULL;
+    job.out = calloc((size_t)(candidate_count > 0 ? candidate_count : 1), sizeof *job.out);
     atomic_init(&job.next_view, 0);
     atomic_init(&job.failed, 0);
     pthread_mutex_init(&job.lock, NULL);
@@ -582,7 +622,7 @@ texopt_status texopt_evaluate_many(const texopt_model *reference, const texopt_m
     if (st == TEXOPT_OK && opt->lit)
         st = texopt_lit_frames_create(reference, &job.lit, err, err_len);
     if (st == TEXOPT_OK && opt->mipmapped)
-        st = build_all_filters(&job, err, err_len);
+        st = build_all_filters(&job, !kept, err, err_len);
     if (st == TEXOPT_OK && (opt->lit || opt->slot == TEXOPT_SLOT_NORMAL))
         st = build_all_turns(&job, err, err_len);
     size_t tc = reference->triangle_count;
@@ -610,6 +650,49 @@ texopt_status texopt_evaluate_many(const texopt_model *reference, const texopt_m
     free(job.out);
     pthread_mutex_destroy(&job.lock);
     return st;
+}
+
+texopt_status texopt_evaluate_many(const texopt_model *reference, const texopt_model *const *candidates,
+                                   int candidate_count, const texopt_evaluate_options *opt, texopt_evaluation *out,
+                                   char *err, size_t err_len)
+{
+    texopt_evaluate_options defaults = {0};
+    if (!opt)
+        opt = &defaults;
+    if (!reference || !candidates || candidate_count < 1 || !out)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "missing model or output");
+    return run_evaluation(reference, candidates, candidate_count, opt, NULL, out, err, err_len);
+}
+
+texopt_status texopt_evaluate_reference_create(const texopt_model *reference, const texopt_evaluate_options *opt,
+                                               texopt_evaluate_reference **out, char *err, size_t err_len)
+{
+    if (!reference || !out)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "missing model or output");
+    *out = NULL;
+    texopt_evaluate_reference *views = calloc(1, sizeof *views);
+    if (!views)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the reference views");
+    views->model = reference;
+    if (opt)
+        views->opt = *opt;
+    views->opt.triangle_error = NULL;
+    views->opt.reference_views = NULL;
+    texopt_status st = run_evaluation(reference, NULL, 0, &views->opt, views, NULL, err, err_len);
+    if (st != TEXOPT_OK) {
+        texopt_evaluate_reference_destroy(views);
+        return st;
+    }
+    *out = views;
+    return TEXOPT_OK;
+}
+
+void texopt_evaluate_reference_destroy(texopt_evaluate_reference *views)
+{
+    if (!views)
+        return;
+    free(views->luma);
+    free(views);
 }
 
 texopt_status texopt_evaluate(const texopt_model *reference, const texopt_model *candidate,

@@ -59,6 +59,9 @@
 #include "monitor.h"
 #include "status.h"
 
+/* The reference's shaded views, kept (texopt_evaluate_reference_create). */
+typedef struct texopt_evaluate_reference texopt_evaluate_reference;
+
 typedef struct texopt_evaluate_options {
     int resolution; /* screen side in pixels; 0 -> texopt_evaluate_default_resolution */
     int threads;    /* views rendered in parallel; 0 -> 1 */
@@ -77,6 +80,10 @@ typedef struct texopt_evaluate_options {
     texopt_slot slot;
     /* Nonzero: the lit luma of every map (see the top of this file); `slot` is then not read. */
     int lit;
+    /* When not NULL: the reference's views as texopt_evaluate_reference_create shaded them,
+     * read instead of shading the reference again; made from the same reference with the
+     * same resolution, cameras, lookups and measure (else TEXOPT_E_INVALID_ARGUMENT). */
+    const texopt_evaluate_reference *reference_views;
 } texopt_evaluate_options;
 
 typedef struct texopt_evaluation {
@@ -127,6 +134,15 @@ texopt_status texopt_evaluate_cost(const texopt_model *model, texopt_cost *out, 
 /* 1.25 sqrt(covered texels) rounded, clamped to [64, 4096]. */
 texopt_status texopt_evaluate_default_resolution(const texopt_model *model, int *side, char *err,
                                                  size_t err_len);
+
+/* Shades every view of the reference once as opt says (its triangle_error and
+ * reference_views are not read), for evaluations of candidates that come one after another
+ * against it, as the closed-loop refinement's rounds do: a lit reference costs as much to
+ * shade as a candidate. Holds one float per pixel per view (213 MB for DamagedHelmet's 12
+ * views at 2106 px) and a pointer to the reference, which must outlive it. */
+texopt_status texopt_evaluate_reference_create(const texopt_model *reference, const texopt_evaluate_options *opt,
+                                               texopt_evaluate_reference **out, char *err, size_t err_len);
+void texopt_evaluate_reference_destroy(texopt_evaluate_reference *views);
 
 /* Whole-mesh loss of candidate against reference (same triangles: checked with
  * texopt_meshrender_same_geometry). opt may be NULL. *out is written only on success. */

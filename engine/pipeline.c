@@ -193,6 +193,8 @@ typedef struct job_output {
     double **packed;             /* per domain: the packed layout in output texels (kept to
                                     bake a chosen candidate's remaining images), NULL when none */
     int *packed_size;            /* per domain: its output width and height */
+    unsigned char *draft;        /* per model image: baked with the prefilter only (bake_plan
+                                    BAKE_DRAFT_REST), to be baked again before it is saved */
 } job_output;
 
 static void job_output_destroy(job_output *o, int image_count)
@@ -202,6 +204,7 @@ static void job_output_destroy(job_output *o, int image_count)
             texopt_image_destroy(&o->images[i]);
     free(o->images);
     free(o->edit_images);
+    free(o->draft);
     free(o->uvs);
     for (int d = 0; d < o->domain_count; d++) {
         free(o->solved[d]);
@@ -428,6 +431,20 @@ static const texopt_texel_share *sharing(const job_domain *jd)
     return jd->share && jd->share->secondary_count > 0 ? jd->share : NULL;
 }
 
+/* Which images a run bakes, and how. A candidate bakes only what the evaluation that
+ * judges it reads; the images left out are baked for the kept layout alone
+ * (bake_remaining_images). The lit refinement's rounds read every image and are mostly
+ * thrown away: BAKE_DRAFT_REST drafts the maps base colour's evaluation does not read with
+ * the prefilter alone (rebake.h; a fraction of the least-squares fit's time), to be baked
+ * again with the fit for the saved layout. Normal maps are fitted even then: their detail
+ * shows in every highlight, and rounds judged on blurred normal drafts ended 1-6% higher in
+ * lit q on DamagedHelmet (BENCHMARKS.md "Cheaper lit refinement"). */
+typedef enum bake_plan {
+    BAKE_ALL = 0,    /* every image not baked yet or drafted, with the fit */
+    BAKE_EVALUATED,  /* the images base colour's evaluation reads */
+    BAKE_DRAFT_REST, /* those and normal maps with the fit, the others drafted */
+} bake_plan;
+
 struct texopt_job {
     texopt_params params;
     texopt_model *model;
@@ -437,8 +454,7 @@ struct texopt_job {
     double budget_from;        /* the job's progress where the budget's part begins */
     const stage_weights *weights;
     int allocating;            /* the run in progress allocates the targets (allocate.h) */
-    int evaluated_images_only; /* the run in progress is a candidate: it bakes only the images
-                                  the evaluation reads (bake_remaining_images does the rest) */
+    bake_plan plan;            /* which images the run in progress bakes, and how */
     texopt_triangle_target **refined; /* per domain, when not NULL: the run in progress solves
                                          these targets as they are (refine_kept) */
 };
@@ -622,13 +638,19 @@ static void write_domain_uvs(const texopt_model *model, const texopt_mesh *mesh,
     }
 }
 
+static int image_is_normal_map(const texopt_model *model, int image)
+{
+    for (int m = 0; m < model->material_count; m++)
+        if (model->materials[m].slot[TEXOPT_SLOT_NORMAL].image == image)
+            return 1;
+    return 0;
+}
+
 /* Whether the bake must turn the image's tangent-space XY with the layout (rebake.h): only
  * for a normal map of a domain whose primitives leave tangents to the renderer. */
 static int normal_map_needs_rotation(const texopt_model *model, const texopt_domain *dom, int image)
 {
-    int normal = 0;
-    for (int m = 0; m < model->material_count; m++)
-        normal |= model->materials[m].slot[TEXOPT_SLOT_NORMAL].image == image;
+    int normal = image_is_normal_map(model, image);
     for (int i = 0; normal && i < dom->primitive_count; i++)
         if (texopt_primitive_has_tangents(model, dom->primitives[i]))
             return 0;
@@ -647,23 +669,38 @@ static int image_is_evaluated(const texopt_model *model, int image)
     return 0;
 }
 
-/* Bakes image i of the domain (its output size already in the statistics) into out. */
-static texopt_status bake_image(const texopt_model *model, const texopt_domain *dom, int i,
+/* Whether the plan bakes image im (not baked yet, or a draft to bake again). */
+static int plan_bakes(const texopt_model *model, bake_plan plan, const job_output *out, int im)
+{
+    if (plan == BAKE_ALL)
+        return !out->edit_images[im] || out->draft[im];
+    return !out->edit_images[im] && (plan == BAKE_DRAFT_REST || image_is_evaluated(model, im));
+}
+
+/* Bakes image i of the domain (its output size already in the statistics) into out, a
+ * draft of it where BAKE_DRAFT_REST says so. */
+static texopt_status bake_image(const texopt_model *model, const texopt_domain *dom, int i, bake_plan plan,
                                 const texopt_rebake_layout *layout, job_output *out, texopt_domain_stats *ds,
                                 const texopt_monitor *monitor, char *err, size_t err_len)
 {
     int im = dom->images[i];
     const texopt_image *src = &model->images[im];
     texopt_image_stats *is = &ds->images[i];
+    int draft = plan == BAKE_DRAFT_REST && !image_is_evaluated(model, im) && !image_is_normal_map(model, im);
     texopt_wrap ws, wt;
     image_wrap(model, im, &ws, &wt);
+    out->edit_images[im] = NULL;
+    out->draft[im] = 0;
+    texopt_image_destroy(&out->images[im]);
     texopt_status st = texopt_image_create(&out->images[im], is->output_width, is->output_height, src->channels,
                                            err, err_len);
     if (st == TEXOPT_OK)
-        st = texopt_rebake_image(src, ws, wt, normal_map_needs_rotation(model, dom, im), layout, &out->images[im],
-                                 NULL, monitor, err, err_len);
+        st = texopt_rebake_image_fit(src, ws, wt, normal_map_needs_rotation(model, dom, im), layout,
+                                     draft ? TEXOPT_REBAKE_FIT_PREFILTER : TEXOPT_REBAKE_FIT_DEFAULT,
+                                     &out->images[im], NULL, monitor, err, err_len);
     if (st == TEXOPT_OK) {
         out->edit_images[im] = &out->images[im];
+        out->draft[im] = (unsigned char)draft;
         is->rewritten = 1;
     }
     return st;
@@ -676,6 +713,7 @@ typedef struct bake_pool {
     const texopt_model *model;
     const texopt_domain *dom;
     const texopt_rebake_layout *layout; /* threads = 1 */
+    bake_plan plan;
     job_output *out;
     texopt_domain_stats *ds;
     const int *todo; /* image indices within the domain */
@@ -698,7 +736,7 @@ static void *bake_pool_worker(void *arg)
         int k = atomic_fetch_add(&bp->next, 1);
         if (k >= bp->count)
             break;
-        texopt_status st = bake_image(bp->model, bp->dom, bp->todo[k], bp->layout, bp->out, bp->ds,
+        texopt_status st = bake_image(bp->model, bp->dom, bp->todo[k], bp->plan, bp->layout, bp->out, bp->ds,
                                       &bp->cancel_only, err, sizeof err);
         pthread_mutex_lock(&bp->lock);
         if (st != TEXOPT_OK && bp->status == TEXOPT_OK) {
@@ -734,12 +772,11 @@ static texopt_status bake_images_side_by_side(bake_pool *bp, int workers, char *
     return TEXOPT_OK;
 }
 
-/* Re-bakes the images of the domain from the input layout into the packed one: those not
- * baked yet, and of those only the evaluated ones when evaluated_only (a candidate's images
- * that the choice between candidates does not look at are baked for the winner alone). */
+/* Re-bakes the images of the domain that the plan names from the input layout into the
+ * packed one. */
 static texopt_status rebake_domain(const texopt_model *model, const texopt_mesh *mesh,
                                    const double *packed, int width, int height, int threads,
-                                   int evaluated_only, job_output *out, texopt_domain_stats *ds,
+                                   bake_plan plan, job_output *out, texopt_domain_stats *ds,
                                    job_monitor *jm, double from, double to, char *err, size_t err_len)
 {
     const texopt_domain *dom = &model->domains[mesh->domain];
@@ -756,7 +793,7 @@ static texopt_status rebake_domain(const texopt_model *model, const texopt_mesh 
                                is->name ? is->name : "unnamed");
         }
         image_output_size(src, dom, width, height, &is->output_width, &is->output_height);
-        if (!out->edit_images[im] && !(evaluated_only && !image_is_evaluated(model, im)))
+        if (plan_bakes(model, plan, out, im))
             todo[count++] = i;
     }
     size_t n = 2 * (mesh->vertex_count ? mesh->vertex_count : 1);
@@ -780,7 +817,7 @@ static texopt_status rebake_domain(const texopt_model *model, const texopt_mesh 
         workers = MAX_BAKE_WORKERS;
     if (workers >= 2) {
         layout.threads = 1;
-        bake_pool bp = {.model = model, .dom = dom, .layout = &layout, .out = out, .ds = ds, .todo = todo,
+        bake_pool bp = {.model = model, .dom = dom, .layout = &layout, .plan = plan, .out = out, .ds = ds, .todo = todo,
                         .count = count, .cancel_only = {NULL, NULL, jm->inner.cancel}, .jm = jm,
                         .from = from, .to = to};
         job_stage(jm, "bake", from, to);
@@ -788,7 +825,7 @@ static texopt_status rebake_domain(const texopt_model *model, const texopt_mesh 
     }
     for (int k = 0; workers < 2 && k < count && st == TEXOPT_OK; k++) {
         job_stage(jm, "bake", from + (to - from) * k / count, from + (to - from) * (k + 1) / count);
-        st = bake_image(model, dom, todo[k], &layout, out, ds, &jm->inner, err, err_len);
+        st = bake_image(model, dom, todo[k], plan, &layout, out, ds, &jm->inner, err, err_len);
     }
     free(todo);
     free(uv_in);
@@ -892,7 +929,7 @@ static texopt_status run_optimised_method(const texopt_job *job, int d, const te
         ds->repacked = 1;
         double t0 = now_seconds();
         st = rebake_domain(job->model, mesh, packed, br.width, br.height, worker_threads(p),
-                           job->evaluated_images_only, out, ds, jm, bake_from, to, err, err_len);
+                           job->plan, out, ds, jm, bake_from, to, err, err_len);
         ds->seconds_bake = now_seconds() - t0;
     }
     if (st == TEXOPT_OK)
@@ -935,7 +972,8 @@ static texopt_status alloc_output(const texopt_model *model, int method, job_out
     size_t n = (size_t)(model->image_count > 0 ? model->image_count : 1);
     out->images = calloc(n, sizeof *out->images);
     out->edit_images = calloc(n, sizeof *out->edit_images);
-    if (!out->images || !out->edit_images)
+    out->draft = calloc(n, sizeof *out->draft);
+    if (!out->images || !out->edit_images || !out->draft)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the output images");
     if (method == TEXOPT_METHOD_INPUT)
         return TEXOPT_OK;
@@ -1001,13 +1039,28 @@ static void fill_job_params(texopt_job_stats *js, const texopt_params *p)
 
 #define MAX_EVALUATED_OUTPUTS 2
 
+/* The options of the pipeline's evaluations: q's resolution, the job's threads, its
+ * monitor. */
+static texopt_evaluate_options evaluation_options(const texopt_params *p, texopt_camera_set cameras, int lit,
+                                                  job_monitor *jm)
+{
+    texopt_evaluate_options opt = {0};
+    opt.resolution = p->eval_resolution;
+    opt.threads = p->threads > 0 ? p->threads : 2;
+    opt.monitor = &jm->inner;
+    opt.cameras = cameras;
+    opt.lit = lit;
+    return opt;
+}
+
 /* The whole-mesh loss q (evaluate.h) of each of n outputs against the input, in memory, in
- * one pass over the views (the input rendered once for all): each candidate is the input
- * model seen through the new UVs and images (a shallow view that owns nothing). */
+ * one pass over the views (the input rendered once for all, or read from its kept views
+ * when reference_views is not NULL): each candidate is the input model seen through the new
+ * UVs and images (a shallow view that owns nothing). */
 static texopt_status evaluate_outputs_on(const texopt_model *model, const job_output *const *outs, int n,
                                          const texopt_params *p, texopt_camera_set cameras, int lit,
-                                         double *triangle_error, job_monitor *jm, texopt_evaluation *ev, char *err,
-                                         size_t err_len)
+                                         const texopt_evaluate_reference *reference_views, double *triangle_error,
+                                         job_monitor *jm, texopt_evaluation *ev, char *err, size_t err_len)
 {
     texopt_model candidates[MAX_EVALUATED_OUTPUTS];
     const texopt_model *shown[MAX_EVALUATED_OUTPUTS];
@@ -1029,13 +1082,9 @@ static texopt_status evaluate_outputs_on(const texopt_model *model, const job_ou
         candidates[c].destroy_document = NULL;
         shown[c] = &candidates[c];
     }
-    texopt_evaluate_options opt = {0};
-    opt.resolution = p->eval_resolution;
-    opt.threads = p->threads > 0 ? p->threads : 2;
-    opt.monitor = &jm->inner;
-    opt.cameras = cameras;
+    texopt_evaluate_options opt = evaluation_options(p, cameras, lit, jm);
     opt.triangle_error = triangle_error;
-    opt.lit = lit;
+    opt.reference_views = reference_views;
     texopt_status st = texopt_evaluate_many(model, shown, n, &opt, ev, err, err_len);
     free(images);
     return st;
@@ -1046,7 +1095,7 @@ static texopt_status evaluate_outputs(const texopt_model *model, const job_outpu
                                       const texopt_params *p, job_monitor *jm, texopt_evaluation *ev, char *err,
                                       size_t err_len)
 {
-    return evaluate_outputs_on(model, outs, n, p, TEXOPT_CAMERAS_DODECAHEDRON, 0, NULL, jm, ev, err, err_len);
+    return evaluate_outputs_on(model, outs, n, p, TEXOPT_CAMERAS_DODECAHEDRON, 0, NULL, NULL, jm, ev, err, err_len);
 }
 
 static texopt_status evaluate_output(const texopt_model *model, const job_output *out, const texopt_params *p,
@@ -1091,9 +1140,8 @@ typedef struct candidate {
     texopt_evaluation ev;
 } candidate;
 
-/* A layout of the budget as a candidate: with images_only, baking only the images the
- * choice's evaluation reads (base colour), else every image. */
-static texopt_status run_candidate(texopt_job *job, const texopt_params *p, int allocating, int images_only,
+/* A layout of the budget as a candidate, baking the images the plan names. */
+static texopt_status run_candidate(texopt_job *job, const texopt_params *p, int allocating, bake_plan plan,
                                    candidate *c, double from, double to, char *err, size_t err_len)
 {
     texopt_domain_stats *job_domains = job->stats.domains;
@@ -1102,10 +1150,10 @@ static texopt_status run_candidate(texopt_job *job, const texopt_params *p, int 
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for candidate statistics");
     job->stats.domains = c->domains;
     job->allocating = allocating;
-    job->evaluated_images_only = images_only;
+    job->plan = plan;
     texopt_status st = run_budget(job, p, 0, &c->out, from, to, err, err_len);
     job->allocating = 0;
-    job->evaluated_images_only = 0;
+    job->plan = BAKE_ALL;
     job->stats.domains = job_domains;
     return st;
 }
@@ -1129,10 +1177,10 @@ static double candidate_seconds(const candidate *c, int domain_count)
     return s;
 }
 
-/* Bakes the images of the kept candidate that the choice did not need (run_candidate baked
- * only the evaluated ones), into the layouts it packed. */
-static texopt_status bake_remaining_images(texopt_job *job, const texopt_params *p, job_output *out, double from,
-                                           double to, char *err, size_t err_len)
+/* Bakes the images of a candidate that its run left out (bake_plan) into the layouts it
+ * packed: under BAKE_ALL those and its drafts, as the saved model needs them. */
+static texopt_status bake_remaining_images(texopt_job *job, const texopt_params *p, bake_plan plan, job_output *out,
+                                           double from, double to, char *err, size_t err_len)
 {
     texopt_status st = TEXOPT_OK;
     int n = job->model->domain_count;
@@ -1142,7 +1190,7 @@ static texopt_status bake_remaining_images(texopt_job *job, const texopt_params 
         texopt_domain_stats *ds = &job->stats.domains[d];
         double t0 = now_seconds();
         st = rebake_domain(job->model, job->domains[d].mesh, out->packed[d], out->packed_size[2 * d],
-                           out->packed_size[2 * d + 1], worker_threads(p), 0, out, ds, &job->jm,
+                           out->packed_size[2 * d + 1], worker_threads(p), plan, out, ds, &job->jm,
                            from + (to - from) * d / n, from + (to - from) * (d + 1) / n, err, err_len);
         ds->seconds_bake += now_seconds() - t0;
     }
@@ -1229,31 +1277,33 @@ static void free_targets(texopt_triangle_target **targets, int n)
 }
 
 /* One round of the refinement: the layout of `targets` as a candidate, with its loss and
- * per-triangle errors on the refinement's cameras, lit or of base colour. */
+ * per-triangle errors on the refinement's cameras against the input's kept views, lit or of
+ * base colour. */
 static texopt_status refinement_trial(texopt_job *job, const texopt_params *p, texopt_triangle_target **targets,
-                                      int lit, candidate *trial, double *triangle_error, double from, double to,
-                                      char *err, size_t err_len)
+                                      int lit, const texopt_evaluate_reference *views, candidate *trial,
+                                      double *triangle_error, double from, double to, char *err, size_t err_len)
 {
     job->refined = targets;
-    texopt_status st = run_candidate(job, p, 0, !lit, trial, from, from + 0.8 * (to - from), err, err_len);
+    texopt_status st = run_candidate(job, p, 0, lit ? BAKE_DRAFT_REST : BAKE_EVALUATED, trial, from,
+                                     from + 0.8 * (to - from), err, err_len);
     job->refined = NULL;
     const job_output *shown = &trial->out;
     if (st == TEXOPT_OK) {
         job_stage(&job->jm, "evaluate", from + 0.8 * (to - from), to);
-        st = evaluate_outputs_on(job->model, &shown, 1, p, TEXOPT_CAMERAS_ICOSAHEDRON, lit, triangle_error, &job->jm,
-                                 &trial->ev, err, err_len);
+        st = evaluate_outputs_on(job->model, &shown, 1, p, TEXOPT_CAMERAS_ICOSAHEDRON, lit, views, triangle_error,
+                                 &job->jm, &trial->ev, err, err_len);
     }
     return st;
 }
 
-/* Bakes the images a candidate left out (run_candidate's images_only) into its layouts,
- * recording them in its own statistics. */
-static texopt_status bake_candidate_images(texopt_job *job, const texopt_params *p, candidate *c, double from,
-                                           double to, char *err, size_t err_len)
+/* Drafts the images a candidate left out (BAKE_DRAFT_REST) into its layouts, recording them
+ * in its own statistics. */
+static texopt_status draft_candidate_images(texopt_job *job, const texopt_params *p, candidate *c, double from,
+                                            double to, char *err, size_t err_len)
 {
     texopt_domain_stats *job_domains = job->stats.domains;
     job->stats.domains = c->domains;
-    texopt_status st = bake_remaining_images(job, p, &c->out, from, to, err, err_len);
+    texopt_status st = bake_remaining_images(job, p, BAKE_DRAFT_REST, &c->out, from, to, err, err_len);
     job->stats.domains = job_domains;
     return st;
 }
@@ -1267,10 +1317,14 @@ static texopt_status bake_candidate_images(texopt_job *job, const texopt_params 
  * 12 cameras, not on the dodecahedron's 20 that define q (meshrender.h): the layout is not
  * tuned on the views it is graded on. With p->refine_lit, and when the material has maps a
  * light reads besides base colour, the screen is lit (evaluate.h `lit`: every map under one
- * light, every image baked each round), else base colour's: on a glossy multi-map material
- * what the light shows of the normal and roughness maps is what a viewer sees, and base
- * colour's error alone moves texels away from it; it costs base colour's q and three to
- * four times the rounds' time (BENCHMARKS.md "Specular lit loss"), hence not the default.
+ * light), else base colour's: on a glossy multi-map material what the light shows of the
+ * normal and roughness maps is what a viewer sees, and base colour's error alone moves
+ * texels away from it; it costs base colour's q and over twice the rounds' time
+ * (BENCHMARKS.md "Specular lit loss", "Cheaper lit refinement"), hence not the default.
+ * Lit rounds read the input's views shaded once (texopt_evaluate_reference_create) and
+ * draft the maps besides base colour and normal (BAKE_DRAFT_REST), the kept layout's too,
+ * so that every layout is judged with the same bake; the saved layout's drafts are baked
+ * again with the fit (bake_remaining_images).
  * The rounds tried and kept, the measure, the 12-view q before and after and their time go
  * to the statistics (allocation_choice.refinement); after a kept round kept->ev is the
  * icosahedron's. */
@@ -1297,11 +1351,17 @@ static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candid
     const job_output *shown = &kept->out;
     texopt_evaluation best_ev;
     double span = (to - from) / (rounds + 1);
+    texopt_evaluate_reference *views = NULL;
     if (st == TEXOPT_OK && lit)
-        st = bake_candidate_images(job, p, kept, from, from + 0.5 * span, err, err_len);
-    if (st == TEXOPT_OK) {
+        st = draft_candidate_images(job, p, kept, from, from + 0.5 * span, err, err_len);
+    if (st == TEXOPT_OK)
         job_stage(&job->jm, "evaluate", from + (lit ? 0.5 * span : 0), from + span);
-        st = evaluate_outputs_on(job->model, &shown, 1, p, TEXOPT_CAMERAS_ICOSAHEDRON, lit, error, &job->jm,
+    if (st == TEXOPT_OK && lit) {
+        texopt_evaluate_options opt = evaluation_options(p, TEXOPT_CAMERAS_ICOSAHEDRON, lit, &job->jm);
+        st = texopt_evaluate_reference_create(job->model, &opt, &views, err, err_len);
+    }
+    if (st == TEXOPT_OK) {
+        st = evaluate_outputs_on(job->model, &shown, 1, p, TEXOPT_CAMERAS_ICOSAHEDRON, lit, views, error, &job->jm,
                                  &best_ev, err, err_len);
         js->q_refinement_before = best_ev.q;
     }
@@ -1310,7 +1370,7 @@ static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candid
         candidate trial = {0};
         st = reallocate_domains(job, best, error, kept->domains, &step, scratch, next, err, err_len);
         if (st == TEXOPT_OK)
-            st = refinement_trial(job, p, next, lit, &trial, next_error, from + span * (r + 1),
+            st = refinement_trial(job, p, next, lit, views, &trial, next_error, from + span * (r + 1),
                                   from + span * (r + 2), err, err_len);
         if (st == TEXOPT_OK && trial.ev.q < best_ev.q) {
             free_domain_stats(kept->domains, nd);
@@ -1334,6 +1394,7 @@ static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candid
     if (st == TEXOPT_OK)
         js->q_refinement_after = best_ev.q; /* the kept layout's; unchanged when no round was kept */
     js->seconds_refinement = now_seconds() - t0;
+    texopt_evaluate_reference_destroy(views);
     free_targets(best, nd);
     free_targets(next, nd);
     free(error);
@@ -1365,9 +1426,9 @@ static texopt_status run_best_budget(texopt_job *job, const texopt_params *p, in
     int refining = texopt_params_refinement_rounds(p) > 0;
     double half = (refining ? 0.3 : 0.4) * (to - from), chosen = refining ? from + 0.7 * (to - from) : to;
     candidate allocated = {0}, uniform = {0};
-    texopt_status st = run_candidate(job, p, 1, 1, &allocated, from, from + half, err, err_len);
+    texopt_status st = run_candidate(job, p, 1, BAKE_EVALUATED, &allocated, from, from + half, err, err_len);
     if (st == TEXOPT_OK)
-        st = run_candidate(job, p, 0, 1, &uniform, from + half, from + 2 * half, err, err_len);
+        st = run_candidate(job, p, 0, BAKE_EVALUATED, &uniform, from + half, from + 2 * half, err, err_len);
     if (st == TEXOPT_OK) {
         job_stage(&job->jm, "evaluate", from + 2 * half, chosen);
         const job_output *outs[2] = {&allocated.out, &uniform.out};
@@ -1591,7 +1652,7 @@ texopt_status texopt_job_write(texopt_job *job, const texopt_job_budget *budget,
     if (st == TEXOPT_OK)
         st = run_best_budget(job, &p, stats_json != NULL, &out, from, baked, &ev, &evaluated, err, err_len);
     if (st == TEXOPT_OK)
-        st = bake_remaining_images(job, &p, &out, baked, end - tail, err, err_len);
+        st = bake_remaining_images(job, &p, BAKE_ALL, &out, baked, end - tail, err, err_len);
     if (st == TEXOPT_OK)
         st = check_cancel(&job->jm, err, err_len);
     if (st == TEXOPT_OK && p.evaluate && !evaluated) {

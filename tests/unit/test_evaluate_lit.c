@@ -204,6 +204,66 @@ TEST(quarter_turned_layout_shades_like_the_reference_when_its_normal_map_was_tur
     texopt_model_destroy(unturned);
 }
 
+/* One evaluation of cand against ref on the icosahedron's cameras, with the reference's views
+ * kept in `views` or shaded anew (NULL), its per-triangle errors into tri_error (2). */
+static texopt_status evaluate_with(const texopt_model *ref, const texopt_model *cand, int lit,
+                                   const texopt_evaluate_reference *views, double *tri_error, texopt_evaluation *ev)
+{
+    texopt_evaluate_options opt = {.resolution = 128, .threads = 2, .lit = lit,
+                                   .cameras = TEXOPT_CAMERAS_ICOSAHEDRON, .triangle_error = tri_error,
+                                   .reference_views = views};
+    char err[256] = "";
+    texopt_status st = texopt_evaluate(ref, cand, &opt, ev, err, sizeof err);
+    if (st != TEXOPT_OK)
+        printf("  evaluate: %s\n", err);
+    return st;
+}
+
+/* The refinement keeps the reference's views across its rounds: reading them gives bit for
+ * bit the evaluation that shades the reference anew, and views kept for another measure,
+ * screen or reference are refused. */
+TEST(kept_reference_views_evaluate_as_shading_anew)
+{
+    texopt_model *ref = lit_quad_with_material(quad_uv, 0.0f), *other = lit_quad_with_material(quad_uv, 0.0f);
+    texopt_model *cand = lit_quad_with_material(quad_uv, 1.0f);
+    CHECK(ref && other && cand);
+    for (int lit = 0; lit < 2 && ref && other && cand; lit++) {
+        /* A candidate darker in base colour as well, so that both measures see it. */
+        for (size_t i = 0; i < 3 * (size_t)TEX * TEX; i++)
+            cand->images[0].pixels[i] *= 0.8f;
+        texopt_evaluate_options opt = {.resolution = 128, .threads = 2, .lit = lit,
+                                       .cameras = TEXOPT_CAMERAS_ICOSAHEDRON};
+        texopt_evaluate_reference *views = NULL;
+        char err[256] = "";
+        CHECK_OK(texopt_evaluate_reference_create(ref, &opt, &views, err, sizeof err), err);
+        double anew[2], kept[2];
+        texopt_evaluation a, k;
+        CHECK(evaluate_with(ref, cand, lit, NULL, anew, &a) == TEXOPT_OK);
+        CHECK(evaluate_with(ref, cand, lit, views, kept, &k) == TEXOPT_OK);
+        printf("  %s: q %.5f shaded anew, %.5f from kept views\n", lit ? "lit" : "base colour", a.q, k.q);
+        CHECK(a.q > 0.001 && a.q == k.q && a.view_count == 12 && k.view_count == 12);
+        CHECK(memcmp(a.view_gmsd, k.view_gmsd, sizeof a.view_gmsd) == 0);
+        /* Per-triangle sums add the workers' views in whichever order they took them: equal
+         * to rounding. */
+        for (int t = 0; t < 2; t++)
+            CHECK_MSG(anew[t] > 0 && fabs(anew[t] - kept[t]) <= 1e-12 * anew[t], "triangle %d: %.17g against %.17g",
+                      t, anew[t], kept[t]);
+        /* Kept for the other measure, another screen, another reference: refused. */
+        CHECK(evaluate_with(ref, cand, !lit, views, NULL, &k) == TEXOPT_E_INVALID_ARGUMENT);
+        CHECK(evaluate_with(other, cand, lit, views, NULL, &k) == TEXOPT_E_INVALID_ARGUMENT);
+        opt.resolution = 96;
+        opt.reference_views = views;
+        CHECK(texopt_evaluate(ref, cand, &opt, &k, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+        opt.resolution = 128;
+        opt.cameras = TEXOPT_CAMERAS_DODECAHEDRON;
+        CHECK(texopt_evaluate(ref, cand, &opt, &k, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+        texopt_evaluate_reference_destroy(views);
+    }
+    texopt_model_destroy(ref);
+    texopt_model_destroy(other);
+    texopt_model_destroy(cand);
+}
+
 /* Only base colour: lit luma is base colour's luma times one shading both renders share, so
  * a darker candidate is worse under both measures and an identical one is 0. */
 TEST(base_colour_only_model_is_lit_by_its_base_colour)

@@ -212,6 +212,34 @@ TEST(perceptual_bakes_every_image_into_the_kept_layout)
     scratch_free(&s);
 }
 
+/* The lit refinement's rounds draft the images base colour's evaluation does not read
+ * (prefilter only); the saved model has them baked again with the fit: an image with base
+ * colour's pixels comes out identical to base colour, as without the lit refinement. */
+TEST(lit_refinement_saves_no_draft)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 4, 64, "half") == 0);
+    CHECK(write_grid_glb_images(s.in, 4, 64, "half", "half") == 0);
+    texopt_params p = small_perceptual_job(0.5);
+    p.refine_lit = 1;
+    char err[512] = "";
+    CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+    cJSON *st = read_json(s.stats);
+    cJSON *measure =
+        cJSON_GetObjectItem(cJSON_GetObjectItem(cJSON_GetObjectItem(st, "allocation_choice"), "refinement"), "measure");
+    CHECK(cJSON_IsString(measure) && strcmp(measure->valuestring, "lit") == 0);
+    cJSON_Delete(st);
+    texopt_model *out = load(s.out);
+    CHECK(out && out->image_count == 2);
+    if (out && out->image_count == 2) {
+        const texopt_image *a = &out->images[0], *b = &out->images[1];
+        CHECK(a->width < 64 && a->width == b->width && a->height == b->height && a->channels == b->channels);
+        CHECK(memcmp(a->pixels, b->pixels, sizeof(float) * a->width * a->height * a->channels) == 0);
+    }
+    texopt_model_destroy(out);
+    scratch_free(&s);
+}
+
 TEST(target_loss_finds_the_smallest_cost_meeting_the_target)
 {
     check_target_loss(TEXOPT_METHOD_INPUT, 0.08);
