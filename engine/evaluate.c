@@ -187,7 +187,8 @@ typedef struct eval_job {
 
 struct texopt_evaluate_reference {
     const texopt_model *model;
-    texopt_evaluate_options opt; /* as shaded; triangle_error and reference_views cleared */
+    texopt_evaluate_options opt; /* as shaded; triangle_error, reference_views and, once
+                                    shaded, the caller's monitor cleared */
     int side, view_count;
     float *luma; /* view_count x side x side */
 };
@@ -683,6 +684,7 @@ texopt_status texopt_evaluate_reference_create(const texopt_model *reference, co
         texopt_evaluate_reference_destroy(views);
         return st;
     }
+    views->opt.monitor = NULL; /* the views outlive the call it reported to */
     *out = views;
     return TEXOPT_OK;
 }

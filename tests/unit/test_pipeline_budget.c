@@ -174,6 +174,22 @@ TEST(refinement_reads_the_lit_render_when_the_material_has_other_maps)
     check_refinement("flat", "half");
 }
 
+/* The saved model at path (a grid whose second image repeats base colour's pixels) holds two
+ * images of one size, smaller than the input's 64, with the same pixels. */
+static void check_twin_images(const char *path)
+{
+    texopt_model *out = load(path);
+    CHECK(out && out->image_count == 2);
+    if (out && out->image_count == 2) {
+        const texopt_image *a = &out->images[0], *b = &out->images[1];
+        int same_size = a->width < 64 && a->width == b->width && a->height == b->height && a->channels == b->channels;
+        CHECK(same_size);
+        if (same_size)
+            CHECK(memcmp(a->pixels, b->pixels, sizeof(float) * a->width * a->height * a->channels) == 0);
+    }
+    texopt_model_destroy(out);
+}
+
 /* The candidates bake only base colour for the choice; the kept one's other images are baked
  * afterwards into its own layout: an image with base colour's pixels comes out identical. */
 TEST(perceptual_bakes_every_image_into_the_kept_layout)
@@ -184,12 +200,7 @@ TEST(perceptual_bakes_every_image_into_the_kept_layout)
     texopt_params p = small_perceptual_job(0.5);
     char err[512] = "";
     CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
-    texopt_model *out = load(s.out);
-    CHECK(out && out->image_count == 2);
-    const texopt_image *a = &out->images[0], *b = &out->images[1];
-    CHECK(a->width < 64 && a->width == b->width && a->height == b->height && a->channels == b->channels);
-    CHECK(memcmp(a->pixels, b->pixels, sizeof(float) * a->width * a->height * a->channels) == 0);
-    texopt_model_destroy(out);
+    check_twin_images(s.out);
     /* A baseline bakes both images after its layout, on two threads side by side (one
      * thread each): the same images as one after the other. */
     p.method = TEXOPT_METHOD_TEWARI;
@@ -197,11 +208,7 @@ TEST(perceptual_bakes_every_image_into_the_kept_layout)
     p.threads = 2;
     CHECK_OK(texopt_optimize_file(s.in, s.again, NULL, &p, NULL, err, sizeof err), err);
     CHECK(same_output(s.out, s.again));
-    out = load(s.again);
-    CHECK(out && out->image_count == 2 && out->images[0].width < 64);
-    CHECK(out && memcmp(out->images[0].pixels, out->images[1].pixels,
-                        sizeof(float) * out->images[0].width * out->images[0].height * out->images[0].channels) == 0);
-    texopt_model_destroy(out);
+    check_twin_images(s.again);
     cJSON *st = read_json(s.stats);
     cJSON *rounds = cJSON_GetObjectItem(cJSON_GetObjectItem(st, "allocation_choice"), "refinement");
     CHECK(rounds != NULL);
@@ -229,14 +236,7 @@ TEST(lit_refinement_saves_no_draft)
         cJSON_GetObjectItem(cJSON_GetObjectItem(cJSON_GetObjectItem(st, "allocation_choice"), "refinement"), "measure");
     CHECK(cJSON_IsString(measure) && strcmp(measure->valuestring, "lit") == 0);
     cJSON_Delete(st);
-    texopt_model *out = load(s.out);
-    CHECK(out && out->image_count == 2);
-    if (out && out->image_count == 2) {
-        const texopt_image *a = &out->images[0], *b = &out->images[1];
-        CHECK(a->width < 64 && a->width == b->width && a->height == b->height && a->channels == b->channels);
-        CHECK(memcmp(a->pixels, b->pixels, sizeof(float) * a->width * a->height * a->channels) == 0);
-    }
-    texopt_model_destroy(out);
+    check_twin_images(s.out);
     scratch_free(&s);
 }
 
