@@ -71,6 +71,23 @@ static texopt_status compare_input_method(const char *path, int every_slot, cons
     return texopt_compare(path, &opt, r, err, err_len);
 }
 
+/* r as compare's JSON (written to dir/curves.json) read back into text, its length into *len. */
+static void compare_json_text(const texopt_compare_result *r, const char *dir, char *text, size_t cap, size_t *len)
+{
+    char json[160], err[512] = "";
+    text[0] = 0;
+    *len = 0;
+    snprintf(json, sizeof json, "%s/curves.json", dir);
+    CHECK_OK(texopt_compare_write_json(r, json, err, sizeof err), err);
+    FILE *f = fopen(json, "rb");
+    CHECK(f != NULL);
+    size_t n = f ? fread(text, 1, cap - 1, f) : 0;
+    if (f)
+        fclose(f);
+    text[n] = 0;
+    *len = n;
+}
+
 TEST(every_slot_measures_each_texture_the_input_has)
 {
     char dir[64], path[128], err[512] = "";
@@ -91,16 +108,9 @@ TEST(every_slot_measures_each_texture_the_input_has)
     /* With a normal map lit is measured too: it sees the lost base-colour detail, shaded. */
     CHECK(r.slot_measured[TEXOPT_COMPARE_LIT]);
     CHECK_MSG(p->q_by_slot[TEXOPT_COMPARE_LIT] > 0.01, "lit q %.5f", p->q_by_slot[TEXOPT_COMPARE_LIT]);
-    char json[160];
-    snprintf(json, sizeof json, "%s/curves.json", dir);
-    CHECK_OK(texopt_compare_write_json(&r, json, err, sizeof err), err);
-    FILE *f = fopen(json, "rb");
-    CHECK(f != NULL);
-    char text[4096] = "";
-    size_t n = f ? fread(text, 1, sizeof text - 1, f) : 0;
-    if (f)
-        fclose(f);
-    text[n] = 0;
+    char text[4096];
+    size_t n;
+    compare_json_text(&r, dir, text, sizeof text, &n);
     CHECK(strstr(text, "\"q_by_texture\"") != NULL && strstr(text, "\"normal\"") != NULL);
     CHECK(strstr(text, "\"lit\"") != NULL);
     CHECK(strstr(text, "metallicRoughness") == NULL);
@@ -112,12 +122,7 @@ TEST(every_slot_measures_each_texture_the_input_has)
     CHECK(r.slot_measured[TEXOPT_SLOT_BASE_COLOR] && !r.slot_measured[TEXOPT_SLOT_NORMAL]);
     CHECK(p->q_by_slot[TEXOPT_SLOT_BASE_COLOR] == p->q && isnan(p->q_by_slot[TEXOPT_SLOT_NORMAL]));
     CHECK(!r.slot_measured[TEXOPT_COMPARE_LIT] && isnan(p->q_by_slot[TEXOPT_COMPARE_LIT]));
-    CHECK_OK(texopt_compare_write_json(&r, json, err, sizeof err), err);
-    f = fopen(json, "rb");
-    n = f ? fread(text, 1, sizeof text - 1, f) : 0;
-    if (f)
-        fclose(f);
-    text[n] = 0;
+    compare_json_text(&r, dir, text, sizeof text, &n);
     CHECK(n > 0 && strstr(text, "q_by_texture") == NULL);
     texopt_compare_result_destroy(&r);
     builder_rmdir(dir);
@@ -138,14 +143,9 @@ TEST(lit_can_be_the_headline_measure)
     CHECK(!r.slot_measured[TEXOPT_SLOT_BASE_COLOR] && isnan(p->q_by_slot[TEXOPT_SLOT_BASE_COLOR]));
     CHECK(p->q == p->q_by_slot[TEXOPT_COMPARE_LIT]);
     CHECK_MSG(p->q > 0.01, "lit q %.5f", p->q);
-    char json[160], text[4096] = "";
-    snprintf(json, sizeof json, "%s/curves.json", dir);
-    CHECK_OK(texopt_compare_write_json(&r, json, err, sizeof err), err);
-    FILE *f = fopen(json, "rb");
-    size_t n = f ? fread(text, 1, sizeof text - 1, f) : 0;
-    if (f)
-        fclose(f);
-    text[n] = 0;
+    char text[4096];
+    size_t n;
+    compare_json_text(&r, dir, text, sizeof text, &n);
     CHECK(strstr(text, "\"lit\"") != NULL && strstr(text, "baseColor") == NULL);
     texopt_compare_result_destroy(&r);
     CHECK(compare_input_method(path, 0, "shininess", &r, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
