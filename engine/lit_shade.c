@@ -191,6 +191,13 @@ static double surface(double b, double metallic, double roughness, const double 
     return b * (1.0 - metallic) * diffuse + f0 * TEXOPT_LIT_AMBIENT + specular(n, l, v, f0, roughness);
 }
 
+double texopt_lit_point(double b, double metallic, double roughness, const double n[3], const double l[3],
+                        const double v[3], double occlusion, double emission)
+{
+    double lum = occlusion * surface(b, metallic, roughness, n, l, v) + emission;
+    return lum < 1.0 ? lum : 1.0;
+}
+
 /* The passes after base colour, in the order L applies them. */
 typedef enum lit_term { LIT_MATERIAL, LIT_SURFACE, LIT_OCCLUSION, LIT_EMISSION } lit_term;
 

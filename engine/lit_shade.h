@@ -77,6 +77,12 @@ int texopt_lit_has_maps(const texopt_model *model);
 /* The view's light direction l (unit). */
 void texopt_lit_light(const texopt_view *view, double l[3]);
 
+/* L at one point (the formula at the top): b the base-colour luma, metallic and roughness with
+ * their factors applied, n the shading normal and l, v the light and view directions (unit,
+ * in any one frame), occlusion and the emissive luma. Clamped to 1 as texopt_lit_shade's. */
+double texopt_lit_point(double b, double metallic, double roughness, const double n[3], const double l[3],
+                        const double v[3], double occlusion, double emission);
+
 /* The lit luma of `model` (same triangles as the frames' reference) over `raster` into
  * luma[side * side] (background 0). filters: per image pyramid, or NULL (bilinear);
  * normal_turn: per triangle (cos, sin) for the normal map's XY (meshrender.h), or NULL;

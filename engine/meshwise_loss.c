@@ -22,6 +22,7 @@ typedef struct shared {
     const texopt_model *model;
     const texopt_mesh *mesh;
     const double *texel;
+    const double *signal_weights;
     int viewport;
     double *loss; /* per triangle, NaN when skipped */
     const texopt_monitor *monitor;
@@ -118,6 +119,7 @@ static void *worker_main(void *arg)
         record_failure(sh, st, err);
         return NULL;
     }
+    texopt_triloss_weigh_signals(loss, sh->signal_weights);
     while (!atomic_load(&sh->stop)) {
         if (texopt_monitor_canceled(sh->monitor)) {
             record_failure(sh, TEXOPT_E_CANCELED, "loss share: canceled");
@@ -189,7 +191,8 @@ static void summarise(const texopt_mesh *mesh, const double *loss, double epsilo
 }
 
 texopt_status texopt_meshwise_loss_share(const texopt_model *model, const texopt_mesh *mesh,
-                                         const double *texel, double epsilon, int threads,
+                                         const double *texel, const double *signal_weights, double epsilon,
+                                         int threads,
                                          int viewport, double *loss_out, texopt_loss_share *out,
                                          const texopt_monitor *monitor, char *err,
                                          size_t err_len)
@@ -207,6 +210,7 @@ texopt_status texopt_meshwise_loss_share(const texopt_model *model, const texopt
     sh.model = model;
     sh.mesh = mesh;
     sh.texel = texel;
+    sh.signal_weights = signal_weights;
     sh.viewport = viewport > 0 ? viewport : 64;
     sh.monitor = monitor;
     sh.loss = loss_out ? loss_out : malloc((mesh->triangle_count ? mesh->triangle_count : 1) * sizeof *sh.loss);

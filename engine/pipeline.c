@@ -61,6 +61,7 @@
 #include "gltf_io.h"
 #include "gltf_tangents.h"
 #include "lit_shade.h"
+#include "lit_weight.h"
 #include "mesh.h"
 #include "meshwise.h"
 #include "meshwise_loss.h"
@@ -457,6 +458,8 @@ struct texopt_job {
     bake_plan plan;            /* which images the run in progress bakes, and how */
     texopt_triangle_target **refined; /* per domain, when not NULL: the run in progress solves
                                          these targets as they are (refine_kept) */
+    double *signal_weights;    /* per image, how much of each signal a lit render shows
+                                  (lit_weight.h): stage 1's loss compares them so scaled */
 };
 
 static void stage1_options(const texopt_params *params, texopt_triopt_options *topt)
@@ -524,6 +527,7 @@ static texopt_status prepare_domain(texopt_job *job, int d, double from, double 
     texopt_triopt_report trep = {0};
     job_stage(&job->jm, "stage1", from, to);
     t0 = now_seconds();
+    topt.signal_weights = job->signal_weights;
     st = baseline_or_perceptual_targets(model, jd->mesh, params, &topt, jd->targets, &trep, &job->jm,
                                         err, err_len);
     ds->seconds_stage1 = now_seconds() - t0;
@@ -610,8 +614,10 @@ static texopt_status measure_loss_share(const texopt_job *job, int d, const doub
         return TEXOPT_OK;
     texopt_loss_share share;
     double t0 = now_seconds();
-    texopt_status st = texopt_meshwise_loss_share(job->model, job->domains[d].mesh, texel_new, params->epsilon,
-                                                  params->threads, 0, NULL, &share, &jm->inner, err, err_len);
+    texopt_status st = texopt_meshwise_loss_share(job->model, job->domains[d].mesh, texel_new,
+                                                  job->signal_weights,
+                                                  params->epsilon, params->threads, 0, NULL, &share, &jm->inner,
+                                                  err, err_len);
     if (st == TEXOPT_OK) {
         ds->has_loss_share = 1;
         ds->solved_within_epsilon_share = share.share;
@@ -1479,6 +1485,17 @@ static void record_evaluation(texopt_job_stats *js, const texopt_evaluation *ev)
     js->seconds_evaluate = ev->seconds;
 }
 
+/* job->signal_weights for the loaded model. */
+static texopt_status weigh_signals(texopt_job *job, char *err, size_t err_len)
+{
+    const texopt_model *m = job->model;
+    job->signal_weights = malloc((m->image_count ? (size_t)m->image_count : 1) * TEXOPT_LIT_WEIGHT_STRIDE *
+                                 sizeof *job->signal_weights);
+    if (!job->signal_weights)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for %d images' signal weights", m->image_count);
+    return texopt_lit_signal_weights(m, job->signal_weights, err, err_len);
+}
+
 texopt_status texopt_job_create(texopt_job **out, const char *input_path, const texopt_params *params,
                                 const texopt_monitor *monitor, char *err, size_t err_len)
 {
@@ -1504,6 +1521,8 @@ texopt_status texopt_job_create(texopt_job **out, const char *input_path, const 
     job->stats.seconds_load = now_seconds() - t0;
     if (st == TEXOPT_OK && job->model->domain_count == 0)
         st = texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "%s has no textured primitive", input_path);
+    if (st == TEXOPT_OK)
+        st = weigh_signals(job, err, err_len);
     if (st == TEXOPT_OK) {
         job_stage_done(&job->jm, "load");
         int n = job->model->domain_count;
@@ -1541,6 +1560,7 @@ void texopt_job_destroy(texopt_job *job)
         free(job->domains[d].targets);
     }
     free(job->domains);
+    free(job->signal_weights);
     texopt_job_stats_destroy(&job->stats);
     texopt_model_destroy(job->model);
     free(job);

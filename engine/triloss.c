@@ -11,6 +11,7 @@
 
 #include "bake.h"
 #include "gmsd.h"
+#include "lit_weight.h"
 #include "sample.h"
 
 #define TRILOSS_RIDGE 1e-6
@@ -20,6 +21,7 @@
 typedef struct loss_signal {
     int image;   /* model image index */
     int channel; /* -1: luma, else the channel compared */
+    float weight; /* the signal's scale (texopt_triloss_weigh_signals), 1 unless weighed */
 } loss_signal;
 
 /* Signals of textures of one size, baked together. */
@@ -155,6 +157,7 @@ static texopt_status build_signals(texopt_triloss *tl, char *err, size_t err_len
             last->signal_count++;
             tl->signals[tl->signal_count].image = order[i];
             tl->signals[tl->signal_count].channel = data ? (img->channels >= 3 ? c : 0) : -1;
+            tl->signals[tl->signal_count].weight = 1.0f;
             tl->signal_count++;
         }
     }
@@ -217,6 +220,14 @@ texopt_status texopt_triloss_create(texopt_triloss **out, const texopt_model *mo
     }
     *out = tl;
     return TEXOPT_OK;
+}
+
+void texopt_triloss_weigh_signals(texopt_triloss *tl, const double *weights)
+{
+    for (int s = 0; tl && weights && s < tl->signal_count; s++) {
+        const loss_signal *sig = &tl->signals[s];
+        tl->signals[s].weight = (float)weights[TEXOPT_LIT_WEIGHT_STRIDE * (size_t)sig->image + (size_t)(sig->channel + 1)];
+    }
 }
 
 void texopt_triloss_destroy(texopt_triloss *tl)
@@ -345,7 +356,7 @@ static void sample_references(texopt_triloss *tl)
                                        tl->phat[2 * k + 1] * batch->sy, v);
                 for (int s = first; s < end; s++) {
                     const loss_signal *sig = &tl->signals[batch->first_signal + s];
-                    float value = sig->channel < 0 ? texopt_luma(v, img->channels) : v[sig->channel];
+                    float value = sig->weight * (sig->channel < 0 ? texopt_luma(v, img->channels) : v[sig->channel]);
                     block[k * (size_t)batch->signal_count + (size_t)s] = value;
                     tl->ref_img[px * (size_t)(batch->first_signal + s) + (size_t)tl->pixel[k]] = value;
                 }

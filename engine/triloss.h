@@ -9,7 +9,9 @@
  *                                       texel lattice onto itself (the grid's 90-degree symmetry)
  *   x    = LS bake of I_hat on the bilinear footprints of p(q) (bake.h, eq. 11, ridge 1e-6)
  *   I(q) = A x                          what the screen shows with the baked texture
- *   E    = max over the domain's textures and their signals of GMSD(I_hat, I, covered mask)
+ *   E    = max over the domain's textures and their signals of GMSD(I_hat, I, covered mask),
+ *          each signal scaled by its weight when the caller gives them
+ *          (texopt_triloss_weigh_signals: what a lit render shows of it, lit_weight.h)
  *
  * Signals of a texture: colour textures (base colour, emissive, or an image of no known
  * role) contribute their luma (BT.601, as the GMSD reference); data textures (normal,
@@ -47,6 +49,11 @@ typedef struct texopt_triloss texopt_triloss;
 texopt_status texopt_triloss_create(texopt_triloss **out, const texopt_model *model,
                                     const texopt_mesh *mesh, int viewport, char *err,
                                     size_t err_len);
+
+/* Scales each signal by its weight before it is compared: weights as texopt_lit_signal_weights
+ * fills them (lit_weight.h; per image, luma then R, G, B), NULL for none. Call before
+ * texopt_triloss_prepare. A weight of 0 leaves the signal out (constant). */
+void texopt_triloss_weigh_signals(texopt_triloss *loss, const double *weights);
 
 /* Accepts NULL. */
 void texopt_triloss_destroy(texopt_triloss *loss);

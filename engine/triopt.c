@@ -54,6 +54,7 @@ typedef struct resolved_options {
     uint32_t stride;
     uint64_t seed;
     int max_evaluations;
+    const double *signal_weights;
 } resolved_options;
 
 typedef struct stage_shared {
@@ -633,6 +634,7 @@ static texopt_status resolve_options(const texopt_triopt_options *in, const texo
     o->polish_patience = in->polish_patience > 0 ? in->polish_patience : TRIOPT_POLISH_PATIENCE;
     o->stride = in->stride > 1 ? in->stride : 1;
     o->seed = in->seed;
+    o->signal_weights = in->signal_weights;
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
     o->threads = in->threads > 0 ? in->threads : (cores > 0 ? (int)cores : 1);
     if (!(o->epsilon > 0.0 && o->epsilon <= 1.0))
@@ -682,6 +684,7 @@ static texopt_status create_workers(stage_shared *sh, worker **out, char *err, s
         texopt_status st = texopt_triloss_create(&workers[i].loss, sh->model, sh->mesh,
                                                  sh->opt.viewport, err, err_len);
         if (st == TEXOPT_OK) {
+            texopt_triloss_weigh_signals(workers[i].loss, sh->opt.signal_weights);
             workers[i].bo = texopt_bo_create(TRIOPT_DIM, sh->opt.max_evaluations);
             if (!workers[i].bo)
                 st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "triopt: no memory for the optimiser");

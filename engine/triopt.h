@@ -87,6 +87,8 @@ typedef struct texopt_triopt_options {
     int polish_patience; /* 0 -> 1 */
     uint32_t stride;     /* optimise triangles 0, stride, 2 stride, ...; 0 or 1 -> all.
                             Others are left as J = I, zero weights, 0 evaluations. */
+    const double *signal_weights; /* the loss's signal scales (triloss.h
+                                     texopt_triloss_weigh_signals), NULL -> 1 */
 } texopt_triopt_options;
 
 typedef struct texopt_triopt_report {

@@ -130,6 +130,26 @@ void fixture_fill_normal_map(texopt_image *img)
         }
 }
 
+texopt_image *fixture_add_slot_image(texopt_model *m, texopt_slot slot, int side)
+{
+    texopt_image *images = realloc(m->images, (size_t)(m->image_count + 1) * sizeof *images);
+    if (!images)
+        return NULL;
+    m->images = images;
+    char **names = realloc(m->image_names, (size_t)(m->image_count + 1) * sizeof *names);
+    if (!names)
+        return NULL;
+    m->image_names = names;
+    int i = m->image_count;
+    names[i] = NULL;
+    memset(&images[i], 0, sizeof images[i]);
+    m->image_count++;
+    if (texopt_image_create(&images[i], side, side, 3, NULL, 0) != TEXOPT_OK)
+        return NULL;
+    m->materials[0].slot[slot].image = i;
+    return &images[i];
+}
+
 int fixture_rebake(const texopt_model *ref, texopt_model *cand, int image, int normal_map)
 {
     if (!ref || !cand || ref->vertex_count != cand->vertex_count || image < 0 || image >= ref->image_count ||

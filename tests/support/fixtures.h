@@ -39,6 +39,10 @@ int fixture_fill_pattern(texopt_image *img, const char *pattern);
  * size, 3 or more channels. */
 void fixture_fill_normal_map(texopt_image *img);
 
+/* Appends a side x side RGB image (zeros) to the model and binds it to `slot` of material 0;
+ * returns it (valid until the next addition), or NULL. Domains are not rebuilt. */
+texopt_image *fixture_add_slot_image(texopt_model *m, texopt_slot slot, int side);
+
 /* Re-bakes ref->images[image] (read over ref's UVs, repeat wrap) into cand->images[image]
  * (over cand's UVs, allocated with its size and ref's channels); both models must share
  * their vertex and triangle lists. normal_map: turn the tangent-space XY with each triangle

@@ -21,28 +21,6 @@ static const float quad_uv[8] = {0, 0, 1, 0, 1, 1, 0, 1};
 static const float quarter_turned_uv[8] = {1, 0, 1, 1, 0, 1, 0, 0};
 static const uint32_t quad_tris[6] = {0, 1, 2, 0, 2, 3};
 
-/* Appends a side x side RGB image to the model and binds it to `slot` of its material;
- * returns it (valid until the next addition), or NULL. */
-static texopt_image *add_slot_image(texopt_model *m, texopt_slot slot, int side)
-{
-    texopt_image *images = realloc(m->images, (size_t)(m->image_count + 1) * sizeof *images);
-    if (!images)
-        return NULL;
-    m->images = images;
-    char **names = realloc(m->image_names, (size_t)(m->image_count + 1) * sizeof *names);
-    if (!names)
-        return NULL;
-    m->image_names = names;
-    int i = m->image_count;
-    names[i] = NULL;
-    memset(&images[i], 0, sizeof images[i]);
-    m->image_count++;
-    if (texopt_image_create(&images[i], side, side, 3, NULL, 0) != TEXOPT_OK)
-        return NULL;
-    m->materials[0].slot[slot].image = i;
-    return &images[i];
-}
-
 /* Occlusion in stripes across v: 1 and 0.6. */
 static void fill_occlusion(texopt_image *img, double scale)
 {
@@ -69,7 +47,7 @@ static texopt_model *lit_quad(const float *uv)
     if (!m)
         return NULL;
     /* Each addition may move the image array: fill them once both are there. */
-    if (!add_slot_image(m, TEXOPT_SLOT_NORMAL, TEX) || !add_slot_image(m, TEXOPT_SLOT_OCCLUSION, TEX)) {
+    if (!fixture_add_slot_image(m, TEXOPT_SLOT_NORMAL, TEX) || !fixture_add_slot_image(m, TEXOPT_SLOT_OCCLUSION, TEX)) {
         texopt_model_destroy(m);
         return NULL;
     }
@@ -136,7 +114,7 @@ TEST(lit_q_sees_the_occlusion_map)
 static texopt_model *lit_quad_with_material(const float *uv, float metallic)
 {
     texopt_model *m = lit_quad(uv);
-    texopt_image *mr = m ? add_slot_image(m, TEXOPT_SLOT_METALLIC_ROUGHNESS, TEX) : NULL;
+    texopt_image *mr = m ? fixture_add_slot_image(m, TEXOPT_SLOT_METALLIC_ROUGHNESS, TEX) : NULL;
     if (!mr) {
         texopt_model_destroy(m);
         return NULL;

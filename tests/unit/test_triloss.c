@@ -1,7 +1,9 @@
 /* test_triloss.c - the one-ring perceptual loss of a candidate Jacobian. */
+#include <math.h>
 #include <stdlib.h>
 
 #include "fixtures.h"
+#include "lit_weight.h"
 #include "mesh.h"
 #include "test.h"
 #include "triloss.h"
@@ -331,6 +333,37 @@ TEST(keep_deciding_compares_only_the_signals_that_gave_e_until_the_next_prepare)
     CHECK_OK(texopt_triloss_eval(loss, across_y, INFINITY, &ey_again, err, sizeof err), err);
     CHECK_MSG(fabs(ey_again - ey) < 1e-9 * ey, "%.17g vs %.17g", ey_again, ey);
     fixture_close(&f);
+}
+
+/* E of a squeeze across with_occlusion(0.5, 0.5)'s red stripes (the only detail: base colour
+ * is flat, green and blue constant) with the red channel weighed `red` (NAN: not weighed). */
+static double weighed_occlusion_loss(double red)
+{
+    char err[256] = "";
+    double weights[2 * TEXOPT_LIT_WEIGHT_STRIDE] = {1, 1, 1, 1, 1, 1, 1, 1};
+    weights[TEXOPT_LIT_WEIGHT_STRIDE + 1] = red;
+    loss_fixture f;
+    double J[4], e = NAN;
+    texopt_jacobian_from_params(0, 0.3, 1.0, 0, J);
+    if (fixture_open_model(&f, with_occlusion(0.5, 0.5), 64)) {
+        texopt_triloss_weigh_signals(f.loss, isnan(red) ? NULL : weights);
+        if (texopt_triloss_prepare(f.loss, 2 * (4 * 8 + 4), err, sizeof err) != TEXOPT_OK ||
+            texopt_triloss_eval(f.loss, J, INFINITY, &e, err, sizeof err) != TEXOPT_OK)
+            e = NAN;
+    }
+    fixture_close(&f);
+    return e;
+}
+
+TEST(a_weighed_signal_counts_with_the_contrast_its_weight_leaves)
+{
+    double plain = weighed_occlusion_loss(NAN), one = weighed_occlusion_loss(1.0);
+    double quarter = weighed_occlusion_loss(0.25), none = weighed_occlusion_loss(0.0);
+    printf("  E unweighed %.5f, weight 1 %.5f, 0.25 %.5f, 0 %.5f\n", plain, one, quarter, none);
+    CHECK(plain > 0.05);
+    CHECK(one == plain);
+    CHECK(quarter > 0.0 && quarter < plain);
+    CHECK(none == 0.0);
 }
 
 TEST(triloss_rejects_bad_input)

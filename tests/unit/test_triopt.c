@@ -1,9 +1,11 @@
 /* test_triopt.c - the triangle-wise stage on generated strips of quads. */
+#include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "fixtures.h"
+#include "lit_weight.h"
 #include "mesh.h"
 #include "test.h"
 #include "triopt.h"
@@ -121,6 +123,67 @@ TEST(flat_half_gets_far_fewer_texels_than_detail)
     CHECK_EQ_INT(r.report.optimised, 32);
     CHECK(r.report.evaluations > 8 * 20);
     close_stage(&r);
+}
+
+/* strip_model(16, 256, "flat") with a metallic-roughness image whose channel `channel` holds
+ * "half"'s strokes and whose other channels are 0.5 (G roughness, B metallic; R is read by
+ * no lit term). */
+static texopt_model *strip_with_mr_detail(int channel)
+{
+    char err[256] = "";
+    texopt_model *m = strip_model(16, 256, "flat", 0);
+    texopt_image *mr = m ? fixture_add_slot_image(m, TEXOPT_SLOT_METALLIC_ROUGHNESS, 256) : NULL;
+    texopt_image half = {0};
+    int ok = mr && texopt_image_create(&half, 256, 256, 3, err, sizeof err) == TEXOPT_OK &&
+             fixture_fill_pattern(&half, "half") == 0;
+    for (size_t i = 0; ok && i < 256 * 256; i++)
+        for (int c = 0; c < 3; c++)
+            mr->pixels[3 * i + c] = c == channel ? half.pixels[3 * i] : 0.5f;
+    texopt_image_destroy(&half);
+    if (!ok || texopt_model_build_domains(m, err, sizeof err) != TEXOPT_OK) {
+        texopt_model_destroy(m);
+        return NULL;
+    }
+    return m;
+}
+
+/* Mean target area of the detailed quads 10..13 of a strip_with_mr_detail(channel), stage 1's
+ * signals weighed by the light (lit_weight.h) or not. */
+static double mr_detail_area(int channel, int weighed)
+{
+    texopt_model *m = strip_with_mr_detail(channel);
+    double *w = m ? malloc((size_t)m->image_count * TEXOPT_LIT_WEIGHT_STRIDE * sizeof *w) : NULL;
+    char err[256] = "";
+    if (!w || texopt_lit_signal_weights(m, w, err, sizeof err) != TEXOPT_OK) {
+        free(w);
+        texopt_model_destroy(m);
+        return NAN;
+    }
+    texopt_triopt_options opt = {.iterations = 10, .threads = 2, .seed = 7, .signal_weights = weighed ? w : NULL};
+    stage_run r;
+    double area = NAN;
+    if (run_stage(&r, m, &opt, NULL) && r.status == TEXOPT_OK) {
+        area = 0;
+        for (int t = 20; t < 28; t++)
+            area += r.out[t].lambda1 * r.out[t].lambda2 / 8;
+    }
+    close_stage(&r);
+    free(w);
+    return area;
+}
+
+TEST(detail_the_light_does_not_show_gets_no_texels)
+{
+    /* Strokes in the metallic-roughness map's R, which no lit term reads: compared as they
+     * are they hold the quads near input density; weighed (0) they are flat colour. */
+    double unread = mr_detail_area(0, 0), unread_weighed = mr_detail_area(0, 1);
+    /* The same strokes as roughness: the light shows them, weighed they still count. */
+    double rough_weighed = mr_detail_area(1, 1);
+    printf("  detailed quads' area: R %.3f, R weighed %.3f, G weighed %.3f\n", unread, unread_weighed,
+           rough_weighed);
+    CHECK(unread > 0.2);
+    CHECK_NEAR(unread_weighed, 0.01, 1e-12);
+    CHECK_MSG(rough_weighed > 0.05, "roughness strokes weighed: %g", rough_weighed); /* measured 0.122 */
 }
 
 TEST(sampled_weights_of_a_flat_texture_are_zero)
