@@ -191,8 +191,8 @@ static void summarise(const texopt_mesh *mesh, const double *loss, double epsilo
 }
 
 texopt_status texopt_meshwise_loss_share(const texopt_model *model, const texopt_mesh *mesh,
-                                         const double *texel, const double *signal_weights, double epsilon,
-                                         int threads,
+                                         const double *texel, const double *signal_weights,
+                                         double epsilon, int threads,
                                          int viewport, double *loss_out, texopt_loss_share *out,
                                          const texopt_monitor *monitor, char *err,
                                          size_t err_len)

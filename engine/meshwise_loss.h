@@ -29,15 +29,16 @@ typedef struct texopt_loss_share {
 
 /* Evaluates E for every non-degenerate triangle of `mesh` (built from `model`'s domain
  * mesh->domain, with decoded images) under the layout `texel` (2 per mesh vertex, texel
- * units), its signals scaled by signal_weights (triloss.h texopt_triloss_weigh_signals; NULL:
- * none, as stage 1 was given them). epsilon > 0 is the threshold; threads 0 -> every online core; viewport 0 -> 64.
+ * units), its signals scaled by signal_weights as stage 1's were (triloss.h
+ * texopt_triloss_weigh_signals; NULL: none). epsilon > 0 is the threshold; threads 0 -> every
+ * online core; viewport 0 -> 64.
  * loss_out (may be NULL) receives mesh->triangle_count values, NaN for degenerate
  * triangles. The result does not depend on the thread count. The monitor gets stage
  * "stage2" progress and is checked between triangles. */
 texopt_status texopt_meshwise_loss_share(const texopt_model *model, const texopt_mesh *mesh,
-                                         const double *texel, const double *signal_weights, double epsilon, int threads,
-                                         int viewport, double *loss_out, texopt_loss_share *out,
-                                         const texopt_monitor *monitor, char *err,
+                                         const double *texel, const double *signal_weights,
+                                         double epsilon, int threads, int viewport, double *loss_out,
+                                         texopt_loss_share *out, const texopt_monitor *monitor, char *err,
                                          size_t err_len);
 
 #endif

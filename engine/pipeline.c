@@ -614,10 +614,9 @@ static texopt_status measure_loss_share(const texopt_job *job, int d, const doub
         return TEXOPT_OK;
     texopt_loss_share share;
     double t0 = now_seconds();
-    texopt_status st = texopt_meshwise_loss_share(job->model, job->domains[d].mesh, texel_new,
-                                                  job->signal_weights,
-                                                  params->epsilon, params->threads, 0, NULL, &share, &jm->inner,
-                                                  err, err_len);
+    texopt_status st =
+        texopt_meshwise_loss_share(job->model, job->domains[d].mesh, texel_new, job->signal_weights, params->epsilon,
+                                   params->threads, 0, NULL, &share, &jm->inner, err, err_len);
     if (st == TEXOPT_OK) {
         ds->has_loss_share = 1;
         ds->solved_within_epsilon_share = share.share;
