@@ -121,3 +121,63 @@ void texopt_camera_project(const texopt_camera *camera, const double point[3], d
     if (depth)
         *depth = texopt_dot3(d, camera->normal);
 }
+
+static void frame_point(const texopt_camera *camera, const double p[3], double out[2])
+{
+    double d[3];
+    sub3(p, camera->center, d);
+    out[0] = texopt_dot3(d, camera->right);
+    out[1] = texopt_dot3(d, camera->up);
+}
+
+/* Inside or on the border of the triangle t, either orientation. */
+static int in_triangle(const double t[3][2], double x, double y)
+{
+    int negative = 0, positive = 0;
+    for (int k = 0; k < 3; k++) {
+        const double *p = t[k], *q = t[(k + 1) % 3];
+        double cross = (q[0] - p[0]) * (y - p[1]) - (q[1] - p[1]) * (x - p[0]);
+        negative |= cross < 0.0;
+        positive |= cross > 0.0;
+    }
+    return !(negative && positive);
+}
+
+size_t texopt_camera_close_up_centres(const texopt_camera *camera, const double a[3], const double b[3],
+                                      const double c[3], double side, size_t max_centres,
+                                      double *centres)
+{
+    if (!(side > 0.0) || max_centres == 0)
+        return 0;
+    double t[3][2], box[4] = {INFINITY, INFINITY, -INFINITY, -INFINITY};
+    frame_point(camera, a, t[0]);
+    frame_point(camera, b, t[1]);
+    frame_point(camera, c, t[2]);
+    include_point(camera, a, box);
+    include_point(camera, b, box);
+    include_point(camera, c, box);
+    double w = box[2] - box[0], h = box[3] - box[1];
+    if (!isfinite(w + h))
+        return 0;
+    double cell = side;
+    size_t nx, ny;
+    for (;;) {
+        nx = (size_t)fmax(1.0, ceil(w / cell));
+        ny = (size_t)fmax(1.0, ceil(h / cell));
+        if (nx * ny <= max_centres)
+            break;
+        cell *= 1.25;
+    }
+    size_t count = 0;
+    for (size_t i = 0; i < nx; i++)
+        for (size_t j = 0; j < ny; j++) {
+            double x = box[0] + ((double)i + 0.5) * w / (double)nx;
+            double y = box[1] + ((double)j + 0.5) * h / (double)ny;
+            if (!in_triangle(t, x, y))
+                continue;
+            centres[2 * count] = x;
+            centres[2 * count + 1] = y;
+            count++;
+        }
+    return count;
+}

@@ -61,4 +61,13 @@ void texopt_camera_limit_zoom(texopt_camera *camera, const double a[3], const do
 void texopt_camera_project(const texopt_camera *camera, const double point[3], double screen[2],
                            double *depth);
 
+/* Where to look closer at a triangle larger than one window of side `side` (world units):
+ * the centres of a grid of about side x side cells over the triangle's bounding box in the
+ * camera's (R, U) frame (relative to C, as window_x0 and window_y0), kept where they lie in
+ * the triangle, written as (x, y) pairs to centres; returns how many. The cells grow by 1.25
+ * until the grid has at most max_centres cells, so at most that many are written. */
+size_t texopt_camera_close_up_centres(const texopt_camera *camera, const double a[3], const double b[3],
+                                      const double c[3], double side, size_t max_centres,
+                                      double *centres);
+
 #endif

@@ -15,6 +15,12 @@
 #include "sample.h"
 
 #define TRILOSS_RIDGE 1e-6
+/* Close-ups (triloss.h) are taken where the one-ring's window shows the triangle at more than
+ * this many times the raster's zoom limit; the candidate windows are ranked by E under the
+ * probe J = CLOSE_UP_PROBE I, at most CLOSE_UP_CANDIDATES of them per triangle. */
+#define CLOSE_UP_FROM 1.5
+#define CLOSE_UP_PROBE 0.25
+#define CLOSE_UP_CANDIDATES 64
 /* Signals of one texture size share one bake: one factorisation of A^T A + ridge I. */
 #define TRILOSS_BATCH_MAX TEXOPT_BAKE_MAX_CHANNELS
 
@@ -64,6 +70,11 @@ struct texopt_triloss {
     float *dist_img;
     texopt_bake_workspace *bake;
     texopt_gmsd_workspace *gmsd;
+
+    /* close-up evaluators of the same mesh (none in a close-up itself) and how many hold a
+     * window of the prepared triangle */
+    struct texopt_triloss *close_up[TEXOPT_TRILOSS_CLOSE_UPS];
+    int close_up_count;
 };
 
 void texopt_jacobian_from_params(double alpha, double lambda1, double lambda2, double beta,
@@ -165,9 +176,9 @@ static texopt_status build_signals(texopt_triloss *tl, char *err, size_t err_len
     return TEXOPT_OK;
 }
 
-texopt_status texopt_triloss_create(texopt_triloss **out, const texopt_model *model,
-                                    const texopt_mesh *mesh, int viewport, char *err,
-                                    size_t err_len)
+/* An evaluator without close-ups. */
+static texopt_status create_evaluator(texopt_triloss **out, const texopt_model *model,
+                                      const texopt_mesh *mesh, int viewport, char *err, size_t err_len)
 {
     if (!out)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "triloss: NULL output");
@@ -222,18 +233,36 @@ texopt_status texopt_triloss_create(texopt_triloss **out, const texopt_model *mo
     return TEXOPT_OK;
 }
 
+texopt_status texopt_triloss_create(texopt_triloss **out, const texopt_model *model,
+                                    const texopt_mesh *mesh, int viewport, char *err,
+                                    size_t err_len)
+{
+    texopt_status st = create_evaluator(out, model, mesh, viewport, err, err_len);
+    for (int k = 0; k < TEXOPT_TRILOSS_CLOSE_UPS && st == TEXOPT_OK; k++)
+        st = create_evaluator(&(*out)->close_up[k], model, mesh, viewport, err, err_len);
+    if (st != TEXOPT_OK && *out) {
+        texopt_triloss_destroy(*out);
+        *out = NULL;
+    }
+    return st;
+}
+
 void texopt_triloss_weigh_signals(texopt_triloss *tl, const double *weights)
 {
     for (int s = 0; tl && weights && s < tl->signal_count; s++) {
         const loss_signal *sig = &tl->signals[s];
         tl->signals[s].weight = (float)weights[TEXOPT_LIT_WEIGHT_STRIDE * (size_t)sig->image + (size_t)(sig->channel + 1)];
     }
+    for (int k = 0; tl && k < TEXOPT_TRILOSS_CLOSE_UPS; k++)
+        texopt_triloss_weigh_signals(tl->close_up[k], weights);
 }
 
 void texopt_triloss_destroy(texopt_triloss *tl)
 {
     if (!tl)
         return;
+    for (int k = 0; k < TEXOPT_TRILOSS_CLOSE_UPS; k++)
+        texopt_triloss_destroy(tl->close_up[k]);
     texopt_uvraster_destroy(tl->raster);
     free(tl->signals);
     free(tl->batches);
@@ -373,20 +402,16 @@ static void sample_references(texopt_triloss *tl)
     }
 }
 
-texopt_status texopt_triloss_prepare(texopt_triloss *tl, uint32_t triangle, char *err,
-                                     size_t err_len)
+/* The references of the triangle as the raster shows it. */
+static void sample_prepared(texopt_triloss *tl, uint32_t triangle)
 {
-    if (!tl)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "triloss: NULL evaluator");
-    texopt_status st = texopt_uvraster_render(tl->raster, tl->mesh, triangle, err, err_len);
-    if (st != TEXOPT_OK)
-        return st;
+    tl->close_up_count = 0;
     memset(tl->deciding, 0, (size_t)tl->signal_count);
     const uint32_t *tri = tl->mesh->triangle + 3 * (size_t)triangle;
     /* J pivots about the texel centre nearest the centroid: a quarter turn about a texel
      * centre maps the texel lattice onto itself, so the loss keeps the 90-degree symmetry of
      * the pixel grid (paper Fig. 7) instead of charging a sub-texel phase shift to every
-     * rotation. */
+     * rotation. Close-ups pivot about the same centre: one J deforms the whole triangle. */
     for (int d = 0; d < 2; d++) {
         double c = (tl->mesh->texel[2 * (size_t)tri[0] + d] +
                     tl->mesh->texel[2 * (size_t)tri[1] + d] +
@@ -395,7 +420,75 @@ texopt_status texopt_triloss_prepare(texopt_triloss *tl, uint32_t triangle, char
     }
     collect_covered(tl);
     sample_references(tl);
-    return TEXOPT_OK;
+}
+
+/* Prepares close-up evaluator `view` on the window of side `side` centred at (x, y). */
+static texopt_status prepare_close_up(texopt_triloss *view, uint32_t triangle, double x, double y,
+                                      double side, char *err, size_t err_len)
+{
+    double window[3] = {x - 0.5 * side, y - 0.5 * side, side};
+    texopt_status st = texopt_uvraster_render_window(view->raster, view->mesh, triangle, window, err, err_len);
+    if (st == TEXOPT_OK)
+        sample_prepared(view, triangle);
+    return st;
+}
+
+/* Index of the largest score, -1 when none is above 0; the first of equal ones. */
+static int best_score(const double *score, int n)
+{
+    int best = -1;
+    for (int i = 0; i < n; i++)
+        if (score[i] > 0.0 && (best < 0 || score[i] > score[best]))
+            best = i;
+    return best;
+}
+
+/* Close-ups of a triangle its own window shows at over CLOSE_UP_FROM times the zoom limit:
+ * every candidate window at the limit (camera.h texopt_camera_close_up_centres) is scored by
+ * its E under the probe, in the first close-up evaluator, and the best ones are kept. */
+static texopt_status prepare_close_ups(texopt_triloss *tl, uint32_t triangle, char *err, size_t err_len)
+{
+    const texopt_mesh *mesh = tl->mesh;
+    const texopt_uvraster *r = tl->raster;
+    double density = sqrt(fabs(mesh->area_texel[triangle]) / mesh->area_3d[triangle]);
+    if (!tl->close_up[0] || !(r->max_zoom > 0.0) || !(density > 0.0) || !isfinite(density) ||
+        !(texopt_camera_zoom(&r->camera, density) > CLOSE_UP_FROM * r->max_zoom))
+        return TEXOPT_OK;
+    double side = r->max_zoom * r->size / density, centres[2 * CLOSE_UP_CANDIDATES], score[CLOSE_UP_CANDIDATES];
+    const uint32_t *tri = mesh->triangle + 3 * (size_t)triangle;
+    int n = (int)texopt_camera_close_up_centres(&r->camera, mesh->position + 3 * (size_t)mesh->point_of[tri[0]],
+                                                mesh->position + 3 * (size_t)mesh->point_of[tri[1]],
+                                                mesh->position + 3 * (size_t)mesh->point_of[tri[2]], side,
+                                                CLOSE_UP_CANDIDATES, centres);
+    const double probe[4] = {CLOSE_UP_PROBE, 0.0, 0.0, CLOSE_UP_PROBE};
+    texopt_status st = TEXOPT_OK;
+    for (int i = 0; i < n && st == TEXOPT_OK; i++) {
+        st = prepare_close_up(tl->close_up[0], triangle, centres[2 * i], centres[2 * i + 1], side, err, err_len);
+        if (st == TEXOPT_OK)
+            st = texopt_triloss_eval(tl->close_up[0], probe, INFINITY, &score[i], err, err_len);
+    }
+    for (int k = 0; k < TEXOPT_TRILOSS_CLOSE_UPS && st == TEXOPT_OK; k++) {
+        int i = best_score(score, n);
+        if (i < 0)
+            break;
+        score[i] = 0.0;
+        st = prepare_close_up(tl->close_up[k], triangle, centres[2 * i], centres[2 * i + 1], side, err, err_len);
+        if (st == TEXOPT_OK)
+            tl->close_up_count = k + 1;
+    }
+    return st;
+}
+
+texopt_status texopt_triloss_prepare(texopt_triloss *tl, uint32_t triangle, char *err,
+                                     size_t err_len)
+{
+    if (!tl)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "triloss: NULL evaluator");
+    texopt_status st = texopt_uvraster_render(tl->raster, tl->mesh, triangle, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    sample_prepared(tl, triangle);
+    return prepare_close_ups(tl, triangle, err, err_len);
 }
 
 /* Candidate grid side along one axis: the texture's, or more when the one-ring would wrap. */
@@ -521,10 +614,8 @@ texopt_status texopt_triloss_eval(texopt_triloss *tl, const double jacobian[4],
     if (!tl || !jacobian || !out_loss)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "triloss: NULL argument");
     *out_loss = 0.0;
-    if (tl->n == 0)
-        return TEXOPT_OK;
     loss_max worst = {0.0, -1};
-    for (int b = 0; b < tl->batch_count; b++) {
+    for (int b = 0; b < tl->batch_count && tl->n > 0; b++) {
         loss_batch *batch = &tl->batches[b];
         if (batch->active_count == 0)
             continue;
@@ -545,11 +636,20 @@ texopt_status texopt_triloss_eval(texopt_triloss *tl, const double jacobian[4],
     if (worst.signal >= 0)
         tl->deciding[worst.signal] = 1;
     *out_loss = worst.value;
+    for (int k = 0; k < tl->close_up_count && *out_loss < stop_above; k++) {
+        double e;
+        texopt_status st = texopt_triloss_eval(tl->close_up[k], jacobian, stop_above, &e, err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
+        *out_loss = fmax(*out_loss, e);
+    }
     return TEXOPT_OK;
 }
 
 void texopt_triloss_keep_deciding(texopt_triloss *tl)
 {
+    for (int k = 0; tl && k < tl->close_up_count; k++)
+        texopt_triloss_keep_deciding(tl->close_up[k]);
     int any = 0;
     for (int s = 0; tl && s < tl->signal_count; s++)
         any |= tl->deciding[s];
@@ -573,6 +673,11 @@ void texopt_triloss_keep_deciding(texopt_triloss *tl)
 const texopt_uvraster *texopt_triloss_raster(const texopt_triloss *tl)
 {
     return tl ? tl->raster : NULL;
+}
+
+int texopt_triloss_close_up_count(const texopt_triloss *tl)
+{
+    return tl ? tl->close_up_count : 0;
 }
 
 int texopt_triloss_signal_count(const texopt_triloss *tl)

@@ -22,6 +22,16 @@
  * one signal per colour texture is exact, not an approximation. Signals of textures of equal
  * size share one bake call (up to 16 right-hand sides: one factorisation for all of them).
  *
+ * Close-ups: the one-ring's window shows the whole triangle, so a triangle spanning more than
+ * the viewport at the zoom limit (uvraster.h; WaterBottle's and DamagedHelmet's large
+ * triangles at 5-12 input texels per pixel) is seen blurred, and fine detail in it counts for
+ * nothing: such triangles came out of stage 1 lossless at lambda_min and lost on screen. Where
+ * the window shows the triangle at over 1.5 times the limit, E is also taken on up to
+ * TEXOPT_TRILOSS_CLOSE_UPS windows at the limit inside the triangle (the same camera frame and
+ * pivot; 1,400 pixels each), those whose E under J = 0.25 I is largest among a grid of
+ * candidates: E is the maximum over the one-ring's view and the close-ups (BENCHMARKS.md
+ * "Close-ups").
+ *
  * The candidate grid: J moves texels to a new layout whose wrap mode does not matter, so
  * positions are shifted by a whole number of texels to the middle of a grid large enough
  * that the one-ring never wraps (the sub-texel phase, which decides the bilinear weights,
@@ -42,6 +52,9 @@
 #include "uvraster.h"
 
 typedef struct texopt_triloss texopt_triloss;
+
+/* Most close-up windows per triangle, besides the one-ring's. */
+#define TEXOPT_TRILOSS_CLOSE_UPS 6
 
 /* A loss evaluator for the triangles of `mesh` (built from `model`'s domain mesh->domain),
  * viewport x viewport pixels (paper: 64). model and mesh must outlive it. Fails with
@@ -84,6 +97,10 @@ void texopt_triloss_keep_deciding(texopt_triloss *loss);
 
 /* The raster of the prepared triangle (covered pixels, camera). */
 const texopt_uvraster *texopt_triloss_raster(const texopt_triloss *loss);
+
+/* Close-up windows the prepared triangle is also judged on (0 for a triangle its window
+ * shows near the zoom limit). */
+int texopt_triloss_close_up_count(const texopt_triloss *loss);
 
 /* Number of signals compared per candidate (for reports and tests). */
 int texopt_triloss_signal_count(const texopt_triloss *loss);

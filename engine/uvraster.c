@@ -195,6 +195,39 @@ static double kth_smallest(double *v, size_t n, size_t k)
     return v[want];
 }
 
+/* Uncovers the covered pixels at or past distance `cut` (kept: strictly nearer, and the
+ * pixels at distance 0) whose squared distances r->depth holds. */
+static void uncover_from(texopt_uvraster *r, double cut)
+{
+    size_t px = (size_t)r->size * (size_t)r->size;
+    for (size_t q = 0; q < px; q++) {
+        if (r->face[q] < 0 || r->depth[q] < cut || r->depth[q] == 0.0)
+            continue;
+        r->face[q] = -1;
+        r->texel[2 * q] = r->texel[2 * q + 1] = 0.0;
+        r->covered--;
+    }
+}
+
+/* Uncovers all but the max_covered covered pixels nearest the viewport's centre: a close-up
+ * window lies inside its triangle, which covers it edge to edge. Ties at one distance are
+ * broken by the pixel's index, so exactly max_covered stay. */
+static void keep_pixels_nearest_centre(texopt_uvraster *r)
+{
+    if (r->max_covered == 0 || r->covered <= r->max_covered)
+        return;
+    size_t px = (size_t)r->size * (size_t)r->size, n = 0;
+    double c = 0.5 * r->size;
+    for (size_t q = 0; q < px; q++) {
+        if (r->face[q] < 0)
+            continue;
+        double x = (double)(q % (size_t)r->size) + 0.5 - c, y = (double)(q / (size_t)r->size) + 0.5 - c;
+        r->depth[q] = x * x + y * y + 1e-9 * (double)(q + 1);
+        r->nearest[n++] = r->depth[q];
+    }
+    uncover_from(r, kth_smallest(r->nearest, n, r->max_covered));
+}
+
 /* Uncovers all but the max_covered covered pixels nearest the triangle (uvraster.h). The
  * depth buffer, no longer needed, holds each covered pixel's squared distance. */
 static void keep_nearest_pixels(texopt_uvraster *r, const texopt_mesh *mesh, uint32_t triangle)
@@ -216,18 +249,13 @@ static void keep_nearest_pixels(texopt_uvraster *r, const texopt_mesh *mesh, uin
     /* Keep what is strictly nearer than the first pixel past the budget: at most max_covered
      * stay (more only if the triangle itself covers more), and pixels at one distance go
      * together unless rounding tells them apart. */
-    double cut = kth_smallest(r->nearest, n, r->max_covered);
-    for (size_t q = 0; q < px; q++) {
-        if (r->face[q] < 0 || r->depth[q] < cut || r->depth[q] == 0.0)
-            continue;
-        r->face[q] = -1;
-        r->texel[2 * q] = r->texel[2 * q + 1] = 0.0;
-        r->covered--;
-    }
+    uncover_from(r, kth_smallest(r->nearest, n, r->max_covered));
 }
 
-texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh *mesh,
-                                     uint32_t triangle, char *err, size_t err_len)
+/* Gathers the one-ring of `triangle`, with its corners' 3D points, and builds the paper's
+ * camera on it (before any narrowing); *n receives the ring's face count. */
+static texopt_status ring_camera(texopt_uvraster *raster, const texopt_mesh *mesh, uint32_t triangle,
+                                 size_t *n, char *err, size_t err_len)
 {
     if (!raster || !mesh)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "uvraster: NULL argument");
@@ -235,11 +263,10 @@ texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh 
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "uvraster: triangle %u past triangle count %zu", triangle,
                            mesh->triangle_count);
-    size_t n = 0;
-    texopt_status st = gather_one_ring(raster, mesh, triangle, &n, err, err_len);
+    texopt_status st = gather_one_ring(raster, mesh, triangle, n, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    for (size_t f = 0; f < n; f++)
+    for (size_t f = 0; f < *n; f++)
         for (int k = 0; k < 3; k++)
             memcpy(raster->ring_points + 9 * f + 3 * k,
                    point_of_vertex(mesh, mesh->triangle[3 * (size_t)raster->ring[f] + k]),
@@ -247,18 +274,52 @@ texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh 
     const uint32_t *tri = mesh->triangle + 3 * (size_t)triangle;
     st = texopt_camera_create(&raster->camera, point_of_vertex(mesh, tri[0]),
                               point_of_vertex(mesh, tri[1]), point_of_vertex(mesh, tri[2]),
-                              raster->ring_points, 3 * n, raster->size, err, err_len);
+                              raster->ring_points, 3 * *n, raster->size, err, err_len);
     if (st != TEXOPT_OK)
         return texopt_fail(err, err_len, st, "uvraster: triangle %u is degenerate in 3D",
                            triangle);
+    return TEXOPT_OK;
+}
+
+static void rasterise_ring(texopt_uvraster *raster, const texopt_mesh *mesh, size_t n)
+{
+    clear_buffer(raster);
+    for (size_t f = 0; f < n; f++)
+        rasterise_face(raster, mesh, raster->ring[f]);
+}
+
+texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh *mesh,
+                                     uint32_t triangle, char *err, size_t err_len)
+{
+    size_t n = 0;
+    texopt_status st = ring_camera(raster, mesh, triangle, &n, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    const uint32_t *tri = mesh->triangle + 3 * (size_t)triangle;
     double paper_side = raster->camera.window_side;
     texopt_camera_limit_zoom(&raster->camera, point_of_vertex(mesh, tri[0]),
                              point_of_vertex(mesh, tri[1]), point_of_vertex(mesh, tri[2]),
                              ring_texels_per_unit(raster, mesh, n), raster->max_zoom);
-    clear_buffer(raster);
-    for (size_t f = 0; f < n; f++)
-        rasterise_face(raster, mesh, raster->ring[f]);
+    rasterise_ring(raster, mesh, n);
     if (raster->camera.window_side < paper_side)
         keep_nearest_pixels(raster, mesh, triangle);
+    return TEXOPT_OK;
+}
+
+texopt_status texopt_uvraster_render_window(texopt_uvraster *raster, const texopt_mesh *mesh,
+                                            uint32_t triangle, const double window[3], char *err,
+                                            size_t err_len)
+{
+    if (!window || !(window[2] > 0.0) || !isfinite(window[0] + window[1] + window[2]))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "uvraster: bad window");
+    size_t n = 0;
+    texopt_status st = ring_camera(raster, mesh, triangle, &n, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    raster->camera.window_x0 = window[0];
+    raster->camera.window_y0 = window[1];
+    raster->camera.window_side = window[2];
+    rasterise_ring(raster, mesh, n);
+    keep_pixels_nearest_centre(raster);
     return TEXOPT_OK;
 }

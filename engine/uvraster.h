@@ -63,4 +63,13 @@ void texopt_uvraster_destroy(texopt_uvraster *raster);
 texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh *mesh,
                                      uint32_t triangle, char *err, size_t err_len);
 
+/* The same one-ring through a given window of the triangle's camera instead of the
+ * zoom-limited one: window = {x0, y0, side} in the camera's (R, U) frame relative to the
+ * centroid (texopt_camera.window_x0, window_y0, window_side). A close-up of part of a large
+ * triangle (triloss.h): covered pixels beyond max_covered are uncovered from the viewport's
+ * rim inwards. Fails as texopt_uvraster_render, and for a side that is not positive. */
+texopt_status texopt_uvraster_render_window(texopt_uvraster *raster, const texopt_mesh *mesh,
+                                            uint32_t triangle, const double window[3], char *err,
+                                            size_t err_len);
+
 #endif

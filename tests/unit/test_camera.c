@@ -1,4 +1,5 @@
 /* test_camera.c - the per-triangle orthographic camera (Sun et al. 2022, appendix A). */
+#include <math.h>
 #include <string.h>
 
 #include "camera.h"
@@ -173,4 +174,39 @@ TEST(limited_zoom_leaves_a_window_under_the_limit_or_without_density_alone)
         CHECK(cam.window_x0 == paper.window_x0 && cam.window_y0 == paper.window_y0 &&
               cam.window_side == paper.window_side);
     }
+}
+
+TEST(close_up_centres_tile_the_triangle_and_respect_the_cap)
+{
+    /* Centroid at the origin, first corner on +x: the camera's (R, U) frame is the world's
+     * (x, y). The box is [-15, 30] x [-30, 30]; 15-unit cells make a 3 x 4 grid whose centres
+     * at x = -7.5 (4 of them) and x = 7.5, y = +-7.5 lie in the triangle. */
+    double a[3] = {30, 0, 0}, b[3] = {-15, 30, 0}, c[3] = {-15, -30, 0};
+    texopt_camera cam;
+    char err[256] = "";
+    CHECK_OK(texopt_camera_create(&cam, a, b, c, NULL, 0, 64, err, sizeof err), err);
+    CHECK_NEAR(cam.right[0], 1.0, 1e-12);
+    CHECK_NEAR(cam.up[1], 1.0, 1e-12);
+    double centres[2 * 64];
+    size_t n = texopt_camera_close_up_centres(&cam, a, b, c, 15.0, 64, centres);
+    CHECK_EQ_INT(n, 6);
+    const double want[6][2] = {{-7.5, -22.5}, {-7.5, -7.5}, {-7.5, 7.5}, {-7.5, 22.5}, {7.5, -7.5}, {7.5, 7.5}};
+    for (size_t i = 0; i < n && i < 6; i++) {
+        CHECK_NEAR(centres[2 * i], want[i][0], 1e-9);
+        CHECK_NEAR(centres[2 * i + 1], want[i][1], 1e-9);
+    }
+    /* At most 4 cells: the cells grow by 1.25 until the grid is 2 x 2 (22.5 x 30 units), of
+     * which the two at x = -3.75 lie in the triangle. */
+    n = texopt_camera_close_up_centres(&cam, a, b, c, 15.0, 4, centres);
+    CHECK_EQ_INT(n, 2);
+    CHECK_NEAR(centres[0], -3.75, 1e-9);
+    CHECK_NEAR(centres[1], -15.0, 1e-9);
+    CHECK_NEAR(centres[3], 15.0, 1e-9);
+    /* A window larger than the triangle: one cell, the box's centre. */
+    CHECK_EQ_INT(texopt_camera_close_up_centres(&cam, a, b, c, 100.0, 64, centres), 1);
+    CHECK_NEAR(centres[0], 7.5, 1e-9);
+    CHECK_NEAR(centres[1], 0.0, 1e-9);
+    CHECK_EQ_INT(texopt_camera_close_up_centres(&cam, a, b, c, 0.0, 64, centres), 0);
+    CHECK_EQ_INT(texopt_camera_close_up_centres(&cam, a, b, c, NAN, 64, centres), 0);
+    CHECK_EQ_INT(texopt_camera_close_up_centres(&cam, a, b, c, 15.0, 0, centres), 0);
 }

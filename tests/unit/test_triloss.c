@@ -379,3 +379,31 @@ TEST(triloss_rejects_bad_input)
     texopt_triloss_destroy(NULL);
     fixture_close(&f);
 }
+
+TEST(close_ups_see_fine_detail_in_a_triangle_its_window_blurs)
+{
+    /* The unit quad over 512 texels of "half" (1-texel strokes right of x = 256): triangle 0
+     * spans the texture, so its window shows 8 texels a pixel and a shrink to a quarter
+     * changes nothing it can see; close-ups at the zoom limit see the strokes break. */
+    loss_fixture f;
+    CHECK(fixture_open_model(&f, fixture_textured_quad(512, "half"), 64));
+    double identity = loss_of(&f, 0, 0, 1, 1, 0);
+    CHECK_MSG(identity < 1e-6, "E(I) = %g", identity);
+    double close = loss_of(&f, 0, 0, 0.25, 0.25, 0);
+    int close_ups = texopt_triloss_close_up_count(f.loss);
+    CHECK(close_ups >= 1 && close_ups <= TEXOPT_TRILOSS_CLOSE_UPS);
+    /* The paper's window alone (as in test_camera_zoom, through the raster's limit, which
+     * also turns the close-ups off). */
+    ((texopt_uvraster *)texopt_triloss_raster(f.loss))->max_zoom = 0;
+    double window_only = loss_of(&f, 0, 0, 0.25, 0.25, 0);
+    CHECK_EQ_INT(texopt_triloss_close_up_count(f.loss), 0);
+    CHECK_MSG(window_only < 0.01 && close > 0.05, "window %g, close-ups %g", window_only, close);
+    fixture_close(&f);
+    /* Triangles their window shows near the limit get none. */
+    CHECK(fixture_open(&f, 8, 64, "half", 64));
+    for (uint32_t t = 0; t < 128; t += 9) {
+        loss_of(&f, t, 0, 0.5, 0.5, 0);
+        CHECK_EQ_INT(texopt_triloss_close_up_count(f.loss), 0);
+    }
+    fixture_close(&f);
+}

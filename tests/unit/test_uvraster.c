@@ -1,4 +1,5 @@
 /* test_uvraster.c - one-ring rasterisation into input texel positions. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -292,4 +293,52 @@ TEST(a_ring_under_the_zoom_limit_is_rasterised_whole)
         CHECK(memcmp(small->texel, whole->texel, 2 * 64 * 64 * sizeof *whole->texel) == 0);
     }
     raster_pair_close(&pair);
+}
+
+TEST(a_close_up_window_shows_part_of_a_large_triangle)
+{
+    char err[256] = "";
+    /* The unit quad over 512 texels: triangle 0 (corners (0,0), (1,0), (1,1)) spans 512
+     * texels, its own window about 8 texels a pixel. A 64-texel window inside it, 0.1 units
+     * right of the centroid, shows one texel a pixel. */
+    texopt_model *model = fixture_textured_quad(512, "flat");
+    CHECK(model);
+    texopt_mesh *mesh = NULL;
+    texopt_uvraster *r = NULL;
+    CHECK_OK(texopt_mesh_create(&mesh, model, 0, err, sizeof err), err);
+    CHECK_OK(texopt_uvraster_create(&r, 64, err, sizeof err), err);
+    double side = 64.0 / 512.0, window[3] = {0.1 - 0.5 * side, -0.5 * side, side};
+    CHECK_OK(texopt_uvraster_render_window(r, mesh, 0, window, err, sizeof err), err);
+    CHECK(r->camera.window_side == side);
+    CHECK(r->camera.window_x0 == window[0] && r->camera.window_y0 == window[1]);
+    /* The triangle covers the window edge to edge; the pixels nearest the centre stay. */
+    CHECK_EQ_INT(r->covered, r->max_covered);
+    size_t counted = 0;
+    double farthest_kept = 0, nearest_dropped = INFINITY;
+    for (int j = 0; j < 64; j++)
+        for (int i = 0; i < 64; i++) {
+            size_t q = (size_t)j * 64 + (size_t)i;
+            double d = hypot(i + 0.5 - 32.0, j + 0.5 - 32.0);
+            if (r->face[q] < 0) {
+                nearest_dropped = fmin(nearest_dropped, d);
+                continue;
+            }
+            counted++;
+            farthest_kept = fmax(farthest_kept, d);
+            CHECK_EQ_INT(r->face[q], 0);
+            /* UV = (x, y) on this quad: the texel is 512 times the surface point. */
+            double p[3];
+            pixel_to_world(&r->camera, i, j, p);
+            CHECK_NEAR(r->texel[2 * q], 512.0 * p[0], 1e-6);
+            CHECK_NEAR(r->texel[2 * q + 1], 512.0 * p[1], 1e-6);
+        }
+    CHECK_EQ_INT(counted, r->covered);
+    CHECK(farthest_kept <= nearest_dropped + 1e-9);
+    double bad[3][3] = {{0, 0, 0}, {0, 0, -1}, {NAN, 0, 0.1}};
+    for (int k = 0; k < 3; k++)
+        CHECK(texopt_uvraster_render_window(r, mesh, 0, bad[k], err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_uvraster_render_window(r, mesh, 2, window, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    texopt_uvraster_destroy(r);
+    texopt_mesh_destroy(mesh);
+    texopt_model_destroy(model);
 }
