@@ -16,12 +16,21 @@ static void sub3(const double a[3], const double b[3], double out[3])
     out[2] = a[2] - b[2];
 }
 
-/* Grows the (R, U) bounding box by one point. */
-static void include_point(const texopt_camera *camera, const double p[3], double box[4])
+/* A point's coordinates in the camera's (R, U) frame, relative to C. */
+static void frame_point(const texopt_camera *camera, const double p[3], double out[2])
 {
     double d[3];
     sub3(p, camera->center, d);
-    double x = texopt_dot3(d, camera->right), y = texopt_dot3(d, camera->up);
+    out[0] = texopt_dot3(d, camera->right);
+    out[1] = texopt_dot3(d, camera->up);
+}
+
+/* Grows the (R, U) bounding box by one point. */
+static void include_point(const texopt_camera *camera, const double p[3], double box[4])
+{
+    double xy[2];
+    frame_point(camera, p, xy);
+    double x = xy[0], y = xy[1];
     if (x < box[0]) box[0] = x;
     if (y < box[1]) box[1] = y;
     if (x > box[2]) box[2] = x;
@@ -122,14 +131,6 @@ void texopt_camera_project(const texopt_camera *camera, const double point[3], d
         *depth = texopt_dot3(d, camera->normal);
 }
 
-static void frame_point(const texopt_camera *camera, const double p[3], double out[2])
-{
-    double d[3];
-    sub3(p, camera->center, d);
-    out[0] = texopt_dot3(d, camera->right);
-    out[1] = texopt_dot3(d, camera->up);
-}
-
 /* Inside or on the border of the triangle t, either orientation. */
 static int in_triangle(const double t[3][2], double x, double y)
 {
@@ -159,15 +160,15 @@ size_t texopt_camera_close_up_centres(const texopt_camera *camera, const double 
     double w = box[2] - box[0], h = box[3] - box[1];
     if (!isfinite(w + h))
         return 0;
-    double cell = side;
-    size_t nx, ny;
-    for (;;) {
-        nx = (size_t)fmax(1.0, ceil(w / cell));
-        ny = (size_t)fmax(1.0, ceil(h / cell));
-        if (nx * ny <= max_centres)
+    double cell = side, cells_x, cells_y;
+    for (;;) { /* counted in doubles: a tiny side must not overflow a size_t */
+        cells_x = fmax(1.0, ceil(w / cell));
+        cells_y = fmax(1.0, ceil(h / cell));
+        if (cells_x * cells_y <= (double)max_centres)
             break;
         cell *= 1.25;
     }
+    size_t nx = (size_t)cells_x, ny = (size_t)cells_y;
     size_t count = 0;
     for (size_t i = 0; i < nx; i++)
         for (size_t j = 0; j < ny; j++) {

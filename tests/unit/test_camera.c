@@ -209,4 +209,7 @@ TEST(close_up_centres_tile_the_triangle_and_respect_the_cap)
     CHECK_EQ_INT(texopt_camera_close_up_centres(&cam, a, b, c, 0.0, 64, centres), 0);
     CHECK_EQ_INT(texopt_camera_close_up_centres(&cam, a, b, c, NAN, 64, centres), 0);
     CHECK_EQ_INT(texopt_camera_close_up_centres(&cam, a, b, c, 15.0, 0, centres), 0);
+    /* A vanishing window: the grid coarsens to the cap instead of overflowing a count. */
+    n = texopt_camera_close_up_centres(&cam, a, b, c, 1e-300, 64, centres);
+    CHECK(n >= 1 && n <= 64);
 }
