@@ -23,12 +23,12 @@
  * size share one bake call (up to 16 right-hand sides: one factorisation for all of them).
  *
  * Close-ups: the one-ring's window shows the whole triangle, so a triangle spanning more than
- * the viewport at the zoom limit (uvraster.h; WaterBottle's and DamagedHelmet's large
- * triangles at 5-12 input texels per pixel) is seen blurred, and fine detail in it counts for
- * nothing: such triangles came out of stage 1 lossless at lambda_min and lost on screen. Where
- * the window shows the triangle at over 1.5 times the limit, E is also taken on up to
- * TEXOPT_TRILOSS_CLOSE_UPS windows at the limit inside the triangle (the same camera frame and
- * pivot; 1,400 pixels each), those whose E under J = 0.25 I is largest among a grid of
+ * the viewport at the zoom limit (uvraster.h; WaterBottle's largest at 5-12 input texels per
+ * pixel) is seen blurred, and fine detail in it counts for nothing: such triangles came out
+ * of stage 1 lossless at lambda_min and lost on screen. Where the window shows the triangle,
+ * at its own texel density, at over 1.5 times the limit, E is also taken on up to
+ * TEXOPT_TRILOSS_CLOSE_UPS windows at the limit inside the triangle (the same camera frame
+ * and pivot; 1,400 pixels each), those whose E under J = 0.25 I is largest among a grid of
  * candidates: E is the maximum over the one-ring's view and the close-ups (BENCHMARKS.md
  * "Close-ups").
  *
@@ -57,7 +57,8 @@ typedef struct texopt_triloss texopt_triloss;
 #define TEXOPT_TRILOSS_CLOSE_UPS 6
 
 /* A loss evaluator for the triangles of `mesh` (built from `model`'s domain mesh->domain),
- * viewport x viewport pixels (paper: 64). model and mesh must outlive it. Fails with
+ * viewport x viewport pixels (paper: 64), with TEXOPT_TRILOSS_CLOSE_UPS evaluators of the same
+ * size inside for the close-ups. model and mesh must outlive it. Fails with
  * TEXOPT_E_UNSUPPORTED when the domain has no decoded image. */
 texopt_status texopt_triloss_create(texopt_triloss **out, const texopt_model *model,
                                     const texopt_mesh *mesh, int viewport, char *err,
