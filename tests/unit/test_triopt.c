@@ -125,6 +125,31 @@ TEST(flat_half_gets_far_fewer_texels_than_detail)
     close_stage(&r);
 }
 
+TEST(text_in_triangles_larger_than_the_window_keeps_its_texels)
+{
+    /* "half" on 512 texels, 2 x 2 quads of 256 texels: the one-ring's window shows each
+     * triangle at 4 or more texels a pixel, where the 1-texel strokes of the right half blur
+     * to grey; the close-ups (triloss.h) see them at the zoom limit. */
+    texopt_triopt_options opt = {.iterations = 10, .threads = 2, .seed = 7};
+    stage_run r;
+    CHECK(run_stage(&r, fixture_grid(2, 512, "half"), &opt, NULL));
+    CHECK_OK(r.status, r.err);
+    /* Quads 1 and 3 lie in the strokes: without close-ups they shrank to area 0.03 (73a56a1),
+     * with them they keep 0.53-0.57. The triangles of quads 0 and 2 away from the strokes
+     * (the second of each) stay at the smallest area. */
+    for (int q = 0; q < 4; q++)
+        for (int k = 0; k < 2; k++) {
+            const texopt_triangle_target *o = &r.out[2 * q + k];
+            double area = o->lambda1 * o->lambda2;
+            CHECK_MSG(o->loss >= 0 && o->loss <= 0.03, "triangle %d: E = %g", 2 * q + k, o->loss);
+            if (q % 2 == 1)
+                CHECK_MSG(area > 0.3, "stroke triangle %d: area %g", 2 * q + k, area);
+            else if (k == 1)
+                CHECK_MSG(area < 0.0101, "flat triangle %d: area %g", 2 * q + k, area);
+        }
+    close_stage(&r);
+}
+
 /* strip_model(16, 256, "flat") with a metallic-roughness image whose channel `channel` holds
  * "half"'s strokes and whose other channels are 0.5 (G roughness, B metallic; R is read by
  * no lit term). */
