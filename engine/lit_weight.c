@@ -133,12 +133,12 @@ static size_t pick_triangle(const double *cum, size_t count, double u)
     return lo;
 }
 
-static int material_of(const texopt_model *m, size_t t)
+static int primitive_of(const texopt_model *m, size_t t)
 {
     for (int p = 0; p < m->primitive_count; p++) {
         const texopt_primitive *prim = &m->primitives[p];
         if (t >= prim->first_triangle && t < prim->first_triangle + prim->triangle_count)
-            return prim->material;
+            return p;
     }
     return -1;
 }
@@ -154,15 +154,14 @@ static void sample_point(const texopt_model *m, size_t t, texopt_rng *rng, point
         u += w[k] * uv[0];
         v += w[k] * uv[1];
     }
-    int material = material_of(m, t);
+    int prim = primitive_of(m, t), material = prim >= 0 ? m->primitives[prim].material : -1;
     const texopt_material *mat = material >= 0 && material < m->material_count ? &m->materials[material] : NULL;
     p->metallic_factor = mat ? mat->metallic_factor : 1.0;
     p->roughness_factor = mat ? mat->roughness_factor : 1.0;
-    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++)
+    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++) {
         p->image[s] = -1;
-    for (int s = 0; mat && s < TEXOPT_SLOT_COUNT; s++) {
-        const texopt_texture_ref *r = &mat->slot[s];
-        if (r->image < 0 || r->image >= m->image_count || r->texcoord != 0 || !m->images[r->image].pixels)
+        const texopt_texture_ref *r = texopt_meshrender_binding(m, prim, (texopt_slot)s);
+        if (!r)
             continue;
         const texopt_image *img = &m->images[r->image];
         float texel[4];
