@@ -370,6 +370,7 @@ static void record_stage1(const texopt_mesh *mesh, const texopt_triangle_target 
     ds->area_scale_mean = n ? area / n : 0;
     ds->within_epsilon_share = n ? (double)within / n : 0;
     ds->evaluations = rep->evaluations;
+    ds->close_up_triangles = rep->close_up_triangles;
 }
 
 static void record_stage2(const texopt_meshwise_report *rep, texopt_domain_stats *ds)

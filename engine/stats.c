@@ -52,6 +52,7 @@ static void add_stage_stats(cJSON *dom, const texopt_domain_stats *d)
         cJSON_AddNumberToObject(s1, "area_scale_mean", d->area_scale_mean);
         cJSON_AddNumberToObject(s1, "within_epsilon_share", d->within_epsilon_share);
         cJSON_AddNumberToObject(s1, "evaluations", (double)d->evaluations);
+        cJSON_AddNumberToObject(s1, "close_up_triangles", (double)d->close_up_triangles);
     }
     if (d->has_stage2) {
         cJSON *s2 = cJSON_AddObjectToObject(dom, "stage2");

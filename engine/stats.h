@@ -43,6 +43,7 @@ typedef struct texopt_domain_stats {
     int has_stage1;
     double loss_mean, loss_max, area_scale_mean, within_epsilon_share;
     long long evaluations;
+    size_t close_up_triangles;
 
     int has_stage2;
     int stage2_iterations;

@@ -72,6 +72,7 @@ typedef struct stage_shared {
     size_t done;
     double sum_loss, sum_area_scale;
     double cpu_seconds; /* summed thread CPU time of the workers */
+    size_t close_up_triangles; /* summed over the workers when they end */
     size_t report_every;
     texopt_status status;
     size_t failed_triangle;
@@ -83,6 +84,7 @@ typedef struct worker {
     texopt_triloss *loss;
     texopt_bo *bo;
     pthread_t thread;
+    size_t close_up_triangles;
 } worker;
 
 /* State of one triangle's search, seen by the objective. */
@@ -473,6 +475,7 @@ static texopt_status optimise_triangle(worker *w, uint32_t t, texopt_triangle_ta
     texopt_status st = texopt_triloss_prepare(w->loss, t, err, err_len);
     if (st != TEXOPT_OK)
         return st;
+    w->close_up_triangles += texopt_triloss_close_up_count(w->loss) > 0;
     triangle_search s = {.loss = w->loss, .epsilon = opt->epsilon, .cut_loss = opt->epsilon,
                          .lambda_min = opt->lambda_min, .area = fabs(sh->mesh->area_texel[t]),
                          .best_f = INFINITY, .status = TEXOPT_OK};
@@ -602,6 +605,7 @@ static void *worker_main(void *arg)
     double cpu = thread_cpu_seconds() - cpu_start;
     pthread_mutex_lock(&sh->lock);
     sh->cpu_seconds += cpu;
+    sh->close_up_triangles += w->close_up_triangles;
     pthread_mutex_unlock(&sh->lock);
     return NULL;
 }
@@ -723,6 +727,7 @@ static void fill_report(const stage_shared *sh, texopt_triopt_report *report)
     }
     report->seconds = now_seconds() - sh->start_seconds;
     report->cpu_seconds = sh->cpu_seconds;
+    report->close_up_triangles = sh->close_up_triangles;
 }
 
 static size_t count_selected(const stage_shared *sh)

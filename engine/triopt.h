@@ -95,6 +95,8 @@ typedef struct texopt_triopt_report {
     size_t optimised;         /* triangles searched */
     size_t skipped;           /* degenerate or outside the stride */
     long long evaluations;    /* loss evaluations, searches and weights */
+    size_t close_up_triangles; /* optimised triangles whose loss also took close-ups
+                                  (triloss.h: larger than one window at the zoom limit) */
     double seconds;           /* wall clock */
     double cpu_seconds;       /* CPU time summed over the worker threads (load-independent) */
     double mean_loss;         /* mean E at the optimum over optimised triangles */

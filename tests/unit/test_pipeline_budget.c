@@ -162,6 +162,30 @@ static void check_refinement(const char *pattern, const char *mr_pattern)
     scratch_free(&s);
 }
 
+/* stats.json's stage1.close_up_triangles (triopt.h): 2 x 2 quads on 512 texels are larger
+ * than stage 1's window at its zoom limit, all 8 triangles (test_triopt); 4 x 4 quads on 64
+ * texels fit it, none. */
+TEST(stage1_statistics_count_the_triangles_with_close_ups)
+{
+    static const struct {
+        int quads, texels;
+        double triangles;
+    } cases[] = {{2, 512, 8}, {4, 64, 0}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        scratch s;
+        CHECK(scratch_init(&s, cases[i].quads, cases[i].texels, "half") == 0);
+        texopt_params p = small_perceptual_job(0.5);
+        p.refinements = -1;
+        char err[512] = "";
+        CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+        cJSON *st = read_json(s.stats);
+        CHECK(st != NULL);
+        CHECK_NEAR(number_at(first_domain(st), "stage1", "close_up_triangles"), cases[i].triangles, 0);
+        cJSON_Delete(st);
+        scratch_free(&s);
+    }
+}
+
 TEST(refinement_moves_texels_to_the_detailed_half)
 {
     check_refinement("half", NULL);

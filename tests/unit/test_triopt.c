@@ -122,6 +122,8 @@ TEST(flat_half_gets_far_fewer_texels_than_detail)
     CHECK_MSG(detail > 0.2, "detail %g", detail);
     CHECK_EQ_INT(r.report.optimised, 32);
     CHECK(r.report.evaluations > 8 * 20);
+    /* 16-texel quads fit one window at the zoom limit many times over. */
+    CHECK_EQ_INT(r.report.close_up_triangles, 0);
     close_stage(&r);
 }
 
@@ -147,6 +149,10 @@ TEST(text_in_triangles_larger_than_the_window_keeps_its_texels)
             else if (k == 1)
                 CHECK_MSG(area < 0.0101, "flat triangle %d: area %g", 2 * q + k, area);
         }
+    /* Every triangle's legs span 256 texels, over three windows at the limit (80 texels); a
+     * window of the flat ones near their edge shows the strokes next door, so each keeps
+     * close-ups. */
+    CHECK_EQ_INT(r.report.close_up_triangles, 8);
     close_stage(&r);
 }
 
