@@ -96,7 +96,8 @@ typedef struct texopt_triopt_report {
     size_t skipped;           /* degenerate or outside the stride */
     long long evaluations;    /* loss evaluations, searches and weights */
     size_t close_up_triangles; /* optimised triangles whose loss also took close-ups
-                                  (triloss.h: larger than one window at the zoom limit) */
+                                  (triloss.h: seen at over 1.5 x the zoom limit, and a
+                                  probe shrink shows a loss in some window inside) */
     double seconds;           /* wall clock */
     double cpu_seconds;       /* CPU time summed over the worker threads (load-independent) */
     double mean_loss;         /* mean E at the optimum over optimised triangles */
