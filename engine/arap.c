@@ -18,9 +18,9 @@ static int counted(const texopt_mesh *mesh, size_t t)
 static int plane_edges(const texopt_mesh *mesh, size_t t, double mirror, double P[2][2])
 {
     const uint32_t *v = mesh->triangle + 3 * t;
-    const double *a = mesh->position + 3 * (size_t)mesh->point_of[v[0]];
-    const double *b = mesh->position + 3 * (size_t)mesh->point_of[v[1]];
-    const double *c = mesh->position + 3 * (size_t)mesh->point_of[v[2]];
+    const double *a = texopt_mesh_vertex_point(mesh, v[0]);
+    const double *b = texopt_mesh_vertex_point(mesh, v[1]);
+    const double *c = texopt_mesh_vertex_point(mesh, v[2]);
     double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
     double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
     double l1 = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);

@@ -8,11 +8,6 @@
 
 #include <math.h>
 
-static const double *point_of_vertex(const texopt_mesh *mesh, uint32_t vertex)
-{
-    return mesh->position + 3 * (size_t)mesh->point_of[vertex];
-}
-
 static int is_counted(const texopt_mesh *mesh, size_t t)
 {
     return !(mesh->flags[t] & (TEXOPT_TRI_DEGENERATE_3D | TEXOPT_TRI_DEGENERATE_UV));
@@ -51,9 +46,9 @@ size_t texopt_count_flipped(const texopt_mesh *mesh, const double *texel)
  * first edge along x. Returns the 2x2 matrix of edge columns [e1 e2] in that frame. */
 static void planar_edges(const texopt_mesh *mesh, const uint32_t *tri, double P[2][2])
 {
-    const double *a = point_of_vertex(mesh, tri[0]);
-    const double *b = point_of_vertex(mesh, tri[1]);
-    const double *c = point_of_vertex(mesh, tri[2]);
+    const double *a = texopt_mesh_vertex_point(mesh, tri[0]);
+    const double *b = texopt_mesh_vertex_point(mesh, tri[1]);
+    const double *c = texopt_mesh_vertex_point(mesh, tri[2]);
     double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
     double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
     double len1 = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);

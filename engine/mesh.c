@@ -318,9 +318,9 @@ static int is_degenerate(double doubled_area, double longest_edge_sq)
 static void measure_triangle(texopt_mesh *mesh, size_t t)
 {
     const uint32_t *v = mesh->triangle + 3 * t;
-    const double *p0 = mesh->position + 3 * (size_t)mesh->point_of[v[0]];
-    const double *p1 = mesh->position + 3 * (size_t)mesh->point_of[v[1]];
-    const double *p2 = mesh->position + 3 * (size_t)mesh->point_of[v[2]];
+    const double *p0 = texopt_mesh_vertex_point(mesh, v[0]);
+    const double *p1 = texopt_mesh_vertex_point(mesh, v[1]);
+    const double *p2 = texopt_mesh_vertex_point(mesh, v[2]);
     double e1[3], e2[3], e3[3];
     for (int c = 0; c < 3; c++) {
         e1[c] = p1[c] - p0[c];

@@ -84,6 +84,12 @@ typedef struct texopt_mesh {
     uint32_t *point_triangle;       /* triangles around each point (CSR) */
 } texopt_mesh;
 
+/* The welded 3D point (3 doubles, world space) of mesh vertex `vertex`. */
+static inline const double *texopt_mesh_vertex_point(const texopt_mesh *mesh, uint32_t vertex)
+{
+    return mesh->position + 3 * (size_t)mesh->point_of[vertex];
+}
+
 /* Builds the mesh of domain `domain` of `model`. On success the caller owns *out and frees it
  * with texopt_mesh_destroy. */
 texopt_status texopt_mesh_create(texopt_mesh **out, const texopt_model *model, int domain,

@@ -456,9 +456,9 @@ static texopt_status prepare_close_ups(texopt_triloss *tl, uint32_t triangle, ch
         return TEXOPT_OK;
     double side = r->max_zoom * r->size / density, centres[2 * CLOSE_UP_CANDIDATES], score[CLOSE_UP_CANDIDATES];
     const uint32_t *tri = mesh->triangle + 3 * (size_t)triangle;
-    int n = (int)texopt_camera_close_up_centres(&r->camera, mesh->position + 3 * (size_t)mesh->point_of[tri[0]],
-                                                mesh->position + 3 * (size_t)mesh->point_of[tri[1]],
-                                                mesh->position + 3 * (size_t)mesh->point_of[tri[2]], side,
+    int n = (int)texopt_camera_close_up_centres(&r->camera, texopt_mesh_vertex_point(mesh, tri[0]),
+                                                texopt_mesh_vertex_point(mesh, tri[1]),
+                                                texopt_mesh_vertex_point(mesh, tri[2]), side,
                                                 CLOSE_UP_CANDIDATES, centres);
     const double probe[4] = {CLOSE_UP_PROBE, 0.0, 0.0, CLOSE_UP_PROBE};
     texopt_status st = TEXOPT_OK;

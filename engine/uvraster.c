@@ -49,11 +49,6 @@ void texopt_uvraster_destroy(texopt_uvraster *raster)
     free(raster);
 }
 
-static const double *point_of_vertex(const texopt_mesh *mesh, uint32_t vertex)
-{
-    return mesh->position + 3 * (size_t)mesh->point_of[vertex];
-}
-
 /* Fetches the one-ring into raster->ring, growing the scratch when a larger ring appears. */
 static texopt_status gather_one_ring(texopt_uvraster *r, const texopt_mesh *mesh,
                                      uint32_t triangle, size_t *count, char *err,
@@ -95,7 +90,7 @@ static void rasterise_face(texopt_uvraster *r, const texopt_mesh *mesh, uint32_t
     double s[3][2], z[3], t[3][2];
     for (int k = 0; k < 3; k++) {
         uint32_t v = mesh->triangle[3 * (size_t)face + k];
-        texopt_camera_project(&r->camera, point_of_vertex(mesh, v), s[k], &z[k]);
+        texopt_camera_project(&r->camera, texopt_mesh_vertex_point(mesh, v), s[k], &z[k]);
         t[k][0] = mesh->texel[2 * (size_t)v];
         t[k][1] = mesh->texel[2 * (size_t)v + 1];
     }
@@ -237,7 +232,7 @@ static void keep_nearest_pixels(texopt_uvraster *r, const texopt_mesh *mesh, uin
     const uint32_t *tri = mesh->triangle + 3 * (size_t)triangle;
     double s[3][2], z;
     for (int k = 0; k < 3; k++)
-        texopt_camera_project(&r->camera, point_of_vertex(mesh, tri[k]), s[k], &z);
+        texopt_camera_project(&r->camera, texopt_mesh_vertex_point(mesh, tri[k]), s[k], &z);
     size_t px = (size_t)r->size * (size_t)r->size, n = 0;
     for (size_t q = 0; q < px; q++) {
         if (r->face[q] < 0)
@@ -269,11 +264,11 @@ static texopt_status ring_camera(texopt_uvraster *raster, const texopt_mesh *mes
     for (size_t f = 0; f < *n; f++)
         for (int k = 0; k < 3; k++)
             memcpy(raster->ring_points + 9 * f + 3 * k,
-                   point_of_vertex(mesh, mesh->triangle[3 * (size_t)raster->ring[f] + k]),
+                   texopt_mesh_vertex_point(mesh, mesh->triangle[3 * (size_t)raster->ring[f] + k]),
                    3 * sizeof(double));
     const uint32_t *tri = mesh->triangle + 3 * (size_t)triangle;
-    st = texopt_camera_create(&raster->camera, point_of_vertex(mesh, tri[0]),
-                              point_of_vertex(mesh, tri[1]), point_of_vertex(mesh, tri[2]),
+    st = texopt_camera_create(&raster->camera, texopt_mesh_vertex_point(mesh, tri[0]),
+                              texopt_mesh_vertex_point(mesh, tri[1]), texopt_mesh_vertex_point(mesh, tri[2]),
                               raster->ring_points, 3 * *n, raster->size, err, err_len);
     if (st != TEXOPT_OK)
         return texopt_fail(err, err_len, st, "uvraster: triangle %u is degenerate in 3D",
@@ -297,8 +292,8 @@ texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh 
         return st;
     const uint32_t *tri = mesh->triangle + 3 * (size_t)triangle;
     double paper_side = raster->camera.window_side;
-    texopt_camera_limit_zoom(&raster->camera, point_of_vertex(mesh, tri[0]),
-                             point_of_vertex(mesh, tri[1]), point_of_vertex(mesh, tri[2]),
+    texopt_camera_limit_zoom(&raster->camera, texopt_mesh_vertex_point(mesh, tri[0]),
+                             texopt_mesh_vertex_point(mesh, tri[1]), texopt_mesh_vertex_point(mesh, tri[2]),
                              ring_texels_per_unit(raster, mesh, n), raster->max_zoom);
     rasterise_ring(raster, mesh, n);
     if (raster->camera.window_side < paper_side)
