@@ -173,6 +173,7 @@ typedef struct eval_job {
     texopt_evaluation *out; /* per candidate */
     double *triangle_error_sum; /* threads x triangle_count, NULL when not asked */
     size_t *triangle_error_count;
+    int triangle_error_edges; /* texopt_evaluate_options' */
     texopt_status status;
     char err[256];
     pthread_mutex_t lock; /* guards status/err and the monitor callback */
@@ -249,8 +250,19 @@ typedef struct view_buffers {
     texopt_gmsd_reference *prepared;
     float *luma_ref, *luma_cand;
     float *scratch; /* TEXOPT_LIT_SCRATCH_FLOATS per pixel when lit, NULL otherwise */
+    float *similarity; /* per pixel, with triangle_error_edges; NULL otherwise */
     unsigned char *mask;
 } view_buffers;
+
+/* What one pixel adds to its triangle's error (texopt_evaluate_options.triangle_error_edges);
+ * negative: nothing (the pixel is not counted). */
+static double pixel_error(const view_buffers *b, const float *luma_ref, size_t i)
+{
+    double difference = fabs((double)luma_ref[i] - b->luma_cand[i]);
+    if (!b->similarity)
+        return difference;
+    return b->similarity[i] < 0 ? -1.0 : sqrt(difference * (1.0 - b->similarity[i]));
+}
 
 /* Adds one candidate's per-pixel luma error of a view to the worker's triangle sums. */
 static void account_triangle_error(eval_job *job, int worker, const texopt_raster *raster, const float *luma_ref,
@@ -259,11 +271,15 @@ static void account_triangle_error(eval_job *job, int worker, const texopt_raste
     size_t n = (size_t)job->side * (size_t)job->side, tc = job->reference->triangle_count;
     double *sum = job->triangle_error_sum + (size_t)worker * tc;
     size_t *cnt = job->triangle_error_count + (size_t)worker * tc;
-    for (size_t i = 0; i < n; i++)
-        if (raster->triangle[i] >= 0) {
-            sum[raster->triangle[i]] += fabs((double)luma_ref[i] - b->luma_cand[i]);
+    if (b->similarity)
+        texopt_gmsd_similarity_map(b->ws, b->prepared, b->similarity);
+    for (size_t i = 0; i < n; i++) {
+        double e = raster->triangle[i] >= 0 ? pixel_error(b, luma_ref, i) : -1.0;
+        if (e >= 0) {
+            sum[raster->triangle[i]] += e;
             cnt[raster->triangle[i]]++;
         }
+    }
 }
 
 /* One model's luma of a raster: the evaluated slot, or lit. */
@@ -337,7 +353,10 @@ static void *eval_worker_run(void *arg)
     b.luma_cand = malloc(n * sizeof(float));
     b.mask = malloc(n);
     b.scratch = job->lit ? malloc(TEXOPT_LIT_SCRATCH_FLOATS * n * sizeof(float)) : NULL;
-    if (!b.ws || !b.prepared || !b.luma_ref || !b.luma_cand || !b.mask || (job->lit && !b.scratch)) {
+    int edges = job->triangle_error_sum && job->triangle_error_edges;
+    b.similarity = edges ? malloc(n * sizeof(float)) : NULL;
+    if (!b.ws || !b.prepared || !b.luma_ref || !b.luma_cand || !b.mask || (job->lit && !b.scratch) ||
+        (edges && !b.similarity)) {
         job_fail(job, TEXOPT_E_NOMEM, "no memory for the evaluation views");
     } else {
         char msg[256];
@@ -366,6 +385,7 @@ static void *eval_worker_run(void *arg)
     free(b.luma_cand);
     free(b.mask);
     free(b.scratch);
+    free(b.similarity);
     return NULL;
 }
 
@@ -610,6 +630,7 @@ static texopt_status run_evaluation(const texopt_model *reference, const texopt_
     job.view_count = view_count;
     job.side = side;
     job.slot = opt->slot;
+    job.triangle_error_edges = opt->triangle_error_edges;
     job.threads = opt->threads <= 0 ? 1 : (opt->threads > view_count ? view_count : opt->threads);
     job.monitor = opt->monitor;
     job.cached_luma = kept ? kept->luma : NULL;

@@ -71,6 +71,13 @@ typedef struct texopt_evaluate_options {
      * absolute luma difference over the pixels it covers in all views (0 where never seen).
      * The report colours the UV layout by it. */
     double *triangle_error;
+    /* With triangle_error: non-zero makes a pixel add sqrt(|luma difference| (1 - GMS)) over
+     * the pixels GMSD counts (gmsd.h texopt_gmsd_similarity_map) instead of the difference:
+     * a pixel then counts as much as its value and its gradient are both wrong, so a blurred
+     * edge weighs as GMSD weighs it and a faint shift on a flat region hardly at all. The
+     * closed-loop refinement reads this (pipeline.c refine_kept); a triangle only seen where
+     * GMSD does not count (a few pixels from the silhouette, gmsd.h's mask rule) gets 0. */
+    int triangle_error_edges;
     const texopt_monitor *monitor; /* stage "evaluate", checked between views; may be NULL */
     /* Which cameras (meshrender.h): 0, the dodecahedron's 20, is q as the paper and the
      * benchmark define it; the icosahedron's 12 are for tuning a layout on other views. */

@@ -269,6 +269,22 @@ double texopt_gmsd_against(texopt_gmsd_workspace *ws, const texopt_gmsd_referenc
     return sample_deviation(ws->gms, r->count);
 }
 
+void texopt_gmsd_similarity_map(const texopt_gmsd_workspace *ws, const texopt_gmsd_reference *r, float *map)
+{
+    size_t n = (size_t)r->width * (size_t)r->height;
+    for (size_t i = 0; i < n; i++)
+        map[i] = -1.0f;
+    int framed_width = (r->width + 1) / 2 + 2;
+    for (size_t k = 0; k < r->count; k++) {
+        /* counted[k] is the offset of the upper-left Prewitt neighbour, which in the framed
+         * image is the downsampled pixel's own (row, column) position. */
+        int i = r->counted[k] / framed_width, j = r->counted[k] % framed_width;
+        for (int y = 2 * i; y < 2 * i + 2 && y < r->height; y++)
+            for (int x = 2 * j; x < 2 * j + 2 && x < r->width; x++)
+                map[(size_t)y * (size_t)r->width + (size_t)x] = (float)ws->gms[k];
+    }
+}
+
 double texopt_gmsd(const float *reference, const float *distorted, const unsigned char *mask,
                    int width, int height)
 {

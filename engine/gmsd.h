@@ -60,6 +60,12 @@ int texopt_gmsd_reference_set(texopt_gmsd_reference *ref, const float *reference
 double texopt_gmsd_against(texopt_gmsd_workspace *ws, const texopt_gmsd_reference *ref,
                            const float *distorted);
 
+/* Where the last texopt_gmsd_against(ws, ref, ...) found the gradients alike: per source
+ * pixel (ref's width x height, row-major) the GMS value of the downsampled pixel it falls
+ * in, or -1 where that pixel did not enter the deviation. GMSD is the deviation of these
+ * values over the downsampled pixels (each appears in up to 2 x 2 source pixels). */
+void texopt_gmsd_similarity_map(const texopt_gmsd_workspace *ws, const texopt_gmsd_reference *ref, float *map);
+
 /* The same with a temporary workspace (allocates; NaN also when out of memory). */
 double texopt_gmsd(const float *reference, const float *distorted, const unsigned char *mask,
                    int width, int height);

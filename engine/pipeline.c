@@ -1090,6 +1090,7 @@ static texopt_status evaluate_outputs_on(const texopt_model *model, const job_ou
     }
     texopt_evaluate_options opt = evaluation_options(p, cameras, lit, jm);
     opt.triangle_error = triangle_error;
+    opt.triangle_error_edges = 1; /* the refinement's measure (refine_kept) */
     opt.reference_views = reference_views;
     texopt_status st = texopt_evaluate_many(model, shown, n, &opt, ev, err, err_len);
     free(images);
@@ -1316,7 +1317,9 @@ static texopt_status draft_candidate_images(texopt_job *job, const texopt_params
 
 /* Closed-loop refinement of the kept perceptual candidate, the paper's principle (perceptual
  * loss on screen) applied to the whole mesh: render the layout against the input, take each
- * triangle's on-screen error, move texels from the triangles shown right to those shown
+ * triangle's on-screen error (evaluate.h triangle_error_edges: value and gradient both wrong,
+ * as GMSD sees an edge; the plain luma difference measured worse on all seven models checked,
+ * BENCHMARKS.md "Quality"), move texels from the triangles shown right to those shown
  * wrong (reallocate_domains), solve, pack and bake again, and keep the new layout when its
  * q is lower; a round that is not lower is retried from the best layout with half the step
  * (gamma), as a backtracking line search. Errors and q are measured on the icosahedron's

@@ -155,6 +155,61 @@ TEST(thread_count_does_not_change_the_result)
     texopt_model_destroy(cand);
 }
 
+/* Mean per-triangle error over the triangles whose centroid's u lies in [lo, hi). */
+static double mean_error_between(const texopt_model *m, const double *tri_err, double lo, double hi)
+{
+    double sum = 0;
+    size_t n = 0;
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        const uint32_t *c = m->triangles + 3 * t;
+        double u = (m->uvs[2 * c[0]] + m->uvs[2 * c[1]] + m->uvs[2 * c[2]]) / 3;
+        if (u >= lo && u < hi) {
+            sum += tri_err[t];
+            n++;
+        }
+    }
+    return n ? sum / (double)n : NAN;
+}
+
+/* The edge measure (triangle_error_edges) sees blurred detail and not a brightness shift of
+ * a flat region, which the absolute difference sees as well. */
+TEST(edge_error_weighs_blurred_detail_and_not_a_flat_shift)
+{
+    texopt_model *ref = detailed_sphere(), *cand = detailed_sphere();
+    CHECK(ref && cand);
+    CHECK(shrink_texture(cand, 0, 64) == 0);
+    texopt_image *img = &cand->images[0];
+    for (int y = 0; y < img->height; y++)
+        for (int x = 1; x < img->width / 2 - 1; x++) /* the flat half, brighter */
+            for (int k = 0; k < 3 && k < img->channels; k++)
+                img->pixels[((size_t)y * img->width + x) * img->channels + k] += 0.15f;
+    double *absolute = calloc(ref->triangle_count, sizeof(double));
+    double *edges = calloc(ref->triangle_count, sizeof(double));
+    CHECK(absolute && edges);
+    char err[256] = "";
+    texopt_evaluate_options opt = {.resolution = 200, .threads = 2, .triangle_error = absolute};
+    texopt_evaluation a, b;
+    CHECK_OK(texopt_evaluate(ref, cand, &opt, &a, err, sizeof err), err);
+    opt.triangle_error = edges;
+    opt.triangle_error_edges = 1;
+    CHECK_OK(texopt_evaluate(ref, cand, &opt, &b, err, sizeof err), err);
+    CHECK(a.q == b.q); /* the measure of the triangles does not change q */
+    double flat_abs = mean_error_between(ref, absolute, 0.1, 0.4);
+    double flat_edge = mean_error_between(ref, edges, 0.1, 0.4);
+    double detail_abs = mean_error_between(ref, absolute, 0.6, 0.9);
+    double detail_edge = mean_error_between(ref, edges, 0.6, 0.9);
+    CHECK_MSG(flat_abs > 0.05, "flat, absolute %g", flat_abs);
+    CHECK_MSG(flat_edge < 0.01, "flat, edges %g", flat_edge);
+    CHECK_MSG(detail_edge > 5 * flat_edge && detail_edge > 0.05, "detail, edges %g", detail_edge);
+    CHECK_MSG(detail_abs > 0.02, "detail, absolute %g", detail_abs);
+    for (size_t t = 0; t < ref->triangle_count; t++)
+        CHECK(edges[t] >= 0 && isfinite(edges[t]));
+    free(absolute);
+    free(edges);
+    texopt_model_destroy(ref);
+    texopt_model_destroy(cand);
+}
+
 /* GMSD of one view computed here from the renderer's pieces with the plain (unprepared)
  * GMSD, as an independent check of the evaluation's per-view value. */
 static double direct_view_gmsd(const texopt_model *ref, const texopt_model *cand, int view, int side)

@@ -224,3 +224,54 @@ TEST(prepared_reference_equals_gmsd_ws_exactly)
     texopt_gmsd_reference_destroy(NULL);
     texopt_gmsd_workspace_destroy(ws);
 }
+
+/* The similarity map holds the values GMSD deviates over: one per downsampled pixel that
+ * counts, repeated over its 2 x 2 source pixels, -1 elsewhere; 1 where nothing changed. */
+TEST(similarity_map_holds_the_counted_gms_values)
+{
+    enum { W = 41, H = 37 };
+    float a[W * H], b[W * H], map[W * H];
+    unsigned char mask[W * H];
+    fill_pattern(a, W, H, 21);
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            mask[y * W + x] = (unsigned char)((x - 19) * (x - 19) + (y - 17) * (y - 17) < 16 * 16);
+            b[y * W + x] = x < 16 ? a[y * W + x] * 0.5f : a[y * W + x]; /* only the left part changes */
+        }
+    texopt_gmsd_workspace *ws = texopt_gmsd_workspace_create(W, H);
+    texopt_gmsd_reference *ref = texopt_gmsd_reference_create(W, H);
+    CHECK(ws != NULL && ref != NULL);
+    CHECK(texopt_gmsd_reference_set(ref, a, mask, W, H));
+    double g = texopt_gmsd_against(ws, ref, b);
+    texopt_gmsd_similarity_map(ws, ref, map);
+    double values[(W + 1) / 2 * ((H + 1) / 2)], sum = 0;
+    size_t n = 0, changed = 0;
+    for (int i = 0; 2 * i < H; i++)
+        for (int j = 0; 2 * j < W; j++) {
+            float v = map[2 * i * W + 2 * j];
+            for (int y = 2 * i; y < 2 * i + 2 && y < H; y++)
+                for (int x = 2 * j; x < 2 * j + 2 && x < W; x++) {
+                    CHECK(map[y * W + x] == v);
+                    CHECK(mask[y * W + x] || v == -1.0f); /* an uncovered pixel never counts */
+                }
+            if (v == -1.0f)
+                continue;
+            CHECK(v > 0.0f && v <= 1.0f + 1e-6f);
+            if (2 * j >= 16 + 4) /* the Prewitt support does not reach the change */
+                CHECK_NEAR(v, 1.0, 1e-6);
+            changed += v < 0.99f;
+            values[n++] = v;
+            sum += v;
+        }
+    CHECK(n > 100 && changed > 20);
+    double mean = sum / (double)n, ss = 0;
+    for (size_t k = 0; k < n; k++)
+        ss += (values[k] - mean) * (values[k] - mean);
+    CHECK_NEAR(sqrt(ss / (double)(n - 1)), g, 1e-6);
+    CHECK(texopt_gmsd_against(ws, ref, a) == 0.0);
+    texopt_gmsd_similarity_map(ws, ref, map);
+    for (int k = 0; k < W * H; k++)
+        CHECK(map[k] == -1.0f || map[k] == 1.0f);
+    texopt_gmsd_reference_destroy(ref);
+    texopt_gmsd_workspace_destroy(ws);
+}
