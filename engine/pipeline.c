@@ -1090,7 +1090,9 @@ static texopt_status evaluate_outputs_on(const texopt_model *model, const job_ou
     }
     texopt_evaluate_options opt = evaluation_options(p, cameras, lit, jm);
     opt.triangle_error = triangle_error;
-    opt.triangle_error_edges = 1; /* the refinement's measure (refine_kept) */
+    /* The refinement's measure (refine_kept); the lit refinement keeps the luma difference
+     * it was measured with (the edge measure was measured on base colour only). */
+    opt.triangle_error_edges = !lit;
     opt.reference_views = reference_views;
     texopt_status st = texopt_evaluate_many(model, shown, n, &opt, ev, err, err_len);
     free(images);
