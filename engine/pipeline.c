@@ -1320,18 +1320,19 @@ static texopt_status draft_candidate_images(texopt_job *job, const texopt_params
 /* Closed-loop refinement of the kept perceptual candidate, the paper's principle (perceptual
  * loss on screen) applied to the whole mesh: render the layout against the input, take each
  * triangle's on-screen error (evaluate.h triangle_error_edges: value and gradient both wrong,
- * as GMSD sees an edge; the plain luma difference measured worse on all seven models checked,
- * BENCHMARKS.md "Quality"), move texels from the triangles shown right to those shown
- * wrong (reallocate_domains), solve, pack and bake again, and keep the new layout when its
- * q is lower; a round that is not lower is retried from the best layout with half the step
- * (gamma), as a backtracking line search. Errors and q are measured on the icosahedron's
- * 12 cameras, not on the dodecahedron's 20 that define q (meshrender.h): the layout is not
- * tuned on the views it is graded on. With p->refine_lit, and when the material has maps a
- * light reads besides base colour, the screen is lit (evaluate.h `lit`: every map under one
- * light), else base colour's: on a glossy multi-map material what the light shows of the
- * normal and roughness maps is what a viewer sees, and base colour's error alone moves
- * texels away from it; it costs base colour's q and over twice the rounds' time
- * (BENCHMARKS.md "Specular lit loss", "Cheaper lit refinement"), hence not the default.
+ * as GMSD sees an edge; base-colour q 0.85-0.96x that of the plain luma difference on seven
+ * sample models and level on Duck, BENCHMARKS.md "The refinement steered by edges"), move
+ * texels from the triangles shown right to those shown wrong (reallocate_domains), solve, pack
+ * and bake again, and keep the new layout when its q is lower; a round that is not lower is
+ * retried from the best layout with half the step (gamma), as a backtracking line search.
+ * Errors and q are measured on the icosahedron's 12 cameras, not on the dodecahedron's 20 that
+ * define q (meshrender.h): the layout is not tuned on the views it is graded on. With
+ * p->refine_lit, and when the material has maps a light reads besides base colour, the screen
+ * is lit (with the luma difference per triangle, the measure it was tuned with; evaluate.h
+ * `lit`: every map under one light), else base colour's: on a glossy multi-map material what
+ * the light shows of the normal and roughness maps is what a viewer sees, and base colour's
+ * error alone moves texels away from it; it costs base colour's q and over twice the rounds'
+ * time (BENCHMARKS.md "Specular lit loss", "Cheaper lit refinement"), hence not the default.
  * Lit rounds read the input's views shaded once (texopt_evaluate_reference_create) and
  * draft the maps besides base colour and normal (BAKE_DRAFT_REST), the kept layout's too,
  * so that every layout is judged with the same bake; the saved layout's drafts are baked
