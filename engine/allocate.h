@@ -66,7 +66,7 @@ texopt_status texopt_allocate_targets(const texopt_mesh *mesh, const texopt_tria
 /* Closed-loop reallocation from what the screen shows (Sun et al. 2022's principle, the
  * perceptual loss on screen, applied to the whole mesh; pipeline.c iterates it). error[t]
  * (mesh->triangle_count entries, >= 0) is triangle t's on-screen error under the layout that
- * the targets in produced (evaluate.h triangle_error; the refinement reads
+ * the targets in produced (evaluate.h triangle_error; the base-colour refinement reads
  * its triangle_error_edges measure). Each triangle's target area is
  * multiplied by ((e_t + f) / (e_mean + f))^gamma, clamped to [step_min, step_max], where
  * e_mean is the mean error weighted by 3D area (pixels seen) and f = 0.05 e_mean keeps an
