@@ -83,9 +83,14 @@ static void clear_buffer(texopt_uvraster *r)
     r->covered = 0;
 }
 
+/* How rasterise_face meets what is already drawn. */
+typedef enum { FACE_DEPTH_TESTED, FACE_ON_TOP, FACE_COUNT_ONLY } face_mode;
+
 /* Rasterises one face: every pixel centre inside its projection (edges inclusive) whose depth
- * is strictly closer than what is there takes the face's interpolated texel position. */
-static void rasterise_face(texopt_uvraster *r, const texopt_mesh *mesh, uint32_t face)
+ * is strictly closer than what is there (FACE_ON_TOP: whatever is there) takes the face's
+ * interpolated texel position; FACE_COUNT_ONLY draws nothing. Returns the pixel centres
+ * inside. */
+static size_t rasterise_face(texopt_uvraster *r, const texopt_mesh *mesh, uint32_t face, face_mode mode)
 {
     double s[3][2], z[3], t[3][2];
     for (int k = 0; k < 3; k++) {
@@ -98,7 +103,7 @@ static void rasterise_face(texopt_uvraster *r, const texopt_mesh *mesh, uint32_t
                   (s[2][0] - s[0][0]) * (s[1][1] - s[0][1]);
     /* Seen edge-on it covers no pixel centre in a stable way; its neighbours cover the area. */
     if (!(fabs(area) > 1e-12))
-        return;
+        return 0;
     double inv = 1.0 / area;
     double xmin = fmin(s[0][0], fmin(s[1][0], s[2][0]));
     double xmax = fmax(s[0][0], fmax(s[1][0], s[2][0]));
@@ -107,6 +112,7 @@ static void rasterise_face(texopt_uvraster *r, const texopt_mesh *mesh, uint32_t
     int i0 = (int)fmax(0.0, ceil(xmin - 0.5)), i1 = (int)fmin(r->size - 1.0, floor(xmax - 0.5));
     int j0 = (int)fmax(0.0, ceil(ymin - 0.5)), j1 = (int)fmin(r->size - 1.0, floor(ymax - 0.5));
     const double tol = -1e-9;
+    size_t inside = 0;
     for (int j = j0; j <= j1; j++) {
         double y = j + 0.5;
         for (int i = i0; i <= i1; i++) {
@@ -116,9 +122,12 @@ static void rasterise_face(texopt_uvraster *r, const texopt_mesh *mesh, uint32_t
             double w2 = 1.0 - w0 - w1;
             if (w0 < tol || w1 < tol || w2 < tol)
                 continue;
+            inside++;
+            if (mode == FACE_COUNT_ONLY)
+                continue;
             size_t q = (size_t)j * (size_t)r->size + (size_t)i;
             double depth = w0 * z[0] + w1 * z[1] + w2 * z[2];
-            if (!(depth > r->depth[q]))
+            if (mode == FACE_DEPTH_TESTED && !(depth > r->depth[q]))
                 continue;
             if (r->face[q] < 0)
                 r->covered++;
@@ -128,6 +137,7 @@ static void rasterise_face(texopt_uvraster *r, const texopt_mesh *mesh, uint32_t
             r->texel[2 * q + 1] = w0 * t[0][1] + w1 * t[1][1] + w2 * t[2][1];
         }
     }
+    return inside;
 }
 
 /* Texels per world unit over the one-ring: its texel area over its 3D area. */
@@ -276,11 +286,26 @@ static texopt_status ring_camera(texopt_uvraster *raster, const texopt_mesh *mes
     return TEXOPT_OK;
 }
 
-static void rasterise_ring(texopt_uvraster *raster, const texopt_mesh *mesh, size_t n)
+static size_t pixels_of_face(const texopt_uvraster *r, uint32_t face)
+{
+    size_t n = 0, all = (size_t)r->size * (size_t)r->size;
+    for (size_t q = 0; q < all; q++)
+        n += r->face[q] == (int32_t)face;
+    return n;
+}
+
+/* The one-ring by depth, then the triangle itself over it where ring faces in front hide more
+ * than TEXOPT_UVRASTER_HIDDEN_SHARE of its pixels: stage 1 judges the triangle, and a bulge
+ * seen from behind its own face (Duck's pupils: 73 of a triangle's 93 pixels) would leave it
+ * judged on what it hardly shows, so it could shrink to lambda_min unseen. */
+static void rasterise_ring(texopt_uvraster *raster, const texopt_mesh *mesh, size_t n, uint32_t triangle)
 {
     clear_buffer(raster);
     for (size_t f = 0; f < n; f++)
-        rasterise_face(raster, mesh, raster->ring[f]);
+        rasterise_face(raster, mesh, raster->ring[f], FACE_DEPTH_TESTED);
+    size_t inside = rasterise_face(raster, mesh, triangle, FACE_COUNT_ONLY);
+    if ((double)pixels_of_face(raster, triangle) < (1.0 - TEXOPT_UVRASTER_HIDDEN_SHARE) * (double)inside)
+        rasterise_face(raster, mesh, triangle, FACE_ON_TOP);
 }
 
 texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh *mesh,
@@ -295,7 +320,7 @@ texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh 
     texopt_camera_limit_zoom(&raster->camera, texopt_mesh_vertex_point(mesh, tri[0]),
                              texopt_mesh_vertex_point(mesh, tri[1]), texopt_mesh_vertex_point(mesh, tri[2]),
                              ring_texels_per_unit(raster, mesh, n), raster->max_zoom);
-    rasterise_ring(raster, mesh, n);
+    rasterise_ring(raster, mesh, n, triangle);
     if (raster->camera.window_side < paper_side)
         keep_nearest_pixels(raster, mesh, triangle);
     return TEXOPT_OK;
@@ -314,7 +339,7 @@ texopt_status texopt_uvraster_render_window(texopt_uvraster *raster, const texop
     raster->camera.window_x0 = window[0];
     raster->camera.window_y0 = window[1];
     raster->camera.window_side = window[2];
-    rasterise_ring(raster, mesh, n);
+    rasterise_ring(raster, mesh, n, triangle);
     keep_pixels_nearest_centre(raster);
     return TEXOPT_OK;
 }

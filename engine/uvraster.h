@@ -9,9 +9,10 @@
  *
  * The rasteriser is plain C (pixel centres, barycentric coverage, depth test with the point
  * closest to the camera winning, ties to the earlier face of the one-ring with the triangle
- * itself first). Each face interpolates its own UV vertices, so a UV seam inside the one-ring
- * shows each side's own texels. BENCHMARKS.md, "Stage 1", compares it with an OSMesa
- * float-target render of the same buffer. */
+ * itself first; then the triangle drawn again over its ring when ring faces in front hide
+ * more than TEXOPT_UVRASTER_HIDDEN_SHARE of its pixels). Each face interpolates its own UV
+ * vertices, so a UV seam inside the one-ring shows each side's own texels. BENCHMARKS.md,
+ * "Stage 1", compares it with an OSMesa float-target render of the same buffer. */
 #ifndef TEXOPT_UVRASTER_H
 #define TEXOPT_UVRASTER_H
 
@@ -31,6 +32,10 @@
  * window shows at or under the limit are rasterised as before, whole. BENCHMARKS.md,
  * "Stage 1", for the value. */
 #define TEXOPT_UVRASTER_MAX_COVERED 1400
+
+/* The share of a triangle's pixels that ring faces in front of it may hide before it is drawn
+ * over them (a bulge seen from behind its face; BENCHMARKS.md "The triangle its ring hides"). */
+#define TEXOPT_UVRASTER_HIDDEN_SHARE 0.2
 
 typedef struct texopt_uvraster {
     int size;           /* viewport side */

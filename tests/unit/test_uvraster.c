@@ -109,18 +109,26 @@ TEST(uvraster_each_face_uses_its_own_uvs_across_a_seam)
     texopt_model_destroy(model);
 }
 
-TEST(uvraster_closest_face_wins)
+/* Triangle 0 in z = 0 and two faces sharing its corner 0: face 1 hovers above it (z = 0.5)
+ * with its far corners at hover[0..3] (x, y), face 2 lies below it (z = -0.5). */
+static texopt_model *hover_model(const float hover[4])
 {
-    /* Triangle 0 in z = 0; triangle 1 shares its corner 0 and hovers above it (z = 0.5);
-     * triangle 2 shares corner 0 and lies below it (z = -0.5), hidden by triangle 0. */
     const float pos[] = {0, 0, 0,     1, 0, 0,       0, 1, 0,
-                         0, 0, 0,     0.8f, 0.1f, 0.5f, 0.1f, 0.8f, 0.5f,
+                         0, 0, 0,     hover[0], hover[1], 0.5f, hover[2], hover[3], 0.5f,
                          0, 0, 0,     0.5f, 0.1f, -0.5f, 0.1f, 0.5f, -0.5f};
     const float uv[] = {0.0f, 0.0f, 0.3f, 0.0f, 0.0f, 0.3f,
                         0.5f, 0.5f, 0.8f, 0.5f, 0.5f, 0.8f,
                         0.0f, 0.6f, 0.3f, 0.6f, 0.0f, 0.9f};
     const uint32_t tris[] = {0, 1, 2, 3, 4, 5, 6, 7, 8};
-    texopt_model *model = fixture_model_from_arrays(pos, uv, 9, tris, 3, 64, 64, "flat");
+    return fixture_model_from_arrays(pos, uv, 9, tris, 3, 64, 64, "flat");
+}
+
+/* Renders triangle 0's one-ring with face 1 hovering at `hover`: seen[f] pixels show face f,
+ * inside[k] pixel centres lie inside face k's projection, and shown_inside_both[f] of those
+ * inside both show face f. Checks that face 1 shows wherever it lies beyond triangle 0. */
+static void rasterise_hover(const float hover[4], int seen[3], int inside[2], int shown_inside_both[3])
+{
+    texopt_model *model = hover_model(hover);
     CHECK(model);
     char err[256] = "";
     texopt_mesh *mesh = NULL;
@@ -128,32 +136,63 @@ TEST(uvraster_closest_face_wins)
     CHECK_OK(texopt_mesh_create(&mesh, model, 0, err, sizeof err), err);
     CHECK_OK(texopt_uvraster_create(&r, 64, err, sizeof err), err);
     CHECK_OK(texopt_uvraster_render(r, mesh, 0, err, sizeof err), err);
-    int seen[3] = {0, 0, 0}, upper_inside = 0;
-    double a[2], b[2], c[2], depth;
-    const float *p1 = pos + 9;
-    double v0[3] = {p1[0], p1[1], p1[2]}, v1[3] = {p1[3], p1[4], p1[5]},
-           v2[3] = {p1[6], p1[7], p1[8]};
-    texopt_camera_project(&r->camera, v0, a, &depth);
-    texopt_camera_project(&r->camera, v1, b, &depth);
-    texopt_camera_project(&r->camera, v2, c, &depth);
+    double s[2][3][2], depth;
+    for (int f = 0; f < 2; f++)
+        for (int k = 0; k < 3; k++) {
+            const uint32_t *tri = mesh->triangle + 3 * f;
+            texopt_camera_project(&r->camera, texopt_mesh_vertex_point(mesh, tri[k]), s[f][k], &depth);
+        }
+    memset(seen, 0, 3 * sizeof *seen);
+    memset(inside, 0, 2 * sizeof *inside);
+    memset(shown_inside_both, 0, 3 * sizeof *shown_inside_both);
     for (int j = 0; j < 64; j++)
         for (int i = 0; i < 64; i++) {
             size_t q = (size_t)j * 64 + (size_t)i;
             if (r->face[q] >= 0)
                 seen[r->face[q]]++;
-            double p[2] = {i + 0.5, j + 0.5}, w[3];
-            barycentric2(a, b, c, p, w);
-            if (w[0] > 1e-6 && w[1] > 1e-6 && w[2] > 1e-6) {
-                upper_inside++;
-                CHECK_EQ_INT(r->face[q], 1);
+            double p[2] = {i + 0.5, j + 0.5}, w[2][3];
+            int in[2];
+            for (int f = 0; f < 2; f++) {
+                barycentric2(s[f][0], s[f][1], s[f][2], p, w[f]);
+                in[f] = w[f][0] > 1e-6 && w[f][1] > 1e-6 && w[f][2] > 1e-6;
+                inside[f] += in[f];
             }
+            if (in[0] && in[1] && r->face[q] >= 0)
+                shown_inside_both[r->face[q]]++;
+            if (in[1] && !in[0])
+                CHECK_EQ_INT(r->face[q], 1);
         }
-    CHECK(upper_inside > 50);
-    CHECK(seen[0] > 50);
-    CHECK_EQ_INT(seen[2], 0);
     texopt_uvraster_destroy(r);
     texopt_mesh_destroy(mesh);
     texopt_model_destroy(model);
+}
+
+TEST(uvraster_closest_face_wins)
+{
+    /* The hovering face hides under 20% of triangle 0, so depth decides everywhere. */
+    const float small_hover[4] = {0.3f, 0.05f, 0.05f, 0.3f};
+    int seen[3] = {0}, inside[2] = {0}, shown[3] = {0};
+    rasterise_hover(small_hover, seen, inside, shown);
+    CHECK(inside[1] > 50);
+    CHECK(inside[1] < inside[0] / 5);
+    CHECK_EQ_INT(shown[1], inside[1]); /* the face above wins wherever it lies */
+    CHECK(seen[0] > 50);
+    CHECK_EQ_INT(seen[2], 0);
+}
+
+TEST(a_triangle_its_ring_hides_is_drawn_on_top)
+{
+    /* A bulge: the hovering face hides about half of triangle 0. Stage 1 would judge triangle 0
+     * on the few pixels left, so it is drawn over its ring; where the hovering face lies
+     * beyond it, that face still shows, and the face below stays hidden. */
+    const float large_hover[4] = {0.9f, 0.3f, 0.3f, 0.9f};
+    int seen[3] = {0}, inside[2] = {0}, shown[3] = {0};
+    rasterise_hover(large_hover, seen, inside, shown);
+    CHECK(shown[0] + shown[1] > inside[0] / 3); /* the faces overlap over a third of it */
+    CHECK_EQ_INT(shown[1], 0);
+    CHECK(seen[0] >= inside[0]);
+    CHECK(seen[1] > 50);
+    CHECK_EQ_INT(seen[2], 0);
 }
 
 TEST(uvraster_rejects_bad_arguments)
