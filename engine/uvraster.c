@@ -83,14 +83,10 @@ static void clear_buffer(texopt_uvraster *r)
     r->covered = 0;
 }
 
-/* How rasterise_face meets what is already drawn. */
-typedef enum { FACE_DEPTH_TESTED, FACE_ON_TOP, FACE_COUNT_ONLY } face_mode;
-
 /* Rasterises one face: every pixel centre inside its projection (edges inclusive) whose depth
- * is strictly closer than what is there (FACE_ON_TOP: whatever is there) takes the face's
- * interpolated texel position; FACE_COUNT_ONLY draws nothing. Returns the pixel centres
- * inside. */
-static size_t rasterise_face(texopt_uvraster *r, const texopt_mesh *mesh, uint32_t face, face_mode mode)
+ * is strictly closer than what is there (on_top: whatever is there) takes the face's
+ * interpolated texel position. Returns the pixels it took. */
+static size_t rasterise_face(texopt_uvraster *r, const texopt_mesh *mesh, uint32_t face, int on_top)
 {
     double s[3][2], z[3], t[3][2];
     for (int k = 0; k < 3; k++) {
@@ -112,7 +108,7 @@ static size_t rasterise_face(texopt_uvraster *r, const texopt_mesh *mesh, uint32
     int i0 = (int)fmax(0.0, ceil(xmin - 0.5)), i1 = (int)fmin(r->size - 1.0, floor(xmax - 0.5));
     int j0 = (int)fmax(0.0, ceil(ymin - 0.5)), j1 = (int)fmin(r->size - 1.0, floor(ymax - 0.5));
     const double tol = -1e-9;
-    size_t inside = 0;
+    size_t taken = 0;
     for (int j = j0; j <= j1; j++) {
         double y = j + 0.5;
         for (int i = i0; i <= i1; i++) {
@@ -122,13 +118,11 @@ static size_t rasterise_face(texopt_uvraster *r, const texopt_mesh *mesh, uint32
             double w2 = 1.0 - w0 - w1;
             if (w0 < tol || w1 < tol || w2 < tol)
                 continue;
-            inside++;
-            if (mode == FACE_COUNT_ONLY)
-                continue;
             size_t q = (size_t)j * (size_t)r->size + (size_t)i;
             double depth = w0 * z[0] + w1 * z[1] + w2 * z[2];
-            if (mode == FACE_DEPTH_TESTED && !(depth > r->depth[q]))
+            if (!on_top && !(depth > r->depth[q]))
                 continue;
+            taken++;
             if (r->face[q] < 0)
                 r->covered++;
             r->depth[q] = depth;
@@ -137,7 +131,7 @@ static size_t rasterise_face(texopt_uvraster *r, const texopt_mesh *mesh, uint32
             r->texel[2 * q + 1] = w0 * t[0][1] + w1 * t[1][1] + w2 * t[2][1];
         }
     }
-    return inside;
+    return taken;
 }
 
 /* Texels per world unit over the one-ring: its texel area over its 3D area. */
@@ -298,14 +292,17 @@ static size_t pixels_of_face(const texopt_uvraster *r, uint32_t face)
  * than TEXOPT_UVRASTER_HIDDEN_SHARE of its pixels: stage 1 judges the triangle, and a bulge
  * seen from behind its own face (Duck's pupils: 73 of a triangle's 93 pixels) would leave it
  * judged on what it hardly shows, so it could shrink to lambda_min unseen. */
-static void rasterise_ring(texopt_uvraster *raster, const texopt_mesh *mesh, size_t n, uint32_t triangle)
+static void rasterise_ring(texopt_uvraster *raster, const texopt_mesh *mesh, size_t n)
 {
     clear_buffer(raster);
-    for (size_t f = 0; f < n; f++)
-        rasterise_face(raster, mesh, raster->ring[f], FACE_DEPTH_TESTED);
-    size_t inside = rasterise_face(raster, mesh, triangle, FACE_COUNT_ONLY);
-    if ((double)pixels_of_face(raster, triangle) < (1.0 - TEXOPT_UVRASTER_HIDDEN_SHARE) * (double)inside)
-        rasterise_face(raster, mesh, triangle, FACE_ON_TOP);
+    /* ring[0] is the triangle (texopt_mesh_one_ring): on the empty buffer it takes every
+     * pixel centre inside it. */
+    uint32_t triangle = raster->ring[0];
+    size_t own = rasterise_face(raster, mesh, triangle, 0);
+    for (size_t f = 1; f < n; f++)
+        rasterise_face(raster, mesh, raster->ring[f], 0);
+    if ((double)pixels_of_face(raster, triangle) < (1.0 - TEXOPT_UVRASTER_HIDDEN_SHARE) * (double)own)
+        rasterise_face(raster, mesh, triangle, 1);
 }
 
 texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh *mesh,
@@ -320,7 +317,7 @@ texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh 
     texopt_camera_limit_zoom(&raster->camera, texopt_mesh_vertex_point(mesh, tri[0]),
                              texopt_mesh_vertex_point(mesh, tri[1]), texopt_mesh_vertex_point(mesh, tri[2]),
                              ring_texels_per_unit(raster, mesh, n), raster->max_zoom);
-    rasterise_ring(raster, mesh, n, triangle);
+    rasterise_ring(raster, mesh, n);
     if (raster->camera.window_side < paper_side)
         keep_nearest_pixels(raster, mesh, triangle);
     return TEXOPT_OK;
@@ -339,7 +336,7 @@ texopt_status texopt_uvraster_render_window(texopt_uvraster *raster, const texop
     raster->camera.window_x0 = window[0];
     raster->camera.window_y0 = window[1];
     raster->camera.window_side = window[2];
-    rasterise_ring(raster, mesh, n, triangle);
+    rasterise_ring(raster, mesh, n);
     keep_pixels_nearest_centre(raster);
     return TEXOPT_OK;
 }
