@@ -87,10 +87,11 @@ static int headline_measure(const texopt_compare_options *opt)
 }
 
 /* q of every measure in `slots` (the headline one, headline_measure, always among them) into
- * pt->q_by_slot; the per-triangle errors, when tri_err is not NULL, are the headline's. */
+ * pt->q_by_slot; the per-triangle errors, when tri_err is not NULL, and *headline are the
+ * headline's. */
 static texopt_status measure_slots(const texopt_model *input, const texopt_model *out,
                                    const texopt_compare_options *opt, const int *slots, double *tri_err,
-                                   texopt_compare_point *pt)
+                                   texopt_compare_point *pt, texopt_evaluation *headline)
 {
     texopt_status st = TEXOPT_OK;
     for (int s = 0; s < TEXOPT_COMPARE_MEASURES && st == TEXOPT_OK; s++) {
@@ -105,17 +106,20 @@ static texopt_status measure_slots(const texopt_model *input, const texopt_model
         st = texopt_evaluate(input, out, &eo, &ev, pt->message, sizeof pt->message);
         if (st == TEXOPT_OK)
             pt->q_by_slot[s] = ev.q;
+        if (st == TEXOPT_OK && s == headline_measure(opt))
+            *headline = ev;
     }
     return st;
 }
 
 /* Loads the output at glb, evaluates it against the input in every slot of `slots` and fills
  * pt (q, achieved cost, texture memory). With keep, the loaded model is handed to *model and
- * the per-triangle errors (headline slot) written to tri_err. */
+ * the per-triangle errors (headline slot) written to tri_err. *ev is the headline's
+ * evaluation. */
 static texopt_status measure_output(const texopt_model *input, const texopt_cost *input_cost,
                                     const texopt_compare_options *opt, const int *slots,
                                     const char *glb, int keep, texopt_compare_point *pt,
-                                    texopt_model **model, double *tri_err)
+                                    texopt_model **model, double *tri_err, texopt_evaluation *ev)
 {
     char *msg = pt->message;
     size_t len = sizeof pt->message;
@@ -124,7 +128,7 @@ static texopt_status measure_output(const texopt_model *input, const texopt_cost
     texopt_cost cost_out;
     double t0 = now_seconds();
     if (st == TEXOPT_OK)
-        st = measure_slots(input, out, opt, slots, keep ? tri_err : NULL, pt);
+        st = measure_slots(input, out, opt, slots, keep ? tri_err : NULL, pt, ev);
     if (st == TEXOPT_OK)
         st = texopt_evaluate_cost(out, &cost_out, msg, len);
     pt->seconds_evaluate = now_seconds() - t0;
@@ -190,11 +194,13 @@ static texopt_status measure_point(const run_ctx *x, texopt_compare_curve *curve
     double *tri_err = NULL;
     if (keep && !(tri_err = calloc(x->input->triangle_count ? x->input->triangle_count : 1, sizeof *tri_err)))
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for triangle errors");
+    texopt_evaluation ev;
     texopt_status st = measure_output(x->input, x->input_cost, x->opt, x->slots, glb, keep, pt, &curve->showcase,
-                                      tri_err);
-    if (keep && st == TEXOPT_OK)
+                                      tri_err, &ev);
+    if (keep && st == TEXOPT_OK) {
         curve->showcase_triangle_error = tri_err;
-    else
+        curve->showcase_evaluation = ev;
+    } else
         free(tri_err);
     return TEXOPT_OK;
 }

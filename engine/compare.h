@@ -60,10 +60,12 @@ typedef struct texopt_compare_curve {
     texopt_method method;
     int point_count;
     texopt_compare_point points[TEXOPT_COMPARE_MAX_COSTS];
-    /* The output at the showcase cost, loaded (NULL when that run failed), and its
-     * per-triangle mean absolute luma error (evaluate.h triangle_error), for the report. */
+    /* The output at the showcase cost, loaded (NULL when that run failed), its per-triangle
+     * mean absolute luma error (evaluate.h triangle_error) and its evaluation in q's measure
+     * (per-view GMSD; view_count 0 without a showcase), for the report. */
     texopt_model *showcase;
     double *showcase_triangle_error;
+    texopt_evaluation showcase_evaluation;
 } texopt_compare_curve;
 
 typedef struct texopt_compare_options {

@@ -21,6 +21,9 @@
 #include "meshrender.h"
 #include "resize.h"
 
+/* Before/after rows in the renders section. */
+#define REPORT_VIEWS 3
+
 /* ---- a growing string ---------------------------------------------------------------- */
 
 typedef struct sbuf {
@@ -254,20 +257,63 @@ static texopt_status render_view(const texopt_model *model, const texopt_raster 
     return st;
 }
 
+/* A showcase evaluated on every one of the 20 views the renders use. */
+static int has_view_losses(const texopt_compare_curve *curve)
+{
+    return curve->showcase && curve->showcase_evaluation.view_count == TEXOPT_VIEW_COUNT;
+}
+
+/* The REPORT_VIEWS views the renders show: those with the largest mean GMSD over the
+ * showcases, largest first, so that the renders show where the budget costs the most;
+ * without a measured showcase, three views spread around the model. Returns 1 when the
+ * views were chosen by loss. */
+static int chosen_views(const texopt_compare_result *r, int *views)
+{
+    static const int spread[REPORT_VIEWS] = {0, 7, 13};
+    double mean[TEXOPT_VIEW_COUNT] = {0};
+    int measured = 0;
+    for (int c = 0; c < r->curve_count; c++)
+        if (has_view_losses(&r->curves[c])) {
+            measured++;
+            for (int v = 0; v < TEXOPT_VIEW_COUNT; v++)
+                mean[v] += r->curves[c].showcase_evaluation.view_gmsd[v];
+        }
+    if (!measured) {
+        memcpy(views, spread, sizeof spread);
+        return 0;
+    }
+    for (int k = 0; k < REPORT_VIEWS; k++) {
+        int best = -1;
+        for (int v = 0; v < TEXOPT_VIEW_COUNT; v++) {
+            int taken = 0;
+            for (int j = 0; j < k; j++)
+                taken |= views[j] == v;
+            if (!taken && (best < 0 || mean[v] > mean[best]))
+                best = v;
+        }
+        views[k] = best;
+    }
+    return 1;
+}
+
 static texopt_status renders_section(sbuf *s, const texopt_compare_result *r, int side, char *err,
                                      size_t err_len)
 {
-    static const int views[] = {0, 7, 13};
+    int views[REPORT_VIEWS];
+    int by_loss = chosen_views(r, views);
     texopt_view all[TEXOPT_VIEW_COUNT];
     texopt_status st = texopt_meshrender_views(r->input, all, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    sb_printf(s, "<h2>Renders at c_r = %.2f (equal pixel budget)</h2>\n<table class=\"renders\"><tr><th>view</th><th>input (reference)</th>",
-              r->showcase_cost);
+    sb_printf(s, "<h2>Renders at c_r = %.2f (equal pixel budget)</h2>\n<p>%s</p>\n", r->showcase_cost,
+              by_loss ? "The three of the 20 views with the largest loss, mean over the methods; under each render "
+                        "its GMSD in that view."
+                      : "Three of the 20 views.");
+    sb_puts(s, "<table class=\"renders\"><tr><th>view</th><th>input (reference)</th>");
     for (int c = 0; c < r->curve_count; c++)
         sb_printf(s, "<th>%s</th>", texopt_method_name(r->curves[c].method));
     sb_puts(s, "</tr>\n");
-    for (size_t v = 0; v < sizeof views / sizeof views[0] && st == TEXOPT_OK; v++) {
+    for (int v = 0; v < REPORT_VIEWS && st == TEXOPT_OK; v++) {
         texopt_raster raster;
         st = texopt_meshrender_rasterize(r->input, &all[views[v]], side, &raster, err, err_len);
         if (st != TEXOPT_OK)
@@ -277,10 +323,12 @@ static texopt_status renders_section(sbuf *s, const texopt_compare_result *r, in
         sb_puts(s, "</td>");
         for (int c = 0; c < r->curve_count && st == TEXOPT_OK; c++) {
             sb_puts(s, "<td>");
-            if (r->curves[c].showcase)
+            if (r->curves[c].showcase) {
                 st = render_view(r->curves[c].showcase, &raster, s,
                                  texopt_method_name(r->curves[c].method), err, err_len);
-            else
+                if (has_view_losses(&r->curves[c]))
+                    sb_printf(s, "<br>GMSD %.5f", r->curves[c].showcase_evaluation.view_gmsd[views[v]]);
+            } else
                 sb_puts(s, "(not available)");
             sb_puts(s, "</td>");
         }

@@ -5,7 +5,9 @@
  *   - the q_r-c_r plot of every method (inline SVG, one polyline per method, class "curve",
  *     data-method="name"), and the numbers as a table;
  *   - before/after renders from three of the 20 evaluation views, the input next to every
- *     method's output at the same relative cost (the showcase cost): equal pixel budget;
+ *     method's output at the same relative cost (the showcase cost): equal pixel budget.
+ *     The views are those with the largest loss (mean over the showcases' per-view GMSD,
+ *     each shown under its render), or views 0, 7 and 13 when no showcase was measured;
  *   - every method's new base colour texture (thumbnail);
  *   - every method's UV layout coloured by per-triangle loss (mean absolute luma error over
  *     the views, evaluate.h) and by lambda1 lambda2 (new texel area / input texel area:

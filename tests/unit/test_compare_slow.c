@@ -53,11 +53,18 @@ TEST(compare_input_method_curve)
     CHECK(c->points[2].q > c->points[1].q);
     CHECK_EQ_INT(c->points[1].texture_pixels, 512 * 512);
     CHECK(c->showcase != NULL && c->showcase_triangle_error != NULL);
+    /* The showcase's own evaluation is kept for the report: q is the mean of its views. */
+    CHECK_EQ_INT(c->showcase_evaluation.view_count, 20);
+    double sum = 0;
+    for (int v = 0; v < 20; v++)
+        sum += c->showcase_evaluation.view_gmsd[v];
+    CHECK_NEAR(sum / 20, c->points[1].q, 1e-12);
     /* Equal-loss cost of the curve against itself: its own point. */
     CHECK_NEAR(texopt_compare_cost_at_loss(c, c->points[1].q), c->points[1].cost_achieved, 1e-9);
     char *html = NULL;
     CHECK_OK(texopt_report_html(&r, NULL, &html, err, sizeof err), err);
     CHECK(strstr(html, "data-method=\"input\"") != NULL);
+    CHECK(strstr(html, "<br>GMSD ") != NULL);
     free(html);
     texopt_compare_result_destroy(&r);
 }

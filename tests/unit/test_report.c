@@ -123,6 +123,51 @@ TEST(report_is_self_contained_with_one_curve_per_method)
     texopt_compare_result_destroy(&r);
 }
 
+/* The renders table's view numbers, in row order, into views (at most n); returns how many. */
+static int render_rows(const char *html, int *views, int n)
+{
+    const char *p = strstr(html, "class=\"renders\""), *end = p ? strstr(p, "</table>") : NULL;
+    int k = 0;
+    while (p && k < n && (p = strstr(p, "<tr><td>")) != NULL && p < end) {
+        p += strlen("<tr><td>");
+        views[k++] = atoi(p);
+    }
+    return k;
+}
+
+TEST(report_renders_the_views_that_lose_most)
+{
+    texopt_compare_result r;
+    CHECK(build_result(&r) == 0);
+    char *html = NULL, err[256] = "";
+    int views[4];
+    /* Without per-view losses, views spread around the model and no per-view figure. */
+    CHECK_OK(texopt_report_html(&r, NULL, &html, err, sizeof err), err);
+    CHECK_EQ_INT(render_rows(html, views, 4), 3);
+    CHECK(views[0] == 0 && views[1] == 7 && views[2] == 13);
+    CHECK(strstr(html, "GMSD 0.") == NULL);
+    free(html);
+    /* Two measured showcases: ranked by the mean, which neither alone gives (ssp alone: 3, 9,
+     * 11; input alone: 11, 9, 3). */
+    r.curves[0].showcase = sphere(64);
+    CHECK(r.curves[0].showcase);
+    texopt_evaluation *ssp = &r.curves[1].showcase_evaluation, *in = &r.curves[0].showcase_evaluation;
+    ssp->view_count = in->view_count = TEXOPT_VIEW_COUNT;
+    for (int v = 0; v < TEXOPT_VIEW_COUNT; v++)
+        ssp->view_gmsd[v] = in->view_gmsd[v] = 0.01;
+    ssp->view_gmsd[3] = 0.8, in->view_gmsd[3] = 0.0;    /* mean 0.4 */
+    ssp->view_gmsd[9] = 0.5, in->view_gmsd[9] = 0.5;    /* mean 0.5 */
+    ssp->view_gmsd[11] = 0.1, in->view_gmsd[11] = 0.75; /* mean 0.425 */
+    CHECK_OK(texopt_report_html(&r, NULL, &html, err, sizeof err), err);
+    CHECK_EQ_INT(render_rows(html, views, 4), 3);
+    CHECK(views[0] == 9 && views[1] == 11 && views[2] == 3);
+    /* Each measured render carries its own view's loss. */
+    CHECK(strstr(html, "GMSD 0.80000") && strstr(html, "GMSD 0.75000") && strstr(html, "GMSD 0.10000"));
+    CHECK_EQ_INT(count(html, "<br>GMSD "), 3 * 2);
+    free(html);
+    texopt_compare_result_destroy(&r);
+}
+
 TEST(report_writes_a_file_and_refuses_bad_input)
 {
     texopt_compare_result r;
