@@ -1,9 +1,9 @@
 /* texture_filter.c - box mip pyramid and anisotropic trilinear lookups (see texture_filter.h).
  *
- * Level l + 1 is the 2x2 box average of level l (an odd last row or column averages with
- * itself), sized max(1, ceil(w / 2)). A level-0 position x maps to x * w_l / w_0 at level l,
- * which for power-of-two sizes puts each coarse texel exactly over its 2x2 parents, so a
- * texel-aligned 2x reduction reads level 1 at its texel centres: an exact box filter.
+ * Level l + 1, sized max(1, ceil(w / 2)), is the box average of level l over the same extent
+ * (2 x 2 texels for even sides, a little less for odd ones), and a level-0 position x maps to
+ * x * w_l / w_0 at level l: every level is read at the same place, and a texel-aligned 2x
+ * reduction of an even side reads level 1 at its texel centres, an exact box filter.
  * Level 0 is not copied: the filter keeps a pointer to the caller's image. */
 #include "texture_filter.h"
 
@@ -62,6 +62,34 @@ static void bilinear(const texopt_image *img, texopt_wrap ws, texopt_wrap wt, do
         out[c] = (float)(w00 * p00[c] + w10 * p10[c] + w01 * p01[c] + w11 * p11[c]);
 }
 
+/* Source texels under destination texel d along one axis, where the destination's n_dst
+ * texels span the same extent as the source's n_src (1 <= n_src / n_dst <= 2): the box
+ * weights of their overlaps, at most three taps. */
+typedef struct axis_taps {
+    int count;
+    int index[3];
+    float weight[3];
+} axis_taps;
+
+static axis_taps taps_under(int d, int n_src, int n_dst)
+{
+    axis_taps t = {0, {0, 0, 0}, {0, 0, 0}};
+    double ratio = (double)n_src / n_dst, a = d * ratio, b = (d + 1) * ratio;
+    for (int i = (int)floor(a); i < n_src && i < b && t.count < 3; i++) {
+        double overlap = fmin(b, i + 1.0) - fmax(a, (double)i);
+        if (overlap <= 0)
+            continue;
+        t.index[t.count] = i;
+        t.weight[t.count++] = (float)(overlap / ratio);
+    }
+    return t;
+}
+
+/* Level l + 1 of max(1, ceil(w / 2)) texels spanning the same extent as level l: each texel
+ * the box average of what it covers, so that a lookup at x * w_l / w_0 reads every level at
+ * the same place. An even side pairs texels exactly (weights 1/2); an odd one spreads each
+ * new texel over a little less than two (a plain 2 x 2 pairing would drift by up to a whole
+ * texel of level l across the image, which shifts minified edges). */
 static texopt_status build_next_level(const texopt_image *src, texopt_image *dst, char *err,
                                       size_t err_len)
 {
@@ -72,16 +100,19 @@ static texopt_status build_next_level(const texopt_image *src, texopt_image *dst
         return st;
     int ch = src->channels;
     for (int y = 0; y < h; y++) {
-        int sy0 = src->height > 1 ? 2 * y : 0;
-        int sy1 = sy0 + 1 < src->height ? sy0 + 1 : sy0;
+        axis_taps ty = taps_under(y, src->height, h);
         for (int x = 0; x < w; x++) {
-            int sx0 = src->width > 1 ? 2 * x : 0;
-            int sx1 = sx0 + 1 < src->width ? sx0 + 1 : sx0;
-            const float *a = texopt_image_at(src, sx0, sy0), *b = texopt_image_at(src, sx1, sy0);
-            const float *c = texopt_image_at(src, sx0, sy1), *d = texopt_image_at(src, sx1, sy1);
+            axis_taps tx = taps_under(x, src->width, w);
             float *o = texopt_image_at(dst, x, y);
             for (int k = 0; k < ch; k++)
-                o[k] = 0.25f * (a[k] + b[k] + c[k] + d[k]);
+                o[k] = 0;
+            for (int j = 0; j < ty.count; j++)
+                for (int i = 0; i < tx.count; i++) {
+                    const float *p = texopt_image_at(src, tx.index[i], ty.index[j]);
+                    float wgt = ty.weight[j] * tx.weight[i];
+                    for (int k = 0; k < ch; k++)
+                        o[k] += wgt * p[k];
+                }
         }
     }
     return TEXOPT_OK;

@@ -105,6 +105,84 @@ TEST(coarse_checker_reduction_keeps_edges_and_mean)
     texopt_image_destroy(&out);
 }
 
+/* A horizontal ramp: each texel holds the level-0 position of its centre, x + 0.5. */
+static int make_ramp(texopt_image *img, int w, int h)
+{
+    if (texopt_image_create(img, w, h, 1, NULL, 0) != TEXOPT_OK)
+        return -1;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            texopt_image_at(img, x, y)[0] = (float)x + 0.5f;
+    return 0;
+}
+
+TEST(odd_sided_mip_levels_stay_where_level_zero_is)
+{
+    /* A box filter keeps a ramp's value at its centre, so a prefiltered lookup of the ramp
+     * at x reads x at every level. 229 texels halve to 115, 58, 29: a plain 2 x 2 pairing of
+     * the odd sides read at x * w_l / w_0 drifts by 2.6 texels at x = 197 on levels 2-3. */
+    texopt_image ramp;
+    CHECK(make_ramp(&ramp, 229, 5) == 0);
+    texopt_texture_filter *f = NULL;
+    char err[256] = "";
+    CHECK_OK(texopt_texture_filter_create(&f, &ramp, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, err, sizeof err), err);
+    const double footprints[3] = {2, 4, 6};
+    double worst = 0;
+    for (int k = 0; k < 3; k++) {
+        const double j[4] = {footprints[k], 0, 0, footprints[k]};
+        for (double x = 32; x <= 197; x += 0.75) {
+            float v;
+            texopt_texture_filter_sample(f, x, 2.5, j, &v);
+            worst = fmax(worst, fabs(v - x));
+        }
+    }
+    CHECK_MSG(worst < 0.05, "worst offset %.3f texels", worst);
+    texopt_texture_filter_destroy(f);
+    texopt_image_destroy(&ramp);
+}
+
+TEST(even_sided_mip_level_is_the_exact_two_by_two_mean)
+{
+    /* Read at its own texel centres with a footprint of two texels, level 1 of an even-sided
+     * image is the mean of each 2 x 2 block, to the last bit of float. */
+    texopt_image img;
+    CHECK(make_noise(&img, 10, 6, 2) == 0);
+    texopt_texture_filter *f = NULL;
+    char err[256] = "";
+    CHECK_OK(texopt_texture_filter_create(&f, &img, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, err, sizeof err), err);
+    const double j[4] = {2, 0, 0, 2};
+    for (int y = 0; y < 3; y++)
+        for (int x = 0; x < 5; x++) {
+            float v[2];
+            texopt_texture_filter_sample(f, 2 * x + 1, 2 * y + 1, j, v);
+            for (int c = 0; c < 2; c++) {
+                float want = 0.25f * (texopt_image_at(&img, 2 * x, 2 * y)[c] + texopt_image_at(&img, 2 * x + 1, 2 * y)[c] +
+                                      texopt_image_at(&img, 2 * x, 2 * y + 1)[c] +
+                                      texopt_image_at(&img, 2 * x + 1, 2 * y + 1)[c]);
+                CHECK_MSG(v[c] == want, "texel %d,%d channel %d: %.9g, want %.9g", x, y, c, v[c], want);
+            }
+        }
+    texopt_texture_filter_destroy(f);
+    texopt_image_destroy(&img);
+}
+
+TEST(odd_sided_resize_keeps_a_ramp_in_place)
+{
+    /* The "input" method's resize of a texture with odd sides, 4x smaller on both axes (so
+     * levels 2 and 3 are read): each new texel holds the ramp at its own centre. */
+    texopt_image ramp, out;
+    CHECK(make_ramp(&ramp, 229, 229) == 0);
+    CHECK(texopt_image_create(&out, 57, 57, 1, NULL, 0) == TEXOPT_OK);
+    char err[256] = "";
+    CHECK_OK(texopt_texture_resize(&ramp, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, &out, 1, err, sizeof err), err);
+    double worst = 0;
+    for (int x = 4; x < 53; x++)
+        worst = fmax(worst, fabs(texopt_image_at(&out, x, 28)[0] - (x + 0.5) * 229.0 / 57.0));
+    CHECK_MSG(worst < 0.05, "worst offset %.3f texels", worst);
+    texopt_image_destroy(&ramp);
+    texopt_image_destroy(&out);
+}
+
 TEST(anisotropic_reduction_averages_along_the_squeezed_axis)
 {
     /* Vertical one-texel stripes squeezed 4x in x only: every output texel is grey; a
