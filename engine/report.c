@@ -270,13 +270,13 @@ static int has_view_losses(const texopt_compare_curve *curve)
 static int chosen_views(const texopt_compare_result *r, int *views)
 {
     static const int spread[REPORT_VIEWS] = {0, 7, 13};
-    double mean[TEXOPT_VIEW_COUNT] = {0};
+    double total[TEXOPT_VIEW_COUNT] = {0}; /* over the measured showcases: ranks as the mean */
     int measured = 0;
     for (int c = 0; c < r->curve_count; c++)
         if (has_view_losses(&r->curves[c])) {
             measured++;
             for (int v = 0; v < TEXOPT_VIEW_COUNT; v++)
-                mean[v] += r->curves[c].showcase_evaluation.view_gmsd[v];
+                total[v] += r->curves[c].showcase_evaluation.view_gmsd[v];
         }
     if (!measured) {
         memcpy(views, spread, sizeof spread);
@@ -288,7 +288,7 @@ static int chosen_views(const texopt_compare_result *r, int *views)
             int taken = 0;
             for (int j = 0; j < k; j++)
                 taken |= views[j] == v;
-            if (!taken && (best < 0 || mean[v] > mean[best]))
+            if (!taken && (best < 0 || total[v] > total[best]))
                 best = v;
         }
         views[k] = best;
