@@ -15,7 +15,7 @@ static const char *const budget_names[TEXOPT_BUDGET_COUNT] = {
 static const char *const known_keys[] = {
     "method", "budget", "relative_cost", "texture_width", "texture_height", "target_loss",
     "epsilon", "iterations", "lambda_min", "threads", "seed", "evaluate", "eval_resolution",
-    "refinements", "refine_by", "packing_efficiency",
+    "refinements", "refine_by", "lookup", "packing_efficiency",
 };
 
 static int is_known_key(const char *key)
@@ -83,6 +83,18 @@ static texopt_status read_refine_by(const cJSON *obj, texopt_params *p, char *er
     if (lit < 0)
         return bad(err, err_len, "refine_by", "must be \"baseColor\" or \"lit\"");
     p->refine_lit = lit;
+    return TEXOPT_OK;
+}
+
+static texopt_status read_lookup(const cJSON *obj, texopt_params *p, char *err, size_t err_len)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, "lookup");
+    if (!v)
+        return TEXOPT_OK;
+    int mip = cJSON_IsString(v) ? texopt_lookup_from_name(v->valuestring) : -1;
+    if (mip < 0)
+        return bad(err, err_len, "lookup", "must be \"bilinear\" or \"mipmapped\"");
+    p->mipmapped = mip;
     return TEXOPT_OK;
 }
 
@@ -175,6 +187,8 @@ static texopt_status read_rest(const cJSON *obj, texopt_params *p, char *err, si
     if (present)
         texopt_params_set_refinement_rounds(p, (int)v);
     if ((s = read_refine_by(obj, p, err, err_len)) != TEXOPT_OK)
+        return s;
+    if ((s = read_lookup(obj, p, err, err_len)) != TEXOPT_OK)
         return s;
     if ((s = get_number(obj, "packing_efficiency", &v, &present, err, err_len)) != TEXOPT_OK)
         return s;
@@ -269,6 +283,7 @@ cJSON *api_params_to_json(const texopt_params *p)
     cJSON_AddNumberToObject(o, "eval_resolution", p->eval_resolution);
     cJSON_AddNumberToObject(o, "refinements", texopt_params_refinement_rounds(p));
     cJSON_AddStringToObject(o, "refine_by", texopt_refine_measure_name(p->refine_lit));
+    cJSON_AddStringToObject(o, "lookup", texopt_lookup_name(p->mipmapped));
     cJSON_AddNumberToObject(o, "packing_efficiency", p->packing_efficiency);
     return o;
 }

@@ -57,6 +57,9 @@ static void usage(FILE *out)
             "  --stats PATH             write the job statistics as JSON\n"
             "  --evaluate               measure the whole-mesh perceptual loss q of the result\n"
             "                           against the input (into the statistics)\n"
+            "  --mipmap                 tune the layout for, and measure q with, prefiltered\n"
+            "                           (mip-mapped) lookups, as real-time renderers draw\n"
+            "                           (default: bilinear, the paper's)\n"
             "  --quiet                  no progress on stderr\n"
             "  -h, --help               this text\n"
             "\n"
@@ -190,6 +193,10 @@ static int parse_args(int argc, char **argv, optimize_args *a)
         }
         if (strcmp(arg, "--evaluate") == 0) {
             a->params.evaluate = 1;
+            continue;
+        }
+        if (strcmp(arg, "--mipmap") == 0) {
+            a->params.mipmapped = 1;
             continue;
         }
         if (arg[0] == '-' && arg[1] != '\0') {

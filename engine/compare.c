@@ -149,15 +149,24 @@ static texopt_status measure_output(const texopt_model *input, const texopt_cost
     return st;
 }
 
-/* Runs the pipeline with `method` at relative cost `cost` from source to glb. */
-static texopt_status optimise(const char *source, const char *glb, const texopt_compare_options *opt,
-                              texopt_method method, double cost, texopt_compare_point *pt)
+/* The pipeline's parameters for one run of `method` at a relative cost: a layout is tuned for
+ * the lookups q measures it with (pipeline.c renders its candidates with params.mipmapped). */
+static texopt_params run_params(const texopt_compare_options *opt, texopt_method method)
 {
     texopt_params p = opt->params;
     p.method = method;
     p.budget = TEXOPT_BUDGET_RELATIVE_COST;
-    p.relative_cost = cost;
     p.evaluate = 0;
+    p.mipmapped = opt->evaluate.mipmapped != 0;
+    return p;
+}
+
+/* Runs the pipeline with `method` at relative cost `cost` from source to glb. */
+static texopt_status optimise(const char *source, const char *glb, const texopt_compare_options *opt,
+                              texopt_method method, double cost, texopt_compare_point *pt)
+{
+    texopt_params p = run_params(opt, method);
+    p.relative_cost = cost;
     double t0 = now_seconds();
     texopt_status st = texopt_optimize_file(source, glb, NULL, &p, opt->monitor, pt->message,
                                             sizeof pt->message);
@@ -219,10 +228,7 @@ static texopt_status fatal(const texopt_compare_point *pt, char *err, size_t err
 static texopt_status run_curve_full(const run_ctx *x, texopt_compare_curve *curve, char *err,
                                     size_t err_len)
 {
-    texopt_params p = x->opt->params;
-    p.method = curve->method;
-    p.budget = TEXOPT_BUDGET_RELATIVE_COST;
-    p.evaluate = 0;
+    texopt_params p = run_params(x->opt, curve->method);
     texopt_job *job = NULL;
     texopt_compare_point *first = &curve->points[0];
     double t0 = now_seconds();

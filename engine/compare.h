@@ -69,7 +69,8 @@ typedef struct texopt_compare_curve {
 } texopt_compare_curve;
 
 typedef struct texopt_compare_options {
-    texopt_params params;          /* base parameters; method and budget are set per run */
+    texopt_params params;          /* base parameters; method, budget and lookups (those of
+                                      `evaluate`) are set per run */
     const texopt_method *methods;  /* method_count entries */
     int method_count;
     const double *costs;           /* cost_count relative costs in (0, 4] */

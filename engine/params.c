@@ -40,6 +40,19 @@ int texopt_refine_measure_from_name(const char *name)
     return -1;
 }
 
+const char *texopt_lookup_name(int mipmapped)
+{
+    return mipmapped ? "mipmapped" : "bilinear";
+}
+
+int texopt_lookup_from_name(const char *name)
+{
+    for (int mip = 0; mip <= 1; mip++)
+        if (name && strcmp(name, texopt_lookup_name(mip)) == 0)
+            return mip;
+    return -1;
+}
+
 void texopt_params_resolve(texopt_params *p)
 {
     if (p->relative_cost == 0)

@@ -66,6 +66,11 @@ typedef struct texopt_params {
                                (evaluate.h `lit`, every image baked each round) when the
                                material has a map a light reads besides base colour; 0: base
                                colour's (pipeline.c refine_kept) */
+    int mipmapped;          /* non-zero: the texture lookups the layout is tuned for and its q
+                               is measured with (the perceptual candidates' choice, the
+                               refinement's screens, `evaluate`, the target_loss search) are
+                               prefiltered (mip-mapped, anisotropic; evaluate.h), as real-time
+                               renderers draw; 0: bilinear, the paper's setting */
     double packing_efficiency; /* [0, 1): when a packing's efficiency falls short of it, the
                                charts filling little of their box are reshaped toward it and
                                packed again (budget.h reshape_efficiency); 0 -> never */
@@ -82,6 +87,11 @@ void texopt_params_resolve(texopt_params *params);
  * and back; -1 for an unknown name. */
 const char *texopt_refine_measure_name(int refine_lit);
 int texopt_refine_measure_from_name(const char *name);
+
+/* The lookups as users name them: "bilinear" or "mipmapped" (texopt_params.mipmapped), and
+ * back; -1 for an unknown name. */
+const char *texopt_lookup_name(int mipmapped);
+int texopt_lookup_from_name(const char *name);
 
 /* Refinement rounds as users count them (0: none), from and into the field's encoding, where
  * 0 is the default and -1 none. The getter reads a resolved params struct. */

@@ -39,6 +39,10 @@
  * stages here and inside stages by the stages themselves.
  * With params.evaluate, the whole-mesh loss q (evaluate.h) of the result against the input
  * is measured before saving and written to the statistics.
+ * Every rendering here (the candidates' choice, the refinement's screens, target_loss's steps,
+ * evaluate) uses the lookups of params.mipmapped: a layout tuned on bilinear screens spends
+ * texels on matching the input's unfiltered minification, which a mip-mapped renderer does
+ * not show (BENCHMARKS.md "Tuned for the lookups it is judged with").
  * Does not: parse command lines or HTTP, or print. */
 #include "pipeline.h"
 
@@ -1040,6 +1044,7 @@ static void fill_job_params(texopt_job_stats *js, const texopt_params *p)
     js->seed = (unsigned long long)p->seed;
     js->refinements = texopt_params_refinement_rounds(p);
     js->refine_lit = p->refine_lit != 0;
+    js->mipmapped = p->mipmapped != 0;
     js->packing_efficiency = p->packing_efficiency;
 }
 
@@ -1056,6 +1061,7 @@ static texopt_evaluate_options evaluation_options(const texopt_params *p, texopt
     opt.monitor = &jm->inner;
     opt.cameras = cameras;
     opt.lit = lit;
+    opt.mipmapped = p->mipmapped != 0;
     return opt;
 }
 

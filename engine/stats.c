@@ -130,6 +130,7 @@ static cJSON *job_json(const texopt_job_stats *s)
     cJSON_AddNumberToObject(p, "seed", (double)s->seed);
     cJSON_AddNumberToObject(p, "refinements", s->refinements);
     cJSON_AddStringToObject(p, "refine_by", texopt_refine_measure_name(s->refine_lit));
+    cJSON_AddStringToObject(p, "lookup", texopt_lookup_name(s->mipmapped));
     cJSON_AddNumberToObject(p, "packing_efficiency", s->packing_efficiency);
     cJSON *t = cJSON_AddObjectToObject(root, "seconds");
     cJSON_AddNumberToObject(t, "load", s->seconds_load);
@@ -169,6 +170,7 @@ static cJSON *job_json(const texopt_job_stats *s)
         cJSON *e = cJSON_AddObjectToObject(root, "evaluation");
         cJSON_AddNumberToObject(e, "q", s->q);
         cJSON_AddNumberToObject(e, "resolution", s->eval_resolution);
+        cJSON_AddStringToObject(e, "lookup", texopt_lookup_name(s->mipmapped));
         cJSON_AddNumberToObject(e, "seconds", s->seconds_evaluate);
     }
     cJSON *arr = cJSON_AddArrayToObject(root, "domains");

@@ -61,6 +61,7 @@ texopt_status job_write_report(const char *input, const char *dir, const char *t
     opt.cost_count = 1;
     opt.showcase_cost = cost;
     opt.evaluate.resolution = params->eval_resolution;
+    opt.evaluate.mipmapped = params->mipmapped;
     opt.work_dir = work;
     opt.monitor = monitor;
     opt.given_outputs = given;

@@ -2,7 +2,8 @@
 # texopt optimize end to end on the bundled spot model: method "input" at half cost writes a
 # .glb that loads again, passes the glTF validator (when tools/node_modules has it) and whose
 # stats say the cost is within 2% of the request; --target-loss (method input) meets its
-# target and reports the search; usage errors exit 2, engine failures 1,
+# target and reports the search; --mipmap is recorded as the lookups of the job and of its q;
+# usage errors exit 2, engine failures 1,
 # SIGINT during the perceptual method exits 3 and leaves no output file. --version and the
 # stats name the source revision the binary was built from (HEAD's commit in a git checkout).
 set -euo pipefail
@@ -56,6 +57,15 @@ assert s["method"] == "input", s["method"]
 assert abs(d["relative_cost"] - 0.5) <= 0.01, d["relative_cost"]
 assert d["output_size"] == [724, 724], d["output_size"]
 assert d["images"][0]["rewritten"] is True
+assert s["params"]["lookup"] == "bilinear", s["params"]
+PY
+# --mipmap: the lookups the job tunes for and measures with (the engine's side is unit-tested).
+"$bin" optimize "$spot" -o "$tmp/mip.glb" --method input --relative-cost 0.5 --mipmap --evaluate --stats "$tmp/mip.json" --quiet
+/usr/bin/python3 - "$tmp/mip.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+assert s["params"]["lookup"] == "mipmapped", s["params"]
+assert s["evaluation"]["lookup"] == "mipmapped" and s["evaluation"]["q"] > 0, s["evaluation"]
 PY
 "$bin" info "$tmp/half.glb" > "$tmp/info.json" || fail "texopt info cannot read the output"
 if [ -f "$src/tools/node_modules/gltf-validator/package.json" ] && command -v node >/dev/null; then

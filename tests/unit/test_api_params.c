@@ -24,6 +24,7 @@ TEST(empty_object_gives_paper_defaults)
     CHECK_EQ_INT(p.evaluate, 0);
     CHECK_EQ_INT(p.refinements, 4);
     CHECK_EQ_INT(p.refine_lit, 0);
+    CHECK_EQ_INT(p.mipmapped, 0);
     CHECK_NEAR(p.packing_efficiency, 0, 0);
 }
 
@@ -33,7 +34,8 @@ TEST(every_key_is_read)
     char err[256] = "";
     CHECK_OK(parse("{\"method\":\"arap\",\"relative_cost\":0.25,\"epsilon\":0.02,\"iterations\":7,"
                    "\"lambda_min\":0.3,\"threads\":3,\"seed\":123456789012,\"evaluate\":true,"
-                   "\"eval_resolution\":256,\"refinements\":5,\"refine_by\":\"lit\",\"packing_efficiency\":0.75}",
+                   "\"eval_resolution\":256,\"refinements\":5,\"refine_by\":\"lit\",\"lookup\":\"mipmapped\","
+                   "\"packing_efficiency\":0.75}",
                    &p, err), err);
     CHECK_EQ_INT(p.method, TEXOPT_METHOD_ARAP);
     CHECK_NEAR(p.relative_cost, 0.25, 0);
@@ -46,6 +48,7 @@ TEST(every_key_is_read)
     CHECK_EQ_INT(p.eval_resolution, 256);
     CHECK_EQ_INT(p.refinements, 5);
     CHECK_EQ_INT(p.refine_lit, 1);
+    CHECK_EQ_INT(p.mipmapped, 1);
     CHECK_NEAR(p.packing_efficiency, 0.75, 0);
     CHECK_OK(parse("{\"refinements\":0}", &p, err), err);
     CHECK_EQ_INT(p.refinements, -1); /* none, not the engine's default */
@@ -97,6 +100,8 @@ TEST(bad_params_are_refused_by_name)
     check_refused("{\"refinements\":-1}", "params.refinements");
     check_refused("{\"refine_by\":\"shiny\"}", "params.refine_by");
     check_refused("{\"refine_by\":1}", "params.refine_by");
+    check_refused("{\"lookup\":\"trilinear\"}", "params.lookup");
+    check_refused("{\"lookup\":true}", "params.lookup");
     check_refused("{\"packing_efficiency\":1}", "packing_efficiency");
     check_refused("{\"packing_efficiency\":-0.1}", "packing_efficiency");
     check_refused("[1,2]", "must be a JSON object");
@@ -128,6 +133,7 @@ TEST(params_survive_a_json_round_trip)
     for (int refinements = -1; refinements <= 3; refinements += 4) {
         p.refinements = refinements; /* none, and some */
         p.refine_lit = refinements > 0;
+        p.mipmapped = refinements > 0;
         cJSON *o = api_params_to_json(&p);
         CHECK(o != NULL);
         texopt_status s = api_params_from_json(o, &q, err, sizeof err);

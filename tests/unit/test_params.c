@@ -64,6 +64,16 @@ TEST(method_names_round_trip)
     CHECK(texopt_method_from_name("bogus") == TEXOPT_METHOD_COUNT);
 }
 
+TEST(lookup_names_round_trip)
+{
+    CHECK(strcmp(texopt_lookup_name(0), "bilinear") == 0);
+    CHECK(strcmp(texopt_lookup_name(1), "mipmapped") == 0);
+    for (int mip = 0; mip <= 1; mip++)
+        CHECK_EQ_INT(texopt_lookup_from_name(texopt_lookup_name(mip)), mip);
+    CHECK_EQ_INT(texopt_lookup_from_name("trilinear"), -1);
+    CHECK_EQ_INT(texopt_lookup_from_name(NULL), -1);
+}
+
 TEST(strerror_names_every_status)
 {
     for (int s = 0; s < TEXOPT_STATUS_COUNT; s++)

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "coverage.h"
+#include "evaluate.h"
 #include "fixtures.h"
 #include "gltf_io.h"
 #include "grid_glb.h"
@@ -267,6 +268,51 @@ TEST(evaluation_is_zero_for_the_identity_and_positive_after_a_reduction)
     ev = cJSON_GetObjectItem(st, "evaluation");
     CHECK(ev != NULL);
     CHECK(cJSON_GetObjectItem(ev, "q")->valuedouble > 0.01);
+    cJSON_Delete(st);
+    scratch_free(&s);
+}
+
+/* q of the files in and out at `resolution` with the given lookups; NAN on failure. */
+static double file_q(const char *in, const char *out, int resolution, int mipmapped)
+{
+    texopt_model *a = load(in), *b = load(out);
+    texopt_evaluate_options opt = {.resolution = resolution, .threads = 2, .mipmapped = mipmapped};
+    texopt_evaluation ev;
+    char err[256];
+    double q = a && b && texopt_evaluate(a, b, &opt, &ev, err, sizeof err) == TEXOPT_OK ? ev.q : NAN;
+    texopt_model_destroy(a);
+    texopt_model_destroy(b);
+    return q;
+}
+
+/* params.mipmapped reaches every rendering of the job: the statistics' q (which, without a
+ * refinement round, is the kept candidate's from the choice between the two) is the
+ * mip-mapped q of the written file, not its bilinear one. At 24 pixels the 64-texel stripes
+ * are minified, where the two lookups differ. */
+TEST(the_lookups_asked_for_are_the_ones_the_job_renders_with)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 4, 64, "stripes45") == 0);
+    texopt_params p = {0};
+    p.relative_cost = 0.3;
+    p.evaluate = 1;
+    p.eval_resolution = 24;
+    p.mipmapped = 1;
+    p.threads = 2;
+    texopt_params_set_refinement_rounds(&p, 0);
+    char err[512] = "";
+    CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+    cJSON *st = read_json(s.stats);
+    CHECK(st != NULL);
+    cJSON *ev = cJSON_GetObjectItem(st, "evaluation"), *choice = cJSON_GetObjectItem(st, "allocation_choice");
+    CHECK(ev != NULL && choice != NULL);
+    CHECK(strcmp(cJSON_GetObjectItem(cJSON_GetObjectItem(st, "params"), "lookup")->valuestring, "mipmapped") == 0);
+    CHECK(strcmp(cJSON_GetObjectItem(ev, "lookup")->valuestring, "mipmapped") == 0);
+    double q = cJSON_GetObjectItem(ev, "q")->valuedouble;
+    int allocated = strcmp(cJSON_GetObjectItem(choice, "chosen")->valuestring, "allocated") == 0;
+    CHECK(q == cJSON_GetObjectItem(choice, allocated ? "q_allocated" : "q_uniform")->valuedouble);
+    double mip = file_q(s.in, s.out, 24, 1), bilinear = file_q(s.in, s.out, 24, 0);
+    CHECK(fabs(q - mip) < 0.1 * fabs(bilinear - mip));
     cJSON_Delete(st);
     scratch_free(&s);
 }
