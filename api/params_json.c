@@ -74,27 +74,18 @@ static texopt_status read_method(const cJSON *obj, texopt_params *p, char *err, 
     return TEXOPT_OK;
 }
 
-static texopt_status read_refine_by(const cJSON *obj, texopt_params *p, char *err, size_t err_len)
+/* A key whose string value names one of two settings (from_name: -1 for an unknown name)
+ * into *out; `choices` is how the refusal lists them. */
+static texopt_status read_named(const cJSON *obj, const char *key, int (*from_name)(const char *),
+                                const char *choices, int *out, char *err, size_t err_len)
 {
-    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, "refine_by");
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
     if (!v)
         return TEXOPT_OK;
-    int lit = cJSON_IsString(v) ? texopt_refine_measure_from_name(v->valuestring) : -1;
-    if (lit < 0)
-        return bad(err, err_len, "refine_by", "must be \"baseColor\" or \"lit\"");
-    p->refine_lit = lit;
-    return TEXOPT_OK;
-}
-
-static texopt_status read_lookup(const cJSON *obj, texopt_params *p, char *err, size_t err_len)
-{
-    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, "lookup");
-    if (!v)
-        return TEXOPT_OK;
-    int mip = cJSON_IsString(v) ? texopt_lookup_from_name(v->valuestring) : -1;
-    if (mip < 0)
-        return bad(err, err_len, "lookup", "must be \"bilinear\" or \"mipmapped\"");
-    p->mipmapped = mip;
+    int value = cJSON_IsString(v) ? from_name(v->valuestring) : -1;
+    if (value < 0)
+        return bad(err, err_len, key, choices);
+    *out = value;
     return TEXOPT_OK;
 }
 
@@ -186,9 +177,10 @@ static texopt_status read_rest(const cJSON *obj, texopt_params *p, char *err, si
         return s;
     if (present)
         texopt_params_set_refinement_rounds(p, (int)v);
-    if ((s = read_refine_by(obj, p, err, err_len)) != TEXOPT_OK)
-        return s;
-    if ((s = read_lookup(obj, p, err, err_len)) != TEXOPT_OK)
+    if ((s = read_named(obj, "refine_by", texopt_refine_measure_from_name, "must be \"baseColor\" or \"lit\"",
+                        &p->refine_lit, err, err_len)) != TEXOPT_OK ||
+        (s = read_named(obj, "lookup", texopt_lookup_from_name, "must be \"bilinear\" or \"mipmapped\"",
+                        &p->mipmapped, err, err_len)) != TEXOPT_OK)
         return s;
     if ((s = get_number(obj, "packing_efficiency", &v, &present, err, err_len)) != TEXOPT_OK)
         return s;
