@@ -151,8 +151,10 @@ static cJSON *job_json(const texopt_job_stats *s)
     if (s->has_allocation_choice) {
         cJSON *a = cJSON_AddObjectToObject(root, "allocation_choice");
         cJSON_AddNumberToObject(a, "q_allocated", s->q_allocated);
+        if (s->allocation_dense_made)
+            cJSON_AddNumberToObject(a, "q_allocated_dense", s->q_allocated_dense);
         cJSON_AddNumberToObject(a, "q_uniform", s->q_uniform);
-        cJSON_AddStringToObject(a, "chosen", s->allocation_chosen ? "allocated" : "uniform");
+        cJSON_AddStringToObject(a, "chosen", s->allocation_chosen ? s->allocation_chosen : "");
         cJSON *t = cJSON_AddObjectToObject(a, "seconds");
         cJSON_AddNumberToObject(t, "evaluate", s->seconds_choice_evaluate);
         cJSON_AddNumberToObject(t, "other_candidate", s->seconds_other_candidate);

@@ -84,11 +84,13 @@ typedef struct texopt_job_stats {
     int search_evaluations;      /* layouts baked and evaluated by the search */
     double search_cost_below;    /* largest cost tried that missed the target (0: none) */
     double search_q_below;       /* its q */
-    int has_allocation_choice;   /* perceptual: q of both candidate layouts (pipeline.c) */
-    double q_allocated, q_uniform;
-    int allocation_chosen;       /* 1: the allocated layout was kept, 0: the uniform one */
-    double seconds_choice_evaluate; /* the evaluation pass of both candidates */
-    double seconds_other_candidate; /* the discarded candidate's stage 2, packing and bake */
+    int has_allocation_choice;   /* perceptual: q of the candidate layouts (pipeline.c) */
+    double q_allocated, q_allocated_dense, q_uniform;
+    int allocation_dense_made;   /* 0: no target met the cap at input density, so the dense
+                                    candidate would have been the allocated one */
+    const char *allocation_chosen; /* "allocated", "allocated_dense" or "uniform" (static) */
+    double seconds_choice_evaluate; /* the evaluation pass of the candidates */
+    double seconds_other_candidate; /* the discarded candidates' stage 2, packing and bake */
     int refinement_rounds;       /* closed-loop rounds tried on the kept candidate ... */
     int refinement_kept;         /* ... and kept (each lowered q_refinement) */
     int refinement_lit;          /* the rounds' screen: lit (evaluate.h), else base colour */

@@ -1,6 +1,6 @@
 /* test_pipeline_budget.c - the per-budget part of the pipeline (pipeline.h texopt_job_*):
  * one job writes several budgets exactly as separate runs would; a perceptual job keeps the
- * better of its allocated and uniform candidate layouts, and its closed-loop refinement gives
+ * best of its candidate layouts (allocated, allocated denser than the input, uniform), and its closed-loop refinement gives
  * the triangles with on-screen error (lit when the material has a map besides base colour)
  * more texels; the target_loss budget
  * returns a cost whose q meets the target while a cost one search step smaller does not;
@@ -14,25 +14,35 @@ TEST(one_job_writes_each_budget_as_a_separate_run_would)
     check_job_reuse(TEXOPT_METHOD_TEWARI);
 }
 
-/* The perceptual job's choice between its two candidate layouts, from the statistics: the
- * kept one has the smaller q, and its budget correction matches the candidate (allocated:
- * close to 1; uniform: the whole magnification stage 1's targets needed). */
+/* The perceptual job's choice among its candidate layouts, from the statistics: the kept
+ * one has the smallest q; the dense one (cap 1.5x input density) is made exactly when the
+ * cap at input density bound a target of the allocated one; the kept one's budget
+ * correction matches its kind (allocated: close to 1; uniform: the whole magnification
+ * stage 1's targets needed). */
 static void check_choice(cJSON *st, double relative_cost)
 {
     cJSON *choice = cJSON_GetObjectItem(st, "allocation_choice");
     CHECK(choice != NULL);
     double qa = number_at(choice, "q_allocated", NULL), qu = number_at(choice, "q_uniform", NULL);
+    cJSON *dense = cJSON_GetObjectItem(choice, "q_allocated_dense");
+    double qd = cJSON_IsNumber(dense) ? dense->valuedouble : INFINITY;
     cJSON *chosen = cJSON_GetObjectItem(choice, "chosen");
-    int allocated = cJSON_IsString(chosen) && strcmp(chosen->valuestring, "allocated") == 0;
-    CHECK(allocated == (qa < qu));
+    CHECK(cJSON_IsString(chosen));
+    const char *name = cJSON_IsString(chosen) ? chosen->valuestring : "";
+    int allocated = strcmp(name, "allocated") == 0, is_dense = strcmp(name, "allocated_dense") == 0;
+    CHECK(allocated || is_dense || strcmp(name, "uniform") == 0);
+    double kept = allocated ? qa : is_dense ? qd : qu;
+    CHECK(kept == fmin(qa, fmin(qu, qd)));
     cJSON *seconds = cJSON_GetObjectItem(choice, "seconds");
     CHECK(number_at(seconds, "evaluate", NULL) > 0 && number_at(seconds, "other_candidate", NULL) > 0);
-    CHECK_NEAR(number_at(st, "evaluation", "q"), fmin(qa, qu), 0);
+    CHECK_NEAR(number_at(st, "evaluation", "q"), kept, 0);
     cJSON *d = first_domain(st);
     double area_scale = number_at(d, "stage1", "area_scale_mean");
     double bs = number_at(d, "budget_scale", NULL);
-    CHECK((cJSON_GetObjectItem(d, "allocation") != NULL) == allocated);
-    if (allocated) {
+    CHECK((cJSON_GetObjectItem(d, "allocation") != NULL) == (allocated || is_dense));
+    if (allocated) /* the allocated candidate's own statistics: the dense one exists iff it capped */
+        CHECK((dense != NULL) == (number_at(d, "allocation", "capped_share") > 0));
+    if (allocated || is_dense) {
         CHECK(number_at(d, "allocation", "scale") > 1);
         CHECK(bs > 0.9 && bs < 1.1);
     } else {
@@ -51,7 +61,7 @@ static texopt_params small_perceptual_job(double relative_cost)
     return p;
 }
 
-TEST(perceptual_keeps_the_better_of_the_allocated_and_uniform_layouts)
+TEST(perceptual_keeps_the_best_of_its_candidate_layouts)
 {
     /* Half flat, half text: stage 1 shrinks the flat half far more than the budget does, so
      * the uniform candidate is magnified by the budget while the allocated one is solved at
@@ -68,6 +78,9 @@ TEST(perceptual_keeps_the_better_of_the_allocated_and_uniform_layouts)
     CHECK_NEAR(number_at(first_domain(st), "relative_cost", NULL), 0.9, 0.01);
     CHECK(number_at(first_domain(st), "stage1", "area_scale_mean") < 0.7);
     check_choice(st, 0.9);
+    /* At c_r 0.9 the text half's targets reach input density: the cap binds, so the dense
+     * candidate is made and weighed. */
+    CHECK(cJSON_GetObjectItem(cJSON_GetObjectItem(st, "allocation_choice"), "q_allocated_dense") != NULL);
     cJSON_Delete(st);
     /* A texture size: exact whichever candidate wins. */
     p.budget = TEXOPT_BUDGET_TEXTURE_SIZE;
