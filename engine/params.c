@@ -32,12 +32,18 @@ const char *texopt_refine_measure_name(int refine_lit)
     return refine_lit ? "lit" : "baseColor";
 }
 
+/* Which of a two-way setting's values (0 or 1) name_of names `name`; -1 for neither. */
+static int two_way_from_name(const char *name, const char *(*name_of)(int))
+{
+    for (int v = 0; v <= 1; v++)
+        if (name && strcmp(name, name_of(v)) == 0)
+            return v;
+    return -1;
+}
+
 int texopt_refine_measure_from_name(const char *name)
 {
-    for (int lit = 0; lit <= 1; lit++)
-        if (name && strcmp(name, texopt_refine_measure_name(lit)) == 0)
-            return lit;
-    return -1;
+    return two_way_from_name(name, texopt_refine_measure_name);
 }
 
 const char *texopt_lookup_name(int mipmapped)
@@ -47,10 +53,7 @@ const char *texopt_lookup_name(int mipmapped)
 
 int texopt_lookup_from_name(const char *name)
 {
-    for (int mip = 0; mip <= 1; mip++)
-        if (name && strcmp(name, texopt_lookup_name(mip)) == 0)
-            return mip;
-    return -1;
+    return two_way_from_name(name, texopt_lookup_name);
 }
 
 void texopt_params_resolve(texopt_params *p)

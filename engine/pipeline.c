@@ -1432,9 +1432,9 @@ static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candid
  * the dense one on Duck at c_r 0.1, 0.2 and 1 and on WaterBottle at 1, giving the
  * triangles the first one capped more texels than the input has (tewari's targets put up
  * to 1.8x on Duck's pupils' edge); cap 2 measured no better. */
-enum { CANDIDATE_ALLOCATED, CANDIDATE_DENSE, CANDIDATE_UNIFORM, CANDIDATES };
-static const double candidate_cap[CANDIDATES] = {1.0, 1.5, 0.0};
-static const char *const candidate_name[CANDIDATES] = {"allocated", "allocated_dense", "uniform"};
+enum { CANDIDATE_UNIFORM, CANDIDATE_ALLOCATED, CANDIDATE_DENSE, CANDIDATES };
+static const double candidate_cap[CANDIDATES] = {0.0, 1.0, 1.5};
+static const char *const candidate_name[CANDIDATES] = {"uniform", "allocated", "allocated_dense"};
 
 /* Whether the allocation capped any target of the candidate (else one with a higher cap
  * would be the same layout). */
@@ -1454,22 +1454,20 @@ static void candidate_free(texopt_job *job, candidate *c)
     job_output_destroy(&c->out, job->model->image_count);
 }
 
-/* Makes the candidates of one budget (the dense one only when the cap at input density
- * bound), evaluates them in one pass and returns the index of the one with the smallest q;
- * *made says which were made. */
+/* Makes the candidates of one budget in their order (the dense one only when the cap at
+ * input density bound), evaluates them in one pass and returns the index of the one with the
+ * smallest q, a tie keeping the earlier, simpler one; *made says which were made. */
 static texopt_status run_candidates(texopt_job *job, const texopt_params *p, candidate *cand, int *made,
                                     double from, double to, double chosen, int *best, char *err, size_t err_len)
 {
-    int order[CANDIDATES] = {CANDIDATE_ALLOCATED, CANDIDATE_UNIFORM, CANDIDATE_DENSE};
     const job_output *outs[CANDIDATES];
     int n = 0;
     texopt_status st = TEXOPT_OK;
-    for (int k = 0; k < CANDIDATES && st == TEXOPT_OK; k++) {
-        int i = order[k];
+    for (int i = 0; i < CANDIDATES && st == TEXOPT_OK; i++) {
         if (i == CANDIDATE_DENSE && !allocation_capped(&cand[CANDIDATE_ALLOCATED], job->stats.domain_count))
             continue;
-        st = run_candidate(job, p, candidate_cap[i], BAKE_EVALUATED, &cand[i], from + (to - from) * k / CANDIDATES,
-                           from + (to - from) * (k + 1) / CANDIDATES, err, err_len);
+        st = run_candidate(job, p, candidate_cap[i], BAKE_EVALUATED, &cand[i], from + (to - from) * i / CANDIDATES,
+                           from + (to - from) * (i + 1) / CANDIDATES, err, err_len);
         made[i] = st == TEXOPT_OK;
         outs[n++] = &cand[i].out;
     }
@@ -1478,15 +1476,12 @@ static texopt_status run_candidates(texopt_job *job, const texopt_params *p, can
         job_stage(&job->jm, "evaluate", to, chosen);
         st = evaluate_outputs(job->model, outs, n, p, &job->jm, evs, err, err_len);
     }
-    for (int k = 0, e = 0; k < CANDIDATES && st == TEXOPT_OK; k++)
-        if (made[order[k]])
-            cand[order[k]].ev = evs[e++];
-    /* a tie keeps the simpler layout: uniform, then allocated */
-    int preference[CANDIDATES] = {CANDIDATE_UNIFORM, CANDIDATE_ALLOCATED, CANDIDATE_DENSE};
     *best = -1;
-    for (int k = 0; k < CANDIDATES && st == TEXOPT_OK; k++) {
-        int i = preference[k];
-        if (made[i] && (*best < 0 || cand[i].ev.q < cand[*best].ev.q))
+    for (int i = 0, e = 0; i < CANDIDATES && st == TEXOPT_OK; i++) {
+        if (!made[i])
+            continue;
+        cand[i].ev = evs[e++];
+        if (*best < 0 || cand[i].ev.q < cand[*best].ev.q)
             *best = i;
     }
     return st;

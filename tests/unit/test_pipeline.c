@@ -286,7 +286,7 @@ static double file_q(const char *in, const char *out, int resolution, int mipmap
 }
 
 /* params.mipmapped reaches every rendering of the job: the statistics' q (which, without a
- * refinement round, is the kept candidate's from the choice between the two) is the
+ * refinement round, is the kept candidate's from the choice among them) is the
  * mip-mapped q of the written file, not its bilinear one. At 24 pixels the 64-texel stripes
  * are minified, where the two lookups differ. */
 TEST(the_lookups_asked_for_are_the_ones_the_job_renders_with)
