@@ -2,6 +2,8 @@
 #include "budget.h"
 
 #include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -19,6 +21,7 @@
 #define START_ORDERS 3
 #define WIDTH_LO 0.75          /* strip widths tried, relative to the estimate */
 #define WIDTH_HI 1.35
+#define MAX_SEARCH_THREADS 16  /* the search has at most RULES * START_ORDERS units at once */
 /* Box fill a reshape lifts the charts below it to. Measured on the perceptual layouts of
  * spot, Fox and Duck (BENCHMARKS.md "Packing efficiency"): asking each chart for what the
  * efficiency's shortfall needs (the aggregate fill raised by (0.75 / efficiency)^4,
@@ -77,6 +80,7 @@ typedef struct work {
     int rule;                 /* texopt_pack_rule of the next pack */
     const texopt_monitor *monitor;
     int cell, side;           /* grid cell of every packer (0: from side), texture side hint */
+    int threads;              /* for the packing search's units; >= 1 */
 } work;
 
 /* The packer of the layout scaled by s (into w->scaled, which it then reads). */
@@ -241,57 +245,188 @@ static void perturb(const uint32_t *from, uint32_t *to, size_t n, uint64_t *rng)
     to[j] = c;
 }
 
+/* One unit of the packing search, run on any thread: one rule's packings of one start
+ * order at every width tried, or one rule's local search over the order from the best of its
+ * starts. It keeps the first smallest of its own packings, with their positions; reduced in
+ * the order one thread would run the units (keep_first_smallest), they keep what that thread
+ * would: the search gives the same packing whatever the thread count. */
+typedef struct search_unit {
+    work w;               /* its own: packed positions, sequence, rule, packings spent */
+    const texopt_packer *packer;
+    double base;          /* start units: the estimated strip width the widths scale */
+    int tries;            /* start units: widths tried */
+    best_packing found;   /* the first smallest of its packings */
+    double *found_texel;  /* their positions */
+    best_packing cur;     /* local units: the rule's best start, then the search's best */
+    uint32_t *trial;      /* local units: the order tried next */
+    texopt_status st;
+    char err[256];
+} search_unit;
+
+static void run_start_unit(search_unit *u)
+{
+    for (int i = 0; i < u->tries && u->st == TEXOPT_OK; i++) {
+        int strip = round_up4(u->base * (WIDTH_LO + (WIDTH_HI - WIDTH_LO) * i / (u->tries - 1)));
+        if (strip <= MAX_SIDE)
+            try_packing(&u->w, u->packer, strip, &u->cur, &u->found, u->found_texel, &u->st, u->err, sizeof u->err);
+    }
+}
+
+/* Greedy descent over the order, path dependent: hence one from every rule's best start,
+ * not only from the best rule's. Each rule has its own random stream. */
+static void run_local_unit(search_unit *u)
+{
+    uint64_t rng = 0x9e3779b97f4a7c15ULL * (uint64_t)(u->w.rule + 1);
+    for (int it = 0; u->st == TEXOPT_OK && u->cur.texels >= 0 && it < ORDER_SEARCH_STEPS; it++) {
+        perturb(u->cur.sequence, u->trial, u->w.mesh->chart_count, &rng);
+        u->w.sequence = u->trial;
+        for (int d = -1; d <= 1 && u->st == TEXOPT_OK; d++) {
+            int at = round_up4(u->cur.strip * (1 + 0.02 * d));
+            if (at <= MAX_SIDE &&
+                try_packing(&u->w, u->packer, at, &u->cur, &u->found, u->found_texel, &u->st, u->err, sizeof u->err))
+                break;
+        }
+    }
+}
+
+typedef struct unit_pool {
+    search_unit *units;
+    int count;
+    void (*run)(search_unit *);
+    atomic_int next;
+} unit_pool;
+
+static void *unit_worker(void *arg)
+{
+    unit_pool *pool = arg;
+    for (int i; (i = atomic_fetch_add(&pool->next, 1)) < pool->count;)
+        pool->run(pool->units + i);
+    return NULL;
+}
+
+/* Runs every unit on up to `threads` threads, the calling one included (fewer when a thread
+ * cannot start: the callers' worker takes their units). */
+static void run_units(search_unit *units, int count, void (*run)(search_unit *), int threads)
+{
+    unit_pool pool = {units, count, run, 0};
+    pthread_t tid[MAX_SEARCH_THREADS];
+    int started = 0;
+    for (int k = 1; k < threads && k < count && k < MAX_SEARCH_THREADS; k++, started++)
+        if (pthread_create(&tid[started], NULL, unit_worker, &pool) != 0)
+            break;
+    unit_worker(&pool);
+    for (int k = 0; k < started; k++)
+        pthread_join(tid[k], NULL);
+}
+
+/* Offers `from` (positions in from_texel) to `to` the way offer() does: kept only when
+ * strictly smaller, so reducing units in their sequential order keeps the first smallest. */
+static void keep_first_smallest(const work *w, best_packing *to, const best_packing *from, const double *from_texel,
+                                double *to_texel)
+{
+    if (from->texels < 0 || (to->texels >= 0 && from->texels >= to->texels))
+        return;
+    uint32_t *sequence = to->sequence;
+    *to = *from;
+    to->sequence = sequence;
+    memcpy(sequence, from->sequence, sizeof(uint32_t) * w->mesh->chart_count);
+    if (to_texel)
+        memcpy(to_texel, from_texel, sizeof(double) * 2 * w->mesh->vertex_count);
+}
+
+/* The first failure among the units, in their order, into err. */
+static texopt_status units_status(const search_unit *units, int count, work *w, char *err, size_t err_len)
+{
+    for (int i = 0; i < count; i++)
+        w->packings += units[i].w.packings;
+    for (int i = 0; i < count; i++)
+        if (units[i].st != TEXOPT_OK)
+            return texopt_fail(err, err_len, units[i].st, "%s", units[i].err);
+    return TEXOPT_OK;
+}
+
+static void free_units(search_unit *units, int count)
+{
+    for (int i = 0; units && i < count; i++) {
+        free(units[i].w.packed);
+        free(units[i].found_texel);
+        free(units[i].found.sequence);
+        free(units[i].cur.sequence);
+        free(units[i].trial);
+    }
+    free(units);
+}
+
+/* Units for `count` searches, each with its own buffers. */
+static search_unit *make_units(const work *w, const texopt_packer *packer, int count)
+{
+    search_unit *units = calloc((size_t)count, sizeof *units);
+    size_t n = w->mesh->chart_count ? w->mesh->chart_count : 1, v = w->mesh->vertex_count ? w->mesh->vertex_count : 1;
+    for (int i = 0; units && i < count; i++) {
+        search_unit *u = units + i;
+        u->w = *w;
+        u->w.packings = 0;
+        u->packer = packer;
+        u->w.packed = malloc(sizeof(double) * 2 * v);
+        u->found_texel = malloc(sizeof(double) * 2 * v);
+        u->found = (best_packing){-1, 0, 0, 0, 0, malloc(sizeof(uint32_t) * n)};
+        u->cur = (best_packing){-1, 0, 0, 0, 0, malloc(sizeof(uint32_t) * n)};
+        u->trial = malloc(sizeof(uint32_t) * n);
+        if (!u->w.packed || !u->found_texel || !u->found.sequence || !u->cur.sequence || !u->trial) {
+            free_units(units, count);
+            return NULL;
+        }
+    }
+    return units;
+}
+
 /* The strip width and placement order whose "as tall as needed" packing has the fewest
  * texels: both start orders at a few widths around the estimate (more for small atlases),
  * then, for small atlases, a seeded local search over the order (one chart moved at a time)
  * at the best widths. Its positions go to texel_out. Deterministic: a fixed seed and a fixed
- * number of packings. */
+ * number of packings; the units run on w->threads threads (search_unit). */
 static texopt_status search_packing(work *w, double s, double area, double aspect, int min_strip,
                                     double *texel_out, best_packing *best, char *err, size_t err_len)
 {
     size_t n = w->mesh->chart_count ? w->mesh->chart_count : 1;
-    uint32_t *orders = malloc(sizeof(uint32_t) * (START_ORDERS + 1 + RULES) * n);
-    if (!orders)
-        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the placement orders");
-    uint32_t *trial = orders + START_ORDERS * n;
-    best_packing per_rule[RULES];
-    for (int r = 0; r < RULES; r++)
-        per_rule[r] = (best_packing){-1, 0, r, 0, 0, orders + (START_ORDERS + 1 + r) * n};
-    texopt_status st = start_orders(w->mesh, w->texel, orders, err, err_len);
-    double base = fmax(sqrt(area * s * s / 0.7 * aspect), min_strip / WIDTH_LO);
+    int small = w->mesh->chart_count <= SMALL_ATLAS_CHARTS;
+    int rules = small ? RULES : 1, starts = rules * START_ORDERS;
+    uint32_t *orders = malloc(sizeof(uint32_t) * START_ORDERS * n);
     texopt_packer *packer = NULL;
+    texopt_status st = orders ? start_orders(w->mesh, w->texel, orders, err, err_len)
+                              : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the placement orders");
     if (st == TEXOPT_OK)
         st = make_packer(w, s, &packer, err, err_len);
-    int small = w->mesh->chart_count <= SMALL_ATLAS_CHARTS;
-    int tries = small ? 15 : 2, rules = small ? RULES : 1;
-    for (int rule = 0; rule < rules && st == TEXOPT_OK; rule++)
-        for (int o = 0; o < START_ORDERS && st == TEXOPT_OK; o++)
-            for (int i = 0; i < tries && st == TEXOPT_OK; i++) {
-                int strip = round_up4(base * (WIDTH_LO + (WIDTH_HI - WIDTH_LO) * i / (tries - 1)));
-                if (strip > MAX_SIDE)
-                    continue;
-                w->sequence = orders + o * n;
-                w->rule = rule;
-                try_packing(w, packer, strip, per_rule + rule, best, texel_out, &st, err, err_len);
-            }
-    /* Local search from each rule's best start: greedy descent is path dependent, and the
-     * rule that starts best is not always the one that ends best. */
-    for (int rule = 0; small && rule < rules && st == TEXOPT_OK; rule++) {
-        uint64_t rng = 0x9e3779b97f4a7c15ULL * (uint64_t)(rule + 1); /* own stream: more steps only add */
-        best_packing *cur = per_rule + rule;
-        w->rule = rule;
-        for (int it = 0; st == TEXOPT_OK && cur->texels >= 0 && it < ORDER_SEARCH_STEPS; it++) {
-            perturb(cur->sequence, trial, w->mesh->chart_count, &rng);
-            w->sequence = trial;
-            for (int d = -1; d <= 1 && st == TEXOPT_OK; d++) {
-                int at = round_up4(cur->strip * (1 + 0.02 * d));
-                if (at <= MAX_SIDE && try_packing(w, packer, at, cur, best, texel_out, &st, err, err_len))
-                    break;
-            }
-        }
+    search_unit *units = st == TEXOPT_OK ? make_units(w, packer, starts + rules) : NULL;
+    if (st == TEXOPT_OK && !units)
+        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the packing search");
+    search_unit *local = units ? units + starts : NULL;
+    double base = fmax(sqrt(area * s * s / 0.7 * aspect), min_strip / WIDTH_LO);
+    for (int i = 0; i < starts && st == TEXOPT_OK; i++) {
+        units[i].w.rule = i / START_ORDERS;
+        units[i].w.sequence = orders + (size_t)(i % START_ORDERS) * n;
+        units[i].base = base;
+        units[i].tries = small ? 15 : 2;
+    }
+    if (st == TEXOPT_OK) {
+        run_units(units, starts, run_start_unit, w->threads);
+        st = units_status(units, starts, w, err, err_len);
+    }
+    for (int i = 0; i < starts && st == TEXOPT_OK; i++) {
+        keep_first_smallest(w, best, &units[i].found, units[i].found_texel, texel_out);
+        keep_first_smallest(w, &local[i / START_ORDERS].cur, &units[i].found, NULL, NULL);
+    }
+    if (st == TEXOPT_OK && small) {
+        for (int r = 0; r < rules; r++)
+            local[r].w.rule = r;
+        run_units(local, rules, run_local_unit, w->threads);
+        st = units_status(local, rules, w, err, err_len);
+        for (int r = 0; r < rules && st == TEXOPT_OK; r++)
+            keep_first_smallest(w, best, &local[r].found, local[r].found_texel, texel_out);
     }
     w->rule = best->rule;
     w->sequence = best->sequence;
+    free_units(units, starts + rules);
     texopt_packer_destroy(packer);
     free(orders);
     if (st == TEXOPT_OK && best->texels < 0)
@@ -538,7 +673,8 @@ texopt_status texopt_budget_fit(const texopt_mesh *mesh, const double *texel,
     texopt_status st = check_request(req, area, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    work w = {mesh, texel, &req->pack, NULL, NULL, 0, req->pack.sequence, req->pack.rule, req->monitor, req->pack.cell, 0};
+    work w = {mesh, texel, &req->pack, NULL, NULL, 0, req->pack.sequence, req->pack.rule, req->monitor, req->pack.cell, 0,
+              req->threads > 0 ? req->threads : 1};
     size_t n = 2 * (mesh->vertex_count ? mesh->vertex_count : 1);
     w.scaled = malloc(n * sizeof(double));
     w.packed = malloc(n * sizeof(double));

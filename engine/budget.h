@@ -9,7 +9,7 @@
  *    efficiency * aspect of the input frame) and placement orders are packed "as tall as
  *    needed" (the width then cut to the columns used), for small atlases followed by a
  *    seeded local search over the order, and the packing with the fewest texels wins (a
- *    fixed number of packings: deterministic). Both sides are multiples of 4 (block compression and mip levels two deep
+ *    fixed number of packings: deterministic, on any number of threads). Both sides are multiples of 4 (block compression and mip levels two deep
  *    stay aligned); the aspect is therefore close to, not exactly, the input's: we choose
  *    the texture memory over the aspect.
  *  - texture size W x H: the largest scale whose packing fits in exactly W x H, by
@@ -54,7 +54,9 @@ typedef struct texopt_budget_request {
     const uint8_t *keep_shape;           /* may be NULL: per chart, nonzero = never reshaped
                                             (a sharing group, texel_share.h: its charts must
                                             stay on each other) */
-    int threads;                         /* for the reshape's solves; 0 -> 1 */
+    int threads;                         /* for the packing search and the reshape's
+                                            solves; 0 -> 1. The result does not depend
+                                            on it */
     const texopt_monitor *monitor;       /* may be NULL; checked for cancellation between
                                             packings (TEXOPT_E_CANCELED) */
 } texopt_budget_request;

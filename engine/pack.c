@@ -22,6 +22,8 @@ typedef struct footprint {
     int *runs;       /* pairs (first, last) of the footprint's runs of cells, row by row */
     int *need;       /* per row: occupied cells */
     int min_need;    /* smallest need of a row */
+    int *longest;    /* per row: its longest run of cells */
+    int min_longest; /* smallest longest run of a row */
     double origin[2]; /* texel position (after rotation) of cell (0, 0) */
 } footprint;
 
@@ -36,6 +38,7 @@ typedef struct occupancy {
     int w, h, words;
     uint64_t *bits;     /* h rows of `words` words */
     int *free_cells;    /* per row */
+    int *free_run;      /* per row: its longest run of free cells */
 } occupancy;
 
 static void rotate(int k, double x, double y, double *ox, double *oy)
@@ -100,6 +103,7 @@ static void footprint_destroy(footprint *f)
     free(f->run_start);
     free(f->runs);
     free(f->need);
+    free(f->longest);
     memset(f, 0, sizeof *f);
 }
 
@@ -180,14 +184,21 @@ static int build_runs(footprint *f)
     }
     f->run_start[f->h] = n;
     f->need = calloc(f->h > 0 ? (size_t)f->h : 1, sizeof(int));
-    if (!f->need)
+    f->longest = calloc(f->h > 0 ? (size_t)f->h : 1, sizeof(int));
+    if (!f->need || !f->longest)
         return -1;
-    f->min_need = f->w;
+    f->min_need = f->min_longest = f->w;
     for (int r = 0; r < f->h; r++) {
-        for (int k = f->run_start[r]; k < f->run_start[r + 1]; k++)
-            f->need[r] += f->runs[2 * k + 1] - f->runs[2 * k] + 1;
+        for (int k = f->run_start[r]; k < f->run_start[r + 1]; k++) {
+            int len = f->runs[2 * k + 1] - f->runs[2 * k] + 1;
+            f->need[r] += len;
+            if (len > f->longest[r])
+                f->longest[r] = len;
+        }
         if (f->need[r] < f->min_need)
             f->min_need = f->need[r];
+        if (f->longest[r] < f->min_longest)
+            f->min_longest = f->longest[r];
     }
     return 0;
 }
@@ -290,23 +301,58 @@ static int row_fits(const footprint *f, int r, const uint64_t *row, int width, i
     return 1;
 }
 
-/* Lowest-then-leftmost position of f, below row `below` (exclusive bound on y + h). Rows
- * with fewer free cells than the footprint row needs rule a y out at once (and rows with
- * fewer than any footprint row needs, every y that overlaps them); the row that last
- * blocked a column is tested first, since it usually blocks the next one too. */
+/* Longest run of free cells in the first `width` cells of row. */
+static int longest_free_run(const uint64_t *row, int width)
+{
+    int longest = 0;
+    for (int x = 0; x < width;) {
+        int a = first_clear(row, x, width);
+        if (a >= width)
+            break;
+        int b = first_set(row, a, width - 1);
+        if (b < 0)
+            b = width;
+        if (b - a > longest)
+            longest = b - a;
+        x = b;
+    }
+    return longest;
+}
+
+/* Whether grid row y may hold footprint row r: enough free cells, and a free run as long as
+ * the row's longest run (necessary, not sufficient: the runs must also fall on free cells). */
+static int row_may_fit(const occupancy *o, const footprint *f, int r, int y)
+{
+    return o->free_cells[y] >= f->need[r] && o->free_run[y] >= f->longest[r];
+}
+
+/* Whether grid row y can hold no row of the footprint, ruling out every position that
+ * overlaps it. */
+static int row_blocks_all(const occupancy *o, const footprint *f, int y)
+{
+    return o->free_cells[y] < f->min_need || o->free_run[y] < f->min_longest;
+}
+
+/* Lowest-then-leftmost position of f, below row `below` (exclusive bound on y + h). A y is
+ * first screened row by row with row_may_fit, the grid row that ruled out the last y tested
+ * first (it usually rules out the next one too), and a row that blocks every footprint row
+ * skips every y that overlaps it; the same for the row that last blocked a column. */
 static int find_position(const occupancy *o, const footprint *f, int below, int *px, int *py)
 {
-    int hot = 0;
+    int hot = 0, blocking = -1;
     for (int y = 0; y + f->h <= o->h && y + f->h < below; y++) {
-        int ok = 1;
-        for (int r = 0; r < f->h && ok; r++)
-            if (o->free_cells[y + r] < f->need[r]) {
-                ok = 0;
-                if (o->free_cells[y + r] < f->min_need)
-                    y += r; /* every y up to y + r overlaps this row */
-            }
-        if (!ok)
+        int bad = -1;
+        if (blocking >= y && !row_may_fit(o, f, blocking - y, blocking))
+            bad = blocking;
+        for (int r = 0; r < f->h && bad < 0; r++)
+            if (!row_may_fit(o, f, r, y + r))
+                bad = y + r;
+        if (bad >= 0) {
+            blocking = bad;
+            if (row_blocks_all(o, f, bad))
+                y = bad;
             continue;
+        }
         int x = 0;
         while (x + f->w <= o->w) {
             int fits = row_fits(f, hot, occ_row(o, y + hot), o->w, &x);
@@ -325,19 +371,30 @@ static int find_position(const occupancy *o, const footprint *f, int below, int 
     return 0;
 }
 
+/* Occupies cells a..b of row. */
+static void mark_cells(uint64_t *row, int a, int b)
+{
+    for (int w = a >> 6; w <= b >> 6; w++) {
+        uint64_t m = ~0ULL;
+        if (w == a >> 6)
+            m &= ~0ULL << (a & 63);
+        if (w == b >> 6)
+            m &= ~0ULL >> (63 - (b & 63));
+        row[w] |= m;
+    }
+}
+
 static void place(occupancy *o, const footprint *f, int x, int y)
 {
     for (int r = 0; r < f->h; r++) {
         uint64_t *row = occ_row(o, y + r);
-        for (int k = f->run_start[r]; k < f->run_start[r + 1]; k++)
-            for (int c = f->runs[2 * k]; c <= f->runs[2 * k + 1]; c++) {
-                int cc = x + c;
-                row[cc >> 6] |= 1ULL << (cc & 63);
-                o->free_cells[y + r]--;
-            }
+        for (int k = f->run_start[r]; k < f->run_start[r + 1]; k++) {
+            mark_cells(row, x + f->runs[2 * k], x + f->runs[2 * k + 1]);
+            o->free_cells[y + r] -= f->runs[2 * k + 1] - f->runs[2 * k] + 1;
+        }
+        o->free_run[y + r] = longest_free_run(row, o->w);
     }
 }
-
 
 typedef struct sort_item {
     double area;
@@ -643,14 +700,15 @@ texopt_status texopt_packer_run(const texopt_packer *p, int width, int height, c
     s.occ.words = (s.occ.w + 63) / 64;
     s.occ.bits = calloc((size_t)s.occ.h * (size_t)(s.occ.words ? s.occ.words : 1), sizeof(uint64_t));
     s.occ.free_cells = malloc(sizeof(int) * (size_t)(s.occ.h ? s.occ.h : 1));
+    s.occ.free_run = malloc(sizeof(int) * (size_t)(s.occ.h ? s.occ.h : 1));
     s.moved = calloc(p->mesh->vertex_count ? p->mesh->vertex_count : 1, 1);
     result->rotation = calloc(p->cs.count ? p->cs.count : 1, 1);
     result->chart_count = p->cs.count;
-    if (!s.occ.bits || !s.occ.free_cells || !s.moved || !result->rotation)
+    if (!s.occ.bits || !s.occ.free_cells || !s.occ.free_run || !s.moved || !result->rotation)
         st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %dx%d packing grid", s.occ.w, s.occ.h);
     if (st == TEXOPT_OK) {
         for (int y = 0; y < s.occ.h; y++)
-            s.occ.free_cells[y] = s.occ.w;
+            s.occ.free_cells[y] = s.occ.free_run[y] = s.occ.w;
         for (size_t v = 0; v < p->mesh->vertex_count; v++)
             texel_out[2 * v] = texel_out[2 * v + 1] = 0; /* vertices of no triangle */
         *fits = 1;
@@ -661,6 +719,7 @@ texopt_status texopt_packer_run(const texopt_packer *p, int width, int height, c
     }
     free(s.occ.bits);
     free(s.occ.free_cells);
+    free(s.occ.free_run);
     free(s.moved);
     if (st != TEXOPT_OK)
         texopt_pack_result_destroy(result);

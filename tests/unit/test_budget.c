@@ -244,8 +244,10 @@ TEST(generated_charts_pack_densely_and_deterministically)
     double *a = malloc(sizeof(double) * n), *b = malloc(sizeof(double) * n);
     texopt_budget_result ra, rb;
     CHECK_OK(texopt_budget_fit(mesh, mesh->texel, &req, a, &ra, err, sizeof err), err);
+    req.threads = 3; /* the search's units on three threads must find the one-thread packing */
     CHECK_OK(texopt_budget_fit(mesh, mesh->texel, &req, b, &rb, err, sizeof err), err);
     CHECK(memcmp(a, b, sizeof(double) * n) == 0 && ra.width == rb.width && ra.height == rb.height);
+    CHECK_EQ_INT(ra.packings, rb.packings);
     double cost = packed_cost(mesh, a, ra.width, ra.height);
     CHECK_MSG(fabs(cost / in.texel_area - 1) <= 0.02, "cost %.0f for %.0f", cost, in.texel_area);
     CHECK_MSG(ra.packing_efficiency > 0.645, "efficiency %.3f in %dx%d", ra.packing_efficiency, ra.width,
@@ -306,6 +308,28 @@ static int charts_overlap(const texopt_mesh *m, const double *texel, int w, int 
     }
     free(label);
     return !label || overlap;
+}
+
+TEST(a_large_atlas_packs_the_same_on_one_thread_or_two)
+{
+    texopt_mesh *mesh = generated_charts(90, 7); /* above SMALL_ATLAS_CHARTS: one rule, no order search */
+    CHECK(mesh != NULL);
+    texopt_coverage in;
+    char err[256] = "";
+    CHECK_OK(texopt_coverage_measure(mesh, NULL, &in, err, sizeof err), err);
+    texopt_budget_request req = relative_cost_request(mesh, in.texel_area, 0.5);
+    size_t n = 2 * mesh->vertex_count;
+    double *a = malloc(sizeof(double) * n), *b = malloc(sizeof(double) * n);
+    texopt_budget_result ra, rb;
+    req.threads = 1;
+    CHECK_OK(texopt_budget_fit(mesh, mesh->texel, &req, a, &ra, err, sizeof err), err);
+    req.threads = 2;
+    CHECK_OK(texopt_budget_fit(mesh, mesh->texel, &req, b, &rb, err, sizeof err), err);
+    CHECK(memcmp(a, b, sizeof(double) * n) == 0 && ra.width == rb.width && ra.height == rb.height);
+    CHECK(charts_overlap(mesh, a, ra.width, ra.height) == 0);
+    free(a);
+    free(b);
+    texopt_mesh_destroy(mesh);
 }
 
 TEST(charts_free_to_turn_are_turned_to_their_smallest_box_before_packing)

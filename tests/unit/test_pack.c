@@ -319,3 +319,73 @@ TEST(a_packer_reused_gives_the_one_shot_packing_and_follows_a_sequence)
     free(b);
     free_test_mesh(&t);
 }
+
+/* Square charts of the given sides (two triangles each), spread apart. */
+static int make_squares(test_mesh *t, const double *side, size_t charts)
+{
+    texopt_mesh *m = &t->m;
+    memset(m, 0, sizeof *m);
+    m->texel = calloc(8 * charts, sizeof(double));
+    m->triangle = calloc(6 * charts, sizeof(uint32_t));
+    m->chart_of = calloc(2 * charts, sizeof(uint32_t));
+    m->flags = calloc(2 * charts, 1);
+    if (!m->texel || !m->triangle || !m->chart_of || !m->flags)
+        return -1;
+    m->chart_count = charts;
+    for (size_t c = 0; c < charts; c++) {
+        const double corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+        for (int i = 0; i < 4; i++) {
+            m->texel[2 * (4 * c + i)] = 100.0 * (double)c + corner[i][0] * side[c];
+            m->texel[2 * (4 * c + i) + 1] = corner[i][1] * side[c];
+        }
+        const uint32_t tris[2][3] = {{0, 1, 2}, {0, 2, 3}};
+        for (int k = 0; k < 2; k++) {
+            for (int j = 0; j < 3; j++)
+                m->triangle[3 * (2 * c + k) + j] = (uint32_t)(4 * c) + tris[k][j];
+            m->chart_of[2 * c + k] = (uint32_t)c;
+        }
+    }
+    m->vertex_count = 4 * charts;
+    m->triangle_count = 2 * charts;
+    return 0;
+}
+
+static double chart_low(const texopt_mesh *m, const double *texel, uint32_t chart, int axis)
+{
+    double lo = INFINITY;
+    for (size_t t = 0; t < m->triangle_count; t++)
+        if (m->chart_of[t] == chart)
+            for (int j = 0; j < 3; j++)
+                lo = fmin(lo, texel[2 * m->triangle[3 * t + j] + axis]);
+    return lo;
+}
+
+TEST(a_chart_takes_a_gap_exactly_its_width_and_not_a_narrower_one)
+{
+    /* With gutter 2 and one-texel cells a square of side s has a footprint of s + 3 cells
+     * a side. Squares 10, 10 and 4 in a strip 13 + 13 + 7 cells wide: the last one fills the
+     * 7 cells left beside the first two, on the bottom row. One cell narrower, it cannot, and
+     * goes on top of them although the bottom rows still have 6 free cells. */
+    const double side[3] = {10, 10, 4};
+    test_mesh t;
+    CHECK(make_squares(&t, side, 3) == 0);
+    double *out = malloc(sizeof(double) * 2 * t.m.vertex_count);
+    texopt_pack_result r;
+    int fits;
+    char err[256] = "";
+    texopt_pack_options opt = {.gutter = 2, .cell = 1};
+    CHECK_OK(texopt_pack_charts(&t.m, t.m.texel, 33, 0, &opt, out, &r, &fits, err, sizeof err), err);
+    CHECK(fits);
+    CHECK(check_separation(&t.m, out, 33, r.height, 1) == 0);
+    CHECK_MSG(chart_low(&t.m, out, 2, 1) < 2 && chart_low(&t.m, out, 2, 0) > 25, "small square at (%g, %g)",
+              chart_low(&t.m, out, 2, 0), chart_low(&t.m, out, 2, 1));
+    texopt_pack_result_destroy(&r);
+    CHECK_OK(texopt_pack_charts(&t.m, t.m.texel, 32, 0, &opt, out, &r, &fits, err, sizeof err), err);
+    CHECK(fits);
+    CHECK(check_separation(&t.m, out, 32, r.height, 1) == 0);
+    CHECK_MSG(chart_low(&t.m, out, 2, 1) > 12, "small square at (%g, %g)", chart_low(&t.m, out, 2, 0),
+              chart_low(&t.m, out, 2, 1));
+    texopt_pack_result_destroy(&r);
+    free(out);
+    free_test_mesh(&t);
+}
