@@ -146,8 +146,8 @@ static int offer(const work *w, best_packing *best, int strip, int pw, int ph, d
 }
 
 /* Packs into a strip of `strip` columns with w->sequence and w->rule and offers the result
- * to `local` (positions not kept) and to `best` (positions to texel_out). Returns 1 when
- * `local` kept it. */
+ * to `best` (positions to texel_out) and, when not NULL, to `local` (positions not kept).
+ * Returns 1 when `local` kept it. */
 static int try_packing(work *w, const texopt_packer *packer, int strip, best_packing *local, best_packing *best,
                        double *texel_out, texopt_status *st, char *err, size_t err_len)
 {
@@ -156,7 +156,7 @@ static int try_packing(work *w, const texopt_packer *packer, int strip, best_pac
     if (*st != TEXOPT_OK || !fits)
         return 0;
     offer(w, best, strip, pw, ph, texel_out);
-    return offer(w, local, strip, pw, ph, NULL);
+    return local ? offer(w, local, strip, pw, ph, NULL) : 0;
 }
 
 typedef struct keyed_chart {
@@ -268,7 +268,7 @@ static void run_start_unit(search_unit *u)
     for (int i = 0; i < u->tries && u->st == TEXOPT_OK; i++) {
         int strip = round_up4(u->base * (WIDTH_LO + (WIDTH_HI - WIDTH_LO) * i / (u->tries - 1)));
         if (strip <= MAX_SIDE)
-            try_packing(&u->w, u->packer, strip, &u->cur, &u->found, u->found_texel, &u->st, u->err, sizeof u->err);
+            try_packing(&u->w, u->packer, strip, NULL, &u->found, u->found_texel, &u->st, u->err, sizeof u->err);
     }
 }
 
@@ -334,8 +334,9 @@ static void keep_first_smallest(const work *w, best_packing *to, const best_pack
         memcpy(to_texel, from_texel, sizeof(double) * 2 * w->mesh->vertex_count);
 }
 
-/* The first failure among the units, in their order, into err. */
-static texopt_status units_status(const search_unit *units, int count, work *w, char *err, size_t err_len)
+/* Adds the units' packings to w's count; returns the first failure among them, in their
+ * order, with its message in err. */
+static texopt_status collect_units(const search_unit *units, int count, work *w, char *err, size_t err_len)
 {
     for (int i = 0; i < count; i++)
         w->packings += units[i].w.packings;
@@ -410,7 +411,7 @@ static texopt_status search_packing(work *w, double s, double area, double aspec
     }
     if (st == TEXOPT_OK) {
         run_units(units, starts, run_start_unit, w->threads);
-        st = units_status(units, starts, w, err, err_len);
+        st = collect_units(units, starts, w, err, err_len);
     }
     for (int i = 0; i < starts && st == TEXOPT_OK; i++) {
         keep_first_smallest(w, best, &units[i].found, units[i].found_texel, texel_out);
@@ -420,7 +421,7 @@ static texopt_status search_packing(work *w, double s, double area, double aspec
         for (int r = 0; r < rules; r++)
             local[r].w.rule = r;
         run_units(local, rules, run_local_unit, w->threads);
-        st = units_status(local, rules, w, err, err_len);
+        st = collect_units(local, rules, w, err, err_len);
         for (int r = 0; r < rules && st == TEXOPT_OK; r++)
             keep_first_smallest(w, best, &local[r].found, local[r].found_texel, texel_out);
     }
