@@ -2,7 +2,6 @@
 #include "budget.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,6 +9,7 @@
 #include "chart_orient.h"
 #include "chart_reshape.h"
 #include "coverage.h"
+#include "parallel.h"
 
 #define MAX_SIDE 16384
 #define COST_TOLERANCE 0.005
@@ -21,7 +21,6 @@
 #define START_ORDERS 3
 #define WIDTH_LO 0.75          /* strip widths tried, relative to the estimate */
 #define WIDTH_HI 1.35
-#define MAX_SEARCH_THREADS 16  /* the search has at most RULES * START_ORDERS units at once */
 /* Box fill a reshape lifts the charts below it to. Measured on the perceptual layouts of
  * spot, Fox and Duck (BENCHMARKS.md "Packing efficiency"): asking each chart for what the
  * efficiency's shortfall needs (the aggregate fill raised by (0.75 / efficiency)^4,
@@ -304,19 +303,11 @@ static void *unit_worker(void *arg)
     return NULL;
 }
 
-/* Runs every unit on up to `threads` threads, the calling one included (fewer when a thread
- * cannot start: the callers' worker takes their units). */
+/* Runs every unit on up to `threads` workers, the calling thread included. */
 static void run_units(search_unit *units, int count, void (*run)(search_unit *), int threads)
 {
     unit_pool pool = {units, count, run, 0};
-    pthread_t tid[MAX_SEARCH_THREADS];
-    int started = 0;
-    for (int k = 1; k < threads && k < count && k < MAX_SEARCH_THREADS; k++, started++)
-        if (pthread_create(&tid[started], NULL, unit_worker, &pool) != 0)
-            break;
-    unit_worker(&pool);
-    for (int k = 0; k < started; k++)
-        pthread_join(tid[k], NULL);
+    texopt_parallel_run(unit_worker, &pool, 0, threads < count ? threads : count);
 }
 
 /* Offers `from` (positions in from_texel) to `to` the way offer() does: kept only when

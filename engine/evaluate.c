@@ -28,6 +28,7 @@
 #include "info.h"
 #include "lit_shade.h"
 #include "mesh.h"
+#include "parallel.h"
 #include "sample.h"
 #include "texel_map.h"
 #include "texture_filter.h"
@@ -171,7 +172,9 @@ typedef struct eval_job {
     atomic_int next_view;
     atomic_int failed;
     texopt_evaluation *out; /* per candidate */
-    double *triangle_error_sum; /* threads x triangle_count, NULL when not asked */
+    /* view_count x triangle_count, NULL when not asked: kept per view and added in view
+     * order, so the errors do not depend on which thread drew which view */
+    double *triangle_error_sum;
     size_t *triangle_error_count;
     int triangle_error_edges; /* texopt_evaluate_options' */
     texopt_status status;
@@ -228,11 +231,6 @@ static void destroy_filters(texopt_texture_filter **f, int count)
     free(f);
 }
 
-typedef struct eval_worker {
-    eval_job *job;
-    int index;
-} eval_worker;
-
 static void job_fail(eval_job *job, texopt_status st, const char *msg)
 {
     pthread_mutex_lock(&job->lock);
@@ -264,13 +262,13 @@ static double pixel_error(const view_buffers *b, const float *luma_ref, size_t i
     return b->similarity[i] < 0 ? -1.0 : sqrt(difference * (1.0 - b->similarity[i]));
 }
 
-/* Adds one candidate's per-pixel luma error of a view to the worker's triangle sums. */
-static void account_triangle_error(eval_job *job, int worker, const texopt_raster *raster, const float *luma_ref,
+/* Adds one candidate's per-pixel luma error of view v to the view's triangle sums. */
+static void account_triangle_error(eval_job *job, int v, const texopt_raster *raster, const float *luma_ref,
                                    const view_buffers *b)
 {
     size_t n = (size_t)job->side * (size_t)job->side, tc = job->reference->triangle_count;
-    double *sum = job->triangle_error_sum + (size_t)worker * tc;
-    size_t *cnt = job->triangle_error_count + (size_t)worker * tc;
+    double *sum = job->triangle_error_sum + (size_t)v * tc;
+    size_t *cnt = job->triangle_error_count + (size_t)v * tc;
     if (b->similarity)
         texopt_gmsd_similarity_map(b->ws, b->prepared, b->similarity);
     for (size_t i = 0; i < n; i++) {
@@ -295,7 +293,7 @@ static texopt_status shade_luma(const eval_job *job, const texopt_model *model, 
 /* Renders one view of the reference once (raster, shading or the kept shading, GMSD
  * reference side) and compares every candidate with it; returns a status with the message
  * in msg. */
-static texopt_status evaluate_view(eval_job *job, int worker, int v, view_buffers *b, char *msg, size_t msg_len)
+static texopt_status evaluate_view(eval_job *job, int v, view_buffers *b, char *msg, size_t msg_len)
 {
     texopt_raster raster;
     size_t n = (size_t)job->side * (size_t)job->side;
@@ -323,7 +321,7 @@ static texopt_status evaluate_view(eval_job *job, int worker, int v, view_buffer
         job->out[c].view_gmsd[v] = g;
         job->out[c].view_pixels[v] = raster.covered;
         if (st == TEXOPT_OK && job->triangle_error_sum)
-            account_triangle_error(job, worker, &raster, luma_ref, b);
+            account_triangle_error(job, v, &raster, luma_ref, b);
     }
     texopt_raster_destroy(&raster);
     return st;
@@ -343,8 +341,7 @@ static void report_view_done(eval_job *job)
 
 static void *eval_worker_run(void *arg)
 {
-    eval_worker *w = arg;
-    eval_job *job = w->job;
+    eval_job *job = arg;
     size_t n = (size_t)job->side * (size_t)job->side;
     view_buffers b;
     b.ws = texopt_gmsd_workspace_create(job->side, job->side);
@@ -371,7 +368,7 @@ static void *eval_worker_run(void *arg)
             if (v >= job->view_count)
                 break;
             msg[0] = 0;
-            texopt_status st = evaluate_view(job, w->index, v, &b, msg, sizeof msg);
+            texopt_status st = evaluate_view(job, v, &b, msg, sizeof msg);
             if (st != TEXOPT_OK) {
                 job_fail(job, st, msg);
                 break;
@@ -387,28 +384,6 @@ static void *eval_worker_run(void *arg)
     free(b.scratch);
     free(b.similarity);
     return NULL;
-}
-
-static texopt_status run_views(eval_job *job)
-{
-    int threads = job->threads;
-    eval_worker workers[TEXOPT_VIEW_COUNT];
-    pthread_t tids[TEXOPT_VIEW_COUNT];
-    int started = 0;
-    for (int i = 0; i < threads; i++) {
-        workers[i].job = job;
-        workers[i].index = i;
-    }
-    /* Worker 0 runs on the calling thread; the others are extra. */
-    for (int i = 1; i < threads; i++) {
-        if (pthread_create(&tids[i], NULL, eval_worker_run, &workers[i]) != 0)
-            break;
-        started = i;
-    }
-    eval_worker_run(&workers[0]);
-    for (int i = 1; i <= started; i++)
-        pthread_join(tids[i], NULL);
-    return job->status;
 }
 
 static void destroy_candidate_filters(texopt_texture_filter ***f, const texopt_model *const *candidates, int count)
@@ -576,9 +551,9 @@ static void sum_triangle_errors(const eval_job *job, double *triangle_error)
     for (size_t t = 0; t < tc; t++) {
         double s = 0;
         size_t c = 0;
-        for (int w = 0; w < job->threads; w++) {
-            s += job->triangle_error_sum[(size_t)w * tc + t];
-            c += job->triangle_error_count[(size_t)w * tc + t];
+        for (int v = 0; v < job->view_count; v++) {
+            s += job->triangle_error_sum[(size_t)v * tc + t];
+            c += job->triangle_error_count[(size_t)v * tc + t];
         }
         triangle_error[t] = c ? s / (double)c : 0.0;
     }
@@ -649,13 +624,14 @@ static texopt_status run_evaluation(const texopt_model *reference, const texopt_
         st = build_all_turns(&job, err, err_len);
     size_t tc = reference->triangle_count;
     if (st == TEXOPT_OK && opt->triangle_error) {
-        job.triangle_error_sum = calloc((size_t)job.threads * tc, sizeof(double));
-        job.triangle_error_count = calloc((size_t)job.threads * tc, sizeof(size_t));
+        job.triangle_error_sum = calloc((size_t)view_count * tc, sizeof(double));
+        job.triangle_error_count = calloc((size_t)view_count * tc, sizeof(size_t));
         if (!job.triangle_error_sum || !job.triangle_error_count)
             st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for per-triangle errors");
     }
     if (st == TEXOPT_OK) {
-        st = run_views(&job);
+        texopt_parallel_run(eval_worker_run, &job, 0, job.threads);
+        st = job.status;
         if (st != TEXOPT_OK)
             texopt_fail(err, err_len, st, "%s", job.err);
     }

@@ -68,8 +68,9 @@ typedef struct texopt_evaluate_options {
     int mipmapped;  /* nonzero: prefiltered (mip-mapped, anisotropic) lookups in both renders
                        instead of bilinear, as a GPU sampler with mipmaps would show them */
     /* When not NULL: per reference triangle (triangle_count entries, caller-owned), the mean
-     * absolute luma difference over the pixels it covers in all views (0 where never seen).
-     * The report colours the UV layout by it. */
+     * absolute luma difference over the pixels it covers in all views (0 where never seen),
+     * the same to the last bit on any number of threads. The report colours the UV layout by
+     * it. */
     double *triangle_error;
     /* With triangle_error: non-zero makes a pixel add sqrt(|luma difference| (1 - GMS)) over
      * the pixels GMSD counts (gmsd.h texopt_gmsd_similarity_map) instead of the difference:

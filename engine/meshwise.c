@@ -51,13 +51,13 @@
 
 #include <cholmod.h>
 #include <math.h>
-#include <pthread.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
 #include "distortion.h"
+#include "parallel.h"
 #include "tri_bins.h"
 
 #define PI 3.14159265358979323846
@@ -1075,13 +1075,11 @@ static void *run_axis_job(void *arg)
 static texopt_status solve_both_axes(solver *sv, char *err, size_t err_len)
 {
     axis_job jobs[2] = {{sv, 0, TEXOPT_OK, ""}, {sv, 1, TEXOPT_OK, ""}};
-    pthread_t thread;
-    int threaded = sv->threads > 1 && pthread_create(&thread, NULL, run_axis_job, &jobs[1]) == 0;
-    run_axis_job(&jobs[0]);
-    if (threaded)
-        pthread_join(thread, NULL);
+    if (sv->threads > 1)
+        texopt_parallel_run(run_axis_job, jobs, sizeof *jobs, 2);
     else
-        run_axis_job(&jobs[1]);
+        for (int axis = 0; axis < 2; axis++)
+            run_axis_job(&jobs[axis]);
     for (int axis = 0; axis < 2; axis++)
         if (jobs[axis].status != TEXOPT_OK)
             return texopt_fail(err, err_len, jobs[axis].status, "%s", jobs[axis].err);

@@ -14,6 +14,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "parallel.h"
 #include "triloss.h"
 
 #define PROGRESS_EVERY 256
@@ -34,11 +35,6 @@ typedef struct shared {
     texopt_status status;
     char err[512];
 } shared;
-
-typedef struct worker {
-    shared *sh;
-    pthread_t thread;
-} worker;
 
 static int is_evaluated(const texopt_mesh *mesh, size_t t)
 {
@@ -110,8 +106,7 @@ static texopt_status evaluate_triangle(shared *sh, texopt_triloss *loss, size_t 
 
 static void *worker_main(void *arg)
 {
-    worker *w = arg;
-    shared *sh = w->sh;
+    shared *sh = arg;
     char err[512] = "";
     texopt_triloss *loss = NULL;
     texopt_status st = texopt_triloss_create(&loss, sh->model, sh->mesh, sh->viewport, err, sizeof err);
@@ -149,26 +144,6 @@ static int thread_count(int requested, size_t triangles)
     if ((size_t)n > triangles)
         n = triangles ? (long)triangles : 1;
     return (int)n;
-}
-
-/* Runs the workers; worker 0 is the calling thread. */
-static void run_workers(shared *sh, int threads)
-{
-    worker *workers = calloc((size_t)threads, sizeof *workers);
-    if (!workers) {
-        record_failure(sh, TEXOPT_E_NOMEM, "loss share: out of memory");
-        return;
-    }
-    int started = 1;
-    for (int i = 0; i < threads; i++)
-        workers[i].sh = sh;
-    for (; started < threads; started++)
-        if (pthread_create(&workers[started].thread, NULL, worker_main, &workers[started]) != 0)
-            break; /* fewer threads is still correct */
-    worker_main(&workers[0]);
-    for (int i = 1; i < started; i++)
-        pthread_join(workers[i].thread, NULL);
-    free(workers);
 }
 
 static void summarise(const texopt_mesh *mesh, const double *loss, double epsilon,
@@ -220,7 +195,7 @@ texopt_status texopt_meshwise_loss_share(const texopt_model *model, const texopt
     atomic_init(&sh.done, 0);
     atomic_init(&sh.stop, 0);
     pthread_mutex_init(&sh.lock, NULL);
-    run_workers(&sh, thread_count(threads, mesh->triangle_count));
+    texopt_parallel_run(worker_main, &sh, 0, thread_count(threads, mesh->triangle_count));
     pthread_mutex_destroy(&sh.lock);
     texopt_status st = sh.status;
     if (st == TEXOPT_OK)

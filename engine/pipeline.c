@@ -71,6 +71,7 @@
 #include "meshwise.h"
 #include "meshwise_loss.h"
 #include "model.h"
+#include "parallel.h"
 #include "rebake.h"
 #include "ssp.h"
 #include "stats.h"
@@ -770,16 +771,9 @@ static void *bake_pool_worker(void *arg)
 
 static texopt_status bake_images_side_by_side(bake_pool *bp, int workers, char *err, size_t err_len)
 {
-    pthread_t tid[MAX_BAKE_WORKERS];
-    int started[MAX_BAKE_WORKERS] = {0};
     atomic_init(&bp->next, 0);
     pthread_mutex_init(&bp->lock, NULL);
-    for (int k = 1; k < workers; k++)
-        started[k] = pthread_create(&tid[k], NULL, bake_pool_worker, bp) == 0;
-    bake_pool_worker(bp);
-    for (int k = 1; k < workers; k++)
-        if (started[k])
-            pthread_join(tid[k], NULL);
+    texopt_parallel_run(bake_pool_worker, bp, 0, workers);
     pthread_mutex_destroy(&bp->lock);
     if (bp->status != TEXOPT_OK)
         return texopt_fail(err, err_len, bp->status, "%s", bp->err);

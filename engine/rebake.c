@@ -13,11 +13,11 @@
 #include "rebake.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "dilate.h"
+#include "parallel.h"
 #include "texel_fit.h"
 #include "texel_map.h"
 #include "texture_filter.h"
@@ -278,8 +278,6 @@ typedef struct sample_worker {
     int first_row, step;
     const texopt_monitor *monitor; /* only worker 0 reports; every worker checks cancel */
     int canceled;
-    int started;                   /* runs on its own thread */
-    pthread_t thread;
 } sample_worker;
 
 static void sample_row(const bake_context *ctx, int y)
@@ -316,9 +314,7 @@ static void *sample_rows(void *arg)
     return NULL;
 }
 
-/* Samples every owned texel at its centre, rows interleaved over `threads` workers (the
- * caller's thread is worker 0 and also runs the rows of any worker whose thread could not
- * start). */
+/* Samples every owned texel at its centre, rows interleaved over `threads` workers. */
 static texopt_status sample_owned(const bake_context *ctx, int threads, const texopt_monitor *monitor,
                                   char *err, size_t err_len)
 {
@@ -329,17 +325,10 @@ static texopt_status sample_owned(const bake_context *ctx, int threads, const te
     sample_worker wk[MAX_THREADS];
     for (int k = 0; k < threads; k++)
         wk[k] = (sample_worker){.ctx = ctx, .first_row = k, .step = threads, .monitor = monitor};
-    for (int k = 1; k < threads; k++)
-        wk[k].started = pthread_create(&wk[k].thread, NULL, sample_rows, &wk[k]) == 0;
-    sample_rows(&wk[0]);
-    int canceled = wk[0].canceled;
-    for (int k = 1; k < threads; k++) {
-        if (wk[k].started)
-            pthread_join(wk[k].thread, NULL);
-        else
-            sample_rows(&wk[k]);
+    texopt_parallel_run(sample_rows, wk, sizeof *wk, threads);
+    int canceled = 0;
+    for (int k = 0; k < threads; k++)
         canceled |= wk[k].canceled;
-    }
     if (canceled)
         return texopt_fail(err, err_len, TEXOPT_E_CANCELED, "bake canceled");
     return TEXOPT_OK;

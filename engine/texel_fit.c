@@ -15,10 +15,11 @@
 #include "texel_fit.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "parallel.h"
 
 #define BLOCK_ROWS 16
 #define MAX_THREADS 64
@@ -52,8 +53,6 @@ typedef struct block_worker {
     block_fn fn;
     int first, step, blocks;
     double *sums; /* MAX_SUMS per block */
-    int started;
-    pthread_t thread;
 } block_worker;
 
 static void *run_worker(void *arg)
@@ -82,15 +81,7 @@ static void run_blocks(fit_ctx *c, block_fn fn, double *block_sums, double total
     block_worker bw[MAX_THREADS];
     for (int k = 0; k < threads; k++)
         bw[k] = (block_worker){.c = c, .fn = fn, .first = k, .step = threads, .blocks = blocks, .sums = block_sums};
-    for (int k = 1; k < threads; k++)
-        bw[k].started = pthread_create(&bw[k].thread, NULL, run_worker, &bw[k]) == 0;
-    run_worker(&bw[0]);
-    for (int k = 1; k < threads; k++) {
-        if (bw[k].started)
-            pthread_join(bw[k].thread, NULL);
-        else
-            run_worker(&bw[k]); /* a thread that could not start: its blocks run here */
-    }
+    texopt_parallel_run(run_worker, bw, sizeof *bw, threads);
     for (int s = 0; s < MAX_SUMS; s++)
         totals[s] = 0;
     for (int b = 0; b < blocks; b++)

@@ -8,9 +8,10 @@
 #include "texture_filter.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "parallel.h"
 
 #define MAX_LEVELS 32
 #define MAX_PROBES 16
@@ -269,8 +270,6 @@ typedef struct resize_worker {
     texopt_image *dst;
     double kx, ky;
     int first_row, step;
-    int started;
-    pthread_t thread;
 } resize_worker;
 
 static void *resize_rows(void *arg)
@@ -299,15 +298,7 @@ texopt_status texopt_texture_resize(const texopt_image *src, texopt_wrap wrap_s,
     for (int k = 0; k < threads; k++)
         w[k] = (resize_worker){.filter = f, .dst = dst, .kx = (double)src->width / dst->width,
                                .ky = (double)src->height / dst->height, .first_row = k, .step = threads};
-    for (int k = 1; k < threads; k++)
-        w[k].started = pthread_create(&w[k].thread, NULL, resize_rows, &w[k]) == 0;
-    resize_rows(&w[0]);
-    for (int k = 1; k < threads; k++) {
-        if (w[k].started)
-            pthread_join(w[k].thread, NULL);
-        else
-            resize_rows(&w[k]); /* a thread that could not start: its rows run here */
-    }
+    texopt_parallel_run(resize_rows, w, sizeof *w, threads);
     texopt_texture_filter_destroy(f);
     return TEXOPT_OK;
 }

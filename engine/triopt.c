@@ -23,6 +23,7 @@
 #include <unistd.h>
 
 #include "bayesopt.h"
+#include "parallel.h"
 #include "rng.h"
 #include "triloss.h"
 
@@ -83,7 +84,6 @@ typedef struct worker {
     stage_shared *sh;
     texopt_triloss *loss;
     texopt_bo *bo;
-    pthread_t thread;
     size_t close_up_triangles;
 } worker;
 
@@ -738,21 +738,6 @@ static size_t count_selected(const stage_shared *sh)
     return n;
 }
 
-static texopt_status run_workers(stage_shared *sh, worker *workers)
-{
-    int n = sh->opt.threads, started = 0;
-    for (int i = 1; i < n; i++) {
-        if (pthread_create(&workers[i].thread, NULL, worker_main, &workers[i]) != 0)
-            break;
-        started++;
-    }
-    /* The caller's thread is worker 0; a thread that could not start only costs speed. */
-    worker_main(&workers[0]);
-    for (int i = 1; i <= started; i++)
-        pthread_join(workers[i].thread, NULL);
-    return sh->status;
-}
-
 texopt_status texopt_triopt_run(const texopt_model *model, const texopt_mesh *mesh,
                                 const texopt_triopt_options *opt, texopt_triangle_target *out,
                                 texopt_triopt_report *report, const texopt_monitor *monitor,
@@ -783,7 +768,8 @@ texopt_status texopt_triopt_run(const texopt_model *model, const texopt_mesh *me
     worker *workers = NULL;
     st = create_workers(sh, &workers, err, err_len);
     if (st == TEXOPT_OK) {
-        st = run_workers(sh, workers);
+        texopt_parallel_run(worker_main, workers, sizeof *workers, sh->opt.threads);
+        st = sh->status;
         if (st != TEXOPT_OK)
             texopt_fail(err, err_len, st, "triopt: %s", sh->err);
         else if (report)
