@@ -48,6 +48,10 @@ typedef struct texopt_material {
     /* pbrMetallicRoughness's factors (glTF's default 1), which multiply the texture's B and G
      * or stand alone without one: what a lit render (lit_shade.h) shows of the material. */
     double metallic_factor, roughness_factor;
+    /* The KHR_texture_transform of its TEXCOORD_0 bindings (one for all of them, or the load
+     * refuses), already applied to model->uvs of its primitives: u' = m[0] u + m[1] v + m[2],
+     * v' = m[3] u + m[4] v + m[5]; {1, 0, 0, 0, 1, 0} without one. */
+    double uv_transform[6];
 } texopt_material;
 
 typedef struct texopt_primitive {
@@ -70,7 +74,8 @@ typedef struct texopt_domain {
 typedef struct texopt_model {
     size_t vertex_count;
     float *positions; /* 3 per vertex, world space */
-    float *uvs;       /* 2 per vertex, TEXCOORD_0 as in the file (may leave [0,1]); NULL if none */
+    float *uvs;       /* 2 per vertex, TEXCOORD_0 as in the file after its material's
+                         uv_transform (may leave [0,1]); NULL if none */
     size_t triangle_count;
     uint32_t *triangles; /* 3 per triangle, model vertex indices */
 

@@ -2,11 +2,14 @@
  *
  * Does: parse .glb / .gltf (external files next to it, data URIs) with tinygltf, validate
  * every accessor, buffer view and URI before reading it, flatten the triangle primitives
- * into engine/model.h, decode the images with OpenImageIO (io/image_io.h), group texture
- * domains; and write the same document back with replaced TEXCOORD_0 and images.
+ * into engine/model.h, apply each material's KHR_texture_transform to its TEXCOORD_0,
+ * decode the images with OpenImageIO (io/image_io.h), group texture domains; and write the
+ * same document back with replaced TEXCOORD_0 (its applied transforms dropped) and images.
  * Does not: fetch anything from the network, decode Draco / meshopt compressed geometry or
- * sparse accessors, apply KHR_texture_transform (a binding with a non-identity transform is
- * refused), or evaluate animations (a skinned mesh keeps its bind pose).
+ * sparse accessors, lay out one TEXCOORD_0 for several transforms (a material whose
+ * TEXCOORD_0 bindings differ is refused, as is a transform that turns or mirrors a normal
+ * map), re-bake textures of material extensions (one on TEXCOORD_0 is refused), or evaluate
+ * animations (a skinned mesh keeps its bind pose).
  * The format is the Khronos glTF 2.0 specification; the method that consumes the data is
  * Sun et al. 2022, "Efficient Texture Parameterization Driven by Perceptual-Loss-on-Screen".
  *
@@ -14,8 +17,8 @@
  * the vertex count, NaN/Inf data, URIs leaving the model's directory or naming the network),
  * TEXOPT_E_LIMIT for sizes past the load options, TEXOPT_E_UNSUPPORTED for valid input texopt
  * cannot use (no textured material, a textured primitive without TEXCOORD_0 or not made of
- * triangles, compressed geometry, sparse accessors, texture transforms), TEXOPT_E_IO for
- * files that cannot be read or written.
+ * triangles, compressed geometry, sparse accessors, transforms or extension textures it
+ * cannot follow), TEXOPT_E_IO for files that cannot be read or written.
  * The message names the offending element ("accessor 3: index 812 past vertex count 800").
  * Images are decoded (load) and PNG-encoded (save) on up to one thread per image, never more
  * than the online cores (io/image_jobs.hpp). */
@@ -68,8 +71,9 @@ texopt_status texopt_model_load_memory(texopt_model **out, const void *bytes, si
 /* What to change when saving. A zero-initialised edit saves the model unchanged. */
 typedef struct texopt_model_edit {
     /* New TEXCOORD_0 for every model vertex (2 floats per vertex, model->vertex_count
-     * vertices, the layout of model->uvs), or NULL to keep the file's. Written to the
-     * primitives that had TEXCOORD_0 as new float accessors with exact min/max. */
+     * vertices, the layout of model->uvs, texture transforms applied), or NULL to keep the
+     * file's. Written to the primitives that had TEXCOORD_0 as new float accessors with exact
+     * min/max; the KHR_texture_transform of bindings on TEXCOORD_0 is dropped. */
     const float *uvs;
     /* images[i] replaces model image i (any size; encoded as PNG), or NULL keeps the
      * original encoded bytes untouched. The array has model->image_count entries; the

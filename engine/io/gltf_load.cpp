@@ -7,7 +7,9 @@
  *      Its image callback only keeps the encoded bytes (after checking the buffer view
  *      range, which tinygltf does not), so no image is decoded by stb.
  *   2. Every buffer view and accessor is checked against the real buffer sizes.
- *   3. Triangle primitives are flattened into texopt_model (world-space positions).
+ *   3. Materials are read (texture slots, one KHR_texture_transform per material's
+ *      TEXCOORD_0), then triangle primitives flattened into texopt_model (world-space
+ *      positions, UVs through their material's transform).
  *   4. Image headers are probed, the total pixel count checked, then images decoded.
  *   5. Texture domains are built; a model without any is unsupported.
  * The format is the Khronos glTF 2.0 specification; the data feeds Sun et al. 2022. */
@@ -205,30 +207,88 @@ texopt_status bind_texture(const tinygltf::Model &g, int material, const char *s
     return TEXOPT_OK;
 }
 
-/* KHR_texture_transform changes which texel a UV reads (and may switch the texcoord set);
- * texopt optimises UVs as they are, so a binding with a real transform is refused. An
- * identity transform changes nothing and is accepted. */
-bool has_real_texture_transform(const tinygltf::ExtensionMap &ext)
+const double identity_transform[6] = {1, 0, 0, 0, 1, 0};
+
+/* Equal as numbers (a scale's -0 rotation term equals an absent transform's 0). */
+bool same_transform(const double a[6], const double b[6])
 {
+    for (int i = 0; i < 6; i++)
+        if (a[i] != b[i])
+            return false;
+    return true;
+}
+
+bool read_number_pair(const tinygltf::Value &v, const char *key, double pair[2])
+{
+    if (!v.Has(key))
+        return true;
+    const tinygltf::Value &a = v.Get(key);
+    if (!a.IsArray() || a.ArrayLen() != 2 || !a.Get(0).IsNumber() || !a.Get(1).IsNumber())
+        return false;
+    pair[0] = a.Get(0).GetNumberAsDouble();
+    pair[1] = a.Get(1).GetNumberAsDouble();
+    return true;
+}
+
+/* A binding's KHR_texture_transform as texopt_material.uv_transform's m. The rotation turns
+ * as the extension's example reads (offset [0, 1], rotation pi/2, scale 0.5 show the
+ * lower-left quadrant), the way viewers apply it. False when the extension is malformed or
+ * moves the binding to another texcoord set. */
+bool read_texture_transform(const tinygltf::ExtensionMap &ext, int texcoord, double m[6])
+{
+    memcpy(m, identity_transform, sizeof identity_transform);
     auto it = ext.find("KHR_texture_transform");
     if (it == ext.end())
-        return false;
+        return true;
     const tinygltf::Value &v = it->second;
-    if (!v.IsObject() || v.Has("texCoord"))
-        return true;
-    if (v.Has("rotation") && (!v.Get("rotation").IsNumber() || v.Get("rotation").GetNumberAsDouble() != 0.0))
-        return true;
-    const char *keys[2] = {"offset", "scale"};
-    const double identity[2] = {0.0, 1.0};
-    for (int k = 0; k < 2; k++) {
-        if (!v.Has(keys[k]))
-            continue;
-        const tinygltf::Value &a = v.Get(keys[k]);
-        if (!a.IsArray() || a.ArrayLen() != 2)
+    if (!v.IsObject())
+        return false;
+    if (v.Has("texCoord") && (!v.Get("texCoord").IsInt() || v.Get("texCoord").GetNumberAsInt() != texcoord))
+        return false;
+    double offset[2] = {0, 0}, scale[2] = {1, 1}, rotation = 0;
+    if (v.Has("rotation")) {
+        if (!v.Get("rotation").IsNumber())
+            return false;
+        rotation = v.Get("rotation").GetNumberAsDouble();
+    }
+    if (!read_number_pair(v, "offset", offset) || !read_number_pair(v, "scale", scale))
+        return false;
+    double c = rotation == 0 ? 1 : cos(rotation), s = rotation == 0 ? 0 : sin(rotation);
+    double t[6] = {c * scale[0], s * scale[1], offset[0], -s * scale[0], c * scale[1], offset[1]};
+    for (int i = 0; i < 6; i++)
+        if (!std::isfinite(t[i]))
+            return false;
+    memcpy(m, t, sizeof t);
+    return true;
+}
+
+/* A normal map's XY live in a frame its UVs' directions define: a transform that turns or
+ * mirrors them would need the map turned too, which the loader does not do. */
+bool turns_or_mirrors(const double m[6])
+{
+    return m[1] != 0 || m[3] != 0 || m[0] < 0 || m[4] < 0;
+}
+
+/* The first texture a material extension binds on TEXCOORD_0 (an object under a key ending in
+ * "Texture" with an integer index, texCoord 0 or absent), searched through nested objects;
+ * its key in *name. Such textures (clearcoat, sheen, specular-glossiness...) are not re-baked,
+ * so a new layout would misplace them. */
+bool extension_texture_on_set0(const tinygltf::Value &v, std::string *name)
+{
+    if (!v.IsObject())
+        return false;
+    for (const std::string &key : v.Keys()) {
+        const tinygltf::Value &child = v.Get(key);
+        bool texture = key.size() >= 7 && key.compare(key.size() - 7, 7, "Texture") == 0 && child.IsObject() &&
+                       child.Has("index") && child.Get("index").IsInt();
+        int texcoord = texture && child.Has("texCoord") && child.Get("texCoord").IsInt()
+                           ? child.Get("texCoord").GetNumberAsInt()
+                           : 0;
+        if ((texture && texcoord == 0) || (!texture && extension_texture_on_set0(child, name))) {
+            if (texture)
+                *name = key;
             return true;
-        for (int c = 0; c < 2; c++)
-            if (!a.Get(c).IsNumber() || a.Get(c).GetNumberAsDouble() != identity[k])
-                return true;
+        }
     }
     return false;
 }
@@ -243,6 +303,13 @@ texopt_status convert_materials(const tinygltf::Model &g, texopt_model *model, c
     for (size_t i = 0; i < n; i++) {
         const tinygltf::Material &m = g.materials[i];
         texopt_material *out = &model->materials[i];
+        for (const auto &e : m.extensions) {
+            std::string texture;
+            if (extension_texture_on_set0(e.second, &texture))
+                return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                                   "material %zu: %s binds %s on TEXCOORD_0, which texopt does not re-bake", i,
+                                   e.first.c_str(), texture.c_str());
+        }
         out->metallic_factor = m.pbrMetallicRoughness.metallicFactor;
         out->roughness_factor = m.pbrMetallicRoughness.roughnessFactor;
         const tinygltf::TextureInfo &base = m.pbrMetallicRoughness.baseColorTexture;
@@ -262,15 +329,33 @@ texopt_status convert_materials(const tinygltf::Model &g, texopt_model *model, c
             {TEXOPT_SLOT_EMISSIVE, "emissiveTexture", m.emissiveTexture.index, m.emissiveTexture.texCoord,
              &m.emissiveTexture.extensions},
         };
+        memcpy(out->uv_transform, identity_transform, sizeof identity_transform);
+        const char *transformed_by = NULL; /* the first TEXCOORD_0 binding, whose transform the others share */
         for (const auto &s : slots) {
-            if (s.index >= 0 && has_real_texture_transform(*s.ext))
-                return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
-                                   "material %zu: %s uses KHR_texture_transform, which texopt does not apply", i,
-                                   s.name);
             texopt_status st = bind_texture(g, (int)i, s.name, s.index, s.texcoord, &out->slot[s.slot], err, err_len);
             if (st != TEXOPT_OK)
                 return st;
+            double m[6];
+            if (s.index >= 0 && !read_texture_transform(*s.ext, s.texcoord, m))
+                return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                                   "material %zu: %s has a KHR_texture_transform texopt cannot apply (malformed, or "
+                                   "moving the binding to another texCoord)", i, s.name);
+            if (s.index < 0 || s.texcoord != 0)
+                continue;
+            if (!transformed_by) {
+                memcpy(out->uv_transform, m, sizeof m);
+                transformed_by = s.name;
+            } else if (!same_transform(out->uv_transform, m)) {
+                return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                                   "material %zu: %s and %s have different KHR_texture_transform values; texopt lays "
+                                   "out one TEXCOORD_0 per material", i, transformed_by, s.name);
+            }
         }
+        const texopt_texture_ref &normal = out->slot[TEXOPT_SLOT_NORMAL];
+        if (normal.image >= 0 && normal.texcoord == 0 && turns_or_mirrors(out->uv_transform))
+            return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                               "material %zu: its KHR_texture_transform turns or mirrors the normal map's UVs, "
+                               "which texopt does not apply", i);
     }
     return TEXOPT_OK;
 }
@@ -310,6 +395,22 @@ int attribute(const tinygltf::Primitive &p, const char *name)
 {
     auto it = p.attributes.find(name);
     return it == p.attributes.end() ? -1 : it->second;
+}
+
+/* TEXCOORD_0 through its material's uv_transform; false when a result is not finite. */
+bool apply_uv_transform(const double m[6], std::vector<float> *uv)
+{
+    if (same_transform(m, identity_transform))
+        return true;
+    for (size_t i = 0; i + 1 < uv->size(); i += 2) {
+        double u = (*uv)[i], v = (*uv)[i + 1];
+        float tu = (float)(m[0] * u + m[1] * v + m[2]), tv = (float)(m[3] * u + m[4] * v + m[5]);
+        if (!std::isfinite(tu) || !std::isfinite(tv))
+            return false;
+        (*uv)[i] = tu;
+        (*uv)[i + 1] = tv;
+    }
+    return true;
 }
 
 texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model, int mesh, int prim_index,
@@ -353,6 +454,10 @@ texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model,
                                "mesh %d primitive %d: TEXCOORD_0 has %zu elements but POSITION has %zu",
                                mesh, prim_index, uv.size() / 2, nv);
         geo->any_uvs = true;
+        if (p.material >= 0 && !apply_uv_transform(model->materials[p.material].uv_transform, &uv))
+            return texopt_fail(err, err_len, TEXOPT_E_MALFORMED,
+                               "mesh %d primitive %d: material %d's KHR_texture_transform takes TEXCOORD_0 past "
+                               "float range", mesh, prim_index, p.material);
     } else {
         uv.assign(nv * 2, 0.0f);
     }

@@ -1,17 +1,20 @@
 /* gltf_save.cpp - texopt_model_save_glb (see gltf_io.h).
  *
- * Writes the loaded document back with three changes and nothing else:
+ * Writes the loaded document back with these changes and nothing else:
  *   - TEXCOORD_0 of each primitive that had one becomes a tightly packed float accessor with
- *     exact min/max (in place when no one else reads the old accessor, else a new one);
+ *     exact min/max (in place when no one else reads the old accessor, else a new one), and
+ *     the KHR_texture_transform of bindings on TEXCOORD_0, which the loader applied to the
+ *     UVs, is dropped;
  *   - replaced images are PNG-encoded; untouched images keep their original bytes (and
  *     MIME type) byte for byte;
  *   - all bytes go into the one GLB BIN buffer, images in buffer views. Buffer views no
  *     one reads any more (the old UVs, replaced images) are dropped and the rest renumbered.
  * Each copied view keeps its offset modulo 4, so every accessor stays aligned.
- * Does not: re-encode untouched images, touch animations, skins, extensions or extras.
+ * Does not: re-encode untouched images, touch animations, skins, other extensions or extras.
  * Format: Khronos glTF 2.0 (GLB container, section 4.4); output of Sun et al. 2022. */
 #include "gltf_io.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -86,6 +89,54 @@ texopt_status check_edit(const texopt_model *model, const texopt_model_edit *edi
                                    i, model->image_names && model->image_names[i] ? model->image_names[i] : "?");
         }
     return TEXOPT_OK;
+}
+
+/* Drops the KHR_texture_transform of a binding on TEXCOORD_0; notes whether another keeps one. */
+void drop_transform(int index, int texcoord, tinygltf::ExtensionMap &ext, bool *kept)
+{
+    auto it = ext.find("KHR_texture_transform");
+    if (index < 0 || it == ext.end())
+        return;
+    if (texcoord == 0)
+        ext.erase(it);
+    else
+        *kept = true;
+}
+
+bool value_names_key(const tinygltf::Value &v, const char *key)
+{
+    if (v.IsObject())
+        for (const std::string &k : v.Keys())
+            if (k == key || value_names_key(v.Get(k), key))
+                return true;
+    if (v.IsArray())
+        for (size_t i = 0; i < v.ArrayLen(); i++)
+            if (value_names_key(v.Get((int)i), key))
+                return true;
+    return false;
+}
+
+/* The loader applied every TEXCOORD_0 binding's KHR_texture_transform to the UVs
+ * (model.h's uv_transform), so the new UVs read the new textures directly: those transforms
+ * go, and the extension's declaration with them unless a binding on another set keeps one. */
+void drop_applied_texture_transforms(tinygltf::Model &g)
+{
+    bool kept = false;
+    for (tinygltf::Material &m : g.materials) {
+        tinygltf::PbrMetallicRoughness &pbr = m.pbrMetallicRoughness;
+        drop_transform(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, pbr.baseColorTexture.extensions, &kept);
+        drop_transform(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+                       pbr.metallicRoughnessTexture.extensions, &kept);
+        drop_transform(m.normalTexture.index, m.normalTexture.texCoord, m.normalTexture.extensions, &kept);
+        drop_transform(m.occlusionTexture.index, m.occlusionTexture.texCoord, m.occlusionTexture.extensions, &kept);
+        drop_transform(m.emissiveTexture.index, m.emissiveTexture.texCoord, m.emissiveTexture.extensions, &kept);
+        for (const auto &e : m.extensions) /* textures of material extensions on other sets */
+            kept = kept || value_names_key(e.second, "KHR_texture_transform");
+    }
+    if (kept)
+        return;
+    for (std::vector<std::string> *list : {&g.extensionsUsed, &g.extensionsRequired})
+        list->erase(std::remove(list->begin(), list->end(), std::string("KHR_texture_transform")), list->end());
 }
 
 /* Points every primitive that had TEXCOORD_0 at a float accessor holding its slice of uvs.
@@ -186,8 +237,10 @@ texopt_status build_output(const texopt_model *model, const texopt_model_edit *e
     /* Data of the views that will exist, by old index; views made here carry their bytes. */
     size_t old_views = g.bufferViews.size();
     std::vector<std::vector<unsigned char>> made(old_views);
-    if (edit && edit->uvs)
+    if (edit && edit->uvs) {
         replace_texcoords(g, model, edit->uvs, &made);
+        drop_applied_texture_transforms(g);
+    }
     for (size_t i = 0; i < g.images.size(); i++) {
         tinygltf::Image &im = g.images[i];
         bool replaced = !png[i].empty();

@@ -1,7 +1,9 @@
 /* test_gltf_io.c - loading and saving glTF (engine/io/gltf_io.h): a generated textured quad
  * in every container (GLB, .gltf with data URIs, .gltf with external files), index and UV
- * encodings, node transforms, load -> save -> load round trips on spot.glb and Fox.glb, and
+ * encodings, node transforms, texture transforms applied and dropped, load -> save -> load
+ * round trips on spot.glb and Fox.glb, and
  * the Khronos validator on saved files (0 errors, no warnings the input did not have). */
+#define _GNU_SOURCE /* memmem */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -513,4 +515,76 @@ TEST(validator_accepts_saved_files_with_new_uvs_and_images)
     (void)err;
     quad_doc_free(&doc);
     builder_rmdir(dir);
+}
+
+/* Whether the file at path holds the bytes of word anywhere. */
+static int file_contains(const char *path, const char *word)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return -1;
+    static char buf[1 << 16];
+    size_t n = fread(buf, 1, sizeof buf, f);
+    fclose(f);
+    return memmem(buf, n, word, strlen(word)) != NULL;
+}
+
+/* The extension's own example: offset [0, 1], rotation pi/2, scale 0.5 shows the lower-left
+ * quadrant of the image, so UV (u, v) reads (0.5 v, 1 - 0.5 u). */
+TEST(texture_transforms_on_texcoord0_are_applied_to_the_uvs_and_dropped_when_saved)
+{
+    char err[512] = "", dir[64], out[128];
+    quad_doc doc;
+    CHECK(quad_doc_init(&doc, 4, 4));
+    char *json = strdup(doc.json);
+    const char *transform = "\"extensions\":{\"KHR_texture_transform\":"
+                            "{\"offset\":[0,1],\"rotation\":1.5707963267948966,\"scale\":[0.5,0.5]}}";
+    char materials[512];
+    snprintf(materials, sizeof materials,
+             "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0,%s}},"
+             "\"emissiveTexture\":{\"index\":0,%s}}]",
+             transform, transform);
+    CHECK(builder_replace(&json, "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}]",
+                          materials));
+    CHECK(builder_replace(&json, "\"asset\":{\"version\":\"2.0\"},",
+                          "\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_texture_transform\"],"
+                          "\"extensionsRequired\":[\"KHR_texture_transform\"],"));
+    texopt_status st;
+    texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
+    CHECK_OK(st, err);
+    for (int v = 0; v < 4; v++) {
+        CHECK_NEAR(m->uvs[2 * v], 0.5 * quad_uvs[2 * v + 1], 1e-6);
+        CHECK_NEAR(m->uvs[2 * v + 1], 1.0 - 0.5 * quad_uvs[2 * v], 1e-6);
+    }
+
+    /* Saved with new UVs, the file reads its textures directly: the transform is gone, and
+     * loading it again applies nothing more. */
+    CHECK(builder_tempdir(dir));
+    snprintf(out, sizeof out, "%s/out.glb", dir);
+    texopt_model_edit edit = {m->uvs, NULL};
+    CHECK_OK(texopt_model_save_glb(m, &edit, out, err, sizeof err), err);
+    CHECK_EQ_INT(file_contains(out, "KHR_texture_transform"), 0);
+    char in[128], log[128];
+    snprintf(in, sizeof in, "%s/in.glb", dir);
+    snprintf(log, sizeof log, "%s/report.json", dir);
+    size_t len = 0;
+    unsigned char *glb = builder_glb(json, doc.bin, doc.bin_len, &len);
+    CHECK(builder_write(in, glb, len));
+    free(glb);
+    int rc = run_validator(out, in, log);
+    if (rc != 0)
+        print_file(log);
+    CHECK_MSG(rc == 0, "validator exit %d for %s", rc, out);
+    texopt_model *back = NULL;
+    CHECK_OK(texopt_model_load(&back, out, NULL, err, sizeof err), err);
+    CHECK(memcmp(back->uvs, m->uvs, sizeof(float) * 8) == 0);
+
+    /* Saved without new UVs, the file keeps its UVs and so its transform. */
+    CHECK_OK(texopt_model_save_glb(m, NULL, out, err, sizeof err), err);
+    CHECK_EQ_INT(file_contains(out, "KHR_texture_transform"), 1);
+    texopt_model_destroy(back);
+    texopt_model_destroy(m);
+    builder_rmdir(dir);
+    free(json);
+    quad_doc_free(&doc);
 }

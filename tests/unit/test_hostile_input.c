@@ -335,20 +335,66 @@ TEST(valid_but_unusable_models_are_unsupported)
                        TEXOPT_E_UNSUPPORTED, "KHR_draco_mesh_compression");
 }
 
-TEST(texture_transforms_are_refused_unless_identity)
+#define QUAD_MATERIALS "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}]"
+#define TRANSFORM(body) "\"extensions\":{\"KHR_texture_transform\":{" body "}}"
+
+TEST(texture_transforms_texopt_cannot_apply_are_refused)
 {
+    /* Two bindings on TEXCOORD_0 that would need two layouts. */
+    CHECK_REFUSED_JSON(QUAD_MATERIALS,
+                       "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0," TRANSFORM(
+                           "\"offset\":[0.5,0]") "}},\"emissiveTexture\":{\"index\":0," TRANSFORM("\"offset\":[0,0.5]") "}}]",
+                       TEXOPT_E_UNSUPPORTED, "different KHR_texture_transform");
+    CHECK_REFUSED_JSON(QUAD_MATERIALS,
+                       "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0," TRANSFORM(
+                           "\"scale\":[2,2]") "}},\"emissiveTexture\":{\"index\":0}}]",
+                       TEXOPT_E_UNSUPPORTED, "emissiveTexture");
+    /* Moved to another set, malformed, or turning a normal map. */
     CHECK_REFUSED_JSON("\"baseColorTexture\":{\"index\":0}",
-                       "\"baseColorTexture\":{\"index\":0,\"extensions\":{\"KHR_texture_transform\":{\"offset\":[0.5,0]}}}",
-                       TEXOPT_E_UNSUPPORTED, "KHR_texture_transform");
+                       "\"baseColorTexture\":{\"index\":0," TRANSFORM("\"texCoord\":1") "}", TEXOPT_E_UNSUPPORTED,
+                       "texCoord");
     CHECK_REFUSED_JSON("\"baseColorTexture\":{\"index\":0}",
-                       "\"baseColorTexture\":{\"index\":0,\"extensions\":{\"KHR_texture_transform\":{\"rotation\":0.1}}}",
-                       TEXOPT_E_UNSUPPORTED, "baseColorTexture");
+                       "\"baseColorTexture\":{\"index\":0," TRANSFORM("\"offset\":\"far\"") "}", TEXOPT_E_UNSUPPORTED,
+                       "malformed");
+    CHECK_REFUSED_JSON("\"baseColorTexture\":{\"index\":0}",
+                       "\"baseColorTexture\":{\"index\":0," TRANSFORM("\"scale\":[1e300,1e300]") "}",
+                       TEXOPT_E_MALFORMED, "float range");
+    CHECK_REFUSED_JSON(QUAD_MATERIALS,
+                       "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0," TRANSFORM(
+                           "\"rotation\":0.3") "}},\"normalTexture\":{\"index\":0," TRANSFORM("\"rotation\":0.3") "}}]",
+                       TEXOPT_E_UNSUPPORTED, "normal map");
+    /* Offset and scale on a normal map keep its directions. */
     quad_doc d;
     char err[512];
     CHECK(quad_doc_init(&d, 4, 4));
-    CHECK(builder_replace(&d.json, "\"baseColorTexture\":{\"index\":0}",
-                          "\"baseColorTexture\":{\"index\":0,\"extensions\":{\"KHR_texture_transform\":"
-                          "{\"offset\":[0,0],\"scale\":[1,1],\"rotation\":0}}}"));
+    CHECK(builder_replace(&d.json, QUAD_MATERIALS,
+                          "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0," TRANSFORM(
+                              "\"offset\":[0.5,0],\"scale\":[2,3]") "}},\"normalTexture\":{\"index\":0," TRANSFORM(
+                              "\"offset\":[0.5,0],\"scale\":[2,3]") "}}]"));
+    CHECK_OK(try_glb(&d, d.json, NULL, err, sizeof err), err);
+    quad_doc_free(&d);
+    /* An identity written out equals none. */
+    CHECK(quad_doc_init(&d, 4, 4));
+    CHECK(builder_replace(&d.json, QUAD_MATERIALS,
+                          "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0," TRANSFORM(
+                              "\"offset\":[0,0],\"scale\":[1,1],\"rotation\":0") "}},\"emissiveTexture\":{\"index\":0}}]"));
+    CHECK_OK(try_glb(&d, d.json, NULL, err, sizeof err), err);
+    quad_doc_free(&d);
+}
+
+TEST(textures_of_material_extensions_on_texcoord0_are_refused)
+{
+    /* texopt would move the UVs under them without re-baking them. */
+    CHECK_REFUSED_JSON("}}}],\"textures\"",
+                       "}},\"extensions\":{\"KHR_materials_clearcoat\":{\"clearcoatFactor\":1,"
+                       "\"clearcoatTexture\":{\"index\":0}}}}],\"textures\"",
+                       TEXOPT_E_UNSUPPORTED, "clearcoatTexture");
+    quad_doc d;
+    char err[512];
+    CHECK(quad_doc_init(&d, 4, 4));
+    CHECK(builder_replace(&d.json, "}}}],\"textures\"",
+                          "}},\"extensions\":{\"KHR_materials_clearcoat\":{\"clearcoatFactor\":1,"
+                          "\"clearcoatTexture\":{\"index\":0,\"texCoord\":1}}}}],\"textures\""));
     CHECK_OK(try_glb(&d, d.json, NULL, err, sizeof err), err);
     quad_doc_free(&d);
 }
