@@ -413,6 +413,22 @@ bool apply_uv_transform(const double m[6], std::vector<float> *uv)
     return true;
 }
 
+/* The triangle list of a strip or fan, in glTF 2.0's order (section 3.7.2.1): strip
+ * triangle i is (v_i, v_{i+1+i%2}, v_{i+2-i%2}), fan triangle i is (v_{i+1}, v_{i+2}, v_0),
+ * which keeps every triangle's winding. The file keeps its strip; only UVs change. */
+std::vector<uint32_t> triangles_of_strip_or_fan(int mode, const std::vector<uint32_t> &v)
+{
+    std::vector<uint32_t> tri;
+    for (size_t i = 0; i + 2 < v.size(); i++) {
+        size_t odd = i % 2;
+        uint32_t t[3] = {v[i], v[i + 1 + odd], v[i + 2 - odd]};
+        if (mode == TINYGLTF_MODE_TRIANGLE_FAN)
+            t[0] = v[i + 1], t[1] = v[i + 2], t[2] = v[0];
+        tri.insert(tri.end(), t, t + 3);
+    }
+    return tri;
+}
+
 texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model, int mesh, int prim_index,
                             const gltf_mat4 *world, flat_geometry *geo, char *err, size_t err_len)
 {
@@ -423,12 +439,12 @@ texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model,
                            mesh, prim_index, p.material);
     bool textured = material_is_textured(model, p.material);
     int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
-    if (mode != TINYGLTF_MODE_TRIANGLES) {
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
         if (textured)
             return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
-                               "mesh %d primitive %d: textured primitive has mode %d; only TRIANGLES (4) is supported",
-                               mesh, prim_index, mode);
-        return TEXOPT_OK; /* untextured points, lines, strips: nothing to optimise */
+                               "mesh %d primitive %d: textured primitive has mode %d; only triangles (4), triangle "
+                               "strips (5) and fans (6) are supported", mesh, prim_index, mode);
+        return TEXOPT_OK; /* untextured points and lines: nothing to optimise */
     }
     int pos_acc = attribute(p, "POSITION");
     int uv_acc = attribute(p, "TEXCOORD_0");
@@ -476,7 +492,9 @@ texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model,
         for (size_t i = 0; i < nv; i++)
             idx[i] = (uint32_t)i;
     }
-    if (idx.size() % 3 != 0)
+    if (mode != TINYGLTF_MODE_TRIANGLES)
+        idx = triangles_of_strip_or_fan(mode, idx);
+    else if (idx.size() % 3 != 0)
         return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "mesh %d primitive %d: %zu indices do not make whole triangles",
                            mesh, prim_index, idx.size());
     size_t first_vertex = geo->positions.size() / 3;

@@ -1,8 +1,8 @@
 /* test_gltf_io.c - loading and saving glTF (engine/io/gltf_io.h): a generated textured quad
  * in every container (GLB, .gltf with data URIs, .gltf with external files), index and UV
- * encodings, node transforms, texture transforms applied and dropped, load -> save -> load
- * round trips on spot.glb and Fox.glb, and
- * the Khronos validator on saved files (0 errors, no warnings the input did not have). */
+ * encodings, strips and fans, node transforms, texture transforms applied and dropped,
+ * load -> save -> load round trips on spot.glb and Fox.glb, and the Khronos validator on
+ * saved files (0 errors, no warnings the input did not have). */
 #define _GNU_SOURCE /* memmem */
 #include <math.h>
 #include <stdio.h>
@@ -261,6 +261,60 @@ TEST(normalized_texcoords_are_converted)
     quad_doc_free(&doc);
 }
 
+/* Whether the file at path holds the bytes of word anywhere. */
+static int file_contains(const char *path, const char *word)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return -1;
+    static char buf[1 << 16];
+    size_t n = fread(buf, 1, sizeof buf, f);
+    fclose(f);
+    return memmem(buf, n, word, strlen(word)) != NULL;
+}
+
+/* The quad's two triangles as a strip (1 2 0 3) and as a fan around vertex 0 (0 1 2 3):
+ * both give (1 2 0) and (2 3 0), the triangle list's triangles with their winding; the saved
+ * file keeps its strip and takes the new UVs. */
+TEST(triangle_strips_and_fans_load_as_their_triangles_and_stay_strips_when_saved)
+{
+    const uint16_t orders[2][4] = {{1, 2, 0, 3}, {0, 1, 2, 3}};
+    const char *modes[2] = {"\"mode\":5", "\"mode\":6"};
+    const uint32_t want[6] = {1, 2, 0, 2, 3, 0};
+    char err[512] = "", dir[64], out[128];
+    CHECK(builder_tempdir(dir));
+    snprintf(out, sizeof out, "%s/out.glb", dir);
+    for (int k = 0; k < 2; k++) {
+        quad_doc doc;
+        CHECK(quad_doc_init(&doc, 4, 4));
+        memcpy(doc.bin + QUAD_IDX_OFFSET, orders[k], sizeof orders[k]);
+        char *json = strdup(doc.json);
+        CHECK(builder_replace(&json, "\"mode\":4", modes[k]));
+        CHECK(builder_replace(&json, "\"count\":6,\"type\":\"SCALAR\"", "\"count\":4,\"type\":\"SCALAR\""));
+        texopt_status st;
+        texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
+        CHECK_OK(st, err);
+        CHECK_EQ_INT(m->triangle_count, 2);
+        CHECK_MSG(memcmp(m->triangles, want, sizeof want) == 0, "%s: triangles %u %u %u, %u %u %u", modes[k],
+                  m->triangles[0], m->triangles[1], m->triangles[2], m->triangles[3], m->triangles[4], m->triangles[5]);
+        float uvs[8];
+        for (int i = 0; i < 8; i++)
+            uvs[i] = 0.5f * m->uvs[i] + 0.25f;
+        texopt_model_edit edit = {uvs, NULL};
+        CHECK_OK(texopt_model_save_glb(m, &edit, out, err, sizeof err), err);
+        CHECK_EQ_INT(file_contains(out, modes[k]), 1);
+        texopt_model *back = NULL;
+        CHECK_OK(texopt_model_load(&back, out, NULL, err, sizeof err), err);
+        CHECK(memcmp(back->triangles, want, sizeof want) == 0);
+        CHECK(memcmp(back->uvs, uvs, sizeof uvs) == 0);
+        texopt_model_destroy(back);
+        texopt_model_destroy(m);
+        free(json);
+        quad_doc_free(&doc);
+    }
+    builder_rmdir(dir);
+}
+
 TEST(node_hierarchy_instancing_and_mirroring)
 {
     char err[512] = "";
@@ -515,18 +569,6 @@ TEST(validator_accepts_saved_files_with_new_uvs_and_images)
     (void)err;
     quad_doc_free(&doc);
     builder_rmdir(dir);
-}
-
-/* Whether the file at path holds the bytes of word anywhere. */
-static int file_contains(const char *path, const char *word)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return -1;
-    static char buf[1 << 16];
-    size_t n = fread(buf, 1, sizeof buf, f);
-    fclose(f);
-    return memmem(buf, n, word, strlen(word)) != NULL;
 }
 
 /* The extension's own example: offset [0, 1], rotation pi/2, scale 0.5 shows the lower-left

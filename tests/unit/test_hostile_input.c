@@ -328,7 +328,7 @@ TEST(valid_but_unusable_models_are_unsupported)
                        TEXOPT_E_UNSUPPORTED, "texture");
     CHECK_REFUSED_JSON("\"material\":0,", "", TEXOPT_E_UNSUPPORTED, "texture");
     CHECK_REFUSED_JSON("\"mode\":4", "\"mode\":1", TEXOPT_E_UNSUPPORTED, "mode 1");
-    CHECK_REFUSED_JSON("\"mode\":4", "\"mode\":5", TEXOPT_E_UNSUPPORTED, "TRIANGLES");
+    CHECK_REFUSED_JSON("\"mode\":4", "\"mode\":0", TEXOPT_E_UNSUPPORTED, "strips (5) and fans (6)");
     CHECK_REFUSED_JSON("\"asset\":{\"version\":\"2.0\"},",
                        "\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_draco_mesh_compression\"],"
                        "\"extensionsRequired\":[\"KHR_draco_mesh_compression\"],",
