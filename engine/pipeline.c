@@ -1648,19 +1648,44 @@ static texopt_status budget_params(const texopt_job *job, const texopt_job_budge
 }
 
 /* The target_loss budget: the smallest relative cost whose q is at most the target
- * (compare.h's bisection on log c_r), each step only the budget's part of the job. */
+ * (compare.h's bisection on log c_r), each step only the budget's part of the job. The step
+ * the search will answer with (cost_max's, then each that meets the target) is kept with
+ * the statistics it recorded, so the chosen cost is not made a second time. */
 typedef struct loss_search {
     texopt_job *job;
     texopt_params p;     /* relative-cost budget; relative_cost set per step */
     double from, to;     /* progress range of the search */
     int max_evaluations;
     int done;
+    job_output kept;
+    texopt_evaluation kept_ev;
+    texopt_job_stats kept_stats; /* job->stats after the kept step, its domains copied */
+    double kept_cost;            /* < 0: none yet */
 } loss_search;
 
 #define SEARCH_COST_MIN 0.01
 #define SEARCH_COST_MAX 1.0
 #define SEARCH_TOLERANCE 0.05
 #define SEARCH_MAX_EVALUATIONS 12
+
+/* Keeps a step's output (moved out of *out) and a copy of the statistics it recorded. */
+static texopt_status keep_step(loss_search *s, job_output *out, const texopt_evaluation *ev, char *err,
+                               size_t err_len)
+{
+    texopt_domain_stats *domains = copy_domain_stats(&s->job->stats);
+    if (!domains)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the search's statistics");
+    int images = s->job->model->image_count;
+    job_output_destroy(&s->kept, images);
+    free_domain_stats(s->kept_stats.domains, s->kept_stats.domain_count);
+    s->kept = *out;
+    memset(out, 0, sizeof *out);
+    s->kept_ev = *ev;
+    s->kept_stats = s->job->stats;
+    s->kept_stats.domains = domains;
+    s->kept_cost = s->p.relative_cost;
+    return TEXOPT_OK;
+}
 
 static texopt_status search_step(void *user, double relative_cost, double *q, char *err, size_t err_len)
 {
@@ -1679,22 +1704,38 @@ static texopt_status search_step(void *user, double relative_cost, double *q, ch
     }
     if (st == TEXOPT_OK)
         *q = ev.q;
+    if (st == TEXOPT_OK && (s->kept_cost < 0 || ev.q <= s->p.target_loss))
+        st = keep_step(s, &out, &ev, err, err_len);
     job_output_destroy(&out, s->job->model->image_count);
     s->done++;
     return st;
 }
 
+/* Searches the cost; when the answer is the kept step, its output goes to *out with its q
+ * in *ev and its statistics back in job->stats (*reused = 1), else *chosen is to be made. */
 static texopt_status search_target_loss(texopt_job *job, const texopt_params *p, double from, double to,
-                                        texopt_params *chosen, char *err, size_t err_len)
+                                        texopt_params *chosen, job_output *out, texopt_evaluation *ev, int *reused,
+                                        char *err, size_t err_len)
 {
-    loss_search s = {job, *p, from, to, SEARCH_MAX_EVALUATIONS, 0};
+    loss_search s = {.job = job, .p = *p, .from = from, .to = to, .max_evaluations = SEARCH_MAX_EVALUATIONS,
+                     .kept_cost = -1};
     s.p.budget = TEXOPT_BUDGET_RELATIVE_COST;
     texopt_target_search res;
     texopt_status st = texopt_search_target_loss(search_step, &s, p->target_loss, SEARCH_COST_MIN, SEARCH_COST_MAX,
                                                  SEARCH_TOLERANCE, SEARCH_MAX_EVALUATIONS, &res, err, err_len);
+    *reused = st == TEXOPT_OK && s.kept_cost == res.relative_cost;
+    texopt_job_stats *js = &job->stats;
+    if (*reused) {
+        free_domain_stats(js->domains, js->domain_count);
+        *js = s.kept_stats;
+        *out = s.kept;
+        *ev = s.kept_ev;
+    } else {
+        job_output_destroy(&s.kept, job->model->image_count);
+        free_domain_stats(s.kept_stats.domains, s.kept_stats.domain_count);
+    }
     if (st != TEXOPT_OK)
         return st;
-    texopt_job_stats *js = &job->stats;
     js->has_search = 1;
     js->target_loss = p->target_loss;
     js->target_reached = res.reached;
@@ -1724,19 +1765,24 @@ texopt_status texopt_job_write(texopt_job *job, const texopt_job_budget *budget,
     const stage_weights *w = job->weights;
     double end = 1.0 - w->save, tail = p.evaluate || p.budget == TEXOPT_BUDGET_TARGET_LOSS ? EVALUATE_WEIGHT : 0;
     double from = job->budget_from;
-    if (p.budget == TEXOPT_BUDGET_TARGET_LOSS) {
-        double split = from + 0.9 * (end - tail - from);
-        st = search_target_loss(job, &p, from, split, &p, err, err_len);
-        from = split;
-    }
     job_output out = {0};
     texopt_evaluation ev;
-    int evaluated = 0;
+    int evaluated = 0, reused = 0;
     js->has_allocation_choice = 0;
+    if (p.budget == TEXOPT_BUDGET_TARGET_LOSS) {
+        double split = from + 0.9 * (end - tail - from);
+        st = search_target_loss(job, &p, from, split, &p, &out, &ev, &reused, err, err_len);
+        from = split;
+    }
     /* A perceptual job's kept candidate bakes its remaining images from here. */
     double baked = p.method == TEXOPT_METHOD_PERCEPTUAL ? from + 0.85 * (end - tail - from) : end - tail;
-    if (st == TEXOPT_OK)
+    if (st == TEXOPT_OK && reused) {
+        evaluated = 1; /* every step measured its q */
+        if (stats_json)
+            st = measure_chosen_loss_share(job, &out, err, err_len);
+    } else if (st == TEXOPT_OK) {
         st = run_best_budget(job, &p, stats_json != NULL, &out, from, baked, &ev, &evaluated, err, err_len);
+    }
     if (st == TEXOPT_OK)
         st = bake_remaining_images(job, &p, BAKE_ALL, &out, baked, end - tail, err, err_len);
     if (st == TEXOPT_OK)
