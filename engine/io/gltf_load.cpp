@@ -351,6 +351,11 @@ texopt_status convert_materials(const tinygltf::Model &g, texopt_model *model, c
                                    "out one TEXCOORD_0 per material", i, transformed_by, s.name);
             }
         }
+        const double *t = out->uv_transform;
+        if (t[0] * t[4] - t[1] * t[3] == 0)
+            return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                               "material %zu: its KHR_texture_transform has a zero scale, which collapses TEXCOORD_0 "
+                               "onto a line or a point", i);
         const texopt_texture_ref &normal = out->slot[TEXOPT_SLOT_NORMAL];
         if (normal.image >= 0 && normal.texcoord == 0 && turns_or_mirrors(out->uv_transform))
             return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,

@@ -357,6 +357,9 @@ TEST(texture_transforms_texopt_cannot_apply_are_refused)
                        "\"baseColorTexture\":{\"index\":0," TRANSFORM("\"offset\":\"far\"") "}", TEXOPT_E_UNSUPPORTED,
                        "malformed");
     CHECK_REFUSED_JSON("\"baseColorTexture\":{\"index\":0}",
+                       "\"baseColorTexture\":{\"index\":0," TRANSFORM("\"scale\":[2,0]") "}", TEXOPT_E_UNSUPPORTED,
+                       "zero scale");
+    CHECK_REFUSED_JSON("\"baseColorTexture\":{\"index\":0}",
                        "\"baseColorTexture\":{\"index\":0," TRANSFORM("\"scale\":[1e300,1e300]") "}",
                        TEXOPT_E_MALFORMED, "float range");
     CHECK_REFUSED_JSON(QUAD_MATERIALS,
