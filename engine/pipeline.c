@@ -1711,11 +1711,11 @@ static texopt_status search_step(void *user, double relative_cost, double *q, ch
     return st;
 }
 
-/* Searches the cost; when the answer is the kept step, its output goes to *out with its q
- * in *ev and its statistics back in job->stats (*reused = 1), else *chosen is to be made. */
+/* Searches the cost and hands over the step it answers with: its output in *out, its q in
+ * *ev, its statistics back in job->stats. */
 static texopt_status search_target_loss(texopt_job *job, const texopt_params *p, double from, double to,
-                                        texopt_params *chosen, job_output *out, texopt_evaluation *ev, int *reused,
-                                        char *err, size_t err_len)
+                                        texopt_params *chosen, job_output *out, texopt_evaluation *ev, char *err,
+                                        size_t err_len)
 {
     loss_search s = {.job = job, .p = *p, .from = from, .to = to, .max_evaluations = SEARCH_MAX_EVALUATIONS,
                      .kept_cost = -1};
@@ -1723,9 +1723,11 @@ static texopt_status search_target_loss(texopt_job *job, const texopt_params *p,
     texopt_target_search res;
     texopt_status st = texopt_search_target_loss(search_step, &s, p->target_loss, SEARCH_COST_MIN, SEARCH_COST_MAX,
                                                  SEARCH_TOLERANCE, SEARCH_MAX_EVALUATIONS, &res, err, err_len);
-    *reused = st == TEXOPT_OK && s.kept_cost == res.relative_cost;
+    if (st == TEXOPT_OK && s.kept_cost != res.relative_cost)
+        st = texopt_fail(err, err_len, TEXOPT_E_INTERNAL, "target search: answered c_r %g but kept the step at %g",
+                         res.relative_cost, s.kept_cost);
     texopt_job_stats *js = &job->stats;
-    if (*reused) {
+    if (st == TEXOPT_OK) {
         free_domain_stats(js->domains, js->domain_count);
         *js = s.kept_stats;
         *out = s.kept;
@@ -1763,24 +1765,21 @@ texopt_status texopt_job_write(texopt_job *job, const texopt_job_budget *budget,
     js->has_search = 0;
     js->has_evaluation = 0;
     const stage_weights *w = job->weights;
-    double end = 1.0 - w->save, tail = p.evaluate || p.budget == TEXOPT_BUDGET_TARGET_LOSS ? EVALUATE_WEIGHT : 0;
+    /* The target_loss search measures every step's q within its own range. */
+    double end = 1.0 - w->save, tail = p.evaluate && p.budget != TEXOPT_BUDGET_TARGET_LOSS ? EVALUATE_WEIGHT : 0;
     double from = job->budget_from;
     job_output out = {0};
     texopt_evaluation ev;
-    int evaluated = 0, reused = 0;
+    int evaluated = 0;
     js->has_allocation_choice = 0;
-    if (p.budget == TEXOPT_BUDGET_TARGET_LOSS) {
-        double split = from + 0.9 * (end - tail - from);
-        st = search_target_loss(job, &p, from, split, &p, &out, &ev, &reused, err, err_len);
-        from = split;
-    }
     /* A perceptual job's kept candidate bakes its remaining images from here. */
     double baked = p.method == TEXOPT_METHOD_PERCEPTUAL ? from + 0.85 * (end - tail - from) : end - tail;
-    if (st == TEXOPT_OK && reused) {
-        evaluated = 1; /* every step measured its q */
-        if (stats_json)
+    if (p.budget == TEXOPT_BUDGET_TARGET_LOSS) {
+        st = search_target_loss(job, &p, from, baked, &p, &out, &ev, err, err_len);
+        evaluated = st == TEXOPT_OK; /* every step measured its q */
+        if (st == TEXOPT_OK && stats_json)
             st = measure_chosen_loss_share(job, &out, err, err_len);
-    } else if (st == TEXOPT_OK) {
+    } else {
         st = run_best_budget(job, &p, stats_json != NULL, &out, from, baked, &ev, &evaluated, err, err_len);
     }
     if (st == TEXOPT_OK)
