@@ -34,10 +34,11 @@ static inline int grid_pattern_png(int tex, const char *pattern, unsigned char *
 /* Writes a mesh (positions 3 floats and UVs 2 floats per vertex, u32 triangles) with a
  * tex x tex base-colour texture of `pattern` as a .glb at path; with mr_pattern (NULL: none),
  * image 1 is a metallicRoughness texture of that pattern (the same pattern: the same pixels
- * as base colour). Returns 0 on success. */
-static inline int write_mesh_glb(const char *path, const float *positions, const float *uvs, size_t nv,
-                                 const uint32_t *triangles, size_t nt, int tex, const char *pattern,
-                                 const char *mr_pattern)
+ * as base colour); base_ext (may be "") goes into the base colour's textureInfo after its
+ * index, e.g. ",\"extensions\":{...}". Returns 0 on success. */
+static inline int write_mesh_glb_ext(const char *path, const float *positions, const float *uvs, size_t nv,
+                                     const uint32_t *triangles, size_t nt, int tex, const char *pattern,
+                                     const char *mr_pattern, const char *base_ext)
 {
     unsigned char *png = NULL, *mr_png = NULL;
     size_t png_len = 0, mr_len = 0;
@@ -71,7 +72,7 @@ static inline int write_mesh_glb(const char *path, const float *positions, const
     int jl = snprintf(json, sizeof json,
         "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
         "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1},\"indices\":2,\"material\":0}]}],"
-        "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}%s}}],"
+        "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0%s}%s}}],"
         "\"textures\":[{\"source\":0}%s],\"images\":[{\"bufferView\":3,\"mimeType\":\"image/png\"}%s],"
         "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\",\"min\":[%.9g,%.9g,%.9g],\"max\":[%.9g,%.9g,%.9g]},"
         "{\"bufferView\":1,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC2\"},"
@@ -79,7 +80,7 @@ static inline int write_mesh_glb(const char *path, const float *positions, const
         "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},"
         "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}%s],"
         "\"buffers\":[{\"byteLength\":%zu}]}",
-        has_mr ? ",\"metallicRoughnessTexture\":{\"index\":1}" : "", has_mr ? ",{\"source\":1}" : "",
+        base_ext, has_mr ? ",\"metallicRoughnessTexture\":{\"index\":1}" : "", has_mr ? ",{\"source\":1}" : "",
         has_mr ? ",{\"bufferView\":4,\"mimeType\":\"image/png\"}" : "", nv, (double)lo[0], (double)lo[1],
         (double)lo[2], (double)hi[0], (double)hi[1], (double)hi[2], nv, nt * 3, pos_len,
         pos_len, uv_len, pos_len + uv_len, idx_len, png_at, png_len, mr_view, bin_len);
@@ -104,8 +105,36 @@ static inline int write_mesh_glb(const char *path, const float *positions, const
     return ok ? 0 : -1;
 }
 
-/* Writes an n x n grid over [0,1]^2 (UV = (x, y)) with a tex x tex texture of `pattern` (and
- * mr_pattern's, or none) as a .glb at path (write_mesh_glb). Returns 0 on success. */
+static inline int write_mesh_glb(const char *path, const float *positions, const float *uvs, size_t nv,
+                                 const uint32_t *triangles, size_t nt, int tex, const char *pattern,
+                                 const char *mr_pattern)
+{
+    return write_mesh_glb_ext(path, positions, uvs, nv, triangles, nt, tex, pattern, mr_pattern, "");
+}
+
+/* An n x n grid over [0,1]^2 with UV = (x, y): (n+1)^2 vertices into pos (3 floats each) and
+ * uv (2 each), 2 n^2 triangles into idx (3 each). */
+static inline void grid_fill(int n, float *pos, float *uv, uint32_t *idx)
+{
+    for (int j = 0; j <= n; j++)
+        for (int i = 0; i <= n; i++) {
+            size_t v = (size_t)j * (n + 1) + i;
+            pos[3 * v] = (float)i / n;
+            pos[3 * v + 1] = (float)j / n;
+            pos[3 * v + 2] = 0;
+            uv[2 * v] = (float)i / n;
+            uv[2 * v + 1] = (float)j / n;
+        }
+    for (int j = 0; j < n; j++)
+        for (int i = 0; i < n; i++) {
+            uint32_t a = (uint32_t)(j * (n + 1) + i), b = a + 1, c = a + (uint32_t)n + 2, d = a + (uint32_t)n + 1;
+            uint32_t *t = idx + 6 * (size_t)(j * n + i);
+            t[0] = a, t[1] = b, t[2] = c, t[3] = a, t[4] = c, t[5] = d;
+        }
+}
+
+/* Writes an n x n grid (grid_fill) with a tex x tex texture of `pattern` (and mr_pattern's,
+ * or none) as a .glb at path (write_mesh_glb). Returns 0 on success. */
 static inline int write_grid_glb_images(const char *path, int n, int tex, const char *pattern, const char *mr_pattern)
 {
     size_t nv = (size_t)(n + 1) * (n + 1), nt = 2 * (size_t)n * n;
@@ -113,21 +142,7 @@ static inline int write_grid_glb_images(const char *path, int n, int tex, const 
     uint32_t *idx = malloc(nt * 12);
     int r = -1;
     if (pos && uv && idx) {
-        for (int j = 0; j <= n; j++)
-            for (int i = 0; i <= n; i++) {
-                size_t v = (size_t)j * (n + 1) + i;
-                pos[3 * v] = (float)i / n;
-                pos[3 * v + 1] = (float)j / n;
-                pos[3 * v + 2] = 0;
-                uv[2 * v] = (float)i / n;
-                uv[2 * v + 1] = (float)j / n;
-            }
-        for (int j = 0; j < n; j++)
-            for (int i = 0; i < n; i++) {
-                uint32_t a = (uint32_t)(j * (n + 1) + i), b = a + 1, c = a + (uint32_t)n + 2, d = a + (uint32_t)n + 1;
-                uint32_t *t = idx + 6 * (size_t)(j * n + i);
-                t[0] = a, t[1] = b, t[2] = c, t[3] = a, t[4] = c, t[5] = d;
-            }
+        grid_fill(n, pos, uv, idx);
         r = write_mesh_glb(path, pos, uv, nv, idx, nt, tex, pattern, mr_pattern);
     }
     free(pos);

@@ -1,8 +1,8 @@
 /* Tests of pipeline.c (texopt_optimize_file) on small glTF files generated here: the input
  * method's budget and identity, the perceptual method on a flat quad (same look at c_r = 1
  * and at a far smaller texture), the half-flat/half-detailed grid (the flat half's texels
- * shrink), progress, cancellation and refusals. Real models are in
- * test_pipeline_models_slow.c. */
+ * shrink), progress, cancellation and refusals, and a texture transform laid out like the
+ * texels it reads. Real models are in test_pipeline_models_slow.c. */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdio.h>
@@ -371,5 +371,72 @@ TEST(parts_sharing_texels_keep_sharing_them)
         texopt_mesh_destroy(mesh);
         texopt_model_destroy(out);
     }
+    scratch_free(&s);
+}
+
+/* Whether the file at path holds the bytes of word (files under 4 MB). */
+static int file_holds(const char *path, const char *word)
+{
+    FILE *f = fopen(path, "rb");
+    size_t cap = 4u << 20, n = 0, w = strlen(word);
+    char *buf = f ? malloc(cap) : NULL;
+    if (buf)
+        n = fread(buf, 1, cap, f);
+    if (f)
+        fclose(f);
+    int found = 0;
+    for (size_t i = 0; buf && !found && i + w <= n; i++)
+        found = memcmp(buf + i, word, w) == 0;
+    free(buf);
+    return found;
+}
+
+/* A grid whose base colour reads its texture through KHR_texture_transform (offset, scale)
+ * with UVs that undo it reads the same texels as the plain grid: the job's layout, loss and
+ * cost come out as the plain grid's, and the written file reads its new texture directly. */
+TEST(a_texture_transform_is_laid_out_like_the_texels_it_reads)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 6, 64, "half") == 0);
+    int n = 6;
+    size_t nv = (size_t)(n + 1) * (n + 1), nt = 2 * (size_t)n * n;
+    float pos[49 * 3], uv[49 * 2];
+    uint32_t idx[72 * 3];
+    grid_fill(n, pos, uv, idx);
+    for (size_t v = 0; v < nv; v++) { /* offset [0.25, 0.5], scale [0.5, 2] */
+        uv[2 * v] = (uv[2 * v] - 0.25f) / 0.5f;
+        uv[2 * v + 1] = (uv[2 * v + 1] - 0.5f) / 2.0f;
+    }
+    char transformed[160];
+    snprintf(transformed, sizeof transformed, "%s/transformed.glb", s.dir);
+    CHECK(write_mesh_glb_ext(transformed, pos, uv, nv, idx, nt, 64, "half", NULL,
+                             ",\"extensions\":{\"KHR_texture_transform\":{\"offset\":[0.25,0.5],\"scale\":[0.5,2]}}") ==
+          0);
+    texopt_params p = {0};
+    p.relative_cost = 0.5;
+    p.threads = 1;
+    p.iterations = 5;
+    p.evaluate = 1;
+    p.eval_resolution = 128;
+    char err[512] = "";
+    double q[2], cost[2];
+    const char *inputs[2] = {s.in, transformed};
+    for (int k = 0; k < 2; k++) {
+        CHECK_OK(texopt_optimize_file(inputs[k], k ? s.again : s.out, s.stats, &p, NULL, err, sizeof err), err);
+        cJSON *st = read_json(s.stats);
+        CHECK(st != NULL);
+        q[k] = cJSON_GetObjectItem(cJSON_GetObjectItem(st, "evaluation"), "q")->valuedouble;
+        cost[k] = domain_number(st, "relative_cost");
+        cJSON_Delete(st);
+    }
+    CHECK_MSG(fabs(q[1] - q[0]) <= 1e-3 * q[0], "q %g transformed, %g plain", q[1], q[0]);
+    CHECK_NEAR(cost[1], cost[0], 0.005);
+    CHECK(q[0] > 1e-5); /* a real reduction, not two identical copies */
+    CHECK(!file_holds(s.again, "KHR_texture_transform"));
+    CHECK(file_holds(transformed, "KHR_texture_transform"));
+    /* The written file, read again, looks like the transformed input (to its 8-bit PNG). */
+    double back = file_q(transformed, s.again, 128, 0);
+    CHECK_MSG(fabs(back - q[1]) <= 0.01 * q[1], "q of the file %g, of the job %g", back, q[1]);
+    unlink(transformed);
     scratch_free(&s);
 }
