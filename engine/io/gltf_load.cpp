@@ -253,7 +253,7 @@ bool read_texture_transform(const tinygltf::ExtensionMap &ext, int texcoord, dou
     }
     if (!read_number_pair(v, "offset", offset) || !read_number_pair(v, "scale", scale))
         return false;
-    double c = rotation == 0 ? 1 : cos(rotation), s = rotation == 0 ? 0 : sin(rotation);
+    double c = cos(rotation), s = sin(rotation);
     double t[6] = {c * scale[0], s * scale[1], offset[0], -s * scale[0], c * scale[1], offset[1]};
     for (int i = 0; i < 6; i++)
         if (!std::isfinite(t[i]))
