@@ -28,13 +28,6 @@ const char *texopt_wrap_name(texopt_wrap wrap)
     return "unknown";
 }
 
-const char *texopt_slot_name(texopt_slot slot)
-{
-    static const char *const names[TEXOPT_SLOT_COUNT] = {"baseColor", "normal", "metallicRoughness",
-                                                         "occlusion", "emissive"};
-    return (int)slot >= 0 && slot < TEXOPT_SLOT_COUNT ? names[slot] : "unknown";
-}
-
 static const char *image_name(const texopt_model *model, int image)
 {
     if (model->image_names && model->image_names[image])
@@ -78,8 +71,8 @@ static int has_texture(const cJSON *list, const char *slot, int image)
     return 0;
 }
 
-/* Every (slot, image) a domain's materials read through TEXCOORD_0, in primitive and
- * slot order, once each. */
+/* Every (slot or extension texture, image) a domain's materials read through TEXCOORD_0, in
+ * primitive and binding order, once each. */
 static cJSON *textures_json(const texopt_model *model, const texopt_domain *dom)
 {
     cJSON *arr = cJSON_CreateArray();
@@ -87,11 +80,12 @@ static cJSON *textures_json(const texopt_model *model, const texopt_domain *dom)
         int mat = model->primitives[dom->primitives[k]].material;
         if (mat < 0 || mat >= model->material_count)
             continue;
-        for (int s = 0; s < TEXOPT_SLOT_COUNT; s++) {
-            const texopt_texture_ref *ref = &model->materials[mat].slot[s];
+        const texopt_material *m = &model->materials[mat];
+        for (int s = 0; s < texopt_material_binding_count(m); s++) {
+            const texopt_texture_ref *ref = texopt_material_binding(m, s);
             if (ref->image < 0 || ref->image >= model->image_count || ref->texcoord != 0)
                 continue;
-            const char *slot = texopt_slot_name((texopt_slot)s);
+            const char *slot = texopt_material_binding_name(m, s);
             if (has_texture(arr, slot, ref->image))
                 continue;
             cJSON *o = cJSON_CreateObject();

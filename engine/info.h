@@ -15,7 +15,8 @@
  *        "charts", "mirrored_charts", "folded_charts",
  *        "frame": { "width", "height" }, "wrap": { "s", "t" },       ("repeat"|"clamp"|"mirror")
  *        "textures": [ { "slot", "image", "name", "width", "height", "channels",
- *                        "wrap_s", "wrap_t" } ],          (slot: "baseColor", "normal", ...)
+ *                        "wrap_s", "wrap_t" } ],          (slot: "baseColor", "normal", ..., or an
+ *                                                         extension texture's key)
  *        "covered_texels", "overlap_texels", "packing_efficiency", "texel_area", "area_3d",
  *        "degenerate", "degenerate_3d", "degenerate_uv", "flipped", "overlapping", "wrapped"
  *     } ] }
@@ -43,9 +44,7 @@ texopt_status texopt_info_json(const texopt_model *model, cJSON **out, char *err
 texopt_status texopt_info_string(const texopt_model *model, int pretty, char **out, char *err,
                                  size_t err_len);
 
-/* The glTF name of a wrap mode ("repeat", "clamp", "mirror") and of a material slot
- * ("baseColor", "normal", "metallicRoughness", "occlusion", "emissive"). */
+/* The glTF name of a wrap mode ("repeat", "clamp", "mirror"). */
 const char *texopt_wrap_name(texopt_wrap wrap);
-const char *texopt_slot_name(texopt_slot slot);
 
 #endif

@@ -19,7 +19,8 @@
  * needed. Fixed seed: the same model gives the same weights.
  *
  * A model without a map the light reads besides base colour (texopt_lit_has_maps) gets 1
- * everywhere, as does an image no sampled point reads: stage 1 is then unchanged.
+ * everywhere, as does an image no sampled point reads (among them one that only material
+ * extensions bind, model.h, which the lit render does not shade): stage 1 is then unchanged.
  *
  * Does not: weigh per triangle (one weight per signal for the whole model), read baseColor
  * or emissive factors (lit_shade.h does not either), or decide what stage 1 does with the

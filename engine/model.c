@@ -1,4 +1,5 @@
-/* model.c - texture-domain grouping and destruction of texopt_model.
+/* model.c - texture-domain grouping, a material's bindings (slots, then extension textures)
+ * and destruction of texopt_model.
  *
  * Loading lives in io/gltf_io; this file only works on the flattened data, so that tests can
  * build models in memory. */
@@ -16,8 +17,45 @@ static int find_root(int *parent, int i)
     return i;
 }
 
+#define BINDINGS_MAX (TEXOPT_SLOT_COUNT + TEXOPT_EXTRA_TEXTURES_MAX)
+
+int texopt_material_binding_count(const texopt_material *mat)
+{
+    int extra = mat->extra_count < 0 ? 0 : mat->extra_count;
+    return TEXOPT_SLOT_COUNT + (extra > TEXOPT_EXTRA_TEXTURES_MAX ? TEXOPT_EXTRA_TEXTURES_MAX : extra);
+}
+
+const texopt_texture_ref *texopt_material_binding(const texopt_material *mat, int i)
+{
+    return i < TEXOPT_SLOT_COUNT ? &mat->slot[i] : &mat->extra[i - TEXOPT_SLOT_COUNT].ref;
+}
+
+texopt_texture_kind texopt_material_binding_kind(const texopt_material *mat, int i)
+{
+    switch (i) {
+    case TEXOPT_SLOT_BASE_COLOR:
+    case TEXOPT_SLOT_EMISSIVE: return TEXOPT_TEXTURE_COLOR;
+    case TEXOPT_SLOT_NORMAL: return TEXOPT_TEXTURE_NORMAL;
+    case TEXOPT_SLOT_METALLIC_ROUGHNESS:
+    case TEXOPT_SLOT_OCCLUSION: return TEXOPT_TEXTURE_DATA;
+    default: return mat->extra[i - TEXOPT_SLOT_COUNT].kind;
+    }
+}
+
+const char *texopt_slot_name(texopt_slot slot)
+{
+    static const char *const names[TEXOPT_SLOT_COUNT] = {"baseColor", "normal", "metallicRoughness",
+                                                         "occlusion", "emissive"};
+    return (int)slot >= 0 && slot < TEXOPT_SLOT_COUNT ? names[slot] : "unknown";
+}
+
+const char *texopt_material_binding_name(const texopt_material *mat, int i)
+{
+    return i < TEXOPT_SLOT_COUNT ? texopt_slot_name((texopt_slot)i) : mat->extra[i - TEXOPT_SLOT_COUNT].name;
+}
+
 /* The images a primitive's material reads through TEXCOORD_0, written to out (at most
- * TEXOPT_SLOT_COUNT); returns how many. */
+ * BINDINGS_MAX); returns how many. */
 static int primitive_images(const texopt_model *model, const texopt_primitive *prim, int *out,
                             const texopt_texture_ref **refs)
 {
@@ -25,8 +63,8 @@ static int primitive_images(const texopt_model *model, const texopt_primitive *p
         return 0;
     const texopt_material *mat = &model->materials[prim->material];
     int n = 0;
-    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++) {
-        const texopt_texture_ref *ref = &mat->slot[s];
+    for (int s = 0; s < texopt_material_binding_count(mat); s++) {
+        const texopt_texture_ref *ref = texopt_material_binding(mat, s);
         if (ref->image < 0 || ref->image >= model->image_count || ref->texcoord != 0)
             continue;
         out[n] = ref->image;
@@ -83,8 +121,8 @@ texopt_status texopt_model_build_domains(texopt_model *model, char *err, size_t 
         parent[i] = i;
         domain_of_root[i] = -1;
     }
-    int imgs[TEXOPT_SLOT_COUNT];
-    const texopt_texture_ref *refs[TEXOPT_SLOT_COUNT];
+    int imgs[BINDINGS_MAX];
+    const texopt_texture_ref *refs[BINDINGS_MAX];
     for (int p = 0; p < model->primitive_count; p++) {
         int n = primitive_images(model, &model->primitives[p], imgs, refs);
         for (int k = 1; k < n; k++)

@@ -43,8 +43,30 @@ typedef struct texopt_texture_ref {
     texopt_wrap wrap_s, wrap_t;
 } texopt_texture_ref;
 
+/* What a texture's texels are, which decides how stage 1 compares them (triloss.h) and
+ * whether the re-bake turns them with the layout (rebake.h). */
+typedef enum texopt_texture_kind {
+    TEXOPT_TEXTURE_COLOR = 0, /* a colour: compared by its luma */
+    TEXOPT_TEXTURE_DATA,      /* numbers per channel (roughness, thickness...): compared per channel */
+    TEXOPT_TEXTURE_NORMAL     /* a tangent-space normal map: per channel, XY turned with the layout */
+} texopt_texture_kind;
+
+/* Most extension textures one material may bind through TEXCOORD_0 (the loader knows 15). */
+#define TEXOPT_EXTRA_TEXTURES_MAX 16
+
+/* A texture that a material extension binds through TEXCOORD_0 (clearcoat, sheen,
+ * specular...): laid out and re-baked with the slots' textures, but not rendered by the
+ * whole-mesh evaluation or the lit loss, which know the core slots only. */
+typedef struct texopt_extra_texture {
+    texopt_texture_ref ref;
+    texopt_texture_kind kind;
+    const char *name; /* the binding's key, e.g. "clearcoatNormalTexture"; static storage */
+} texopt_extra_texture;
+
 typedef struct texopt_material {
     texopt_texture_ref slot[TEXOPT_SLOT_COUNT];
+    int extra_count;
+    texopt_extra_texture extra[TEXOPT_EXTRA_TEXTURES_MAX];
     /* pbrMetallicRoughness's factors (glTF's default 1), which multiply the texture's B and G
      * or stand alone without one: what a lit render (lit_shade.h) shows of the material. */
     double metallic_factor, roughness_factor;
@@ -97,6 +119,18 @@ typedef struct texopt_model {
  * primitive's domain) from the materials' TEXCOORD_0 bindings: primitives whose materials
  * share an image are one domain. Images with unknown size (not decoded) count as 1x1. */
 texopt_status texopt_model_build_domains(texopt_model *model, char *err, size_t err_len);
+
+/* The glTF name of a material slot ("baseColor", "normal", "metallicRoughness", "occlusion",
+ * "emissive"; "unknown" out of range). */
+const char *texopt_slot_name(texopt_slot slot);
+
+/* Every texture binding of a material, the slots in slot order (empty ones included) then its
+ * extension textures: i in [0, texopt_material_binding_count). */
+int texopt_material_binding_count(const texopt_material *mat);
+const texopt_texture_ref *texopt_material_binding(const texopt_material *mat, int i);
+texopt_texture_kind texopt_material_binding_kind(const texopt_material *mat, int i);
+/* texopt_slot_name of a slot, or the extension texture's key. */
+const char *texopt_material_binding_name(const texopt_material *mat, int i);
 
 /* Frees everything the model owns, including the document. Accepts NULL. */
 void texopt_model_destroy(texopt_model *model);

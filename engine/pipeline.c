@@ -149,38 +149,37 @@ static texopt_status check_cancel(const job_monitor *jm, char *err, size_t err_l
     return TEXOPT_OK;
 }
 
-static const char *slot_name(int slot)
+/* The name of the first binding, in slot order then extension textures, that reads image
+ * through TEXCOORD_0 in any material, or NULL. */
+static const char *image_binding_name(const texopt_model *model, int image)
 {
-    static const char *const names[TEXOPT_SLOT_COUNT] = {"baseColor", "normal", "metallicRoughness",
-                                                         "occlusion", "emissive"};
-    return slot >= 0 && slot < TEXOPT_SLOT_COUNT ? names[slot] : NULL;
-}
-
-/* The first material slot (through TEXCOORD_0) that reads image, or -1. */
-static int image_slot(const texopt_model *model, int image)
-{
-    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++)
+    for (int b = 0; b < TEXOPT_SLOT_COUNT + TEXOPT_EXTRA_TEXTURES_MAX; b++)
         for (int m = 0; m < model->material_count; m++) {
-            const texopt_texture_ref *r = &model->materials[m].slot[s];
+            const texopt_material *mat = &model->materials[m];
+            if (b >= texopt_material_binding_count(mat))
+                continue;
+            const texopt_texture_ref *r = texopt_material_binding(mat, b);
             if (r->image == image && r->texcoord == 0)
-                return s;
+                return texopt_material_binding_name(mat, b);
         }
-    return -1;
+    return NULL;
 }
 
-/* Wrap modes the image is read with (of the first slot that binds it). */
+/* Wrap modes the image is read with (of the first binding that reads it). */
 static void image_wrap(const texopt_model *model, int image, texopt_wrap *ws, texopt_wrap *wt)
 {
     *ws = *wt = TEXOPT_WRAP_REPEAT;
-    for (int m = 0; m < model->material_count; m++)
-        for (int s = 0; s < TEXOPT_SLOT_COUNT; s++) {
-            const texopt_texture_ref *r = &model->materials[m].slot[s];
+    for (int m = 0; m < model->material_count; m++) {
+        const texopt_material *mat = &model->materials[m];
+        for (int b = 0; b < texopt_material_binding_count(mat); b++) {
+            const texopt_texture_ref *r = texopt_material_binding(mat, b);
             if (r->image == image && r->texcoord == 0) {
                 *ws = r->wrap_s;
                 *wt = r->wrap_t;
                 return;
             }
         }
+    }
 }
 
 static int scaled_side(int side, double factor)
@@ -235,7 +234,7 @@ static texopt_status record_images(const texopt_model *model, const texopt_domai
         texopt_image_stats *s = &ds->images[i];
         s->image = im;
         s->name = model->image_names ? model->image_names[im] : NULL;
-        s->slot = slot_name(image_slot(model, im));
+        s->slot = image_binding_name(model, im);
         s->input_width = model->images[im].width;
         s->input_height = model->images[im].height;
     }
@@ -653,11 +652,17 @@ static void write_domain_uvs(const texopt_model *model, const texopt_mesh *mesh,
     }
 }
 
+/* Whether a binding reads the image as a tangent-space normal map (the normal slot, or an
+ * extension's such as clearcoatNormalTexture). */
 static int image_is_normal_map(const texopt_model *model, int image)
 {
-    for (int m = 0; m < model->material_count; m++)
-        if (model->materials[m].slot[TEXOPT_SLOT_NORMAL].image == image)
-            return 1;
+    for (int m = 0; m < model->material_count; m++) {
+        const texopt_material *mat = &model->materials[m];
+        for (int b = 0; b < texopt_material_binding_count(mat); b++)
+            if (texopt_material_binding(mat, b)->image == image &&
+                texopt_material_binding_kind(mat, b) == TEXOPT_TEXTURE_NORMAL)
+                return 1;
+    }
     return 0;
 }
 

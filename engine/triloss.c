@@ -92,7 +92,8 @@ void texopt_jacobian_from_params(double alpha, double lambda1, double lambda2, d
 }
 
 /* Whether the materials of the domain use `image` as a data texture (normal, metallic-
- * roughness, occlusion), whose channels are compared one by one. */
+ * roughness, occlusion, an extension's data or normal map), whose channels are compared one
+ * by one. */
 static int image_is_data(const texopt_model *model, const texopt_domain *dom, int image)
 {
     for (int p = 0; p < dom->primitive_count; p++) {
@@ -100,10 +101,10 @@ static int image_is_data(const texopt_model *model, const texopt_domain *dom, in
         if (m < 0 || m >= model->material_count)
             continue;
         const texopt_material *mat = &model->materials[m];
-        if (mat->slot[TEXOPT_SLOT_NORMAL].image == image ||
-            mat->slot[TEXOPT_SLOT_METALLIC_ROUGHNESS].image == image ||
-            mat->slot[TEXOPT_SLOT_OCCLUSION].image == image)
-            return 1;
+        for (int b = 0; b < texopt_material_binding_count(mat); b++)
+            if (texopt_material_binding(mat, b)->image == image &&
+                texopt_material_binding_kind(mat, b) != TEXOPT_TEXTURE_COLOR)
+                return 1;
     }
     return 0;
 }

@@ -35,6 +35,7 @@
 #include "gltf_files.hpp"
 #include "gltf_nodes.hpp"
 #include "gltf_document.hpp"
+#include "gltf_extension_textures.hpp"
 #include "image_io.h"
 #include "image_jobs.hpp"
 
@@ -269,28 +270,79 @@ bool turns_or_mirrors(const double m[6])
     return m[1] != 0 || m[3] != 0 || m[0] < 0 || m[4] < 0;
 }
 
-/* The first texture a material extension binds on TEXCOORD_0 (an object under a key ending in
- * "Texture" with an integer index, texCoord 0 or absent), searched through nested objects;
- * its key in *name. Such textures (clearcoat, sheen, specular-glossiness...) are not re-baked,
- * so a new layout would misplace them. */
-bool extension_texture_on_set0(const tinygltf::Value &v, std::string *name)
+/* The binding's transform becomes the material's (the first TEXCOORD_0 binding's), or must
+ * equal it: one UV set cannot serve two. */
+texopt_status share_transform(size_t material, const char *binding, const double m[6], texopt_material *out,
+                              const char **transformed_by, char *err, size_t err_len)
 {
-    if (!v.IsObject())
-        return false;
-    for (const std::string &key : v.Keys()) {
-        const tinygltf::Value &child = v.Get(key);
-        bool texture = key.size() >= 7 && key.compare(key.size() - 7, 7, "Texture") == 0 && child.IsObject() &&
-                       child.Has("index") && child.Get("index").IsInt();
-        int texcoord = texture && child.Has("texCoord") && child.Get("texCoord").IsInt()
-                           ? child.Get("texCoord").GetNumberAsInt()
-                           : 0;
-        if ((texture && texcoord == 0) || (!texture && extension_texture_on_set0(child, name))) {
-            if (texture)
-                *name = key;
-            return true;
+    if (!*transformed_by) {
+        memcpy(out->uv_transform, m, 6 * sizeof *m);
+        *transformed_by = binding;
+        return TEXOPT_OK;
+    }
+    if (same_transform(out->uv_transform, m))
+        return TEXOPT_OK;
+    return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                       "material %zu: %s and %s have different KHR_texture_transform values; texopt lays out one "
+                       "TEXCOORD_0 per material", material, *transformed_by, binding);
+}
+
+/* The extensions object of a textureInfo inside a material extension, as tinygltf keeps a
+ * core textureInfo's. */
+tinygltf::ExtensionMap texture_info_extensions(const tinygltf::Value &info)
+{
+    tinygltf::ExtensionMap map;
+    if (info.Has("extensions") && info.Get("extensions").IsObject()) {
+        const tinygltf::Value &e = info.Get("extensions");
+        for (const std::string &k : e.Keys())
+            map[k] = e.Get(k);
+    }
+    return map;
+}
+
+/* The textures material extensions bind on TEXCOORD_0 into out->extra (those on other sets
+ * are left as they are, like the core slots'); an unknown one is refused, since a new layout
+ * would misplace it. */
+texopt_status bind_extension_textures(const tinygltf::Model &g, size_t i, const tinygltf::Material &m,
+                                      texopt_material *out, const char **transformed_by, char *err, size_t err_len)
+{
+    for (const auto &e : m.extensions) {
+        std::string unknown;
+        if (gltf_unknown_extension_texture_on_set0(e.first, e.second, &unknown))
+            return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                               "material %zu: %s binds %s on TEXCOORD_0, which texopt does not re-bake", i,
+                               e.first.c_str(), unknown.c_str());
+        if (!e.second.IsObject())
+            continue;
+        for (const std::string &key : e.second.Keys()) {
+            const tinygltf::Value &info = e.second.Get(key);
+            int texcoord;
+            texopt_texture_kind kind;
+            const char *name;
+            if (!gltf_is_texture_info(key, info, &texcoord) || texcoord != 0 ||
+                !gltf_known_extension_texture(e.first, key, &kind, &name))
+                continue;
+            if (out->extra_count == TEXOPT_EXTRA_TEXTURES_MAX)
+                return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                                   "material %zu binds more than %d extension textures", i, TEXOPT_EXTRA_TEXTURES_MAX);
+            texopt_extra_texture *x = &out->extra[out->extra_count];
+            texopt_status st = bind_texture(g, (int)i, name, info.Get("index").GetNumberAsInt(), 0, &x->ref, err, err_len);
+            if (st != TEXOPT_OK)
+                return st;
+            double t[6];
+            if (!read_texture_transform(texture_info_extensions(info), 0, t))
+                return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                                   "material %zu: %s has a KHR_texture_transform texopt cannot apply (malformed, or "
+                                   "moving the binding to another texCoord)", i, name);
+            st = share_transform(i, name, t, out, transformed_by, err, err_len);
+            if (st != TEXOPT_OK)
+                return st;
+            x->kind = kind;
+            x->name = name;
+            out->extra_count++;
         }
     }
-    return false;
+    return TEXOPT_OK;
 }
 
 texopt_status convert_materials(const tinygltf::Model &g, texopt_model *model, char *err, size_t err_len)
@@ -303,13 +355,6 @@ texopt_status convert_materials(const tinygltf::Model &g, texopt_model *model, c
     for (size_t i = 0; i < n; i++) {
         const tinygltf::Material &m = g.materials[i];
         texopt_material *out = &model->materials[i];
-        for (const auto &e : m.extensions) {
-            std::string texture;
-            if (extension_texture_on_set0(e.second, &texture))
-                return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
-                                   "material %zu: %s binds %s on TEXCOORD_0, which texopt does not re-bake", i,
-                                   e.first.c_str(), texture.c_str());
-        }
         out->metallic_factor = m.pbrMetallicRoughness.metallicFactor;
         out->roughness_factor = m.pbrMetallicRoughness.roughnessFactor;
         const tinygltf::TextureInfo &base = m.pbrMetallicRoughness.baseColorTexture;
@@ -342,25 +387,26 @@ texopt_status convert_materials(const tinygltf::Model &g, texopt_model *model, c
                                    "moving the binding to another texCoord)", i, s.name);
             if (s.index < 0 || s.texcoord != 0)
                 continue;
-            if (!transformed_by) {
-                memcpy(out->uv_transform, m, sizeof m);
-                transformed_by = s.name;
-            } else if (!same_transform(out->uv_transform, m)) {
-                return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
-                                   "material %zu: %s and %s have different KHR_texture_transform values; texopt lays "
-                                   "out one TEXCOORD_0 per material", i, transformed_by, s.name);
-            }
+            st = share_transform(i, s.name, m, out, &transformed_by, err, err_len);
+            if (st != TEXOPT_OK)
+                return st;
         }
+        texopt_status st = bind_extension_textures(g, i, m, out, &transformed_by, err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
         const double *t = out->uv_transform;
         if (t[0] * t[4] - t[1] * t[3] == 0)
             return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
                                "material %zu: its KHR_texture_transform has a zero scale, which collapses TEXCOORD_0 "
                                "onto a line or a point", i);
-        const texopt_texture_ref &normal = out->slot[TEXOPT_SLOT_NORMAL];
-        if (normal.image >= 0 && normal.texcoord == 0 && turns_or_mirrors(out->uv_transform))
-            return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
-                               "material %zu: its KHR_texture_transform turns or mirrors the normal map's UVs, "
-                               "which texopt does not apply", i);
+        for (int b = 0; b < texopt_material_binding_count(out); b++) {
+            const texopt_texture_ref *r = texopt_material_binding(out, b);
+            if (r->image >= 0 && r->texcoord == 0 && texopt_material_binding_kind(out, b) == TEXOPT_TEXTURE_NORMAL &&
+                turns_or_mirrors(out->uv_transform))
+                return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                                   "material %zu: its KHR_texture_transform turns or mirrors the UVs of a normal map "
+                                   "(%s), which texopt does not apply", i, texopt_material_binding_name(out, b));
+        }
     }
     return TEXOPT_OK;
 }
@@ -369,9 +415,10 @@ bool material_uses_texcoord0(const texopt_model *model, int material)
 {
     if (material < 0 || material >= model->material_count)
         return false;
-    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++) {
-        const texopt_texture_ref &r = model->materials[material].slot[s];
-        if (r.image >= 0 && r.texcoord == 0)
+    const texopt_material *mat = &model->materials[material];
+    for (int b = 0; b < texopt_material_binding_count(mat); b++) {
+        const texopt_texture_ref *r = texopt_material_binding(mat, b);
+        if (r->image >= 0 && r->texcoord == 0)
             return true;
     }
     return false;
@@ -381,8 +428,9 @@ bool material_is_textured(const texopt_model *model, int material)
 {
     if (material < 0 || material >= model->material_count)
         return false;
-    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++)
-        if (model->materials[material].slot[s].image >= 0)
+    const texopt_material *mat = &model->materials[material];
+    for (int b = 0; b < texopt_material_binding_count(mat); b++)
+        if (texopt_material_binding(mat, b)->image >= 0)
             return true;
     return false;
 }

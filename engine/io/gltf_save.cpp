@@ -26,6 +26,7 @@
 
 #include "atomic_file.h"
 #include "gltf_document.hpp"
+#include "gltf_extension_textures.hpp"
 #include "image_io.h"
 #include "image_jobs.hpp"
 
@@ -103,6 +104,29 @@ void drop_transform(int index, int texcoord, tinygltf::ExtensionMap &ext, bool *
         *kept = true;
 }
 
+/* The same for the textures of material extension `extension` that the loader laid out (the
+ * known ones on TEXCOORD_0: gltf_extension_textures.hpp). */
+void drop_extension_texture_transforms(const std::string &extension, tinygltf::Value &v)
+{
+    if (!v.IsObject())
+        return;
+    for (auto &kv : v.Get<tinygltf::Value::Object>()) {
+        int texcoord;
+        texopt_texture_kind kind;
+        const char *name;
+        if (!gltf_is_texture_info(kv.first, kv.second, &texcoord) || texcoord != 0 ||
+            !gltf_known_extension_texture(extension, kv.first, &kind, &name) || !kv.second.Has("extensions"))
+            continue;
+        tinygltf::Value &exts = kv.second.Get<tinygltf::Value::Object>()["extensions"];
+        if (!exts.IsObject())
+            continue;
+        tinygltf::Value::Object &obj = exts.Get<tinygltf::Value::Object>();
+        obj.erase("KHR_texture_transform");
+        if (obj.empty())
+            kv.second.Get<tinygltf::Value::Object>().erase("extensions");
+    }
+}
+
 bool value_names_key(const tinygltf::Value &v, const char *key)
 {
     if (v.IsObject())
@@ -130,8 +154,10 @@ void drop_applied_texture_transforms(tinygltf::Model &g)
         drop_transform(m.normalTexture.index, m.normalTexture.texCoord, m.normalTexture.extensions, &kept);
         drop_transform(m.occlusionTexture.index, m.occlusionTexture.texCoord, m.occlusionTexture.extensions, &kept);
         drop_transform(m.emissiveTexture.index, m.emissiveTexture.texCoord, m.emissiveTexture.extensions, &kept);
-        for (const auto &e : m.extensions) /* textures of material extensions on other sets */
-            kept = kept || value_names_key(e.second, "KHR_texture_transform");
+        for (auto &e : m.extensions) {
+            drop_extension_texture_transforms(e.first, e.second);
+            kept = kept || value_names_key(e.second, "KHR_texture_transform"); /* bindings on other sets */
+        }
     }
     if (kept)
         return;

@@ -31,59 +31,66 @@ static inline int grid_pattern_png(int tex, const char *pattern, unsigned char *
     return st == TEXOPT_OK ? 0 : -1;
 }
 
-/* Writes a mesh (positions 3 floats and UVs 2 floats per vertex, u32 triangles) with a
- * tex x tex base-colour texture of `pattern` as a .glb at path; with mr_pattern (NULL: none),
- * image 1 is a metallicRoughness texture of that pattern (the same pattern: the same pixels
- * as base colour); base_ext (may be "") goes into the base colour's textureInfo after its
- * index, e.g. ",\"extensions\":{...}". Returns 0 on success. */
-static inline int write_mesh_glb_ext(const char *path, const float *positions, const float *uvs, size_t nv,
-                                     const uint32_t *triangles, size_t nt, int tex, const char *pattern,
-                                     const char *mr_pattern, const char *base_ext)
+/* Writes a mesh (positions 3 floats and UVs 2 floats per vertex, u32 triangles) as a .glb at
+ * path with image_count tex x tex images of patterns[i], texture i showing image i, and one
+ * material, `material` (its JSON object, which binds the textures). Returns 0 on success. */
+static inline int write_mesh_glb_material(const char *path, const float *positions, const float *uvs, size_t nv,
+                                          const uint32_t *triangles, size_t nt, int tex,
+                                          const char *const *patterns, int image_count, const char *material)
 {
-    unsigned char *png = NULL, *mr_png = NULL;
-    size_t png_len = 0, mr_len = 0;
-    if (grid_pattern_png(tex, pattern, &png, &png_len) != 0 ||
-        (mr_pattern && grid_pattern_png(tex, mr_pattern, &mr_png, &mr_len) != 0)) {
-        free(png);
+    enum { MAX_IMAGES = 6 };
+    unsigned char *png[MAX_IMAGES] = {NULL};
+    size_t png_len[MAX_IMAGES] = {0}, png_at[MAX_IMAGES];
+    int ok = image_count >= 1 && image_count <= MAX_IMAGES;
+    for (int i = 0; ok && i < image_count; i++)
+        ok = grid_pattern_png(tex, patterns[i], &png[i], &png_len[i]) == 0;
+    size_t pos_len = nv * 12, uv_len = nv * 8, idx_len = nt * 12, bin_len = pos_len + uv_len + idx_len;
+    for (int i = 0; ok && i < image_count; i++) {
+        png_at[i] = (bin_len + 3) / 4 * 4;
+        bin_len = png_at[i] + png_len[i];
+    }
+    bin_len = (bin_len + 3) / 4 * 4;
+    unsigned char *bin = ok ? calloc(1, bin_len) : NULL;
+    char json[8192], textures[256] = "", images[512] = "", views[1024] = "";
+    int jl = -1;
+    if (bin) {
+        memcpy(bin, positions, pos_len);
+        memcpy(bin + pos_len, uvs, uv_len);
+        memcpy(bin + pos_len + uv_len, triangles, idx_len);
+        for (int i = 0; i < image_count; i++) {
+            memcpy(bin + png_at[i], png[i], png_len[i]);
+            size_t at = strlen(textures), ai = strlen(images), av = strlen(views);
+            snprintf(textures + at, sizeof textures - at, "%s{\"source\":%d}", i ? "," : "", i);
+            snprintf(images + ai, sizeof images - ai, "%s{\"bufferView\":%d,\"mimeType\":\"image/png\"}", i ? "," : "",
+                     3 + i);
+            snprintf(views + av, sizeof views - av, ",{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}", png_at[i],
+                     png_len[i]);
+        }
+        float lo[3] = {positions[0], positions[1], positions[2]}, hi[3] = {positions[0], positions[1], positions[2]};
+        for (size_t v = 0; v < nv; v++)
+            for (int k = 0; k < 3; k++) {
+                lo[k] = positions[3 * v + k] < lo[k] ? positions[3 * v + k] : lo[k];
+                hi[k] = positions[3 * v + k] > hi[k] ? positions[3 * v + k] : hi[k];
+            }
+        jl = snprintf(json, sizeof json,
+            "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
+            "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1},\"indices\":2,\"material\":0}]}],"
+            "\"materials\":[%s],\"textures\":[%s],\"images\":[%s],"
+            "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\",\"min\":[%.9g,%.9g,%.9g],\"max\":[%.9g,%.9g,%.9g]},"
+            "{\"bufferView\":1,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC2\"},"
+            "{\"bufferView\":2,\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"}],"
+            "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},"
+            "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}%s],"
+            "\"buffers\":[{\"byteLength\":%zu}]}",
+            material, textures, images, nv, (double)lo[0], (double)lo[1], (double)lo[2], (double)hi[0], (double)hi[1],
+            (double)hi[2], nv, nt * 3, pos_len, pos_len, uv_len, pos_len + uv_len, idx_len, views, bin_len);
+    }
+    for (int i = 0; i < MAX_IMAGES; i++)
+        free(png[i]);
+    if (jl < 0 || (size_t)jl >= sizeof json) {
+        free(bin);
         return -1;
     }
-    int has_mr = mr_pattern != NULL;
-    size_t pos_len = nv * 12, uv_len = nv * 8, idx_len = nt * 12;
-    size_t png_at = pos_len + uv_len + idx_len, mr_at = (png_at + png_len + 3) / 4 * 4;
-    size_t bin_len = (mr_at + mr_len + 3) / 4 * 4;
-    unsigned char *bin = calloc(1, bin_len);
-    memcpy(bin, positions, pos_len);
-    memcpy(bin + pos_len, uvs, uv_len);
-    memcpy(bin + pos_len + uv_len, triangles, idx_len);
-    float lo[3] = {positions[0], positions[1], positions[2]}, hi[3] = {positions[0], positions[1], positions[2]};
-    for (size_t v = 0; v < nv; v++)
-        for (int k = 0; k < 3; k++) {
-            lo[k] = positions[3 * v + k] < lo[k] ? positions[3 * v + k] : lo[k];
-            hi[k] = positions[3 * v + k] > hi[k] ? positions[3 * v + k] : hi[k];
-        }
-    memcpy(bin + png_at, png, png_len);
-    if (mr_png)
-        memcpy(bin + mr_at, mr_png, mr_len);
-    free(png);
-    free(mr_png);
-    char json[4096], mr_view[96] = "";
-    if (has_mr)
-        snprintf(mr_view, sizeof mr_view, ",{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}", mr_at, mr_len);
-    int jl = snprintf(json, sizeof json,
-        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
-        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1},\"indices\":2,\"material\":0}]}],"
-        "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0%s}%s}}],"
-        "\"textures\":[{\"source\":0}%s],\"images\":[{\"bufferView\":3,\"mimeType\":\"image/png\"}%s],"
-        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\",\"min\":[%.9g,%.9g,%.9g],\"max\":[%.9g,%.9g,%.9g]},"
-        "{\"bufferView\":1,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC2\"},"
-        "{\"bufferView\":2,\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"}],"
-        "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},"
-        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}%s],"
-        "\"buffers\":[{\"byteLength\":%zu}]}",
-        base_ext, has_mr ? ",\"metallicRoughnessTexture\":{\"index\":1}" : "", has_mr ? ",{\"source\":1}" : "",
-        has_mr ? ",{\"bufferView\":4,\"mimeType\":\"image/png\"}" : "", nv, (double)lo[0], (double)lo[1],
-        (double)lo[2], (double)hi[0], (double)hi[1], (double)hi[2], nv, nt * 3, pos_len,
-        pos_len, uv_len, pos_len + uv_len, idx_len, png_at, png_len, mr_view, bin_len);
     size_t jpad = ((size_t)jl + 3) / 4 * 4, total = 12 + 8 + jpad + 8 + bin_len;
     unsigned char *glb = calloc(1, total);
     memcpy(glb, "glTF", 4);
@@ -98,11 +105,27 @@ static inline int write_mesh_glb_ext(const char *path, const float *positions, c
     memcpy(glb + 28 + jpad, bin, bin_len);
     free(bin);
     FILE *f = fopen(path, "wb");
-    int ok = f && fwrite(glb, 1, total, f) == total;
+    int written = f && fwrite(glb, 1, total, f) == total;
     if (f && fclose(f) != 0)
-        ok = 0;
+        written = 0;
     free(glb);
-    return ok ? 0 : -1;
+    return written ? 0 : -1;
+}
+
+/* The same with a base-colour texture of `pattern` and, with mr_pattern (NULL: none), image 1
+ * a metallicRoughness texture of that pattern (the same pattern: the same pixels as base
+ * colour); base_ext (may be "") goes into the base colour's textureInfo after its index, e.g.
+ * ",\"extensions\":{...}". */
+static inline int write_mesh_glb_ext(const char *path, const float *positions, const float *uvs, size_t nv,
+                                     const uint32_t *triangles, size_t nt, int tex, const char *pattern,
+                                     const char *mr_pattern, const char *base_ext)
+{
+    char material[512];
+    snprintf(material, sizeof material, "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0%s}%s}}", base_ext,
+             mr_pattern ? ",\"metallicRoughnessTexture\":{\"index\":1}" : "");
+    const char *patterns[2] = {pattern, mr_pattern};
+    return write_mesh_glb_material(path, positions, uvs, nv, triangles, nt, tex, patterns, mr_pattern ? 2 : 1,
+                                   material);
 }
 
 static inline int write_mesh_glb(const char *path, const float *positions, const float *uvs, size_t nv,

@@ -570,6 +570,25 @@ TEST(validator_accepts_saved_files_with_new_uvs_and_images)
     builder_rmdir(dir);
 }
 
+/* Runs the validator on out with the quad of `json` (written to dir/in.glb) as its baseline,
+ * printing the report when it fails; its exit status. */
+static int validate_against_quad(const char *out, const quad_doc *doc, const char *json, const char *dir)
+{
+    char in[128], log[128];
+    snprintf(in, sizeof in, "%s/in.glb", dir);
+    snprintf(log, sizeof log, "%s/report.json", dir);
+    size_t len = 0;
+    unsigned char *glb = builder_glb(json, doc->bin, doc->bin_len, &len);
+    int written = glb && builder_write(in, glb, len);
+    free(glb);
+    if (!written)
+        return -1;
+    int rc = run_validator(out, in, log);
+    if (rc != 0)
+        print_file(log);
+    return rc;
+}
+
 /* The extension's own example: offset [0, 1], rotation pi/2, scale 0.5 shows the lower-left
  * quadrant of the image, so UV (u, v) reads (0.5 v, 1 - 0.5 u). */
 TEST(texture_transforms_on_texcoord0_are_applied_to_the_uvs_and_dropped_when_saved)
@@ -605,16 +624,7 @@ TEST(texture_transforms_on_texcoord0_are_applied_to_the_uvs_and_dropped_when_sav
     texopt_model_edit edit = {m->uvs, NULL};
     CHECK_OK(texopt_model_save_glb(m, &edit, out, err, sizeof err), err);
     CHECK_EQ_INT(file_contains(out, "KHR_texture_transform"), 0);
-    char in[128], log[128];
-    snprintf(in, sizeof in, "%s/in.glb", dir);
-    snprintf(log, sizeof log, "%s/report.json", dir);
-    size_t len = 0;
-    unsigned char *glb = builder_glb(json, doc.bin, doc.bin_len, &len);
-    CHECK(builder_write(in, glb, len));
-    free(glb);
-    int rc = run_validator(out, in, log);
-    if (rc != 0)
-        print_file(log);
+    int rc = validate_against_quad(out, &doc, json, dir);
     CHECK_MSG(rc == 0, "validator exit %d for %s", rc, out);
     texopt_model *back = NULL;
     CHECK_OK(texopt_model_load(&back, out, NULL, err, sizeof err), err);
@@ -623,6 +633,92 @@ TEST(texture_transforms_on_texcoord0_are_applied_to_the_uvs_and_dropped_when_sav
     /* Saved without new UVs, the file keeps its UVs and so its transform. */
     CHECK_OK(texopt_model_save_glb(m, NULL, out, err, sizeof err), err);
     CHECK_EQ_INT(file_contains(out, "KHR_texture_transform"), 1);
+    texopt_model_destroy(back);
+    texopt_model_destroy(m);
+    builder_rmdir(dir);
+    free(json);
+    quad_doc_free(&doc);
+}
+
+/* Saves m with its UVs as new ones into dir/name and loads the file back. */
+static texopt_model *save_and_reload(const texopt_model *m, const char *dir, const char *name, char *path,
+                                     size_t path_len, char *err, size_t err_len)
+{
+    snprintf(path, path_len, "%s/%s", dir, name);
+    texopt_model_edit edit = {m->uvs, NULL};
+    texopt_model *back = NULL;
+    if (texopt_model_save_glb(m, &edit, path, err, err_len) != TEXOPT_OK ||
+        texopt_model_load(&back, path, NULL, err, err_len) != TEXOPT_OK)
+        return NULL;
+    return back;
+}
+
+/* A clearcoat normal map on TEXCOORD_0 shares the base colour's transform and is laid out
+ * with it; a clearcoat map on TEXCOORD_1 is left alone, transform included. */
+TEST(textures_of_known_material_extensions_are_bound_and_lose_their_applied_transform)
+{
+    char err[512] = "", dir[64], out[128];
+    quad_doc doc;
+    CHECK(quad_doc_init(&doc, 4, 4));
+    char *json = strdup(doc.json);
+    const char *transform = "\"extensions\":{\"KHR_texture_transform\":{\"offset\":[0.25,0.5],\"scale\":[0.5,0.25]}}";
+    char materials[1024];
+    /* The core normal map is there so that a renderer (and the validator) can make tangents. */
+    snprintf(materials, sizeof materials,
+             "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0,%s}},"
+             "\"normalTexture\":{\"index\":0,%s},"
+             "\"extensions\":{\"KHR_materials_clearcoat\":{\"clearcoatFactor\":1,"
+             "\"clearcoatNormalTexture\":{\"index\":0,\"scale\":0.5,%s}}}}]",
+             transform, transform, transform);
+    CHECK(builder_replace(&json, "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}]",
+                          materials));
+    CHECK(builder_replace(&json, "\"asset\":{\"version\":\"2.0\"},",
+                          "\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_texture_transform\","
+                          "\"KHR_materials_clearcoat\"],"));
+    texopt_status st;
+    texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
+    CHECK_OK(st, err);
+    const texopt_material *mat = &m->materials[0];
+    CHECK_EQ_INT(mat->extra_count, 1);
+    CHECK(strcmp(mat->extra[0].name, "clearcoatNormalTexture") == 0);
+    CHECK_EQ_INT(mat->extra[0].kind, TEXOPT_TEXTURE_NORMAL);
+    CHECK_EQ_INT(mat->extra[0].ref.image, 0);
+    CHECK_EQ_INT(mat->extra[0].ref.texcoord, 0);
+    for (int v = 0; v < 4; v++) {
+        CHECK_NEAR(m->uvs[2 * v], 0.5 * quad_uvs[2 * v] + 0.25, 1e-6);
+        CHECK_NEAR(m->uvs[2 * v + 1], 0.25 * quad_uvs[2 * v + 1] + 0.5, 1e-6);
+    }
+
+    /* Saved with new UVs every transform is gone (one left on the clearcoat normal map would
+     * also differ from the base colour's, now none, and the load would refuse the file), and
+     * the file is valid. */
+    CHECK(builder_tempdir(dir));
+    texopt_model *back = save_and_reload(m, dir, "out.glb", out, sizeof out, err, sizeof err);
+    CHECK_MSG(back != NULL, "%s", err);
+    CHECK_EQ_INT(file_contains(out, "KHR_texture_transform"), 0);
+    CHECK(memcmp(back->uvs, m->uvs, sizeof(float) * 8) == 0);
+    CHECK_EQ_INT(back->materials[0].extra_count, 1);
+    int rc = validate_against_quad(out, &doc, json, dir);
+    CHECK_MSG(rc == 0, "validator exit %d for %s", rc, out);
+    texopt_model_destroy(back);
+    texopt_model_destroy(m);
+
+    /* A clearcoat map on TEXCOORD_1 is not laid out, so its transform stays. */
+    char *json1 = strdup(doc.json);
+    CHECK(builder_replace(&json1, "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}]",
+                          "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}},"
+                          "\"extensions\":{\"KHR_materials_clearcoat\":{\"clearcoatTexture\":{\"index\":0,"
+                          "\"texCoord\":1,\"extensions\":{\"KHR_texture_transform\":{\"texCoord\":1,"
+                          "\"offset\":[0.5,0.5]}}}}}}]"));
+    free(json);
+    json = json1;
+    m = load_quad_json(&doc, json, err, sizeof err, &st);
+    CHECK_OK(st, err);
+    CHECK_EQ_INT(m->materials[0].extra_count, 0);
+    back = save_and_reload(m, dir, "out1.glb", out, sizeof out, err, sizeof err);
+    CHECK_MSG(back != NULL, "%s", err);
+    CHECK_EQ_INT(file_contains(out, "KHR_texture_transform"), 1);
+    CHECK_EQ_INT(file_contains(out, "\"offset\":[0.5,0.5]"), 1);
     texopt_model_destroy(back);
     texopt_model_destroy(m);
     builder_rmdir(dir);

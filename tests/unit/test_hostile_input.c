@@ -385,21 +385,51 @@ TEST(texture_transforms_texopt_cannot_apply_are_refused)
     quad_doc_free(&d);
 }
 
-TEST(textures_of_material_extensions_on_texcoord0_are_refused)
+/* The quad's material with `ext` as its extensions object. */
+#define WITH_EXTENSIONS(ext) "}},\"extensions\":{" ext "}}],\"textures\""
+
+TEST(textures_of_unknown_material_extensions_on_texcoord0_are_refused)
 {
-    /* texopt would move the UVs under them without re-baking them. */
+    /* texopt would move the UVs under them without knowing how to re-bake them. */
     CHECK_REFUSED_JSON("}}}],\"textures\"",
-                       "}},\"extensions\":{\"KHR_materials_clearcoat\":{\"clearcoatFactor\":1,"
-                       "\"clearcoatTexture\":{\"index\":0}}}}],\"textures\"",
+                       WITH_EXTENSIONS("\"KHR_materials_anisotropy\":{\"anisotropyTexture\":{\"index\":0}}"),
+                       TEXOPT_E_UNSUPPORTED, "anisotropyTexture");
+    CHECK_REFUSED_JSON("}}}],\"textures\"",
+                       WITH_EXTENSIONS("\"EXT_vendor\":{\"layer\":{\"detailTexture\":{\"index\":0}}}"),
+                       TEXOPT_E_UNSUPPORTED, "detailTexture");
+    /* A known texture under another extension's name is not the known one. */
+    CHECK_REFUSED_JSON("}}}],\"textures\"",
+                       WITH_EXTENSIONS("\"KHR_materials_sheen\":{\"clearcoatTexture\":{\"index\":0}}"),
                        TEXOPT_E_UNSUPPORTED, "clearcoatTexture");
+    /* On another set they are left as they are, like a core slot there. */
     quad_doc d;
     char err[512];
     CHECK(quad_doc_init(&d, 4, 4));
     CHECK(builder_replace(&d.json, "}}}],\"textures\"",
-                          "}},\"extensions\":{\"KHR_materials_clearcoat\":{\"clearcoatFactor\":1,"
-                          "\"clearcoatTexture\":{\"index\":0,\"texCoord\":1}}}}],\"textures\""));
+                          WITH_EXTENSIONS("\"KHR_materials_anisotropy\":{\"anisotropyTexture\":{\"index\":0,"
+                                          "\"texCoord\":1}}")));
     CHECK_OK(try_glb(&d, d.json, NULL, err, sizeof err), err);
     quad_doc_free(&d);
+}
+
+TEST(known_extension_textures_are_checked_like_the_slots)
+{
+    CHECK_REFUSED_JSON("}}}],\"textures\"",
+                       WITH_EXTENSIONS("\"KHR_materials_clearcoat\":{\"clearcoatTexture\":{\"index\":7}}"),
+                       TEXOPT_E_MALFORMED, "texture 7");
+    CHECK_REFUSED_JSON("}}}],\"textures\"",
+                       WITH_EXTENSIONS("\"KHR_materials_sheen\":{\"sheenColorTexture\":{\"index\":0," TRANSFORM(
+                           "\"offset\":[0.5,0]") "}}"),
+                       TEXOPT_E_UNSUPPORTED, "different KHR_texture_transform");
+    CHECK_REFUSED_JSON("}}}],\"textures\"",
+                       WITH_EXTENSIONS("\"KHR_materials_sheen\":{\"sheenColorTexture\":{\"index\":0," TRANSFORM(
+                           "\"offset\":\"far\"") "}}"),
+                       TEXOPT_E_UNSUPPORTED, "sheenColorTexture");
+    CHECK_REFUSED_JSON(QUAD_MATERIALS,
+                       "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0," TRANSFORM(
+                           "\"scale\":[-1,1]") "}},\"extensions\":{\"KHR_materials_clearcoat\":{"
+                           "\"clearcoatNormalTexture\":{\"index\":0," TRANSFORM("\"scale\":[-1,1]") "}}}}]",
+                       TEXOPT_E_UNSUPPORTED, "clearcoatNormalTexture");
 }
 
 TEST(broken_references_are_malformed)

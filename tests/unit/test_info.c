@@ -64,6 +64,29 @@ TEST(cube_document_has_the_constructed_numbers)
     texopt_model_destroy(model);
 }
 
+TEST(extension_textures_are_listed_under_their_key)
+{
+    texopt_model *model = fixture_cube_with_seams(64);
+    CHECK(model != NULL);
+    texopt_material *mat = &model->materials[0];
+    mat->extra[0].ref = mat->slot[TEXOPT_SLOT_BASE_COLOR];
+    mat->extra[0].ref.wrap_s = TEXOPT_WRAP_CLAMP;
+    mat->extra[0].kind = TEXOPT_TEXTURE_COLOR;
+    mat->extra[0].name = "sheenColorTexture";
+    mat->extra_count = 1;
+    cJSON *doc = NULL;
+    char err[256] = "";
+    CHECK_OK(texopt_info_json(model, &doc, err, sizeof err), err);
+    const cJSON *textures = cJSON_GetObjectItemCaseSensitive(domain(doc, 0), "textures");
+    CHECK_EQ_INT(cJSON_GetArraySize(textures), 2);
+    const cJSON *tex = cJSON_GetArrayItem(textures, 1);
+    CHECK(strcmp(str(tex, "slot"), "sheenColorTexture") == 0);
+    CHECK_NEAR(num(tex, "image"), 0, 0);
+    CHECK(strcmp(str(tex, "wrap_s"), "clamp") == 0);
+    cJSON_Delete(doc);
+    texopt_model_destroy(model);
+}
+
 TEST(mirrored_and_wrapped_layout_is_reported)
 {
     /* Quad A on the UV square; quad B elsewhere in 3D, mirrored onto the same square and

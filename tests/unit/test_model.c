@@ -172,6 +172,51 @@ TEST(images_of_unknown_size_count_as_one_texel)
     texopt_model_destroy(m);
 }
 
+static void bind_extra(texopt_model *m, int material, const char *name, texopt_texture_kind kind, int image,
+                       int texcoord)
+{
+    texopt_extra_texture *x = &m->materials[material].extra[m->materials[material].extra_count++];
+    x->ref.image = image;
+    x->ref.texcoord = texcoord;
+    x->kind = kind;
+    x->name = name;
+}
+
+TEST(extension_textures_join_their_images_to_the_domain)
+{
+    char err[256] = "";
+    const int sizes[] = {64, 64, 512, 512, 32, 32, 16, 16};
+    texopt_model *m = bare_model(4, sizes, 2, 2);
+    /* Material 0: base colour 0, a clearcoat normal map 1 (the largest image) and a sheen map
+     * 3 on TEXCOORD_1. Material 1: base colour 2, sheen colour 1 (shared with material 0's
+     * extension texture only), so one domain of images 0, 1, 2 framed by image 1. */
+    bind(m, 0, TEXOPT_SLOT_BASE_COLOR, 0, 0, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT);
+    bind_extra(m, 0, "clearcoatNormalTexture", TEXOPT_TEXTURE_NORMAL, 1, 0);
+    bind_extra(m, 0, "sheenRoughnessTexture", TEXOPT_TEXTURE_DATA, 3, 1);
+    bind(m, 1, TEXOPT_SLOT_BASE_COLOR, 2, 0, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT);
+    bind_extra(m, 1, "sheenColorTexture", TEXOPT_TEXTURE_COLOR, 1, 0);
+    m->primitives[0].material = 0;
+    m->primitives[1].material = 1;
+    CHECK_OK(texopt_model_build_domains(m, err, sizeof err), err);
+    CHECK_EQ_INT(m->domain_count, 1);
+    const texopt_domain *d = &m->domains[0];
+    CHECK_EQ_INT(d->image_count, 3);
+    CHECK(domain_has_image(d, 0) && domain_has_image(d, 1) && domain_has_image(d, 2));
+    CHECK(!domain_has_image(d, 3));
+    CHECK_EQ_INT(d->width, 512);
+    /* The bindings in order: the five slots, then the extension textures with their kinds. */
+    const texopt_material *mat = &m->materials[0];
+    CHECK_EQ_INT(texopt_material_binding_count(mat), TEXOPT_SLOT_COUNT + 2);
+    CHECK(strcmp(texopt_material_binding_name(mat, TEXOPT_SLOT_NORMAL), "normal") == 0);
+    CHECK_EQ_INT(texopt_material_binding_kind(mat, TEXOPT_SLOT_NORMAL), TEXOPT_TEXTURE_NORMAL);
+    CHECK_EQ_INT(texopt_material_binding_kind(mat, TEXOPT_SLOT_OCCLUSION), TEXOPT_TEXTURE_DATA);
+    CHECK_EQ_INT(texopt_material_binding_kind(mat, TEXOPT_SLOT_EMISSIVE), TEXOPT_TEXTURE_COLOR);
+    CHECK(strcmp(texopt_material_binding_name(mat, TEXOPT_SLOT_COUNT), "clearcoatNormalTexture") == 0);
+    CHECK_EQ_INT(texopt_material_binding(mat, TEXOPT_SLOT_COUNT)->image, 1);
+    CHECK_EQ_INT(texopt_material_binding_kind(mat, TEXOPT_SLOT_COUNT + 1), TEXOPT_TEXTURE_DATA);
+    texopt_model_destroy(m);
+}
+
 /* Passing means not crashing: destroy must accept NULL like free(). */
 TEST(destroy_accepts_null)
 {

@@ -1,8 +1,9 @@
 /* Tests of pipeline.c (texopt_optimize_file) on small glTF files generated here: the input
  * method's budget and identity, the perceptual method on a flat quad (same look at c_r = 1
  * and at a far smaller texture), the half-flat/half-detailed grid (the flat half's texels
- * shrink), progress, cancellation and refusals, and a texture transform laid out like the
- * texels it reads. Real models are in test_pipeline_models_slow.c. */
+ * shrink), progress, cancellation and refusals, a texture transform laid out like the
+ * texels it reads, and material-extension textures re-baked (and turned) like the slots'.
+ * Real models are in test_pipeline_models_slow.c. */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdio.h>
@@ -19,6 +20,7 @@
 #include "mesh.h"
 #include "pipeline.h"
 #include "pipeline_scratch.h"
+#include "sample.h"
 #include "test.h"
 
 static double domain_number(cJSON *root, const char *key)
@@ -428,5 +430,100 @@ TEST(a_texture_transform_is_laid_out_like_the_texels_it_reads)
     double back = file_q(transformed, s.again, 128, 0);
     CHECK_MSG(fabs(back - q[1]) <= 0.01 * q[1], "q of the file %g, of the job %g", back, q[1]);
     unlink(transformed);
+    scratch_free(&s);
+}
+
+/* Mean absolute difference, over points spread on every triangle, between image `image` of
+ * model a read at a's UVs and of model b at b's (the same mesh with other UVs). */
+static double texel_mismatch(const texopt_model *a, const texopt_model *b, int image)
+{
+    static const double bary[4][3] = {{1.0 / 3, 1.0 / 3, 1.0 / 3}, {0.6, 0.2, 0.2}, {0.2, 0.6, 0.2}, {0.2, 0.2, 0.6}};
+    const texopt_image *ia = &a->images[image], *ib = &b->images[image];
+    double sum = 0;
+    size_t count = 0;
+    for (size_t t = 0; t < a->triangle_count; t++)
+        for (int k = 0; k < 4; k++) {
+            double ua[2] = {0, 0}, ub[2] = {0, 0};
+            for (int c = 0; c < 3; c++)
+                for (int d = 0; d < 2; d++) {
+                    ua[d] += bary[k][c] * a->uvs[2 * a->triangles[3 * t + c] + d];
+                    ub[d] += bary[k][c] * b->uvs[2 * b->triangles[3 * t + c] + d];
+                }
+            float va[4], vb[4];
+            texopt_sample_bilinear(ia, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, ua[0] * ia->width, ua[1] * ia->height, va);
+            texopt_sample_bilinear(ib, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, ub[0] * ib->width, ub[1] * ib->height, vb);
+            for (int c = 0; c < ia->channels && c < 3; c++, count++)
+                sum += fabs((double)va[c] - vb[c]);
+        }
+    return count ? sum / (double)count : NAN;
+}
+
+static int same_pixels(const texopt_image *a, const texopt_image *b)
+{
+    return a->width == b->width && a->height == b->height && a->channels == b->channels &&
+           memcmp(a->pixels, b->pixels, (size_t)a->width * a->height * a->channels * sizeof *a->pixels) == 0;
+}
+
+/* A grid laid out turned by 30 degrees, with a normal map (image 1), the same pixels as a
+ * clearcoat normal map (2) and as a clearcoat map (3), and the base colour's pixels as a sheen
+ * colour map (4). */
+TEST(material_extension_textures_are_rebaked_like_the_slots)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 6, 64, NULL) == 0);
+    int n = 6;
+    size_t nv = (size_t)(n + 1) * (n + 1), nt = 2 * (size_t)n * n;
+    float pos[49 * 3], uv[49 * 2];
+    uint32_t idx[72 * 3];
+    grid_fill(n, pos, uv, idx);
+    double c = sqrt(3.0) / 2, sn = 0.5; /* 30 degrees */
+    for (size_t v = 0; v < nv; v++) {
+        double x = uv[2 * v] - 0.5, y = uv[2 * v + 1] - 0.5;
+        uv[2 * v] = (float)(0.5 + 0.7 * (c * x - sn * y));
+        uv[2 * v + 1] = (float)(0.5 + 0.7 * (sn * x + c * y));
+    }
+    const char *patterns[5] = {"half", "gradient", "gradient", "gradient", "half"};
+    const char *material =
+        "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}},\"normalTexture\":{\"index\":1},"
+        "\"extensions\":{\"KHR_materials_clearcoat\":{\"clearcoatFactor\":1,\"clearcoatNormalTexture\":{\"index\":2},"
+        "\"clearcoatTexture\":{\"index\":3}},\"KHR_materials_sheen\":{\"sheenColorTexture\":{\"index\":4}}}}";
+    CHECK(write_mesh_glb_material(s.in, pos, uv, nv, idx, nt, 64, patterns, 5, material) == 0);
+    texopt_params p = {0};
+    p.relative_cost = 0.5;
+    p.threads = 1;
+    p.iterations = 5;
+    char err[512] = "";
+    CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+    texopt_model *in = load(s.in), *out = load(s.out);
+    CHECK(in && out);
+    CHECK_EQ_INT(out->image_count, 5);
+    CHECK_EQ_INT(out->materials[0].extra_count, 3);
+    /* The sheen map is re-baked as the base colour is: read through the new UVs it shows
+     * what it showed through the old ones, which the input's map read through them does not. */
+    CHECK(same_pixels(&out->images[0], &out->images[4]));
+    double rebaked = texel_mismatch(in, out, 4);
+    texopt_image keep = out->images[4];
+    out->images[4] = in->images[4];
+    double stale = texel_mismatch(in, out, 4);
+    out->images[4] = keep;
+    CHECK_MSG(rebaked < 0.25 * stale, "sheen map mismatch %g re-baked, %g stale", rebaked, stale);
+    /* The clearcoat normal map is turned like the normal map; the clearcoat map, data, is not,
+     * so the layout did turn the texels. */
+    CHECK(same_pixels(&out->images[1], &out->images[2]));
+    CHECK(!same_pixels(&out->images[2], &out->images[3]));
+    /* The statistics name each image by the binding that reads it. */
+    cJSON *st = read_json(s.stats);
+    cJSON *images = cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(st, "domains"), 0), "images");
+    const char *want[5] = {"baseColor", "normal", "clearcoatNormalTexture", "clearcoatTexture", "sheenColorTexture"};
+    CHECK_EQ_INT(cJSON_GetArraySize(images), 5);
+    for (int i = 0; i < cJSON_GetArraySize(images); i++) {
+        cJSON *im = cJSON_GetArrayItem(images, i);
+        int k = (int)cJSON_GetObjectItem(im, "image")->valuedouble;
+        const char *slot = cJSON_GetStringValue(cJSON_GetObjectItem(im, "slot"));
+        CHECK_MSG(k >= 0 && k < 5 && slot && strcmp(slot, want[k]) == 0, "image %d named %s", k, slot ? slot : "nothing");
+    }
+    cJSON_Delete(st);
+    texopt_model_destroy(in);
+    texopt_model_destroy(out);
     scratch_free(&s);
 }

@@ -169,29 +169,75 @@ TEST(loss_is_deterministic_and_stop_above_is_honoured)
     fixture_close(&f);
 }
 
-TEST(normal_map_adds_three_channel_signals)
+/* A flat 8 x 8 grid whose second image (64 x 64, unbound) varies only in its blue channel:
+ * fine vertical stripes. NULL when something fails. */
+static texopt_model *grid_with_blue_stripes(void)
 {
-    /* A second texture used as the normal map: colour gives one luma signal, the normal map
-     * one per channel; a normal map that varies only in its blue channel must still count. */
     texopt_model *m = fixture_grid(8, 64, "flat");
-    CHECK(m);
-    texopt_image *images = realloc(m->images, 2 * sizeof *images);
-    CHECK(images);
+    texopt_image *images = m ? realloc(m->images, 2 * sizeof *images) : NULL;
+    if (!images)
+        return texopt_model_destroy(m), NULL;
     m->images = images;
     char **names = realloc(m->image_names, 2 * sizeof *names);
-    CHECK(names);
+    if (!names)
+        return texopt_model_destroy(m), NULL;
     m->image_names = names;
     names[1] = NULL;
-    char err[256] = "";
-    CHECK_OK(texopt_image_create(&m->images[1], 64, 64, 3, err, sizeof err), err);
+    if (texopt_image_create(&m->images[1], 64, 64, 3, NULL, 0) != TEXOPT_OK)
+        return texopt_model_destroy(m), NULL;
     m->image_count = 2;
     for (int y = 0; y < 64; y++)
         for (int x = 0; x < 64; x++) {
             float *px = texopt_image_at(&m->images[1], x, y);
             px[0] = 0.5f;
             px[1] = 0.5f;
-            px[2] = ((x / 2) % 2) ? 1.0f : 0.2f; /* fine vertical stripes in blue only */
+            px[2] = ((x / 2) % 2) ? 1.0f : 0.2f;
         }
+    return m;
+}
+
+/* Signals stage 1 compares on the grid of grid_with_blue_stripes with its second image bound
+ * as an extension texture of the given kind; -1 on failure. */
+static int signals_with_extension_texture(texopt_texture_kind kind)
+{
+    texopt_model *m = grid_with_blue_stripes();
+    char err[256] = "";
+    int count = -1;
+    if (!m)
+        return -1;
+    texopt_material *mat = &m->materials[0];
+    mat->extra[0].ref = mat->slot[TEXOPT_SLOT_BASE_COLOR];
+    mat->extra[0].ref.image = 1;
+    mat->extra[0].kind = kind;
+    mat->extra[0].name = "clearcoatTexture";
+    mat->extra_count = 1;
+    texopt_mesh *mesh = NULL;
+    texopt_triloss *loss = NULL;
+    if (texopt_model_build_domains(m, err, sizeof err) == TEXOPT_OK &&
+        texopt_mesh_create(&mesh, m, 0, err, sizeof err) == TEXOPT_OK &&
+        texopt_triloss_create(&loss, m, mesh, 64, err, sizeof err) == TEXOPT_OK)
+        count = texopt_triloss_signal_count(loss);
+    texopt_triloss_destroy(loss);
+    texopt_mesh_destroy(mesh);
+    texopt_model_destroy(m);
+    return count;
+}
+
+TEST(extension_textures_are_compared_by_their_kind)
+{
+    /* Base colour's luma, then the extension texture's luma or its three channels. */
+    CHECK_EQ_INT(signals_with_extension_texture(TEXOPT_TEXTURE_COLOR), 2);
+    CHECK_EQ_INT(signals_with_extension_texture(TEXOPT_TEXTURE_DATA), 4);
+    CHECK_EQ_INT(signals_with_extension_texture(TEXOPT_TEXTURE_NORMAL), 4);
+}
+
+TEST(normal_map_adds_three_channel_signals)
+{
+    /* A second texture used as the normal map: colour gives one luma signal, the normal map
+     * one per channel; a normal map that varies only in its blue channel must still count. */
+    texopt_model *m = grid_with_blue_stripes();
+    CHECK(m);
+    char err[256] = "";
     m->materials[0].slot[TEXOPT_SLOT_NORMAL] = m->materials[0].slot[TEXOPT_SLOT_BASE_COLOR];
     m->materials[0].slot[TEXOPT_SLOT_NORMAL].image = 1;
     CHECK_OK(texopt_model_build_domains(m, err, sizeof err), err);
