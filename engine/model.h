@@ -51,7 +51,7 @@ typedef enum texopt_texture_kind {
     TEXOPT_TEXTURE_NORMAL     /* a tangent-space normal map: per channel, XY turned with the layout */
 } texopt_texture_kind;
 
-/* Most extension textures one material may bind through TEXCOORD_0 (the loader knows 15). */
+/* Most extension textures one material may bind through TEXCOORD_0 (the loader knows 13). */
 #define TEXOPT_EXTRA_TEXTURES_MAX 16
 
 /* A texture that a material extension binds through TEXCOORD_0 (clearcoat, sheen,

@@ -23,8 +23,6 @@ const known_texture known[] = {
     {"KHR_materials_iridescence", "iridescenceThicknessTexture", TEXOPT_TEXTURE_DATA},
     {"KHR_materials_diffuse_transmission", "diffuseTransmissionTexture", TEXOPT_TEXTURE_DATA},
     {"KHR_materials_diffuse_transmission", "diffuseTransmissionColorTexture", TEXOPT_TEXTURE_COLOR},
-    {"KHR_materials_pbrSpecularGlossiness", "diffuseTexture", TEXOPT_TEXTURE_COLOR},
-    {"KHR_materials_pbrSpecularGlossiness", "specularGlossinessTexture", TEXOPT_TEXTURE_DATA},
 };
 
 } // namespace

@@ -6,8 +6,9 @@
  * clearcoatNormalTexture); each has a kind (model.h texopt_texture_kind). Anything else shaped
  * like a texture (a key ending in "Texture" holding an integer index), at any depth, is
  * unknown: its texels' meaning, and so how to compare or turn them, is not known here.
- * KHR_materials_anisotropy's direction map is left unknown on purpose: its RG is a tangent-
- * space direction with a strength beside it, which the normal map's turning would corrupt.
+ * Left unknown on purpose: KHR_materials_pbrSpecularGlossiness, whose diffuse texture takes
+ * base colour's place, which the whole-mesh evaluation renders (it would judge every layout
+ * by a grey surface), and KHR_materials_anisotropy's direction map (not measured here).
  * Does not: bind, transform or bake anything (gltf_load.cpp, gltf_save.cpp, the pipeline).
  * Internal to engine/io; the extensions are Khronos's KHR_materials_* specifications. */
 #ifndef TEXOPT_GLTF_EXTENSION_TEXTURES_HPP

@@ -397,6 +397,10 @@ TEST(textures_of_unknown_material_extensions_on_texcoord0_are_refused)
     CHECK_REFUSED_JSON("}}}],\"textures\"",
                        WITH_EXTENSIONS("\"EXT_vendor\":{\"layer\":{\"detailTexture\":{\"index\":0}}}"),
                        TEXOPT_E_UNSUPPORTED, "detailTexture");
+    /* Its diffuse texture stands for the base colour the evaluation renders. */
+    CHECK_REFUSED_JSON("}}}],\"textures\"",
+                       WITH_EXTENSIONS("\"KHR_materials_pbrSpecularGlossiness\":{\"diffuseTexture\":{\"index\":0}}"),
+                       TEXOPT_E_UNSUPPORTED, "diffuseTexture");
     /* A known texture under another extension's name is not the known one. */
     CHECK_REFUSED_JSON("}}}],\"textures\"",
                        WITH_EXTENSIONS("\"KHR_materials_sheen\":{\"clearcoatTexture\":{\"index\":0}}"),
