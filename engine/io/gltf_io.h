@@ -8,8 +8,9 @@
  * Does not: fetch anything from the network, decode Draco / meshopt compressed geometry or
  * sparse accessors, lay out one TEXCOORD_0 for several transforms (a material whose
  * TEXCOORD_0 bindings differ is refused, as is a zero scale or a transform that turns or
- * mirrors a normal map), re-bake textures of material extensions (one on TEXCOORD_0 is refused), or evaluate
- * animations (a skinned mesh keeps its bind pose).
+ * mirrors a normal map), re-bake textures of material extensions other than those
+ * gltf_extension_textures.hpp knows (one on TEXCOORD_0 is refused), or evaluate animations (a
+ * skinned mesh keeps its bind pose).
  * The format is the Khronos glTF 2.0 specification; the method that consumes the data is
  * Sun et al. 2022, "Efficient Texture Parameterization Driven by Perceptual-Loss-on-Screen".
  *

@@ -263,6 +263,17 @@ bool read_texture_transform(const tinygltf::ExtensionMap &ext, int texcoord, dou
     return true;
 }
 
+/* read_texture_transform for binding `name` of a material, refusing what it cannot apply. */
+texopt_status read_binding_transform(size_t material, const char *name, const tinygltf::ExtensionMap &ext,
+                                     int texcoord, double m[6], char *err, size_t err_len)
+{
+    if (read_texture_transform(ext, texcoord, m))
+        return TEXOPT_OK;
+    return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                       "material %zu: %s has a KHR_texture_transform texopt cannot apply (malformed, or moving the "
+                       "binding to another texCoord)", material, name);
+}
+
 /* A normal map's XY live in a frame its UVs' directions define: a transform that turns or
  * mirrors them would need the map turned too, which the loader does not do. */
 bool turns_or_mirrors(const double m[6])
@@ -330,11 +341,9 @@ texopt_status bind_extension_textures(const tinygltf::Model &g, size_t i, const 
             if (st != TEXOPT_OK)
                 return st;
             double t[6];
-            if (!read_texture_transform(texture_info_extensions(info), 0, t))
-                return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
-                                   "material %zu: %s has a KHR_texture_transform texopt cannot apply (malformed, or "
-                                   "moving the binding to another texCoord)", i, name);
-            st = share_transform(i, name, t, out, transformed_by, err, err_len);
+            st = read_binding_transform(i, name, texture_info_extensions(info), 0, t, err, err_len);
+            if (st == TEXOPT_OK)
+                st = share_transform(i, name, t, out, transformed_by, err, err_len);
             if (st != TEXOPT_OK)
                 return st;
             x->kind = kind;
@@ -380,14 +389,12 @@ texopt_status convert_materials(const tinygltf::Model &g, texopt_model *model, c
             texopt_status st = bind_texture(g, (int)i, s.name, s.index, s.texcoord, &out->slot[s.slot], err, err_len);
             if (st != TEXOPT_OK)
                 return st;
-            double m[6];
-            if (s.index >= 0 && !read_texture_transform(*s.ext, s.texcoord, m))
-                return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
-                                   "material %zu: %s has a KHR_texture_transform texopt cannot apply (malformed, or "
-                                   "moving the binding to another texCoord)", i, s.name);
-            if (s.index < 0 || s.texcoord != 0)
+            if (s.index < 0)
                 continue;
-            st = share_transform(i, s.name, m, out, &transformed_by, err, err_len);
+            double m[6];
+            st = read_binding_transform(i, s.name, *s.ext, s.texcoord, m, err, err_len);
+            if (st == TEXOPT_OK && s.texcoord == 0)
+                st = share_transform(i, s.name, m, out, &transformed_by, err, err_len);
             if (st != TEXOPT_OK)
                 return st;
         }
