@@ -215,6 +215,13 @@ static double base_colour_slope(const point_maps *p, const double l[3], const do
     return fabs(hi - lo) / (2.0 * LIT_WEIGHT_STEP);
 }
 
+/* The weights measured of an image with `channels` channels: its luma and its R, G, B (or its
+ * grey); alpha is not lit. */
+static int weighed_signals(int channels)
+{
+    return channels >= 3 ? 4 : 2;
+}
+
 /* Adds the point's slopes for every image it reads into sums, and counts it. */
 static void accumulate_point(const texopt_model *m, const point_maps *p, const double l[3], const double v[3],
                              double *sums, size_t *counts)
@@ -226,7 +233,7 @@ static void accumulate_point(const texopt_model *m, const point_maps *p, const d
         if (image < 0 || seen)
             continue;
         int channels = m->images[image].channels;
-        int signals = channels >= 3 ? TEXOPT_LIT_WEIGHT_STRIDE : 2;
+        int signals = weighed_signals(channels);
         counts[image]++;
         for (int k = 0; k < signals; k++) {
             point_maps plus, minus;
@@ -282,7 +289,7 @@ texopt_status texopt_lit_signal_weights(const texopt_model *model, double *weigh
     for (int img = 0; base_mean > 0.0 && img < model->image_count; img++) {
         if (counts[img] == 0)
             continue;
-        int signals = model->images[img].channels >= 3 ? TEXOPT_LIT_WEIGHT_STRIDE : 2;
+        int signals = weighed_signals(model->images[img].channels);
         for (int k = 0; k < signals; k++) {
             size_t i = TEXOPT_LIT_WEIGHT_STRIDE * (size_t)img + (size_t)k;
             weights[i] = sums[i] / (double)counts[img] / base_mean;

@@ -33,9 +33,11 @@
 #include "model.h"
 #include "status.h"
 
-/* Weights per image: [0] its luma (colour textures), [1..3] its R, G, B channels (data
- * textures; a one- or two-channel image has [1] only, [2] and [3] stay 1). */
-#define TEXOPT_LIT_WEIGHT_STRIDE 4
+/* Weights per image: [0] its luma (colour textures), [1..4] its channels 0..3 as stage 1
+ * compares them (data textures; a one- or two-channel image has [1] only). Alpha, which the lit
+ * render does not show (a cut-out or a specular strength), stays 1, as do [2..4] of an image
+ * without those channels. */
+#define TEXOPT_LIT_WEIGHT_STRIDE 5
 
 /* Fills weights[TEXOPT_LIT_WEIGHT_STRIDE * model->image_count] (the caller's). */
 texopt_status texopt_lit_signal_weights(const texopt_model *model, double *weights, char *err, size_t err_len);

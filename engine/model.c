@@ -42,6 +42,18 @@ texopt_texture_kind texopt_material_binding_kind(const texopt_material *mat, int
     }
 }
 
+unsigned texopt_material_binding_channels(const texopt_material *mat, int i)
+{
+    switch (i) {
+    case TEXOPT_SLOT_BASE_COLOR: return TEXOPT_CHANNELS_RGB | (mat->alpha_shown ? TEXOPT_CHANNEL_A : 0u);
+    case TEXOPT_SLOT_EMISSIVE:
+    case TEXOPT_SLOT_NORMAL: return TEXOPT_CHANNELS_RGB;
+    case TEXOPT_SLOT_METALLIC_ROUGHNESS: return TEXOPT_CHANNEL_G | TEXOPT_CHANNEL_B;
+    case TEXOPT_SLOT_OCCLUSION: return TEXOPT_CHANNEL_R;
+    default: return mat->extra[i - TEXOPT_SLOT_COUNT].channels;
+    }
+}
+
 const char *texopt_slot_name(texopt_slot slot)
 {
     static const char *const names[TEXOPT_SLOT_COUNT] = {"baseColor", "normal", "metallicRoughness",

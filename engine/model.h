@@ -51,6 +51,13 @@ typedef enum texopt_texture_kind {
     TEXOPT_TEXTURE_NORMAL     /* a tangent-space normal map: per channel, XY turned with the layout */
 } texopt_texture_kind;
 
+/* The channels of a texture (glTF's R, G, B, A), a bit each: which of them a binding reads. */
+#define TEXOPT_CHANNEL_R 1u
+#define TEXOPT_CHANNEL_G 2u
+#define TEXOPT_CHANNEL_B 4u
+#define TEXOPT_CHANNEL_A 8u
+#define TEXOPT_CHANNELS_RGB 7u
+
 /* Most extension textures one material may bind through TEXCOORD_0 (the loader knows 13). */
 #define TEXOPT_EXTRA_TEXTURES_MAX 16
 
@@ -60,6 +67,7 @@ typedef enum texopt_texture_kind {
 typedef struct texopt_extra_texture {
     texopt_texture_ref ref;
     texopt_texture_kind kind;
+    unsigned channels; /* TEXOPT_CHANNEL_* its extension reads (specularTexture: A only) */
     const char *name; /* the binding's key, e.g. "clearcoatNormalTexture"; static storage */
 } texopt_extra_texture;
 
@@ -70,6 +78,9 @@ typedef struct texopt_material {
     /* pbrMetallicRoughness's factors (glTF's default 1), which multiply the texture's B and G
      * or stand alone without one: what a lit render (lit_shade.h) shows of the material. */
     double metallic_factor, roughness_factor;
+    /* Its alphaMode is MASK or BLEND: base colour's alpha cuts or blends the surface, so its
+     * alpha channel is part of what the texture shows (OPAQUE, glTF's default, ignores it). */
+    int alpha_shown;
     /* The KHR_texture_transform of its TEXCOORD_0 bindings (one for all of them, or the load
      * refuses), already applied to model->uvs of its primitives: u' = m[0] u + m[1] v + m[2],
      * v' = m[3] u + m[4] v + m[5]; {1, 0, 0, 0, 1, 0} without one. */
@@ -129,6 +140,10 @@ const char *texopt_slot_name(texopt_slot slot);
 int texopt_material_binding_count(const texopt_material *mat);
 const texopt_texture_ref *texopt_material_binding(const texopt_material *mat, int i);
 texopt_texture_kind texopt_material_binding_kind(const texopt_material *mat, int i);
+/* The channels binding i reads (TEXOPT_CHANNEL_*): the core slots' from the glTF
+ * specification (metallicRoughness G and B, occlusion R; base colour's alpha when
+ * alpha_shown), an extension texture's from its extension. */
+unsigned texopt_material_binding_channels(const texopt_material *mat, int i);
 /* texopt_slot_name of a slot, or the extension texture's key. */
 const char *texopt_material_binding_name(const texopt_material *mat, int i);
 

@@ -91,22 +91,77 @@ void texopt_jacobian_from_params(double alpha, double lambda1, double lambda2, d
     jacobian[3] = sa * s01 + ca * s11;
 }
 
-/* Whether the materials of the domain use `image` as a data texture (normal, metallic-
- * roughness, occlusion, an extension's data or normal map), whose channels are compared one
- * by one. */
-static int image_is_data(const texopt_model *model, const texopt_domain *dom, int image)
+/* What stage 1 compares of one image: the luma of what its colour bindings read, or the
+ * channels its other bindings read one by one (TEXOPT_CHANNEL_*; a shown alpha among them). */
+typedef struct image_use {
+    int luma;
+    unsigned channels;
+} image_use;
+
+static image_use image_use_in_domain(const texopt_model *model, const texopt_domain *dom, int image)
 {
+    image_use use = {0, 0};
     for (int p = 0; p < dom->primitive_count; p++) {
         int m = model->primitives[dom->primitives[p]].material;
         if (m < 0 || m >= model->material_count)
             continue;
         const texopt_material *mat = &model->materials[m];
-        for (int b = 0; b < texopt_material_binding_count(mat); b++)
-            if (texopt_material_binding(mat, b)->image == image &&
-                texopt_material_binding_kind(mat, b) != TEXOPT_TEXTURE_COLOR)
-                return 1;
+        for (int b = 0; b < texopt_material_binding_count(mat); b++) {
+            if (texopt_material_binding(mat, b)->image != image)
+                continue;
+            unsigned channels = texopt_material_binding_channels(mat, b);
+            if (texopt_material_binding_kind(mat, b) == TEXOPT_TEXTURE_COLOR) {
+                use.luma |= (channels & TEXOPT_CHANNELS_RGB) != 0;
+                use.channels |= channels & TEXOPT_CHANNEL_A;
+            } else {
+                use.channels |= channels;
+            }
+        }
     }
-    return 0;
+    return use;
+}
+
+/* The image channel that holds glTF channel c (0..3 for R, G, B, A) as a sampler reads it: grey
+ * images give R = G = B, and alpha is absent (1) without a channel of its own; -1 then. */
+static int image_channel_of(const texopt_image *img, int c)
+{
+    if (c < 3)
+        return img->channels >= 3 ? c : 0;
+    return img->channels == 4 ? 3 : img->channels == 2 ? 1 : -1;
+}
+
+/* The signals of one image, into channels (-1: luma, else the image channel compared); returns
+ * how many (at most 5). Per channel when a data binding reads R, G or B, and then all three if
+ * a colour binding reads the image too (luma adds nothing they do not show). None when the file lacks every channel its bindings read
+ * (specular strength in a file without alpha reads 1 everywhere), unless `fallback`: then its
+ * R, G and B, as for a data map of unknown meaning, so that a domain always has a signal. */
+static int image_signal_channels(const texopt_image *img, image_use use, int fallback, int channels[5])
+{
+    int n = 0;
+    unsigned taken = 0;
+    if (use.luma && (use.channels & TEXOPT_CHANNELS_RGB))
+        use.channels |= TEXOPT_CHANNELS_RGB;
+    else if (use.luma)
+        channels[n++] = -1;
+    for (int c = 0; c < 4; c++) {
+        int ic = fallback && c < 3 ? image_channel_of(img, c)
+                 : (use.channels >> c) & 1u ? image_channel_of(img, c) : -1;
+        if (ic >= 0 && !((taken >> ic) & 1u)) {
+            taken |= 1u << ic;
+            channels[n++] = ic;
+        }
+    }
+    return n;
+}
+
+/* How many signals the domain's images `order[0..used)` give. */
+static int domain_signal_count(const texopt_model *model, const texopt_domain *dom, const int *order, int used)
+{
+    int count = 0, channel[5];
+    for (int i = 0; i < used; i++)
+        count += image_signal_channels(&model->images[order[i]], image_use_in_domain(model, dom, order[i]), 0,
+                                       channel);
+    return count;
 }
 
 /* Orders images by (width, height, index), so equal sizes end up next to each other. */
@@ -128,7 +183,7 @@ static texopt_status build_signals(texopt_triloss *tl, char *err, size_t err_len
     int count = 0;
     for (int i = 0; i < dom->image_count; i++)
         if (model->images[dom->images[i]].pixels)
-            count += 3;
+            count += 5;
     if (count == 0)
         return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
                            "triloss: domain %d has no decoded texture", tl->mesh->domain);
@@ -151,10 +206,11 @@ static texopt_status build_signals(texopt_triloss *tl, char *err, size_t err_len
             order[j - 1] = t;
         }
 
+    int fallback = domain_signal_count(model, dom, order, used) == 0;
     for (int i = 0; i < used; i++) {
         const texopt_image *img = &model->images[order[i]];
-        int data = image_is_data(model, dom, order[i]);
-        int channels = data ? (img->channels >= 3 ? 3 : 1) : 1;
+        int channel[5];
+        int channels = image_signal_channels(img, image_use_in_domain(model, dom, order[i]), fallback, channel);
         for (int c = 0; c < channels; c++) {
             loss_batch *last = tl->batch_count ? &tl->batches[tl->batch_count - 1] : NULL;
             if (!last || last->tex_w != img->width || last->tex_h != img->height ||
@@ -168,7 +224,7 @@ static texopt_status build_signals(texopt_triloss *tl, char *err, size_t err_len
             }
             last->signal_count++;
             tl->signals[tl->signal_count].image = order[i];
-            tl->signals[tl->signal_count].channel = data ? (img->channels >= 3 ? c : 0) : -1;
+            tl->signals[tl->signal_count].channel = channel[c];
             tl->signals[tl->signal_count].weight = 1.0f;
             tl->signal_count++;
         }

@@ -15,9 +15,12 @@
  *
  * Signals of a texture: colour textures (base colour, emissive, or an image of no known
  * role) contribute their luma (BT.601, as the GMSD reference); data textures (normal,
- * metallic-roughness, occlusion) contribute each of their first three channels as its own
- * signal in their stored encoding, because luma would mix unrelated quantities (ORM) or
- * cancel opposite tilts of a normal. Alpha is not compared. The bake is linear and shares
+ * metallic-roughness, occlusion, extensions' maps) contribute each channel their binding reads
+ * (model.h texopt_material_binding_channels: metallic-roughness G and B, occlusion R,
+ * specular strength A) as its own signal in their stored encoding, because luma would mix
+ * unrelated quantities (ORM) or cancel opposite tilts of a normal. Alpha counts where a
+ * binding reads it: an extension's map, or base colour under alphaMode MASK or BLEND. An image
+ * that lacks every channel its bindings read is compared on R, G and B. The bake is linear and shares
  * its matrix across channels, so baking luma equals taking the luma of the baked colour:
  * one signal per colour texture is exact, not an approximation. Signals of textures of equal
  * size share one bake call (up to 16 right-hand sides: one factorisation for all of them).
@@ -65,7 +68,7 @@ texopt_status texopt_triloss_create(texopt_triloss **out, const texopt_model *mo
                                     size_t err_len);
 
 /* Scales each signal by its weight before it is compared: weights as texopt_lit_signal_weights
- * fills them (lit_weight.h; per image, luma then R, G, B), NULL for none. Call before
+ * fills them (lit_weight.h; per image, luma then channels 0..3), NULL for none. Call before
  * texopt_triloss_prepare. A weight of 0 leaves the signal out (constant). */
 void texopt_triloss_weigh_signals(texopt_triloss *loss, const double *weights);
 

@@ -6,23 +6,25 @@ namespace {
 struct known_texture {
     const char *extension, *key;
     texopt_texture_kind kind;
+    unsigned channels; /* where its extension stores its numbers */
 };
 
-/* Colour textures hold sRGB colours; the others numbers in some of their channels. */
+/* Colour textures hold sRGB colours; the others numbers in the channels their extension names
+ * (specular strength, sheen roughness and diffuse transmission in alpha). */
 const known_texture known[] = {
-    {"KHR_materials_clearcoat", "clearcoatTexture", TEXOPT_TEXTURE_DATA},
-    {"KHR_materials_clearcoat", "clearcoatRoughnessTexture", TEXOPT_TEXTURE_DATA},
-    {"KHR_materials_clearcoat", "clearcoatNormalTexture", TEXOPT_TEXTURE_NORMAL},
-    {"KHR_materials_sheen", "sheenColorTexture", TEXOPT_TEXTURE_COLOR},
-    {"KHR_materials_sheen", "sheenRoughnessTexture", TEXOPT_TEXTURE_DATA},
-    {"KHR_materials_specular", "specularTexture", TEXOPT_TEXTURE_DATA},
-    {"KHR_materials_specular", "specularColorTexture", TEXOPT_TEXTURE_COLOR},
-    {"KHR_materials_transmission", "transmissionTexture", TEXOPT_TEXTURE_DATA},
-    {"KHR_materials_volume", "thicknessTexture", TEXOPT_TEXTURE_DATA},
-    {"KHR_materials_iridescence", "iridescenceTexture", TEXOPT_TEXTURE_DATA},
-    {"KHR_materials_iridescence", "iridescenceThicknessTexture", TEXOPT_TEXTURE_DATA},
-    {"KHR_materials_diffuse_transmission", "diffuseTransmissionTexture", TEXOPT_TEXTURE_DATA},
-    {"KHR_materials_diffuse_transmission", "diffuseTransmissionColorTexture", TEXOPT_TEXTURE_COLOR},
+    {"KHR_materials_clearcoat", "clearcoatTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_R},
+    {"KHR_materials_clearcoat", "clearcoatRoughnessTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_G},
+    {"KHR_materials_clearcoat", "clearcoatNormalTexture", TEXOPT_TEXTURE_NORMAL, TEXOPT_CHANNELS_RGB},
+    {"KHR_materials_sheen", "sheenColorTexture", TEXOPT_TEXTURE_COLOR, TEXOPT_CHANNELS_RGB},
+    {"KHR_materials_sheen", "sheenRoughnessTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_A},
+    {"KHR_materials_specular", "specularTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_A},
+    {"KHR_materials_specular", "specularColorTexture", TEXOPT_TEXTURE_COLOR, TEXOPT_CHANNELS_RGB},
+    {"KHR_materials_transmission", "transmissionTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_R},
+    {"KHR_materials_volume", "thicknessTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_G},
+    {"KHR_materials_iridescence", "iridescenceTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_R},
+    {"KHR_materials_iridescence", "iridescenceThicknessTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_G},
+    {"KHR_materials_diffuse_transmission", "diffuseTransmissionTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_A},
+    {"KHR_materials_diffuse_transmission", "diffuseTransmissionColorTexture", TEXOPT_TEXTURE_COLOR, TEXOPT_CHANNELS_RGB},
 };
 
 } // namespace
@@ -39,11 +41,12 @@ bool gltf_is_texture_info(const std::string &key, const tinygltf::Value &v, int 
 }
 
 bool gltf_known_extension_texture(const std::string &extension, const std::string &key,
-                                  texopt_texture_kind *kind, const char **name)
+                                  texopt_texture_kind *kind, unsigned *channels, const char **name)
 {
     for (const known_texture &k : known)
         if (extension == k.extension && key == k.key) {
             *kind = k.kind;
+            *channels = k.channels;
             *name = k.key;
             return true;
         }
@@ -60,9 +63,10 @@ bool unknown_on_set0(const tinygltf::Value &v, const std::string *extension, std
         const tinygltf::Value &child = v.Get(key);
         int texcoord = 0;
         texopt_texture_kind kind;
+        unsigned channels;
         const char *known_name;
         if (gltf_is_texture_info(key, child, &texcoord)) {
-            bool known_here = extension && gltf_known_extension_texture(*extension, key, &kind, &known_name);
+            bool known_here = extension && gltf_known_extension_texture(*extension, key, &kind, &channels, &known_name);
             if (texcoord == 0 && !known_here) {
                 *name = key;
                 return true;

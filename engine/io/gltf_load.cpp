@@ -329,9 +329,10 @@ texopt_status bind_extension_textures(const tinygltf::Model &g, size_t i, const 
             const tinygltf::Value &info = e.second.Get(key);
             int texcoord;
             texopt_texture_kind kind;
+            unsigned channels;
             const char *name;
             if (!gltf_is_texture_info(key, info, &texcoord) || texcoord != 0 ||
-                !gltf_known_extension_texture(e.first, key, &kind, &name))
+                !gltf_known_extension_texture(e.first, key, &kind, &channels, &name))
                 continue;
             if (out->extra_count == TEXOPT_EXTRA_TEXTURES_MAX)
                 return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
@@ -347,6 +348,7 @@ texopt_status bind_extension_textures(const tinygltf::Model &g, size_t i, const 
             if (st != TEXOPT_OK)
                 return st;
             x->kind = kind;
+            x->channels = channels;
             x->name = name;
             out->extra_count++;
         }
@@ -366,6 +368,7 @@ texopt_status convert_materials(const tinygltf::Model &g, texopt_model *model, c
         texopt_material *out = &model->materials[i];
         out->metallic_factor = m.pbrMetallicRoughness.metallicFactor;
         out->roughness_factor = m.pbrMetallicRoughness.roughnessFactor;
+        out->alpha_shown = m.alphaMode == "MASK" || m.alphaMode == "BLEND";
         const tinygltf::TextureInfo &base = m.pbrMetallicRoughness.baseColorTexture;
         const tinygltf::TextureInfo &mr = m.pbrMetallicRoughness.metallicRoughnessTexture;
         struct {

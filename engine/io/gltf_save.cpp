@@ -113,9 +113,10 @@ void drop_extension_texture_transforms(const std::string &extension, tinygltf::V
     for (auto &kv : v.Get<tinygltf::Value::Object>()) {
         int texcoord;
         texopt_texture_kind kind;
+        unsigned channels;
         const char *name;
         if (!gltf_is_texture_info(kv.first, kv.second, &texcoord) || texcoord != 0 ||
-            !gltf_known_extension_texture(extension, kv.first, &kind, &name) || !kv.second.Has("extensions"))
+            !gltf_known_extension_texture(extension, kv.first, &kind, &channels, &name) || !kv.second.Has("extensions"))
             continue;
         tinygltf::Value &exts = kv.second.Get<tinygltf::Value::Object>()["extensions"];
         if (!exts.IsObject())

@@ -94,7 +94,24 @@ TEST(glb_quad_loads_completely)
     CHECK_OK(st, err);
     CHECK_NEAR(m->materials[0].metallic_factor, 0, 0);
     CHECK_NEAR(m->materials[0].roughness_factor, 0.58, 1e-12);
+    /* OPAQUE (the default): base colour's alpha is not shown, so stage 1 does not read it. */
+    CHECK_EQ_INT(m->materials[0].alpha_shown, 0);
+    CHECK_EQ_INT(texopt_material_binding_channels(&m->materials[0], TEXOPT_SLOT_BASE_COLOR), TEXOPT_CHANNELS_RGB);
     texopt_model_destroy(m);
+    const char *modes[] = {"MASK", "BLEND", "OPAQUE"};
+    for (int i = 0; i < 3; i++) {
+        char mode[64];
+        snprintf(mode, sizeof mode, "\"roughnessFactor\":0.58},\"alphaMode\":\"%s\"", modes[i]);
+        char *edited = strdup(doc.json);
+        CHECK(edited && builder_replace(&edited, "\"roughnessFactor\":0.58}", mode));
+        m = load_quad_json(&doc, edited, err, sizeof err, &st);
+        free(edited);
+        CHECK_OK(st, err);
+        CHECK_EQ_INT(m->materials[0].alpha_shown, i < 2);
+        CHECK_EQ_INT(texopt_material_binding_channels(&m->materials[0], TEXOPT_SLOT_BASE_COLOR),
+                     TEXOPT_CHANNELS_RGB | (i < 2 ? TEXOPT_CHANNEL_A : 0u));
+        texopt_model_destroy(m);
+    }
     quad_doc_free(&doc);
 }
 
@@ -640,6 +657,34 @@ TEST(texture_transforms_on_texcoord0_are_applied_to_the_uvs_and_dropped_when_sav
     quad_doc_free(&doc);
 }
 
+/* Each known extension texture carries the channels its specification stores it in. */
+TEST(extension_textures_carry_the_channels_their_extension_reads)
+{
+    char err[512] = "";
+    quad_doc doc;
+    CHECK(quad_doc_init(&doc, 4, 4));
+    char *json = strdup(doc.json);
+    CHECK(json && builder_replace(&json, "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}]",
+                                  "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}},"
+                                  "\"extensions\":{\"KHR_materials_specular\":{\"specularTexture\":{\"index\":0}},"
+                                  "\"KHR_materials_clearcoat\":{\"clearcoatRoughnessTexture\":{\"index\":0}}}}]"));
+    texopt_status st;
+    texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
+    CHECK_OK(st, err);
+    const texopt_material *mat = &m->materials[0];
+    CHECK_EQ_INT(mat->extra_count, 2);
+    for (int i = 0; i < mat->extra_count; i++) {
+        int specular = strcmp(mat->extra[i].name, "specularTexture") == 0;
+        CHECK(specular || strcmp(mat->extra[i].name, "clearcoatRoughnessTexture") == 0);
+        CHECK_EQ_INT(mat->extra[i].kind, TEXOPT_TEXTURE_DATA);
+        CHECK_EQ_INT(mat->extra[i].channels, specular ? TEXOPT_CHANNEL_A : TEXOPT_CHANNEL_G);
+        CHECK_EQ_INT(texopt_material_binding_channels(mat, TEXOPT_SLOT_COUNT + i), mat->extra[i].channels);
+    }
+    texopt_model_destroy(m);
+    free(json);
+    quad_doc_free(&doc);
+}
+
 /* Saves m with its UVs as new ones into dir/name and loads the file back. */
 static texopt_model *save_and_reload(const texopt_model *m, const char *dir, const char *name, char *path,
                                      size_t path_len, char *err, size_t err_len)
@@ -682,6 +727,7 @@ TEST(textures_of_known_material_extensions_are_bound_and_lose_their_applied_tran
     CHECK_EQ_INT(mat->extra_count, 1);
     CHECK(strcmp(mat->extra[0].name, "clearcoatNormalTexture") == 0);
     CHECK_EQ_INT(mat->extra[0].kind, TEXOPT_TEXTURE_NORMAL);
+    CHECK_EQ_INT(mat->extra[0].channels, TEXOPT_CHANNELS_RGB);
     CHECK_EQ_INT(mat->extra[0].ref.image, 0);
     CHECK_EQ_INT(mat->extra[0].ref.texcoord, 0);
     for (int v = 0; v < 4; v++) {

@@ -1,5 +1,6 @@
 /* test_triloss.c - the one-ring perceptual loss of a candidate Jacobian. */
 #include <math.h>
+#include <string.h>
 #include <stdlib.h>
 
 #include "fixtures.h"
@@ -196,21 +197,43 @@ static texopt_model *grid_with_blue_stripes(void)
     return m;
 }
 
-/* Signals stage 1 compares on the grid of grid_with_blue_stripes with its second image bound
- * as an extension texture of the given kind; -1 on failure. */
-static int signals_with_extension_texture(texopt_texture_kind kind)
+/* The image's pixels with an alpha channel added: alpha has fine horizontal stripes. */
+static int add_striped_alpha(texopt_image *img)
+{
+    texopt_image rgba = {0};
+    if (texopt_image_create(&rgba, img->width, img->height, 4, NULL, 0) != TEXOPT_OK)
+        return -1;
+    for (int y = 0; y < img->height; y++)
+        for (int x = 0; x < img->width; x++) {
+            float *to = texopt_image_at(&rgba, x, y);
+            memcpy(to, texopt_image_at(img, x, y), 3 * sizeof *to);
+            to[3] = ((y / 2) % 2) ? 1.0f : 0.1f;
+        }
+    texopt_image_destroy(img);
+    *img = rgba;
+    return 0;
+}
+
+/* Signals stage 1 compares on the grid of grid_with_blue_stripes with its second image (made
+ * RGBA when `alpha`) bound as an extension texture of the given kind reading `channels`, and
+ * base colour bound to the first image (base 1), to the second (2) or to none (0); -1 on
+ * failure. */
+static int signals_with_extension_texture(texopt_texture_kind kind, unsigned channels, int alpha, int base)
 {
     texopt_model *m = grid_with_blue_stripes();
     char err[256] = "";
     int count = -1;
-    if (!m)
-        return -1;
+    if (!m || (alpha && add_striped_alpha(&m->images[1]) != 0))
+        return texopt_model_destroy(m), -1;
     texopt_material *mat = &m->materials[0];
     mat->extra[0].ref = mat->slot[TEXOPT_SLOT_BASE_COLOR];
     mat->extra[0].ref.image = 1;
     mat->extra[0].kind = kind;
+    mat->extra[0].channels = channels;
     mat->extra[0].name = "clearcoatTexture";
     mat->extra_count = 1;
+    if (base != 1)
+        mat->slot[TEXOPT_SLOT_BASE_COLOR].image = base ? 1 : -1;
     texopt_mesh *mesh = NULL;
     texopt_triloss *loss = NULL;
     if (texopt_model_build_domains(m, err, sizeof err) == TEXOPT_OK &&
@@ -223,12 +246,54 @@ static int signals_with_extension_texture(texopt_texture_kind kind)
     return count;
 }
 
-TEST(extension_textures_are_compared_by_their_kind)
+TEST(extension_textures_are_compared_by_their_kind_and_channels)
 {
-    /* Base colour's luma, then the extension texture's luma or its three channels. */
-    CHECK_EQ_INT(signals_with_extension_texture(TEXOPT_TEXTURE_COLOR), 2);
-    CHECK_EQ_INT(signals_with_extension_texture(TEXOPT_TEXTURE_DATA), 4);
-    CHECK_EQ_INT(signals_with_extension_texture(TEXOPT_TEXTURE_NORMAL), 4);
+    /* Base colour's luma, then the extension texture's luma or the channels it reads. */
+    CHECK_EQ_INT(signals_with_extension_texture(TEXOPT_TEXTURE_COLOR, TEXOPT_CHANNELS_RGB, 0, 1), 2);
+    CHECK_EQ_INT(signals_with_extension_texture(TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_R, 0, 1), 2);
+    CHECK_EQ_INT(signals_with_extension_texture(TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_R | TEXOPT_CHANNEL_G, 0, 1), 3);
+    CHECK_EQ_INT(signals_with_extension_texture(TEXOPT_TEXTURE_NORMAL, TEXOPT_CHANNELS_RGB, 0, 1), 4);
+    CHECK_EQ_INT(signals_with_extension_texture(TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_A, 1, 1), 2);
+    /* The second image alone, read as base colour and as clearcoat's R: R, G and B, the colour's
+     * luma being theirs. */
+    CHECK_EQ_INT(signals_with_extension_texture(TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_R, 0, 2), 3);
+    /* A colour with a shown alpha (sheen colour reads no alpha, so this is the rule alone). */
+    CHECK_EQ_INT(signals_with_extension_texture(TEXOPT_TEXTURE_COLOR, TEXOPT_CHANNELS_RGB | TEXOPT_CHANNEL_A, 1, 1), 3);
+    /* Alpha read from a file without one is 1 everywhere: nothing to compare... */
+    CHECK_EQ_INT(signals_with_extension_texture(TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_A, 0, 1), 1);
+    /* ...unless nothing else is: then its R, G and B, so that stage 1 has a signal. */
+    CHECK_EQ_INT(signals_with_extension_texture(TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_A, 0, 0), 3);
+    CHECK_EQ_INT(signals_with_extension_texture(TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_A, 1, 0), 1);
+}
+
+/* E of a squeeze across the alpha stripes of base colour (RGB flat, alpha striped), with its
+ * material's alpha shown or not. */
+static double striped_alpha_loss(int shown)
+{
+    texopt_model *m = fixture_grid(8, 64, "flat");
+    char err[256] = "";
+    double e = NAN;
+    if (!m || add_striped_alpha(&m->images[0]) != 0)
+        return texopt_model_destroy(m), NAN;
+    m->materials[0].alpha_shown = shown;
+    loss_fixture f;
+    double J[4];
+    texopt_jacobian_from_params(0.0, 1.0, 0.3, 0.0, J);
+    if (fixture_open_model(&f, m, 64) &&
+        texopt_triloss_prepare(f.loss, 2 * (4 * 8 + 4), err, sizeof err) == TEXOPT_OK &&
+        texopt_triloss_eval(f.loss, J, INFINITY, &e, err, sizeof err) != TEXOPT_OK)
+        e = NAN;
+    fixture_close(&f);
+    return e;
+}
+
+TEST(base_colour_alpha_counts_when_the_material_shows_it)
+{
+    /* alphaMode MASK or BLEND: the cut-out's edges are part of the picture; OPAQUE: they are
+     * not rendered, and the flat colour is lossless. */
+    double shown = striped_alpha_loss(1), hidden = striped_alpha_loss(0);
+    CHECK_MSG(shown > 0.05, "alpha shown: E = %g", shown);
+    CHECK_MSG(hidden < 1e-6, "alpha hidden: E = %g", hidden);
 }
 
 TEST(normal_map_adds_three_channel_signals)
@@ -259,9 +324,10 @@ TEST(normal_map_adds_three_channel_signals)
     texopt_model_destroy(m);
 }
 
-/* fixture_grid(8, 64, "flat") plus a 64x64 occlusion texture whose red channel has fine
- * vertical stripes and whose green and blue are `green` and `blue` (-1: the same stripes,
- * -2: coarser horizontal stripes). */
+/* fixture_grid(8, 64, "flat") plus a 64x64 occlusion-roughness-metallic texture (occlusion
+ * reads its R, metallic-roughness its G and B) whose red channel has fine vertical stripes and
+ * whose green and blue are `green` and `blue` (-1: the same stripes, -2: coarser horizontal
+ * stripes). */
 static texopt_model *with_occlusion(double green, double blue)
 {
     char err[256] = "";
@@ -289,6 +355,7 @@ static texopt_model *with_occlusion(double green, double blue)
         }
     m->materials[0].slot[TEXOPT_SLOT_OCCLUSION] = m->materials[0].slot[TEXOPT_SLOT_BASE_COLOR];
     m->materials[0].slot[TEXOPT_SLOT_OCCLUSION].image = 1;
+    m->materials[0].slot[TEXOPT_SLOT_METALLIC_ROUGHNESS] = m->materials[0].slot[TEXOPT_SLOT_OCCLUSION];
     if (texopt_model_build_domains(m, err, sizeof err) != TEXOPT_OK) {
         texopt_model_destroy(m);
         return NULL;

@@ -205,16 +205,67 @@ static double mr_detail_area(int channel, int weighed)
 
 TEST(detail_the_light_does_not_show_gets_no_texels)
 {
-    /* Strokes in the metallic-roughness map's R, which no lit term reads: compared as they
-     * are they hold the quads near input density; weighed (0) they are flat colour. */
-    double unread = mr_detail_area(0, 0), unread_weighed = mr_detail_area(0, 1);
+    /* Strokes in the metallic-roughness map's B (metallic) under a metallic factor of 0, which
+     * hides them from every lit term: compared as they are they hold the quads near input
+     * density; weighed (0) they are flat colour. */
+    double hidden = mr_detail_area(2, 0), hidden_weighed = mr_detail_area(2, 1);
     /* The same strokes as roughness: the light shows them, weighed they still count. */
     double rough_weighed = mr_detail_area(1, 1);
-    printf("  detailed quads' area: R %.3f, R weighed %.3f, G weighed %.3f\n", unread, unread_weighed,
-           rough_weighed);
-    CHECK(unread > 0.2);
-    CHECK_NEAR(unread_weighed, 0.01, 1e-12);
+    /* In R, which the glTF specification gives metallic-roughness no use for: never compared. */
+    double unread = mr_detail_area(0, 0);
+    printf("  detailed quads' area: B %.3f, B weighed %.3f, G weighed %.3f, R %.3f\n", hidden, hidden_weighed,
+           rough_weighed, unread);
+    CHECK(hidden > 0.2);
+    CHECK_NEAR(hidden_weighed, 0.01, 1e-12);
     CHECK_MSG(rough_weighed > 0.05, "roughness strokes weighed: %g", rough_weighed); /* measured 0.122 */
+    CHECK_NEAR(unread, 0.01, 1e-12);
+}
+
+/* Mean target area of quads 10..13 (strokes) and 2..5 (flat) of a strip whose base colour is
+ * flat grey with the "half" pattern in its alpha, shown by the material or not. */
+static void alpha_detail_areas(int shown, double *detail, double *flat)
+{
+    texopt_model *m = strip_model(16, 256, "half", 0);
+    texopt_image rgba = {0};
+    *detail = *flat = NAN;
+    if (!m || texopt_image_create(&rgba, 256, 256, 4, NULL, 0) != TEXOPT_OK) {
+        texopt_model_destroy(m);
+        return;
+    }
+    for (size_t i = 0; i < 256 * 256; i++) {
+        rgba.pixels[4 * i] = rgba.pixels[4 * i + 1] = rgba.pixels[4 * i + 2] = 0.5f;
+        rgba.pixels[4 * i + 3] = m->images[0].pixels[3 * i];
+    }
+    texopt_image_destroy(&m->images[0]);
+    m->images[0] = rgba;
+    m->materials[0].alpha_shown = shown;
+    texopt_triopt_options opt = {.iterations = 10, .threads = 2, .seed = 7};
+    stage_run r;
+    if (run_stage(&r, m, &opt, NULL) && r.status == TEXOPT_OK) {
+        *detail = *flat = 0;
+        for (int i = 0; i < 4; i++)
+            for (int k = 0; k < 2; k++) {
+                *flat += r.out[2 * (2 + i) + k].lambda1 * r.out[2 * (2 + i) + k].lambda2 / 8;
+                *detail += r.out[2 * (10 + i) + k].lambda1 * r.out[2 * (10 + i) + k].lambda2 / 8;
+            }
+    }
+    close_stage(&r);
+}
+
+TEST(a_cut_out_keeps_the_texels_of_its_edges)
+{
+    /* alphaMode MASK or BLEND: the strokes in alpha are what the surface shows, so their quads
+     * keep texels as colour strokes would (flat_half_gets_far_fewer_texels_than_detail);
+     * OPAQUE: alpha is not rendered and every quad is flat grey. */
+    double detail, flat, detail_hidden, flat_hidden;
+    alpha_detail_areas(1, &detail, &flat);
+    alpha_detail_areas(0, &detail_hidden, &flat_hidden);
+    printf("  alpha shown: detail %.3f flat %.3f; hidden: detail %.3f flat %.3f\n", detail, flat, detail_hidden,
+           flat_hidden);
+    CHECK_MSG(detail > 0.2, "detail %g", detail);
+    CHECK_NEAR(flat, 0.01, 1e-12);
+    CHECK_NEAR(detail_hidden, 0.01, 1e-12);
+    CHECK_NEAR(flat_hidden, 0.01, 1e-12);
 }
 
 TEST(sampled_weights_of_a_flat_texture_are_zero)
