@@ -25,8 +25,13 @@
  * image, its XY turned per triangle when the caller asks: texel_map.h); the RGB shadings
  * read base colour, what the report shows.
  *
- * Does not: light (lit_shade.h does, from these shadings), blend alpha, decode normals or
- * channels, choose the turns (evaluate.c), or compare images. */
+ * Base colour's alpha, where a material shows it (alphaMode MASK or BLEND), cuts or blends the
+ * surface over a mid-grey backdrop (composite_cut_out says why a backdrop), so a layout is
+ * judged on its cut-outs' edges too; other slots and OPAQUE materials ignore alpha.
+ *
+ * Does not: light (lit_shade.h does, from these shadings), see through a cut-out to the
+ * surfaces behind it, decode normals or channels, choose the turns (evaluate.c), or compare
+ * images. */
 #include "meshrender.h"
 
 #include <float.h>
@@ -353,6 +358,37 @@ static void store_pixel(const float rgb[3], int luma, float *px)
     }
 }
 
+/* Per model triangle, its material when base colour's alpha shows on it (alphaMode MASK or
+ * BLEND), else NULL; *out NULL when no triangle has one. */
+static texopt_status triangle_cut_outs(const texopt_model *model, const texopt_material ***out, char *err,
+                                       size_t err_len)
+{
+    *out = NULL;
+    for (int p = 0; p < model->primitive_count; p++) {
+        const texopt_primitive *prim = &model->primitives[p];
+        if (prim->material < 0 || prim->material >= model->material_count ||
+            model->materials[prim->material].alpha_mode == TEXOPT_ALPHA_OPAQUE)
+            continue;
+        if (!*out && !(*out = calloc(model->triangle_count ? model->triangle_count : 1, sizeof **out)))
+            return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the triangle materials");
+        for (size_t t = prim->first_triangle;
+             t < prim->first_triangle + prim->triangle_count && t < model->triangle_count; t++)
+            (*out)[t] = &model->materials[prim->material];
+    }
+    return TEXOPT_OK;
+}
+
+/* rgb as the surface shows it over the backdrop, mid grey, given base colour's alpha: hidden
+ * below the cutoff of a MASK, blended by a BLEND. One surface is drawn per pixel, so what lies
+ * behind a cut-out is not: the backdrop stands in for it, which is enough for a layout that
+ * moves or blurs a cut-out's edge to change the picture as it would on screen. */
+static void composite_cut_out(const texopt_material *mat, float alpha, float rgb[3])
+{
+    float a = mat->alpha_mode == TEXOPT_ALPHA_MASK ? (alpha >= mat->alpha_cutoff ? 1.0f : 0.0f) : alpha;
+    for (int k = 0; k < 3; k++)
+        rgb[k] = a * rgb[k] + (1.0f - a) * 0.5f;
+}
+
 static texopt_status shade_pixels(const texopt_model *model, const texopt_raster *raster, texopt_slot slot,
                                   struct texopt_texture_filter *const *filters, const double *turn, int luma,
                                   float *out, char *err, size_t err_len)
@@ -369,9 +405,14 @@ static texopt_status shade_pixels(const texopt_model *model, const texopt_raster
                 return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                                    "triangle %zu names a vertex past the vertex count", t);
     const texopt_texture_ref **ref = NULL;
+    const texopt_material **cut_out = NULL;
     texopt_status st = texopt_meshrender_triangle_bindings(model, slot, &ref, err, err_len);
-    if (st != TEXOPT_OK)
+    if (st == TEXOPT_OK && slot == TEXOPT_SLOT_BASE_COLOR)
+        st = triangle_cut_outs(model, &cut_out, err, err_len);
+    if (st != TEXOPT_OK) {
+        free(ref);
         return st;
+    }
     int stride = luma ? 1 : 3;
     size_t n = (size_t)raster->side * (size_t)raster->side;
     int32_t jac_tri = -1; /* the triangle whose footprint jac holds */
@@ -383,6 +424,7 @@ static texopt_status shade_pixels(const texopt_model *model, const texopt_raster
         float *px = out + (size_t)stride * i;
         if (tri >= 0 && (size_t)tri >= model->triangle_count) {
             free(ref);
+            free(cut_out);
             return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                                "raster names triangle %d but the model has %zu", (int)tri,
                                model->triangle_count);
@@ -410,9 +452,12 @@ static texopt_status shade_pixels(const texopt_model *model, const texopt_raster
         if (turn && img->channels >= 2)
             texopt_normal_turn(turn[2 * tri], turn[2 * tri + 1], texel);
         to_rgb(texel, img->channels, rgb);
+        if (cut_out && cut_out[tri] && (img->channels == 2 || img->channels == 4))
+            composite_cut_out(cut_out[tri], texel[img->channels - 1], rgb);
         store_pixel(rgb, luma, px);
     }
     free(ref);
+    free(cut_out);
     return TEXOPT_OK;
 }
 

@@ -95,7 +95,9 @@ texopt_status texopt_meshrender_shade_filtered(const texopt_model *model, const 
  * TEXOPT_SLOT_BASE_COLOR; with it this gives texopt_luma of the RGB they write, the same
  * bits). Any other slot is shaded exactly the same way: its RGB encoding as if it were a
  * colour image (a normal map's XYZ as RGB, metallic-roughness's unused/roughness/metallic),
- * and triangles whose material has no texture in the slot are mid grey. normal_turn (NULL:
+ * and triangles whose material has no texture in the slot are mid grey. Base colour of a
+ * material whose alphaMode is MASK or BLEND is cut or blended by its alpha over mid grey
+ * (meshrender.c); other slots ignore alpha. normal_turn (NULL:
  * none) holds per model triangle a rotation (cos, sin) by which each looked-up texel's first
  * two channels, an encoded tangent-space XY, are turned (texopt_normal_turn) before the luma:
  * how the evaluation brings a re-baked normal map back to the reference's tangent frame. */

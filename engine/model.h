@@ -58,6 +58,13 @@ typedef enum texopt_texture_kind {
 #define TEXOPT_CHANNEL_A 8u
 #define TEXOPT_CHANNELS_RGB 7u
 
+/* How base colour's alpha shows on a material's surface (glTF alphaMode). */
+typedef enum texopt_alpha_mode {
+    TEXOPT_ALPHA_OPAQUE = 0,
+    TEXOPT_ALPHA_MASK,
+    TEXOPT_ALPHA_BLEND
+} texopt_alpha_mode;
+
 /* Most extension textures one material may bind through TEXCOORD_0 (the loader knows 13). */
 #define TEXOPT_EXTRA_TEXTURES_MAX 16
 
@@ -78,9 +85,10 @@ typedef struct texopt_material {
     /* pbrMetallicRoughness's factors (glTF's default 1), which multiply the texture's B and G
      * or stand alone without one: what a lit render (lit_shade.h) shows of the material. */
     double metallic_factor, roughness_factor;
-    /* Its alphaMode is MASK or BLEND: base colour's alpha cuts or blends the surface, so its
-     * alpha channel is part of what the texture shows (OPAQUE, glTF's default, ignores it). */
-    int alpha_shown;
+    /* glTF's alphaMode and alphaCutoff (OPAQUE, the default, ignores base colour's alpha;
+     * MASK cuts the surface where it is below alpha_cutoff; BLEND blends by it). */
+    texopt_alpha_mode alpha_mode;
+    double alpha_cutoff;
     /* The KHR_texture_transform of its TEXCOORD_0 bindings (one for all of them, or the load
      * refuses), already applied to model->uvs of its primitives: u' = m[0] u + m[1] v + m[2],
      * v' = m[3] u + m[4] v + m[5]; {1, 0, 0, 0, 1, 0} without one. */
@@ -142,7 +150,7 @@ const texopt_texture_ref *texopt_material_binding(const texopt_material *mat, in
 texopt_texture_kind texopt_material_binding_kind(const texopt_material *mat, int i);
 /* The channels binding i reads (TEXOPT_CHANNEL_*): the core slots' from the glTF
  * specification (metallicRoughness G and B, occlusion R; base colour's alpha when
- * alpha_shown), an extension texture's from its extension. */
+ * alpha_mode MASK or BLEND), an extension texture's from its extension. */
 unsigned texopt_material_binding_channels(const texopt_material *mat, int i);
 /* texopt_slot_name of a slot, or the extension texture's key. */
 const char *texopt_material_binding_name(const texopt_material *mat, int i);

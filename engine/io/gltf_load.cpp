@@ -368,7 +368,9 @@ texopt_status convert_materials(const tinygltf::Model &g, texopt_model *model, c
         texopt_material *out = &model->materials[i];
         out->metallic_factor = m.pbrMetallicRoughness.metallicFactor;
         out->roughness_factor = m.pbrMetallicRoughness.roughnessFactor;
-        out->alpha_shown = m.alphaMode == "MASK" || m.alphaMode == "BLEND";
+        out->alpha_mode = m.alphaMode == "MASK" ? TEXOPT_ALPHA_MASK : m.alphaMode == "BLEND" ? TEXOPT_ALPHA_BLEND
+                                                                                           : TEXOPT_ALPHA_OPAQUE;
+        out->alpha_cutoff = m.alphaCutoff;
         const tinygltf::TextureInfo &base = m.pbrMetallicRoughness.baseColorTexture;
         const tinygltf::TextureInfo &mr = m.pbrMetallicRoughness.metallicRoughnessTexture;
         struct {

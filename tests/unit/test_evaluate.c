@@ -1,5 +1,6 @@
 /* test_evaluate.c - whole-mesh loss q (engine/evaluate.h) and the renderer under it. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -121,6 +122,52 @@ TEST(flat_texture_survives_any_downscale)
     CHECK(ev.q < 1e-4);
     texopt_model_destroy(ref);
     texopt_model_destroy(cand);
+}
+
+/* A sphere of flat colour whose base colour has holes in its alpha (6 x 6 texels every 16),
+ * shown as alphaMode `mode`; its texture resized to `side` when side > 0. */
+static texopt_model *perforated_sphere(texopt_alpha_mode mode, int side)
+{
+    texopt_model *m = fixture_uv_sphere(24, 12, 128);
+    texopt_image rgba = {0};
+    if (!m || fixture_fill_pattern(&m->images[0], "flat") != 0 ||
+        texopt_image_create(&rgba, 128, 128, 4, NULL, 0) != TEXOPT_OK)
+        return texopt_model_destroy(m), NULL;
+    for (int y = 0; y < 128; y++)
+        for (int x = 0; x < 128; x++) {
+            float *to = texopt_image_at(&rgba, x, y);
+            memcpy(to, texopt_image_at(&m->images[0], x, y), 3 * sizeof *to);
+            to[3] = x % 16 < 6 && y % 16 < 6 ? 0.0f : 1.0f;
+        }
+    texopt_image_destroy(&m->images[0]);
+    m->images[0] = rgba;
+    m->materials[0].alpha_mode = mode;
+    m->materials[0].alpha_cutoff = 0.5;
+    if (side > 0 && shrink_texture(m, 0, side) != 0)
+        return texopt_model_destroy(m), NULL;
+    return m;
+}
+
+TEST(a_cut_out_blurred_away_counts_where_the_material_shows_alpha)
+{
+    /* The flat colour survives the downscale (flat_texture_survives_any_downscale); the holes
+     * do not, which only a material showing its alpha makes visible. */
+    const texopt_alpha_mode modes[3] = {TEXOPT_ALPHA_OPAQUE, TEXOPT_ALPHA_MASK, TEXOPT_ALPHA_BLEND};
+    double q[3];
+    for (int k = 0; k < 3; k++) {
+        texopt_model *ref = perforated_sphere(modes[k], 0), *cand = perforated_sphere(modes[k], 8);
+        CHECK(ref && cand);
+        char err[256] = "";
+        texopt_evaluate_options opt = {.resolution = 128};
+        texopt_evaluation ev;
+        CHECK_OK(texopt_evaluate(ref, cand, &opt, &ev, err, sizeof err), err);
+        q[k] = ev.q;
+        texopt_model_destroy(ref);
+        texopt_model_destroy(cand);
+    }
+    printf("  q opaque %.5f, mask %.5f, blend %.5f\n", q[0], q[1], q[2]);
+    CHECK(q[0] < 1e-4);
+    CHECK_MSG(q[1] > 0.01 && q[2] > 0.01, "mask %g, blend %g", q[1], q[2]);
 }
 
 TEST(thread_count_does_not_change_the_result)

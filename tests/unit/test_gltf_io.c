@@ -95,19 +95,21 @@ TEST(glb_quad_loads_completely)
     CHECK_NEAR(m->materials[0].metallic_factor, 0, 0);
     CHECK_NEAR(m->materials[0].roughness_factor, 0.58, 1e-12);
     /* OPAQUE (the default): base colour's alpha is not shown, so stage 1 does not read it. */
-    CHECK_EQ_INT(m->materials[0].alpha_shown, 0);
+    CHECK_EQ_INT(m->materials[0].alpha_mode, TEXOPT_ALPHA_OPAQUE);
     CHECK_EQ_INT(texopt_material_binding_channels(&m->materials[0], TEXOPT_SLOT_BASE_COLOR), TEXOPT_CHANNELS_RGB);
     texopt_model_destroy(m);
     const char *modes[] = {"MASK", "BLEND", "OPAQUE"};
     for (int i = 0; i < 3; i++) {
-        char mode[64];
-        snprintf(mode, sizeof mode, "\"roughnessFactor\":0.58},\"alphaMode\":\"%s\"", modes[i]);
+        char mode[128];
+        snprintf(mode, sizeof mode, "\"roughnessFactor\":0.58},\"alphaMode\":\"%s\"%s", modes[i],
+                 i == 0 ? ",\"alphaCutoff\":0.3" : "");
         char *edited = strdup(doc.json);
         CHECK(edited && builder_replace(&edited, "\"roughnessFactor\":0.58}", mode));
         m = load_quad_json(&doc, edited, err, sizeof err, &st);
         free(edited);
         CHECK_OK(st, err);
-        CHECK_EQ_INT(m->materials[0].alpha_shown, i < 2);
+        CHECK_EQ_INT(m->materials[0].alpha_mode, i == 0 ? TEXOPT_ALPHA_MASK : i == 1 ? TEXOPT_ALPHA_BLEND : TEXOPT_ALPHA_OPAQUE);
+        CHECK_NEAR(m->materials[0].alpha_cutoff, i == 0 ? 0.3 : 0.5, 0);
         CHECK_EQ_INT(texopt_material_binding_channels(&m->materials[0], TEXOPT_SLOT_BASE_COLOR),
                      TEXOPT_CHANNELS_RGB | (i < 2 ? TEXOPT_CHANNEL_A : 0u));
         texopt_model_destroy(m);

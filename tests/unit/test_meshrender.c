@@ -264,6 +264,62 @@ TEST(luma_shading_reads_the_chosen_slot)
     texopt_model_destroy(m);
 }
 
+/* The quad's flat base colour given an alpha channel: 0.2 in texel columns 0..15, 1 in 16..31. */
+static texopt_model *quad_with_alpha_columns(texopt_alpha_mode mode)
+{
+    texopt_model *m = fixture_textured_quad(32, "flat");
+    texopt_image rgba = {0};
+    if (!m || texopt_image_create(&rgba, 32, 32, 4, NULL, 0) != TEXOPT_OK)
+        return texopt_model_destroy(m), NULL;
+    for (int y = 0; y < 32; y++)
+        for (int x = 0; x < 32; x++) {
+            float *to = texopt_image_at(&rgba, x, y);
+            memcpy(to, texopt_image_at(&m->images[0], x, y), 3 * sizeof *to);
+            to[3] = x < 16 ? 0.2f : 1.0f;
+        }
+    texopt_image_destroy(&m->images[0]);
+    m->images[0] = rgba;
+    m->materials[0].alpha_mode = mode;
+    m->materials[0].alpha_cutoff = 0.5;
+    return m;
+}
+
+TEST(base_colour_alpha_cuts_or_blends_over_grey_where_the_material_shows_it)
+{
+    const float flat[3] = {0.6f, 0.4f, 0.2f};
+    const double colour = texopt_luma(flat, 3);
+    const texopt_alpha_mode modes[3] = {TEXOPT_ALPHA_OPAQUE, TEXOPT_ALPHA_MASK, TEXOPT_ALPHA_BLEND};
+    /* Columns 0..14 (alpha 0.2) as each mode shows them; columns 17..31 (alpha 1) are the colour. */
+    const double low[3] = {colour, 0.5, 0.2 * colour + 0.8 * 0.5};
+    for (int k = 0; k < 3; k++) {
+        texopt_model *m = quad_with_alpha_columns(modes[k]);
+        CHECK(m);
+        texopt_view v = quad_view();
+        texopt_raster r;
+        char err[256] = "";
+        CHECK_OK(texopt_meshrender_rasterize(m, &v, 32, &r, err, sizeof err), err);
+        float *luma = malloc(32 * 32 * sizeof *luma), *normal = malloc(32 * 32 * sizeof *normal);
+        CHECK(luma && normal);
+        CHECK_OK(texopt_meshrender_shade_luma(m, &r, TEXOPT_SLOT_BASE_COLOR, NULL, NULL, luma, err, sizeof err), err);
+        /* Another slot reading the same RGBA image ignores its alpha. */
+        m->materials[0].slot[TEXOPT_SLOT_NORMAL] = m->materials[0].slot[TEXOPT_SLOT_BASE_COLOR];
+        CHECK_OK(texopt_meshrender_shade_luma(m, &r, TEXOPT_SLOT_NORMAL, NULL, NULL, normal, err, sizeof err), err);
+        for (int j = 1; j < 31; j++)
+            for (int i = 1; i < 31; i++) {
+                size_t p = (size_t)j * 32 + (size_t)i;
+                if (i < 15)
+                    CHECK_NEAR(luma[p], low[k], 1e-5);
+                if (i > 16)
+                    CHECK_NEAR(luma[p], colour, 1e-5);
+                CHECK_NEAR(normal[p], colour, 1e-5);
+            }
+        free(luma);
+        free(normal);
+        texopt_raster_destroy(&r);
+        texopt_model_destroy(m);
+    }
+}
+
 TEST(bad_arguments_are_refused)
 {
     texopt_model *m = fixture_textured_quad(16, "flat");

@@ -275,7 +275,7 @@ static double striped_alpha_loss(int shown)
     double e = NAN;
     if (!m || add_striped_alpha(&m->images[0]) != 0)
         return texopt_model_destroy(m), NAN;
-    m->materials[0].alpha_shown = shown;
+    m->materials[0].alpha_mode = shown ? TEXOPT_ALPHA_BLEND : TEXOPT_ALPHA_OPAQUE;
     loss_fixture f;
     double J[4];
     texopt_jacobian_from_params(0.0, 1.0, 0.3, 0.0, J);

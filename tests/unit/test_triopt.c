@@ -238,7 +238,8 @@ static void alpha_detail_areas(int shown, double *detail, double *flat)
     }
     texopt_image_destroy(&m->images[0]);
     m->images[0] = rgba;
-    m->materials[0].alpha_shown = shown;
+    m->materials[0].alpha_mode = shown ? TEXOPT_ALPHA_MASK : TEXOPT_ALPHA_OPAQUE;
+    m->materials[0].alpha_cutoff = 0.5;
     texopt_triopt_options opt = {.iterations = 10, .threads = 2, .seed = 7};
     stage_run r;
     if (run_stage(&r, m, &opt, NULL) && r.status == TEXOPT_OK) {
