@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "rebake.h"
+#include "sample.h"
 
 static const float flat_colour[3] = {0.6f, 0.4f, 0.2f};
 
@@ -80,6 +81,26 @@ int fixture_fill_pattern(texopt_image *img, const char *pattern)
             pattern_texel(pattern, x, y, img->width, img->height, rgb);
             set_rgb(texopt_image_at(img, x, y), img->channels, rgb[0], rgb[1], rgb[2]);
         }
+    return 0;
+}
+
+int fixture_add_alpha(texopt_image *img, const char *pattern)
+{
+    float rgb[3];
+    texopt_image rgba = {0};
+    if (!img || !img->pixels || img->channels != 3 || !pattern ||
+        pattern_texel(pattern, 0, 0, img->width, img->height, rgb) != 0 ||
+        texopt_image_create(&rgba, img->width, img->height, 4, NULL, 0) != TEXOPT_OK)
+        return -1;
+    for (int y = 0; y < img->height; y++)
+        for (int x = 0; x < img->width; x++) {
+            float *to = texopt_image_at(&rgba, x, y);
+            memcpy(to, texopt_image_at(img, x, y), 3 * sizeof *to);
+            pattern_texel(pattern, x, y, img->width, img->height, rgb);
+            to[3] = texopt_luma(rgb, 3);
+        }
+    texopt_image_destroy(img);
+    *img = rgba;
     return 0;
 }
 

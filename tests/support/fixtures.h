@@ -34,6 +34,11 @@
  * 3 channels. */
 int fixture_fill_pattern(texopt_image *img, const char *pattern);
 
+/* Gives an RGB image an alpha channel holding the luma of the named pattern (RGB kept):
+ * "stripes0" cuts 4-texel columns, "checker" blocks of an eighth of the side. Returns 0, or -1
+ * when the pattern is unknown, the image is not RGB or memory runs out (img unchanged). */
+int fixture_add_alpha(texopt_image *img, const char *pattern);
+
 /* A tangent-space normal map with edges in X and in Y (at different periods, so a quarter
  * turn changes which channel carries which stripes), encoded in [0, 1], unit length; any
  * size, 3 or more channels. */

@@ -124,23 +124,13 @@ TEST(flat_texture_survives_any_downscale)
     texopt_model_destroy(cand);
 }
 
-/* A sphere of flat colour whose base colour has holes in its alpha (6 x 6 texels every 16),
- * shown as alphaMode `mode`; its texture resized to `side` when side > 0. */
+/* A sphere of flat colour whose base colour's alpha cuts out a checkerboard of 16-texel
+ * blocks, shown as alphaMode `mode`; its texture resized to `side` when side > 0. */
 static texopt_model *perforated_sphere(texopt_alpha_mode mode, int side)
 {
     texopt_model *m = fixture_uv_sphere(24, 12, 128);
-    texopt_image rgba = {0};
-    if (!m || fixture_fill_pattern(&m->images[0], "flat") != 0 ||
-        texopt_image_create(&rgba, 128, 128, 4, NULL, 0) != TEXOPT_OK)
+    if (!m || fixture_fill_pattern(&m->images[0], "flat") != 0 || fixture_add_alpha(&m->images[0], "checker") != 0)
         return texopt_model_destroy(m), NULL;
-    for (int y = 0; y < 128; y++)
-        for (int x = 0; x < 128; x++) {
-            float *to = texopt_image_at(&rgba, x, y);
-            memcpy(to, texopt_image_at(&m->images[0], x, y), 3 * sizeof *to);
-            to[3] = x % 16 < 6 && y % 16 < 6 ? 0.0f : 1.0f;
-        }
-    texopt_image_destroy(&m->images[0]);
-    m->images[0] = rgba;
     m->materials[0].alpha_mode = mode;
     m->materials[0].alpha_cutoff = 0.5;
     if (side > 0 && shrink_texture(m, 0, side) != 0)
@@ -150,8 +140,8 @@ static texopt_model *perforated_sphere(texopt_alpha_mode mode, int side)
 
 TEST(a_cut_out_blurred_away_counts_where_the_material_shows_alpha)
 {
-    /* The flat colour survives the downscale (flat_texture_survives_any_downscale); the holes
-     * do not, which only a material showing its alpha makes visible. */
+    /* The flat colour survives the downscale (flat_texture_survives_any_downscale); the
+     * cut-out's edges do not, which only a material showing its alpha makes visible. */
     const texopt_alpha_mode modes[3] = {TEXOPT_ALPHA_OPAQUE, TEXOPT_ALPHA_MASK, TEXOPT_ALPHA_BLEND};
     double q[3];
     for (int k = 0; k < 3; k++) {
