@@ -71,6 +71,16 @@ static int has_texture(const cJSON *list, const char *slot, int image)
     return 0;
 }
 
+/* The channels of a binding as letters, "RGBA" order ("GB" for metallic-roughness). */
+static void channel_letters(unsigned channels, char out[5])
+{
+    int n = 0;
+    for (int c = 0; c < 4; c++)
+        if ((channels >> c) & 1u)
+            out[n++] = "RGBA"[c];
+    out[n] = '\0';
+}
+
 /* Every (slot or extension texture, image) a domain's materials read through TEXCOORD_0, in
  * primitive and binding order, once each. */
 static cJSON *textures_json(const texopt_model *model, const texopt_domain *dom)
@@ -94,6 +104,9 @@ static cJSON *textures_json(const texopt_model *model, const texopt_domain *dom)
             add_image_fields(o, model, ref->image);
             cJSON_AddStringToObject(o, "wrap_s", texopt_wrap_name(ref->wrap_s));
             cJSON_AddStringToObject(o, "wrap_t", texopt_wrap_name(ref->wrap_t));
+            char reads[5];
+            channel_letters(texopt_material_binding_channels(m, s), reads);
+            cJSON_AddStringToObject(o, "reads", reads);
             cJSON_AddItemToArray(arr, o);
         }
     }

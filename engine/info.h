@@ -15,8 +15,10 @@
  *        "charts", "mirrored_charts", "folded_charts",
  *        "frame": { "width", "height" }, "wrap": { "s", "t" },       ("repeat"|"clamp"|"mirror")
  *        "textures": [ { "slot", "image", "name", "width", "height", "channels",
- *                        "wrap_s", "wrap_t" } ],          (slot: "baseColor", "normal", ..., or an
- *                                                         extension texture's key)
+ *                        "wrap_s", "wrap_t", "reads" } ], (slot: "baseColor", "normal", ..., or an
+ *                                                         extension texture's key; reads: the
+ *                                                         channels it is read in, "RGB", "GB",
+ *                                                         "RGBA" for a MASK or BLEND base colour)
  *        "covered_texels", "overlap_texels", "packing_efficiency", "texel_area", "area_3d",
  *        "degenerate", "degenerate_3d", "degenerate_uv", "flipped", "overlapping", "wrapped"
  *     } ] }

@@ -54,6 +54,7 @@ TEST(cube_document_has_the_constructed_numbers)
     CHECK(strcmp(str(tex, "slot"), "baseColor") == 0);
     CHECK(strcmp(str(tex, "name"), "fixture_checker") == 0);
     CHECK_NEAR(num(tex, "channels"), 3, 0);
+    CHECK(strcmp(str(tex, "reads"), "RGB") == 0);
     CHECK_NEAR(num(d, "covered_texels"), 6 * 16 * 16, 0);
     CHECK_NEAR(num(d, "overlap_texels"), 0, 0);
     CHECK_NEAR(num(d, "packing_efficiency"), 0.375, 0);
@@ -71,18 +72,23 @@ TEST(extension_textures_are_listed_under_their_key)
     texopt_material *mat = &model->materials[0];
     mat->extra[0].ref = mat->slot[TEXOPT_SLOT_BASE_COLOR];
     mat->extra[0].ref.wrap_s = TEXOPT_WRAP_CLAMP;
-    mat->extra[0].kind = TEXOPT_TEXTURE_COLOR;
-    mat->extra[0].name = "sheenColorTexture";
+    mat->extra[0].kind = TEXOPT_TEXTURE_DATA;
+    mat->extra[0].channels = TEXOPT_CHANNEL_A;
+    mat->extra[0].name = "specularTexture";
     mat->extra_count = 1;
+    mat->alpha_mode = TEXOPT_ALPHA_MASK;
     cJSON *doc = NULL;
     char err[256] = "";
     CHECK_OK(texopt_info_json(model, &doc, err, sizeof err), err);
     const cJSON *textures = cJSON_GetObjectItemCaseSensitive(domain(doc, 0), "textures");
     CHECK_EQ_INT(cJSON_GetArraySize(textures), 2);
     const cJSON *tex = cJSON_GetArrayItem(textures, 1);
-    CHECK(strcmp(str(tex, "slot"), "sheenColorTexture") == 0);
+    CHECK(strcmp(str(tex, "slot"), "specularTexture") == 0);
     CHECK_NEAR(num(tex, "image"), 0, 0);
     CHECK(strcmp(str(tex, "wrap_s"), "clamp") == 0);
+    CHECK(strcmp(str(tex, "reads"), "A") == 0);
+    /* A MASK material's base colour is read with its alpha. */
+    CHECK(strcmp(str(cJSON_GetArrayItem(textures, 0), "reads"), "RGBA") == 0);
     cJSON_Delete(doc);
     texopt_model_destroy(model);
 }
