@@ -20,12 +20,19 @@ static inline void grid_put32(unsigned char *p, uint32_t v)
         p[i] = (unsigned char)(v >> (8 * i));
 }
 
-/* A tex x tex image of `pattern` as PNG into *png (the caller frees it); 0 on success. */
+/* A tex x tex image of `pattern` as PNG into *png (the caller frees it); 0 on success.
+ * "COLOUR|ALPHA" names two patterns: RGB of the first, alpha the second's luma (RGBA). */
 static inline int grid_pattern_png(int tex, const char *pattern, unsigned char **png, size_t *png_len)
 {
+    char colour[32];
+    const char *bar = strchr(pattern, '|');
+    snprintf(colour, sizeof colour, "%.*s", bar ? (int)(bar - pattern) : (int)strlen(pattern), pattern);
     texopt_image img;
-    if (texopt_image_create(&img, tex, tex, 3, NULL, 0) != TEXOPT_OK || fixture_fill_pattern(&img, pattern) != 0)
+    if (texopt_image_create(&img, tex, tex, 3, NULL, 0) != TEXOPT_OK || fixture_fill_pattern(&img, colour) != 0 ||
+        (bar && fixture_add_alpha(&img, bar + 1) != 0)) {
+        texopt_image_destroy(&img);
         return -1;
+    }
     texopt_status st = texopt_image_encode_png(&img, png, png_len, NULL, 0);
     texopt_image_destroy(&img);
     return st == TEXOPT_OK ? 0 : -1;
@@ -156,9 +163,10 @@ static inline void grid_fill(int n, float *pos, float *uv, uint32_t *idx)
         }
 }
 
-/* Writes an n x n grid (grid_fill) with a tex x tex texture of `pattern` (and mr_pattern's,
- * or none) as a .glb at path (write_mesh_glb). Returns 0 on success. */
-static inline int write_grid_glb_images(const char *path, int n, int tex, const char *pattern, const char *mr_pattern)
+/* Writes an n x n grid (grid_fill) with image_count tex x tex images of patterns[i] and the
+ * material JSON `material` (write_mesh_glb_material) as a .glb at path. Returns 0 on success. */
+static inline int write_grid_glb_material(const char *path, int n, int tex, const char *const *patterns,
+                                          int image_count, const char *material)
 {
     size_t nv = (size_t)(n + 1) * (n + 1), nt = 2 * (size_t)n * n;
     float *pos = malloc(nv * 12), *uv = malloc(nv * 8);
@@ -166,12 +174,23 @@ static inline int write_grid_glb_images(const char *path, int n, int tex, const 
     int r = -1;
     if (pos && uv && idx) {
         grid_fill(n, pos, uv, idx);
-        r = write_mesh_glb(path, pos, uv, nv, idx, nt, tex, pattern, mr_pattern);
+        r = write_mesh_glb_material(path, pos, uv, nv, idx, nt, tex, patterns, image_count, material);
     }
     free(pos);
     free(uv);
     free(idx);
     return r;
+}
+
+/* The grid with a tex x tex texture of `pattern` (and mr_pattern's, or none) as base colour
+ * (and metallic-roughness), as write_mesh_glb writes them. */
+static inline int write_grid_glb_images(const char *path, int n, int tex, const char *pattern, const char *mr_pattern)
+{
+    char material[256];
+    snprintf(material, sizeof material, "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}%s}}",
+             mr_pattern ? ",\"metallicRoughnessTexture\":{\"index\":1}" : "");
+    const char *patterns[2] = {pattern, mr_pattern};
+    return write_grid_glb_material(path, n, tex, patterns, mr_pattern ? 2 : 1, material);
 }
 
 static inline int write_grid_glb(const char *path, int n, int tex, const char *pattern)
