@@ -45,7 +45,8 @@ texopt_texture_kind texopt_material_binding_kind(const texopt_material *mat, int
 unsigned texopt_material_binding_channels(const texopt_material *mat, int i)
 {
     switch (i) {
-    case TEXOPT_SLOT_BASE_COLOR: return TEXOPT_CHANNELS_RGB | (mat->alpha_mode != TEXOPT_ALPHA_OPAQUE ? TEXOPT_CHANNEL_A : 0u);
+    case TEXOPT_SLOT_BASE_COLOR:
+        return TEXOPT_CHANNELS_RGB | (mat->alpha_mode != TEXOPT_ALPHA_OPAQUE ? TEXOPT_CHANNEL_A : 0u);
     case TEXOPT_SLOT_EMISSIVE:
     case TEXOPT_SLOT_NORMAL: return TEXOPT_CHANNELS_RGB;
     case TEXOPT_SLOT_METALLIC_ROUGHNESS: return TEXOPT_CHANNEL_G | TEXOPT_CHANNEL_B;

@@ -132,20 +132,22 @@ static int image_channel_of(const texopt_image *img, int c)
 
 /* The signals of one image, into channels (-1: luma, else the image channel compared); returns
  * how many (at most 5). Per channel when a data binding reads R, G or B, and then all three if
- * a colour binding reads the image too (luma adds nothing they do not show). None when the file lacks every channel its bindings read
- * (specular strength in a file without alpha reads 1 everywhere), unless `fallback`: then its
- * R, G and B, as for a data map of unknown meaning, so that a domain always has a signal. */
+ * a colour binding reads the image too (luma adds nothing they do not show). None when the
+ * file lacks every channel its bindings read (specular strength in a file without alpha reads
+ * 1 everywhere), unless `fallback`: then its R, G and B, as for a data map of unknown meaning,
+ * so that a domain always has a signal (a fallback domain has no other signal to keep). */
 static int image_signal_channels(const texopt_image *img, image_use use, int fallback, int channels[5])
 {
     int n = 0;
     unsigned taken = 0;
+    if (fallback)
+        use = (image_use){0, TEXOPT_CHANNELS_RGB};
     if (use.luma && (use.channels & TEXOPT_CHANNELS_RGB))
         use.channels |= TEXOPT_CHANNELS_RGB;
     else if (use.luma)
         channels[n++] = -1;
     for (int c = 0; c < 4; c++) {
-        int ic = fallback && c < 3 ? image_channel_of(img, c)
-                 : (use.channels >> c) & 1u ? image_channel_of(img, c) : -1;
+        int ic = (use.channels >> c) & 1u ? image_channel_of(img, c) : -1;
         if (ic >= 0 && !((taken >> ic) & 1u)) {
             taken |= 1u << ic;
             channels[n++] = ic;

@@ -24,7 +24,8 @@ const known_texture known[] = {
     {"KHR_materials_iridescence", "iridescenceTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_R},
     {"KHR_materials_iridescence", "iridescenceThicknessTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_G},
     {"KHR_materials_diffuse_transmission", "diffuseTransmissionTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_A},
-    {"KHR_materials_diffuse_transmission", "diffuseTransmissionColorTexture", TEXOPT_TEXTURE_COLOR, TEXOPT_CHANNELS_RGB},
+    {"KHR_materials_diffuse_transmission", "diffuseTransmissionColorTexture", TEXOPT_TEXTURE_COLOR,
+     TEXOPT_CHANNELS_RGB},
 };
 
 } // namespace

@@ -249,25 +249,35 @@ TEST(extension_textures_are_compared_by_their_kind_and_channels)
     CHECK_EQ_INT(signals_with_extension_texture(TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_A, 1, 0), 1);
 }
 
+/* E under J of a triangle in the middle of m (an 8 x 8 grid on 64 texels; taken), its signals
+ * weighed by `weights` (NULL: not weighed); NAN on failure or when `signals` > 0 is not the
+ * number of signals. */
+static double middle_triangle_loss(texopt_model *m, const double J[4], const double *weights, int signals)
+{
+    char err[256] = "";
+    loss_fixture f;
+    double e = NAN;
+    if (fixture_open_model(&f, m, 64) && (signals <= 0 || texopt_triloss_signal_count(f.loss) == signals)) {
+        texopt_triloss_weigh_signals(f.loss, weights);
+        if (texopt_triloss_prepare(f.loss, 2 * (4 * 8 + 4), err, sizeof err) != TEXOPT_OK ||
+            texopt_triloss_eval(f.loss, J, INFINITY, &e, err, sizeof err) != TEXOPT_OK)
+            e = NAN;
+    }
+    fixture_close(&f);
+    return e;
+}
+
 /* E of a squeeze across the alpha stripes of base colour (RGB flat, 4-texel columns cut out),
  * with its material's alpha shown or not. */
 static double striped_alpha_loss(int shown)
 {
     texopt_model *m = fixture_grid(8, 64, "flat");
-    char err[256] = "";
-    double e = NAN;
     if (!m || fixture_add_alpha(&m->images[0], "stripes0") != 0)
         return texopt_model_destroy(m), NAN;
     m->materials[0].alpha_mode = shown ? TEXOPT_ALPHA_BLEND : TEXOPT_ALPHA_OPAQUE;
-    loss_fixture f;
     double J[4];
     texopt_jacobian_from_params(0.0, 0.3, 1.0, 0.0, J);
-    if (fixture_open_model(&f, m, 64) &&
-        texopt_triloss_prepare(f.loss, 2 * (4 * 8 + 4), err, sizeof err) == TEXOPT_OK &&
-        texopt_triloss_eval(f.loss, J, INFINITY, &e, err, sizeof err) != TEXOPT_OK)
-        e = NAN;
-    fixture_close(&f);
-    return e;
+    return middle_triangle_loss(m, J, NULL, 0);
 }
 
 TEST(base_colour_alpha_counts_when_the_material_shows_it)
@@ -346,19 +356,6 @@ static texopt_model *with_occlusion(double green, double blue)
     return m;
 }
 
-static double occlusion_loss(texopt_model *m, const double J[4])
-{
-    char err[256] = "";
-    loss_fixture f;
-    double e = NAN;
-    if (fixture_open_model(&f, m, 64) && texopt_triloss_signal_count(f.loss) == 4 &&
-        texopt_triloss_prepare(f.loss, 2 * (4 * 8 + 4), err, sizeof err) == TEXOPT_OK &&
-        texopt_triloss_eval(f.loss, J, INFINITY, &e, err, sizeof err) != TEXOPT_OK)
-        e = NAN;
-    fixture_close(&f);
-    return e;
-}
-
 TEST(constant_and_repeated_signals_do_not_change_the_loss)
 {
     /* Grey occlusion stored as RGB (three equal channels) and a texture with one detailed
@@ -367,9 +364,9 @@ TEST(constant_and_repeated_signals_do_not_change_the_loss)
     for (int k = 0; k < 3; k++) {
         double J[4];
         texopt_jacobian_from_params(0.1 * k, k == 1 ? 1.0 : 0.3, k == 1 ? 0.3 : 1.0, 0.0, J);
-        double grey = occlusion_loss(with_occlusion(-1, -1), J);
-        double one = occlusion_loss(with_occlusion(0.3, 0.7), J);
-        double red_green = occlusion_loss(with_occlusion(-1, 0.7), J);
+        double grey = middle_triangle_loss(with_occlusion(-1, -1), J, NULL, 4);
+        double one = middle_triangle_loss(with_occlusion(0.3, 0.7), J, NULL, 4);
+        double red_green = middle_triangle_loss(with_occlusion(-1, 0.7), J, NULL, 4);
         CHECK_MSG(grey == one && one == red_green, "J %d: E %.17g %.17g %.17g", k, grey, one,
                   red_green);
         CHECK_MSG(k == 1 || grey > 0.05, "squeezed across the stripes: E = %g", grey);
@@ -435,20 +432,13 @@ TEST(keep_deciding_compares_only_the_signals_that_gave_e_until_the_next_prepare)
  * is flat, green and blue constant) with the red channel weighed `red` (NAN: not weighed). */
 static double weighed_occlusion_loss(double red)
 {
-    char err[256] = "";
-    double weights[2 * TEXOPT_LIT_WEIGHT_STRIDE] = {1, 1, 1, 1, 1, 1, 1, 1};
+    double weights[2 * TEXOPT_LIT_WEIGHT_STRIDE];
+    for (int k = 0; k < 2 * TEXOPT_LIT_WEIGHT_STRIDE; k++)
+        weights[k] = 1.0;
     weights[TEXOPT_LIT_WEIGHT_STRIDE + 1] = red;
-    loss_fixture f;
-    double J[4], e = NAN;
+    double J[4];
     texopt_jacobian_from_params(0, 0.3, 1.0, 0, J);
-    if (fixture_open_model(&f, with_occlusion(0.5, 0.5), 64)) {
-        texopt_triloss_weigh_signals(f.loss, isnan(red) ? NULL : weights);
-        if (texopt_triloss_prepare(f.loss, 2 * (4 * 8 + 4), err, sizeof err) != TEXOPT_OK ||
-            texopt_triloss_eval(f.loss, J, INFINITY, &e, err, sizeof err) != TEXOPT_OK)
-            e = NAN;
-    }
-    fixture_close(&f);
-    return e;
+    return middle_triangle_loss(with_occlusion(0.5, 0.5), J, isnan(red) ? NULL : weights, 0);
 }
 
 TEST(a_weighed_signal_counts_with_the_contrast_its_weight_leaves)
