@@ -56,19 +56,19 @@ static cJSON *images_json(const texopt_model *model)
     return arr;
 }
 
-/* Whether `list` already holds a texture entry for (slot, image). */
-static int has_texture(const cJSON *list, const char *slot, int image)
+/* The entry of `list` for (slot, image), or NULL. */
+static cJSON *find_texture(const cJSON *list, const char *slot, int image)
 {
-    const cJSON *t;
+    cJSON *t;
     cJSON_ArrayForEach(t, list)
     {
         const cJSON *s = cJSON_GetObjectItemCaseSensitive(t, "slot");
         const cJSON *i = cJSON_GetObjectItemCaseSensitive(t, "image");
         if (cJSON_IsString(s) && strcmp(s->valuestring, slot) == 0 && cJSON_IsNumber(i) &&
             i->valueint == image)
-            return 1;
+            return t;
     }
-    return 0;
+    return NULL;
 }
 
 /* The channels of a binding as letters, "RGBA" order ("GB" for metallic-roughness). */
@@ -81,8 +81,21 @@ static void channel_letters(unsigned channels, char out[5])
     out[n] = '\0';
 }
 
+/* Sets a texture entry's "reads" to the channels it held plus `channels`: materials that
+ * share a texture may read it differently (a MASK one its alpha, an OPAQUE one not). */
+static void add_reads(cJSON *texture, unsigned channels)
+{
+    const cJSON *old = cJSON_GetObjectItemCaseSensitive(texture, "reads");
+    for (const char *c = cJSON_IsString(old) ? old->valuestring : ""; *c; c++)
+        channels |= 1u << (strchr("RGBA", *c) - "RGBA");
+    char reads[5];
+    channel_letters(channels, reads);
+    cJSON_DeleteItemFromObjectCaseSensitive(texture, "reads");
+    cJSON_AddStringToObject(texture, "reads", reads);
+}
+
 /* Every (slot or extension texture, image) a domain's materials read through TEXCOORD_0, in
- * primitive and binding order, once each. */
+ * primitive and binding order, once each, with the channels any of them reads. */
 static cJSON *textures_json(const texopt_model *model, const texopt_domain *dom)
 {
     cJSON *arr = cJSON_CreateArray();
@@ -96,18 +109,17 @@ static cJSON *textures_json(const texopt_model *model, const texopt_domain *dom)
             if (ref->image < 0 || ref->image >= model->image_count || ref->texcoord != 0)
                 continue;
             const char *slot = texopt_material_binding_name(m, s);
-            if (has_texture(arr, slot, ref->image))
-                continue;
-            cJSON *o = cJSON_CreateObject();
-            cJSON_AddStringToObject(o, "slot", slot);
-            cJSON_AddNumberToObject(o, "image", ref->image);
-            add_image_fields(o, model, ref->image);
-            cJSON_AddStringToObject(o, "wrap_s", texopt_wrap_name(ref->wrap_s));
-            cJSON_AddStringToObject(o, "wrap_t", texopt_wrap_name(ref->wrap_t));
-            char reads[5];
-            channel_letters(texopt_material_binding_channels(m, s), reads);
-            cJSON_AddStringToObject(o, "reads", reads);
-            cJSON_AddItemToArray(arr, o);
+            cJSON *o = find_texture(arr, slot, ref->image);
+            if (!o) {
+                o = cJSON_CreateObject();
+                cJSON_AddStringToObject(o, "slot", slot);
+                cJSON_AddNumberToObject(o, "image", ref->image);
+                add_image_fields(o, model, ref->image);
+                cJSON_AddStringToObject(o, "wrap_s", texopt_wrap_name(ref->wrap_s));
+                cJSON_AddStringToObject(o, "wrap_t", texopt_wrap_name(ref->wrap_t));
+                cJSON_AddItemToArray(arr, o);
+            }
+            add_reads(o, texopt_material_binding_channels(m, s));
         }
     }
     return arr;

@@ -17,8 +17,9 @@
  *        "textures": [ { "slot", "image", "name", "width", "height", "channels",
  *                        "wrap_s", "wrap_t", "reads" } ], (slot: "baseColor", "normal", ..., or an
  *                                                         extension texture's key; reads: the
- *                                                         channels it is read in, "RGB", "GB",
- *                                                         "RGBA" for a MASK or BLEND base colour)
+ *                                                         channels any material reads of it,
+ *                                                         "RGB", "GB", "RGBA" for a MASK or
+ *                                                         BLEND base colour)
  *        "covered_texels", "overlap_texels", "packing_efficiency", "texel_area", "area_3d",
  *        "degenerate", "degenerate_3d", "degenerate_uv", "flipped", "overlapping", "wrapped"
  *     } ] }

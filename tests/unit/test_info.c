@@ -93,6 +93,45 @@ TEST(extension_textures_are_listed_under_their_key)
     texopt_model_destroy(model);
 }
 
+/* The quad's second triangle as a primitive of its own with a copy of the material. */
+static int split_into_two_materials(texopt_model *m)
+{
+    texopt_primitive *prims = realloc(m->primitives, 2 * sizeof *prims);
+    if (prims)
+        m->primitives = prims;
+    texopt_material *mats = realloc(m->materials, 2 * sizeof *mats);
+    if (mats)
+        m->materials = mats;
+    if (!prims || !mats)
+        return -1;
+    mats[1] = mats[0];
+    m->material_count = 2;
+    prims[1] = prims[0];
+    m->primitive_count = 2;
+    prims[0].triangle_count = 1;
+    prims[1].first_triangle = 1;
+    prims[1].triangle_count = 1;
+    prims[1].material = 1;
+    return texopt_model_build_domains(m, NULL, 0) == TEXOPT_OK ? 0 : -1;
+}
+
+TEST(a_texture_two_materials_share_reads_what_either_reads)
+{
+    texopt_model *model = fixture_textured_quad(16, "gradient");
+    CHECK(model != NULL && split_into_two_materials(model) == 0);
+    model->materials[1].alpha_mode = TEXOPT_ALPHA_BLEND;
+    cJSON *doc = NULL;
+    char err[256] = "";
+    CHECK_OK(texopt_info_json(model, &doc, err, sizeof err), err);
+    CHECK_EQ_INT(cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(doc, "domains")), 1);
+    const cJSON *textures = cJSON_GetObjectItemCaseSensitive(domain(doc, 0), "textures");
+    CHECK_EQ_INT(cJSON_GetArraySize(textures), 1);
+    /* The OPAQUE material comes first and reads RGB; the BLEND one adds its alpha. */
+    CHECK(strcmp(str(cJSON_GetArrayItem(textures, 0), "reads"), "RGBA") == 0);
+    cJSON_Delete(doc);
+    texopt_model_destroy(model);
+}
+
 TEST(mirrored_and_wrapped_layout_is_reported)
 {
     /* Quad A on the UV square; quad B elsewhere in 3D, mirrored onto the same square and
