@@ -115,21 +115,32 @@ static int split_into_two_materials(texopt_model *m)
     return texopt_model_build_domains(m, NULL, 0) == TEXOPT_OK ? 0 : -1;
 }
 
-TEST(a_texture_two_materials_share_reads_what_either_reads)
+/* The reads of the quad's one texture when its two triangles' materials have these modes. */
+static void check_shared_reads(texopt_alpha_mode first, texopt_alpha_mode second, const char *want)
 {
     texopt_model *model = fixture_textured_quad(16, "gradient");
     CHECK(model != NULL && split_into_two_materials(model) == 0);
-    model->materials[1].alpha_mode = TEXOPT_ALPHA_BLEND;
+    model->materials[0].alpha_mode = first;
+    model->materials[1].alpha_mode = second;
     cJSON *doc = NULL;
     char err[256] = "";
     CHECK_OK(texopt_info_json(model, &doc, err, sizeof err), err);
     CHECK_EQ_INT(cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(doc, "domains")), 1);
     const cJSON *textures = cJSON_GetObjectItemCaseSensitive(domain(doc, 0), "textures");
     CHECK_EQ_INT(cJSON_GetArraySize(textures), 1);
-    /* The OPAQUE material comes first and reads RGB; the BLEND one adds its alpha. */
-    CHECK(strcmp(str(cJSON_GetArrayItem(textures, 0), "reads"), "RGBA") == 0);
+    const char *reads = str(cJSON_GetArrayItem(textures, 0), "reads");
+    CHECK_MSG(strcmp(reads, want) == 0, "modes %d, %d: reads %s, not %s", (int)first, (int)second, reads, want);
     cJSON_Delete(doc);
     texopt_model_destroy(model);
+}
+
+/* Whichever material comes first, a base colour that one material cuts out by its alpha
+ * is read in RGBA. */
+TEST(a_texture_two_materials_share_reads_what_either_reads)
+{
+    check_shared_reads(TEXOPT_ALPHA_OPAQUE, TEXOPT_ALPHA_BLEND, "RGBA");
+    check_shared_reads(TEXOPT_ALPHA_MASK, TEXOPT_ALPHA_OPAQUE, "RGBA");
+    check_shared_reads(TEXOPT_ALPHA_OPAQUE, TEXOPT_ALPHA_OPAQUE, "RGB");
 }
 
 TEST(mirrored_and_wrapped_layout_is_reported)
