@@ -36,13 +36,15 @@ static void usage(FILE *out)
             "  --resolution N      evaluation render side (default: 1.25 sqrt(covered texels))\n"
             "  --mipmap            prefiltered (mip-mapped) lookups, not bilinear: q measures\n"
             "                      with them and perceptual tunes its layout for them\n"
-            "  --texture SLOT      what q measures, as texopt evaluate --texture: a texture slot\n"
-            "                      (default baseColor) or lit (every map under one light); the\n"
-            "                      methods still lay out by their own rules\n"
-            "  --every-texture     also measure q on every other texture slot IN has (normal,\n"
-            "                      metallicRoughness, ...) and, when IN has a map besides base\n"
-            "                      colour, lit (texopt evaluate --texture lit): printed as one\n"
-            "                      table each and in the JSON as q_by_texture\n"
+            "  --texture NAME      what q measures, as texopt evaluate --texture: a texture\n"
+            "                      (default baseColor; an extension's by its key) or lit (every\n"
+            "                      core map under one light); the methods still lay out by\n"
+            "                      their own rules\n"
+            "  --every-texture     also measure q on every other texture IN has (normal,\n"
+            "                      metallicRoughness, ..., clearcoatTexture, ...) and, when IN\n"
+            "                      has a map besides base colour, lit (texopt evaluate\n"
+            "                      --texture lit): printed as one table each and in the JSON\n"
+            "                      as q_by_texture\n"
             "  --iterations N      most stage-1 polish iterations per triangle (default 100)\n"
             "  --epsilon E         perceptual loss threshold of stage 1 (default 0.03)\n"
             "  --lambda-min L      smallest per-axis scale stage 1 may choose, in (0, 1)\n"
@@ -105,14 +107,14 @@ static void show_progress(void *user, const texopt_progress *p)
         fprintf(stderr, "compare: %3.0f%% of the methods done\n", 100.0 * p->stage_fraction);
 }
 
-/* q of one slot: the headline table, or with --every-texture one more per slot. */
-static void print_slot_table(const texopt_compare_result *r, int slot, const double *costs, int cost_count)
+/* q of one measure: the headline table, or with --every-texture one more per texture. */
+static void print_measure_table(const texopt_compare_result *r, int measure, const double *costs, int cost_count)
 {
     int several = 0;
     for (int s = 0; s < TEXOPT_COMPARE_MEASURES; s++)
-        several += r->slot_measured[s] != 0;
+        several += r->texture_measured[s] != 0;
     if (several > 1)
-        printf("%sq on %s:\n", slot == r->measure ? "" : "\n", texopt_compare_measure_name(slot));
+        printf("%sq on %s:\n", measure == r->measure ? "" : "\n", texopt_compare_measure_name(measure));
     printf("%-11s", "method");
     for (int c = 0; c < cost_count; c++)
         printf("  c_r=%-6.2f", costs[c]);
@@ -122,7 +124,7 @@ static void print_slot_table(const texopt_compare_result *r, int slot, const dou
         for (int c = 0; c < r->curves[m].point_count; c++) {
             const texopt_compare_point *p = &r->curves[m].points[c];
             if (p->status == TEXOPT_OK)
-                printf("  %-10.5f", p->q_by_slot[slot]);
+                printf("  %-10.5f", p->q_by_texture[measure]);
             else
                 printf("  %-10s", "failed");
         }
@@ -132,10 +134,10 @@ static void print_slot_table(const texopt_compare_result *r, int slot, const dou
 
 static void print_table(const texopt_compare_result *r, const double *costs, int cost_count)
 {
-    print_slot_table(r, r->measure, costs, cost_count);
+    print_measure_table(r, r->measure, costs, cost_count);
     for (int s = 0; s < TEXOPT_COMPARE_MEASURES; s++)
-        if (r->slot_measured[s] && s != r->measure)
-            print_slot_table(r, s, costs, cost_count);
+        if (r->texture_measured[s] && s != r->measure)
+            print_measure_table(r, s, costs, cost_count);
     for (int m = 0; m < r->curve_count; m++)
         for (int c = 0; c < r->curves[m].point_count; c++) {
             const texopt_compare_point *p = &r->curves[m].points[c];
@@ -176,7 +178,7 @@ int cmd_compare(int argc, char **argv)
             opt.evaluate.mipmapped = 1;
             takes = 0;
         } else if (!strcmp(a, "--every-texture")) {
-            opt.every_slot = 1;
+            opt.every_texture = 1;
             takes = 0;
         } else if (!strcmp(a, "--reuse-layout")) {
             opt.reuse_layout = 1;

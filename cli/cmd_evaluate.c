@@ -1,5 +1,5 @@
 /* cmd_evaluate.c - `texopt evaluate IN OUT.glb [--resolution N] [--threads T] [--mipmap]
- * [--texture SLOT|lit] [--json]`.
+ * [--texture NAME|lit] [--json]`.
  *
  * Compares any two models with the same triangles (an input and texopt's output, or the
  * output of another tool): the whole-mesh perceptual loss q of Sun et al. 2022, section 5.1
@@ -21,7 +21,7 @@ static void usage(FILE *out)
 {
     fprintf(out,
             "usage: texopt evaluate IN OUT.glb [--resolution N] [--threads T] [--mipmap]\n"
-            "                      [--texture SLOT|lit] [--json]\n"
+            "                      [--texture NAME|lit] [--json]\n"
             "\n"
             "Renders IN and OUT from 20 cameras around the model and prints their whole-mesh\n"
             "perceptual loss q (GMSD, 0 = identical; Sun et al. 2022, section 5.1) and the cost\n"
@@ -32,10 +32,13 @@ static void usage(FILE *out)
             "                   the input texture at about one texel per pixel)\n"
             "  --threads T      views rendered in parallel (default 2)\n"
             "  --mipmap         prefiltered (mip-mapped, anisotropic) lookups instead of bilinear\n"
-            "  --texture SLOT   the material texture both renders show: baseColor (default),\n"
+            "  --texture NAME   the material texture both renders show: baseColor (default),\n"
             "                   normal, metallicRoughness, occlusion or emissive (also base,\n"
-            "                   mr, ao); a data texture's RGB encoding is compared as an image.\n"
-            "                   IN must have a texture in SLOT (base colour excepted).\n"
+            "                   mr, ao), or a material extension's by its key, such as\n"
+            "                   clearcoatTexture or sheenColorTexture; a data texture's\n"
+            "                   encoding is compared as an image, in the channels it is read\n"
+            "                   in (occlusion R, metallicRoughness G and B, specularTexture A).\n"
+            "                   IN must have the texture (base colour excepted).\n"
             "                   lit: the model lit by one light per view and a grey sky from\n"
             "                   base colour, metallic-roughness (a specular highlight),\n"
             "                   normal, occlusion and emissive maps (engine/lit_shade.h)\n"
@@ -115,7 +118,8 @@ int cmd_evaluate(int argc, char **argv)
             const char *name = i + 1 < argc ? argv[i + 1] : NULL;
             if (texopt_evaluate_select_measure(&opt, name) != 0) {
                 fprintf(stderr, "texopt evaluate: --texture needs baseColor, normal, metallicRoughness, "
-                                "occlusion, emissive or lit\n");
+                                "occlusion, emissive, an extension texture's key (clearcoatTexture...) or "
+                                "lit\n");
                 return EXIT_USAGE;
             }
             i++;

@@ -80,44 +80,44 @@ static double pick_showcase(const texopt_compare_options *opt)
     return best;
 }
 
-/* The measure q reports: opt->evaluate's slot, or lit. */
+/* The measure q reports: opt->evaluate's texture, or lit. */
 static int headline_measure(const texopt_compare_options *opt)
 {
-    return opt->evaluate.lit ? TEXOPT_COMPARE_LIT : (int)opt->evaluate.slot;
+    return opt->evaluate.lit ? TEXOPT_COMPARE_LIT : opt->evaluate.texture;
 }
 
-/* q of every measure in `slots` (the headline one, headline_measure, always among them) into
- * pt->q_by_slot; the per-triangle errors, when tri_err is not NULL, and *headline are the
+/* q of every measure in `measures` (the headline one, headline_measure, always among them) into
+ * pt->q_by_texture; the per-triangle errors, when tri_err is not NULL, and *headline are the
  * headline's. */
-static texopt_status measure_slots(const texopt_model *input, const texopt_model *out,
-                                   const texopt_compare_options *opt, const int *slots, double *tri_err,
+static texopt_status measure_textures(const texopt_model *input, const texopt_model *out,
+                                   const texopt_compare_options *opt, const int *measures, double *tri_err,
                                    texopt_compare_point *pt, texopt_evaluation *headline)
 {
     texopt_status st = TEXOPT_OK;
     for (int s = 0; s < TEXOPT_COMPARE_MEASURES && st == TEXOPT_OK; s++) {
-        if (!slots[s])
+        if (!measures[s])
             continue;
         texopt_evaluate_options eo = opt->evaluate;
         eo.lit = s == TEXOPT_COMPARE_LIT;
-        eo.slot = eo.lit ? TEXOPT_SLOT_BASE_COLOR : (texopt_slot)s;
+        eo.texture = eo.lit ? TEXOPT_SLOT_BASE_COLOR : s;
         eo.triangle_error = s == headline_measure(opt) ? tri_err : NULL;
         eo.monitor = opt->monitor;
         texopt_evaluation ev;
         st = texopt_evaluate(input, out, &eo, &ev, pt->message, sizeof pt->message);
         if (st == TEXOPT_OK)
-            pt->q_by_slot[s] = ev.q;
+            pt->q_by_texture[s] = ev.q;
         if (st == TEXOPT_OK && s == headline_measure(opt))
             *headline = ev;
     }
     return st;
 }
 
-/* Loads the output at glb, evaluates it against the input in every slot of `slots` and fills
+/* Loads the output at glb, evaluates it against the input in every measure of `measures` and fills
  * pt (q, achieved cost, texture memory). With keep, the loaded model is handed to *model and
- * the per-triangle errors (headline slot) written to tri_err. *ev is the headline's
+ * the per-triangle errors (headline measure) written to tri_err. *ev is the headline's
  * evaluation. */
 static texopt_status measure_output(const texopt_model *input, const texopt_cost *input_cost,
-                                    const texopt_compare_options *opt, const int *slots,
+                                    const texopt_compare_options *opt, const int *measures,
                                     const char *glb, int keep, texopt_compare_point *pt,
                                     texopt_model **model, double *tri_err, texopt_evaluation *ev)
 {
@@ -128,13 +128,13 @@ static texopt_status measure_output(const texopt_model *input, const texopt_cost
     texopt_cost cost_out;
     double t0 = now_seconds();
     if (st == TEXOPT_OK)
-        st = measure_slots(input, out, opt, slots, keep ? tri_err : NULL, pt, ev);
+        st = measure_textures(input, out, opt, measures, keep ? tri_err : NULL, pt, ev);
     if (st == TEXOPT_OK)
         st = texopt_evaluate_cost(out, &cost_out, msg, len);
     pt->seconds_evaluate = now_seconds() - t0;
     pt->status = st;
     if (st == TEXOPT_OK) {
-        pt->q = pt->q_by_slot[headline_measure(opt)];
+        pt->q = pt->q_by_texture[headline_measure(opt)];
         pt->cost_achieved = input_cost->covered_texels
                                 ? (double)cost_out.covered_texels / (double)input_cost->covered_texels
                                 : 0;
@@ -181,7 +181,7 @@ static void point_init(texopt_compare_point *pt, double cost)
     pt->cost_requested = cost;
     pt->q = NAN;
     for (int s = 0; s < TEXOPT_COMPARE_MEASURES; s++)
-        pt->q_by_slot[s] = NAN;
+        pt->q_by_texture[s] = NAN;
 }
 
 typedef struct run_ctx {
@@ -189,7 +189,7 @@ typedef struct run_ctx {
     const texopt_model *input;
     const texopt_cost *input_cost;
     const texopt_compare_options *opt;
-    const int *slots; /* texopt_compare_result.slot_measured */
+    const int *measures; /* texopt_compare_result.texture_measured */
     double showcase_cost;
     const char *tmp_glb, *layout_glb;
 } run_ctx;
@@ -204,7 +204,7 @@ static texopt_status measure_point(const run_ctx *x, texopt_compare_curve *curve
     if (keep && !(tri_err = calloc(x->input->triangle_count ? x->input->triangle_count : 1, sizeof *tri_err)))
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for triangle errors");
     texopt_evaluation ev;
-    texopt_status st = measure_output(x->input, x->input_cost, x->opt, x->slots, glb, keep, pt, &curve->showcase,
+    texopt_status st = measure_output(x->input, x->input_cost, x->opt, x->measures, glb, keep, pt, &curve->showcase,
                                       tri_err, &ev);
     if (keep && st == TEXOPT_OK) {
         curve->showcase_triangle_error = tri_err;
@@ -309,15 +309,14 @@ static void report_progress(const texopt_compare_options *opt, int done, int tot
     texopt_monitor_report(opt->monitor, &p);
 }
 
-static void mark_measured_slots(const texopt_model *input, const texopt_compare_options *opt, int *measured)
+static void mark_measured_textures(const texopt_model *input, const texopt_compare_options *opt, int *measured)
 {
-    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++)
-        measured[s] = s == headline_measure(opt) ||
-                      (opt->every_slot && texopt_meshrender_has_texture(input, (texopt_slot)s));
+    for (int s = 0; s < TEXOPT_TEXTURE_KEY_COUNT; s++)
+        measured[s] = s == headline_measure(opt) || (opt->every_texture && texopt_meshrender_has_texture(input, s));
     /* Without a map that lighting reads besides base colour, lit would be base colour's q
      * through a shading both renders share: nothing new, unless asked for. */
     measured[TEXOPT_COMPARE_LIT] =
-        headline_measure(opt) == TEXOPT_COMPARE_LIT || (opt->every_slot && texopt_lit_has_maps(input));
+        headline_measure(opt) == TEXOPT_COMPARE_LIT || (opt->every_texture && texopt_lit_has_maps(input));
 }
 
 static texopt_status make_work_dir(const texopt_compare_options *opt, char *dir, size_t len,
@@ -348,14 +347,14 @@ texopt_status texopt_compare(const char *input_path, const texopt_compare_option
     st = texopt_model_load(&r.input, input_path, NULL, err, err_len);
     if (st == TEXOPT_OK)
         st = opt->evaluate.lit ? texopt_evaluate_check_lit(r.input, err, err_len)
-                               : texopt_evaluate_check_slot(r.input, opt->evaluate.slot, err, err_len);
+                               : texopt_evaluate_check_texture(r.input, opt->evaluate.texture, err, err_len);
     if (st == TEXOPT_OK)
         st = texopt_evaluate_cost(r.input, &r.input_cost, err, err_len);
     r.resolution = opt->evaluate.resolution;
     r.mipmapped = opt->evaluate.mipmapped != 0;
     r.measure = headline_measure(opt);
     if (st == TEXOPT_OK)
-        mark_measured_slots(r.input, opt, r.slot_measured);
+        mark_measured_textures(r.input, opt, r.texture_measured);
     if (st == TEXOPT_OK && r.resolution == 0)
         st = texopt_evaluate_default_resolution(r.input, &r.resolution, err, err_len);
     char dir[1024] = "", tmp_glb[1100];
@@ -370,7 +369,7 @@ texopt_status texopt_compare(const char *input_path, const texopt_compare_option
     snprintf(layout_glb, sizeof layout_glb, "%s/layout.glb", dir);
     texopt_compare_options o = *opt;
     o.evaluate.resolution = r.resolution;
-    run_ctx x = {input_path, r.input, &r.input_cost, &o, r.slot_measured, r.showcase_cost, tmp_glb, layout_glb};
+    run_ctx x = {input_path, r.input, &r.input_cost, &o, r.texture_measured, r.showcase_cost, tmp_glb, layout_glb};
     r.curve_count = opt->method_count;
     for (int m = 0; m < opt->method_count && st == TEXOPT_OK; m++) {
         texopt_compare_curve *curve = &r.curves[m];
@@ -400,24 +399,24 @@ texopt_status texopt_compare(const char *input_path, const texopt_compare_option
 
 const char *texopt_compare_measure_name(int m)
 {
-    return m == TEXOPT_COMPARE_LIT ? "lit" : texopt_slot_name((texopt_slot)m);
+    return m == TEXOPT_COMPARE_LIT ? "lit" : texopt_texture_key_name(m);
 }
 
-/* "q_by_texture": {slot name: q} when more than the headline slot was measured. */
-static void add_q_by_slot(cJSON *o, const texopt_compare_point *pt, const int *slots)
+/* "q_by_texture": {texture name: q} when more than the headline measure was measured. */
+static void add_q_by_texture(cJSON *o, const texopt_compare_point *pt, const int *measures)
 {
     int n = 0;
     for (int s = 0; s < TEXOPT_COMPARE_MEASURES; s++)
-        n += slots[s] != 0;
+        n += measures[s] != 0;
     if (n < 2)
         return;
     cJSON *by = cJSON_AddObjectToObject(o, "q_by_texture");
     for (int s = 0; by && s < TEXOPT_COMPARE_MEASURES; s++)
-        if (slots[s])
-            cJSON_AddNumberToObject(by, texopt_compare_measure_name(s), pt->q_by_slot[s]);
+        if (measures[s])
+            cJSON_AddNumberToObject(by, texopt_compare_measure_name(s), pt->q_by_texture[s]);
 }
 
-static cJSON *point_json(const texopt_compare_point *pt, const int *slots)
+static cJSON *point_json(const texopt_compare_point *pt, const int *measures)
 {
     cJSON *o = cJSON_CreateObject();
     cJSON_AddNumberToObject(o, "cost_requested", pt->cost_requested);
@@ -428,7 +427,7 @@ static cJSON *point_json(const texopt_compare_point *pt, const int *slots)
         cJSON_AddNumberToObject(o, "packing_efficiency", pt->packing_efficiency);
         cJSON_AddNumberToObject(o, "seconds_optimize", pt->seconds_optimize);
         cJSON_AddNumberToObject(o, "seconds_evaluate", pt->seconds_evaluate);
-        add_q_by_slot(o, pt, slots);
+        add_q_by_texture(o, pt, measures);
     } else {
         cJSON_AddStringToObject(o, "error", texopt_strerror(pt->status));
         cJSON_AddStringToObject(o, "message", pt->message);
@@ -454,7 +453,7 @@ texopt_status texopt_compare_write_json(const texopt_compare_result *r, const ch
     for (int c = 0; c < r->curve_count; c++) {
         cJSON *arr = cJSON_AddArrayToObject(curves, texopt_method_name(r->curves[c].method));
         for (int i = 0; i < r->curves[c].point_count; i++)
-            cJSON_AddItemToArray(arr, point_json(&r->curves[c].points[i], r->slot_measured));
+            cJSON_AddItemToArray(arr, point_json(&r->curves[c].points[i], r->texture_measured));
     }
     char *text = cJSON_Print(root);
     cJSON_Delete(root);

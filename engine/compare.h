@@ -37,18 +37,20 @@
 
 #define TEXOPT_COMPARE_MAX_COSTS 16
 
-/* The measures a point can hold: one per texture slot (texopt_slot), then the lit luma of
- * all maps (evaluate.h `lit`) at index TEXOPT_COMPARE_LIT, named "lit". */
-#define TEXOPT_COMPARE_LIT TEXOPT_SLOT_COUNT
-#define TEXOPT_COMPARE_MEASURES (TEXOPT_SLOT_COUNT + 1)
+/* The measures a point can hold: one per texture (texture_keys.h: the core slots, then the
+ * extensions' textures), then the lit luma of all maps (evaluate.h `lit`) at index
+ * TEXOPT_COMPARE_LIT, named "lit". */
+#define TEXOPT_COMPARE_LIT TEXOPT_TEXTURE_KEY_COUNT
+#define TEXOPT_COMPARE_MEASURES (TEXOPT_TEXTURE_KEY_COUNT + 1)
 
 typedef struct texopt_compare_point {
     double cost_requested;    /* c_r asked of the pipeline */
     double cost_achieved;     /* covered texels of the output / of the input */
     double q;                 /* whole-mesh loss against the input */
-    double q_by_slot[TEXOPT_COMPARE_MEASURES]; /* q of each measure the result measured
-                                                  (texopt_compare_result.slot_measured; the
-                                                  headline slot's entry is q); NAN elsewhere */
+    double q_by_texture[TEXOPT_COMPARE_MEASURES]; /* q of each measure the result measured
+                                                  (texopt_compare_result.texture_measured; the
+                                                  headline measure's entry is q); NAN
+                                                  elsewhere */
     uint64_t texture_pixels;  /* texture memory of the output */
     double packing_efficiency;
     double seconds_optimize, seconds_evaluate;
@@ -77,17 +79,18 @@ typedef struct texopt_compare_options {
     int cost_count;
     double showcase_cost;          /* the cost whose outputs are kept for the report; 0 ->
                                       the listed cost closest to 0.3 */
-    texopt_evaluate_options evaluate; /* resolution, threads, lookups and the texture slot or
-                                         lit that q measures (triangle_error ignored) */
+    texopt_evaluate_options evaluate; /* resolution, threads, lookups and the texture or lit
+                                         that q measures (triangle_error ignored) */
     const char *work_dir;          /* temporary outputs; NULL -> $TMPDIR or /tmp */
     int reuse_layout;              /* nonzero: each layout once, smaller costs resampled (fast,
                                       pessimistic for layout methods); 0: one run per point */
-    int every_slot;                /* nonzero: besides q's measure, q of every other slot in
-                                      which the input has a texture (q_by_slot), and lit when
-                                      it has a map besides base colour: the methods
-                                      lay out for different signals (ssp and tewari read base
-                                      colour, perceptual every texture), so one slot's q does
-                                      not rank them on a model with several maps */
+    int every_texture;             /* nonzero: besides q's measure, q of every other texture
+                                      the input's materials bind (q_by_texture, extension
+                                      textures too), and lit when it has a map besides base
+                                      colour: the methods lay out for different signals (ssp
+                                      and tewari read base colour, perceptual every texture),
+                                      so one texture's q does not rank them on a model with
+                                      several maps */
     const texopt_monitor *monitor; /* cancel flag; progress as stage "compare" (per method) */
     /* NULL, or method_count entries: a non-NULL one is an existing output of that method at
      * costs[0] (e.g. a service job's result), measured instead of running the pipeline again;
@@ -100,12 +103,12 @@ typedef struct texopt_compare_result {
     texopt_compare_curve curves[TEXOPT_METHOD_COUNT];
     int resolution;           /* evaluation screen side */
     int mipmapped;            /* evaluated with mip-mapped lookups (evaluate.h) */
-    int measure;              /* what q measured: a texture slot (evaluate.h; base colour by
+    int measure;              /* what q measured: a texture (texture_keys.h; base colour by
                                  default) or TEXOPT_COMPARE_LIT */
-    int slot_measured[TEXOPT_COMPARE_MEASURES]; /* nonzero for the measures in the points'
-                                                   q_by_slot: `measure`, and with every_slot
-                                                   each other one the input has a texture
-                                                   in, and lit (texopt_lit_has_maps) */
+    int texture_measured[TEXOPT_COMPARE_MEASURES]; /* nonzero for the measures in the points'
+                                                   q_by_texture: `measure`, and with
+                                                   every_texture each other texture the
+                                                   input binds, and lit (texopt_lit_has_maps) */
     double showcase_cost;
     texopt_cost input_cost;
     texopt_model *input;      /* the input, loaded */
@@ -120,7 +123,7 @@ texopt_status texopt_compare(const char *input_path, const texopt_compare_option
 
 void texopt_compare_result_destroy(texopt_compare_result *result);
 
-/* The name of measure m of q_by_slot: the slot's (texopt_slot_name), or "lit". */
+/* The name of measure m of q_by_texture: the texture's (texopt_texture_key_name), or "lit". */
 const char *texopt_compare_measure_name(int m);
 
 /* Writes the curves as JSON (temp + fsync + rename). */

@@ -5,11 +5,11 @@
  * mask is that coverage, and the reference side of GMSD is prepared once per view. Views are
  * independent and run on `threads` workers, each with its own raster, images and GMSD
  * workspace; results are written to per-view slots, so the sum is the same for any thread
- * count. The texture slot (base colour by default) changes which binding meshrender shades
- * and, for normal maps, turns the candidate's XY per triangle back to the reference's
- * tangent frame (evaluate.h); lit evaluation shades every map through lit_shade.h with the
- * same turns. Does not: render with OSMesa (see meshrender.c for why), look at two slots at
- * once. */
+ * count. The texture (base colour by default; texture_keys.h) changes which binding
+ * meshrender shades and, for normal maps, turns the candidate's XY per triangle back to the
+ * reference's tangent frame (evaluate.h); lit evaluation shades every map through
+ * lit_shade.h with the same turns. Does not: render with OSMesa (see meshrender.c for why),
+ * look at two textures at once. */
 #include "evaluate.h"
 
 #include <math.h>
@@ -65,48 +65,43 @@ static texopt_status domains_distortion(const texopt_model *model, double *out, 
     return TEXOPT_OK;
 }
 
-texopt_slot texopt_evaluate_slot_from_name(const char *name)
+int texopt_evaluate_texture_from_name(const char *name)
 {
     static const struct {
         const char *name;
         texopt_slot slot;
     } short_names[] = {{"base", TEXOPT_SLOT_BASE_COLOR}, {"mr", TEXOPT_SLOT_METALLIC_ROUGHNESS},
                        {"ao", TEXOPT_SLOT_OCCLUSION}};
-    if (!name)
-        return TEXOPT_SLOT_COUNT;
-    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++)
-        if (!strcasecmp(name, texopt_slot_name((texopt_slot)s)))
-            return (texopt_slot)s;
-    for (size_t i = 0; i < sizeof short_names / sizeof short_names[0]; i++)
+    for (size_t i = 0; name && i < sizeof short_names / sizeof short_names[0]; i++)
         if (!strcasecmp(name, short_names[i].name))
             return short_names[i].slot;
-    return TEXOPT_SLOT_COUNT;
+    return texopt_texture_key_from_name(name);
 }
 
 int texopt_evaluate_select_measure(texopt_evaluate_options *opt, const char *name)
 {
     int lit = name && !strcasecmp(name, "lit");
-    texopt_slot slot = lit ? TEXOPT_SLOT_BASE_COLOR : texopt_evaluate_slot_from_name(name);
-    if (slot == TEXOPT_SLOT_COUNT)
+    int texture = lit ? TEXOPT_SLOT_BASE_COLOR : texopt_evaluate_texture_from_name(name);
+    if (texture < 0)
         return -1;
     opt->lit = lit;
-    opt->slot = slot;
+    opt->texture = texture;
     return 0;
 }
 
 const char *texopt_evaluate_measure_name(const texopt_evaluate_options *opt)
 {
-    return opt->lit ? "lit" : texopt_slot_name(opt->slot);
+    return opt->lit ? "lit" : texopt_texture_key_name(opt->texture);
 }
 
-texopt_status texopt_evaluate_check_slot(const texopt_model *reference, texopt_slot slot, char *err, size_t err_len)
+texopt_status texopt_evaluate_check_texture(const texopt_model *reference, int texture, char *err, size_t err_len)
 {
-    if ((int)slot < 0 || slot >= TEXOPT_SLOT_COUNT)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "unknown texture slot %d", (int)slot);
-    if (slot != TEXOPT_SLOT_BASE_COLOR && !texopt_meshrender_has_texture(reference, slot))
+    if (texture < 0 || texture >= TEXOPT_TEXTURE_KEY_COUNT)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "unknown texture %d", texture);
+    if (texture != TEXOPT_SLOT_BASE_COLOR && !texopt_meshrender_has_texture(reference, texture))
         return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
                            "the reference has no %s texture (read through TEXCOORD_0) to evaluate",
-                           texopt_slot_name(slot));
+                           texopt_texture_key_name(texture));
     return TEXOPT_OK;
 }
 
@@ -167,7 +162,7 @@ typedef struct eval_job {
     int view_count;
     int side;
     int threads;
-    texopt_slot slot;
+    int texture; /* texture_keys.h */
     texopt_lit_frames *lit; /* the reference's tangent frames when lit, NULL otherwise */
     atomic_int next_view;
     atomic_int failed;
@@ -197,20 +192,20 @@ struct texopt_evaluate_reference {
     float *luma; /* view_count x side x side */
 };
 
-/* Mip pyramids of every image the evaluated slot's bindings use (every slot lighting reads
+/* Mip pyramids of every image the evaluated texture's bindings use (every slot lighting reads
  * when lit), with their wrap modes. */
-static texopt_status build_filters(const texopt_model *m, texopt_slot slot, int lit, texopt_texture_filter ***out,
+static texopt_status build_filters(const texopt_model *m, int texture, int lit, texopt_texture_filter ***out,
                                    char *err, size_t err_len)
 {
     texopt_texture_filter **f = calloc(m->image_count > 0 ? (size_t)m->image_count : 1, sizeof *f);
     if (!f)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for texture filters");
     *out = f;
-    for (int s = 0; s < TEXOPT_SLOT_COUNT; s++) {
-        if (!lit && s != (int)slot)
+    for (int k = 0; k < TEXOPT_TEXTURE_KEY_COUNT; k++) {
+        if (lit ? k >= TEXOPT_SLOT_COUNT : k != texture)
             continue;
         for (int p = 0; p < m->primitive_count; p++) {
-            const texopt_texture_ref *r = texopt_meshrender_binding(m, p, (texopt_slot)s);
+            const texopt_texture_ref *r = texopt_meshrender_binding(m, p, k);
             if (!r || f[r->image])
                 continue;
             texopt_status st = texopt_texture_filter_create(&f[r->image], &m->images[r->image], r->wrap_s,
@@ -280,14 +275,14 @@ static void account_triangle_error(eval_job *job, int v, const texopt_raster *ra
     }
 }
 
-/* One model's luma of a raster: the evaluated slot, or lit. */
+/* One model's luma of a raster: the evaluated texture, or lit. */
 static texopt_status shade_luma(const eval_job *job, const texopt_model *model, const texopt_raster *raster,
                                 texopt_texture_filter *const *filters, const double *turn, view_buffers *b,
                                 float *luma, char *msg, size_t msg_len)
 {
     if (job->lit)
         return texopt_lit_shade(model, raster, job->lit, filters, turn, b->scratch, luma, msg, msg_len);
-    return texopt_meshrender_shade_luma(model, raster, job->slot, filters, turn, luma, msg, msg_len);
+    return texopt_meshrender_shade_luma(model, raster, job->texture, filters, turn, luma, msg, msg_len);
 }
 
 /* Renders one view of the reference once (raster, shading or the kept shading, GMSD
@@ -401,7 +396,7 @@ static texopt_status build_all_filters(eval_job *job, int reference_too, char *e
 {
     int lit = job->lit != NULL;
     texopt_status st =
-        reference_too ? build_filters(job->reference, job->slot, lit, &job->ref_filters, err, err_len) : TEXOPT_OK;
+        reference_too ? build_filters(job->reference, job->texture, lit, &job->ref_filters, err, err_len) : TEXOPT_OK;
     if (st == TEXOPT_OK) {
         job->cand_filters = calloc((size_t)(job->candidate_count > 0 ? job->candidate_count : 1),
                                    sizeof *job->cand_filters);
@@ -409,7 +404,7 @@ static texopt_status build_all_filters(eval_job *job, int reference_too, char *e
             st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for texture filters");
     }
     for (int c = 0; c < job->candidate_count && st == TEXOPT_OK; c++)
-        st = build_filters(job->candidates[c], job->slot, lit, &job->cand_filters[c], err, err_len);
+        st = build_filters(job->candidates[c], job->texture, lit, &job->cand_filters[c], err, err_len);
     return st;
 }
 
@@ -451,16 +446,16 @@ static void triangle_turn(const texopt_model *reference, const texopt_model *can
 
 /* The normal-map turns of one candidate (see evaluate.h): per triangle, none where the
  * candidate's primitive stores tangents (the re-bake did not turn those either). */
-static texopt_status candidate_turns(const texopt_model *reference, const texopt_model *candidate, double **out,
-                                     char *err, size_t err_len)
+static texopt_status candidate_turns(const texopt_model *reference, const texopt_model *candidate, int normal_map,
+                                     double **out, char *err, size_t err_len)
 {
     size_t tc = reference->triangle_count;
     const texopt_texture_ref **ref_map = NULL, **cand_map = NULL;
     double *turn = malloc((tc ? tc : 1) * 2 * sizeof *turn);
-    texopt_status st = turn ? texopt_meshrender_triangle_bindings(reference, TEXOPT_SLOT_NORMAL, &ref_map, err, err_len)
+    texopt_status st = turn ? texopt_meshrender_triangle_bindings(reference, normal_map, &ref_map, err, err_len)
                             : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the normal-map turns");
     if (st == TEXOPT_OK)
-        st = texopt_meshrender_triangle_bindings(candidate, TEXOPT_SLOT_NORMAL, &cand_map, err, err_len);
+        st = texopt_meshrender_triangle_bindings(candidate, normal_map, &cand_map, err, err_len);
     for (int p = 0; p < candidate->primitive_count && st == TEXOPT_OK; p++) {
         const texopt_primitive *prim = &candidate->primitives[p];
         if (!stores_tangents(reference, candidate, p))
@@ -480,14 +475,14 @@ static texopt_status candidate_turns(const texopt_model *reference, const texopt
     return TEXOPT_OK;
 }
 
-static texopt_status build_all_turns(eval_job *job, char *err, size_t err_len)
+static texopt_status build_all_turns(eval_job *job, int normal_map, char *err, size_t err_len)
 {
     job->cand_turns = calloc((size_t)(job->candidate_count > 0 ? job->candidate_count : 1), sizeof *job->cand_turns);
     if (!job->cand_turns)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the normal-map turns");
     texopt_status st = TEXOPT_OK;
     for (int c = 0; c < job->candidate_count && st == TEXOPT_OK; c++)
-        st = candidate_turns(job->reference, job->candidates[c], &job->cand_turns[c], err, err_len);
+        st = candidate_turns(job->reference, job->candidates[c], normal_map, &job->cand_turns[c], err, err_len);
     return st;
 }
 
@@ -507,7 +502,7 @@ static texopt_status prepare_views(const texopt_model *reference, const texopt_m
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "resolution %d is outside [8, 16384]", opt->resolution);
     texopt_status st = opt->lit ? texopt_evaluate_check_lit(reference, err, err_len)
-                                : texopt_evaluate_check_slot(reference, opt->slot, err, err_len);
+                                : texopt_evaluate_check_texture(reference, opt->texture, err, err_len);
     if (st != TEXOPT_OK)
         return st;
     if (opt->triangle_error && count != 1)
@@ -566,7 +561,7 @@ static int same_reference_views(const texopt_evaluate_reference *kept, const tex
     const texopt_evaluate_options *o = &kept->opt;
     return kept->model == reference && kept->side == side && kept->view_count == view_count &&
            o->cameras == opt->cameras && !o->mipmapped == !opt->mipmapped && !o->lit == !opt->lit &&
-           (opt->lit || o->slot == opt->slot);
+           (opt->lit || o->texture == opt->texture);
 }
 
 /* The evaluation of candidates against the reference (none when only its views are kept
@@ -604,7 +599,7 @@ static texopt_status run_evaluation(const texopt_model *reference, const texopt_
     job.views = views;
     job.view_count = view_count;
     job.side = side;
-    job.slot = opt->slot;
+    job.texture = opt->texture;
     job.triangle_error_edges = opt->triangle_error_edges;
     job.threads = opt->threads <= 0 ? 1 : (opt->threads > view_count ? view_count : opt->threads);
     job.monitor = opt->monitor;
@@ -620,8 +615,8 @@ static texopt_status run_evaluation(const texopt_model *reference, const texopt_
         st = texopt_lit_frames_create(reference, &job.lit, err, err_len);
     if (st == TEXOPT_OK && opt->mipmapped)
         st = build_all_filters(&job, !kept, err, err_len);
-    if (st == TEXOPT_OK && (opt->lit || opt->slot == TEXOPT_SLOT_NORMAL))
-        st = build_all_turns(&job, err, err_len);
+    if (st == TEXOPT_OK && (opt->lit || texopt_texture_key_kind(opt->texture) == TEXOPT_TEXTURE_NORMAL))
+        st = build_all_turns(&job, opt->lit ? TEXOPT_SLOT_NORMAL : opt->texture, err, err_len);
     size_t tc = reference->triangle_count;
     if (st == TEXOPT_OK && opt->triangle_error) {
         job.triangle_error_sum = calloc((size_t)view_count * tc, sizeof(double));

@@ -14,12 +14,15 @@
  * Lookups are bilinear by default (the paper's setting); with `mipmapped` both renders use
  * the prefiltered lookups of texture_filter.h, reported separately.
  *
- * Texture: base colour by default (the paper's q, what every benchmark reports). `slot`
- * measures another texture of the material instead (normal, metallic-roughness, occlusion,
- * emissive), as stage 1 treats each signal "in its own encoding": the data texture's RGB
- * encoding is rendered and compared as if it were a colour image (luma, GMSD), not lit.
- * (Stage 1 compares a data texture per channel; one luma mixes the channels, so detail in a
- * channel that luma weighs little, such as blue, counts less here.)
+ * Texture: base colour by default (the paper's q, what every benchmark reports). `texture`
+ * measures another texture of the material instead (texture_keys.h: normal,
+ * metallic-roughness, occlusion, emissive, or a material extension's such as
+ * clearcoatTexture), as stage 1 treats each signal "in its own encoding": a texture read in
+ * R, G and B is rendered and compared as if it were a colour image (luma, GMSD), not lit; one
+ * read in fewer channels as the grey mean of those (occlusion R, metallic-roughness G and B,
+ * specular A), so the other channels of an image it shares do not count. (Stage 1 compares a
+ * data texture per channel; one grey mixes them, so metallic-roughness detail where roughness
+ * and metalness change in opposite directions counts less here.)
  *
  * Normal maps are compared in one tangent frame, the reference's. A renderer derives the
  * tangents of a primitive without TANGENT from its UVs, so a layout that rotates a triangle
@@ -29,25 +32,25 @@
  * reference's attributes), the looked-up XY is turned back by the rotation of that
  * triangle's map reference texel -> candidate texel (the two normal images' sizes and UVs;
  * texel_map.h, the re-bake's own function), before the luma. With stored tangents nothing
- * is turned, as the re-bake turned nothing. Normal-slot q then says how much of the map's
- * detail survived as a renderer would shade it, up to lighting; a map that was not turned
- * where it had to be scores worse. Other slots are not turned.
- * Triangles whose material has no texture in the slot are mid grey in both renders, as
- * untextured triangles are for base colour. A reference with no texture
- * at all in a slot other than base colour is refused (TEXOPT_E_UNSUPPORTED, naming the
- * slot): q would be 0 and look like a perfect result. (Base colour keeps its old rule, q of
+ * is turned, as the re-bake turned nothing. Normal-map q (normal, clearcoatNormalTexture) then
+ * says how much of the map's detail survived as a renderer would shade it, up to lighting; a
+ * map that was not turned where it had to be scores worse. Other textures are not turned.
+ * Triangles whose material has no such texture are mid grey in both renders, as
+ * untextured triangles are for base colour. A reference with no such texture
+ * at all, for any texture but base colour, is refused (TEXOPT_E_UNSUPPORTED, naming the
+ * texture): q would be 0 and look like a perfect result. (Base colour keeps its old rule, q of
  * grey against grey, because the pipeline evaluates every model by it.) A candidate without
  * the texture is measured: mid grey against the reference's map.
  *
- * Lit (option `lit`): instead of one slot, the luma of the model lit by one light and a sky
+ * Lit (option `lit`): instead of one texture, the luma of the model lit by one light and a sky
  * from every map that shades it (lit_shade.h: base colour, metallic-roughness with a specular
  * highlight, the normal map turned back to the reference's tangent frame as above, occlusion,
- * emissive): what a user sees of all the textures a layout re-bakes. An option beside `slot`
- * rather than a slot of its own, because texopt_slot names a material's textures and lit
- * reads all five. A reference with no texture in any of them is refused
- * (TEXOPT_E_UNSUPPORTED), as a slot without one: q would be 0 for any layout.
+ * emissive): what a core slot's texture shows a user, the extensions' not lit. An option
+ * beside `texture` rather than a texture of its own, because a texture key names one of a
+ * material's textures and lit reads five. A reference with no texture in any of them is
+ * refused (TEXOPT_E_UNSUPPORTED), as a texture without one: q would be 0 for any layout.
  *
- * Does not: optimise or bake, or look at more than one slot per call. */
+ * Does not: optimise or bake, or look at more than one texture per call. */
 #ifndef TEXOPT_EVALUATE_H
 #define TEXOPT_EVALUATE_H
 
@@ -58,6 +61,7 @@
 #include "model.h"
 #include "monitor.h"
 #include "status.h"
+#include "texture_keys.h"
 
 /* The reference's shaded views, kept (texopt_evaluate_reference_create). */
 typedef struct texopt_evaluate_reference texopt_evaluate_reference;
@@ -83,10 +87,11 @@ typedef struct texopt_evaluate_options {
     /* Which cameras (meshrender.h): 0, the dodecahedron's 20, is q as the paper and the
      * benchmark define it; the icosahedron's 12 are for tuning a layout on other views. */
     texopt_camera_set cameras;
-    /* The texture both renders shade (see the top of this file); TEXOPT_SLOT_BASE_COLOR (0)
-     * is the paper's q. */
-    texopt_slot slot;
-    /* Nonzero: the lit luma of every map (see the top of this file); `slot` is then not read. */
+    /* The texture both renders shade, a texture_keys.h key (see the top of this file);
+     * TEXOPT_SLOT_BASE_COLOR (0) is the paper's q. */
+    int texture;
+    /* Nonzero: the lit luma of every map (see the top of this file); `texture` is then not
+     * read. */
     int lit;
     /* When not NULL: the reference's views as texopt_evaluate_reference_create shaded them,
      * read instead of shading the reference again; made from the same reference with the
@@ -114,21 +119,21 @@ typedef struct texopt_cost {
                                     counted triangles; +inf with a flipped triangle */
 } texopt_cost;
 
-/* The slot a user names: a glTF material field ("baseColor", "normal", "metallicRoughness",
- * "occlusion", "emissive", case-insensitive) or a short name ("base", "mr", "ao"); NULL or
- * unknown -> TEXOPT_SLOT_COUNT. */
-texopt_slot texopt_evaluate_slot_from_name(const char *name);
+/* The texture a user names: a glTF material field ("baseColor", "normal", "metallicRoughness",
+ * "occlusion", "emissive"), an extension texture's ("clearcoatTexture", texture_keys.h), both
+ * case-insensitive, or a short name ("base", "mr", "ao"); NULL or unknown -> -1. */
+int texopt_evaluate_texture_from_name(const char *name);
 
-/* What a user asks q to measure: a slot name as above, or "lit" (case-insensitive). Sets
- * opt->slot and opt->lit and returns 0; -1 for NULL or an unknown name (opt unchanged). */
+/* What a user asks q to measure: a texture name as above, or "lit" (case-insensitive). Sets
+ * opt->texture and opt->lit and returns 0; -1 for NULL or an unknown name (opt unchanged). */
 int texopt_evaluate_select_measure(texopt_evaluate_options *opt, const char *name);
 
-/* The name of what opt measures, as the JSON and the tools write it: "lit" or the slot's. */
+/* The name of what opt measures, as the JSON and the tools write it: "lit" or the texture's. */
 const char *texopt_evaluate_measure_name(const texopt_evaluate_options *opt);
 
-/* Succeeds when `slot` can be evaluated against this reference: a known slot, and for any
- * slot but base colour a texture in it somewhere (the refusal described at the top). */
-texopt_status texopt_evaluate_check_slot(const texopt_model *reference, texopt_slot slot, char *err, size_t err_len);
+/* Succeeds when `texture` can be evaluated against this reference: a known key, and for any
+ * but base colour a material binding it somewhere (the refusal described at the top). */
+texopt_status texopt_evaluate_check_texture(const texopt_model *reference, int texture, char *err, size_t err_len);
 
 /* Succeeds when the lit luma can be evaluated against this reference: a texture in base
  * colour, metallic-roughness, normal, occlusion or emissive somewhere (the refusal described

@@ -20,14 +20,15 @@
  * Mip-mapped shading (optional, reported separately by the evaluation) uses the prefiltered
  * lookups of texture_filter.h with the per-triangle screen-to-texel Jacobian.
  *
- * The luma shading reads any one texture slot of the material (base colour, or a data
- * texture such as the normal map, whose RGB encoding is then shaded as if it were a colour
- * image, its XY turned per triangle when the caller asks: texel_map.h); the RGB shadings
+ * The luma shading reads any one texture of the material (texture_keys.h: base colour, or a
+ * data texture such as the normal map, whose RGB encoding is then shaded as if it were a colour
+ * image, its XY turned per triangle when the caller asks: texel_map.h; a texture read in fewer
+ * than its three colour channels shows the mean of those it is read in); the RGB shadings
  * read base colour, what the report shows.
  *
  * Base colour's alpha, where a material shows it (alphaMode MASK or BLEND), cuts or blends the
  * surface over a mid-grey backdrop (composite_cut_out says why a backdrop), so a layout is
- * judged on its cut-outs' edges too; other slots and OPAQUE materials ignore alpha.
+ * judged on its cut-outs' edges too; other textures and OPAQUE materials ignore alpha.
  *
  * Does not: light (lit_shade.h does, from these shadings), see through a cut-out to the
  * surfaces behind it, decode normals or channels, choose the turns (evaluate.c), or compare
@@ -40,6 +41,7 @@
 #include <string.h>
 
 #include "sample.h"
+#include "texture_keys.h"
 #include "texel_map.h"
 #include "texture_filter.h"
 #include "vec3.h"
@@ -256,28 +258,28 @@ texopt_status texopt_meshrender_rasterize(const texopt_model *model, const texop
     return TEXOPT_OK;
 }
 
-const texopt_texture_ref *texopt_meshrender_binding(const texopt_model *model, int primitive, texopt_slot slot)
+const texopt_texture_ref *texopt_meshrender_binding(const texopt_model *model, int primitive, int texture)
 {
-    if (primitive < 0 || primitive >= model->primitive_count || (int)slot < 0 || slot >= TEXOPT_SLOT_COUNT)
+    if (primitive < 0 || primitive >= model->primitive_count)
         return NULL;
     int mat = model->primitives[primitive].material;
     if (mat < 0 || mat >= model->material_count)
         return NULL;
-    const texopt_texture_ref *r = &model->materials[mat].slot[slot];
-    if (r->image < 0 || r->image >= model->image_count || r->texcoord != 0 || !model->images[r->image].pixels)
+    const texopt_texture_ref *r = texopt_material_texture(&model->materials[mat], texture);
+    if (!r || r->image < 0 || r->image >= model->image_count || r->texcoord != 0 || !model->images[r->image].pixels)
         return NULL;
     return r;
 }
 
-int texopt_meshrender_has_texture(const texopt_model *model, texopt_slot slot)
+int texopt_meshrender_has_texture(const texopt_model *model, int texture)
 {
     for (int p = 0; model && p < model->primitive_count; p++)
-        if (texopt_meshrender_binding(model, p, slot))
+        if (texopt_meshrender_binding(model, p, texture))
             return 1;
     return 0;
 }
 
-texopt_status texopt_meshrender_triangle_bindings(const texopt_model *model, texopt_slot slot,
+texopt_status texopt_meshrender_triangle_bindings(const texopt_model *model, int texture,
                                                  const texopt_texture_ref ***out, char *err, size_t err_len)
 {
     const texopt_texture_ref **ref = calloc(model->triangle_count ? model->triangle_count : 1, sizeof *ref);
@@ -285,7 +287,7 @@ texopt_status texopt_meshrender_triangle_bindings(const texopt_model *model, tex
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the triangle materials");
     for (int p = 0; p < model->primitive_count; p++) {
         const texopt_primitive *prim = &model->primitives[p];
-        const texopt_texture_ref *r = texopt_meshrender_binding(model, p, slot);
+        const texopt_texture_ref *r = texopt_meshrender_binding(model, p, texture);
         if (!r)
             continue;
         for (size_t t = prim->first_triangle;
@@ -345,8 +347,35 @@ static void to_rgb(const float *texel, int channels, float *rgb)
     }
 }
 
-/* Shades every pixel of the raster into out: 3 floats (RGB) per pixel, or with `luma` the
- * luma of those RGB values (texopt_luma), 1 float per pixel; background pixels are 0. */
+/* Texel channel c (0-3, RGBA) of a texel with img_channels channels: grey for R, G and B of a
+ * one- or two-channel image, alpha 1 where the image has none. */
+static float texel_channel(const float *texel, int img_channels, int c)
+{
+    if (c == 3)
+        return img_channels == 2 || img_channels == 4 ? texel[img_channels - 1] : 1.0f;
+    return img_channels >= 3 ? texel[c] : texel[0];
+}
+
+/* The grey a luma shading shows of a texel whose binding reads `channels` (TEXOPT_CHANNEL_*):
+ * the luma of its RGB when it reads all three, else the mean of the channels it reads, so a
+ * map whose numbers are in one channel (occlusion's R, specular's A) is judged on that
+ * channel, not on whatever the others of a shared image hold. */
+static float texel_grey(const float *texel, int img_channels, unsigned channels, const float rgb[3])
+{
+    if ((channels & TEXOPT_CHANNELS_RGB) == TEXOPT_CHANNELS_RGB)
+        return texopt_luma(rgb, 3);
+    float sum = 0.0f;
+    int n = 0;
+    for (int c = 0; c < 4; c++)
+        if ((channels >> c) & 1u) {
+            sum += texel_channel(texel, img_channels, c);
+            n++;
+        }
+    return n ? sum / (float)n : texopt_luma(rgb, 3);
+}
+
+/* Stores a shaded pixel into out: 3 floats (RGB) per pixel, or with `luma` one grey float
+ * (texopt_luma of the RGB for a colour texture); background pixels are 0. */
 static void store_pixel(const float rgb[3], int luma, float *px)
 {
     if (luma) {
@@ -389,14 +418,14 @@ static void composite_cut_out(const texopt_material *mat, float alpha, float rgb
         rgb[k] = a * rgb[k] + (1.0f - a) * 0.5f;
 }
 
-static texopt_status shade_pixels(const texopt_model *model, const texopt_raster *raster, texopt_slot slot,
+static texopt_status shade_pixels(const texopt_model *model, const texopt_raster *raster, int texture,
                                   struct texopt_texture_filter *const *filters, const double *turn, int luma,
                                   float *out, char *err, size_t err_len)
 {
     if (!model || !raster || !raster->triangle || !out)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "nothing to shade");
-    if ((int)slot < 0 || slot >= TEXOPT_SLOT_COUNT)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "unknown texture slot %d", (int)slot);
+    if (texture < 0 || texture >= TEXOPT_TEXTURE_KEY_COUNT)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "unknown texture %d", texture);
     if (!model->uvs)
         return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "model has no TEXCOORD_0 to shade with");
     for (size_t t = 0; t < model->triangle_count; t++)
@@ -406,14 +435,15 @@ static texopt_status shade_pixels(const texopt_model *model, const texopt_raster
                                    "triangle %zu names a vertex past the vertex count", t);
     const texopt_texture_ref **ref = NULL;
     const texopt_material **cut_out = NULL;
-    texopt_status st = texopt_meshrender_triangle_bindings(model, slot, &ref, err, err_len);
-    if (st == TEXOPT_OK && slot == TEXOPT_SLOT_BASE_COLOR)
+    texopt_status st = texopt_meshrender_triangle_bindings(model, texture, &ref, err, err_len);
+    if (st == TEXOPT_OK && texture == TEXOPT_SLOT_BASE_COLOR)
         st = triangle_cut_outs(model, &cut_out, err, err_len);
     if (st != TEXOPT_OK) {
         free(ref);
         return st;
     }
     int stride = luma ? 1 : 3;
+    unsigned channels = texopt_texture_key_channels(texture);
     size_t n = (size_t)raster->side * (size_t)raster->side;
     int32_t jac_tri = -1; /* the triangle whose footprint jac holds */
     double jac[4] = {1, 0, 0, 1};
@@ -454,7 +484,10 @@ static texopt_status shade_pixels(const texopt_model *model, const texopt_raster
         to_rgb(texel, img->channels, rgb);
         if (cut_out && cut_out[tri] && (img->channels == 2 || img->channels == 4))
             composite_cut_out(cut_out[tri], texel[img->channels - 1], rgb);
-        store_pixel(rgb, luma, px);
+        if (luma)
+            px[0] = texel_grey(texel, img->channels, channels, rgb);
+        else
+            store_pixel(rgb, 0, px);
     }
     free(ref);
     free(cut_out);
@@ -489,18 +522,18 @@ texopt_status texopt_meshrender_shade_filtered(const texopt_model *model, const 
     return shade(model, raster, filters, out, err, err_len);
 }
 
-texopt_status texopt_meshrender_shade_luma(const texopt_model *model, const texopt_raster *raster, texopt_slot slot,
+texopt_status texopt_meshrender_shade_luma(const texopt_model *model, const texopt_raster *raster, int texture,
                                            struct texopt_texture_filter *const *filters, const double *normal_turn,
                                            float *luma, char *err, size_t err_len)
 {
-    return shade_pixels(model, raster, slot, filters, normal_turn, 1, luma, err, err_len);
+    return shade_pixels(model, raster, texture, filters, normal_turn, 1, luma, err, err_len);
 }
 
-texopt_status texopt_meshrender_shade_rgb(const texopt_model *model, const texopt_raster *raster, texopt_slot slot,
+texopt_status texopt_meshrender_shade_rgb(const texopt_model *model, const texopt_raster *raster, int texture,
                                           struct texopt_texture_filter *const *filters, const double *normal_turn,
                                           float *rgb, char *err, size_t err_len)
 {
-    return shade_pixels(model, raster, slot, filters, normal_turn, 0, rgb, err, err_len);
+    return shade_pixels(model, raster, texture, filters, normal_turn, 0, rgb, err, err_len);
 }
 
 texopt_status texopt_meshrender_same_geometry(const texopt_model *reference,

@@ -90,41 +90,43 @@ texopt_status texopt_meshrender_shade_filtered(const texopt_model *model, const 
                                                texopt_image *out, char *err, size_t err_len);
 
 /* As texopt_meshrender_shade_filtered (filters may be NULL: bilinear), writing only each
- * pixel's luma into the caller's side x side floats: what the evaluation compares, without
- * an RGB image. The texture read is the material's `slot` (the shading functions above read
- * TEXOPT_SLOT_BASE_COLOR; with it this gives texopt_luma of the RGB they write, the same
- * bits). Any other slot is shaded exactly the same way: its RGB encoding as if it were a
- * colour image (a normal map's XYZ as RGB, metallic-roughness's unused/roughness/metallic),
- * and triangles whose material has no texture in the slot are mid grey. Base colour of a
- * material whose alphaMode is MASK or BLEND is cut or blended by its alpha over mid grey
- * (meshrender.c); other slots ignore alpha. normal_turn (NULL:
- * none) holds per model triangle a rotation (cos, sin) by which each looked-up texel's first
- * two channels, an encoded tangent-space XY, are turned (texopt_normal_turn) before the luma:
- * how the evaluation brings a re-baked normal map back to the reference's tangent frame. */
-texopt_status texopt_meshrender_shade_luma(const texopt_model *model, const texopt_raster *raster, texopt_slot slot,
+ * pixel's grey into the caller's side x side floats: what the evaluation compares, without
+ * an RGB image. The texture read is the material's `texture`, a key of texture_keys.h (a
+ * texopt_slot, or an extension texture such as clearcoatTexture). TEXOPT_SLOT_BASE_COLOR
+ * gives texopt_luma of the RGB the shading functions above write, the same bits. Any other
+ * texture read in R, G and B is shaded exactly the same way, its RGB encoding as if it were a
+ * colour image (a normal map's XYZ as RGB); one read in fewer channels shows the mean of those
+ * (occlusion's R, metallic-roughness's G and B, specular's A). Triangles whose material has no
+ * such texture are mid grey. Base colour of a material whose alphaMode is MASK or BLEND is cut
+ * or blended by its alpha over mid grey (meshrender.c); other textures ignore alpha unless
+ * they are read in it. normal_turn (NULL: none) holds per model triangle a rotation (cos, sin)
+ * by which each looked-up texel's first two channels, an encoded tangent-space XY, are turned
+ * (texopt_normal_turn) before the grey: how the evaluation brings a re-baked normal map back
+ * to the reference's tangent frame. */
+texopt_status texopt_meshrender_shade_luma(const texopt_model *model, const texopt_raster *raster, int texture,
                                            struct texopt_texture_filter *const *filters, const double *normal_turn,
                                            float *luma, char *err, size_t err_len);
 
 /* As texopt_meshrender_shade_luma, writing each pixel's RGB (3 floats, a one-channel texture
  * repeated) into the caller's side x side x 3 floats: what a shading that decodes the texels
- * itself (lit_shade.h) reads. Where the material has no texture in `slot` the pixel is mid
- * grey, as there. */
-texopt_status texopt_meshrender_shade_rgb(const texopt_model *model, const texopt_raster *raster, texopt_slot slot,
+ * itself (lit_shade.h) reads. Where the material has no such texture the pixel is mid grey,
+ * as there. */
+texopt_status texopt_meshrender_shade_rgb(const texopt_model *model, const texopt_raster *raster, int texture,
                                           struct texopt_texture_filter *const *filters, const double *normal_turn,
                                           float *rgb, char *err, size_t err_len);
 
-/* The texture binding of `slot` that shades primitive's triangles: its material's, when it
- * names a decoded image through TEXCOORD_0; NULL otherwise (mid grey). */
-const texopt_texture_ref *texopt_meshrender_binding(const texopt_model *model, int primitive, texopt_slot slot);
+/* The binding of `texture` (a texture_keys.h key) that shades primitive's triangles: its
+ * material's, when it names a decoded image through TEXCOORD_0; NULL otherwise (mid grey). */
+const texopt_texture_ref *texopt_meshrender_binding(const texopt_model *model, int primitive, int texture);
 
-/* Per model triangle, the binding of `slot` that shades it (texopt_meshrender_binding of its
- * primitive; NULL: mid grey), in *out (triangle_count entries, allocated here; the caller
+/* Per model triangle, the binding of `texture` that shades it (texopt_meshrender_binding of
+ * its primitive; NULL: mid grey), in *out (triangle_count entries, allocated here; the caller
  * frees it). */
-texopt_status texopt_meshrender_triangle_bindings(const texopt_model *model, texopt_slot slot,
+texopt_status texopt_meshrender_triangle_bindings(const texopt_model *model, int texture,
                                                  const texopt_texture_ref ***out, char *err, size_t err_len);
 
-/* Nonzero when some primitive of the model is shaded from a texture in `slot`. */
-int texopt_meshrender_has_texture(const texopt_model *model, texopt_slot slot);
+/* Nonzero when some primitive of the model is shaded from its material's `texture`. */
+int texopt_meshrender_has_texture(const texopt_model *model, int texture);
 
 /* Succeeds when candidate has the same triangles as reference: equal triangle count and every
  * corner at the same position (within 1e-5 of the bounding-box diagonal). The message names

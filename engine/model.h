@@ -69,8 +69,9 @@ typedef enum texopt_alpha_mode {
 #define TEXOPT_EXTRA_TEXTURES_MAX 16
 
 /* A texture that a material extension binds through TEXCOORD_0 (clearcoat, sheen,
- * specular...): laid out and re-baked with the slots' textures, but not rendered by the
- * whole-mesh evaluation or the lit loss, which know the core slots only. */
+ * specular...; texture_keys.h lists those texopt knows): laid out and re-baked with the slots'
+ * textures, measured by the whole-mesh evaluation when asked for by its key, not rendered by
+ * the lit loss, which knows the core slots only. */
 typedef struct texopt_extra_texture {
     texopt_texture_ref ref;
     texopt_texture_kind kind;

@@ -1,35 +1,6 @@
 /* gltf_extension_textures.cpp - see gltf_extension_textures.hpp. */
 #include "gltf_extension_textures.hpp"
 
-namespace {
-
-struct known_texture {
-    const char *extension, *key;
-    texopt_texture_kind kind;
-    unsigned channels; /* where its extension stores its numbers */
-};
-
-/* Colour textures hold sRGB colours; the others numbers in the channels their extension names
- * (specular strength, sheen roughness and diffuse transmission in alpha). */
-const known_texture known[] = {
-    {"KHR_materials_clearcoat", "clearcoatTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_R},
-    {"KHR_materials_clearcoat", "clearcoatRoughnessTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_G},
-    {"KHR_materials_clearcoat", "clearcoatNormalTexture", TEXOPT_TEXTURE_NORMAL, TEXOPT_CHANNELS_RGB},
-    {"KHR_materials_sheen", "sheenColorTexture", TEXOPT_TEXTURE_COLOR, TEXOPT_CHANNELS_RGB},
-    {"KHR_materials_sheen", "sheenRoughnessTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_A},
-    {"KHR_materials_specular", "specularTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_A},
-    {"KHR_materials_specular", "specularColorTexture", TEXOPT_TEXTURE_COLOR, TEXOPT_CHANNELS_RGB},
-    {"KHR_materials_transmission", "transmissionTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_R},
-    {"KHR_materials_volume", "thicknessTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_G},
-    {"KHR_materials_iridescence", "iridescenceTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_R},
-    {"KHR_materials_iridescence", "iridescenceThicknessTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_G},
-    {"KHR_materials_diffuse_transmission", "diffuseTransmissionTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_A},
-    {"KHR_materials_diffuse_transmission", "diffuseTransmissionColorTexture", TEXOPT_TEXTURE_COLOR,
-     TEXOPT_CHANNELS_RGB},
-};
-
-} // namespace
-
 bool gltf_is_texture_info(const std::string &key, const tinygltf::Value &v, int *texcoord)
 {
     const char suffix[] = "Texture";
@@ -44,14 +15,13 @@ bool gltf_is_texture_info(const std::string &key, const tinygltf::Value &v, int 
 bool gltf_known_extension_texture(const std::string &extension, const std::string &key,
                                   texopt_texture_kind *kind, unsigned *channels, const char **name)
 {
-    for (const known_texture &k : known)
-        if (extension == k.extension && key == k.key) {
-            *kind = k.kind;
-            *channels = k.channels;
-            *name = k.key;
-            return true;
-        }
-    return false;
+    int k = texopt_texture_key_of_extension(extension.c_str(), key.c_str());
+    if (k < 0)
+        return false;
+    *kind = texopt_texture_key_kind(k);
+    *channels = texopt_texture_key_channels(k);
+    *name = texopt_texture_key_name(k);
+    return true;
 }
 
 namespace {

@@ -1,6 +1,6 @@
-/* gltf_extension_textures.hpp - the textures of material extensions (clearcoat, sheen,
- * specular...) that texopt lays out and re-bakes beside the core slots, and where a
- * material's extension objects hold them.
+/* gltf_extension_textures.hpp - where a material's extension objects hold the textures of
+ * material extensions (clearcoat, sheen, specular...) that texopt lays out and re-bakes beside
+ * the core slots (the known ones: texture_keys.h).
  *
  * A known one is a textureInfo directly under its extension's object (KHR_materials_clearcoat's
  * clearcoatNormalTexture); each has a kind (model.h texopt_texture_kind). Anything else shaped
@@ -21,6 +21,7 @@
 
 extern "C" {
 #include "model.h"
+#include "texture_keys.h"
 }
 
 /* Whether v, under `key`, is a textureInfo: an object with an integer "index" under a key

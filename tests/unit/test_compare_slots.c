@@ -1,8 +1,8 @@
-/* test_compare_slots.c - compare's q of every texture slot (engine/compare.h every_slot), on
- * a generated quad whose base colour is detailed and whose normal map is flat: a downscale
+/* test_compare_slots.c - compare's q of every texture (engine/compare.h every_texture), on a
+ * generated quad whose base colour is detailed and whose normal map is flat: a downscale
  * loses base-colour detail and none of the normal map's, so the two q must differ, and a
- * slot the input does not use must not be measured; lit (the input has a normal map) is, and
- * may be q's own measure. */
+ * texture the input does not use must not be measured; a material extension's (sheen) is;
+ * lit (the input has a normal map) is, and may be q's own measure. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,8 +12,8 @@
 #include "gltf_builder.h"
 #include "test.h"
 
-/* The builder's quad (a 64 x 64 texture where every texel differs) plus a flat 64 x 64
- * normal map, written as a .glb into dir; path receives its name. */
+/* The builder's quad (a 64 x 64 texture where every texel differs, also its sheen colour map)
+ * plus a flat 64 x 64 normal map, written as a .glb into dir; path receives its name. */
 static int write_quad_with_flat_normal_map(const char *dir, char *path, size_t len)
 {
     quad_doc doc;
@@ -42,7 +42,10 @@ static int write_quad_with_flat_normal_map(const char *dir, char *path, size_t l
          builder_replace(&doc.json, "\"textures\":[{\"source\":0,\"sampler\":0}]",
                          "\"textures\":[{\"source\":0,\"sampler\":0},{\"source\":1,\"sampler\":0}]") &&
          builder_replace(&doc.json, "\"baseColorTexture\":{\"index\":0}}",
-                         "\"baseColorTexture\":{\"index\":0}},\"normalTexture\":{\"index\":1}");
+                         "\"baseColorTexture\":{\"index\":0}},\"normalTexture\":{\"index\":1},"
+                         "\"extensions\":{\"KHR_materials_sheen\":{\"sheenColorTexture\":{\"index\":0}}}") &&
+         builder_replace(&doc.json, "\"asset\":{\"version\":\"2.0\"},",
+                         "\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_materials_sheen\"],");
     size_t glb_len = 0;
     unsigned char *glb = ok ? builder_glb(doc.json, doc.bin, doc.bin_len, &glb_len) : NULL;
     snprintf(path, len, "%s/quad.glb", dir);
@@ -52,7 +55,7 @@ static int write_quad_with_flat_normal_map(const char *dir, char *path, size_t l
     return ok;
 }
 
-static texopt_status compare_input_method(const char *path, int every_slot, const char *measure,
+static texopt_status compare_input_method(const char *path, int every_texture, const char *measure,
                                           texopt_compare_result *r, char *err, size_t err_len)
 {
     static const texopt_method methods[] = {TEXOPT_METHOD_INPUT};
@@ -65,7 +68,7 @@ static texopt_status compare_input_method(const char *path, int every_slot, cons
     opt.cost_count = 1;
     opt.evaluate.resolution = 128;
     opt.evaluate.threads = 2;
-    opt.every_slot = every_slot;
+    opt.every_texture = every_texture;
     if (texopt_evaluate_select_measure(&opt.evaluate, measure) != 0)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "unknown measure %s", measure);
     return texopt_compare(path, &opt, r, err, err_len);
@@ -88,7 +91,7 @@ static void compare_json_text(const texopt_compare_result *r, const char *dir, c
     *len = n;
 }
 
-TEST(every_slot_measures_each_texture_the_input_has)
+TEST(every_texture_is_measured_that_the_input_has)
 {
     char dir[64], path[128], err[512] = "";
     CHECK(builder_tempdir(dir));
@@ -97,21 +100,27 @@ TEST(every_slot_measures_each_texture_the_input_has)
     CHECK_OK(compare_input_method(path, 1, "baseColor", &r, err, sizeof err), err);
     const texopt_compare_point *p = &r.curves[0].points[0];
     CHECK_MSG(p->status == TEXOPT_OK, "%s", p->message);
-    CHECK(r.slot_measured[TEXOPT_SLOT_BASE_COLOR] && r.slot_measured[TEXOPT_SLOT_NORMAL]);
-    CHECK(!r.slot_measured[TEXOPT_SLOT_METALLIC_ROUGHNESS] && !r.slot_measured[TEXOPT_SLOT_EMISSIVE]);
+    CHECK(r.texture_measured[TEXOPT_SLOT_BASE_COLOR] && r.texture_measured[TEXOPT_SLOT_NORMAL]);
+    CHECK(!r.texture_measured[TEXOPT_SLOT_METALLIC_ROUGHNESS] && !r.texture_measured[TEXOPT_SLOT_EMISSIVE]);
     /* The headline q is base colour's; the detailed texture loses a lot at a quarter of its
      * texels, the flat normal map nothing. */
-    CHECK(p->q_by_slot[TEXOPT_SLOT_BASE_COLOR] == p->q);
+    CHECK(p->q_by_texture[TEXOPT_SLOT_BASE_COLOR] == p->q);
     CHECK_MSG(p->q > 0.01, "base colour q %.5f", p->q);
-    CHECK_MSG(p->q_by_slot[TEXOPT_SLOT_NORMAL] < 1e-4, "normal q %.6f", p->q_by_slot[TEXOPT_SLOT_NORMAL]);
-    CHECK(isnan(p->q_by_slot[TEXOPT_SLOT_METALLIC_ROUGHNESS]));
+    CHECK_MSG(p->q_by_texture[TEXOPT_SLOT_NORMAL] < 1e-4, "normal q %.6f", p->q_by_texture[TEXOPT_SLOT_NORMAL]);
+    CHECK(isnan(p->q_by_texture[TEXOPT_SLOT_METALLIC_ROUGHNESS]));
     /* With a normal map lit is measured too: it sees the lost base-colour detail, shaded. */
-    CHECK(r.slot_measured[TEXOPT_COMPARE_LIT]);
-    CHECK_MSG(p->q_by_slot[TEXOPT_COMPARE_LIT] > 0.01, "lit q %.5f", p->q_by_slot[TEXOPT_COMPARE_LIT]);
+    CHECK(r.texture_measured[TEXOPT_COMPARE_LIT]);
+    CHECK_MSG(p->q_by_texture[TEXOPT_COMPARE_LIT] > 0.01, "lit q %.5f", p->q_by_texture[TEXOPT_COMPARE_LIT]);
+    /* The sheen map, a material extension's texture, is measured under its key: the same image
+     * as base colour, resized the same way. */
+    int sheen = texopt_texture_key_from_name("sheenColorTexture");
+    CHECK(r.texture_measured[sheen] && !r.texture_measured[texopt_texture_key_from_name("clearcoatTexture")]);
+    CHECK_MSG(p->q_by_texture[sheen] == p->q, "sheen q %.6f, base colour q %.6f", p->q_by_texture[sheen], p->q);
     char text[4096];
     size_t n;
     compare_json_text(&r, dir, text, sizeof text, &n);
     CHECK(strstr(text, "\"q_by_texture\"") != NULL && strstr(text, "\"normal\"") != NULL);
+    CHECK(strstr(text, "\"sheenColorTexture\"") != NULL);
     CHECK(strstr(text, "\"lit\"") != NULL);
     CHECK(strstr(text, "metallicRoughness") == NULL);
     texopt_compare_result_destroy(&r);
@@ -119,9 +128,9 @@ TEST(every_slot_measures_each_texture_the_input_has)
     /* Without the option only the headline slot is measured, and the JSON stays as it was. */
     CHECK_OK(compare_input_method(path, 0, "baseColor", &r, err, sizeof err), err);
     p = &r.curves[0].points[0];
-    CHECK(r.slot_measured[TEXOPT_SLOT_BASE_COLOR] && !r.slot_measured[TEXOPT_SLOT_NORMAL]);
-    CHECK(p->q_by_slot[TEXOPT_SLOT_BASE_COLOR] == p->q && isnan(p->q_by_slot[TEXOPT_SLOT_NORMAL]));
-    CHECK(!r.slot_measured[TEXOPT_COMPARE_LIT] && isnan(p->q_by_slot[TEXOPT_COMPARE_LIT]));
+    CHECK(r.texture_measured[TEXOPT_SLOT_BASE_COLOR] && !r.texture_measured[TEXOPT_SLOT_NORMAL]);
+    CHECK(p->q_by_texture[TEXOPT_SLOT_BASE_COLOR] == p->q && isnan(p->q_by_texture[TEXOPT_SLOT_NORMAL]));
+    CHECK(!r.texture_measured[TEXOPT_COMPARE_LIT] && isnan(p->q_by_texture[TEXOPT_COMPARE_LIT]));
     compare_json_text(&r, dir, text, sizeof text, &n);
     CHECK(n > 0 && strstr(text, "q_by_texture") == NULL);
     texopt_compare_result_destroy(&r);
@@ -129,7 +138,7 @@ TEST(every_slot_measures_each_texture_the_input_has)
 }
 
 /* q may measure lit itself (compare --texture lit): the headline is lit's q, nothing else is
- * measured without every_slot, and the JSON names it. */
+ * measured without every_texture, and the JSON names it. */
 TEST(lit_can_be_the_headline_measure)
 {
     char dir[64], path[128], err[512] = "";
@@ -139,9 +148,9 @@ TEST(lit_can_be_the_headline_measure)
     CHECK_OK(compare_input_method(path, 0, "LIT", &r, err, sizeof err), err);
     const texopt_compare_point *p = &r.curves[0].points[0];
     CHECK_MSG(p->status == TEXOPT_OK, "%s", p->message);
-    CHECK(r.measure == TEXOPT_COMPARE_LIT && r.slot_measured[TEXOPT_COMPARE_LIT]);
-    CHECK(!r.slot_measured[TEXOPT_SLOT_BASE_COLOR] && isnan(p->q_by_slot[TEXOPT_SLOT_BASE_COLOR]));
-    CHECK(p->q == p->q_by_slot[TEXOPT_COMPARE_LIT]);
+    CHECK(r.measure == TEXOPT_COMPARE_LIT && r.texture_measured[TEXOPT_COMPARE_LIT]);
+    CHECK(!r.texture_measured[TEXOPT_SLOT_BASE_COLOR] && isnan(p->q_by_texture[TEXOPT_SLOT_BASE_COLOR]));
+    CHECK(p->q == p->q_by_texture[TEXOPT_COMPARE_LIT]);
     CHECK_MSG(p->q > 0.01, "lit q %.5f", p->q);
     char text[4096];
     size_t n;

@@ -406,7 +406,7 @@ TEST(normal_slot_sees_the_normal_map_and_only_it)
     char err[256] = "";
     for (int mip = 0; mip <= 1; mip++) {
         texopt_evaluate_options base = {.resolution = 200, .threads = 2, .mipmapped = mip}, normal = base;
-        normal.slot = TEXOPT_SLOT_NORMAL;
+        normal.texture = TEXOPT_SLOT_NORMAL;
         texopt_evaluation self, n_of_n, b_of_n, n_of_b, b_of_b;
         CHECK_OK(texopt_evaluate(ref, ref, &normal, &self, err, sizeof err), err);
         CHECK_OK(texopt_evaluate(ref, coarse_normal, &normal, &n_of_n, err, sizeof err), err);
@@ -424,40 +424,90 @@ TEST(normal_slot_sees_the_normal_map_and_only_it)
     texopt_model_destroy(coarse_base);
 }
 
-/* A reference without the slot's texture is refused (its q would be a meaningless 0); a
- * candidate that lost it is measured as mid grey against the map. */
-TEST(a_slot_the_reference_lacks_is_refused)
+/* sphere_with_normal_map's second image bound as a sheen colour map instead. */
+static texopt_model *sphere_with_sheen_map(void)
+{
+    texopt_model *m = sphere_with_normal_map("checker");
+    if (m) {
+        texopt_material *mat = &m->materials[0];
+        mat->extra[0] = (texopt_extra_texture){mat->slot[TEXOPT_SLOT_NORMAL], TEXOPT_TEXTURE_COLOR,
+                                               TEXOPT_CHANNELS_RGB, "sheenColorTexture"};
+        mat->extra_count = 1;
+        mat->slot[TEXOPT_SLOT_NORMAL].image = -1;
+    }
+    return m;
+}
+
+/* A material extension's texture is measured by its key: a downscaled sheen map is seen
+ * there and not by base colour, a downscaled base colour the other way round. */
+TEST(an_extension_texture_is_measured_by_its_key)
+{
+    texopt_model *ref = sphere_with_sheen_map(), *coarse_sheen = sphere_with_sheen_map();
+    texopt_model *coarse_base = sphere_with_sheen_map();
+    CHECK(ref && coarse_sheen && coarse_base);
+    CHECK(shrink_texture(coarse_sheen, 1, 32) == 0);
+    CHECK(shrink_texture(coarse_base, 0, 32) == 0);
+    char err[256] = "";
+    texopt_evaluate_options base = {.resolution = 200, .threads = 2}, sheen = base;
+    CHECK(texopt_evaluate_select_measure(&sheen, "sheenColorTexture") == 0);
+    CHECK(strcmp(texopt_evaluate_measure_name(&sheen), "sheenColorTexture") == 0);
+    texopt_evaluation self, s_of_s, b_of_s, s_of_b;
+    CHECK_OK(texopt_evaluate(ref, ref, &sheen, &self, err, sizeof err), err);
+    CHECK_OK(texopt_evaluate(ref, coarse_sheen, &sheen, &s_of_s, err, sizeof err), err);
+    CHECK_OK(texopt_evaluate(ref, coarse_sheen, &base, &b_of_s, err, sizeof err), err);
+    CHECK_OK(texopt_evaluate(ref, coarse_base, &sheen, &s_of_b, err, sizeof err), err);
+    CHECK(self.q == 0.0);
+    CHECK_MSG(s_of_s.q > 0.05, "sheen map at 1/8: sheen q %.4f", s_of_s.q);
+    CHECK(b_of_s.q == 0.0);
+    CHECK(s_of_b.q == 0.0);
+    texopt_model_destroy(ref);
+    texopt_model_destroy(coarse_sheen);
+    texopt_model_destroy(coarse_base);
+}
+
+/* A reference without the texture is refused (its q would be a meaningless 0); a candidate
+ * that lost it is measured as mid grey against the map. */
+TEST(a_texture_the_reference_lacks_is_refused)
 {
     texopt_model *plain = detailed_sphere(), *mapped = sphere_with_normal_map("checker");
     CHECK(plain && mapped);
     char err[256] = "";
-    texopt_evaluate_options opt = {.resolution = 96, .slot = TEXOPT_SLOT_NORMAL};
+    texopt_evaluate_options opt = {.resolution = 96, .texture = TEXOPT_SLOT_NORMAL};
     texopt_evaluation ev;
     CHECK(texopt_evaluate(plain, plain, &opt, &ev, err, sizeof err) == TEXOPT_E_UNSUPPORTED);
     CHECK(strstr(err, "normal") != NULL);
     CHECK_OK(texopt_evaluate(mapped, plain, &opt, &ev, err, sizeof err), err);
     CHECK(ev.q > 0.05);
-    opt.slot = TEXOPT_SLOT_EMISSIVE;
+    opt.texture = TEXOPT_SLOT_EMISSIVE;
     CHECK(texopt_evaluate(mapped, mapped, &opt, &ev, err, sizeof err) == TEXOPT_E_UNSUPPORTED);
-    opt.slot = (texopt_slot)7;
+    opt.texture = texopt_texture_key_from_name("clearcoatTexture");
+    CHECK(texopt_evaluate(mapped, mapped, &opt, &ev, err, sizeof err) == TEXOPT_E_UNSUPPORTED);
+    CHECK(strstr(err, "clearcoatTexture") != NULL);
+    opt.texture = TEXOPT_TEXTURE_KEY_COUNT;
+    CHECK(texopt_evaluate(mapped, mapped, &opt, &ev, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    opt.texture = -1;
     CHECK(texopt_evaluate(mapped, mapped, &opt, &ev, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     texopt_model_destroy(plain);
     texopt_model_destroy(mapped);
 }
 
-TEST(slot_names_are_the_gltf_fields_and_short_forms)
+TEST(texture_names_are_the_gltf_fields_and_short_forms)
 {
-    CHECK_EQ_INT(texopt_evaluate_slot_from_name("baseColor"), TEXOPT_SLOT_BASE_COLOR);
-    CHECK_EQ_INT(texopt_evaluate_slot_from_name("base"), TEXOPT_SLOT_BASE_COLOR);
-    CHECK_EQ_INT(texopt_evaluate_slot_from_name("Normal"), TEXOPT_SLOT_NORMAL);
-    CHECK_EQ_INT(texopt_evaluate_slot_from_name("metallicroughness"), TEXOPT_SLOT_METALLIC_ROUGHNESS);
-    CHECK_EQ_INT(texopt_evaluate_slot_from_name("mr"), TEXOPT_SLOT_METALLIC_ROUGHNESS);
-    CHECK_EQ_INT(texopt_evaluate_slot_from_name("occlusion"), TEXOPT_SLOT_OCCLUSION);
-    CHECK_EQ_INT(texopt_evaluate_slot_from_name("ao"), TEXOPT_SLOT_OCCLUSION);
-    CHECK_EQ_INT(texopt_evaluate_slot_from_name("emissive"), TEXOPT_SLOT_EMISSIVE);
-    CHECK_EQ_INT(texopt_evaluate_slot_from_name("normals"), TEXOPT_SLOT_COUNT);
-    CHECK_EQ_INT(texopt_evaluate_slot_from_name(""), TEXOPT_SLOT_COUNT);
-    CHECK_EQ_INT(texopt_evaluate_slot_from_name(NULL), TEXOPT_SLOT_COUNT);
+    CHECK_EQ_INT(texopt_evaluate_texture_from_name("baseColor"), TEXOPT_SLOT_BASE_COLOR);
+    CHECK_EQ_INT(texopt_evaluate_texture_from_name("base"), TEXOPT_SLOT_BASE_COLOR);
+    CHECK_EQ_INT(texopt_evaluate_texture_from_name("Normal"), TEXOPT_SLOT_NORMAL);
+    CHECK_EQ_INT(texopt_evaluate_texture_from_name("metallicroughness"), TEXOPT_SLOT_METALLIC_ROUGHNESS);
+    CHECK_EQ_INT(texopt_evaluate_texture_from_name("mr"), TEXOPT_SLOT_METALLIC_ROUGHNESS);
+    CHECK_EQ_INT(texopt_evaluate_texture_from_name("occlusion"), TEXOPT_SLOT_OCCLUSION);
+    CHECK_EQ_INT(texopt_evaluate_texture_from_name("ao"), TEXOPT_SLOT_OCCLUSION);
+    CHECK_EQ_INT(texopt_evaluate_texture_from_name("emissive"), TEXOPT_SLOT_EMISSIVE);
+    int sheen = texopt_evaluate_texture_from_name("SheenColorTexture");
+    CHECK(sheen >= TEXOPT_SLOT_COUNT && sheen < TEXOPT_TEXTURE_KEY_COUNT);
+    CHECK(strcmp(texopt_texture_key_name(sheen), "sheenColorTexture") == 0);
+    CHECK_EQ_INT(texopt_evaluate_texture_from_name("sheenColor"), -1);
+    CHECK_EQ_INT(texopt_evaluate_texture_from_name("normals"), -1);
+    CHECK_EQ_INT(texopt_evaluate_texture_from_name(""), -1);
+    CHECK_EQ_INT(texopt_evaluate_texture_from_name(NULL), -1);
 }
 
 TEST(different_geometry_is_refused)

@@ -2,7 +2,8 @@
  * tangent frame (engine/evaluate.h): a layout that turns the triangles, re-baked with the
  * normal map turned as a renderer needs it (engine/rebake.h), scores near 0; the same map
  * read unturned (as base colour, which is never turned) or baked without the turn scores
- * far worse. Models are generated in code; the stored-tangent case writes a small .gltf. */
+ * far worse; a material extension's normal map (clearcoatNormalTexture) the same. Models are
+ * generated in code; the stored-tangent case writes a small .gltf. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,13 +23,19 @@ static const float quad_pos[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
 static const float quad_uv[8] = {0, 0, 1, 0, 1, 1, 0, 1};
 static const uint32_t quad_tris[6] = {0, 1, 2, 0, 2, 3};
 
-/* The quad with UVs `uv` whose one image (side x side) is both its base colour and its
- * normal map, so the base-colour q of a candidate is its normal map read unturned. */
+/* The quad with UVs `uv` whose one image (side x side) is its base colour, its normal map
+ * and its clearcoat normal map, so the base-colour q of a candidate is its normal map read
+ * unturned. */
 static texopt_model *quad_with_normal_map(const float *uv, int side)
 {
     texopt_model *m = fixture_model_from_arrays(quad_pos, uv, 4, quad_tris, 2, side, side, "flat");
-    if (m)
-        m->materials[0].slot[TEXOPT_SLOT_NORMAL] = m->materials[0].slot[TEXOPT_SLOT_BASE_COLOR];
+    if (m) {
+        texopt_material *mat = &m->materials[0];
+        mat->slot[TEXOPT_SLOT_NORMAL] = mat->slot[TEXOPT_SLOT_BASE_COLOR];
+        mat->extra[0] = (texopt_extra_texture){mat->slot[TEXOPT_SLOT_BASE_COLOR], TEXOPT_TEXTURE_NORMAL,
+                                               TEXOPT_CHANNELS_RGB, "clearcoatNormalTexture"};
+        mat->extra_count = 1;
+    }
     return m;
 }
 
@@ -54,9 +61,9 @@ static texopt_model *rebaked_candidate(const texopt_model *ref, const float *uv,
     return cand;
 }
 
-static double slot_q(const texopt_model *ref, const texopt_model *cand, texopt_slot slot)
+static double slot_q(const texopt_model *ref, const texopt_model *cand, int texture)
 {
-    texopt_evaluate_options opt = {.resolution = 128, .threads = 2, .slot = slot};
+    texopt_evaluate_options opt = {.resolution = 128, .threads = 2, .texture = texture};
     texopt_evaluation ev;
     char err[256] = "";
     if (texopt_evaluate(ref, cand, &opt, &ev, err, sizeof err) != TEXOPT_OK)
@@ -91,6 +98,15 @@ static void check_turned_layout(double degrees, int side)
     CHECK_MSG(wrong_bake > 10 * fixed && wrong_bake > 0.03, "%.0f degrees: wrong bake %.5f", degrees, wrong_bake);
     /* Base colour is never turned: the bake without the turn is the plain image there. */
     CHECK(slot_q(ref, unturned, TEXOPT_SLOT_BASE_COLOR) < 0.01);
+    /* A material extension's normal map is turned back like the core one, by its own
+     * bindings: the core normal map unbound. */
+    ref->materials[0].slot[TEXOPT_SLOT_NORMAL].image = -1;
+    turned->materials[0].slot[TEXOPT_SLOT_NORMAL].image = -1;
+    unturned->materials[0].slot[TEXOPT_SLOT_NORMAL].image = -1;
+    int clearcoat_normal = texopt_texture_key_from_name("clearcoatNormalTexture");
+    double coat = slot_q(ref, turned, clearcoat_normal), coat_wrong = slot_q(ref, unturned, clearcoat_normal);
+    CHECK_MSG(coat == fixed, "%.0f degrees: clearcoat normal q %.5f, normal q %.5f", degrees, coat, fixed);
+    CHECK_MSG(coat_wrong == wrong_bake, "%.0f degrees: clearcoat wrong bake %.5f", degrees, coat_wrong);
     texopt_model_destroy(ref);
     texopt_model_destroy(turned);
     texopt_model_destroy(unturned);

@@ -8,6 +8,7 @@
 #include "sample.h"
 #include "test.h"
 #include "texture_filter.h"
+#include "texture_keys.h"
 
 static double dot(const double *a, const double *b)
 {
@@ -255,8 +256,9 @@ TEST(luma_shading_reads_the_chosen_slot)
             CHECK(ao[k] == 0.5f);
         }
     CHECK(seen[0] > 300 && seen[1] > 300);
-    CHECK(texopt_meshrender_shade_luma(m, &r, TEXOPT_SLOT_COUNT, NULL, NULL, ao, err, sizeof err) ==
+    CHECK(texopt_meshrender_shade_luma(m, &r, TEXOPT_TEXTURE_KEY_COUNT, NULL, NULL, ao, err, sizeof err) ==
           TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_meshrender_shade_luma(m, &r, -1, NULL, NULL, ao, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     free(normal);
     free(base);
     free(ao);
@@ -282,6 +284,47 @@ static texopt_model *quad_with_alpha_columns(texopt_alpha_mode mode)
     m->materials[0].alpha_mode = mode;
     m->materials[0].alpha_cutoff = 0.5;
     return m;
+}
+
+/* One RGBA image, flat colour (0.6, 0.4, 0.2) with flat alpha, bound in five ways: a texture
+ * read in R, G and B shows its luma; one read in fewer channels the mean of those, so the
+ * channels of a shared image that it does not read do not show. */
+TEST(luma_shading_shows_the_channels_a_texture_is_read_in)
+{
+    texopt_model *m = fixture_textured_quad(16, "flat");
+    CHECK(m && fixture_add_alpha(&m->images[0], "flat") == 0);
+    texopt_material *mat = &m->materials[0];
+    const texopt_texture_ref image = mat->slot[TEXOPT_SLOT_BASE_COLOR];
+    mat->slot[TEXOPT_SLOT_OCCLUSION] = mat->slot[TEXOPT_SLOT_METALLIC_ROUGHNESS] = image;
+    mat->extra[0] = (texopt_extra_texture){image, TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_A, "specularTexture"};
+    mat->extra[1] = (texopt_extra_texture){image, TEXOPT_TEXTURE_COLOR, TEXOPT_CHANNELS_RGB, "sheenColorTexture"};
+    mat->extra_count = 2;
+    const float rgb[3] = {0.6f, 0.4f, 0.2f}, alpha = m->images[0].pixels[3];
+    CHECK(alpha > 0.1f && alpha < 0.9f);
+    const struct {
+        int texture;
+        float grey;
+    } want[] = {{TEXOPT_SLOT_BASE_COLOR, texopt_luma(rgb, 3)},
+                {TEXOPT_SLOT_OCCLUSION, 0.6f},
+                {TEXOPT_SLOT_METALLIC_ROUGHNESS, 0.3f},
+                {texopt_texture_key_from_name("specularTexture"), alpha},
+                {texopt_texture_key_from_name("sheenColorTexture"), texopt_luma(rgb, 3)}};
+    char err[256] = "";
+    texopt_view v = quad_view();
+    texopt_raster r;
+    CHECK_OK(texopt_meshrender_rasterize(m, &v, 16, &r, err, sizeof err), err);
+    float *grey = malloc(16 * 16 * sizeof *grey);
+    CHECK(grey != NULL);
+    for (size_t w = 0; w < sizeof want / sizeof want[0]; w++) {
+        CHECK_OK(texopt_meshrender_shade_luma(m, &r, want[w].texture, NULL, NULL, grey, err, sizeof err), err);
+        for (int k = 0; k < 16 * 16; k++)
+            if (r.triangle[k] >= 0)
+                CHECK_MSG(fabsf(grey[k] - want[w].grey) < 1e-6f, "%s: pixel %d shows %.4f, not %.4f",
+                          texopt_texture_key_name(want[w].texture), k, grey[k], want[w].grey);
+    }
+    free(grey);
+    texopt_raster_destroy(&r);
+    texopt_model_destroy(m);
 }
 
 TEST(base_colour_alpha_cuts_or_blends_over_grey_where_the_material_shows_it)
