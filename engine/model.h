@@ -65,7 +65,7 @@ typedef enum texopt_alpha_mode {
     TEXOPT_ALPHA_BLEND
 } texopt_alpha_mode;
 
-/* Most extension textures one material may bind through TEXCOORD_0 (the loader knows 13). */
+/* Most extension textures one material may bind through TEXCOORD_0 (the loader knows 14). */
 #define TEXOPT_EXTRA_TEXTURES_MAX 16
 
 /* A texture that a material extension binds through TEXCOORD_0 (clearcoat, sheen,

@@ -5,8 +5,9 @@
 #include <string.h>
 #include <strings.h>
 
-/* Colour textures hold sRGB colours; the others numbers in the channels their extension names
- * (specular strength, sheen roughness and diffuse transmission in alpha). */
+/* Colour textures hold sRGB colours; normal-kind ones a direction in the tangent frame; the
+ * others numbers in the channels their extension names (specular strength, sheen roughness and
+ * diffuse transmission in alpha). */
 static const texopt_known_extension_texture known[TEXOPT_KNOWN_EXTENSION_TEXTURES] = {
     {"KHR_materials_clearcoat", "clearcoatTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_R},
     {"KHR_materials_clearcoat", "clearcoatRoughnessTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_G},
@@ -22,6 +23,9 @@ static const texopt_known_extension_texture known[TEXOPT_KNOWN_EXTENSION_TEXTURE
     {"KHR_materials_diffuse_transmission", "diffuseTransmissionTexture", TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_A},
     {"KHR_materials_diffuse_transmission", "diffuseTransmissionColorTexture", TEXOPT_TEXTURE_COLOR,
      TEXOPT_CHANNELS_RGB},
+    /* A direction in R and G in the tangent frame, as a normal map's XY, and a strength in B: it
+     * turns with the layout as a normal map does. */
+    {"KHR_materials_anisotropy", "anisotropyTexture", TEXOPT_TEXTURE_NORMAL, TEXOPT_CHANNELS_RGB},
 };
 
 const texopt_known_extension_texture *texopt_known_extension_texture_at(int i)

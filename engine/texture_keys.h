@@ -21,7 +21,7 @@ typedef struct texopt_known_extension_texture {
     unsigned channels;     /* TEXOPT_CHANNEL_* its extension reads */
 } texopt_known_extension_texture;
 
-#define TEXOPT_KNOWN_EXTENSION_TEXTURES 13
+#define TEXOPT_KNOWN_EXTENSION_TEXTURES 14
 #define TEXOPT_TEXTURE_KEY_COUNT (TEXOPT_SLOT_COUNT + TEXOPT_KNOWN_EXTENSION_TEXTURES)
 
 /* Known extension texture i in [0, TEXOPT_KNOWN_EXTENSION_TEXTURES), or NULL. */

@@ -9,7 +9,7 @@
  * one also says which channels hold its numbers (clearcoat's R, specular's A).
  * Left unknown on purpose: KHR_materials_pbrSpecularGlossiness, whose diffuse texture takes
  * base colour's place, which the whole-mesh evaluation renders (it would judge every layout
- * by a grey surface), and KHR_materials_anisotropy's direction map (not measured here).
+ * by a grey surface).
  * Does not: bind, transform or bake anything (gltf_load.cpp, gltf_save.cpp, the pipeline).
  * Internal to engine/io; the extensions are Khronos's KHR_materials_* specifications. */
 #ifndef TEXOPT_GLTF_EXTENSION_TEXTURES_HPP

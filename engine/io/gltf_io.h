@@ -9,8 +9,10 @@
  * sparse accessors, lay out one TEXCOORD_0 for several transforms (a material whose
  * TEXCOORD_0 bindings differ is refused, as is a zero scale or a transform that turns or
  * mirrors a normal map), re-bake textures of material extensions other than those
- * gltf_extension_textures.hpp knows (one on TEXCOORD_0 is refused), or evaluate animations (a
- * skinned mesh keeps its bind pose).
+ * texture_keys.h knows (one on TEXCOORD_0 is refused), keep an anisotropy direction that
+ * the derived tangent frame would turn (KHR_materials_anisotropy without a TEXCOORD_0 map on
+ * a primitive without TANGENT is refused), or evaluate animations (a skinned mesh keeps its
+ * bind pose).
  * The format is the Khronos glTF 2.0 specification; the method that consumes the data is
  * Sun et al. 2022, "Efficient Texture Parameterization Driven by Perceptual-Loss-on-Screen".
  *
@@ -18,8 +20,8 @@
  * the vertex count, NaN/Inf data, URIs leaving the model's directory or naming the network),
  * TEXOPT_E_LIMIT for sizes past the load options, TEXOPT_E_UNSUPPORTED for valid input texopt
  * cannot use (no textured material, a textured primitive without TEXCOORD_0 or not made of
- * triangles, compressed geometry, sparse accessors, transforms or extension textures it
- * cannot follow), TEXOPT_E_IO for files that cannot be read or written.
+ * triangles, compressed geometry, sparse accessors, transforms, extension textures or an
+ * anisotropy direction it cannot follow), TEXOPT_E_IO for files that cannot be read or written.
  * The message names the offending element ("accessor 3: index 812 past vertex count 800").
  * Images are decoded (load) and PNG-encoded (save) on up to one thread per image, never more
  * than the online cores (io/image_jobs.hpp). */

@@ -494,6 +494,26 @@ std::vector<uint32_t> triangles_of_strip_or_fan(int mode, const std::vector<uint
     return tri;
 }
 
+/* Whether a material's KHR_materials_anisotropy sets its direction in the tangent frame alone
+ * (a strength and a rotation, or a direction map on another UV set): without TANGENT a renderer
+ * derives that frame from TEXCOORD_0, which a new layout turns chart by chart, and a constant
+ * cannot turn with it. A direction map on TEXCOORD_0 is re-baked and turned like a normal map. */
+bool anisotropy_fixed_in_uv_frame(const tinygltf::Material &m)
+{
+    auto e = m.extensions.find("KHR_materials_anisotropy");
+    if (e == m.extensions.end() || !e->second.IsObject())
+        return false;
+    const tinygltf::Value &a = e->second;
+    double strength = a.Has("anisotropyStrength") && a.Get("anisotropyStrength").IsNumber()
+                          ? a.Get("anisotropyStrength").GetNumberAsDouble()
+                          : 0.0;
+    int texcoord = 0;
+    bool map_on_set0 = a.Has("anisotropyTexture") &&
+                       gltf_is_texture_info("anisotropyTexture", a.Get("anisotropyTexture"), &texcoord) &&
+                       texcoord == 0;
+    return strength > 0 && !map_on_set0;
+}
+
 texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model, int mesh, int prim_index,
                             const gltf_mat4 *world, flat_geometry *geo, char *err, size_t err_len)
 {
@@ -519,6 +539,13 @@ texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model,
         return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
                            "mesh %d primitive %d: material %d is textured but the primitive has no TEXCOORD_0",
                            mesh, prim_index, p.material);
+    if (material_uses_texcoord0(model, p.material) && attribute(p, "TANGENT") < 0 &&
+        anisotropy_fixed_in_uv_frame(g.materials[(size_t)p.material]))
+        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                           "mesh %d primitive %d: material %d's KHR_materials_anisotropy direction is set in the "
+                           "tangent frame a renderer derives from TEXCOORD_0, which a new layout turns; give the "
+                           "primitive TANGENT (kept as it is) or the direction as an anisotropyTexture on "
+                           "TEXCOORD_0 (turned with the layout)", mesh, prim_index, p.material);
     std::vector<float> pos, uv;
     snprintf(what, sizeof what, "mesh %d primitive %d POSITION", mesh, prim_index);
     texopt_status st = gltf_read_floats(g, pos_acc, TINYGLTF_TYPE_VEC3, what, &pos, err, err_len);

@@ -392,9 +392,6 @@ TEST(textures_of_unknown_material_extensions_on_texcoord0_are_refused)
 {
     /* texopt would move the UVs under them without knowing how to re-bake them. */
     CHECK_REFUSED_JSON("}}}],\"textures\"",
-                       WITH_EXTENSIONS("\"KHR_materials_anisotropy\":{\"anisotropyTexture\":{\"index\":0}}"),
-                       TEXOPT_E_UNSUPPORTED, "anisotropyTexture");
-    CHECK_REFUSED_JSON("}}}],\"textures\"",
                        WITH_EXTENSIONS("\"EXT_vendor\":{\"layer\":{\"detailTexture\":{\"index\":0}}}"),
                        TEXOPT_E_UNSUPPORTED, "detailTexture");
     /* Its diffuse texture stands for the base colour the evaluation renders. */
@@ -410,10 +407,60 @@ TEST(textures_of_unknown_material_extensions_on_texcoord0_are_refused)
     char err[512];
     CHECK(quad_doc_init(&d, 4, 4));
     CHECK(builder_replace(&d.json, "}}}],\"textures\"",
-                          WITH_EXTENSIONS("\"KHR_materials_anisotropy\":{\"anisotropyTexture\":{\"index\":0,"
-                                          "\"texCoord\":1}}")));
+                          WITH_EXTENSIONS("\"EXT_vendor\":{\"layer\":{\"detailTexture\":{\"index\":0,"
+                                          "\"texCoord\":1}}}")));
     CHECK_OK(try_glb(&d, d.json, NULL, err, sizeof err), err);
     quad_doc_free(&d);
+}
+
+/* The quad with `anisotropy` as its material's KHR_materials_anisotropy object, and with a
+ * TANGENT attribute when `tangents` (an accessor over the image's bytes: the load only asks
+ * whether it is there). Loads it; the status, and the material's extension texture count in
+ * *extra. */
+static texopt_status load_anisotropic_quad(const char *anisotropy, int tangents, int *extra, char *err,
+                                           size_t err_len)
+{
+    quad_doc d;
+    char ext[256];
+    snprintf(ext, sizeof ext, "}},\"extensions\":{\"KHR_materials_anisotropy\":%s}}],\"textures\"", anisotropy);
+    if (!quad_doc_init(&d, 4, 4))
+        return TEXOPT_E_NOMEM;
+    int ok = builder_replace(&d.json, "}}}],\"textures\"", ext) &&
+             (!tangents ||
+              (builder_replace(&d.json, "\"TEXCOORD_0\":1}", "\"TEXCOORD_0\":1,\"TANGENT\":3}") &&
+               builder_replace(&d.json, "\"type\":\"SCALAR\"}]",
+                               "\"type\":\"SCALAR\"},{\"bufferView\":3,\"componentType\":5126,\"count\":4,"
+                               "\"type\":\"VEC4\"}]")));
+    size_t len = 0;
+    unsigned char *glb = ok ? builder_glb(d.json, d.bin, d.bin_len, &len) : NULL;
+    texopt_model *m = NULL;
+    texopt_status st = glb ? texopt_model_load_memory(&m, glb, len, NULL, NULL, err, err_len) : TEXOPT_E_INTERNAL;
+    free(glb);
+    quad_doc_free(&d);
+    *extra = m ? m->materials[0].extra_count : -1;
+    texopt_model_destroy(m);
+    return st;
+}
+
+/* An anisotropy direction set as a constant in the tangent frame a renderer derives from the
+ * UVs cannot follow a new layout: refused without TANGENT, unless a direction map on
+ * TEXCOORD_0 (re-baked and turned) carries it; no strength, no direction to keep. */
+TEST(an_anisotropy_direction_the_layout_would_turn_is_refused)
+{
+    char err[512] = "";
+    int extra = 0;
+    CHECK(load_anisotropic_quad("{\"anisotropyStrength\":0.6,\"anisotropyRotation\":1}", 0, &extra, err,
+                                sizeof err) == TEXOPT_E_UNSUPPORTED);
+    CHECK_MSG(strstr(err, "KHR_materials_anisotropy") && strstr(err, "TANGENT"), "%s", err);
+    CHECK(load_anisotropic_quad("{\"anisotropyStrength\":0.6,\"anisotropyTexture\":{\"index\":0,\"texCoord\":1}}",
+                                0, &extra, err, sizeof err) == TEXOPT_E_UNSUPPORTED);
+    CHECK_OK(load_anisotropic_quad("{\"anisotropyStrength\":0.6,\"anisotropyTexture\":{\"index\":0}}", 0, &extra,
+                                   err, sizeof err),
+             err);
+    CHECK_EQ_INT(extra, 1);
+    CHECK_OK(load_anisotropic_quad("{\"anisotropyStrength\":0.6}", 1, &extra, err, sizeof err), err);
+    CHECK_EQ_INT(extra, 0);
+    CHECK_OK(load_anisotropic_quad("{\"anisotropyRotation\":1}", 0, &extra, err, sizeof err), err);
 }
 
 TEST(known_extension_textures_are_checked_like_the_slots)

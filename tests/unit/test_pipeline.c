@@ -465,8 +465,8 @@ static int same_pixels(const texopt_image *a, const texopt_image *b)
 }
 
 /* A grid laid out turned by 30 degrees, with a normal map (image 1), the same pixels as a
- * clearcoat normal map (2) and as a clearcoat map (3), and the base colour's pixels as a sheen
- * colour map (4). */
+ * clearcoat normal map (2), as a clearcoat map (3) and as an anisotropy direction map (5), and
+ * the base colour's pixels as a sheen colour map (4). */
 TEST(material_extension_textures_are_rebaked_like_the_slots)
 {
     scratch s;
@@ -482,12 +482,13 @@ TEST(material_extension_textures_are_rebaked_like_the_slots)
         uv[2 * v] = (float)(0.5 + 0.7 * (c * x - sn * y));
         uv[2 * v + 1] = (float)(0.5 + 0.7 * (sn * x + c * y));
     }
-    const char *patterns[5] = {"half", "gradient", "gradient", "gradient", "half"};
+    const char *patterns[6] = {"half", "gradient", "gradient", "gradient", "half", "gradient"};
     const char *material =
         "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}},\"normalTexture\":{\"index\":1},"
         "\"extensions\":{\"KHR_materials_clearcoat\":{\"clearcoatFactor\":1,\"clearcoatNormalTexture\":{\"index\":2},"
-        "\"clearcoatTexture\":{\"index\":3}},\"KHR_materials_sheen\":{\"sheenColorTexture\":{\"index\":4}}}}";
-    CHECK(write_mesh_glb_material(s.in, pos, uv, nv, idx, nt, 64, patterns, 5, material) == 0);
+        "\"clearcoatTexture\":{\"index\":3}},\"KHR_materials_sheen\":{\"sheenColorTexture\":{\"index\":4}},"
+        "\"KHR_materials_anisotropy\":{\"anisotropyStrength\":0.5,\"anisotropyTexture\":{\"index\":5}}}}";
+    CHECK(write_mesh_glb_material(s.in, pos, uv, nv, idx, nt, 64, patterns, 6, material) == 0);
     texopt_params p = {0};
     p.relative_cost = 0.5;
     p.threads = 1;
@@ -496,8 +497,8 @@ TEST(material_extension_textures_are_rebaked_like_the_slots)
     CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
     texopt_model *in = load(s.in), *out = load(s.out);
     CHECK(in && out);
-    CHECK_EQ_INT(out->image_count, 5);
-    CHECK_EQ_INT(out->materials[0].extra_count, 3);
+    CHECK_EQ_INT(out->image_count, 6);
+    CHECK_EQ_INT(out->materials[0].extra_count, 4);
     /* The sheen map is re-baked as the base colour is: read through the new UVs it shows
      * what it showed through the old ones, which the input's map read through them does not. */
     CHECK(same_pixels(&out->images[0], &out->images[4]));
@@ -507,20 +508,22 @@ TEST(material_extension_textures_are_rebaked_like_the_slots)
     double stale = texel_mismatch(in, out, 4);
     out->images[4] = keep;
     CHECK_MSG(rebaked < 0.25 * stale, "sheen map mismatch %g re-baked, %g stale", rebaked, stale);
-    /* The clearcoat normal map is turned like the normal map; the clearcoat map, data, is not,
-     * so the layout did turn the texels. */
+    /* The clearcoat normal map and the anisotropy direction map are turned like the normal
+     * map; the clearcoat map, data, is not, so the layout did turn the texels. */
     CHECK(same_pixels(&out->images[1], &out->images[2]));
+    CHECK(same_pixels(&out->images[1], &out->images[5]));
     CHECK(!same_pixels(&out->images[2], &out->images[3]));
     /* The statistics name each image by the binding that reads it. */
     cJSON *st = read_json(s.stats);
     cJSON *images = cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(st, "domains"), 0), "images");
-    const char *want[5] = {"baseColor", "normal", "clearcoatNormalTexture", "clearcoatTexture", "sheenColorTexture"};
-    CHECK_EQ_INT(cJSON_GetArraySize(images), 5);
+    const char *want[6] = {"baseColor",        "normal",           "clearcoatNormalTexture",
+                           "clearcoatTexture", "sheenColorTexture", "anisotropyTexture"};
+    CHECK_EQ_INT(cJSON_GetArraySize(images), 6);
     for (int i = 0; i < cJSON_GetArraySize(images); i++) {
         cJSON *im = cJSON_GetArrayItem(images, i);
         int k = (int)cJSON_GetObjectItem(im, "image")->valuedouble;
         const char *slot = cJSON_GetStringValue(cJSON_GetObjectItem(im, "slot"));
-        CHECK_MSG(k >= 0 && k < 5 && slot && strcmp(slot, want[k]) == 0, "image %d named %s", k, slot ? slot : "nothing");
+        CHECK_MSG(k >= 0 && k < 6 && slot && strcmp(slot, want[k]) == 0, "image %d named %s", k, slot ? slot : "nothing");
     }
     cJSON_Delete(st);
     texopt_model_destroy(in);

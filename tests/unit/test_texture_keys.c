@@ -41,9 +41,12 @@ TEST(every_extension_texture_has_one_key_with_its_extension_s_meaning)
     CHECK_EQ_INT(texopt_texture_key_from_name("SPECULARTEXTURE"), specular);
     /* A key under another extension, or a name no extension has, is not known. */
     CHECK_EQ_INT(texopt_texture_key_of_extension("KHR_materials_sheen", "clearcoatTexture"), -1);
-    CHECK_EQ_INT(texopt_texture_key_of_extension("KHR_materials_anisotropy", "anisotropyTexture"), -1);
+    CHECK_EQ_INT(texopt_texture_key_of_extension("KHR_materials_pbrSpecularGlossiness", "diffuseTexture"), -1);
     CHECK_EQ_INT(texopt_texture_key_of_extension(NULL, "clearcoatTexture"), -1);
-    CHECK_EQ_INT(texopt_texture_key_from_name("anisotropyTexture"), -1);
+    CHECK_EQ_INT(texopt_texture_key_from_name("diffuseTexture"), -1);
+    /* An anisotropy direction map turns with the layout like a normal map. */
+    int anisotropy = texopt_texture_key_of_extension("KHR_materials_anisotropy", "anisotropyTexture");
+    CHECK_EQ_INT(texopt_texture_key_kind(anisotropy), TEXOPT_TEXTURE_NORMAL);
     CHECK_EQ_INT(texopt_texture_key_from_name(NULL), -1);
     CHECK(texopt_known_extension_texture_at(TEXOPT_KNOWN_EXTENSION_TEXTURES) == NULL);
     CHECK(texopt_known_extension_texture_at(-1) == NULL);
