@@ -22,6 +22,10 @@
 #define MAX_COORDINATE 1e12
 /* A triangle spanning more repeats of the frame than this is refused rather than filled. */
 #define MAX_REPEATS 4096.0
+/* Texel area of all triangles together past which a layout is refused rather than filled:
+ * filling costs about a second per 10^10 texels, and a layout that repeats its texture so
+ * often (UVs, or a texture transform, with a scale in the thousands) would take minutes. */
+#define MAX_TOTAL_AREA 68719476736.0 /* 2^36 */
 
 typedef enum span_op { SPAN_MARK, SPAN_MARK_ONCE, SPAN_QUERY } span_op;
 
@@ -218,13 +222,21 @@ texopt_status texopt_coverage_measure(const texopt_mesh *mesh, const texopt_cove
     if ((uint64_t)m.width * (uint64_t)m.height > TEXOPT_COVERAGE_MAX_TEXELS)
         return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "coverage: frame %dx%d exceeds %llu texels",
                            m.width, m.height, (unsigned long long)TEXOPT_COVERAGE_MAX_TEXELS);
+    double total_area = 0;
     for (size_t t = 0; t < mesh->triangle_count; t++) {
         const double *p[3];
         triangle_points(mesh, texel, t, p);
         texopt_status st = check_triangle(p, m.width, m.height, t, err, err_len);
         if (st != TEXOPT_OK)
             return st;
+        total_area += fabs(signed_area(p));
     }
+    if (total_area > MAX_TOTAL_AREA)
+        return texopt_fail(err, err_len, TEXOPT_E_LIMIT,
+                           "coverage: the triangles cover %.3g texels, %.0f times the %dx%d texture (more than "
+                           "2^36 to fill): the UVs repeat it that often (a texture transform or UVs scaled by "
+                           "thousands?)",
+                           total_area, total_area / ((double)m.width * m.height), m.width, m.height);
     m.words_per_row = ((size_t)m.width + 63) / 64;
     size_t words = m.words_per_row * (size_t)m.height;
     m.covered = calloc(words, sizeof(uint64_t));

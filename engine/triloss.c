@@ -538,6 +538,33 @@ static texopt_status prepare_close_ups(texopt_triloss *tl, uint32_t triangle, ch
     return st;
 }
 
+/* The side of the texture a candidate is re-baked into: the input's, or wider when the
+ * one-ring reaches further from its centroid (check_grids keeps it within the bake's size). */
+static double grid_side(int tex, double radius_texels)
+{
+    double need = 2.0 * ceil(radius_texels) + 8.0;
+    return need > tex ? need : tex;
+}
+
+/* A one-ring spanning so many texels (UVs that repeat the texture hundreds of times over a
+ * few triangles) that the texture it is re-baked into would pass the bake's 2^31 texels is
+ * refused here, with what it spans, rather than by the bake with a bare size. */
+static texopt_status check_grids(const texopt_triloss *tl, char *err, size_t err_len)
+{
+    for (int b = 0; b < tl->batch_count && tl->n > 0; b++) {
+        const loss_batch *batch = &tl->batches[b];
+        double w = grid_side(batch->tex_w, tl->radius * batch->sx);
+        double h = grid_side(batch->tex_h, tl->radius * batch->sy);
+        if (!(w * h <= 0x7fffffff))
+            return texopt_fail(err, err_len, TEXOPT_E_LIMIT,
+                               "its neighbourhood spans %.0f x %.0f texels, %.0f repeats of its "
+                               "%dx%d texture, too many to re-bake (UVs or a texture transform scaled by "
+                               "hundreds?)",
+                               w, h, w / batch->tex_w, batch->tex_w, batch->tex_h);
+    }
+    return TEXOPT_OK;
+}
+
 texopt_status texopt_triloss_prepare(texopt_triloss *tl, uint32_t triangle, char *err,
                                      size_t err_len)
 {
@@ -547,16 +574,11 @@ texopt_status texopt_triloss_prepare(texopt_triloss *tl, uint32_t triangle, char
     if (st != TEXOPT_OK)
         return st;
     sample_prepared(tl, triangle);
-    return prepare_close_ups(tl, triangle, err, err_len);
+    st = check_grids(tl, err, err_len);
+    return st == TEXOPT_OK ? prepare_close_ups(tl, triangle, err, err_len) : st;
 }
 
 /* Candidate grid side along one axis: the texture's, or more when the one-ring would wrap. */
-static int candidate_grid(int tex, double radius_texels)
-{
-    double need = 2.0 * ceil(radius_texels) + 8.0;
-    return need > tex ? (int)need : tex;
-}
-
 /* p(q) = c + J (p_hat - c) in the batch's texels, shifted by whole texels to the grid centre. */
 static void candidate_positions(texopt_triloss *tl, const loss_batch *batch, const double J[4],
                                 int grid_w, int grid_h)
@@ -678,8 +700,8 @@ texopt_status texopt_triloss_eval(texopt_triloss *tl, const double jacobian[4],
         loss_batch *batch = &tl->batches[b];
         if (batch->active_count == 0)
             continue;
-        int grid_w = candidate_grid(batch->tex_w, tl->radius * batch->sx);
-        int grid_h = candidate_grid(batch->tex_h, tl->radius * batch->sy);
+        int grid_w = (int)grid_side(batch->tex_w, tl->radius * batch->sx);
+        int grid_h = (int)grid_side(batch->tex_h, tl->radius * batch->sy);
         candidate_positions(tl, batch, jacobian, grid_w, grid_h);
         const float *block = tl->reference + tl->n * (size_t)batch->first_signal;
         texopt_status st =

@@ -407,6 +407,34 @@ TEST(bad_layouts_are_refused)
     texopt_model_destroy(model);
 }
 
+/* A layout whose triangles each span a few hundred repeats, within the per-triangle limit,
+ * but together cover 2^38 texels (minutes to fill) is refused before filling, saying how
+ * often it repeats the texture; the same grid at a sixteenth of the scale is filled. */
+TEST(a_layout_repeating_its_texture_past_the_total_limit_is_refused)
+{
+    texopt_model *model = fixture_grid(16, 64, "flat");
+    CHECK(model != NULL);
+    texopt_mesh *m = NULL;
+    char err[256] = "";
+    CHECK_OK(texopt_mesh_create(&m, model, 0, err, sizeof err), err);
+    size_t n = 2 * m->vertex_count;
+    double *texel = malloc(n * sizeof *texel);
+    CHECK(texel != NULL);
+    texopt_coverage cov;
+    texopt_coverage_options opt = {.texel = texel};
+    for (size_t k = 0; k < n; k++)
+        texel[k] = m->texel[k] * 8192; /* each triangle 512 repeats wide, 2^38 texels in all */
+    CHECK(texopt_coverage_measure(m, &opt, &cov, err, sizeof err) == TEXOPT_E_LIMIT);
+    CHECK_MSG(strstr(err, "times the 64x64 texture") != NULL, "%s", err);
+    for (size_t k = 0; k < n; k++)
+        texel[k] = m->texel[k] * 512;
+    CHECK_OK(texopt_coverage_measure(m, &opt, &cov, err, sizeof err), err);
+    CHECK_EQ_INT(cov.covered_texels, 64 * 64);
+    free(texel);
+    texopt_mesh_destroy(m);
+    texopt_model_destroy(model);
+}
+
 TEST(large_frame_is_fast)
 {
     /* 131072 triangles over a 4096^2 frame (16.7 M texels). */

@@ -149,6 +149,35 @@ TEST(quarter_turn_symmetry_of_the_pixel_grid)
     fixture_close(&f);
 }
 
+/* A 4 x 4 grid whose UVs are scaled by `scale` (REPEAT): each triangle reads scale / 4
+ * periods of its 64 x 64 texture. Returns the status of preparing triangle 10, its message
+ * in err. */
+static texopt_status prepare_repeated_grid(double scale, char *err, size_t err_len)
+{
+    texopt_model *m = fixture_grid(4, 64, "checker");
+    if (!m)
+        return TEXOPT_E_NOMEM;
+    for (size_t k = 0; k < 2 * m->vertex_count; k++)
+        m->uvs[k] = (float)(m->uvs[k] * scale);
+    loss_fixture f;
+    texopt_status st = fixture_open_model(&f, m, 64) ? texopt_triloss_prepare(f.loss, 10, err, err_len)
+                                                      : TEXOPT_E_INTERNAL;
+    fixture_close(&f);
+    return st;
+}
+
+/* A neighbourhood spanning hundreds of repeats of its texture would need a re-bake texture
+ * past the bake's 2^31 texels: refused at preparation, saying so, where the bake would have
+ * refused each evaluation with a bare size. */
+TEST(a_neighbourhood_too_wide_to_rebake_is_refused_with_what_it_spans)
+{
+    char err[256] = "";
+    CHECK_OK(prepare_repeated_grid(20, err, sizeof err), err);
+    texopt_status st = prepare_repeated_grid(8000, err, sizeof err);
+    CHECK_MSG(st == TEXOPT_E_LIMIT, "status %d: %s", (int)st, err);
+    CHECK_MSG(strstr(err, "repeats of its 64x64 texture") != NULL, "%s", err);
+}
+
 TEST(loss_is_deterministic_and_stop_above_is_honoured)
 {
     loss_fixture f;
