@@ -519,6 +519,11 @@ static texopt_status prepare_domain(texopt_job *job, int d, double from, double 
     if (params->method == TEXOPT_METHOD_INPUT)
         return TEXOPT_OK;
     st = texopt_coverage_measure(jd->mesh, NULL, &jd->input_coverage, err, err_len);
+    if (st == TEXOPT_OK && jd->input_coverage.covered_texels == 0)
+        st = texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                         "domain %d: its layout covers no texel centre of its %dx%d texture, so it has no texels "
+                         "to lay out (a texture of one texel, or UVs inside one texel)",
+                         d, dom->width, dom->height);
     if (st == TEXOPT_OK)
         st = texopt_texel_share_create(&jd->share, jd->mesh, err, err_len);
     if (st == TEXOPT_OK)

@@ -224,6 +224,37 @@ TEST(bad_requests_are_refused_with_a_message)
     scratch_free(&s);
 }
 
+/* A grid whose UVs fall between the texel centres of its 8 x 8 texture (u, v in [0.13,
+ * 0.18], centres at 0.0625 + k / 8) covers no texel: a layout method is refused saying so
+ * (it had failed as a bad budget argument), and the input method still resizes it. */
+TEST(a_layout_covering_no_texel_centre_is_refused_by_layout_methods)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 2, 8, NULL) == 0);
+    float pos[9 * 3], uv[9 * 2];
+    uint32_t idx[8 * 3];
+    grid_fill(2, pos, uv, idx);
+    for (int k = 0; k < 18; k++)
+        uv[k] = 0.13f + 0.05f * uv[k];
+    CHECK(write_mesh_glb(s.in, pos, uv, 9, idx, 8, 8, "checker", NULL) == 0);
+    texopt_params p = {0};
+    p.relative_cost = 0.5;
+    p.threads = 1;
+    char err[512] = "";
+    const texopt_method layouts[] = {TEXOPT_METHOD_PERCEPTUAL, TEXOPT_METHOD_SSP, TEXOPT_METHOD_TEWARI,
+                                     TEXOPT_METHOD_ARAP};
+    for (size_t m = 0; m < sizeof layouts / sizeof layouts[0]; m++) {
+        p.method = layouts[m];
+        texopt_status st = texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err);
+        CHECK_MSG(st == TEXOPT_E_UNSUPPORTED && strstr(err, "covers no texel centre of its 8x8 texture"),
+                  "%s: status %d, %s", texopt_method_name(p.method), (int)st, err);
+        CHECK(access(s.out, F_OK) != 0);
+    }
+    p.method = TEXOPT_METHOD_INPUT;
+    CHECK_OK(texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err), err);
+    scratch_free(&s);
+}
+
 TEST(baseline_methods_run_through_the_same_stages)
 {
     /* arap on a flat-textured grid: targets are the isometry, so the layout keeps its shape
