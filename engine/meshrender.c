@@ -139,7 +139,8 @@ texopt_status texopt_meshrender_camera_set(const texopt_model *model, texopt_cam
         radius = fmax(radius, sqrt(texopt_dot3(d, d)));
     }
     if (!(radius > 0))
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "model has a zero-size bounding box");
+        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                           "every vertex of the model is at one point: no camera sees a surface");
     double dirs[TEXOPT_VIEW_COUNT][3];
     int n = TEXOPT_VIEW_COUNT;
     if (set == TEXOPT_CAMERAS_ICOSAHEDRON)

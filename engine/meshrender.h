@@ -44,7 +44,8 @@ typedef struct texopt_raster {
 
 /* Fills views[0..TEXOPT_VIEW_COUNT) with the 20 dodecahedron cameras around the bounding
  * sphere of the model's vertices (centre = bounding-box centre). Fails on a model with no
- * triangles or a zero-size bounding box. */
+ * triangles, or (TEXOPT_E_UNSUPPORTED, valid input with nothing to see) every vertex at one
+ * point. */
 texopt_status texopt_meshrender_views(const texopt_model *model, texopt_view *views, char *err,
                                       size_t err_len);
 
