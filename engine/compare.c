@@ -90,8 +90,8 @@ static int headline_measure(const texopt_compare_options *opt)
  * pt->q_by_texture; the per-triangle errors, when tri_err is not NULL, and *headline are the
  * headline's. */
 static texopt_status measure_textures(const texopt_model *input, const texopt_model *out,
-                                   const texopt_compare_options *opt, const int *measures, double *tri_err,
-                                   texopt_compare_point *pt, texopt_evaluation *headline)
+                                      const texopt_compare_options *opt, const int *measures, double *tri_err,
+                                      texopt_compare_point *pt, texopt_evaluation *headline)
 {
     texopt_status st = TEXOPT_OK;
     for (int s = 0; s < TEXOPT_COMPARE_MEASURES && st == TEXOPT_OK; s++) {
@@ -112,8 +112,8 @@ static texopt_status measure_textures(const texopt_model *input, const texopt_mo
     return st;
 }
 
-/* Loads the output at glb, evaluates it against the input in every measure of `measures` and fills
- * pt (q, achieved cost, texture memory). With keep, the loaded model is handed to *model and
+/* Loads the output at glb, evaluates it against the input in every measure of `measures` and
+ * fills pt (q, achieved cost, texture memory). With keep, the loaded model is handed to *model and
  * the per-triangle errors (headline measure) written to tri_err. *ev is the headline's
  * evaluation. */
 static texopt_status measure_output(const texopt_model *input, const texopt_cost *input_cost,
