@@ -28,4 +28,14 @@ static inline float *texopt_image_at(const texopt_image *img, int x, int y)
     return img->pixels + ((size_t)y * (size_t)img->width + (size_t)x) * (size_t)img->channels;
 }
 
+/* The channel of an image with `channels` channels that holds glTF channel c (0..3 for R, G,
+ * B, A) as a sampler reads it: a grey image gives R = G = B, and alpha is absent (reads 1)
+ * without a channel of its own; -1 then. */
+static inline int texopt_image_channel_of(int channels, int c)
+{
+    if (c < 3)
+        return channels >= 3 ? c : 0;
+    return channels == 4 ? 3 : channels == 2 ? 1 : -1;
+}
+
 #endif

@@ -348,15 +348,6 @@ static void to_rgb(const float *texel, int channels, float *rgb)
     }
 }
 
-/* Texel channel c (0-3, RGBA) of a texel with img_channels channels: grey for R, G and B of a
- * one- or two-channel image, alpha 1 where the image has none. */
-static float texel_channel(const float *texel, int img_channels, int c)
-{
-    if (c == 3)
-        return img_channels == 2 || img_channels == 4 ? texel[img_channels - 1] : 1.0f;
-    return img_channels >= 3 ? texel[c] : texel[0];
-}
-
 /* The grey a luma shading shows of a texel whose binding reads `channels` (TEXOPT_CHANNEL_*):
  * the luma of its RGB when it reads all three, else the mean of the channels it reads, so a
  * map whose numbers are in one channel (occlusion's R, specular's A) is judged on that
@@ -369,7 +360,8 @@ static float texel_grey(const float *texel, int img_channels, unsigned channels,
     int n = 0;
     for (int c = 0; c < 4; c++)
         if ((channels >> c) & 1u) {
-            sum += texel_channel(texel, img_channels, c);
+            int ic = texopt_image_channel_of(img_channels, c);
+            sum += ic >= 0 ? texel[ic] : 1.0f;
             n++;
         }
     return n ? sum / (float)n : texopt_luma(rgb, 3);

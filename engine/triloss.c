@@ -121,15 +121,6 @@ static image_use image_use_in_domain(const texopt_model *model, const texopt_dom
     return use;
 }
 
-/* The image channel that holds glTF channel c (0..3 for R, G, B, A) as a sampler reads it: grey
- * images give R = G = B, and alpha is absent (1) without a channel of its own; -1 then. */
-static int image_channel_of(const texopt_image *img, int c)
-{
-    if (c < 3)
-        return img->channels >= 3 ? c : 0;
-    return img->channels == 4 ? 3 : img->channels == 2 ? 1 : -1;
-}
-
 /* The signals of one image, into channels (-1: luma, else the image channel compared); returns
  * how many (at most 5). Per channel when a data binding reads R, G or B, and then all three if
  * a colour binding reads the image too (luma adds nothing they do not show). None when the
@@ -147,7 +138,7 @@ static int image_signal_channels(const texopt_image *img, image_use use, int fal
     else if (use.luma)
         channels[n++] = -1;
     for (int c = 0; c < 4; c++) {
-        int ic = (use.channels >> c) & 1u ? image_channel_of(img, c) : -1;
+        int ic = (use.channels >> c) & 1u ? texopt_image_channel_of(img->channels, c) : -1;
         if (ic >= 0 && !((taken >> ic) & 1u)) {
             taken |= 1u << ic;
             channels[n++] = ic;
@@ -578,7 +569,6 @@ texopt_status texopt_triloss_prepare(texopt_triloss *tl, uint32_t triangle, char
     return st == TEXOPT_OK ? prepare_close_ups(tl, triangle, err, err_len) : st;
 }
 
-/* Candidate grid side along one axis: the texture's, or more when the one-ring would wrap. */
 /* p(q) = c + J (p_hat - c) in the batch's texels, shifted by whole texels to the grid centre. */
 static void candidate_positions(texopt_triloss *tl, const loss_batch *batch, const double J[4],
                                 int grid_w, int grid_h)
