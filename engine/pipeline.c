@@ -27,6 +27,8 @@
  *   "ssp", "tewari", "arap": the baselines of the paper's section 5 (ssp.h, tewari.h,
  *     arap.h targets in place of stage 1, rotation weight 0), solved as they are, then the
  *     same stage 2, budget (a uniform scale), packing and re-bake as "perceptual".
+ * A domain whose layout covers no texel centre (UVs picking a colour from a palette) is kept
+ * as it is by every layout method (keep_domain); a model with no other domain is refused.
  * Budgets: a relative cost is allocated as asked; a texture size at the cost it is expected
  * to reach (texels x typical packing efficiency), solved again once at the cost reached
  * when that misses by more than 10%; target_loss searches the relative cost (compare.h,
@@ -429,6 +431,7 @@ typedef struct job_domain {
     texopt_texel_share *share; /* charts sharing texels; NULL for method "input" */
     double *paid; /* per triangle, the share of its texels it pays for (allocate.h); NULL
                      when every triangle pays for all of its own */
+    int kept;     /* no texels to lay out (keep_domain): UVs and images kept as they are */
 } job_domain;
 
 /* The sharing groups stage 2 and the budget work with, NULL when no chart shares another's
@@ -519,11 +522,13 @@ static texopt_status prepare_domain(texopt_job *job, int d, double from, double 
     if (params->method == TEXOPT_METHOD_INPUT)
         return TEXOPT_OK;
     st = texopt_coverage_measure(jd->mesh, NULL, &jd->input_coverage, err, err_len);
-    if (st == TEXOPT_OK && jd->input_coverage.covered_texels == 0)
-        st = texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
-                         "domain %d: its layout covers no texel centre of its %dx%d texture, so it has no texels "
-                         "to lay out (a texture of one texel, or UVs inside one texel)",
-                         d, dom->width, dom->height);
+    if (st == TEXOPT_OK && jd->input_coverage.covered_texels == 0) {
+        snprintf(ds->kept_as_is, sizeof ds->kept_as_is,
+                 "its layout covers no texel centre of its %dx%d texture, so it has no texels to lay out (a texture "
+                 "of one texel, or UVs inside one texel)", dom->width, dom->height);
+        jd->kept = 1;
+        return TEXOPT_OK;
+    }
     if (st == TEXOPT_OK)
         st = texopt_texel_share_create(&jd->share, jd->mesh, err, err_len);
     if (st == TEXOPT_OK)
@@ -1005,6 +1010,24 @@ static texopt_status alloc_output(const texopt_model *model, int method, job_out
     return alloc_uvs(model, &out->uvs, err, err_len);
 }
 
+/* A domain with no texels to lay out (a colour picked from a palette, a texture of one texel)
+ * keeps its UVs (alloc_uvs copied them) and its images' bytes, whatever the budget: the
+ * model's other domains are laid out as asked. */
+static void keep_domain(const texopt_model *model, int d, texopt_domain_stats *ds)
+{
+    const texopt_domain *dom = &model->domains[d];
+    ds->output_width = dom->width;
+    ds->output_height = dom->height;
+    ds->cost_input = ds->cost_output = ds->relative_cost = 0;
+    ds->packing_efficiency_input = ds->packing_efficiency = 0;
+    ds->repacked = 0;
+    for (int i = 0; i < ds->image_count; i++) {
+        ds->images[i].output_width = ds->images[i].input_width;
+        ds->images[i].output_height = ds->images[i].input_height;
+        ds->images[i].rewritten = 0;
+    }
+}
+
 /* Every domain at the budget of p (relative cost or texture size) into *out (allocated
  * here), with its statistics in job->stats; progress over [from, to] of the job. */
 static texopt_status run_budget(texopt_job *job, const texopt_params *p, int with_stats, job_output *out,
@@ -1018,7 +1041,9 @@ static texopt_status run_budget(texopt_job *job, const texopt_params *p, int wit
         texopt_domain_stats *ds = &job->stats.domains[d];
         ds->relative_cost_requested = p->budget == TEXOPT_BUDGET_RELATIVE_COST ? p->relative_cost : -1;
         st = check_cancel(&job->jm, err, err_len);
-        if (st == TEXOPT_OK && p->method == TEXOPT_METHOD_INPUT)
+        if (st == TEXOPT_OK && job->domains[d].kept)
+            keep_domain(model, d, ds);
+        else if (st == TEXOPT_OK && p->method == TEXOPT_METHOD_INPUT)
             st = run_input_method(model, job->domains[d].mesh, p, out, ds, &job->jm, at, at + share, err, err_len);
         else if (st == TEXOPT_OK)
             st = run_optimised_method(job, d, p, with_stats, out, ds, &job->jm, at, at + share, err, err_len);
@@ -1225,13 +1250,13 @@ static texopt_status bake_remaining_images(texopt_job *job, const texopt_params 
  * e_mean)^0.5 within [0.5, 2] per round, singular values up to twice input density. */
 static const texopt_reallocate_options refinement_step = {0.5, 0.5, 2.0, 2.0, NULL};
 
-/* Per domain, room for one target per triangle in out[d]. */
+/* Per domain, room for one target per triangle in out[d] (zeros: a kept domain has none). */
 static texopt_status alloc_domain_targets(const texopt_job *job, texopt_triangle_target **out, char *err,
                                           size_t err_len)
 {
     for (int d = 0; d < job->model->domain_count; d++) {
         size_t n = job->domains[d].mesh->triangle_count;
-        if (!(out[d] = malloc((n ? n : 1) * sizeof *out[d])))
+        if (!(out[d] = calloc(n ? n : 1, sizeof *out[d])))
             return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the refined targets");
     }
     return TEXOPT_OK;
@@ -1245,6 +1270,8 @@ static texopt_status kept_targets(const texopt_job *job, double cap, const texop
     texopt_status st = alloc_domain_targets(job, out, err, err_len);
     for (int d = 0; d < job->model->domain_count && st == TEXOPT_OK; d++) {
         const job_domain *jd = &job->domains[d];
+        if (jd->kept)
+            continue;
         double area = ds[d].relative_cost * (double)jd->input_coverage.covered_texels;
         texopt_allocate_options o = domain_allocation(jd, cap);
         if (cap > 0 && area > 0)
@@ -1572,6 +1599,18 @@ static texopt_status weigh_signals(texopt_job *job, char *err, size_t err_len)
     return texopt_lit_signal_weights(m, job->signal_weights, err, err_len);
 }
 
+/* A layout method with no domain to lay out has nothing to do: refused with the first
+ * domain's reason rather than writing the input again. */
+static texopt_status check_something_laid_out(const texopt_job *job, char *err, size_t err_len)
+{
+    int n = job->model->domain_count;
+    for (int d = 0; d < n; d++)
+        if (!job->domains[d].kept)
+            return TEXOPT_OK;
+    return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "%sdomain 0: %s",
+                       n > 1 ? "no domain has texels to lay out; " : "", job->stats.domains[0].kept_as_is);
+}
+
 texopt_status texopt_job_create(texopt_job **out, const char *input_path, const texopt_params *params,
                                 const texopt_monitor *monitor, char *err, size_t err_len)
 {
@@ -1617,6 +1656,8 @@ texopt_status texopt_job_create(texopt_job **out, const char *input_path, const 
             st = prepare_domain(job, d, at, at + share, err, err_len);
         at += share;
     }
+    if (st == TEXOPT_OK)
+        st = check_something_laid_out(job, err, err_len);
     if (st != TEXOPT_OK) {
         texopt_job_destroy(job);
         return st;

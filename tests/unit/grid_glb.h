@@ -39,11 +39,13 @@ static inline int grid_pattern_png(int tex, const char *pattern, unsigned char *
 }
 
 /* Writes a mesh (positions 3 floats and UVs 2 floats per vertex, u32 triangles) as a .glb at
- * path with image_count tex x tex images of patterns[i], texture i showing image i, and one
- * material, `material` (its JSON object, which binds the textures). Returns 0 on success. */
-static inline int write_mesh_glb_material(const char *path, const float *positions, const float *uvs, size_t nv,
-                                          const uint32_t *triangles, size_t nt, int tex,
-                                          const char *const *patterns, int image_count, const char *material)
+ * path with image_count tex x tex images of patterns[i], texture i showing image i, and the
+ * materials `materials` (their JSON objects, comma-separated, which bind the textures): the
+ * first `split` triangles are a primitive of material 0, the others (when split < nt) a second
+ * primitive, on the same vertices, of material 1. Returns 0 on success. */
+static inline int write_mesh_glb_primitives(const char *path, const float *positions, const float *uvs, size_t nv,
+                                            const uint32_t *triangles, size_t nt, size_t split, int tex,
+                                            const char *const *patterns, int image_count, const char *materials)
 {
     enum { MAX_IMAGES = 6 };
     unsigned char *png[MAX_IMAGES] = {NULL};
@@ -58,7 +60,13 @@ static inline int write_mesh_glb_material(const char *path, const float *positio
     }
     bin_len = (bin_len + 3) / 4 * 4;
     unsigned char *bin = ok ? calloc(1, bin_len) : NULL;
-    char json[8192], textures[256] = "", images[512] = "", views[1024] = "";
+    char json[8192], textures[256] = "", images[512] = "", views[1024] = "", second[256] = "", second_indices[160] = "";
+    if (split < nt) {
+        snprintf(second, sizeof second, ",{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1},\"indices\":3,\"material\":1}");
+        snprintf(second_indices, sizeof second_indices,
+                 ",{\"bufferView\":2,\"byteOffset\":%zu,\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"}",
+                 split * 12, (nt - split) * 3);
+    }
     int jl = -1;
     if (bin) {
         memcpy(bin, positions, pos_len);
@@ -81,16 +89,17 @@ static inline int write_mesh_glb_material(const char *path, const float *positio
             }
         jl = snprintf(json, sizeof json,
             "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
-            "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1},\"indices\":2,\"material\":0}]}],"
+            "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1},\"indices\":2,\"material\":0}%s]}],"
             "\"materials\":[%s],\"textures\":[%s],\"images\":[%s],"
             "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\",\"min\":[%.9g,%.9g,%.9g],\"max\":[%.9g,%.9g,%.9g]},"
             "{\"bufferView\":1,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC2\"},"
-            "{\"bufferView\":2,\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"}],"
+            "{\"bufferView\":2,\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"}%s],"
             "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},"
             "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}%s],"
             "\"buffers\":[{\"byteLength\":%zu}]}",
-            material, textures, images, nv, (double)lo[0], (double)lo[1], (double)lo[2], (double)hi[0], (double)hi[1],
-            (double)hi[2], nv, nt * 3, pos_len, pos_len, uv_len, pos_len + uv_len, idx_len, views, bin_len);
+            second, materials, textures, images, nv, (double)lo[0], (double)lo[1], (double)lo[2], (double)hi[0],
+            (double)hi[1], (double)hi[2], nv, split * 3, second_indices, pos_len, pos_len, uv_len, pos_len + uv_len,
+            idx_len, views, bin_len);
     }
     for (int i = 0; i < MAX_IMAGES; i++)
         free(png[i]);
@@ -117,6 +126,15 @@ static inline int write_mesh_glb_material(const char *path, const float *positio
         written = 0;
     free(glb);
     return written ? 0 : -1;
+}
+
+/* The mesh as one primitive of one material (write_mesh_glb_primitives). */
+static inline int write_mesh_glb_material(const char *path, const float *positions, const float *uvs, size_t nv,
+                                          const uint32_t *triangles, size_t nt, int tex,
+                                          const char *const *patterns, int image_count, const char *material)
+{
+    return write_mesh_glb_primitives(path, positions, uvs, nv, triangles, nt, nt, tex, patterns, image_count,
+                                     material);
 }
 
 /* The same with a base-colour texture of `pattern` and, with mr_pattern (NULL: none), image 1

@@ -255,6 +255,77 @@ TEST(a_layout_covering_no_texel_centre_is_refused_by_layout_methods)
     scratch_free(&s);
 }
 
+/* A model of two materials: a 2 x 2 grid on image 0 laid out as usual, and beside it a grid
+ * on image 1 whose UVs all lie inside one texel (a colour picked from a palette). The second
+ * domain has no texels to lay out; the first is still laid out, the second kept as it is. */
+TEST(a_domain_covering_no_texel_centre_is_kept_beside_those_laid_out)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 2, 8, NULL) == 0);
+    float pos[18 * 3], uv[18 * 2];
+    uint32_t idx[16 * 3];
+    grid_fill(2, pos, uv, idx);
+    grid_fill(2, pos + 27, uv + 18, idx + 24);
+    for (int v = 9; v < 18; v++) {
+        pos[3 * v] += 2;
+        uv[2 * v] = 0.63f + 0.05f * uv[2 * v];
+        uv[2 * v + 1] = 0.38f + 0.05f * uv[2 * v + 1];
+    }
+    for (int k = 24; k < 48; k++)
+        idx[k] += 9;
+    const char *patterns[2] = {"checker", "gradient"};
+    CHECK(write_mesh_glb_primitives(s.in, pos, uv, 18, idx, 16, 8, 8, patterns, 2,
+                                    "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}},"
+                                    "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":1}}}") == 0);
+    texopt_model *in = load(s.in);
+    CHECK(in && in->domain_count == 2);
+    int palette = in->primitives[1].domain;
+    texopt_params p = {0};
+    p.relative_cost = 0.5;
+    p.threads = 1;
+    char err[512] = "";
+    const texopt_method methods[] = {TEXOPT_METHOD_PERCEPTUAL, TEXOPT_METHOD_ARAP};
+    for (size_t m = 0; m < sizeof methods / sizeof methods[0]; m++) {
+        p.method = methods[m];
+        CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+        texopt_model *out = load(s.out);
+        cJSON *st = read_json(s.stats);
+        CHECK(out && st);
+        const texopt_primitive *kept = &out->primitives[1];
+        CHECK_EQ_INT(kept->domain, palette);
+        for (size_t k = 0; k < 2 * kept->vertex_count; k++)
+            CHECK(out->uvs[2 * kept->first_vertex + k] == in->uvs[2 * in->primitives[1].first_vertex + k]);
+        const texopt_image *img = &out->images[out->domains[palette].images[0]];
+        const texopt_image *was = &in->images[in->domains[palette].images[0]];
+        CHECK(img->width == was->width && img->height == was->height &&
+              memcmp(img->pixels, was->pixels, sizeof(float) * 8 * 8 * (size_t)was->channels) == 0);
+        cJSON *domains = cJSON_GetObjectItem(st, "domains");
+        cJSON *ds = cJSON_GetArrayItem(domains, palette), *laid = cJSON_GetArrayItem(domains, 1 - palette);
+        cJSON *why = cJSON_GetObjectItem(ds, "kept_as_is");
+        CHECK_MSG(cJSON_IsString(why) && strstr(why->valuestring, "covers no texel centre"), "%s",
+                  texopt_method_name(p.method));
+        CHECK(cJSON_IsFalse(cJSON_GetObjectItem(ds, "repacked")));
+        CHECK(cJSON_IsTrue(cJSON_GetObjectItem(laid, "repacked")));
+        CHECK(cJSON_GetObjectItem(laid, "kept_as_is") == NULL);
+        CHECK_NEAR(cJSON_GetObjectItem(laid, "relative_cost")->valuedouble, 0.5, 0.15);
+        cJSON_Delete(st);
+        texopt_model_destroy(out);
+    }
+    /* With both grids inside one texel there is nothing to lay out: refused, nothing written. */
+    for (int v = 0; v < 9; v++)
+        uv[2 * v] = 0.13f + 0.05f * uv[2 * v], uv[2 * v + 1] = 0.13f + 0.05f * uv[2 * v + 1];
+    CHECK(write_mesh_glb_primitives(s.in, pos, uv, 18, idx, 16, 8, 8, patterns, 2,
+                                    "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}},"
+                                    "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":1}}}") == 0);
+    unlink(s.out);
+    texopt_status refused = texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err);
+    CHECK_MSG(refused == TEXOPT_E_UNSUPPORTED && strstr(err, "no domain has texels to lay out"), "%d: %s",
+              (int)refused, err);
+    CHECK(access(s.out, F_OK) != 0);
+    texopt_model_destroy(in);
+    scratch_free(&s);
+}
+
 TEST(baseline_methods_run_through_the_same_stages)
 {
     /* arap on a flat-textured grid: targets are the isometry, so the layout keeps its shape
