@@ -566,9 +566,11 @@ static texopt_status fit_texture_size(work *w, const texopt_budget_request *req,
     }
     if (st != TEXOPT_OK)
         return st;
-    if (!(lo > 0))
+    if (!(lo > 0)) {
+        res->no_fit = 1;
         return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "budget: the charts do not fit in %dx%d at any scale",
                            width, height);
+    }
     res->width = width;
     res->height = height;
     res->scale = lo;

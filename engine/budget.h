@@ -68,6 +68,8 @@ typedef struct texopt_budget_result {
     double relative_cost;       /* cost / input_cost */
     double packing_efficiency;  /* cost / (width * height) */
     int packings;               /* pack runs spent */
+    int no_fit;                 /* texture size: the charts fit it at no scale (with
+                                   TEXOPT_E_LIMIT; the other fields are then 0) */
 } texopt_budget_result;
 
 /* Scales `texel` (2 per mesh vertex, any scale, e.g. the stage-2 layout in input texels),

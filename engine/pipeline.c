@@ -28,7 +28,10 @@
  *     arap.h targets in place of stage 1, rotation weight 0), solved as they are, then the
  *     same stage 2, budget (a uniform scale), packing and re-bake as "perceptual".
  * A domain whose layout covers no texel centre (UVs picking a colour from a palette) is kept
- * as it is by every layout method (keep_domain); a model with no other domain is refused.
+ * as it is by every layout method (keep_domain); a model with no other domain is refused. A
+ * domain whose new layout would pack into over twice the pixels of its input layout resized to
+ * the budget, or fit a texture size at no scale (charts of a texel or less, mostly gutter),
+ * keeps its input layout resized as by method "input" (input_layout_packs_better).
  * Budgets: a relative cost is allocated as asked; a texture size at the cost it is expected
  * to reach (texels x typical packing efficiency), solved again once at the cost reached
  * when that misses by more than 10%; target_loss searches the relative cost (compare.h,
@@ -293,6 +296,19 @@ static int worker_threads(const texopt_params *params)
     return n > 0 ? (int)n : 1;
 }
 
+/* The domain frame's size under method "input" at the budget of params. */
+static void input_method_frame(const texopt_domain *dom, const texopt_params *params, int *ow, int *oh)
+{
+    if (params->budget == TEXOPT_BUDGET_TEXTURE_SIZE) {
+        *ow = params->texture_width;
+        *oh = params->texture_height;
+    } else {
+        double s = sqrt(params->relative_cost);
+        *ow = scaled_side(dom->width, s);
+        *oh = scaled_side(dom->height, s);
+    }
+}
+
 /* Method "input": same UVs, every image of the domain resampled to the budget. */
 static texopt_status run_input_method(const texopt_model *model, const texopt_mesh *mesh,
                                       const texopt_params *params, job_output *out,
@@ -301,14 +317,7 @@ static texopt_status run_input_method(const texopt_model *model, const texopt_me
 {
     const texopt_domain *dom = &model->domains[mesh->domain];
     int ow, oh;
-    if (params->budget == TEXOPT_BUDGET_TEXTURE_SIZE) {
-        ow = params->texture_width;
-        oh = params->texture_height;
-    } else {
-        double s = sqrt(params->relative_cost);
-        ow = scaled_side(dom->width, s);
-        oh = scaled_side(dom->height, s);
-    }
+    input_method_frame(dom, params, &ow, &oh);
     ds->output_width = ow;
     ds->output_height = oh;
     double t0 = now_seconds();
@@ -523,7 +532,7 @@ static texopt_status prepare_domain(texopt_job *job, int d, double from, double 
         return TEXOPT_OK;
     st = texopt_coverage_measure(jd->mesh, NULL, &jd->input_coverage, err, err_len);
     if (st == TEXOPT_OK && jd->input_coverage.covered_texels == 0) {
-        snprintf(ds->kept_as_is, sizeof ds->kept_as_is,
+        snprintf(ds->input_layout_kept, sizeof ds->input_layout_kept,
                  "its layout covers no texel centre of its %dx%d texture, so it has no texels to lay out (a texture "
                  "of one texel, or UVs inside one texel)", dom->width, dom->height);
         jd->kept = 1;
@@ -920,8 +929,41 @@ static texopt_status layout_for_budget(const texopt_job *job, int d, const texop
     return st;
 }
 
+/* Charts of a few texels or less (a palette's colour spots, each face an island of its own)
+ * pack mostly gutter: such a layout's texture can take many times the pixels of the input
+ * layout's at the same budget (a 64x64 palette of 4,212 spots at c_r 0.3: 28x3056 against
+ * 35x35, BENCHMARKS.md "Palette models"), or fit a texture size at no scale. The domain then
+ * keeps its input layout, its images resized to the budget as by method "input": a budget met
+ * with over twice the pixels the input layout needs for it is not what was asked for. The
+ * sample assets' perceptual layouts take 0.62-1.06 times the input layout's pixels at c_r 0.1,
+ * where gutter weighs most. */
+#define WASTED_PIXELS_LIMIT 2.0
+
+/* Whether the domain keeps its input layout rather than the layout of *br (st: the budget's
+ * status), with the reason in ds. */
+static int input_layout_packs_better(const texopt_model *model, const texopt_mesh *mesh, const texopt_params *p,
+                                     const texopt_budget_result *br, texopt_status st, texopt_domain_stats *ds)
+{
+    int ow, oh;
+    input_method_frame(&model->domains[mesh->domain], p, &ow, &oh);
+    if (st == TEXOPT_E_LIMIT && br->no_fit) {
+        snprintf(ds->input_layout_kept, sizeof ds->input_layout_kept,
+                 "the new layout fits %dx%d at no scale (%zu chart%s); the input layout is kept, its images resized "
+                 "to %dx%d", ow, oh, mesh->chart_count, mesh->chart_count == 1 ? "" : "s", ow, oh);
+        return 1;
+    }
+    double ratio = (double)br->width * br->height / ((double)ow * oh);
+    if (st != TEXOPT_OK || ratio <= WASTED_PIXELS_LIMIT)
+        return 0;
+    snprintf(ds->input_layout_kept, sizeof ds->input_layout_kept,
+             "the new layout packs its %zu chart%s into %dx%d, %.1fx the pixels the input layout needs at this "
+             "budget (%dx%d), mostly gutter; the input layout is kept, its images resized to %dx%d",
+             mesh->chart_count, mesh->chart_count == 1 ? "" : "s", br->width, br->height, ratio, ow, oh, ow, oh);
+    return 1;
+}
+
 /* Methods "perceptual" and the baselines at one budget: allocation, stage 2, budget + pack,
- * re-bake. */
+ * re-bake; or the input layout resized (input_layout_packs_better). */
 static texopt_status run_optimised_method(const texopt_job *job, int d, const texopt_params *p,
                                           int with_stats, job_output *out, texopt_domain_stats *ds,
                                           job_monitor *jm, double from, double to, char *err, size_t err_len)
@@ -936,8 +978,15 @@ static texopt_status run_optimised_method(const texopt_job *job, int d, const te
     texopt_status st = texel_new && packed ? TEXOPT_OK
                                            : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the new layout");
     texopt_budget_result br = {0};
+    ds->input_layout_kept[0] = '\0';
     if (st == TEXOPT_OK)
         st = layout_for_budget(job, d, p, texel_new, packed, &br, ds, jm, from, pack_from, bake_from, err, err_len);
+    if (input_layout_packs_better(job->model, mesh, p, &br, st, ds)) {
+        free(texel_new);
+        free(packed);
+        ds->repacked = 0;
+        return run_input_method(job->model, mesh, p, out, ds, jm, bake_from, to, err, err_len);
+    }
     if (st == TEXOPT_OK && with_stats)
         st = measure_loss_share(job, d, texel_new, ds, jm, err, err_len);
     if (st == TEXOPT_OK) {
@@ -1608,7 +1657,7 @@ static texopt_status check_something_laid_out(const texopt_job *job, char *err, 
         if (!job->domains[d].kept)
             return TEXOPT_OK;
     return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "%sdomain 0: %s",
-                       n > 1 ? "no domain has texels to lay out; " : "", job->stats.domains[0].kept_as_is);
+                       n > 1 ? "no domain has texels to lay out; " : "", job->stats.domains[0].input_layout_kept);
 }
 
 texopt_status texopt_job_create(texopt_job **out, const char *input_path, const texopt_params *params,

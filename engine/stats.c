@@ -95,8 +95,8 @@ static cJSON *domain_json(const texopt_domain_stats *d)
     cJSON_AddNumberToObject(o, "packing_efficiency_input", d->packing_efficiency_input);
     cJSON_AddNumberToObject(o, "packing_efficiency", d->packing_efficiency);
     cJSON_AddBoolToObject(o, "repacked", d->repacked);
-    if (d->kept_as_is[0])
-        cJSON_AddStringToObject(o, "kept_as_is", d->kept_as_is);
+    if (d->input_layout_kept[0])
+        cJSON_AddStringToObject(o, "input_layout_kept", d->input_layout_kept);
     if (d->repacked)
         cJSON_AddNumberToObject(o, "budget_scale", d->budget_scale);
     add_stage_stats(o, d);

@@ -37,8 +37,8 @@ typedef struct texopt_domain_stats {
     double packing_efficiency_input; /* covered texels / frame texels */
     double packing_efficiency;
     int repacked;                    /* 1 when charts were packed anew */
-    char kept_as_is[192];            /* why the domain's UVs and images were kept as they are
-                                        ("" when it was laid out) */
+    char input_layout_kept[320];     /* a layout method's domain that kept its input layout:
+                                        why ("" when it was laid out anew) */
     int image_count;
     texopt_image_stats *images;
 

@@ -101,15 +101,30 @@ grep -qi '^access-control-allow-methods: GET, HEAD, POST, OPTIONS' "$WORK/header
 curl -s -o "$WORK/spec.yaml" "${AUTH[@]}" "$BASE/openapi.yaml"
 cmp -s "$WORK/spec.yaml" "$TEXOPT_SOURCE_DIR/openapi.yaml" || fail "served openapi.yaml differs from the file"
 
-# A job the engine refuses after it was queued: a texture too small for the charts.
-[ "$(post_glb "$SPOT" "method=tewari&texture_width=4&texture_height=4")" = 202 ] ||
-  fail "4x4 upload: $(cat "$WORK/resp")"
+# A job the engine refuses after it was queued: spot with a texture transform that repeats
+# its texture 5000 times across, more texels than a layout can measure.
+/usr/bin/python3 - "$SPOT" "$WORK/repeating.glb" <<'PY' || fail "could not write the repeating model"
+import json, struct, sys
+b = open(sys.argv[1], "rb").read()
+n = struct.unpack_from("<I", b, 12)[0]
+doc = json.loads(b[20:20 + n])
+doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
+    "KHR_texture_transform": {"scale": [5000, 5000]}}
+doc.setdefault("extensionsUsed", []).append("KHR_texture_transform")
+j = json.dumps(doc).encode()
+j += b" " * (-len(j) % 4)
+rest = b[20 + n:]
+open(sys.argv[2], "wb").write(struct.pack("<III", 0x46546C67, 2, 20 + len(j) + len(rest)) +
+                              struct.pack("<I", len(j)) + b"JSON" + j + rest)
+PY
+[ "$(post_glb "$WORK/repeating.glb" "method=tewari&relative_cost=0.5")" = 202 ] ||
+  fail "repeating upload: $(cat "$WORK/resp")"
 bad=$(json "$WORK/resp" 'd["id"]')
 wait_state "$bad" failed 120
 curl -s -o "$WORK/bad.json" "${AUTH[@]}" "$BASE/v1/jobs/$bad"
 [ "$(json "$WORK/bad.json" 'd["problem"]["status"]')" = 413 ] || fail "failed job's problem: $(cat "$WORK/bad.json")"
 [ "$(json "$WORK/bad.json" 'd["problem"]["type"]')" = urn:texopt:problem:model-too-large ] || fail "problem type"
-grep -q 'do not fit' "$WORK/bad.json" || fail "failed job's problem does not say why"
+grep -q 'the UVs repeat it that often' "$WORK/bad.json" || fail "failed job's problem does not say why"
 grep -qi '^retry-after' <(curl -s -D - -o /dev/null "${AUTH[@]}" "$BASE/v1/jobs/$bad") && fail "Retry-After on a finished job"
 expect_problem 409 "$(curl -s -o "$WORK/resp" -D "$WORK/headers" -w '%{http_code}' "${AUTH[@]}" "$BASE/v1/jobs/$bad/result")" job-not-succeeded
 

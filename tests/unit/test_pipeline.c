@@ -268,13 +268,13 @@ TEST(a_domain_covering_no_texel_centre_is_kept_beside_those_laid_out)
     grid_fill(2, pos + 27, uv + 18, idx + 24);
     for (int v = 9; v < 18; v++) {
         pos[3 * v] += 2;
-        uv[2 * v] = 0.63f + 0.05f * uv[2 * v];
-        uv[2 * v + 1] = 0.38f + 0.05f * uv[2 * v + 1];
+        uv[2 * v] = (20.55f + 0.4f * uv[2 * v]) / 32;
+        uv[2 * v + 1] = (12.55f + 0.4f * uv[2 * v + 1]) / 32;
     }
     for (int k = 24; k < 48; k++)
         idx[k] += 9;
     const char *patterns[2] = {"checker", "gradient"};
-    CHECK(write_mesh_glb_primitives(s.in, pos, uv, 18, idx, 16, 8, 8, patterns, 2,
+    CHECK(write_mesh_glb_primitives(s.in, pos, uv, 18, idx, 16, 8, 32, patterns, 2,
                                     "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}},"
                                     "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":1}}}") == 0);
     texopt_model *in = load(s.in);
@@ -298,23 +298,23 @@ TEST(a_domain_covering_no_texel_centre_is_kept_beside_those_laid_out)
         const texopt_image *img = &out->images[out->domains[palette].images[0]];
         const texopt_image *was = &in->images[in->domains[palette].images[0]];
         CHECK(img->width == was->width && img->height == was->height &&
-              memcmp(img->pixels, was->pixels, sizeof(float) * 8 * 8 * (size_t)was->channels) == 0);
+              memcmp(img->pixels, was->pixels, sizeof(float) * 32 * 32 * (size_t)was->channels) == 0);
         cJSON *domains = cJSON_GetObjectItem(st, "domains");
         cJSON *ds = cJSON_GetArrayItem(domains, palette), *laid = cJSON_GetArrayItem(domains, 1 - palette);
-        cJSON *why = cJSON_GetObjectItem(ds, "kept_as_is");
+        cJSON *why = cJSON_GetObjectItem(ds, "input_layout_kept");
         CHECK_MSG(cJSON_IsString(why) && strstr(why->valuestring, "covers no texel centre"), "%s",
                   texopt_method_name(p.method));
         CHECK(cJSON_IsFalse(cJSON_GetObjectItem(ds, "repacked")));
         CHECK(cJSON_IsTrue(cJSON_GetObjectItem(laid, "repacked")));
-        CHECK(cJSON_GetObjectItem(laid, "kept_as_is") == NULL);
+        CHECK(cJSON_GetObjectItem(laid, "input_layout_kept") == NULL);
         CHECK_NEAR(cJSON_GetObjectItem(laid, "relative_cost")->valuedouble, 0.5, 0.15);
         cJSON_Delete(st);
         texopt_model_destroy(out);
     }
     /* With both grids inside one texel there is nothing to lay out: refused, nothing written. */
     for (int v = 0; v < 9; v++)
-        uv[2 * v] = 0.13f + 0.05f * uv[2 * v], uv[2 * v + 1] = 0.13f + 0.05f * uv[2 * v + 1];
-    CHECK(write_mesh_glb_primitives(s.in, pos, uv, 18, idx, 16, 8, 8, patterns, 2,
+        uv[2 * v] = (4.55f + 0.4f * uv[2 * v]) / 32, uv[2 * v + 1] = (4.55f + 0.4f * uv[2 * v + 1]) / 32;
+    CHECK(write_mesh_glb_primitives(s.in, pos, uv, 18, idx, 16, 8, 32, patterns, 2,
                                     "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}},"
                                     "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":1}}}") == 0);
     unlink(s.out);
@@ -322,6 +322,65 @@ TEST(a_domain_covering_no_texel_centre_is_kept_beside_those_laid_out)
     CHECK_MSG(refused == TEXOPT_E_UNSUPPORTED && strstr(err, "no domain has texels to lay out"), "%d: %s",
               (int)refused, err);
     CHECK(access(s.out, F_OK) != 0);
+    texopt_model_destroy(in);
+    scratch_free(&s);
+}
+
+/* The statistics' reason for keeping domain 0's input layout, "" when it was laid out. */
+static const char *input_layout_kept(cJSON *st)
+{
+    cJSON *why = cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(st, "domains"), 0), "input_layout_kept");
+    return cJSON_IsString(why) ? why->valuestring : "";
+}
+
+/* A palette model: a 12 x 12 grid whose every triangle is a UV island of its own, a spot of
+ * two texels inside one square of a 32 x 32 checker. Laid out anew, 288 charts of under a
+ * texel pack mostly gutter; the input layout, resized as by method "input", is kept. */
+TEST(charts_too_small_to_pack_keep_the_input_layout)
+{
+    enum { N = 12, NT = 2 * N * N };
+    float grid_pos[(N + 1) * (N + 1) * 3], grid_uv[(N + 1) * (N + 1) * 2];
+    uint32_t grid_idx[NT * 3];
+    grid_fill(N, grid_pos, grid_uv, grid_idx);
+    static float pos[NT * 9], uv[NT * 6];
+    static uint32_t idx[NT * 3];
+    const float spot[3][2] = {{-1, -1}, {1, -1}, {0, 1}};
+    for (int t = 0; t < NT; t++) {
+        float cx = (float)((t % 8) * 4 + 2), cy = (float)((t / 8 % 8) * 4 + 2);
+        for (int k = 0; k < 3; k++) {
+            memcpy(pos + 9 * t + 3 * k, grid_pos + 3 * grid_idx[3 * t + k], 3 * sizeof(float));
+            uv[6 * t + 2 * k] = (cx + spot[k][0]) / 32;
+            uv[6 * t + 2 * k + 1] = (cy + spot[k][1]) / 32;
+            idx[3 * t + k] = (uint32_t)(3 * t + k);
+        }
+    }
+    scratch s;
+    CHECK(scratch_init(&s, 2, 8, NULL) == 0);
+    CHECK(write_mesh_glb(s.in, pos, uv, 3 * NT, idx, NT, 32, "checker", NULL) == 0);
+    texopt_model *in = load(s.in);
+    CHECK(in != NULL);
+    texopt_params p = {0};
+    p.threads = 1;
+    char err[512] = "";
+    const texopt_method methods[] = {TEXOPT_METHOD_PERCEPTUAL, TEXOPT_METHOD_TEWARI};
+    for (int m = 0; m < 2; m++)
+        for (int by_size = 0; by_size < 2; by_size++) {
+            p.method = methods[m];
+            p.budget = by_size ? TEXOPT_BUDGET_TEXTURE_SIZE : TEXOPT_BUDGET_RELATIVE_COST;
+            p.relative_cost = by_size ? 0 : 0.5;
+            p.texture_width = p.texture_height = by_size ? 24 : 0;
+            CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+            texopt_model *out = load(s.out);
+            cJSON *st = read_json(s.stats);
+            CHECK(out && st);
+            const char *why = input_layout_kept(st);
+            CHECK_MSG(strstr(why, by_size ? "fits 24x24 at no scale" : "mostly gutter"), "%s, %s: '%s'",
+                      texopt_method_name(p.method), by_size ? "24x24" : "c_r 0.5", why);
+            CHECK_EQ_INT(out->images[0].width, by_size ? 24 : 23); /* 32 sqrt(0.5) */
+            CHECK(memcmp(out->uvs, in->uvs, sizeof(float) * 2 * in->vertex_count) == 0);
+            cJSON_Delete(st);
+            texopt_model_destroy(out);
+        }
     texopt_model_destroy(in);
     scratch_free(&s);
 }
