@@ -689,6 +689,50 @@ void texopt_evaluate_reference_destroy(texopt_evaluate_reference *views)
     free(views);
 }
 
+/* The lit luma of one view as a grey RGB image into out (side x side x 3). */
+static texopt_status render_lit(const texopt_model *reference, const texopt_model *model, const texopt_raster *raster,
+                                const double *turn, texopt_image *out, char *err, size_t err_len)
+{
+    size_t n = (size_t)raster->side * (size_t)raster->side;
+    float *luma = malloc(n * sizeof *luma), *scratch = malloc(n * TEXOPT_LIT_SCRATCH_FLOATS * sizeof *scratch);
+    texopt_lit_frames *frames = NULL;
+    texopt_status st = luma && scratch ? texopt_lit_frames_create(reference, &frames, err, err_len)
+                                       : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a lit render");
+    if (st == TEXOPT_OK)
+        st = texopt_lit_shade(model, raster, frames, NULL, turn, scratch, luma, err, err_len);
+    for (size_t i = 0; st == TEXOPT_OK && i < n; i++)
+        out->pixels[3 * i] = out->pixels[3 * i + 1] = out->pixels[3 * i + 2] = luma[i];
+    texopt_lit_frames_destroy(frames);
+    free(luma);
+    free(scratch);
+    return st;
+}
+
+texopt_status texopt_evaluate_render(const texopt_model *reference, const texopt_model *model,
+                                     const texopt_evaluate_options *opt, const texopt_raster *raster,
+                                     texopt_image *out, char *err, size_t err_len)
+{
+    if (!reference || !model || !opt || !raster || !out)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "render: missing model, options or raster");
+    memset(out, 0, sizeof *out);
+    int normal = opt->lit ? TEXOPT_SLOT_NORMAL : opt->texture;
+    double *turn = NULL;
+    texopt_status st = texopt_meshrender_same_geometry(reference, model, err, err_len);
+    if (st == TEXOPT_OK && !reference->uvs)
+        st = texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "render: the reference has no TEXCOORD_0");
+    if (st == TEXOPT_OK && model != reference && texopt_texture_key_kind(normal) == TEXOPT_TEXTURE_NORMAL)
+        st = candidate_turns(reference, model, normal, &turn, err, err_len);
+    if (st == TEXOPT_OK)
+        st = texopt_image_create(out, raster->side, raster->side, 3, err, err_len);
+    if (st == TEXOPT_OK)
+        st = opt->lit ? render_lit(reference, model, raster, turn, out, err, err_len)
+                      : texopt_meshrender_shade_rgb(model, raster, opt->texture, NULL, turn, out->pixels, err, err_len);
+    if (st != TEXOPT_OK)
+        texopt_image_destroy(out);
+    free(turn);
+    return st;
+}
+
 texopt_status texopt_evaluate(const texopt_model *reference, const texopt_model *candidate,
                               const texopt_evaluate_options *opt, texopt_evaluation *out,
                               char *err, size_t err_len)

@@ -163,6 +163,16 @@ texopt_status texopt_evaluate(const texopt_model *reference, const texopt_model 
                               const texopt_evaluate_options *opt, texopt_evaluation *out,
                               char *err, size_t err_len);
 
+/* One view of `model` (the reference or a candidate) as the measure of opt (`texture` or
+ * `lit`) shows it, for a person to look at (compare's report): *out becomes a side x side RGB
+ * image (allocated here; background 0) of the texture's texels as stored, base colour cut out
+ * by its alpha as q sees it, a normal-kind texture (texture_keys.h) turned back to the
+ * reference's tangent frame as q compares it, or the lit luma in grey. Bilinear lookups;
+ * raster: texopt_meshrender_rasterize of the reference; the other options are not read. */
+texopt_status texopt_evaluate_render(const texopt_model *reference, const texopt_model *model,
+                                     const texopt_evaluate_options *opt, const texopt_raster *raster,
+                                     texopt_image *out, char *err, size_t err_len);
+
 /* Whole-mesh loss of several candidates (candidate_count >= 1, all with the reference's
  * triangles) against one reference, into out[0..candidate_count): each view of the reference
  * is rasterised and shaded once for all of them, so choosing among candidates costs one

@@ -246,11 +246,15 @@ static void results_table(sbuf *s, const texopt_compare_result *r)
 
 /* ---- renders, textures, UV maps ---------------------------------------------------------- */
 
-static texopt_status render_view(const texopt_model *model, const texopt_raster *raster, sbuf *s,
-                                 const char *alt, char *err, size_t err_len)
+/* One view of model (the input or a showcase) as q's measure shows it (evaluate.h). */
+static texopt_status render_view(const texopt_compare_result *r, const texopt_model *model,
+                                 const texopt_raster *raster, sbuf *s, const char *alt, char *err, size_t err_len)
 {
+    texopt_evaluate_options measure = {0};
+    measure.lit = r->measure == TEXOPT_COMPARE_LIT;
+    measure.texture = measure.lit ? TEXOPT_SLOT_BASE_COLOR : r->measure;
     texopt_image img;
-    texopt_status st = texopt_meshrender_shade(model, raster, &img, err, err_len);
+    texopt_status st = texopt_evaluate_render(r->input, model, &measure, raster, &img, err, err_len);
     if (st == TEXOPT_OK)
         st = sb_png_img(s, &img, alt, err, err_len);
     texopt_image_destroy(&img);
@@ -305,7 +309,9 @@ static texopt_status renders_section(sbuf *s, const texopt_compare_result *r, in
     texopt_status st = texopt_meshrender_views(r->input, all, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    sb_printf(s, "<h2>Renders at c_r = %.2f (equal pixel budget)</h2>\n<p>%s</p>\n", r->showcase_cost,
+    sb_printf(s, "<h2>Renders of the %s%s at c_r = %.2f (equal pixel budget)</h2>\n<p>%s</p>\n",
+              texopt_compare_measure_name(r->measure), r->measure == TEXOPT_COMPARE_LIT ? " render" : " texture",
+              r->showcase_cost,
               by_loss ? "The three of the 20 views with the largest loss, mean over the methods; under each render "
                         "its GMSD in that view."
                       : "Three of the 20 views.");
@@ -319,13 +325,13 @@ static texopt_status renders_section(sbuf *s, const texopt_compare_result *r, in
         if (st != TEXOPT_OK)
             break;
         sb_printf(s, "<tr><td>%d</td><td>", views[v]);
-        st = render_view(r->input, &raster, s, "input", err, err_len);
+        st = render_view(r, r->input, &raster, s, "input", err, err_len);
         sb_puts(s, "</td>");
         for (int c = 0; c < r->curve_count && st == TEXOPT_OK; c++) {
             sb_puts(s, "<td>");
             if (r->curves[c].showcase) {
-                st = render_view(r->curves[c].showcase, &raster, s,
-                                 texopt_method_name(r->curves[c].method), err, err_len);
+                st = render_view(r, r->curves[c].showcase, &raster, s, texopt_method_name(r->curves[c].method),
+                                 err, err_len);
                 if (has_view_losses(&r->curves[c]))
                     sb_printf(s, "<br>GMSD %.5f", r->curves[c].showcase_evaluation.view_gmsd[views[v]]);
             } else
@@ -339,15 +345,29 @@ static texopt_status renders_section(sbuf *s, const texopt_compare_result *r, in
     return st;
 }
 
-/* The base colour image of the model's first domain, resized to fit side x side. */
-static texopt_status texture_thumbnail(sbuf *s, const texopt_model *m, int side, const char *alt,
+/* The image of the measured texture (base colour for lit) on the first primitive of the
+ * model's first domain that binds it; -1 when none does. */
+static int measured_image(const texopt_model *m, int measure)
+{
+    int texture = measure == TEXOPT_COMPARE_LIT ? TEXOPT_SLOT_BASE_COLOR : measure;
+    for (int i = 0; m->domain_count > 0 && i < m->domains[0].primitive_count; i++) {
+        const texopt_texture_ref *ref = texopt_meshrender_binding(m, m->domains[0].primitives[i], texture);
+        if (ref)
+            return ref->image;
+    }
+    return -1;
+}
+
+/* The measured texture's image (measured_image), resized to fit side x side. */
+static texopt_status texture_thumbnail(sbuf *s, const texopt_model *m, int measure, int side, const char *alt,
                                        char *err, size_t err_len)
 {
-    if (m->domain_count < 1 || m->domains[0].image_count < 1 || !m->images[m->domains[0].images[0]].pixels) {
+    int image = measured_image(m, measure);
+    if (image < 0 || !m->images[image].pixels) {
         sb_puts(s, "(no texture)");
         return TEXOPT_OK;
     }
-    const texopt_image *img = &m->images[m->domains[0].images[0]];
+    const texopt_image *img = &m->images[image];
     double f = (double)side / (img->width > img->height ? img->width : img->height);
     int w = (int)fmax(1, floor(img->width * f + 0.5)), h = (int)fmax(1, floor(img->height * f + 0.5));
     texopt_image small;
@@ -501,9 +521,10 @@ static texopt_status layouts_section(sbuf *s, const texopt_compare_result *r, in
                  "the 20 views, black 0 to light yellow %.3f (common scale). &lambda;<sub>1</sub>&lambda;<sub>2</sub>: "
                  "texel area of the triangle over its input texel area, relative to the whole layout's "
                  "ratio: blue 8x smaller, white equal, red 8x larger. First texture domain only.</p>\n"
-                 "<table class=\"layouts\"><tr><th>method</th><th>new texture</th><th>per-triangle loss</th>"
+                 "<table class=\"layouts\"><tr><th>method</th><th>new %s texture</th><th>per-triangle loss</th>"
                  "<th>&lambda;<sub>1</sub>&lambda;<sub>2</sub></th></tr>\n",
-              r->showcase_cost, err_max);
+              r->showcase_cost, err_max,
+              texopt_compare_measure_name(r->measure == TEXOPT_COMPARE_LIT ? TEXOPT_SLOT_BASE_COLOR : r->measure));
     texopt_status st = TEXOPT_OK;
     for (int c = 0; c < r->curve_count && st == TEXOPT_OK; c++) {
         const texopt_compare_curve *curve = &r->curves[c];
@@ -513,7 +534,8 @@ static texopt_status layouts_section(sbuf *s, const texopt_compare_result *r, in
             continue;
         }
         sb_puts(s, "<td>");
-        st = texture_thumbnail(s, curve->showcase, side, texopt_method_name(curve->method), err, err_len);
+        st = texture_thumbnail(s, curve->showcase, r->measure, side, texopt_method_name(curve->method), err,
+                               err_len);
         sb_puts(s, "</td>");
         if (st == TEXOPT_OK)
             st = uv_maps(s, r, curve, side, err_max, err, err_len);

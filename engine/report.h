@@ -6,9 +6,11 @@
  *     data-method="name"), and the numbers as a table;
  *   - before/after renders from three of the 20 evaluation views, the input next to every
  *     method's output at the same relative cost (the showcase cost): equal pixel budget.
- *     The views are those with the largest loss (mean over the showcases' per-view GMSD,
- *     each shown under its render), or views 0, 7 and 13 when no showcase was measured;
- *   - every method's new base colour texture (thumbnail);
+ *     They show what q measured (evaluate.h texopt_evaluate_render: the texture's texels, a
+ *     normal map turned back to the input's frame, or the lit render in grey). The views
+ *     are those with the largest loss (mean over the showcases' per-view GMSD, each shown
+ *     under its render), or views 0, 7 and 13 when no showcase was measured;
+ *   - every method's new texture of that measure (base colour for lit; thumbnail);
  *   - every method's UV layout coloured by per-triangle loss (mean absolute luma error over
  *     the views, evaluate.h) and by lambda1 lambda2 (new texel area / input texel area:
  *     blue shrunk, white kept, red grown).

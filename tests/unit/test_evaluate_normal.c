@@ -3,7 +3,8 @@
  * normal map turned as a renderer needs it (engine/rebake.h), scores near 0; the same map
  * read unturned (as base colour, which is never turned) or baked without the turn scores
  * far worse; a material extension's normal map (clearcoatNormalTexture) the same. Models are
- * generated in code; the stored-tangent case writes a small .gltf. */
+ * generated in code; the stored-tangent case writes a small .gltf. The report's renders
+ * (texopt_evaluate_render) show a turned map turned back alike. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -219,4 +220,71 @@ TEST(stored_tangents_turn_nothing)
     snprintf(path, sizeof path, "%s/quad.bin", dir);
     remove(path);
     rmdir(dir);
+}
+
+/* Mean absolute RGB difference of two renders over the raster's covered pixels. */
+static double render_difference(const texopt_image *a, const texopt_image *b, const texopt_raster *raster)
+{
+    double sum = 0;
+    size_t n = 0;
+    for (size_t i = 0; i < (size_t)raster->side * (size_t)raster->side; i++)
+        if (raster->triangle[i] >= 0) {
+            for (int k = 0; k < 3; k++)
+                sum += fabs(a->pixels[3 * i + k] - b->pixels[3 * i + k]);
+            n += 3;
+        }
+    return n ? sum / (double)n : NAN;
+}
+
+/* texopt_evaluate_render of `model` in `measure` (a texture key, or -1: lit) into *img. */
+static texopt_status render_as(const texopt_model *ref, const texopt_model *model, int measure,
+                               const texopt_raster *raster, texopt_image *img)
+{
+    texopt_evaluate_options opt = {.texture = measure < 0 ? TEXOPT_SLOT_BASE_COLOR : measure, .lit = measure < 0};
+    char err[256] = "";
+    texopt_status st = texopt_evaluate_render(ref, model, &opt, raster, img, err, sizeof err);
+    if (st != TEXOPT_OK)
+        printf("  render: %s\n", err);
+    return st;
+}
+
+/* The report's renders (texopt_evaluate_render) show a re-baked normal map as q compares it,
+ * turned back to the reference's frame: the quarter-turned bake looks like the reference
+ * there, and unlike it read as base colour (never turned); base colour is what
+ * texopt_meshrender_shade draws; the lit render is grey. */
+TEST(renders_show_a_turned_normal_map_as_q_compares_it)
+{
+    texopt_model *ref = reference_quad();
+    float uv[8];
+    turned_uvs(90, uv);
+    texopt_model *turned = rebaked_candidate(ref, uv, TEX, 1);
+    CHECK(ref && turned);
+    texopt_view views[TEXOPT_VIEW_COUNT];
+    texopt_raster raster;
+    char err[256] = "";
+    CHECK_OK(texopt_meshrender_views(ref, views, err, sizeof err), err);
+    CHECK_OK(texopt_meshrender_rasterize(ref, &views[0], 64, &raster, err, sizeof err), err);
+    CHECK(raster.covered > 100);
+    texopt_image ref_normal, turned_normal, turned_colour, ref_colour, shaded, lit;
+    CHECK(render_as(ref, ref, TEXOPT_SLOT_NORMAL, &raster, &ref_normal) == TEXOPT_OK);
+    CHECK(render_as(ref, turned, TEXOPT_SLOT_NORMAL, &raster, &turned_normal) == TEXOPT_OK);
+    CHECK(render_as(ref, turned, TEXOPT_SLOT_BASE_COLOR, &raster, &turned_colour) == TEXOPT_OK);
+    CHECK(render_as(ref, ref, TEXOPT_SLOT_BASE_COLOR, &raster, &ref_colour) == TEXOPT_OK);
+    CHECK(render_as(ref, turned, -1, &raster, &lit) == TEXOPT_OK);
+    CHECK_OK(texopt_meshrender_shade(ref, &raster, &shaded, err, sizeof err), err);
+    double same = render_difference(&ref_normal, &turned_normal, &raster);
+    double unturned = render_difference(&ref_normal, &turned_colour, &raster);
+    printf("  normal render differs by %.4f turned back, %.4f read as base colour\n", same, unturned);
+    CHECK_MSG(same < 0.01 && unturned > 10 * same && unturned > 0.02, "%.4f, %.4f", same, unturned);
+    CHECK(memcmp(ref_colour.pixels, shaded.pixels, sizeof(float) * 3 * 64 * 64) == 0);
+    size_t grey = 0;
+    for (size_t i = 0; i < 64 * 64; i++)
+        grey += lit.pixels[3 * i] == lit.pixels[3 * i + 1] && lit.pixels[3 * i] == lit.pixels[3 * i + 2];
+    CHECK_EQ_INT((int)grey, 64 * 64);
+    texopt_image *all[] = {&ref_normal, &turned_normal, &turned_colour, &ref_colour, &shaded, &lit};
+    for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
+        texopt_image_destroy(all[i]);
+    texopt_raster_destroy(&raster);
+    texopt_model_destroy(ref);
+    texopt_model_destroy(turned);
 }

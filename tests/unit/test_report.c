@@ -123,6 +123,67 @@ TEST(report_is_self_contained_with_one_curve_per_method)
     texopt_compare_result_destroy(&r);
 }
 
+/* Moves m's texture to the occlusion slot and gives base colour a flat image of its own. */
+static int occlusion_beside_flat_colour(texopt_model *m)
+{
+    texopt_image *images = realloc(m->images, 2 * sizeof *images);
+    char **names = realloc(m->image_names, 2 * sizeof *names);
+    if (images)
+        m->images = images;
+    if (names)
+        m->image_names = names;
+    if (!images || !names)
+        return -1;
+    names[1] = NULL;
+    if (texopt_image_create(&images[1], 32, 32, 3, NULL, 0) != TEXOPT_OK || fixture_fill_pattern(&images[1], "flat"))
+        return -1;
+    m->image_count = 2;
+    texopt_material *mat = &m->materials[0];
+    mat->slot[TEXOPT_SLOT_OCCLUSION] = mat->slot[TEXOPT_SLOT_BASE_COLOR];
+    mat->slot[TEXOPT_SLOT_BASE_COLOR].image = 1;
+    return texopt_model_build_domains(m, NULL, 0) == TEXOPT_OK ? 0 : -1;
+}
+
+/* The data URI of the first image after `from` in html, as a malloc'ed string. */
+static char *first_image_after(const char *html, const char *from)
+{
+    const char *p = strstr(html, from), *src = p ? strstr(p, "src=\"") : NULL, *end = src ? strchr(src + 5, '"') : NULL;
+    if (!end)
+        return NULL;
+    char *uri = malloc((size_t)(end - src));
+    if (uri) {
+        memcpy(uri, src + 5, (size_t)(end - src - 5));
+        uri[end - src - 5] = '\0';
+    }
+    return uri;
+}
+
+/* The renders and the texture thumbnail show the texture q measured: with base colour flat
+ * and the sphere's pattern as occlusion, the occlusion report's renders and thumbnail are
+ * not the base-colour report's. */
+TEST(report_shows_the_texture_q_measured)
+{
+    texopt_compare_result r;
+    CHECK(build_result(&r) == 0);
+    CHECK(occlusion_beside_flat_colour(r.input) == 0 && occlusion_beside_flat_colour(r.curves[1].showcase) == 0);
+    char *colour = NULL, *occlusion = NULL, err[256] = "";
+    CHECK_OK(texopt_report_html(&r, NULL, &colour, err, sizeof err), err);
+    r.measure = TEXOPT_SLOT_OCCLUSION;
+    CHECK_OK(texopt_report_html(&r, NULL, &occlusion, err, sizeof err), err);
+    CHECK(strstr(colour, "Renders of the baseColor texture") && strstr(occlusion, "Renders of the occlusion texture"));
+    CHECK(strstr(occlusion, "new occlusion texture") != NULL);
+    const char *where[] = {"class=\"renders\"", "class=\"layouts\""};
+    for (int k = 0; k < 2; k++) {
+        char *a = first_image_after(colour, where[k]), *b = first_image_after(occlusion, where[k]);
+        CHECK_MSG(a && b && strcmp(a, b) != 0, "%s: the same image for both measures", where[k]);
+        free(a);
+        free(b);
+    }
+    free(colour);
+    free(occlusion);
+    texopt_compare_result_destroy(&r);
+}
+
 /* The renders table's view numbers, in row order, into views (at most n); returns how many. */
 static int render_rows(const char *html, int *views, int n)
 {
