@@ -27,8 +27,9 @@
  *   "ssp", "tewari", "arap": the baselines of the paper's section 5 (ssp.h, tewari.h,
  *     arap.h targets in place of stage 1, rotation weight 0), solved as they are, then the
  *     same stage 2, budget (a uniform scale), packing and re-bake as "perceptual".
- * A domain whose layout covers no texel centre (UVs picking a colour from a palette) is kept
- * as it is by every layout method (keep_domain); a model with no other domain is refused. A
+ * A domain whose layout covers no texel centre (UVs picking a colour from a palette), or none
+ * of whose triangles has an area in 3D, is kept as it is by every layout method
+ * (keep_domain); a model with no other domain is refused. A
  * domain whose new layout would pack into over twice the pixels of its input layout resized to
  * the budget, or fit a texture size at no scale (charts of a texel or less, mostly gutter),
  * keeps its input layout resized as by method "input" (input_layout_packs_better).
@@ -506,6 +507,15 @@ static texopt_status find_paid_shares(job_domain *jd, char *err, size_t err_len)
     return TEXOPT_OK;
 }
 
+/* Whether every triangle of the mesh is degenerate in 3D (mesh.h). */
+static int flat_in_3d(const texopt_mesh *mesh)
+{
+    for (size_t t = 0; t < mesh->triangle_count; t++)
+        if (!(mesh->flags[t] & TEXOPT_TRI_DEGENERATE_3D))
+            return 0;
+    return 1;
+}
+
 /* The budget-independent part of one domain: mesh, input coverage, targets (stage 1). */
 static texopt_status prepare_domain(texopt_job *job, int d, double from, double to, char *err,
                                     size_t err_len)
@@ -530,6 +540,13 @@ static texopt_status prepare_domain(texopt_job *job, int d, double from, double 
     ds->charts = jd->mesh->chart_count;
     if (params->method == TEXOPT_METHOD_INPUT)
         return TEXOPT_OK;
+    if (flat_in_3d(jd->mesh)) {
+        snprintf(ds->input_layout_kept, sizeof ds->input_layout_kept,
+                 "its %zu triangles have no area in 3D (every vertex on a line or a point), so nothing of it can be "
+                 "seen and no layout judged", jd->mesh->triangle_count);
+        jd->kept = 1;
+        return TEXOPT_OK;
+    }
     st = texopt_coverage_measure(jd->mesh, NULL, &jd->input_coverage, err, err_len);
     if (st == TEXOPT_OK && jd->input_coverage.covered_texels == 0) {
         snprintf(ds->input_layout_kept, sizeof ds->input_layout_kept,
@@ -1060,7 +1077,7 @@ static texopt_status alloc_output(const texopt_model *model, int method, job_out
 }
 
 /* A domain with no texels to lay out (a colour picked from a palette, a texture of one texel)
- * keeps its UVs (alloc_uvs copied them) and its images' bytes, whatever the budget: the
+ * or nothing to see keeps its UVs (alloc_uvs copied them) and its images' bytes, whatever the budget: the
  * model's other domains are laid out as asked. */
 static void keep_domain(const texopt_model *model, int d, texopt_domain_stats *ds)
 {
@@ -1657,7 +1674,7 @@ static texopt_status check_something_laid_out(const texopt_job *job, char *err, 
         if (!job->domains[d].kept)
             return TEXOPT_OK;
     return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "%sdomain 0: %s",
-                       n > 1 ? "no domain has texels to lay out; " : "", job->stats.domains[0].input_layout_kept);
+                       n > 1 ? "no domain can be laid out; " : "", job->stats.domains[0].input_layout_kept);
 }
 
 texopt_status texopt_job_create(texopt_job **out, const char *input_path, const texopt_params *params,

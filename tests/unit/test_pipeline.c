@@ -255,6 +255,31 @@ TEST(a_layout_covering_no_texel_centre_is_refused_by_layout_methods)
     scratch_free(&s);
 }
 
+/* A grid whose vertices all lie on a line: nothing of it can be seen, so no layout can be
+ * judged; refused by the layout methods, resized by the input method. */
+TEST(a_model_with_no_area_in_3d_is_refused_by_layout_methods)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 2, 8, NULL) == 0);
+    float pos[9 * 3], uv[9 * 2];
+    uint32_t idx[8 * 3];
+    grid_fill(2, pos, uv, idx);
+    for (int v = 0; v < 9; v++)
+        pos[3 * v + 1] = 0;
+    CHECK(write_mesh_glb(s.in, pos, uv, 9, idx, 8, 8, "checker", NULL) == 0);
+    texopt_params p = {0};
+    p.relative_cost = 0.5;
+    p.threads = 1;
+    p.method = TEXOPT_METHOD_PERCEPTUAL;
+    char err[512] = "";
+    texopt_status st = texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err);
+    CHECK_MSG(st == TEXOPT_E_UNSUPPORTED && strstr(err, "have no area in 3D"), "status %d, %s", (int)st, err);
+    CHECK(access(s.out, F_OK) != 0);
+    p.method = TEXOPT_METHOD_INPUT;
+    CHECK_OK(texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err), err);
+    scratch_free(&s);
+}
+
 /* A model of two materials: a 2 x 2 grid on image 0 laid out as usual, and beside it a grid
  * on image 1 whose UVs all lie inside one texel (a colour picked from a palette). The second
  * domain has no texels to lay out; the first is still laid out, the second kept as it is. */
@@ -319,7 +344,7 @@ TEST(a_domain_covering_no_texel_centre_is_kept_beside_those_laid_out)
                                     "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":1}}}") == 0);
     unlink(s.out);
     texopt_status refused = texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err);
-    CHECK_MSG(refused == TEXOPT_E_UNSUPPORTED && strstr(err, "no domain has texels to lay out"), "%d: %s",
+    CHECK_MSG(refused == TEXOPT_E_UNSUPPORTED && strstr(err, "no domain can be laid out"), "%d: %s",
               (int)refused, err);
     CHECK(access(s.out, F_OK) != 0);
     texopt_model_destroy(in);
