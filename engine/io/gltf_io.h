@@ -80,7 +80,8 @@ typedef struct texopt_model_edit {
     const float *uvs;
     /* images[i] replaces model image i (any size; encoded as PNG), or NULL keeps the
      * original encoded bytes untouched. The array has model->image_count entries; the
-     * whole array may be NULL to keep every image. */
+     * whole array may be NULL to keep every image. Bindings through another set than
+     * TEXCOORD_0 that read a replaced image are pointed at an untouched copy of it. */
     const texopt_image *const *images;
 } texopt_model_edit;
 

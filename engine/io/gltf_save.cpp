@@ -6,7 +6,9 @@
  *     the KHR_texture_transform of bindings on TEXCOORD_0, which the loader applied to the
  *     UVs, is dropped;
  *   - replaced images are PNG-encoded; untouched images keep their original bytes (and
- *     MIME type) byte for byte;
+ *     MIME type) byte for byte; a binding through another set than TEXCOORD_0 (occlusion on
+ *     TEXCOORD_1) that reads a replaced image is given a texture of its own on a copy of the
+ *     original, since it reads it with the old UVs;
  *   - all bytes go into the one GLB BIN buffer, images in buffer views. Buffer views no
  *     one reads any more (the old UVs, replaced images) are dropped and the rest renumbered.
  * Each copied view keeps its offset modulo 4, so every accessor stays aligned.
@@ -247,6 +249,85 @@ texopt_status encode_replacements(const texopt_model *model, const texopt_model_
         err, err_len);
 }
 
+/* Gives bindings through another set than TEXCOORD_0 that read a replaced image (png[i] not
+ * empty) a texture of their own on an untouched copy of that image (its MIME type appended to
+ * mime, an empty png entry to png), each copy made once. */
+class other_set_bindings {
+  public:
+    other_set_bindings(tinygltf::Model &g, std::vector<std::vector<unsigned char>> &png, std::vector<std::string> &mime)
+        : g_(g), png_(png), mime_(mime)
+    {
+    }
+
+    void run()
+    {
+        for (tinygltf::Material &m : g_.materials) {
+            tinygltf::PbrMetallicRoughness &pbr = m.pbrMetallicRoughness;
+            retarget(&pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord);
+            retarget(&pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord);
+            retarget(&m.normalTexture.index, m.normalTexture.texCoord);
+            retarget(&m.occlusionTexture.index, m.occlusionTexture.texCoord);
+            retarget(&m.emissiveTexture.index, m.emissiveTexture.texCoord);
+            for (auto &e : m.extensions)
+                walk(e.second);
+        }
+    }
+
+  private:
+    tinygltf::Model &g_;
+    std::vector<std::vector<unsigned char>> &png_;
+    std::vector<std::string> &mime_;
+    std::map<int, int> image_copy_, texture_copy_;
+
+    void retarget(int *index, int texcoord)
+    {
+        if (texcoord == 0 || *index < 0 || (size_t)*index >= g_.textures.size())
+            return;
+        int source = g_.textures[(size_t)*index].source;
+        if (source < 0 || (size_t)source >= png_.size() || png_[(size_t)source].empty())
+            return;
+        auto t = texture_copy_.find(*index);
+        if (t == texture_copy_.end()) {
+            tinygltf::Texture copy = g_.textures[(size_t)*index];
+            copy.source = original_of(source);
+            g_.textures.push_back(copy);
+            t = texture_copy_.emplace(*index, (int)g_.textures.size() - 1).first;
+        }
+        *index = t->second;
+    }
+
+    int original_of(int image)
+    {
+        auto it = image_copy_.find(image);
+        if (it != image_copy_.end())
+            return it->second;
+        g_.images.push_back(g_.images[(size_t)image]);
+        png_.emplace_back();
+        mime_.push_back(mime_[(size_t)image]);
+        return image_copy_[image] = (int)g_.images.size() - 1;
+    }
+
+    /* Extension textureInfos at any depth (gltf_extension_textures.hpp's shape). */
+    void walk(tinygltf::Value &v)
+    {
+        if (v.IsArray())
+            for (size_t i = 0; i < v.ArrayLen(); i++)
+                walk(v.Get<tinygltf::Value::Array>()[i]);
+        if (!v.IsObject())
+            return;
+        for (auto &kv : v.Get<tinygltf::Value::Object>()) {
+            int texcoord;
+            if (gltf_is_texture_info(kv.first, kv.second, &texcoord) && texcoord != 0) {
+                tinygltf::Value &index = kv.second.Get<tinygltf::Value::Object>()["index"];
+                int i = index.GetNumberAsInt();
+                retarget(&i, texcoord);
+                index = tinygltf::Value(i);
+            } else
+                walk(kv.second);
+        }
+    }
+};
+
 /* Builds the output document: new UVs, images in views, one buffer, unused views dropped. */
 texopt_status build_output(const texopt_model *model, const texopt_model_edit *edit, tinygltf::Model *out,
                            char *err, size_t err_len)
@@ -260,6 +341,9 @@ texopt_status build_output(const texopt_model *model, const texopt_model_edit *e
     texopt_status st = encode_replacements(model, edit, &png, err, err_len);
     if (st != TEXOPT_OK)
         return st;
+
+    std::vector<std::string> mime = doc->image_mime;
+    other_set_bindings(g, png, mime).run();
 
     /* Data of the views that will exist, by old index; views made here carry their bytes. */
     size_t old_views = g.bufferViews.size();
@@ -280,7 +364,7 @@ texopt_status build_output(const texopt_model *model, const texopt_model_edit *e
             g.bufferViews.push_back(view);
             made.push_back(replaced ? std::move(png[i]) : im.image);
         }
-        im.mimeType = replaced ? "image/png" : doc->image_mime[i];
+        im.mimeType = replaced ? "image/png" : mime[i];
         im.uri.clear();
         im.image.clear();
         im.as_is = false;

@@ -773,3 +773,74 @@ TEST(textures_of_known_material_extensions_are_bound_and_lose_their_applied_tran
     free(json);
     quad_doc_free(&doc);
 }
+
+/* The texture index of textureInfo `key` (any depth) in the GLB's JSON at path; -1 if none. */
+static int glb_texture_index(const char *path, const char *key)
+{
+    FILE *f = fopen(path, "rb");
+    unsigned char head[20];
+    int index = -1;
+    if (f && fread(head, 1, 20, f) == 20) {
+        size_t n = (size_t)head[12] | (size_t)head[13] << 8 | (size_t)head[14] << 16 | (size_t)head[15] << 24;
+        char *json = calloc(1, n + 1);
+        if (json && fread(json, 1, n, f) == n) {
+            char pattern[96];
+            snprintf(pattern, sizeof pattern, "\"%s\":{\"index\":", key);
+            const char *at = strstr(json, pattern);
+            if (at)
+                index = atoi(at + strlen(pattern));
+        }
+        free(json);
+    }
+    if (f)
+        fclose(f);
+    return index;
+}
+
+/* An image read by base colour through TEXCOORD_0 and by occlusion and a clearcoat texture
+ * through TEXCOORD_1: replaced for the new TEXCOORD_0 layout, the bindings through TEXCOORD_1
+ * (which keep the old UVs) read an untouched copy of the original instead. */
+TEST(bindings_through_another_set_keep_reading_the_original_image)
+{
+    char err[512] = "", dir[64], out[128];
+    quad_doc doc;
+    CHECK(quad_doc_init(&doc, 4, 4));
+    char *json = strdup(doc.json);
+    CHECK(json && builder_replace(&json, "\"TEXCOORD_0\":1}", "\"TEXCOORD_0\":1,\"TEXCOORD_1\":1}"));
+    CHECK(builder_replace(&json, "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}]",
+                          "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}},"
+                          "\"occlusionTexture\":{\"index\":0,\"texCoord\":1},"
+                          "\"extensions\":{\"KHR_materials_clearcoat\":{\"clearcoatFactor\":1,"
+                          "\"clearcoatTexture\":{\"index\":0,\"texCoord\":1}}}}]"));
+    CHECK(builder_replace(&json, "\"asset\":{\"version\":\"2.0\"},",
+                          "\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_materials_clearcoat\"],"));
+    texopt_status st;
+    texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
+    CHECK_OK(st, err);
+    texopt_image rebaked;
+    CHECK(builder_texture(&rebaked, 2, 2));
+    const texopt_image *images[1] = {&rebaked};
+    texopt_model_edit edit = {m->uvs, images};
+    CHECK(builder_tempdir(dir));
+    snprintf(out, sizeof out, "%s/out.glb", dir);
+    CHECK_OK(texopt_model_save_glb(m, &edit, out, err, sizeof err), err);
+    texopt_model *back = NULL;
+    CHECK_OK(texopt_model_load(&back, out, NULL, err, sizeof err), err);
+    const texopt_material *mat = &back->materials[0];
+    int colour = mat->slot[TEXOPT_SLOT_BASE_COLOR].image, occlusion = mat->slot[TEXOPT_SLOT_OCCLUSION].image;
+    CHECK_EQ_INT(back->image_count, 2);
+    CHECK(colour >= 0 && occlusion >= 0 && colour != occlusion);
+    CHECK(image_matches_builder(&back->images[colour], 2, 2));
+    CHECK(image_matches_builder(&back->images[occlusion], 4, 4));
+    int occlusion_texture = glb_texture_index(out, "occlusionTexture");
+    CHECK(occlusion_texture > 0 && glb_texture_index(out, "clearcoatTexture") == occlusion_texture);
+    CHECK_EQ_INT(glb_texture_index(out, "baseColorTexture"), 0);
+    int rc = validate_against_quad(out, &doc, json, dir);
+    CHECK_MSG(rc == 0, "validator exit %d for %s", rc, out);
+    texopt_image_destroy(&rebaked);
+    texopt_model_destroy(back);
+    texopt_model_destroy(m);
+    builder_rmdir(dir);
+    free(json);
+    quad_doc_free(&doc);
+}
