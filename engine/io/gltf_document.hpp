@@ -2,7 +2,7 @@
  * document back (model->document). Internal to engine/io.
  *
  * Holds the tinygltf model as loaded, with every image's original encoded bytes in
- * Image::image (as_is), and the MIME type found by sniffing those bytes. Does not hold
+ * Image::image (as_is), the MIME type found by sniffing those bytes and their depth. Does not hold
  * decoded pixels (those are in texopt_model.images) and is never changed after loading:
  * saving works on a copy. Keeps the input of Sun et al. 2022 writable again; implements no
  * part of the method. */
@@ -17,6 +17,7 @@
 struct texopt_gltf_document {
     tinygltf::Model gltf;
     std::vector<std::string> image_mime; /* per image: "image/png", "image/jpeg", ... */
+    std::vector<int> image_bits;         /* per image: bits per channel of the file (8, 16) */
 };
 
 #endif

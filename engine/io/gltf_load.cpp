@@ -728,6 +728,7 @@ texopt_status convert_images(texopt_gltf_document *doc, texopt_model *model, con
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for %zu images", n);
     model->image_count = (int)n;
     doc->image_mime.assign(n, std::string());
+    doc->image_bits.assign(n, 8);
     std::vector<texopt_image_info> info(n);
     uint64_t total = 0;
     for (size_t i = 0; i < n; i++) {
@@ -745,6 +746,7 @@ texopt_status convert_images(texopt_gltf_document *doc, texopt_model *model, con
         texopt_status st = texopt_image_probe_memory(&info[i], im.image.data(), im.image.size(), name, err, err_len);
         if (st != TEXOPT_OK)
             return st;
+        doc->image_bits[i] = info[i].bits_per_channel;
         total += (uint64_t)info[i].width * (uint64_t)info[i].height;
         if (total > lim.max_total_pixels)
             return texopt_fail(err, err_len, TEXOPT_E_LIMIT,

@@ -5,8 +5,8 @@
  *     exact min/max (in place when no one else reads the old accessor, else a new one), and
  *     the KHR_texture_transform of bindings on TEXCOORD_0, which the loader applied to the
  *     UVs, is dropped;
- *   - replaced images are PNG-encoded; untouched images keep their original bytes (and
- *     MIME type) byte for byte; a binding through another set than TEXCOORD_0 (occlusion on
+ *   - replaced images are PNG-encoded (16 bits per channel where the original had more than
+ *     8, else 8); untouched images keep their original bytes (and MIME type) byte for byte; a binding through another set than TEXCOORD_0 (occlusion on
  *     TEXCOORD_1) that reads a replaced image is given a texture of its own on a copy of the
  *     original, since it reads it with the old UVs;
  *   - all bytes go into the one GLB BIN buffer, images in buffer views. Buffer views no
@@ -240,7 +240,8 @@ texopt_status encode_replacements(const texopt_model *model, const texopt_model_
                 return TEXOPT_OK;
             unsigned char *bytes = nullptr;
             size_t len = 0;
-            texopt_status st = texopt_image_encode_png(edit->images[i], &bytes, &len, job_err, job_err_len);
+            int bits = model->document->image_bits[i] > 8 ? 16 : 8;
+            texopt_status st = texopt_image_encode_png_bits(edit->images[i], bits, &bytes, &len, job_err, job_err_len);
             if (st == TEXOPT_OK)
                 (*png)[i].assign(bytes, bytes + len);
             free(bytes);

@@ -267,8 +267,16 @@ extern "C" texopt_status texopt_image_read(texopt_image *out, const char *path, 
 extern "C" texopt_status texopt_image_encode_png(const texopt_image *img, unsigned char **bytes,
                                                  size_t *len, char *err, size_t err_len)
 {
+    return texopt_image_encode_png_bits(img, 8, bytes, len, err, err_len);
+}
+
+extern "C" texopt_status texopt_image_encode_png_bits(const texopt_image *img, int bits, unsigned char **bytes,
+                                                      size_t *len, char *err, size_t err_len)
+{
     if (!bytes || !len)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "no output buffer for PNG");
+    if (bits != 8 && bits != 16)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "PNG depth %d is not 8 or 16", bits);
     *bytes = nullptr;
     *len = 0;
     if (!img || !img->pixels || img->width <= 0 || img->height <= 0 || img->channels < 1 ||
@@ -280,7 +288,8 @@ extern "C" texopt_status texopt_image_encode_png(const texopt_image *img, unsign
     if (!out)
         return texopt_fail(err, err_len, TEXOPT_E_INTERNAL, "OpenImageIO has no PNG writer: %s",
                            OIIO::geterror().c_str());
-    OIIO::ImageSpec spec(img->width, img->height, img->channels, OIIO::TypeDesc::UINT8);
+    OIIO::ImageSpec spec(img->width, img->height, img->channels,
+                         bits == 16 ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8);
     spec.attribute("oiio:UnassociatedAlpha", 1);
     if (!out->open("image.png", spec) ||
         !out->write_image(OIIO::TypeDesc::FLOAT, img->pixels) || !out->close())

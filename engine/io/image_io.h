@@ -54,6 +54,11 @@ texopt_status texopt_image_read(texopt_image *out, const char *path, char *err, 
 texopt_status texopt_image_encode_png(const texopt_image *img, unsigned char **bytes, size_t *len,
                                       char *err, size_t err_len);
 
+/* The same with `bits` (8 or 16) bits per channel: a 16-bit input (a normal map exported
+ * at 16 bits) keeps its depth when it is re-baked. */
+texopt_status texopt_image_encode_png_bits(const texopt_image *img, int bits, unsigned char **bytes, size_t *len,
+                                           char *err, size_t err_len);
+
 /* Writes img as an 8-bit PNG at path (temporary file, fsync, rename). */
 texopt_status texopt_image_write_png(const texopt_image *img, const char *path, char *err,
                                      size_t err_len);

@@ -844,3 +844,77 @@ TEST(bindings_through_another_set_keep_reading_the_original_image)
     free(json);
     quad_doc_free(&doc);
 }
+
+/* A 8 x 8 RGB image of values 16-bit PNG holds and 8-bit PNG does not. */
+static int fine_gradient(texopt_image *img, int offset)
+{
+    if (texopt_image_create(img, 8, 8, 3, NULL, 0) != TEXOPT_OK)
+        return 0;
+    for (int i = 0; i < 8 * 8 * 3; i++)
+        img->pixels[i] = (float)(20000 + offset + 37 * i) / 65535.0f;
+    return 1;
+}
+
+/* Largest difference of two images of one size (1 when the sizes differ). */
+static double max_difference(const texopt_image *a, const texopt_image *b)
+{
+    if (a->width != b->width || a->height != b->height || a->channels != b->channels)
+        return 1;
+    double d = 0;
+    for (size_t i = 0; i < (size_t)a->width * a->height * a->channels; i++)
+        d = fmax(d, fabs(a->pixels[i] - b->pixels[i]));
+    return d;
+}
+
+/* A texture stored at 16 bits per channel (a normal map exported at 16 bits) keeps that depth
+ * when it is replaced: the replacement's fine values come back to the 16-bit step. */
+TEST(a_16_bit_texture_is_replaced_at_16_bits)
+{
+    char err[512] = "", dir[64], out[128];
+    quad_doc doc;
+    CHECK(quad_doc_init(&doc, 4, 4));
+    texopt_image original, rebaked;
+    CHECK(fine_gradient(&original, 0) && fine_gradient(&rebaked, 11));
+    unsigned char *png = NULL;
+    size_t png_len = 0;
+    CHECK_OK(texopt_image_encode_png_bits(&original, 16, &png, &png_len, err, sizeof err), err);
+    char from[96], to[96];
+    snprintf(from, sizeof from, "\"byteOffset\":92,\"byteLength\":%zu}", doc.png_len);
+    snprintf(to, sizeof to, "\"byteOffset\":92,\"byteLength\":%zu}", png_len);
+    char *json = strdup(doc.json);
+    CHECK(json && builder_replace(&json, from, to));
+    size_t bin_len = (QUAD_PNG_OFFSET + png_len + 3) / 4 * 4;
+    snprintf(from, sizeof from, "\"buffers\":[{\"byteLength\":%zu}]", doc.bin_len);
+    snprintf(to, sizeof to, "\"buffers\":[{\"byteLength\":%zu}]", bin_len);
+    CHECK(builder_replace(&json, from, to));
+    unsigned char *bin = calloc(1, bin_len);
+    CHECK(bin != NULL);
+    memcpy(bin, doc.bin, QUAD_PNG_OFFSET);
+    memcpy(bin + QUAD_PNG_OFFSET, png, png_len);
+    free(doc.bin);
+    doc.bin = bin;
+    doc.bin_len = bin_len;
+    doc.png_len = png_len;
+    texopt_status st;
+    texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
+    CHECK_OK(st, err);
+    CHECK_MSG(max_difference(&m->images[0], &original) < 0.5 / 65535, "decoded off by %g",
+              max_difference(&m->images[0], &original));
+    const texopt_image *images[1] = {&rebaked};
+    texopt_model_edit edit = {m->uvs, images};
+    CHECK(builder_tempdir(dir));
+    snprintf(out, sizeof out, "%s/out.glb", dir);
+    CHECK_OK(texopt_model_save_glb(m, &edit, out, err, sizeof err), err);
+    texopt_model *back = NULL;
+    CHECK_OK(texopt_model_load(&back, out, NULL, err, sizeof err), err);
+    double off = max_difference(&back->images[0], &rebaked);
+    CHECK_MSG(off < 0.5 / 65535, "saved off by %g (8 bits: up to %g)", off, 0.5 / 255);
+    texopt_model_destroy(back);
+    texopt_model_destroy(m);
+    texopt_image_destroy(&original);
+    texopt_image_destroy(&rebaked);
+    free(png);
+    builder_rmdir(dir);
+    free(json);
+    quad_doc_free(&doc);
+}
