@@ -5,8 +5,9 @@
  *     exact min/max (in place when no one else reads the old accessor, else a new one), and
  *     the KHR_texture_transform of bindings on TEXCOORD_0, which the loader applied to the
  *     UVs, is dropped;
- *   - replaced images are PNG-encoded (16 bits per channel where the original had more than
- *     8, else 8); untouched images keep their original bytes (and MIME type) byte for byte; a binding through another set than TEXCOORD_0 (occlusion on
+ *   - replaced images are encoded as JPEG (quality 98) where the original was a JPEG, else as
+ *     PNG (16 bits per channel where the original had more than 8, else 8); untouched images
+ *     keep their original bytes (and MIME type) byte for byte; a binding through another set than TEXCOORD_0 (occlusion on
  *     TEXCOORD_1) that reads a replaced image is given a texture of its own on a copy of the
  *     original, since it reads it with the old UVs;
  *   - all bytes go into the one GLB BIN buffer, images in buffer views. Buffer views no
@@ -226,37 +227,55 @@ void replace_texcoords(tinygltf::Model &g, const texopt_model *model, const floa
     }
 }
 
-texopt_status encode_replacements(const texopt_model *model, const texopt_model_edit *edit,
-                                  std::vector<std::vector<unsigned char>> *png, char *err, size_t err_len)
+/* A JPEG input's replacement is a JPEG again: as PNG, FoodApple01's three 4096x4096 JPEGs
+ * (3.5 MB) resized to a tenth of their texels took 3.3 MB. At quality 98 they take 1.3 MB and
+ * the file's q is 0.7% above the PNG's (95: 0.9 MB, +4.6%; 90: 0.7 MB, +10%): the encoding
+ * adds next to nothing to the loss the layout was chosen for (BENCHMARKS.md "JPEG textures"). */
+const int JPEG_QUALITY = 98;
+
+/* Whether replacement image i is written as a JPEG (its original was one). */
+bool replaced_as_jpeg(const texopt_model *model, const texopt_image *img, size_t i)
 {
-    png->assign((size_t)model->image_count, std::vector<unsigned char>());
+    return model->document->image_mime[i] == "image/jpeg" && (img->channels == 1 || img->channels == 3);
+}
+
+/* Encodes every replacement image into (*encoded)[i]: a JPEG's as a JPEG (replaced_as_jpeg),
+ * the others as PNG at 16 bits per channel where the original had more than 8, else 8. */
+texopt_status encode_replacements(const texopt_model *model, const texopt_model_edit *edit,
+                                  std::vector<std::vector<unsigned char>> *encoded, char *err, size_t err_len)
+{
+    encoded->assign((size_t)model->image_count, std::vector<unsigned char>());
     if (!edit || !edit->images)
         return TEXOPT_OK;
     /* Each job writes only its own vector: the images encode on parallel threads. */
     return texopt_run_image_jobs(
         (size_t)model->image_count,
         [&](size_t i, char *job_err, size_t job_err_len) {
-            if (!edit->images[i])
+            const texopt_image *img = edit->images[i];
+            if (!img)
                 return TEXOPT_OK;
             unsigned char *bytes = nullptr;
             size_t len = 0;
             int bits = model->document->image_bits[i] > 8 ? 16 : 8;
-            texopt_status st = texopt_image_encode_png_bits(edit->images[i], bits, &bytes, &len, job_err, job_err_len);
+            texopt_status st =
+                replaced_as_jpeg(model, img, i)
+                    ? texopt_image_encode_jpeg(img, JPEG_QUALITY, &bytes, &len, job_err, job_err_len)
+                    : texopt_image_encode_png_bits(img, bits, &bytes, &len, job_err, job_err_len);
             if (st == TEXOPT_OK)
-                (*png)[i].assign(bytes, bytes + len);
+                (*encoded)[i].assign(bytes, bytes + len);
             free(bytes);
             return st;
         },
         err, err_len);
 }
 
-/* Gives bindings through another set than TEXCOORD_0 that read a replaced image (png[i] not
- * empty) a texture of their own on an untouched copy of that image (its MIME type appended to
- * mime, an empty png entry to png), each copy made once. */
+/* Gives bindings through another set than TEXCOORD_0 that read a replaced image (encoded[i]
+ * not empty) a texture of their own on an untouched copy of that image (its MIME type appended to
+ * mime, an empty entry to encoded), each copy made once. */
 class other_set_bindings {
   public:
-    other_set_bindings(tinygltf::Model &g, std::vector<std::vector<unsigned char>> &png, std::vector<std::string> &mime)
-        : g_(g), png_(png), mime_(mime)
+    other_set_bindings(tinygltf::Model &g, std::vector<std::vector<unsigned char>> &encoded, std::vector<std::string> &mime)
+        : g_(g), encoded_(encoded), mime_(mime)
     {
     }
 
@@ -276,7 +295,7 @@ class other_set_bindings {
 
   private:
     tinygltf::Model &g_;
-    std::vector<std::vector<unsigned char>> &png_;
+    std::vector<std::vector<unsigned char>> &encoded_;
     std::vector<std::string> &mime_;
     std::map<int, int> image_copy_, texture_copy_;
 
@@ -285,7 +304,7 @@ class other_set_bindings {
         if (texcoord == 0 || *index < 0 || (size_t)*index >= g_.textures.size())
             return;
         int source = g_.textures[(size_t)*index].source;
-        if (source < 0 || (size_t)source >= png_.size() || png_[(size_t)source].empty())
+        if (source < 0 || (size_t)source >= encoded_.size() || encoded_[(size_t)source].empty())
             return;
         auto t = texture_copy_.find(*index);
         if (t == texture_copy_.end()) {
@@ -303,7 +322,7 @@ class other_set_bindings {
         if (it != image_copy_.end())
             return it->second;
         g_.images.push_back(g_.images[(size_t)image]);
-        png_.emplace_back();
+        encoded_.emplace_back();
         mime_.push_back(mime_[(size_t)image]);
         return image_copy_[image] = (int)g_.images.size() - 1;
     }
@@ -338,13 +357,16 @@ texopt_status build_output(const texopt_model *model, const texopt_model_edit *e
     *out = src;
     tinygltf::Model &g = *out;
 
-    std::vector<std::vector<unsigned char>> png;
-    texopt_status st = encode_replacements(model, edit, &png, err, err_len);
+    std::vector<std::vector<unsigned char>> encoded;
+    texopt_status st = encode_replacements(model, edit, &encoded, err, err_len);
     if (st != TEXOPT_OK)
         return st;
 
     std::vector<std::string> mime = doc->image_mime;
-    other_set_bindings(g, png, mime).run();
+    other_set_bindings(g, encoded, mime).run();
+    for (size_t i = 0; i < (size_t)model->image_count; i++)
+        if (!encoded[i].empty())
+            mime[i] = replaced_as_jpeg(model, edit->images[i], i) ? "image/jpeg" : "image/png";
 
     /* Data of the views that will exist, by old index; views made here carry their bytes. */
     size_t old_views = g.bufferViews.size();
@@ -355,17 +377,17 @@ texopt_status build_output(const texopt_model *model, const texopt_model_edit *e
     }
     for (size_t i = 0; i < g.images.size(); i++) {
         tinygltf::Image &im = g.images[i];
-        bool replaced = !png[i].empty();
+        bool replaced = !encoded[i].empty();
         bool keeps_view = !replaced && im.bufferView >= 0;
         if (!keeps_view) {
             tinygltf::BufferView view;
             view.buffer = 0;
-            view.byteLength = replaced ? png[i].size() : im.image.size();
+            view.byteLength = replaced ? encoded[i].size() : im.image.size();
             im.bufferView = (int)g.bufferViews.size();
             g.bufferViews.push_back(view);
-            made.push_back(replaced ? std::move(png[i]) : im.image);
+            made.push_back(replaced ? std::move(encoded[i]) : im.image);
         }
-        im.mimeType = replaced ? "image/png" : mime[i];
+        im.mimeType = mime[i];
         im.uri.clear();
         im.image.clear();
         im.as_is = false;

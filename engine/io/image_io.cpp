@@ -304,6 +304,36 @@ extern "C" texopt_status texopt_image_encode_png_bits(const texopt_image *img, i
     return TEXOPT_OK;
 }
 
+extern "C" texopt_status texopt_image_encode_jpeg(const texopt_image *img, int quality, unsigned char **bytes,
+                                                  size_t *len, char *err, size_t err_len)
+{
+    if (!bytes || !len)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "no output buffer for JPEG");
+    *bytes = nullptr;
+    *len = 0;
+    if (!img || !img->pixels || img->width <= 0 || img->height <= 0 || (img->channels != 1 && img->channels != 3) ||
+        quality < 1 || quality > 100)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "cannot encode a JPEG of %d channels at quality %d", img ? img->channels : 0, quality);
+    std::vector<unsigned char> encoded;
+    OIIO::Filesystem::IOVecOutput proxy(encoded);
+    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("image.jpg", &proxy);
+    if (!out)
+        return texopt_fail(err, err_len, TEXOPT_E_INTERNAL, "OpenImageIO has no JPEG writer: %s",
+                           OIIO::geterror().c_str());
+    OIIO::ImageSpec spec(img->width, img->height, img->channels, OIIO::TypeDesc::UINT8);
+    spec.attribute("Compression", "jpeg:" + std::to_string(quality));
+    if (!out->open("image.jpg", spec) || !out->write_image(OIIO::TypeDesc::FLOAT, img->pixels) || !out->close())
+        return texopt_fail(err, err_len, TEXOPT_E_INTERNAL, "JPEG encoding failed: %s", out->geterror().c_str());
+    unsigned char *copy = static_cast<unsigned char *>(malloc(encoded.size() ? encoded.size() : 1));
+    if (!copy)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %zu-byte JPEG", encoded.size());
+    memcpy(copy, encoded.data(), encoded.size());
+    *bytes = copy;
+    *len = encoded.size();
+    return TEXOPT_OK;
+}
+
 extern "C" texopt_status texopt_image_write_png(const texopt_image *img, const char *path, char *err,
                                                 size_t err_len)
 {

@@ -59,6 +59,12 @@ texopt_status texopt_image_encode_png(const texopt_image *img, unsigned char **b
 texopt_status texopt_image_encode_png_bits(const texopt_image *img, int bits, unsigned char **bytes, size_t *len,
                                            char *err, size_t err_len);
 
+/* Encodes img (1 or 3 channels) as a baseline JPEG of `quality` (1-100) into a malloc'ed
+ * buffer (*bytes, *len) that the caller frees with free(): a JPEG input's re-baked texture
+ * stays a JPEG, at a tenth of a PNG's bytes. */
+texopt_status texopt_image_encode_jpeg(const texopt_image *img, int quality, unsigned char **bytes, size_t *len,
+                                       char *err, size_t err_len);
+
 /* Writes img as an 8-bit PNG at path (temporary file, fsync, rename). */
 texopt_status texopt_image_write_png(const texopt_image *img, const char *path, char *err,
                                      size_t err_len);

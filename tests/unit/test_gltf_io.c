@@ -447,7 +447,7 @@ TEST(spot_and_fox_round_trip_unchanged_and_edited)
     builder_rmdir(dir);
 }
 
-TEST(jpeg_texture_keeps_its_bytes_and_unused_views_are_dropped)
+TEST(jpeg_texture_keeps_its_bytes_unless_replaced_and_unused_views_are_dropped)
 {
     char err[512] = "", dir[64], out[128], path[512];
     CHECK(builder_tempdir(dir));
@@ -485,6 +485,32 @@ TEST(jpeg_texture_keeps_its_bytes_and_unused_views_are_dropped)
     CHECK_OK(texopt_model_load(&back, out, NULL, err, sizeof err), err);
     CHECK(memcmp(back->uvs, uvs, sizeof uvs) == 0);
     CHECK(memcmp(back->images[0].pixels, m->images[0].pixels, sizeof(float) * 16 * 8 * 3) == 0);
+    texopt_model_destroy(back);
+
+    /* Replaced, a JPEG stays a JPEG (a tenth of a PNG's bytes), close to the replacement. */
+    texopt_image rebaked;
+    CHECK(texopt_image_create(&rebaked, 32, 16, 3, NULL, 0) == TEXOPT_OK);
+    for (int y = 0; y < 16; y++)
+        for (int x = 0; x < 32; x++)
+            for (int c = 0; c < 3; c++)
+                texopt_image_at(&rebaked, x, y)[c] = (float)(0.2 + 0.6 * x / 31.0 - 0.1 * c + 0.2 * y / 15.0);
+    const texopt_image *images[1] = {&rebaked};
+    edit.images = images;
+    CHECK_OK(texopt_model_save_glb(m, &edit, out, err, sizeof err), err);
+    f = fopen(out, "rb");
+    CHECK(f != NULL);
+    len = fread(buf, 1, sizeof buf, f);
+    fclose(f);
+    CHECK(len > 0 && len < sizeof buf);
+    CHECK(builder_contains(buf, len, "image/jpeg", 10) && !builder_contains(buf, len, "image/png", 9));
+    CHECK(builder_contains(buf, len, "\xFF\xD8\xFF", 3));
+    CHECK_OK(texopt_model_load(&back, out, NULL, err, sizeof err), err);
+    CHECK(back->images[0].width == 32 && back->images[0].height == 16);
+    double worst = 0;
+    for (size_t i = 0; i < 32 * 16 * 3; i++)
+        worst = fmax(worst, fabs(back->images[0].pixels[i] - rebaked.pixels[i]));
+    CHECK_MSG(worst < 0.03, "JPEG off by %g", worst);
+    texopt_image_destroy(&rebaked);
     texopt_model_destroy(m);
     texopt_model_destroy(back);
     quad_doc_free(&doc);
