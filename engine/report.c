@@ -23,6 +23,9 @@
 
 /* Before/after rows in the renders section. */
 #define REPORT_VIEWS 3
+/* Texture domains whose layouts the report shows (in the model's order): a model of dozens
+ * of materials would otherwise make a report of hundreds of images. */
+#define REPORT_DOMAINS 8
 
 /* ---- a growing string ---------------------------------------------------------------- */
 
@@ -345,13 +348,13 @@ static texopt_status renders_section(sbuf *s, const texopt_compare_result *r, in
     return st;
 }
 
-/* The image of the measured texture (base colour for lit) on the first primitive of the
- * model's first domain that binds it; -1 when none does. */
-static int measured_image(const texopt_model *m, int measure)
+/* The image of the measured texture (base colour for lit) on the first primitive of domain d
+ * that binds it; -1 when none does. */
+static int measured_image(const texopt_model *m, int d, int measure)
 {
     int texture = measure == TEXOPT_COMPARE_LIT ? TEXOPT_SLOT_BASE_COLOR : measure;
-    for (int i = 0; m->domain_count > 0 && i < m->domains[0].primitive_count; i++) {
-        const texopt_texture_ref *ref = texopt_meshrender_binding(m, m->domains[0].primitives[i], texture);
+    for (int i = 0; d < m->domain_count && i < m->domains[d].primitive_count; i++) {
+        const texopt_texture_ref *ref = texopt_meshrender_binding(m, m->domains[d].primitives[i], texture);
         if (ref)
             return ref->image;
     }
@@ -359,10 +362,10 @@ static int measured_image(const texopt_model *m, int measure)
 }
 
 /* The measured texture's image (measured_image), resized to fit side x side. */
-static texopt_status texture_thumbnail(sbuf *s, const texopt_model *m, int measure, int side, const char *alt,
-                                       char *err, size_t err_len)
+static texopt_status texture_thumbnail(sbuf *s, const texopt_model *m, int d, int measure, int side,
+                                       const char *alt, char *err, size_t err_len)
 {
-    int image = measured_image(m, measure);
+    int image = measured_image(m, d, measure);
     if (image < 0 || !m->images[image].pixels) {
         sb_puts(s, "(no texture)");
         return TEXOPT_OK;
@@ -450,9 +453,9 @@ static int *triangle_domains(const texopt_model *m)
     return d;
 }
 
-/* Two UV maps of the showcase layout of domain 0: per-triangle error (scaled by err_max)
+/* Two UV maps of the showcase layout of domain d: per-triangle error (scaled by err_max)
  * and log2 of the triangle's texel area ratio over the mean ratio c_r. */
-static texopt_status uv_maps(sbuf *s, const texopt_compare_result *r, const texopt_compare_curve *c,
+static texopt_status uv_maps(sbuf *s, const texopt_compare_result *r, const texopt_compare_curve *c, int d,
                              int side, double err_max, char *err, size_t err_len)
 {
     const texopt_model *m = c->showcase;
@@ -472,7 +475,7 @@ static texopt_status uv_maps(sbuf *s, const texopt_compare_result *r, const texo
     }
     mean_ratio = in_total > 0 ? mean_ratio / in_total : 1;
     for (size_t t = 0; st == TEXOPT_OK && t < m->triangle_count; t++) {
-        if (dom_out[t] != 0)
+        if (dom_out[t] != d)
             continue;
         double p[3][2], cu = 0, cv = 0;
         for (int k = 0; k < 3; k++) {
@@ -509,6 +512,27 @@ static texopt_status uv_maps(sbuf *s, const texopt_compare_result *r, const texo
     return st;
 }
 
+/* One row of the layouts table: a method's new texture and UV maps in domain d. */
+static texopt_status layout_row(sbuf *s, const texopt_compare_result *r, const texopt_compare_curve *curve, int d,
+                                int side, double err_max, char *err, size_t err_len)
+{
+    sb_printf(s, "<tr><td>%s</td>", texopt_method_name(curve->method));
+    if (r->input->domain_count > 1)
+        sb_printf(s, "<td>%d</td>", d);
+    if (!curve->showcase) {
+        sb_puts(s, "<td colspan=\"3\">(not available)</td></tr>\n");
+        return TEXOPT_OK;
+    }
+    sb_puts(s, "<td>");
+    texopt_status st =
+        texture_thumbnail(s, curve->showcase, d, r->measure, side, texopt_method_name(curve->method), err, err_len);
+    sb_puts(s, "</td>");
+    if (st == TEXOPT_OK)
+        st = uv_maps(s, r, curve, d, side, err_max, err, err_len);
+    sb_puts(s, "</tr>\n");
+    return st;
+}
+
 static texopt_status layouts_section(sbuf *s, const texopt_compare_result *r, int side, char *err,
                                      size_t err_len)
 {
@@ -517,30 +541,22 @@ static texopt_status layouts_section(sbuf *s, const texopt_compare_result *r, in
         if (r->curves[c].showcase && r->curves[c].showcase_triangle_error)
             for (size_t t = 0; t < r->curves[c].showcase->triangle_count; t++)
                 err_max = fmax(err_max, r->curves[c].showcase_triangle_error[t]);
+    int domains = r->input->domain_count, shown = domains < REPORT_DOMAINS ? domains : REPORT_DOMAINS;
     sb_printf(s, "<h2>Layouts at c_r = %.2f</h2>\n<p>Per-triangle loss: mean absolute luma error over "
                  "the 20 views, black 0 to light yellow %.3f (common scale). &lambda;<sub>1</sub>&lambda;<sub>2</sub>: "
                  "texel area of the triangle over its input texel area, relative to the whole layout's "
-                 "ratio: blue 8x smaller, white equal, red 8x larger. First texture domain only.</p>\n"
-                 "<table class=\"layouts\"><tr><th>method</th><th>new %s texture</th><th>per-triangle loss</th>"
+                 "ratio: blue 8x smaller, white equal, red 8x larger.",
+              r->showcase_cost, err_max);
+    if (shown < domains)
+        sb_printf(s, " The first %d of the model's %d texture domains.", shown, domains);
+    sb_printf(s, "</p>\n<table class=\"layouts\"><tr><th>method</th>%s<th>new %s texture</th><th>per-triangle loss</th>"
                  "<th>&lambda;<sub>1</sub>&lambda;<sub>2</sub></th></tr>\n",
-              r->showcase_cost, err_max,
+              domains > 1 ? "<th>domain</th>" : "",
               texopt_compare_measure_name(r->measure == TEXOPT_COMPARE_LIT ? TEXOPT_SLOT_BASE_COLOR : r->measure));
     texopt_status st = TEXOPT_OK;
-    for (int c = 0; c < r->curve_count && st == TEXOPT_OK; c++) {
-        const texopt_compare_curve *curve = &r->curves[c];
-        sb_printf(s, "<tr><td>%s</td>", texopt_method_name(curve->method));
-        if (!curve->showcase) {
-            sb_puts(s, "<td colspan=\"3\">(not available)</td></tr>\n");
-            continue;
-        }
-        sb_puts(s, "<td>");
-        st = texture_thumbnail(s, curve->showcase, r->measure, side, texopt_method_name(curve->method), err,
-                               err_len);
-        sb_puts(s, "</td>");
-        if (st == TEXOPT_OK)
-            st = uv_maps(s, r, curve, side, err_max, err, err_len);
-        sb_puts(s, "</tr>\n");
-    }
+    for (int c = 0; c < r->curve_count && st == TEXOPT_OK; c++)
+        for (int d = 0; d < (r->curves[c].showcase ? shown : 1) && st == TEXOPT_OK; d++)
+            st = layout_row(s, r, &r->curves[c], d, side, err_max, err, err_len);
     sb_puts(s, "</table>\n");
     return st;
 }

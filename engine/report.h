@@ -10,10 +10,10 @@
  *     normal map turned back to the input's frame, or the lit render in grey). The views
  *     are those with the largest loss (mean over the showcases' per-view GMSD, each shown
  *     under its render), or views 0, 7 and 13 when no showcase was measured;
- *   - every method's new texture of that measure (base colour for lit; thumbnail);
- *   - every method's UV layout coloured by per-triangle loss (mean absolute luma error over
- *     the views, evaluate.h) and by lambda1 lambda2 (new texel area / input texel area:
- *     blue shrunk, white kept, red grown).
+ *   - per texture domain (the first 8), every method's new texture of that measure (base
+ *     colour for lit; thumbnail) and its UV layout coloured by per-triangle loss (mean absolute
+ *     luma error over the views, evaluate.h) and by lambda1 lambda2 (new texel area / input
+ *     texel area: blue shrunk, white kept, red grown).
  * Images are PNG (io/image_io.h) inlined as base64 data URIs; nothing is fetched from the
  * network, so the file can be mailed or archived as is.
  *

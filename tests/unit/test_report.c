@@ -144,10 +144,39 @@ static int occlusion_beside_flat_colour(texopt_model *m)
     return texopt_model_build_domains(m, NULL, 0) == TEXOPT_OK ? 0 : -1;
 }
 
-/* The data URI of the first image after `from` in html, as a malloc'ed string. */
-static char *first_image_after(const char *html, const char *from)
+/* The second half of m's triangles as a primitive of a second material, whose base colour
+ * is a flat image of its own: a second texture domain. */
+static int split_into_two_domains(texopt_model *m)
 {
-    const char *p = strstr(html, from), *src = p ? strstr(p, "src=\"") : NULL, *end = src ? strchr(src + 5, '"') : NULL;
+    texopt_primitive *prims = realloc(m->primitives, 2 * sizeof *prims);
+    if (prims)
+        m->primitives = prims;
+    texopt_material *mats = realloc(m->materials, 2 * sizeof *mats);
+    if (mats)
+        m->materials = mats;
+    if (!prims || !mats || occlusion_beside_flat_colour(m) != 0)
+        return -1;
+    mats[1] = mats[0];
+    mats[1].slot[TEXOPT_SLOT_OCCLUSION].image = -1;
+    mats[0].slot[TEXOPT_SLOT_BASE_COLOR] = mats[0].slot[TEXOPT_SLOT_OCCLUSION];
+    mats[0].slot[TEXOPT_SLOT_OCCLUSION].image = -1;
+    m->material_count = 2;
+    prims[1] = prims[0];
+    m->primitive_count = 2;
+    prims[0].triangle_count = m->triangle_count / 2;
+    prims[1].first_triangle = prims[0].triangle_count;
+    prims[1].triangle_count = m->triangle_count - prims[0].triangle_count;
+    prims[1].material = 1;
+    return texopt_model_build_domains(m, NULL, 0) == TEXOPT_OK && m->domain_count == 2 ? 0 : -1;
+}
+
+/* The data URI of the n-th image (0: the first) after `from` in html, as a malloc'ed string. */
+static char *image_after(const char *html, const char *from, int n)
+{
+    const char *p = strstr(html, from), *src = p ? strstr(p, "src=\"") : NULL;
+    for (int k = 0; k < n && src; k++)
+        src = strstr(src + 5, "src=\"");
+    const char *end = src ? strchr(src + 5, '"') : NULL;
     if (!end)
         return NULL;
     char *uri = malloc((size_t)(end - src));
@@ -174,13 +203,38 @@ TEST(report_shows_the_texture_q_measured)
     CHECK(strstr(occlusion, "new occlusion texture") != NULL);
     const char *where[] = {"class=\"renders\"", "class=\"layouts\""};
     for (int k = 0; k < 2; k++) {
-        char *a = first_image_after(colour, where[k]), *b = first_image_after(occlusion, where[k]);
+        char *a = image_after(colour, where[k], 0), *b = image_after(occlusion, where[k], 0);
         CHECK_MSG(a && b && strcmp(a, b) != 0, "%s: the same image for both measures", where[k]);
         free(a);
         free(b);
     }
     free(colour);
     free(occlusion);
+    texopt_compare_result_destroy(&r);
+}
+
+/* A model of two texture domains shows the layouts of both: one row per method and domain,
+ * each with its own texture. */
+TEST(report_shows_every_texture_domain)
+{
+    texopt_compare_result r;
+    CHECK(build_result(&r) == 0);
+    CHECK(split_into_two_domains(r.input) == 0 && split_into_two_domains(r.curves[1].showcase) == 0);
+    char *html = NULL, err[256] = "";
+    CHECK_OK(texopt_report_html(&r, NULL, &html, err, sizeof err), err);
+    const char *layouts = strstr(html, "class=\"layouts\"");
+    CHECK(layouts && strstr(layouts, "<th>domain</th>"));
+    /* ssp (with a showcase) in domains 0 and 1, input and tewari one row each. */
+    CHECK(strstr(layouts, "<tr><td>ssp</td><td>0</td>") && strstr(layouts, "<tr><td>ssp</td><td>1</td>"));
+    CHECK_EQ_INT(count(layouts, "<tr><td>"), 4);
+    CHECK_EQ_INT(count(layouts, "<img "), 2 * 3);
+    for (int k = 0; k < 2; k++) { /* the texture, then the loss map: each domain's own */
+        char *first = image_after(layouts, "<td>0</td>", k), *second = image_after(layouts, "<td>1</td>", k);
+        CHECK_MSG(first && second && strcmp(first, second) != 0, "image %d the same in both domains", k);
+        free(first);
+        free(second);
+    }
+    free(html);
     texopt_compare_result_destroy(&r);
 }
 
