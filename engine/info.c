@@ -94,33 +94,43 @@ static void add_reads(cJSON *texture, unsigned channels)
     cJSON_AddStringToObject(texture, "reads", reads);
 }
 
-/* Every (slot or extension texture, image) a domain's materials read through TEXCOORD_0, in
- * primitive and binding order, once each, with the channels any of them reads. */
+/* Adds the (slot or extension texture, image) pairs material mat reads through TEXCOORD_0 to
+ * arr, once each, with the channels any material reads them in. */
+static void add_material_textures(cJSON *arr, const texopt_model *model, int mat)
+{
+    if (mat < 0 || mat >= model->material_count)
+        return;
+    const texopt_material *m = &model->materials[mat];
+    for (int s = 0; s < texopt_material_binding_count(m); s++) {
+        const texopt_texture_ref *ref = texopt_material_binding(m, s);
+        if (ref->image < 0 || ref->image >= model->image_count || ref->texcoord != 0)
+            continue;
+        const char *slot = texopt_material_binding_name(m, s);
+        cJSON *o = find_texture(arr, slot, ref->image);
+        if (!o) {
+            o = cJSON_CreateObject();
+            cJSON_AddStringToObject(o, "slot", slot);
+            cJSON_AddNumberToObject(o, "image", ref->image);
+            add_image_fields(o, model, ref->image);
+            cJSON_AddStringToObject(o, "wrap_s", texopt_wrap_name(ref->wrap_s));
+            cJSON_AddStringToObject(o, "wrap_t", texopt_wrap_name(ref->wrap_t));
+            cJSON_AddItemToArray(arr, o);
+        }
+        add_reads(o, texopt_material_binding_channels(m, s));
+    }
+}
+
+/* Every (slot or extension texture, image) a domain's materials (and their variants,
+ * KHR_materials_variants) read through TEXCOORD_0, in primitive and binding order, once each,
+ * with the channels any of them reads. */
 static cJSON *textures_json(const texopt_model *model, const texopt_domain *dom)
 {
     cJSON *arr = cJSON_CreateArray();
     for (int k = 0; arr && k < dom->primitive_count; k++) {
-        int mat = model->primitives[dom->primitives[k]].material;
-        if (mat < 0 || mat >= model->material_count)
-            continue;
-        const texopt_material *m = &model->materials[mat];
-        for (int s = 0; s < texopt_material_binding_count(m); s++) {
-            const texopt_texture_ref *ref = texopt_material_binding(m, s);
-            if (ref->image < 0 || ref->image >= model->image_count || ref->texcoord != 0)
-                continue;
-            const char *slot = texopt_material_binding_name(m, s);
-            cJSON *o = find_texture(arr, slot, ref->image);
-            if (!o) {
-                o = cJSON_CreateObject();
-                cJSON_AddStringToObject(o, "slot", slot);
-                cJSON_AddNumberToObject(o, "image", ref->image);
-                add_image_fields(o, model, ref->image);
-                cJSON_AddStringToObject(o, "wrap_s", texopt_wrap_name(ref->wrap_s));
-                cJSON_AddStringToObject(o, "wrap_t", texopt_wrap_name(ref->wrap_t));
-                cJSON_AddItemToArray(arr, o);
-            }
-            add_reads(o, texopt_material_binding_channels(m, s));
-        }
+        const texopt_primitive *prim = &model->primitives[dom->primitives[k]];
+        add_material_textures(arr, model, prim->material);
+        for (int v = 0; v < prim->variant_count; v++)
+            add_material_textures(arr, model, model->variant_materials[prim->first_variant + (size_t)v]);
     }
     return arr;
 }

@@ -67,15 +67,13 @@ const char *texopt_material_binding_name(const texopt_material *mat, int i)
     return i < TEXOPT_SLOT_COUNT ? texopt_slot_name((texopt_slot)i) : mat->extra[i - TEXOPT_SLOT_COUNT].name;
 }
 
-/* The images a primitive's material reads through TEXCOORD_0, written to out (at most
- * BINDINGS_MAX); returns how many. */
-static int primitive_images(const texopt_model *model, const texopt_primitive *prim, int *out,
-                            const texopt_texture_ref **refs)
+/* The images material m reads through TEXCOORD_0, appended to out and refs at n; returns
+ * the new count. */
+static int material_images(const texopt_model *model, int m, int *out, const texopt_texture_ref **refs, int n)
 {
-    if (prim->material < 0 || prim->material >= model->material_count)
-        return 0;
-    const texopt_material *mat = &model->materials[prim->material];
-    int n = 0;
+    if (m < 0 || m >= model->material_count)
+        return n;
+    const texopt_material *mat = &model->materials[m];
     for (int s = 0; s < texopt_material_binding_count(mat); s++) {
         const texopt_texture_ref *ref = texopt_material_binding(mat, s);
         if (ref->image < 0 || ref->image >= model->image_count || ref->texcoord != 0)
@@ -85,6 +83,28 @@ static int primitive_images(const texopt_model *model, const texopt_primitive *p
         n++;
     }
     return n;
+}
+
+/* The images a primitive's material and its variants' (model.h) read through TEXCOORD_0,
+ * the material's first, written to out (room for BINDINGS_MAX per material); returns how
+ * many. */
+static int primitive_images(const texopt_model *model, const texopt_primitive *prim, int *out,
+                            const texopt_texture_ref **refs)
+{
+    int n = material_images(model, prim->material, out, refs, 0);
+    for (int v = 0; v < prim->variant_count; v++)
+        n = material_images(model, model->variant_materials[prim->first_variant + (size_t)v], out, refs, n);
+    return n;
+}
+
+/* The most materials one primitive may be drawn with (its own and its variants). */
+static int most_materials(const texopt_model *model)
+{
+    int most = 1;
+    for (int p = 0; p < model->primitive_count; p++)
+        if (1 + model->primitives[p].variant_count > most)
+            most = 1 + model->primitives[p].variant_count;
+    return most;
 }
 
 static void free_domains(texopt_model *model)
@@ -125,17 +145,20 @@ texopt_status texopt_model_build_domains(texopt_model *model, char *err, size_t 
     int n_img = model->image_count;
     int *parent = malloc(sizeof(int) * (size_t)(n_img > 0 ? n_img : 1));
     int *domain_of_root = malloc(sizeof(int) * (size_t)(n_img > 0 ? n_img : 1));
-    if (!parent || !domain_of_root) {
+    size_t room = (size_t)BINDINGS_MAX * (size_t)most_materials(model);
+    int *imgs = malloc(room * sizeof *imgs);
+    const texopt_texture_ref **refs = malloc(room * sizeof *refs);
+    if (!parent || !domain_of_root || !imgs || !refs) {
         free(parent);
         free(domain_of_root);
+        free(imgs);
+        free(refs);
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for texture domains");
     }
     for (int i = 0; i < n_img; i++) {
         parent[i] = i;
         domain_of_root[i] = -1;
     }
-    int imgs[BINDINGS_MAX];
-    const texopt_texture_ref *refs[BINDINGS_MAX];
     for (int p = 0; p < model->primitive_count; p++) {
         int n = primitive_images(model, &model->primitives[p], imgs, refs);
         for (int k = 1; k < n; k++)
@@ -192,6 +215,8 @@ texopt_status texopt_model_build_domains(texopt_model *model, char *err, size_t 
     }
     free(parent);
     free(domain_of_root);
+    free(imgs);
+    free(refs);
     return st;
 }
 
@@ -203,6 +228,7 @@ void texopt_model_destroy(texopt_model *model)
     free(model->uvs);
     free(model->triangles);
     free(model->primitives);
+    free(model->variant_materials);
     free(model->materials);
     for (int i = 0; i < model->image_count; i++) {
         texopt_image_destroy(&model->images[i]);

@@ -102,6 +102,11 @@ typedef struct texopt_primitive {
     int domain;                    /* index into texopt_model.domains, -1 when untextured */
     size_t first_vertex, vertex_count;
     size_t first_triangle, triangle_count;
+    /* KHR_materials_variants: the other materials the primitive may be drawn with,
+     * texopt_model.variant_materials[first_variant, first_variant + variant_count). Their
+     * TEXCOORD_0 textures belong to its domain: re-baked into the layout it is given. */
+    size_t first_variant;
+    int variant_count;
 } texopt_primitive;
 
 typedef struct texopt_domain {
@@ -130,6 +135,7 @@ typedef struct texopt_model {
     char **image_names;    /* per image: its URI or name, for messages; may hold NULLs */
     int domain_count;
     texopt_domain *domains;
+    int *variant_materials; /* the primitives' variant materials (texopt_primitive); may be NULL */
 
     struct texopt_gltf_document *document; /* the parsed file, kept for saving (io/gltf_io) */
     void (*destroy_document)(struct texopt_gltf_document *document); /* set by whoever set document */

@@ -453,6 +453,7 @@ struct flat_geometry {
     std::vector<float> positions, uvs;
     std::vector<uint32_t> triangles;
     std::vector<texopt_primitive> primitives;
+    std::vector<int> variant_materials; /* texopt_primitive.first_variant indexes it */
     bool any_uvs = false;
 };
 
@@ -514,6 +515,43 @@ bool anisotropy_fixed_in_uv_frame(const tinygltf::Material &m)
     return strength > 0 && !map_on_set0;
 }
 
+/* The materials KHR_materials_variants lets primitive p be drawn with besides its own (each
+ * once), into *out. Each reads the primitive's TEXCOORD_0, which a new layout changes for
+ * all of them: one that reads it must have the primitive's texture transform (the loader
+ * applies the primitive material's), and the primitive must have TEXCOORD_0. */
+texopt_status variant_materials(const tinygltf::Model &g, const texopt_model *model, const tinygltf::Primitive &p,
+                                int mesh, int prim_index, std::vector<int> *out, char *err, size_t err_len)
+{
+    out->clear();
+    auto e = p.extensions.find("KHR_materials_variants");
+    if (e == p.extensions.end() || !e->second.IsObject() || !e->second.Has("mappings"))
+        return TEXOPT_OK;
+    const tinygltf::Value &mappings = e->second.Get("mappings");
+    for (size_t k = 0; mappings.IsArray() && k < mappings.ArrayLen(); k++) {
+        const tinygltf::Value &m = mappings.Get((int)k);
+        int material = m.IsObject() && m.Has("material") && m.Get("material").IsInt() ? m.Get("material").GetNumberAsInt()
+                                                                                       : -1;
+        if (material < 0 || (size_t)material >= g.materials.size())
+            return texopt_fail(err, err_len, TEXOPT_E_MALFORMED,
+                               "mesh %d primitive %d: KHR_materials_variants mapping %zu names no material", mesh,
+                               prim_index, k);
+        if (material == p.material || std::find(out->begin(), out->end(), material) != out->end() ||
+            !material_uses_texcoord0(model, material))
+            continue;
+        if (attribute(p, "TEXCOORD_0") < 0)
+            return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                               "mesh %d primitive %d: its variant material %d is textured but the primitive has no "
+                               "TEXCOORD_0", mesh, prim_index, material);
+        const double *own = p.material >= 0 ? model->materials[p.material].uv_transform : identity_transform;
+        if (memcmp(model->materials[material].uv_transform, own, sizeof identity_transform) != 0)
+            return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                               "mesh %d primitive %d: its variant material %d has another KHR_texture_transform "
+                               "than its material; one layout cannot serve both", mesh, prim_index, material);
+        out->push_back(material);
+    }
+    return TEXOPT_OK;
+}
+
 texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model, int mesh, int prim_index,
                             const gltf_mat4 *world, flat_geometry *geo, char *err, size_t err_len)
 {
@@ -546,9 +584,13 @@ texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model,
                            "tangent frame a renderer derives from TEXCOORD_0, which a new layout turns; give the "
                            "primitive TANGENT (kept as it is) or the direction as an anisotropyTexture on "
                            "TEXCOORD_0 (turned with the layout)", mesh, prim_index, p.material);
+    std::vector<int> variants;
+    texopt_status st = variant_materials(g, model, p, mesh, prim_index, &variants, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
     std::vector<float> pos, uv;
     snprintf(what, sizeof what, "mesh %d primitive %d POSITION", mesh, prim_index);
-    texopt_status st = gltf_read_floats(g, pos_acc, TINYGLTF_TYPE_VEC3, what, &pos, err, err_len);
+    st = gltf_read_floats(g, pos_acc, TINYGLTF_TYPE_VEC3, what, &pos, err, err_len);
     if (st != TEXOPT_OK)
         return st;
     size_t nv = pos.size() / 3;
@@ -618,6 +660,9 @@ texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model,
     tp.vertex_count = nv;
     tp.first_triangle = geo->triangles.size() / 3;
     tp.triangle_count = idx.size() / 3;
+    tp.first_variant = geo->variant_materials.size();
+    tp.variant_count = (int)variants.size();
+    geo->variant_materials.insert(geo->variant_materials.end(), variants.begin(), variants.end());
     geo->positions.insert(geo->positions.end(), pos.begin(), pos.end());
     geo->uvs.insert(geo->uvs.end(), uv.begin(), uv.end());
     for (size_t t = 0; t < idx.size(); t += 3) {
@@ -688,7 +733,9 @@ texopt_status convert_geometry(const tinygltf::Model &g, texopt_model *model, ch
     model->uvs = geo.any_uvs ? copy_out(geo.uvs) : nullptr;
     model->triangles = copy_out(geo.triangles);
     model->primitives = copy_out(geo.primitives);
-    if (!model->positions || (geo.any_uvs && !model->uvs) || !model->triangles || !model->primitives)
+    model->variant_materials = copy_out(geo.variant_materials);
+    if (!model->positions || (geo.any_uvs && !model->uvs) || !model->triangles || !model->primitives ||
+        !model->variant_materials)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for %zu vertices", model->vertex_count);
     return TEXOPT_OK;
 }

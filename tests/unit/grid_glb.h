@@ -160,6 +160,52 @@ static inline int write_mesh_glb(const char *path, const float *positions, const
     return write_mesh_glb_ext(path, positions, uvs, nv, triangles, nt, tex, pattern, mr_pattern, "");
 }
 
+/* Replaces the first `from` in the JSON chunk of the .glb at path by `to` (blank-padded to
+ * four bytes). Returns 0 on success, -1 when `from` is absent or the file cannot be rewritten. */
+static inline int glb_replace_json(const char *path, const char *from, const char *to)
+{
+    FILE *f = fopen(path, "rb");
+    unsigned char *glb = NULL;
+    long n = -1;
+    if (f && fseek(f, 0, SEEK_END) == 0 && (n = ftell(f)) >= 20 && fseek(f, 0, SEEK_SET) == 0 &&
+        (glb = malloc((size_t)n)) && fread(glb, 1, (size_t)n, f) != (size_t)n)
+        n = -1;
+    if (f)
+        fclose(f);
+    size_t jl = n >= 20 ? (size_t)glb[12] | (size_t)glb[13] << 8 | (size_t)glb[14] << 16 | (size_t)glb[15] << 24 : 0;
+    char *json = n >= 20 && 20 + jl <= (size_t)n ? malloc(jl + strlen(to) + 4) : NULL;
+    char *at = NULL;
+    if (json) {
+        memcpy(json, glb + 20, jl);
+        json[jl] = '\0';
+        at = strstr(json, from);
+    }
+    int r = -1;
+    if (at) {
+        size_t head = (size_t)(at - json), tail = jl - head - strlen(from);
+        memmove(at + strlen(to), at + strlen(from), tail + 1);
+        memcpy(at, to, strlen(to));
+        size_t len = strlen(json), padded = (len + 3) / 4 * 4, rest = (size_t)n - 20 - jl;
+        unsigned char *out = malloc(20 + padded + rest);
+        if (out) {
+            memcpy(out, glb, 20);
+            memcpy(out + 20, json, len);
+            memset(out + 20 + len, ' ', padded - len);
+            memcpy(out + 20 + padded, glb + 20 + jl, rest);
+            grid_put32(out + 8, (uint32_t)(20 + padded + rest));
+            grid_put32(out + 12, (uint32_t)padded);
+            FILE *w = fopen(path, "wb");
+            r = w && fwrite(out, 1, 20 + padded + rest, w) == 20 + padded + rest ? 0 : -1;
+            if (w && fclose(w) != 0)
+                r = -1;
+            free(out);
+        }
+    }
+    free(json);
+    free(glb);
+    return r;
+}
+
 /* An n x n grid over [0,1]^2 with UV = (x, y): (n+1)^2 vertices into pos (3 floats each) and
  * uv (2 each), 2 n^2 triangles into idx (3 each). */
 static inline void grid_fill(int n, float *pos, float *uv, uint32_t *idx)

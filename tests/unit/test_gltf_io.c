@@ -944,3 +944,47 @@ TEST(a_16_bit_texture_is_replaced_at_16_bits)
     free(json);
     quad_doc_free(&doc);
 }
+
+/* KHR_materials_variants mappings are read: a variant material joins the primitive's
+ * domain; one naming no material is malformed, and one whose texture transform differs from
+ * the primitive material's is refused (one layout cannot serve both). */
+TEST(material_variants_join_the_domain_or_are_refused_with_a_reason)
+{
+    char err[512] = "";
+    quad_doc doc;
+    CHECK(quad_doc_init(&doc, 4, 4));
+    const char *cases[3][2] = {
+        {"{\"material\":1,\"variants\":[0]}", ""},
+        {"{\"material\":7,\"variants\":[0]}", "names no material"},
+        {"{\"material\":2,\"variants\":[0]}", "another KHR_texture_transform"},
+    };
+    for (int c = 0; c < 3; c++) {
+        char *json = strdup(doc.json), primitive[256];
+        snprintf(primitive, sizeof primitive,
+                 "\"material\":0,\"mode\":4,\"extensions\":{\"KHR_materials_variants\":{\"mappings\":[%s]}}",
+                 cases[c][0]);
+        CHECK(json && builder_replace(&json, "\"material\":0,\"mode\":4", primitive));
+        CHECK(builder_replace(&json, "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}]",
+                              "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}},"
+                              "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":1}}},"
+                              "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":1,\"extensions\":"
+                              "{\"KHR_texture_transform\":{\"scale\":[0.5,0.5]}}}}}],"
+                              "\"extensionsUsed\":[\"KHR_materials_variants\",\"KHR_texture_transform\"]"));
+        CHECK(builder_replace(&json, "\"textures\":[{\"source\":0,\"sampler\":0}]",
+                              "\"textures\":[{\"source\":0,\"sampler\":0},{\"source\":1}]"));
+        CHECK(builder_replace(&json, "\"images\":[{\"bufferView\":3,\"mimeType\":\"image/png\"}]",
+                              "\"images\":[{\"bufferView\":3,\"mimeType\":\"image/png\"},"
+                              "{\"bufferView\":3,\"mimeType\":\"image/png\"}]"));
+        texopt_status st;
+        texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
+        if (!*cases[c][1]) {
+            CHECK_OK(st, err);
+            CHECK(m->primitives[0].variant_count == 1 && m->variant_materials[m->primitives[0].first_variant] == 1);
+            CHECK(m->domain_count == 1 && m->domains[0].image_count == 2);
+        } else
+            CHECK_MSG(st != TEXOPT_OK && strstr(err, cases[c][1]), "case %d: status %d, %s", c, (int)st, err);
+        texopt_model_destroy(m);
+        free(json);
+    }
+    quad_doc_free(&doc);
+}

@@ -143,6 +143,44 @@ TEST(a_texture_two_materials_share_reads_what_either_reads)
     check_shared_reads(TEXOPT_ALPHA_OPAQUE, TEXOPT_ALPHA_OPAQUE, "RGB");
 }
 
+/* A variant material (KHR_materials_variants) reading its own image through TEXCOORD_0 puts
+ * that image in the primitive's domain, and info lists it there. */
+TEST(a_variant_material_s_texture_belongs_to_the_domain)
+{
+    texopt_model *model = fixture_textured_quad(16, "gradient");
+    CHECK(model != NULL);
+    texopt_image *images = realloc(model->images, 2 * sizeof *images);
+    char **names = realloc(model->image_names, 2 * sizeof *names);
+    texopt_material *mats = realloc(model->materials, 2 * sizeof *mats);
+    if (images)
+        model->images = images;
+    if (names)
+        model->image_names = names;
+    if (mats)
+        model->materials = mats;
+    CHECK(images && names && mats && (model->variant_materials = malloc(sizeof(int))) != NULL);
+    CHECK(texopt_image_create(&images[1], 8, 8, 3, NULL, 0) == TEXOPT_OK && fixture_fill_pattern(&images[1], "flat") == 0);
+    names[1] = NULL;
+    model->image_count = 2;
+    mats[1] = mats[0];
+    mats[1].slot[TEXOPT_SLOT_BASE_COLOR].image = 1;
+    model->material_count = 2;
+    model->variant_materials[0] = 1;
+    model->primitives[0].first_variant = 0;
+    model->primitives[0].variant_count = 1;
+    char err[256] = "";
+    CHECK_OK(texopt_model_build_domains(model, err, sizeof err), err);
+    CHECK_EQ_INT(model->domain_count, 1);
+    CHECK_EQ_INT(model->domains[0].image_count, 2);
+    cJSON *doc = NULL;
+    CHECK_OK(texopt_info_json(model, &doc, err, sizeof err), err);
+    const cJSON *textures = cJSON_GetObjectItemCaseSensitive(domain(doc, 0), "textures");
+    CHECK_EQ_INT(cJSON_GetArraySize(textures), 2);
+    CHECK_EQ_INT(cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(textures, 1), "image")->valueint, 1);
+    cJSON_Delete(doc);
+    texopt_model_destroy(model);
+}
+
 TEST(mirrored_and_wrapped_layout_is_reported)
 {
     /* Quad A on the UV square; quad B elsewhere in 3D, mirrored onto the same square and
