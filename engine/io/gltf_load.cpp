@@ -584,6 +584,11 @@ texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model,
                            "tangent frame a renderer derives from TEXCOORD_0, which a new layout turns; give the "
                            "primitive TANGENT (kept as it is) or the direction as an anisotropyTexture on "
                            "TEXCOORD_0 (turned with the layout)", mesh, prim_index, p.material);
+    for (size_t t = 0; t < p.targets.size(); t++)
+        if (p.targets[t].count("TEXCOORD_0") && material_uses_texcoord0(model, p.material))
+            return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                               "mesh %d primitive %d: morph target %zu moves TEXCOORD_0, by offsets that hold for "
+                               "its layout only", mesh, prim_index, t);
     std::vector<int> variants;
     texopt_status st = variant_materials(g, model, p, mesh, prim_index, &variants, err, err_len);
     if (st != TEXOPT_OK)

@@ -988,3 +988,28 @@ TEST(material_variants_join_the_domain_or_are_refused_with_a_reason)
     }
     quad_doc_free(&doc);
 }
+
+/* A morph target that moves TEXCOORD_0 holds offsets for the input layout only: refused. One
+ * that moves positions only is read as before. */
+TEST(a_morph_target_moving_texcoord0_is_refused)
+{
+    char err[512] = "";
+    quad_doc doc;
+    CHECK(quad_doc_init(&doc, 4, 4));
+    const char *targets[2] = {"{\"POSITION\":0}", "{\"POSITION\":0,\"TEXCOORD_0\":1}"};
+    for (int c = 0; c < 2; c++) {
+        char *json = strdup(doc.json), primitive[160];
+        snprintf(primitive, sizeof primitive, "\"material\":0,\"mode\":4,\"targets\":[%s]", targets[c]);
+        CHECK(json && builder_replace(&json, "\"material\":0,\"mode\":4", primitive));
+        texopt_status st;
+        texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
+        if (c == 0)
+            CHECK_OK(st, err);
+        else
+            CHECK_MSG(st == TEXOPT_E_UNSUPPORTED && strstr(err, "morph target 0 moves TEXCOORD_0"), "%d: %s", (int)st,
+                      err);
+        texopt_model_destroy(m);
+        free(json);
+    }
+    quad_doc_free(&doc);
+}
