@@ -29,7 +29,9 @@
  *     same stage 2, budget (a uniform scale), packing and re-bake as "perceptual".
  * A domain whose layout covers no texel centre (UVs picking a colour from a palette), or none
  * of whose triangles has an area in 3D, is kept as it is by every layout method
- * (keep_domain); a model with no other domain is refused. A
+ * (keep_domain); a model with no other domain is refused. A domain whose UVs repeat its
+ * texture (a tiling texture, layout_repeats) keeps its input layout resized as by method
+ * "input": an atlas would need the repeats' texels. A
  * domain whose new layout would pack into over twice the pixels of its input layout resized to
  * the budget, or fit a texture size at no scale (charts of a texel or less, mostly gutter),
  * keeps its input layout resized as by method "input" (input_layout_packs_better).
@@ -434,6 +436,14 @@ static texopt_status baseline_or_perceptual_targets(const texopt_model *model, c
 }
 
 /* One texture domain of a job: what does not depend on the budget. */
+/* What a layout method does with a domain. */
+typedef enum domain_keep {
+    DOMAIN_LAID_OUT = 0,
+    DOMAIN_KEPT_AS_IS,    /* nothing to lay out or see (keep_domain): UVs and images as they are */
+    DOMAIN_INPUT_RESIZED, /* a tiling texture (layout_repeats): the input layout, resized as by
+                             method "input" */
+} domain_keep;
+
 typedef struct job_domain {
     texopt_mesh *mesh;
     texopt_triangle_target *targets; /* stage 1 or a baseline; NULL for method "input" */
@@ -441,7 +451,7 @@ typedef struct job_domain {
     texopt_texel_share *share; /* charts sharing texels; NULL for method "input" */
     double *paid; /* per triangle, the share of its texels it pays for (allocate.h); NULL
                      when every triangle pays for all of its own */
-    int kept;     /* no texels to lay out (keep_domain): UVs and images kept as they are */
+    domain_keep kept; /* laid out, or the input layout kept (and why: stats input_layout_kept) */
 } job_domain;
 
 /* The sharing groups stage 2 and the budget work with, NULL when no chart shares another's
@@ -507,6 +517,24 @@ static texopt_status find_paid_shares(job_domain *jd, char *err, size_t err_len)
     return TEXOPT_OK;
 }
 
+/* How many times over a domain's layout reads its texels: the texel area its triangles pay
+ * for (texel_share.h: mirrored twins and folds pay once) over the texels they cover. 1.000 to
+ * 1.005 on the sample assets; a texture tiled 4 x 4 times gives 16. */
+static double layout_repeats(const job_domain *jd)
+{
+    double paid_area = 0;
+    for (size_t t = 0; t < jd->mesh->triangle_count; t++)
+        paid_area += fabs(jd->mesh->area_texel[t]) * (jd->paid ? jd->paid[t] : 1.0);
+    return paid_area / (double)jd->input_coverage.covered_texels;
+}
+
+/* A domain whose layout reads its texels more than this many times over keeps its input
+ * layout (DOMAIN_INPUT_RESIZED): unrolled into an atlas, a texture tiled R times needs R times
+ * its texels for the same look, so at an equal budget every layout method's result is far
+ * worse than the tiling (a 64x64 checker tiled 4 x 4 at c_r 0.5: q 0.0160 laid out anew,
+ * 0.0009 resized in its layout). */
+#define REPEATS_LIMIT 1.5
+
 /* Whether every triangle of the mesh is degenerate in 3D (mesh.h). */
 static int flat_in_3d(const texopt_mesh *mesh)
 {
@@ -544,7 +572,7 @@ static texopt_status prepare_domain(texopt_job *job, int d, double from, double 
         snprintf(ds->input_layout_kept, sizeof ds->input_layout_kept,
                  "its %zu triangles have no area in 3D (every vertex on a line or a point), so nothing of it can be "
                  "seen and no layout judged", jd->mesh->triangle_count);
-        jd->kept = 1;
+        jd->kept = DOMAIN_KEPT_AS_IS;
         return TEXOPT_OK;
     }
     st = texopt_coverage_measure(jd->mesh, NULL, &jd->input_coverage, err, err_len);
@@ -552,7 +580,7 @@ static texopt_status prepare_domain(texopt_job *job, int d, double from, double 
         snprintf(ds->input_layout_kept, sizeof ds->input_layout_kept,
                  "its layout covers no texel centre of its %dx%d texture, so it has no texels to lay out (a texture "
                  "of one texel, or UVs inside one texel)", dom->width, dom->height);
-        jd->kept = 1;
+        jd->kept = DOMAIN_KEPT_AS_IS;
         return TEXOPT_OK;
     }
     if (st == TEXOPT_OK)
@@ -561,6 +589,15 @@ static texopt_status prepare_domain(texopt_job *job, int d, double from, double 
         st = find_paid_shares(jd, err, err_len);
     if (st != TEXOPT_OK)
         return st;
+    double repeats = layout_repeats(jd);
+    if (repeats > REPEATS_LIMIT) {
+        snprintf(ds->input_layout_kept, sizeof ds->input_layout_kept,
+                 "its UVs repeat its %dx%d texture %.1f times over (a tiling texture): a layout without repeats "
+                 "would need that many times its texels; the input layout is kept, its images resized to the "
+                 "budget", dom->width, dom->height, repeats);
+        jd->kept = DOMAIN_INPUT_RESIZED;
+        return TEXOPT_OK;
+    }
     size_t n = jd->mesh->triangle_count ? jd->mesh->triangle_count : 1;
     jd->targets = calloc(n, sizeof *jd->targets);
     if (!jd->targets)
@@ -1107,9 +1144,10 @@ static texopt_status run_budget(texopt_job *job, const texopt_params *p, int wit
         texopt_domain_stats *ds = &job->stats.domains[d];
         ds->relative_cost_requested = p->budget == TEXOPT_BUDGET_RELATIVE_COST ? p->relative_cost : -1;
         st = check_cancel(&job->jm, err, err_len);
-        if (st == TEXOPT_OK && job->domains[d].kept)
+        if (st == TEXOPT_OK && job->domains[d].kept == DOMAIN_KEPT_AS_IS)
             keep_domain(model, d, ds);
-        else if (st == TEXOPT_OK && p->method == TEXOPT_METHOD_INPUT)
+        else if (st == TEXOPT_OK &&
+                 (p->method == TEXOPT_METHOD_INPUT || job->domains[d].kept == DOMAIN_INPUT_RESIZED))
             st = run_input_method(model, job->domains[d].mesh, p, out, ds, &job->jm, at, at + share, err, err_len);
         else if (st == TEXOPT_OK)
             st = run_optimised_method(job, d, p, with_stats, out, ds, &job->jm, at, at + share, err, err_len);
@@ -1363,7 +1401,7 @@ static texopt_status reallocate_domains(const texopt_job *job, texopt_triangle_t
         const job_domain *jd = &job->domains[d];
         const texopt_mesh *mesh = jd->mesh;
         double area = ds[d].relative_cost * (double)jd->input_coverage.covered_texels;
-        if (!(area > 0) || mesh->triangle_count == 0)
+        if (jd->kept || !(area > 0) || mesh->triangle_count == 0)
             continue;
         for (size_t t = 0; t < mesh->triangle_count; t++)
             scratch[t] = model_error[mesh->model_triangle[t]];
@@ -1671,7 +1709,7 @@ static texopt_status check_something_laid_out(const texopt_job *job, char *err, 
 {
     int n = job->model->domain_count;
     for (int d = 0; d < n; d++)
-        if (!job->domains[d].kept)
+        if (job->domains[d].kept != DOMAIN_KEPT_AS_IS)
             return TEXOPT_OK;
     return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "%sdomain 0: %s",
                        n > 1 ? "no domain can be laid out; " : "", job->stats.domains[0].input_layout_kept);

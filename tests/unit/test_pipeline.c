@@ -410,6 +410,49 @@ TEST(charts_too_small_to_pack_keep_the_input_layout)
     scratch_free(&s);
 }
 
+/* A 4 x 4 grid whose UVs span [0, r]^2 of a REPEAT 64 x 64 checker: tiled r x r times. At r = 4
+ * (16 times over) every layout method keeps the input layout, resized as by method "input";
+ * at r = 1.2 (1.44 times over: the edges repeat) the grid is laid out as usual. */
+TEST(a_tiling_texture_keeps_its_input_layout)
+{
+    const double spans[2] = {4, 1.2};
+    for (int k = 0; k < 2; k++) {
+        scratch s;
+        CHECK(scratch_init(&s, 4, 64, NULL) == 0);
+        float pos[25 * 3], uv[25 * 2];
+        uint32_t idx[32 * 3];
+        grid_fill(4, pos, uv, idx);
+        for (int i = 0; i < 50; i++)
+            uv[i] *= (float)spans[k];
+        CHECK(write_mesh_glb(s.in, pos, uv, 25, idx, 32, 64, "checker", NULL) == 0);
+        texopt_params p = {0};
+        p.relative_cost = 0.5;
+        p.threads = 1;
+        char err[512] = "";
+        const texopt_method methods[] = {TEXOPT_METHOD_PERCEPTUAL, TEXOPT_METHOD_SSP};
+        for (int m = 0; m < 2; m++) {
+            p.method = methods[m];
+            CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+            cJSON *st = read_json(s.stats);
+            texopt_model *out = load(s.out);
+            CHECK(st && out);
+            const char *why = input_layout_kept(st);
+            if (k == 0) {
+                CHECK_MSG(strstr(why, "repeat its 64x64 texture 16.0 times"), "%s: '%s'", texopt_method_name(p.method),
+                          why);
+                CHECK_EQ_INT(out->images[0].width, 45); /* 64 sqrt(0.5) */
+                CHECK(memcmp(out->uvs, uv, sizeof uv) == 0);
+            } else
+                CHECK_MSG(*why == '\0' && cJSON_IsTrue(cJSON_GetObjectItem(
+                                              cJSON_GetArrayItem(cJSON_GetObjectItem(st, "domains"), 0), "repacked")),
+                          "%s: '%s'", texopt_method_name(p.method), why);
+            cJSON_Delete(st);
+            texopt_model_destroy(out);
+        }
+        scratch_free(&s);
+    }
+}
+
 /* q of out against in with every primitive drawn in `material` (a variant's). */
 static double q_in_material(texopt_model *in, texopt_model *out, int material)
 {
