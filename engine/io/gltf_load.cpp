@@ -36,6 +36,7 @@
 #include "gltf_nodes.hpp"
 #include "gltf_document.hpp"
 #include "gltf_extension_textures.hpp"
+#include "gltf_texture_source.hpp"
 #include "image_io.h"
 #include "image_jobs.hpp"
 
@@ -166,19 +167,6 @@ texopt_wrap wrap_from_gl(int gl)
 }
 
 /* The image a texture shows: its source, or the source of an image-format extension. */
-int texture_source(const tinygltf::Texture &t)
-{
-    if (t.source >= 0)
-        return t.source;
-    for (const char *ext : {"EXT_texture_webp", "KHR_texture_basisu", "MSFT_texture_dds"}) {
-        auto it = t.extensions.find(ext);
-        if (it != t.extensions.end() && it->second.IsObject() && it->second.Has("source") &&
-            it->second.Get("source").IsInt())
-            return it->second.Get("source").GetNumberAsInt();
-    }
-    return -1;
-}
-
 texopt_status bind_texture(const tinygltf::Model &g, int material, const char *slot_name, int texture,
                            int texcoord, texopt_texture_ref *ref, char *err, size_t err_len)
 {
@@ -191,7 +179,7 @@ texopt_status bind_texture(const tinygltf::Model &g, int material, const char *s
         return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "material %d: %s names texture %d of %zu",
                            material, slot_name, texture, g.textures.size());
     const tinygltf::Texture &t = g.textures[(size_t)texture];
-    int image = texture_source(t);
+    int image = gltf_texture_source(t);
     if (image < 0 || (size_t)image >= g.images.size())
         return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "texture %d (used by material %d %s): image %d does not exist",
                            texture, material, slot_name, image);

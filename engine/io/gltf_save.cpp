@@ -30,6 +30,7 @@
 #include "atomic_file.h"
 #include "gltf_document.hpp"
 #include "gltf_extension_textures.hpp"
+#include "gltf_texture_source.hpp"
 #include "image_io.h"
 #include "image_jobs.hpp"
 
@@ -348,6 +349,18 @@ class other_set_bindings {
     }
 };
 
+/* A texture whose image texopt replaced reads the replacement only: without its alternate
+ * sources (gltf_texture_source.hpp), which viewers knowing them would read instead. */
+void point_textures_at_replacements(tinygltf::Model &g, const std::vector<std::vector<unsigned char>> &encoded)
+{
+    for (tinygltf::Texture &t : g.textures) {
+        int image = gltf_texture_source(t);
+        if (image >= 0 && (size_t)image < encoded.size() && !encoded[(size_t)image].empty())
+            gltf_texture_read_only(t, image);
+    }
+    gltf_drop_unused_source_extensions(g);
+}
+
 /* Builds the output document: new UVs, images in views, one buffer, unused views dropped. */
 texopt_status build_output(const texopt_model *model, const texopt_model_edit *edit, tinygltf::Model *out,
                            char *err, size_t err_len)
@@ -364,6 +377,7 @@ texopt_status build_output(const texopt_model *model, const texopt_model_edit *e
 
     std::vector<std::string> mime = doc->image_mime;
     other_set_bindings(g, encoded, mime).run();
+    point_textures_at_replacements(g, encoded);
     for (size_t i = 0; i < (size_t)model->image_count; i++)
         if (!encoded[i].empty())
             mime[i] = replaced_as_jpeg(model, edit->images[i], i) ? "image/jpeg" : "image/png";

@@ -1013,3 +1013,45 @@ TEST(a_morph_target_moving_texcoord0_is_refused)
     }
     quad_doc_free(&doc);
 }
+
+/* A texture's alternate source (EXT_texture_webp: what viewers knowing it read instead of
+ * `source`) would show the old texels through the new UVs: once the texture's image is
+ * replaced, the texture reads the replacement only, with the fallback present or not. */
+TEST(a_replaced_texture_drops_its_alternate_source)
+{
+    char err[512] = "", dir[64], out[128];
+    quad_doc doc;
+    CHECK(quad_doc_init(&doc, 4, 4));
+    CHECK(builder_tempdir(dir));
+    snprintf(out, sizeof out, "%s/out.glb", dir);
+    const char *textures[2] = {
+        "\"textures\":[{\"source\":0,\"sampler\":0,\"extensions\":{\"EXT_texture_webp\":{\"source\":1}}}],"
+        "\"extensionsUsed\":[\"EXT_texture_webp\"]",
+        "\"textures\":[{\"sampler\":0,\"extensions\":{\"EXT_texture_webp\":{\"source\":0}}}],"
+        "\"extensionsUsed\":[\"EXT_texture_webp\"],\"extensionsRequired\":[\"EXT_texture_webp\"]"};
+    for (int c = 0; c < 2; c++) {
+        char *json = strdup(doc.json);
+        CHECK(json && builder_replace(&json, "\"textures\":[{\"source\":0,\"sampler\":0}]", textures[c]));
+        CHECK(builder_replace(&json, "\"images\":[{\"bufferView\":3,\"mimeType\":\"image/png\"}]",
+                              "\"images\":[{\"bufferView\":3,\"mimeType\":\"image/png\"},"
+                              "{\"bufferView\":3,\"mimeType\":\"image/png\"}]"));
+        texopt_status st;
+        texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
+        CHECK_OK(st, err);
+        texopt_image rebaked;
+        CHECK(builder_texture(&rebaked, 2, 2));
+        const texopt_image *images[2] = {&rebaked, NULL};
+        texopt_model_edit edit = {m->uvs, images};
+        CHECK_OK(texopt_model_save_glb(m, &edit, out, err, sizeof err), err);
+        CHECK_MSG(file_contains(out, "EXT_texture_webp") == 0, "case %d keeps the extension", c);
+        texopt_model *back = NULL;
+        CHECK_OK(texopt_model_load(&back, out, NULL, err, sizeof err), err);
+        CHECK(image_matches_builder(&back->images[back->materials[0].slot[TEXOPT_SLOT_BASE_COLOR].image], 2, 2));
+        texopt_image_destroy(&rebaked);
+        texopt_model_destroy(back);
+        texopt_model_destroy(m);
+        free(json);
+    }
+    builder_rmdir(dir);
+    quad_doc_free(&doc);
+}

@@ -1,0 +1,25 @@
+/* gltf_texture_source.hpp - which image a glTF texture reads, and its alternate sources.
+ *
+ * A texture names its image in `source` and, through EXT_texture_webp, KHR_texture_basisu or
+ * MSFT_texture_dds, an alternate that viewers knowing the extension read instead. texopt
+ * decodes and re-bakes one of them (`source` when present); once that one is replaced, the
+ * texture must read the replacement everywhere, or those viewers would draw the old texels
+ * through the new UVs.
+ * Does not: decode anything or decide what is replaced (gltf_load.cpp, gltf_save.cpp).
+ * Internal to engine/io; the extensions are Khronos's and Microsoft's glTF texture extensions. */
+#ifndef TEXOPT_GLTF_TEXTURE_SOURCE_HPP
+#define TEXOPT_GLTF_TEXTURE_SOURCE_HPP
+
+#include <tiny_gltf.h>
+
+/* The image texopt reads for texture t: its `source`, else its first alternate's; -1 if none. */
+int gltf_texture_source(const tinygltf::Texture &t);
+
+/* Makes t read `image` as its `source` and drops its alternate sources. */
+void gltf_texture_read_only(tinygltf::Texture &t, int image);
+
+/* Removes the alternate-source extensions no texture of g uses any more from its
+ * extensionsUsed and extensionsRequired. */
+void gltf_drop_unused_source_extensions(tinygltf::Model &g);
+
+#endif
