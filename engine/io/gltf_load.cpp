@@ -130,6 +130,14 @@ texopt_status parse_document(tinygltf::Model *gltf, const unsigned char *bytes, 
 
 texopt_status check_required_extensions(const tinygltf::Model &g, char *err, size_t err_len)
 {
+    /* tinygltf drops a channel whose target has no node, which is every KHR_animation_pointer
+     * channel: the saved file would lose those animations (and one could scroll a texture
+     * transform that the new layout removes). */
+    for (const std::string &ext : g.extensionsUsed)
+        if (ext == "KHR_animation_pointer")
+            return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                               "extension KHR_animation_pointer is not supported: its animations would be lost "
+                               "when the model is written");
     static const char *const unsupported[] = {"KHR_draco_mesh_compression", "EXT_meshopt_compression",
                                               "KHR_meshopt_compression"};
     for (const std::string &ext : g.extensionsRequired)

@@ -1055,3 +1055,26 @@ TEST(a_replaced_texture_drops_its_alternate_source)
     builder_rmdir(dir);
     quad_doc_free(&doc);
 }
+
+/* KHR_animation_pointer animations (here a scrolling texture transform) would be lost on
+ * saving (tinygltf drops channels without a node): refused, naming the extension. */
+TEST(animation_pointer_models_are_refused)
+{
+    char err[512] = "";
+    quad_doc doc;
+    CHECK(quad_doc_init(&doc, 4, 4));
+    char *json = strdup(doc.json);
+    CHECK(json && builder_replace(&json, "\"asset\":{\"version\":\"2.0\"},",
+                                  "\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_animation_pointer\","
+                                  "\"KHR_texture_transform\"],\"animations\":[{\"samplers\":[{\"input\":2,\"output\":1}],"
+                                  "\"channels\":[{\"sampler\":0,\"target\":{\"path\":\"pointer\",\"extensions\":"
+                                  "{\"KHR_animation_pointer\":{\"pointer\":\"/materials/0/pbrMetallicRoughness/"
+                                  "baseColorTexture/extensions/KHR_texture_transform/offset\"}}}}]}],"));
+    texopt_status st;
+    texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
+    CHECK_MSG(st == TEXOPT_E_UNSUPPORTED && strstr(err, "KHR_animation_pointer is not supported"), "%d: %s", (int)st,
+              err);
+    texopt_model_destroy(m);
+    free(json);
+    quad_doc_free(&doc);
+}
