@@ -270,6 +270,33 @@ extern "C" texopt_status texopt_image_encode_png(const texopt_image *img, unsign
     return texopt_image_encode_png_bits(img, 8, bytes, len, err, err_len);
 }
 
+namespace {
+
+/* Encodes img with spec by OpenImageIO's writer for `file` ("image.png": its extension picks
+ * the format) into a malloc'ed buffer; `format` names it in messages. */
+texopt_status encode_image(const texopt_image *img, const char *file, const OIIO::ImageSpec &spec,
+                           const char *format, unsigned char **bytes, size_t *len, char *err, size_t err_len)
+{
+    std::vector<unsigned char> encoded;
+    OIIO::Filesystem::IOVecOutput proxy(encoded);
+    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(file, &proxy);
+    if (!out)
+        return texopt_fail(err, err_len, TEXOPT_E_INTERNAL, "OpenImageIO has no %s writer: %s", format,
+                           OIIO::geterror().c_str());
+    if (!out->open(file, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, img->pixels) || !out->close())
+        return texopt_fail(err, err_len, TEXOPT_E_INTERNAL, "%s encoding failed: %s", format,
+                           out->geterror().c_str());
+    unsigned char *copy = static_cast<unsigned char *>(malloc(encoded.size() ? encoded.size() : 1));
+    if (!copy)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %zu-byte %s", encoded.size(), format);
+    memcpy(copy, encoded.data(), encoded.size());
+    *bytes = copy;
+    *len = encoded.size();
+    return TEXOPT_OK;
+}
+
+} // namespace
+
 extern "C" texopt_status texopt_image_encode_png_bits(const texopt_image *img, int bits, unsigned char **bytes,
                                                       size_t *len, char *err, size_t err_len)
 {
@@ -282,26 +309,10 @@ extern "C" texopt_status texopt_image_encode_png_bits(const texopt_image *img, i
     if (!img || !img->pixels || img->width <= 0 || img->height <= 0 || img->channels < 1 ||
         img->channels > 4)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "cannot encode an empty or invalid image");
-    std::vector<unsigned char> encoded;
-    OIIO::Filesystem::IOVecOutput proxy(encoded);
-    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("image.png", &proxy);
-    if (!out)
-        return texopt_fail(err, err_len, TEXOPT_E_INTERNAL, "OpenImageIO has no PNG writer: %s",
-                           OIIO::geterror().c_str());
     OIIO::ImageSpec spec(img->width, img->height, img->channels,
                          bits == 16 ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8);
     spec.attribute("oiio:UnassociatedAlpha", 1);
-    if (!out->open("image.png", spec) ||
-        !out->write_image(OIIO::TypeDesc::FLOAT, img->pixels) || !out->close())
-        return texopt_fail(err, err_len, TEXOPT_E_INTERNAL, "PNG encoding failed: %s",
-                           out->geterror().c_str());
-    unsigned char *copy = static_cast<unsigned char *>(malloc(encoded.size() ? encoded.size() : 1));
-    if (!copy)
-        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %zu-byte PNG", encoded.size());
-    memcpy(copy, encoded.data(), encoded.size());
-    *bytes = copy;
-    *len = encoded.size();
-    return TEXOPT_OK;
+    return encode_image(img, "image.png", spec, "PNG", bytes, len, err, err_len);
 }
 
 extern "C" texopt_status texopt_image_encode_jpeg(const texopt_image *img, int quality, unsigned char **bytes,
@@ -315,23 +326,9 @@ extern "C" texopt_status texopt_image_encode_jpeg(const texopt_image *img, int q
         quality < 1 || quality > 100)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "cannot encode a JPEG of %d channels at quality %d", img ? img->channels : 0, quality);
-    std::vector<unsigned char> encoded;
-    OIIO::Filesystem::IOVecOutput proxy(encoded);
-    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("image.jpg", &proxy);
-    if (!out)
-        return texopt_fail(err, err_len, TEXOPT_E_INTERNAL, "OpenImageIO has no JPEG writer: %s",
-                           OIIO::geterror().c_str());
     OIIO::ImageSpec spec(img->width, img->height, img->channels, OIIO::TypeDesc::UINT8);
     spec.attribute("Compression", "jpeg:" + std::to_string(quality));
-    if (!out->open("image.jpg", spec) || !out->write_image(OIIO::TypeDesc::FLOAT, img->pixels) || !out->close())
-        return texopt_fail(err, err_len, TEXOPT_E_INTERNAL, "JPEG encoding failed: %s", out->geterror().c_str());
-    unsigned char *copy = static_cast<unsigned char *>(malloc(encoded.size() ? encoded.size() : 1));
-    if (!copy)
-        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %zu-byte JPEG", encoded.size());
-    memcpy(copy, encoded.data(), encoded.size());
-    *bytes = copy;
-    *len = encoded.size();
-    return TEXOPT_OK;
+    return encode_image(img, "image.jpg", spec, "JPEG", bytes, len, err, err_len);
 }
 
 extern "C" texopt_status texopt_image_write_png(const texopt_image *img, const char *path, char *err,

@@ -376,3 +376,26 @@ texopt_model *fixture_uv_sphere(int segments, int rings, int tex_size)
     free(tri);
     return m;
 }
+
+int fixture_split_primitive(texopt_model *m, size_t first)
+{
+    if (!m || m->primitive_count != 1 || first == 0 || first >= m->primitives[0].triangle_count)
+        return -1;
+    texopt_primitive *prims = realloc(m->primitives, 2 * sizeof *prims);
+    if (prims)
+        m->primitives = prims;
+    texopt_material *mats = realloc(m->materials, 2 * sizeof *mats);
+    if (mats)
+        m->materials = mats;
+    if (!prims || !mats)
+        return -1;
+    mats[1] = mats[0];
+    m->material_count = 2;
+    prims[1] = prims[0];
+    m->primitive_count = 2;
+    prims[1].first_triangle = prims[0].first_triangle + first;
+    prims[1].triangle_count = prims[0].triangle_count - first;
+    prims[0].triangle_count = first;
+    prims[1].material = 1;
+    return texopt_model_build_domains(m, NULL, 0) == TEXOPT_OK ? 0 : -1;
+}

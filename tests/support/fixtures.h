@@ -69,6 +69,10 @@ texopt_model *fixture_model_from_arrays(const float *positions, const float *uvs
  * tex_size x tex_size texture. */
 texopt_model *fixture_textured_quad(int tex_size, const char *pattern);
 
+/* Splits m's one primitive in two: triangles from `first` on become a second primitive of a
+ * copy of its material (material 1); rebuilds the domains. Returns 0 on success. */
+int fixture_split_primitive(texopt_model *m, size_t first);
+
 /* An n x n grid of quads over [0,1]^2 (z = 0, UV = (x, y)): (n+1)^2 vertices, 2 n^2
  * triangles, one chart covering the whole texture. Vertex (i, j) (i along x) is
  * j * (n + 1) + i; quad (i, j) gives triangles 2(j n + i) and 2(j n + i) + 1. */

@@ -93,33 +93,11 @@ TEST(extension_textures_are_listed_under_their_key)
     texopt_model_destroy(model);
 }
 
-/* The quad's second triangle as a primitive of its own with a copy of the material. */
-static int split_into_two_materials(texopt_model *m)
-{
-    texopt_primitive *prims = realloc(m->primitives, 2 * sizeof *prims);
-    if (prims)
-        m->primitives = prims;
-    texopt_material *mats = realloc(m->materials, 2 * sizeof *mats);
-    if (mats)
-        m->materials = mats;
-    if (!prims || !mats)
-        return -1;
-    mats[1] = mats[0];
-    m->material_count = 2;
-    prims[1] = prims[0];
-    m->primitive_count = 2;
-    prims[0].triangle_count = 1;
-    prims[1].first_triangle = 1;
-    prims[1].triangle_count = 1;
-    prims[1].material = 1;
-    return texopt_model_build_domains(m, NULL, 0) == TEXOPT_OK ? 0 : -1;
-}
-
 /* The reads of the quad's one texture when its two triangles' materials have these modes. */
 static void check_shared_reads(texopt_alpha_mode first, texopt_alpha_mode second, const char *want)
 {
     texopt_model *model = fixture_textured_quad(16, "gradient");
-    CHECK(model != NULL && split_into_two_materials(model) == 0);
+    CHECK(model != NULL && fixture_split_primitive(model, 1) == 0);
     model->materials[0].alpha_mode = first;
     model->materials[1].alpha_mode = second;
     cJSON *doc = NULL;

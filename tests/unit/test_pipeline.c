@@ -224,18 +224,17 @@ TEST(bad_requests_are_refused_with_a_message)
     scratch_free(&s);
 }
 
-/* A grid whose UVs fall between the texel centres of its 8 x 8 texture (u, v in [0.13,
- * 0.18], centres at 0.0625 + k / 8) covers no texel: a layout method is refused saying so
- * (it had failed as a bad budget argument), and the input method still resizes it. */
-TEST(a_layout_covering_no_texel_centre_is_refused_by_layout_methods)
+/* A 2 x 2 grid on an 8 x 8 checker, its positions and UVs as `change` leaves them, is refused
+ * by every layout method with a message holding `why` and nothing written, and resized by the
+ * input method. */
+static void check_refused_by_layout_methods(void (*change)(float *pos, float *uv), const char *why)
 {
     scratch s;
     CHECK(scratch_init(&s, 2, 8, NULL) == 0);
     float pos[9 * 3], uv[9 * 2];
     uint32_t idx[8 * 3];
     grid_fill(2, pos, uv, idx);
-    for (int k = 0; k < 18; k++)
-        uv[k] = 0.13f + 0.05f * uv[k];
+    change(pos, uv);
     CHECK(write_mesh_glb(s.in, pos, uv, 9, idx, 8, 8, "checker", NULL) == 0);
     texopt_params p = {0};
     p.relative_cost = 0.5;
@@ -246,8 +245,8 @@ TEST(a_layout_covering_no_texel_centre_is_refused_by_layout_methods)
     for (size_t m = 0; m < sizeof layouts / sizeof layouts[0]; m++) {
         p.method = layouts[m];
         texopt_status st = texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err);
-        CHECK_MSG(st == TEXOPT_E_UNSUPPORTED && strstr(err, "covers no texel centre of its 8x8 texture"),
-                  "%s: status %d, %s", texopt_method_name(p.method), (int)st, err);
+        CHECK_MSG(st == TEXOPT_E_UNSUPPORTED && strstr(err, why), "%s: status %d, %s", texopt_method_name(p.method),
+                  (int)st, err);
         CHECK(access(s.out, F_OK) != 0);
     }
     p.method = TEXOPT_METHOD_INPUT;
@@ -255,29 +254,29 @@ TEST(a_layout_covering_no_texel_centre_is_refused_by_layout_methods)
     scratch_free(&s);
 }
 
-/* A grid whose vertices all lie on a line: nothing of it can be seen, so no layout can be
- * judged; refused by the layout methods, resized by the input method. */
-TEST(a_model_with_no_area_in_3d_is_refused_by_layout_methods)
+/* UVs between the texel centres of the 8 x 8 texture (u, v in [0.13, 0.18], centres at
+ * 0.0625 + k / 8). */
+static void uvs_between_texel_centres(float *pos, float *uv)
 {
-    scratch s;
-    CHECK(scratch_init(&s, 2, 8, NULL) == 0);
-    float pos[9 * 3], uv[9 * 2];
-    uint32_t idx[8 * 3];
-    grid_fill(2, pos, uv, idx);
+    (void)pos;
+    for (int k = 0; k < 18; k++)
+        uv[k] = 0.13f + 0.05f * uv[k];
+}
+
+/* Every vertex on the line y = z = 0. */
+static void positions_on_a_line(float *pos, float *uv)
+{
+    (void)uv;
     for (int v = 0; v < 9; v++)
         pos[3 * v + 1] = 0;
-    CHECK(write_mesh_glb(s.in, pos, uv, 9, idx, 8, 8, "checker", NULL) == 0);
-    texopt_params p = {0};
-    p.relative_cost = 0.5;
-    p.threads = 1;
-    p.method = TEXOPT_METHOD_PERCEPTUAL;
-    char err[512] = "";
-    texopt_status st = texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err);
-    CHECK_MSG(st == TEXOPT_E_UNSUPPORTED && strstr(err, "have no area in 3D"), "status %d, %s", (int)st, err);
-    CHECK(access(s.out, F_OK) != 0);
-    p.method = TEXOPT_METHOD_INPUT;
-    CHECK_OK(texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err), err);
-    scratch_free(&s);
+}
+
+/* A grid that covers no texel has nothing to lay out (it had failed as a bad budget argument),
+ * one whose triangles have no area in 3D nothing to show: both refused saying so. */
+TEST(a_grid_with_nothing_to_lay_out_or_see_is_refused_by_layout_methods)
+{
+    check_refused_by_layout_methods(uvs_between_texel_centres, "covers no texel centre of its 8x8 texture");
+    check_refused_by_layout_methods(positions_on_a_line, "have no area in 3D");
 }
 
 /* A model of two materials: a 2 x 2 grid on image 0 laid out as usual, and beside it a grid

@@ -148,25 +148,12 @@ static int occlusion_beside_flat_colour(texopt_model *m)
  * is a flat image of its own: a second texture domain. */
 static int split_into_two_domains(texopt_model *m)
 {
-    texopt_primitive *prims = realloc(m->primitives, 2 * sizeof *prims);
-    if (prims)
-        m->primitives = prims;
-    texopt_material *mats = realloc(m->materials, 2 * sizeof *mats);
-    if (mats)
-        m->materials = mats;
-    if (!prims || !mats || occlusion_beside_flat_colour(m) != 0)
+    if (fixture_split_primitive(m, m->triangle_count / 2) != 0 || occlusion_beside_flat_colour(m) != 0)
         return -1;
-    mats[1] = mats[0];
-    mats[1].slot[TEXOPT_SLOT_OCCLUSION].image = -1;
+    texopt_material *mats = m->materials;
     mats[0].slot[TEXOPT_SLOT_BASE_COLOR] = mats[0].slot[TEXOPT_SLOT_OCCLUSION];
     mats[0].slot[TEXOPT_SLOT_OCCLUSION].image = -1;
-    m->material_count = 2;
-    prims[1] = prims[0];
-    m->primitive_count = 2;
-    prims[0].triangle_count = m->triangle_count / 2;
-    prims[1].first_triangle = prims[0].triangle_count;
-    prims[1].triangle_count = m->triangle_count - prims[0].triangle_count;
-    prims[1].material = 1;
+    mats[1].slot[TEXOPT_SLOT_BASE_COLOR].image = 1;
     return texopt_model_build_domains(m, NULL, 0) == TEXOPT_OK && m->domain_count == 2 ? 0 : -1;
 }
 
