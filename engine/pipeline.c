@@ -31,10 +31,10 @@
  * of whose triangles has an area in 3D, is kept as it is by every layout method
  * (keep_domain); a model with no other domain is refused. A domain whose UVs repeat its
  * texture (a tiling texture, layout_repeats) keeps its input layout resized as by method
- * "input": an atlas would need the repeats' texels. A
- * domain whose new layout would pack into over twice the pixels of its input layout resized to
- * the budget, or fit a texture size at no scale (charts of a texel or less, mostly gutter),
- * keeps its input layout resized as by method "input" (input_layout_packs_better).
+ * "input": an atlas would need the repeats' texels. A domain whose new layout would pack into
+ * over twice the pixels of its input layout resized to the budget, or fit a texture size at
+ * no scale (charts of a texel or less, mostly gutter), keeps its input layout resized as by
+ * method "input" (input_layout_packs_better).
  * Budgets: a relative cost is allocated as asked; a texture size at the cost it is expected
  * to reach (texels x typical packing efficiency), solved again once at the cost reached
  * when that misses by more than 10%; target_loss searches the relative cost (compare.h,
@@ -1114,8 +1114,8 @@ static texopt_status alloc_output(const texopt_model *model, int method, job_out
 }
 
 /* A domain with no texels to lay out (a colour picked from a palette, a texture of one texel)
- * or nothing to see keeps its UVs (alloc_uvs copied them) and its images' bytes, whatever the budget: the
- * model's other domains are laid out as asked. */
+ * or nothing to see keeps its UVs (alloc_uvs copied them) and its images' bytes, whatever the
+ * budget: the model's other domains are laid out as asked. */
 static void keep_domain(const texopt_model *model, int d, texopt_domain_stats *ds)
 {
     const texopt_domain *dom = &model->domains[d];
