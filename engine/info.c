@@ -128,9 +128,8 @@ static cJSON *textures_json(const texopt_model *model, const texopt_domain *dom)
     cJSON *arr = cJSON_CreateArray();
     for (int k = 0; arr && k < dom->primitive_count; k++) {
         const texopt_primitive *prim = &model->primitives[dom->primitives[k]];
-        add_material_textures(arr, model, prim->material);
-        for (int v = 0; v < prim->variant_count; v++)
-            add_material_textures(arr, model, model->variant_materials[prim->first_variant + (size_t)v]);
+        for (int i = 0; i <= prim->variant_count; i++)
+            add_material_textures(arr, model, texopt_primitive_material(model, prim, i));
     }
     return arr;
 }

@@ -85,15 +85,20 @@ static int material_images(const texopt_model *model, int m, int *out, const tex
     return n;
 }
 
+int texopt_primitive_material(const texopt_model *model, const texopt_primitive *prim, int i)
+{
+    return i == 0 ? prim->material : model->variant_materials[prim->first_variant + (size_t)(i - 1)];
+}
+
 /* The images a primitive's material and its variants' (model.h) read through TEXCOORD_0,
  * the material's first, written to out (room for BINDINGS_MAX per material); returns how
  * many. */
 static int primitive_images(const texopt_model *model, const texopt_primitive *prim, int *out,
                             const texopt_texture_ref **refs)
 {
-    int n = material_images(model, prim->material, out, refs, 0);
-    for (int v = 0; v < prim->variant_count; v++)
-        n = material_images(model, model->variant_materials[prim->first_variant + (size_t)v], out, refs, n);
+    int n = 0;
+    for (int i = 0; i <= prim->variant_count; i++)
+        n = material_images(model, texopt_primitive_material(model, prim, i), out, refs, n);
     return n;
 }
 

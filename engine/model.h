@@ -153,6 +153,10 @@ const char *texopt_slot_name(texopt_slot slot);
 /* Every texture binding of a material, the slots in slot order (empty ones included) then its
  * extension textures: i in [0, texopt_material_binding_count). */
 int texopt_material_binding_count(const texopt_material *mat);
+
+/* The materials primitive `prim` may be drawn with: its own (i = 0), then its variants
+ * (KHR_materials_variants), i in [0, 1 + prim->variant_count); -1 where it has none. */
+int texopt_primitive_material(const texopt_model *model, const texopt_primitive *prim, int i);
 const texopt_texture_ref *texopt_material_binding(const texopt_material *mat, int i);
 texopt_texture_kind texopt_material_binding_kind(const texopt_material *mat, int i);
 /* The channels binding i reads (TEXOPT_CHANNEL_*): the core slots' from the glTF

@@ -249,13 +249,19 @@ static void results_table(sbuf *s, const texopt_compare_result *r)
 
 /* ---- renders, textures, UV maps ---------------------------------------------------------- */
 
+/* The texture q's measure shows: the measured one, base colour for lit. */
+static int shown_texture(int measure)
+{
+    return measure == TEXOPT_COMPARE_LIT ? TEXOPT_SLOT_BASE_COLOR : measure;
+}
+
 /* One view of model (the input or a showcase) as q's measure shows it (evaluate.h). */
 static texopt_status render_view(const texopt_compare_result *r, const texopt_model *model,
                                  const texopt_raster *raster, sbuf *s, const char *alt, char *err, size_t err_len)
 {
     texopt_evaluate_options measure = {0};
     measure.lit = r->measure == TEXOPT_COMPARE_LIT;
-    measure.texture = measure.lit ? TEXOPT_SLOT_BASE_COLOR : r->measure;
+    measure.texture = shown_texture(r->measure);
     texopt_image img;
     texopt_status st = texopt_evaluate_render(r->input, model, &measure, raster, &img, err, err_len);
     if (st == TEXOPT_OK)
@@ -348,11 +354,11 @@ static texopt_status renders_section(sbuf *s, const texopt_compare_result *r, in
     return st;
 }
 
-/* The image of the measured texture (base colour for lit) on the first primitive of domain d
- * that binds it; -1 when none does. */
+/* The image of the measured texture (shown_texture) on the first primitive of domain d that
+ * binds it; -1 when none does. */
 static int measured_image(const texopt_model *m, int d, int measure)
 {
-    int texture = measure == TEXOPT_COMPARE_LIT ? TEXOPT_SLOT_BASE_COLOR : measure;
+    int texture = shown_texture(measure);
     for (int i = 0; d < m->domain_count && i < m->domains[d].primitive_count; i++) {
         const texopt_texture_ref *ref = texopt_meshrender_binding(m, m->domains[d].primitives[i], texture);
         if (ref)
@@ -552,7 +558,7 @@ static texopt_status layouts_section(sbuf *s, const texopt_compare_result *r, in
     sb_printf(s, "</p>\n<table class=\"layouts\"><tr><th>method</th>%s<th>new %s texture</th><th>per-triangle loss</th>"
                  "<th>&lambda;<sub>1</sub>&lambda;<sub>2</sub></th></tr>\n",
               domains > 1 ? "<th>domain</th>" : "",
-              texopt_compare_measure_name(r->measure == TEXOPT_COMPARE_LIT ? TEXOPT_SLOT_BASE_COLOR : r->measure));
+              texopt_compare_measure_name(shown_texture(r->measure)));
     texopt_status st = TEXOPT_OK;
     for (int c = 0; c < r->curve_count && st == TEXOPT_OK; c++)
         for (int d = 0; d < (r->curves[c].showcase ? shown : 1) && st == TEXOPT_OK; d++)

@@ -174,7 +174,6 @@ texopt_wrap wrap_from_gl(int gl)
     }
 }
 
-/* The image a texture shows: its source, or the source of an image-format extension. */
 texopt_status bind_texture(const tinygltf::Model &g, int material, const char *slot_name, int texture,
                            int texcoord, texopt_texture_ref *ref, char *err, size_t err_len)
 {
@@ -525,8 +524,8 @@ texopt_status variant_materials(const tinygltf::Model &g, const texopt_model *mo
     const tinygltf::Value &mappings = e->second.Get("mappings");
     for (size_t k = 0; mappings.IsArray() && k < mappings.ArrayLen(); k++) {
         const tinygltf::Value &m = mappings.Get((int)k);
-        int material = m.IsObject() && m.Has("material") && m.Get("material").IsInt() ? m.Get("material").GetNumberAsInt()
-                                                                                       : -1;
+        bool named = m.IsObject() && m.Has("material") && m.Get("material").IsInt();
+        int material = named ? m.Get("material").GetNumberAsInt() : -1;
         if (material < 0 || (size_t)material >= g.materials.size())
             return texopt_fail(err, err_len, TEXOPT_E_MALFORMED,
                                "mesh %d primitive %d: KHR_materials_variants mapping %zu names no material", mesh,

@@ -7,9 +7,9 @@
  *     UVs, is dropped;
  *   - replaced images are encoded as JPEG (quality 98) where the original was a JPEG, else as
  *     PNG (16 bits per channel where the original had more than 8, else 8); untouched images
- *     keep their original bytes (and MIME type) byte for byte; a binding through another set than TEXCOORD_0 (occlusion on
- *     TEXCOORD_1) that reads a replaced image is given a texture of its own on a copy of the
- *     original, since it reads it with the old UVs;
+ *     keep their original bytes (and MIME type) byte for byte; a binding through another set
+ *     than TEXCOORD_0 (occlusion on TEXCOORD_1) that reads a replaced image is given a texture
+ *     of its own on a copy of the original, since it reads it with the old UVs;
  *   - all bytes go into the one GLB BIN buffer, images in buffer views. Buffer views no
  *     one reads any more (the old UVs, replaced images) are dropped and the rest renumbered.
  * Each copied view keeps its offset modulo 4, so every accessor stays aligned.
@@ -145,6 +145,18 @@ bool value_names_key(const tinygltf::Value &v, const char *key)
     return false;
 }
 
+/* Calls f(index, texCoord, extensions) for each of material m's five core textureInfos. */
+template <typename F> void for_each_core_texture(tinygltf::Material &m, F f)
+{
+    tinygltf::PbrMetallicRoughness &pbr = m.pbrMetallicRoughness;
+    f(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, pbr.baseColorTexture.extensions);
+    f(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+      pbr.metallicRoughnessTexture.extensions);
+    f(m.normalTexture.index, m.normalTexture.texCoord, m.normalTexture.extensions);
+    f(m.occlusionTexture.index, m.occlusionTexture.texCoord, m.occlusionTexture.extensions);
+    f(m.emissiveTexture.index, m.emissiveTexture.texCoord, m.emissiveTexture.extensions);
+}
+
 /* The loader applied every TEXCOORD_0 binding's KHR_texture_transform to the UVs
  * (model.h's uv_transform), so the new UVs read the new textures directly: those transforms
  * go, and the extension's declaration with them unless a binding on another set keeps one. */
@@ -152,13 +164,9 @@ void drop_applied_texture_transforms(tinygltf::Model &g)
 {
     bool kept = false;
     for (tinygltf::Material &m : g.materials) {
-        tinygltf::PbrMetallicRoughness &pbr = m.pbrMetallicRoughness;
-        drop_transform(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, pbr.baseColorTexture.extensions, &kept);
-        drop_transform(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
-                       pbr.metallicRoughnessTexture.extensions, &kept);
-        drop_transform(m.normalTexture.index, m.normalTexture.texCoord, m.normalTexture.extensions, &kept);
-        drop_transform(m.occlusionTexture.index, m.occlusionTexture.texCoord, m.occlusionTexture.extensions, &kept);
-        drop_transform(m.emissiveTexture.index, m.emissiveTexture.texCoord, m.emissiveTexture.extensions, &kept);
+        for_each_core_texture(m, [&](int &index, int texcoord, tinygltf::ExtensionMap &ext) {
+            drop_transform(index, texcoord, ext, &kept);
+        });
         for (auto &e : m.extensions) {
             drop_extension_texture_transforms(e.first, e.second);
             kept = kept || value_names_key(e.second, "KHR_texture_transform"); /* bindings on other sets */
@@ -231,7 +239,8 @@ void replace_texcoords(tinygltf::Model &g, const texopt_model *model, const floa
 /* A JPEG input's replacement is a JPEG again: as PNG, FoodApple01's three 4096x4096 JPEGs
  * (3.5 MB) resized to a tenth of their texels took 3.3 MB. At quality 98 they take 1.3 MB and
  * the file's q is 0.7% above the PNG's (95: 0.9 MB, +4.6%; 90: 0.7 MB, +10%): the encoding
- * adds next to nothing to the loss the layout was chosen for (BENCHMARKS.md "What the written file keeps"). */
+ * adds next to nothing to the loss the layout was chosen for (BENCHMARKS.md "What the written
+ * file keeps"). */
 const int JPEG_QUALITY = 98;
 
 /* Whether replacement image i is written as a JPEG (its original was one). */
@@ -275,7 +284,8 @@ texopt_status encode_replacements(const texopt_model *model, const texopt_model_
  * mime, an empty entry to encoded), each copy made once. */
 class other_set_bindings {
   public:
-    other_set_bindings(tinygltf::Model &g, std::vector<std::vector<unsigned char>> &encoded, std::vector<std::string> &mime)
+    other_set_bindings(tinygltf::Model &g, std::vector<std::vector<unsigned char>> &encoded,
+                       std::vector<std::string> &mime)
         : g_(g), encoded_(encoded), mime_(mime)
     {
     }
@@ -283,12 +293,9 @@ class other_set_bindings {
     void run()
     {
         for (tinygltf::Material &m : g_.materials) {
-            tinygltf::PbrMetallicRoughness &pbr = m.pbrMetallicRoughness;
-            retarget(&pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord);
-            retarget(&pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord);
-            retarget(&m.normalTexture.index, m.normalTexture.texCoord);
-            retarget(&m.occlusionTexture.index, m.occlusionTexture.texCoord);
-            retarget(&m.emissiveTexture.index, m.emissiveTexture.texCoord);
+            for_each_core_texture(m, [&](int &index, int texcoord, tinygltf::ExtensionMap &) {
+                retarget(&index, texcoord);
+            });
             for (auto &e : m.extensions)
                 walk(e.second);
         }
