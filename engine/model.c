@@ -191,6 +191,7 @@ texopt_status texopt_model_build_domains(texopt_model *model, char *err, size_t 
             model->domains[d].primitives = malloc(sizeof(int) * (size_t)model->primitive_count);
             model->domains[d].images = malloc(sizeof(int) * (size_t)(n_img > 0 ? n_img : 1));
             model->domains[d].wrap_s = model->domains[d].wrap_t = TEXOPT_WRAP_REPEAT;
+            model->domains[d].nearest_image = -1;
             if (!model->domains[d].primitives || !model->domains[d].images)
                 st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for texture domains");
         }
@@ -208,8 +209,11 @@ texopt_status texopt_model_build_domains(texopt_model *model, char *err, size_t 
                 dom->wrap_t = refs[0]->wrap_t;
             }
             dom->primitives[dom->primitive_count++] = p;
-            for (int k = 0; k < n; k++)
+            for (int k = 0; k < n; k++) {
                 domain_add_image(dom, imgs[k]);
+                if (refs[k]->magnify_nearest && dom->nearest_image < 0)
+                    dom->nearest_image = imgs[k];
+            }
         }
         for (int d = 0; d < count; d++)
             domain_set_frame(&model->domains[d], model);

@@ -41,6 +41,7 @@ typedef struct texopt_texture_ref {
     int image;    /* index into texopt_model.images, -1 when the slot is empty */
     int texcoord; /* TEXCOORD_n set the binding uses */
     texopt_wrap wrap_s, wrap_t;
+    int magnify_nearest; /* its sampler's magFilter is NEAREST: texels shown as blocks (pixel art) */
 } texopt_texture_ref;
 
 /* What a texture's texels are, which decides how stage 1 compares them (triloss.h) and
@@ -116,6 +117,7 @@ typedef struct texopt_domain {
     int *images;     /* indices into texopt_model.images used through TEXCOORD_0 */
     int width, height; /* texel frame: the largest of its images */
     texopt_wrap wrap_s, wrap_t; /* of the base colour texture, else of the first texture */
+    int nearest_image; /* an image a TEXCOORD_0 binding magnifies NEAREST (magnify_nearest), -1 if none */
 } texopt_domain;
 
 typedef struct texopt_model {

@@ -27,9 +27,10 @@
  *   "ssp", "tewari", "arap": the baselines of the paper's section 5 (ssp.h, tewari.h,
  *     arap.h targets in place of stage 1, rotation weight 0), solved as they are, then the
  *     same stage 2, budget (a uniform scale), packing and re-bake as "perceptual".
- * A domain whose layout covers no texel centre (UVs picking a colour from a palette), or none
- * of whose triangles has an area in 3D, is kept as it is by every layout method
- * (keep_domain); a model with no other domain is refused. A domain whose UVs repeat its
+ * A domain whose layout covers no texel centre (UVs picking a colour from a palette), none
+ * of whose triangles has an area in 3D, or one of whose textures is magnified NEAREST (pixel
+ * art, whose texel blocks no new layout keeps on their grid) is kept as it is by every layout
+ * method (keep_domain); a model with no other domain is refused. A domain whose UVs repeat its
  * texture (a tiling texture, layout_repeats) keeps its input layout resized as by method
  * "input": an atlas would need the repeats' texels. A domain whose new layout would pack into
  * over twice the pixels of its input layout resized to the budget, or fit a texture size at
@@ -583,6 +584,18 @@ static texopt_status prepare_domain(texopt_job *job, int d, double from, double 
         jd->kept = DOMAIN_KEPT_AS_IS;
         return TEXOPT_OK;
     }
+    if (st == TEXOPT_OK && dom->nearest_image >= 0) {
+        /* The loader names an image without URI or name "image N": said once, not twice. */
+        const char *name = model->image_names ? model->image_names[dom->nearest_image] : NULL;
+        char label[160];
+        snprintf(label, sizeof label, name && strncmp(name, "image ", 6) != 0 ? "image %d (%s)" : "image %d",
+                 dom->nearest_image, name);
+        snprintf(ds->input_layout_kept, sizeof ds->input_layout_kept,
+                 "its %s is magnified NEAREST (sampler magFilter, pixel art): its texels show as blocks, which a new "
+                 "layout would resample off their grid, blurred and misaligned", label);
+        jd->kept = DOMAIN_KEPT_AS_IS;
+        return TEXOPT_OK;
+    }
     if (st == TEXOPT_OK)
         st = texopt_texel_share_create(&jd->share, jd->mesh, err, err_len);
     if (st == TEXOPT_OK)
@@ -1113,8 +1126,8 @@ static texopt_status alloc_output(const texopt_model *model, int method, job_out
     return alloc_uvs(model, &out->uvs, err, err_len);
 }
 
-/* A domain with no texels to lay out (a colour picked from a palette, a texture of one texel)
- * or nothing to see keeps its UVs (alloc_uvs copied them) and its images' bytes, whatever the
+/* A domain with no texels to lay out (a colour picked from a palette, a texture of one texel),
+ * nothing to see or pixel art keeps its UVs (alloc_uvs copied them) and its images' bytes, whatever the
  * budget: the model's other domains are laid out as asked. */
 static void keep_domain(const texopt_model *model, int d, texopt_domain_stats *ds)
 {

@@ -180,6 +180,7 @@ texopt_status bind_texture(const tinygltf::Model &g, int material, const char *s
     ref->image = -1;
     ref->texcoord = 0;
     ref->wrap_s = ref->wrap_t = TEXOPT_WRAP_REPEAT;
+    ref->magnify_nearest = 0;
     if (texture < 0)
         return TEXOPT_OK;
     if ((size_t)texture >= g.textures.size())
@@ -195,6 +196,7 @@ texopt_status bind_texture(const tinygltf::Model &g, int material, const char *s
             return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "texture %d: sampler %d does not exist", texture, t.sampler);
         ref->wrap_s = wrap_from_gl(g.samplers[(size_t)t.sampler].wrapS);
         ref->wrap_t = wrap_from_gl(g.samplers[(size_t)t.sampler].wrapT);
+        ref->magnify_nearest = g.samplers[(size_t)t.sampler].magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
     }
     if (texcoord < 0)
         return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "material %d: %s has texCoord %d", material, slot_name, texcoord);

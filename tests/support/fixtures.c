@@ -131,7 +131,7 @@ static int add_texture(texopt_model *m, int tex_w, int tex_h, const char *patter
     m->image_names[0] = copy_string(name);
     m->material_count = 1;
     for (int s = 0; s < TEXOPT_SLOT_COUNT; s++)
-        m->materials[0].slot[s] = (texopt_texture_ref){-1, 0, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT};
+        m->materials[0].slot[s] = (texopt_texture_ref){-1, 0, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 0};
     m->materials[0].slot[TEXOPT_SLOT_BASE_COLOR].image = 0;
     /* A rough dielectric, as the single-texture sample assets declare. */
     m->materials[0].metallic_factor = 0;

@@ -350,6 +350,77 @@ TEST(a_domain_covering_no_texel_centre_is_kept_beside_those_laid_out)
     scratch_free(&s);
 }
 
+/* Two 2 x 2 grids side by side, each a primitive of its own material and image (a checker and
+ * a gradient), image 0 read through a sampler magnifying with `mag_filter`. */
+static int write_two_grids_sampled(const char *path, int mag_filter)
+{
+    float pos[18 * 3], uv[18 * 2];
+    uint32_t idx[16 * 3];
+    grid_fill(2, pos, uv, idx);
+    grid_fill(2, pos + 27, uv + 18, idx + 24);
+    for (int v = 9; v < 18; v++)
+        pos[3 * v] += 2;
+    for (int k = 24; k < 48; k++)
+        idx[k] += 9;
+    const char *patterns[2] = {"checker", "gradient"};
+    char sampler[64];
+    snprintf(sampler, sizeof sampler, "\"samplers\":[{\"magFilter\":%d}],\"textures\":[", mag_filter);
+    if (write_mesh_glb_primitives(path, pos, uv, 18, idx, 16, 8, 32, patterns, 2,
+                                  "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}},"
+                                  "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":1}}}") != 0)
+        return -1;
+    if (glb_replace_json(path, "\"textures\":[", sampler) != 0)
+        return -1;
+    return glb_replace_json(path, "{\"source\":0}", "{\"source\":0,\"sampler\":0}");
+}
+
+/* Pixel art: image 0 magnified NEAREST (magFilter 9728) shows its texels as blocks, which a
+ * new layout would resample off their grid. Its domain keeps its UVs and image bytes while
+ * the other grid is resized to the budget; magnified LINEAR (9729), image 0's grid is laid
+ * out too. */
+TEST(a_domain_magnified_nearest_is_kept_as_pixel_art)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 2, 8, NULL) == 0);
+    texopt_params p = {0};
+    p.relative_cost = 0.5;
+    p.threads = 1;
+    char err[512] = "";
+    const int filters[2] = {9728, 9729};
+    for (int f = 0; f < 2; f++) {
+        CHECK(write_two_grids_sampled(s.in, filters[f]) == 0);
+        texopt_model *in = load(s.in);
+        CHECK(in && in->domain_count == 2);
+        int art = in->primitives[0].domain;
+        CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+        texopt_model *out = load(s.out);
+        cJSON *st = read_json(s.stats);
+        CHECK(out && st);
+        cJSON *domains = cJSON_GetObjectItem(st, "domains");
+        cJSON *ds = cJSON_GetArrayItem(domains, art), *other = cJSON_GetArrayItem(domains, 1 - art);
+        CHECK_NEAR(cJSON_GetObjectItem(other, "relative_cost")->valuedouble, 0.5, 0.15);
+        cJSON *why = cJSON_GetObjectItem(ds, "input_layout_kept");
+        const texopt_image *img = &out->images[out->domains[art].images[0]];
+        const texopt_image *was = &in->images[in->domains[art].images[0]];
+        if (filters[f] == 9728) {
+            CHECK_MSG(cJSON_IsString(why) && strstr(why->valuestring, "magnified NEAREST"), "%s",
+                      cJSON_IsString(why) ? why->valuestring : "(none)");
+            CHECK(cJSON_IsFalse(cJSON_GetObjectItem(ds, "repacked")));
+            CHECK(memcmp(out->uvs, in->uvs, sizeof(float) * 2 * 9) == 0);
+            CHECK(img->width == was->width && img->height == was->height &&
+                  memcmp(img->pixels, was->pixels, sizeof(float) * 32 * 32 * (size_t)was->channels) == 0);
+        } else {
+            CHECK(why == NULL);
+            CHECK(cJSON_IsTrue(cJSON_GetObjectItem(ds, "repacked")));
+            CHECK(img->width * img->height < was->width * was->height);
+        }
+        cJSON_Delete(st);
+        texopt_model_destroy(out);
+        texopt_model_destroy(in);
+    }
+    scratch_free(&s);
+}
+
 /* The statistics' reason for keeping domain 0's input layout, "" when it was laid out. */
 static const char *input_layout_kept(cJSON *st)
 {
