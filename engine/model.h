@@ -133,7 +133,8 @@ typedef struct texopt_model {
     int material_count;
     texopt_material *materials;
     int image_count;
-    texopt_image *images;  /* decoded; an image that was not decoded has NULL pixels */
+    texopt_image *images;  /* decoded; an image no texture reads as its source (an alternate
+                              beside a fallback, an orphan) is not: NULL pixels, size 0 */
     char **image_names;    /* per image: its URI or name, for messages; may hold NULLs */
     int domain_count;
     texopt_domain *domains;

@@ -766,11 +766,26 @@ std::string image_label(const tinygltf::Image &im, size_t i)
     return "image " + std::to_string(i);
 }
 
+/* Per image, whether a texture reads it as its source (gltf_texture_source): the others (an
+ * alternate such as KTX2 beside a PNG fallback, an image no texture names) are kept as bytes
+ * for the saver, never decoded, so a format OpenImageIO cannot read there refuses nothing. */
+std::vector<char> images_textures_read(const tinygltf::Model &g)
+{
+    std::vector<char> read(g.images.size(), 0);
+    for (const tinygltf::Texture &t : g.textures) {
+        int image = gltf_texture_source(t);
+        if (image >= 0 && (size_t)image < read.size())
+            read[(size_t)image] = 1;
+    }
+    return read;
+}
+
 texopt_status convert_images(texopt_gltf_document *doc, texopt_model *model, const load_limits &lim,
                              char *err, size_t err_len)
 {
     const tinygltf::Model &g = doc->gltf;
     size_t n = g.images.size();
+    std::vector<char> read = images_textures_read(g);
     model->images = static_cast<texopt_image *>(calloc(n ? n : 1, sizeof(texopt_image)));
     model->image_names = static_cast<char **>(calloc(n ? n : 1, sizeof(char *)));
     if (!model->images || !model->image_names)
@@ -790,6 +805,8 @@ texopt_status convert_images(texopt_gltf_document *doc, texopt_model *model, con
             return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "image %zu (%s): file not found or empty",
                                i, label.c_str());
         doc->image_mime[i] = sniff_mime(im.image, im.mimeType);
+        if (!read[i])
+            continue;
         char name[300];
         snprintf(name, sizeof name, "image %zu (%s)", i, label.c_str());
         texopt_status st = texopt_image_probe_memory(&info[i], im.image.data(), im.image.size(), name, err, err_len);
@@ -805,6 +822,8 @@ texopt_status convert_images(texopt_gltf_document *doc, texopt_model *model, con
     }
     if (lim.skip_images) {
         for (size_t i = 0; i < n; i++) {
+            if (!read[i])
+                continue;
             model->images[i].width = info[i].width;
             model->images[i].height = info[i].height;
             model->images[i].channels = info[i].channels;
@@ -815,6 +834,8 @@ texopt_status convert_images(texopt_gltf_document *doc, texopt_model *model, con
     return texopt_run_image_jobs(
         n,
         [&](size_t i, char *job_err, size_t job_err_len) {
+            if (!read[i])
+                return TEXOPT_OK;
             char name[300];
             snprintf(name, sizeof name, "image %zu (%s)", i, model->image_names[i]);
             const std::vector<unsigned char> &b = g.images[i].image;

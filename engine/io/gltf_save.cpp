@@ -368,6 +368,23 @@ void point_textures_at_replacements(tinygltf::Model &g, const std::vector<std::v
     gltf_drop_unused_source_extensions(g);
 }
 
+/* The alternates of replaced textures, which nothing reads any more, leave the file with
+ * their bytes (gltf_drop_images_made_unused); encoded and mime follow g's images. */
+void drop_images_made_unused(tinygltf::Model &g, const tinygltf::Model &src,
+                             std::vector<std::vector<unsigned char>> *encoded, std::vector<std::string> *mime)
+{
+    std::vector<int> renumber = gltf_drop_images_made_unused(g, src);
+    std::vector<std::vector<unsigned char>> kept_encoded(g.images.size());
+    std::vector<std::string> kept_mime(g.images.size());
+    for (size_t i = 0; i < renumber.size(); i++)
+        if (renumber[i] >= 0) {
+            kept_encoded[(size_t)renumber[i]] = std::move((*encoded)[i]);
+            kept_mime[(size_t)renumber[i]] = std::move((*mime)[i]);
+        }
+    *encoded = std::move(kept_encoded);
+    *mime = std::move(kept_mime);
+}
+
 /* Builds the output document: new UVs, images in views, one buffer, unused views dropped. */
 texopt_status build_output(const texopt_model *model, const texopt_model_edit *edit, tinygltf::Model *out,
                            char *err, size_t err_len)
@@ -388,6 +405,7 @@ texopt_status build_output(const texopt_model *model, const texopt_model_edit *e
     for (size_t i = 0; i < (size_t)model->image_count; i++)
         if (!encoded[i].empty())
             mime[i] = replaced_as_jpeg(model, edit->images[i], i) ? "image/jpeg" : "image/png";
+    drop_images_made_unused(g, src, &encoded, &mime);
 
     /* Data of the views that will exist, by old index; views made here carry their bytes. */
     size_t old_views = g.bufferViews.size();

@@ -10,6 +10,8 @@
 #ifndef TEXOPT_GLTF_TEXTURE_SOURCE_HPP
 #define TEXOPT_GLTF_TEXTURE_SOURCE_HPP
 
+#include <vector>
+
 #include <tiny_gltf.h>
 
 /* The image texopt reads for texture t: its `source`, else its first alternate's; -1 if none. */
@@ -21,5 +23,12 @@ void gltf_texture_read_only(tinygltf::Texture &t, int image);
 /* Removes the alternate-source extensions no texture of g uses any more from its
  * extensionsUsed and extensionsRequired. */
 void gltf_drop_unused_source_extensions(tinygltf::Model &g);
+
+/* Removes from g the images a texture of `before` read (as source or alternate) that no
+ * texture of g reads any more (the alternates of replaced textures), renumbering the
+ * textures' references; returns per image of g before the call its new index, -1 when
+ * removed. Nothing is removed (the identity is returned) when g uses an extension texopt does
+ * not know, which might name images by index. */
+std::vector<int> gltf_drop_images_made_unused(tinygltf::Model &g, const tinygltf::Model &before);
 
 #endif

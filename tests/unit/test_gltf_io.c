@@ -1056,6 +1056,54 @@ TEST(a_replaced_texture_drops_its_alternate_source)
     quad_doc_free(&doc);
 }
 
+/* A texture with a PNG source and a KTX2 alternate (bytes OpenImageIO cannot decode): the
+ * alternate is not decoded, so the model loads; once the texture is replaced, nothing reads
+ * the KTX2 image and it leaves the file, unless an extension texopt does not know might name
+ * it. An image no texture named in the input stays. */
+TEST(an_undecodable_alternate_loads_and_leaves_with_its_texture)
+{
+    char err[512] = "", dir[64], out[128];
+    quad_doc doc;
+    CHECK(quad_doc_init(&doc, 4, 4));
+    CHECK(builder_tempdir(dir));
+    snprintf(out, sizeof out, "%s/out.glb", dir);
+    const char *ktx2 = "{\"uri\":\"data:application/octet-stream;base64,q0tUWCAyMLsNChoKAAAAAAAAAAAAAAAAAAAAAAAAAAA=\","
+                       "\"mimeType\":\"image/ktx2\"}";
+    for (int unknown = 0; unknown < 2; unknown++) {
+        char *json = strdup(doc.json), images[512], used[160];
+        snprintf(images, sizeof images, "\"images\":[{\"bufferView\":3,\"mimeType\":\"image/png\"},%s,%s]", ktx2,
+                 ktx2);
+        snprintf(used, sizeof used, "\"extensionsUsed\":[\"KHR_texture_basisu\"%s]",
+                 unknown ? ",\"EXT_lights_image_based\"" : "");
+        CHECK(json && builder_replace(&json, "\"images\":[{\"bufferView\":3,\"mimeType\":\"image/png\"}]", images));
+        char textures[256];
+        snprintf(textures, sizeof textures,
+                 "\"textures\":[{\"source\":0,\"sampler\":0,\"extensions\":{\"KHR_texture_basisu\":{\"source\":1}}}],%s",
+                 used);
+        CHECK(builder_replace(&json, "\"textures\":[{\"source\":0,\"sampler\":0}]", textures));
+        texopt_status st;
+        texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
+        CHECK_OK(st, err);
+        CHECK(m->image_count == 3 && m->images[1].pixels == NULL && m->images[1].width == 0);
+        texopt_image rebaked;
+        CHECK(builder_texture(&rebaked, 2, 2));
+        const texopt_image *replaced[3] = {&rebaked, NULL, NULL};
+        texopt_model_edit edit = {m->uvs, replaced};
+        CHECK_OK(texopt_model_save_glb(m, &edit, out, err, sizeof err), err);
+        texopt_model *back = NULL;
+        CHECK_OK(texopt_model_load(&back, out, NULL, err, sizeof err), err);
+        CHECK_EQ_INT(back->image_count, unknown ? 3 : 2); /* the orphan (image 2) stays either way */
+        CHECK(image_matches_builder(&back->images[back->materials[0].slot[TEXOPT_SLOT_BASE_COLOR].image], 2, 2));
+        CHECK(file_contains(out, "KHR_texture_basisu") == 0);
+        texopt_image_destroy(&rebaked);
+        texopt_model_destroy(back);
+        texopt_model_destroy(m);
+        free(json);
+    }
+    builder_rmdir(dir);
+    quad_doc_free(&doc);
+}
+
 /* KHR_animation_pointer animations (here a scrolling texture transform) would be lost on
  * saving (tinygltf drops channels without a node): refused, naming the extension. */
 TEST(animation_pointer_models_are_refused)
