@@ -1169,6 +1169,34 @@ static texopt_status run_budget(texopt_job *job, const texopt_params *p, int wit
     return st;
 }
 
+/* The most pixels a texture-size budget may write, over those the re-baked images have: the
+ * bound relative_cost has (at most 4). A size far above the input adds no detail, and its
+ * bakes take memory in proportion (Duck's 512x512 at 16384x16384: 19 GB and over ten
+ * minutes before this check). */
+#define TEXTURE_SIZE_GROWTH_MAX 4.0
+
+static texopt_status check_texture_size_budget(const texopt_model *model, const texopt_params *p, char *err,
+                                               size_t err_len)
+{
+    if (p->budget != TEXOPT_BUDGET_TEXTURE_SIZE)
+        return TEXOPT_OK;
+    double had = 0, asked = 0;
+    for (int d = 0; d < model->domain_count; d++)
+        for (int i = 0; i < model->domains[d].image_count; i++) {
+            const texopt_image *img = &model->images[model->domains[d].images[i]];
+            had += (double)img->width * img->height;
+            asked += (double)p->texture_width * p->texture_height;
+        }
+    if (!(asked > TEXTURE_SIZE_GROWTH_MAX * had))
+        return TEXOPT_OK;
+    double s = sqrt(TEXTURE_SIZE_GROWTH_MAX * had / asked);
+    return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                       "texture_size %dx%d: %.0f times the pixels of the model's re-baked images (%.0f); at most "
+                       "%g times (relative_cost's bound), about %dx%d or less at this aspect ratio",
+                       p->texture_width, p->texture_height, asked / had, had, TEXTURE_SIZE_GROWTH_MAX,
+                       (int)fmax(1, floor(p->texture_width * s)), (int)fmax(1, floor(p->texture_height * s)));
+}
+
 static texopt_status check_params(const texopt_params *in, texopt_params *p, char *err, size_t err_len)
 {
     if (!in)
@@ -1754,6 +1782,8 @@ texopt_status texopt_job_create(texopt_job **out, const char *input_path, const 
     if (st == TEXOPT_OK && job->model->domain_count == 0)
         st = texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "%s has no textured primitive", input_path);
     if (st == TEXOPT_OK)
+        st = check_texture_size_budget(job->model, p, err, err_len);
+    if (st == TEXOPT_OK)
         st = weigh_signals(job, err, err_len);
     if (st == TEXOPT_OK) {
         job_stage_done(&job->jm, "load");
@@ -1812,7 +1842,8 @@ static texopt_status budget_params(const texopt_job *job, const texopt_job_budge
     p->texture_width = b->texture_width;
     p->texture_height = b->texture_height;
     p->target_loss = b->target_loss;
-    return texopt_params_validate(p, err, err_len);
+    texopt_status st = texopt_params_validate(p, err, err_len);
+    return st == TEXOPT_OK ? check_texture_size_budget(job->model, p, err, err_len) : st;
 }
 
 /* The target_loss budget: the smallest relative cost whose q is at most the target

@@ -6,7 +6,7 @@
 # next start finishes it.
 source "$(dirname "$0")/service_common.bash"
 SPOT="$TEXOPT_SOURCE_DIR/tests/data/spot/spot.glb"
-LONG="method=input&texture_width=4096&texture_height=4096"
+LONG="method=ssp&texture_width=2048&texture_height=2048"
 start_server --workers 1
 
 [ "$(post_glb "$SPOT" "method=input")" = 202 ] || fail "upload"

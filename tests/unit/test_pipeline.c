@@ -98,6 +98,34 @@ TEST(input_method_texture_size_is_exact)
     scratch_free(&s);
 }
 
+/* A texture size over 4 times the pixels of the re-baked images (relative_cost's bound) is
+ * refused, naming the largest size, and nothing is written; 4 times is laid out. */
+TEST(a_texture_size_far_above_the_input_is_refused)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 2, 32, "gradient") == 0);
+    texopt_params p = {0};
+    p.budget = TEXOPT_BUDGET_TEXTURE_SIZE;
+    p.threads = 1;
+    char err[512] = "";
+    const texopt_method methods[] = {TEXOPT_METHOD_PERCEPTUAL, TEXOPT_METHOD_INPUT};
+    for (int m = 0; m < 2; m++) {
+        p.method = methods[m];
+        p.texture_width = 128;
+        p.texture_height = 65;
+        unlink(s.out);
+        texopt_status st = texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err);
+        CHECK_MSG(st == TEXOPT_E_INVALID_ARGUMENT && strstr(err, "about 89x45 or less"), "%d: %s", (int)st, err);
+        CHECK(access(s.out, F_OK) != 0);
+        p.texture_width = p.texture_height = 64;
+        CHECK_OK(texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err), err);
+        texopt_model *out = load(s.out);
+        CHECK(out && out->images[0].width == 64);
+        texopt_model_destroy(out);
+    }
+    scratch_free(&s);
+}
+
 /* Largest deviation of any texel from the fixtures' flat colour (0.6, 0.4, 0.2). */
 static double flat_deviation(const texopt_image *img)
 {
