@@ -311,17 +311,25 @@ class other_set_bindings {
     {
         if (texcoord == 0 || *index < 0 || (size_t)*index >= g_.textures.size())
             return;
-        int source = g_.textures[(size_t)*index].source;
-        if (source < 0 || (size_t)source >= encoded_.size() || encoded_[(size_t)source].empty())
+        /* the image texopt read for it: a WebP-only texture's is its alternate */
+        if (!replaced(gltf_texture_source(g_.textures[(size_t)*index])))
             return;
         auto t = texture_copy_.find(*index);
         if (t == texture_copy_.end()) {
             tinygltf::Texture copy = g_.textures[(size_t)*index];
-            copy.source = original_of(source);
+            gltf_for_each_texture_image(copy, [&](int *image) {
+                if (replaced(*image))
+                    *image = original_of(*image);
+            });
             g_.textures.push_back(copy);
             t = texture_copy_.emplace(*index, (int)g_.textures.size() - 1).first;
         }
         *index = t->second;
+    }
+
+    bool replaced(int image) const
+    {
+        return image >= 0 && (size_t)image < encoded_.size() && !encoded_[(size_t)image].empty();
     }
 
     int original_of(int image)

@@ -11,28 +11,12 @@ namespace {
 
 const char *const alternate_sources[] = {"EXT_texture_webp", "KHR_texture_basisu", "MSFT_texture_dds"};
 
-/* Calls f with a pointer to every image index texture t names: source and alternates'. */
-template <typename F> void for_each_texture_image(tinygltf::Texture &t, F f)
-{
-    if (t.source >= 0)
-        f(&t.source);
-    for (const char *ext : alternate_sources) {
-        auto it = t.extensions.find(ext);
-        if (it == t.extensions.end() || !it->second.IsObject() || !it->second.Has("source") ||
-            !it->second.Get("source").IsInt())
-            continue;
-        int image = it->second.Get("source").GetNumberAsInt();
-        f(&image);
-        it->second.Get<tinygltf::Value::Object>()["source"] = tinygltf::Value(image);
-    }
-}
-
 /* Per image of g, whether a texture names it. */
 std::vector<char> images_textures_name(const tinygltf::Model &g)
 {
     std::vector<char> named(g.images.size(), 0);
     for (tinygltf::Texture t : g.textures)
-        for_each_texture_image(t, [&](int *image) {
+        gltf_for_each_texture_image(t, [&](int *image) {
             if (*image >= 0 && (size_t)*image < named.size())
                 named[(size_t)*image] = 1;
         });
@@ -65,6 +49,21 @@ int gltf_texture_source(const tinygltf::Texture &t)
             return it->second.Get("source").GetNumberAsInt();
     }
     return -1;
+}
+
+void gltf_for_each_texture_image(tinygltf::Texture &t, const std::function<void(int *)> &f)
+{
+    if (t.source >= 0)
+        f(&t.source);
+    for (const char *ext : alternate_sources) {
+        auto it = t.extensions.find(ext);
+        if (it == t.extensions.end() || !it->second.IsObject() || !it->second.Has("source") ||
+            !it->second.Get("source").IsInt())
+            continue;
+        int image = it->second.Get("source").GetNumberAsInt();
+        f(&image);
+        it->second.Get<tinygltf::Value::Object>()["source"] = tinygltf::Value(image);
+    }
 }
 
 void gltf_texture_read_only(tinygltf::Texture &t, int image)
@@ -105,7 +104,7 @@ std::vector<int> gltf_drop_images_made_unused(tinygltf::Model &g, const tinygltf
     }
     g.images = std::move(kept);
     for (tinygltf::Texture &t : g.textures)
-        for_each_texture_image(t, [&](int *image) {
+        gltf_for_each_texture_image(t, [&](int *image) {
             if (*image >= 0 && (size_t)*image < renumber.size())
                 *image = renumber[(size_t)*image];
         });

@@ -10,12 +10,17 @@
 #ifndef TEXOPT_GLTF_TEXTURE_SOURCE_HPP
 #define TEXOPT_GLTF_TEXTURE_SOURCE_HPP
 
+#include <functional>
 #include <vector>
 
 #include <tiny_gltf.h>
 
 /* The image texopt reads for texture t: its `source`, else its first alternate's; -1 if none. */
 int gltf_texture_source(const tinygltf::Texture &t);
+
+/* Calls f with a pointer to each image index texture t names, its source's and its
+ * alternates'; what f writes there becomes t's reference. */
+void gltf_for_each_texture_image(tinygltf::Texture &t, const std::function<void(int *)> &f);
 
 /* Makes t read `image` as its `source` and drops its alternate sources. */
 void gltf_texture_read_only(tinygltf::Texture &t, int image);
