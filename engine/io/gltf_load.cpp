@@ -549,6 +549,34 @@ texopt_status variant_materials(const tinygltf::Model &g, const texopt_model *mo
     return TEXOPT_OK;
 }
 
+/* For a primitive whose TEXCOORD_0 a new layout changes: refuses when it has no TANGENT and
+ * its material or a variant material (untextured ones too) sets an anisotropy direction in
+ * the tangent frame a renderer derives from those UVs (anisotropy_fixed_in_uv_frame). */
+texopt_status check_anisotropy_frames(const tinygltf::Model &g, const tinygltf::Primitive &p, int mesh,
+                                      int prim_index, char *err, size_t err_len)
+{
+    if (attribute(p, "TANGENT") >= 0)
+        return TEXOPT_OK;
+    std::vector<int> drawn_with;
+    if (p.material >= 0)
+        drawn_with.push_back(p.material);
+    auto e = p.extensions.find("KHR_materials_variants");
+    if (e != p.extensions.end() && e->second.IsObject() && e->second.Has("mappings")) {
+        const tinygltf::Value &mappings = e->second.Get("mappings");
+        for (size_t k = 0; mappings.IsArray() && k < mappings.ArrayLen(); k++)
+            drawn_with.push_back(mappings.Get((int)k).Get("material").GetNumberAsInt()); /* checked */
+    }
+    for (int material : drawn_with)
+        if (anisotropy_fixed_in_uv_frame(g.materials[(size_t)material]))
+            return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                               "mesh %d primitive %d: %s material %d's KHR_materials_anisotropy direction is set in "
+                               "the tangent frame a renderer derives from TEXCOORD_0, which a new layout turns; give "
+                               "the primitive TANGENT (kept as it is) or the direction as an anisotropyTexture on "
+                               "TEXCOORD_0 (turned with the layout)", mesh, prim_index,
+                               material == p.material ? "its" : "its variant", material);
+    return TEXOPT_OK;
+}
+
 texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model, int mesh, int prim_index,
                             const gltf_mat4 *world, flat_geometry *geo, char *err, size_t err_len)
 {
@@ -574,13 +602,6 @@ texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model,
         return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
                            "mesh %d primitive %d: material %d is textured but the primitive has no TEXCOORD_0",
                            mesh, prim_index, p.material);
-    if (material_uses_texcoord0(model, p.material) && attribute(p, "TANGENT") < 0 &&
-        anisotropy_fixed_in_uv_frame(g.materials[(size_t)p.material]))
-        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
-                           "mesh %d primitive %d: material %d's KHR_materials_anisotropy direction is set in the "
-                           "tangent frame a renderer derives from TEXCOORD_0, which a new layout turns; give the "
-                           "primitive TANGENT (kept as it is) or the direction as an anisotropyTexture on "
-                           "TEXCOORD_0 (turned with the layout)", mesh, prim_index, p.material);
     for (size_t t = 0; t < p.targets.size(); t++)
         if (p.targets[t].count("TEXCOORD_0") && material_uses_texcoord0(model, p.material))
             return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
@@ -588,6 +609,8 @@ texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model,
                                "its layout only", mesh, prim_index, t);
     std::vector<int> variants;
     texopt_status st = variant_materials(g, model, p, mesh, prim_index, &variants, err, err_len);
+    if (st == TEXOPT_OK && (material_uses_texcoord0(model, p.material) || !variants.empty()))
+        st = check_anisotropy_frames(g, p, mesh, prim_index, err, err_len);
     if (st != TEXOPT_OK)
         return st;
     std::vector<float> pos, uv;

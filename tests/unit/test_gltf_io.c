@@ -962,18 +962,20 @@ TEST(a_16_bit_texture_is_replaced_at_16_bits)
 
 /* KHR_materials_variants mappings are read: a variant material joins the primitive's
  * domain; one naming no material is malformed, and one whose texture transform differs from
- * the primitive material's is refused (one layout cannot serve both). */
+ * the primitive material's is refused (one layout cannot serve both), as is an untextured one
+ * setting an anisotropy direction in the tangent frame the new UVs turn. */
 TEST(material_variants_join_the_domain_or_are_refused_with_a_reason)
 {
     char err[512] = "";
     quad_doc doc;
     CHECK(quad_doc_init(&doc, 4, 4));
-    const char *cases[3][2] = {
+    const char *cases[4][2] = {
         {"{\"material\":1,\"variants\":[0]}", ""},
         {"{\"material\":7,\"variants\":[0]}", "names no material"},
         {"{\"material\":2,\"variants\":[0]}", "another KHR_texture_transform"},
+        {"{\"material\":3,\"variants\":[0]}", "variant material 3's KHR_materials_anisotropy"},
     };
-    for (int c = 0; c < 3; c++) {
+    for (int c = 0; c < 4; c++) {
         char *json = strdup(doc.json), primitive[256];
         snprintf(primitive, sizeof primitive,
                  "\"material\":0,\"mode\":4,\"extensions\":{\"KHR_materials_variants\":{\"mappings\":[%s]}}",
@@ -983,8 +985,11 @@ TEST(material_variants_join_the_domain_or_are_refused_with_a_reason)
                               "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}},"
                               "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":1}}},"
                               "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":1,\"extensions\":"
-                              "{\"KHR_texture_transform\":{\"scale\":[0.5,0.5]}}}}}],"
-                              "\"extensionsUsed\":[\"KHR_materials_variants\",\"KHR_texture_transform\"]"));
+                              "{\"KHR_texture_transform\":{\"scale\":[0.5,0.5]}}}}},"
+                              "{\"extensions\":{\"KHR_materials_anisotropy\":"
+                              "{\"anisotropyStrength\":0.6,\"anisotropyRotation\":1}}}],"
+                              "\"extensionsUsed\":[\"KHR_materials_variants\",\"KHR_texture_transform\","
+                              "\"KHR_materials_anisotropy\"]"));
         CHECK(builder_replace(&json, "\"textures\":[{\"source\":0,\"sampler\":0}]",
                               "\"textures\":[{\"source\":0,\"sampler\":0},{\"source\":1}]"));
         CHECK(builder_replace(&json, "\"images\":[{\"bufferView\":3,\"mimeType\":\"image/png\"}]",
