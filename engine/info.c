@@ -114,6 +114,8 @@ static void add_material_textures(cJSON *arr, const texopt_model *model, int mat
             add_image_fields(o, model, ref->image);
             cJSON_AddStringToObject(o, "wrap_s", texopt_wrap_name(ref->wrap_s));
             cJSON_AddStringToObject(o, "wrap_t", texopt_wrap_name(ref->wrap_t));
+            if (ref->magnify_nearest)
+                cJSON_AddStringToObject(o, "magnify", "nearest");
             cJSON_AddItemToArray(arr, o);
         }
         add_reads(o, texopt_material_binding_channels(m, s));

@@ -15,11 +15,14 @@
  *        "charts", "mirrored_charts", "folded_charts",
  *        "frame": { "width", "height" }, "wrap": { "s", "t" },       ("repeat"|"clamp"|"mirror")
  *        "textures": [ { "slot", "image", "name", "width", "height", "channels",
- *                        "wrap_s", "wrap_t", "reads" } ], (slot: "baseColor", "normal", ..., or an
- *                                                         extension texture's key; reads: the
- *                                                         channels any material reads of it,
- *                                                         "RGB", "GB", "RGBA" for a MASK or
- *                                                         BLEND base colour)
+ *                        "wrap_s", "wrap_t", "reads", "magnify" } ], (slot: "baseColor", "normal",
+ *                                                         ..., or an extension texture's key;
+ *                                                         reads: the channels any material
+ *                                                         reads of it, "RGB", "GB", "RGBA" for
+ *                                                         a MASK or BLEND base colour; magnify:
+ *                                                         "nearest" only, when its sampler's
+ *                                                         magFilter is NEAREST: pixel art, kept
+ *                                                         as it is by the layout methods)
  *        "covered_texels", "overlap_texels", "packing_efficiency", "texel_area", "area_3d",
  *        "degenerate", "degenerate_3d", "degenerate_uv", "flipped", "overlapping", "wrapped"
  *     } ] }

@@ -55,6 +55,7 @@ TEST(cube_document_has_the_constructed_numbers)
     CHECK(strcmp(str(tex, "name"), "fixture_checker") == 0);
     CHECK_NEAR(num(tex, "channels"), 3, 0);
     CHECK(strcmp(str(tex, "reads"), "RGB") == 0);
+    CHECK(cJSON_GetObjectItemCaseSensitive(tex, "magnify") == NULL);
     CHECK_NEAR(num(d, "covered_texels"), 6 * 16 * 16, 0);
     CHECK_NEAR(num(d, "overlap_texels"), 0, 0);
     CHECK_NEAR(num(d, "packing_efficiency"), 0.375, 0);
@@ -89,6 +90,22 @@ TEST(extension_textures_are_listed_under_their_key)
     CHECK(strcmp(str(tex, "reads"), "A") == 0);
     /* A MASK material's base colour is read with its alpha. */
     CHECK(strcmp(str(cJSON_GetArrayItem(textures, 0), "reads"), "RGBA") == 0);
+    cJSON_Delete(doc);
+    texopt_model_destroy(model);
+}
+
+/* A texture its sampler magnifies NEAREST (pixel art, which the layout methods keep as it is)
+ * says so. */
+TEST(a_texture_magnified_nearest_says_so)
+{
+    texopt_model *model = fixture_textured_quad(16, "gradient");
+    CHECK(model != NULL);
+    model->materials[0].slot[TEXOPT_SLOT_BASE_COLOR].magnify_nearest = 1;
+    cJSON *doc = NULL;
+    char err[256] = "";
+    CHECK_OK(texopt_info_json(model, &doc, err, sizeof err), err);
+    const cJSON *tex = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(domain(doc, 0), "textures"), 0);
+    CHECK(strcmp(str(tex, "magnify"), "nearest") == 0);
     cJSON_Delete(doc);
     texopt_model_destroy(model);
 }
