@@ -823,6 +823,27 @@ static int glb_texture_index(const char *path, const char *key)
     return index;
 }
 
+/* Saves m with its UVs and image 0 replaced by the builder's 2 x 2 texture (its other images
+ * kept) to out, and loads the file back; NULL, with err filled, when either fails. */
+static texopt_model *save_rebaked_and_reload(const texopt_model *m, const char *out, char *err, size_t err_len)
+{
+    texopt_image rebaked;
+    const texopt_image **images = calloc((size_t)m->image_count, sizeof *images);
+    texopt_model *back = NULL;
+    if (images && builder_texture(&rebaked, 2, 2)) {
+        images[0] = &rebaked;
+        texopt_model_edit edit = {m->uvs, images};
+        if (texopt_model_save_glb(m, &edit, out, err, err_len) != TEXOPT_OK ||
+            texopt_model_load(&back, out, NULL, err, err_len) != TEXOPT_OK) {
+            texopt_model_destroy(back);
+            back = NULL;
+        }
+        texopt_image_destroy(&rebaked);
+    }
+    free(images);
+    return back;
+}
+
 /* An image read by base colour through TEXCOORD_0 and by occlusion and a clearcoat texture
  * through TEXCOORD_1: replaced for the new TEXCOORD_0 layout, the bindings through TEXCOORD_1
  * (which keep the old UVs) read an untouched copy of the original instead, also when the
@@ -855,13 +876,8 @@ TEST(bindings_through_another_set_keep_reading_the_original_image)
         texopt_status st;
         texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
         CHECK_OK(st, err);
-        texopt_image rebaked;
-        CHECK(builder_texture(&rebaked, 2, 2));
-        const texopt_image *images[1] = {&rebaked};
-        texopt_model_edit edit = {m->uvs, images};
-        CHECK_OK(texopt_model_save_glb(m, &edit, out, err, sizeof err), err);
-        texopt_model *back = NULL;
-        CHECK_OK(texopt_model_load(&back, out, NULL, err, sizeof err), err);
+        texopt_model *back = save_rebaked_and_reload(m, out, err, sizeof err);
+        CHECK_MSG(back != NULL, "%s", err);
         const texopt_material *mat = &back->materials[0];
         int colour = mat->slot[TEXOPT_SLOT_BASE_COLOR].image, occlusion = mat->slot[TEXOPT_SLOT_OCCLUSION].image;
         CHECK_EQ_INT(back->image_count, 2);
@@ -877,7 +893,6 @@ TEST(bindings_through_another_set_keep_reading_the_original_image)
             int rc = validate_against_quad(out, &doc, json, dir);
             CHECK_MSG(rc == 0, "validator exit %d for %s", rc, out);
         }
-        texopt_image_destroy(&rebaked);
         texopt_model_destroy(back);
         texopt_model_destroy(m);
         free(json);
@@ -1058,16 +1073,10 @@ TEST(a_replaced_texture_drops_its_alternate_source)
         texopt_status st;
         texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
         CHECK_OK(st, err);
-        texopt_image rebaked;
-        CHECK(builder_texture(&rebaked, 2, 2));
-        const texopt_image *images[2] = {&rebaked, NULL};
-        texopt_model_edit edit = {m->uvs, images};
-        CHECK_OK(texopt_model_save_glb(m, &edit, out, err, sizeof err), err);
+        texopt_model *back = save_rebaked_and_reload(m, out, err, sizeof err);
+        CHECK_MSG(back != NULL, "%s", err);
         CHECK_MSG(file_contains(out, "EXT_texture_webp") == 0, "case %d keeps the extension", c);
-        texopt_model *back = NULL;
-        CHECK_OK(texopt_model_load(&back, out, NULL, err, sizeof err), err);
         CHECK(image_matches_builder(&back->images[back->materials[0].slot[TEXOPT_SLOT_BASE_COLOR].image], 2, 2));
-        texopt_image_destroy(&rebaked);
         texopt_model_destroy(back);
         texopt_model_destroy(m);
         free(json);
@@ -1105,17 +1114,11 @@ TEST(an_undecodable_alternate_loads_and_leaves_with_its_texture)
         texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
         CHECK_OK(st, err);
         CHECK(m->image_count == 3 && m->images[1].pixels == NULL && m->images[1].width == 0);
-        texopt_image rebaked;
-        CHECK(builder_texture(&rebaked, 2, 2));
-        const texopt_image *replaced[3] = {&rebaked, NULL, NULL};
-        texopt_model_edit edit = {m->uvs, replaced};
-        CHECK_OK(texopt_model_save_glb(m, &edit, out, err, sizeof err), err);
-        texopt_model *back = NULL;
-        CHECK_OK(texopt_model_load(&back, out, NULL, err, sizeof err), err);
+        texopt_model *back = save_rebaked_and_reload(m, out, err, sizeof err);
+        CHECK_MSG(back != NULL, "%s", err);
         CHECK_EQ_INT(back->image_count, unknown ? 3 : 2); /* the orphan (image 2) stays either way */
         CHECK(image_matches_builder(&back->images[back->materials[0].slot[TEXOPT_SLOT_BASE_COLOR].image], 2, 2));
         CHECK(file_contains(out, "KHR_texture_basisu") == 0);
-        texopt_image_destroy(&rebaked);
         texopt_model_destroy(back);
         texopt_model_destroy(m);
         free(json);
