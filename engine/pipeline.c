@@ -38,7 +38,8 @@
  * method "input" (input_layout_packs_better).
  * Budgets: a relative cost is allocated as asked; a texture size at the cost it is expected
  * to reach (texels x typical packing efficiency), solved again once at the cost reached
- * when that misses by more than 10%; target_loss searches the relative cost (compare.h,
+ * when that misses by more than 10%, and refused above 4 times the pixels of the images it
+ * re-bakes (check_texture_size_budget); target_loss searches the relative cost (compare.h,
  * bisection on log c_r) repeating only the per-budget part, each step evaluated in memory.
  * Normal maps: their tangent-space XY turn with the layout (rebake.h) unless the domain's
  * primitives store TANGENT (io/gltf_tangents.h): stored tangents are kept by the saver, and
@@ -1127,8 +1128,8 @@ static texopt_status alloc_output(const texopt_model *model, int method, job_out
 }
 
 /* A domain with no texels to lay out (a colour picked from a palette, a texture of one texel),
- * nothing to see or pixel art keeps its UVs (alloc_uvs copied them) and its images' bytes, whatever the
- * budget: the model's other domains are laid out as asked. */
+ * nothing to see or pixel art keeps its UVs (alloc_uvs copied them) and its images' bytes,
+ * whatever the budget: the model's other domains are laid out as asked. */
 static void keep_domain(const texopt_model *model, int d, texopt_domain_stats *ds)
 {
     const texopt_domain *dom = &model->domains[d];
@@ -1187,7 +1188,7 @@ static texopt_status check_texture_size_budget(const texopt_model *model, const 
             had += (double)img->width * img->height;
             asked += (double)p->texture_width * p->texture_height;
         }
-    if (!(asked > TEXTURE_SIZE_GROWTH_MAX * had))
+    if (!(had > 0) || !(asked > TEXTURE_SIZE_GROWTH_MAX * had))
         return TEXOPT_OK;
     double s = sqrt(TEXTURE_SIZE_GROWTH_MAX * had / asked);
     return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
