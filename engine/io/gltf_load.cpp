@@ -830,6 +830,12 @@ texopt_status convert_images(texopt_gltf_document *doc, texopt_model *model, con
         doc->image_mime[i] = sniff_mime(im.image, im.mimeType);
         if (!read[i])
             continue;
+        /* OpenImageIO has no KTX2 reader: say what would be read instead of its PNG guess. */
+        if (doc->image_mime[i] == "image/ktx2")
+            return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                               "image %zu (%s) is KTX2 (KHR_texture_basisu), which texopt cannot decode: give its "
+                               "texture a PNG or JPEG source beside it, which texopt reads instead",
+                               i, label.c_str());
         char name[300];
         snprintf(name, sizeof name, "image %zu (%s)", i, label.c_str());
         texopt_status st = texopt_image_probe_memory(&info[i], im.image.data(), im.image.size(), name, err, err_len);

@@ -1088,7 +1088,8 @@ TEST(a_replaced_texture_drops_its_alternate_source)
 /* A texture with a PNG source and a KTX2 alternate (bytes OpenImageIO cannot decode): the
  * alternate is not decoded, so the model loads; once the texture is replaced, nothing reads
  * the KTX2 image and it leaves the file, unless an extension texopt does not know might name
- * it. An image no texture named in the input stays. */
+ * it. An image no texture named in the input stays. A texture with the KTX2 image alone is
+ * refused, saying so. */
 TEST(an_undecodable_alternate_loads_and_leaves_with_its_texture)
 {
     char err[512] = "", dir[64], out[128];
@@ -1123,6 +1124,17 @@ TEST(an_undecodable_alternate_loads_and_leaves_with_its_texture)
         texopt_model_destroy(m);
         free(json);
     }
+    char *json = strdup(doc.json), images[256];
+    snprintf(images, sizeof images, "\"images\":[{\"bufferView\":3,\"mimeType\":\"image/png\"},%s]", ktx2);
+    CHECK(json && builder_replace(&json, "\"images\":[{\"bufferView\":3,\"mimeType\":\"image/png\"}]", images));
+    CHECK(builder_replace(&json, "\"textures\":[{\"source\":0,\"sampler\":0}]",
+                          "\"textures\":[{\"sampler\":0,\"extensions\":{\"KHR_texture_basisu\":{\"source\":1}}}],"
+                          "\"extensionsUsed\":[\"KHR_texture_basisu\"],\"extensionsRequired\":[\"KHR_texture_basisu\"]"));
+    texopt_status st;
+    texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
+    CHECK_MSG(m == NULL && st == TEXOPT_E_UNSUPPORTED && strstr(err, "image 1 (image 1) is KTX2"), "%d: %s", (int)st,
+              err);
+    free(json);
     builder_rmdir(dir);
     quad_doc_free(&doc);
 }
