@@ -92,31 +92,39 @@ void texopt_jacobian_from_params(double alpha, double lambda1, double lambda2, d
 }
 
 /* What stage 1 compares of one image: the luma of what its colour bindings read, or the
- * channels its other bindings read one by one (TEXOPT_CHANNEL_*; a shown alpha among them). */
+ * channels its other bindings read one by one (TEXOPT_CHANNEL_*; a shown alpha among them).
+ * The primitives' variant materials (KHR_materials_variants) count as theirs: the layout
+ * serves every material the surface may be drawn with. */
 typedef struct image_use {
     int luma;
     unsigned channels;
 } image_use;
 
+static void add_material_use(const texopt_model *model, int m, int image, image_use *use)
+{
+    if (m < 0 || m >= model->material_count)
+        return;
+    const texopt_material *mat = &model->materials[m];
+    for (int b = 0; b < texopt_material_binding_count(mat); b++) {
+        if (texopt_material_binding(mat, b)->image != image)
+            continue;
+        unsigned channels = texopt_material_binding_channels(mat, b);
+        if (texopt_material_binding_kind(mat, b) == TEXOPT_TEXTURE_COLOR) {
+            use->luma |= (channels & TEXOPT_CHANNELS_RGB) != 0;
+            use->channels |= channels & TEXOPT_CHANNEL_A;
+        } else {
+            use->channels |= channels;
+        }
+    }
+}
+
 static image_use image_use_in_domain(const texopt_model *model, const texopt_domain *dom, int image)
 {
     image_use use = {0, 0};
     for (int p = 0; p < dom->primitive_count; p++) {
-        int m = model->primitives[dom->primitives[p]].material;
-        if (m < 0 || m >= model->material_count)
-            continue;
-        const texopt_material *mat = &model->materials[m];
-        for (int b = 0; b < texopt_material_binding_count(mat); b++) {
-            if (texopt_material_binding(mat, b)->image != image)
-                continue;
-            unsigned channels = texopt_material_binding_channels(mat, b);
-            if (texopt_material_binding_kind(mat, b) == TEXOPT_TEXTURE_COLOR) {
-                use.luma |= (channels & TEXOPT_CHANNELS_RGB) != 0;
-                use.channels |= channels & TEXOPT_CHANNEL_A;
-            } else {
-                use.channels |= channels;
-            }
-        }
+        const texopt_primitive *prim = &model->primitives[dom->primitives[p]];
+        for (int i = 0; i <= prim->variant_count; i++)
+            add_material_use(model, texopt_primitive_material(model, prim, i), image, &use);
     }
     return use;
 }

@@ -561,6 +561,26 @@ static double q_in_material(texopt_model *in, texopt_model *out, int material)
     return texopt_evaluate(in, out, &opt, &ev, err, sizeof err) == TEXOPT_OK ? ev.q : NAN;
 }
 
+/* A 4 x 4 grid drawn with material 0 (image 0 of `patterns`) or, as variant "other",
+ * material 1 (image 1), both on TEXCOORD_0. */
+static int write_grid_with_variant(const char *path, const char *const patterns[2])
+{
+    float pos[25 * 3], uv[25 * 2];
+    uint32_t idx[32 * 3];
+    grid_fill(4, pos, uv, idx);
+    if (write_mesh_glb_material(path, pos, uv, 25, idx, 32, 32, patterns, 2,
+                                "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}},"
+                                "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":1}}}") != 0)
+        return -1;
+    if (glb_replace_json(path, "\"material\":0}",
+                         "\"material\":0,\"extensions\":{\"KHR_materials_variants\":{\"mappings\":"
+                         "[{\"material\":1,\"variants\":[0]}]}}}") != 0)
+        return -1;
+    return glb_replace_json(path, "\"asset\":{\"version\":\"2.0\"},",
+                            "\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_materials_variants\"],"
+                            "\"extensions\":{\"KHR_materials_variants\":{\"variants\":[{\"name\":\"other\"}]}},");
+}
+
 /* KHR_materials_variants: the grid is drawn with material 0 (a checker) or, as variant
  * "other", material 1 (stripes, its own image). The variant reads the same TEXCOORD_0, so its
  * image is re-baked into the new layout with material 0's: it looks as right as the default. */
@@ -569,18 +589,7 @@ TEST(a_material_variant_is_rebaked_with_the_layout)
     scratch s;
     CHECK(scratch_init(&s, 4, 32, NULL) == 0);
     const char *patterns[2] = {"checker", "stripes45"};
-    float pos[25 * 3], uv[25 * 2];
-    uint32_t idx[32 * 3];
-    grid_fill(4, pos, uv, idx);
-    CHECK(write_mesh_glb_material(s.in, pos, uv, 25, idx, 32, 32, patterns, 2,
-                                  "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}},"
-                                  "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":1}}}") == 0);
-    CHECK(glb_replace_json(s.in, "\"material\":0}",
-                           "\"material\":0,\"extensions\":{\"KHR_materials_variants\":{\"mappings\":"
-                           "[{\"material\":1,\"variants\":[0]}]}}}") == 0);
-    CHECK(glb_replace_json(s.in, "\"asset\":{\"version\":\"2.0\"},",
-                           "\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_materials_variants\"],"
-                           "\"extensions\":{\"KHR_materials_variants\":{\"variants\":[{\"name\":\"other\"}]}},") == 0);
+    CHECK(write_grid_with_variant(s.in, patterns) == 0);
     texopt_params p = {0};
     p.relative_cost = 0.5;
     p.threads = 1;
@@ -596,6 +605,30 @@ TEST(a_material_variant_is_rebaked_with_the_layout)
     CHECK_MSG(q_variant < 1.5 * q_default, "variant q %.5f, default %.5f", q_variant, q_default);
     texopt_model_destroy(in);
     texopt_model_destroy(out);
+    scratch_free(&s);
+}
+
+/* Stage 1 reads a variant material's textures as the primitive's own: with a flat default
+ * and a checker variant, the checker's edges keep texels (stage 1's mean area scale far above
+ * lambda_min^2 = 0.01, where a flat texture leaves every triangle). */
+TEST(stage1_reads_a_variant_material_s_texture)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 4, 32, NULL) == 0);
+    const char *patterns[2] = {"flat", "checker"};
+    CHECK(write_grid_with_variant(s.in, patterns) == 0);
+    texopt_params p = {0};
+    p.relative_cost = 0.5;
+    p.threads = 1;
+    char err[512] = "";
+    CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+    cJSON *st = read_json(s.stats);
+    CHECK(st != NULL);
+    cJSON *stage1 = cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(st, "domains"), 0), "stage1");
+    double area = cJSON_GetObjectItem(stage1, "area_scale_mean")->valuedouble;
+    printf("  stage 1 mean area scale %.4f\n", area);
+    CHECK_MSG(area > 0.1, "stage 1 mean area scale %.4f", area);
+    cJSON_Delete(st);
     scratch_free(&s);
 }
 
