@@ -581,6 +581,18 @@ static int write_grid_with_variant(const char *path, const char *const patterns[
                             "\"extensions\":{\"KHR_materials_variants\":{\"variants\":[{\"name\":\"other\"}]}},");
 }
 
+/* write_grid_with_variant into s->in, optimized by perceptual at c_r 0.5 into s->out and s->stats. */
+static texopt_status optimize_grid_with_variant(const scratch *s, const char *const patterns[2], char *err,
+                                                size_t err_len)
+{
+    if (write_grid_with_variant(s->in, patterns) != 0)
+        return texopt_fail(err, err_len, TEXOPT_E_IO, "cannot write %s", s->in);
+    texopt_params p = {0};
+    p.relative_cost = 0.5;
+    p.threads = 1;
+    return texopt_optimize_file(s->in, s->out, s->stats, &p, NULL, err, err_len);
+}
+
 /* KHR_materials_variants: the grid is drawn with material 0 (a checker) or, as variant
  * "other", material 1 (stripes, its own image). The variant reads the same TEXCOORD_0, so its
  * image is re-baked into the new layout with material 0's: it looks as right as the default. */
@@ -589,12 +601,8 @@ TEST(a_material_variant_is_rebaked_with_the_layout)
     scratch s;
     CHECK(scratch_init(&s, 4, 32, NULL) == 0);
     const char *patterns[2] = {"checker", "stripes45"};
-    CHECK(write_grid_with_variant(s.in, patterns) == 0);
-    texopt_params p = {0};
-    p.relative_cost = 0.5;
-    p.threads = 1;
     char err[512] = "";
-    CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+    CHECK_OK(optimize_grid_with_variant(&s, patterns, err, sizeof err), err);
     texopt_model *in = load(s.in), *out = load(s.out);
     CHECK(in && out && in->domain_count == 1 && in->domains[0].image_count == 2);
     CHECK(out->images[1].width < 32); /* re-baked to the budget with image 0 */
@@ -616,12 +624,8 @@ TEST(stage1_reads_a_variant_material_s_texture)
     scratch s;
     CHECK(scratch_init(&s, 4, 32, NULL) == 0);
     const char *patterns[2] = {"flat", "checker"};
-    CHECK(write_grid_with_variant(s.in, patterns) == 0);
-    texopt_params p = {0};
-    p.relative_cost = 0.5;
-    p.threads = 1;
     char err[512] = "";
-    CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+    CHECK_OK(optimize_grid_with_variant(&s, patterns, err, sizeof err), err);
     cJSON *st = read_json(s.stats);
     CHECK(st != NULL);
     cJSON *stage1 = cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(st, "domains"), 0), "stage1");
