@@ -437,7 +437,6 @@ static texopt_status baseline_or_perceptual_targets(const texopt_model *model, c
     }
 }
 
-/* One texture domain of a job: what does not depend on the budget. */
 /* What a layout method does with a domain. */
 typedef enum domain_keep {
     DOMAIN_LAID_OUT = 0,
@@ -446,6 +445,7 @@ typedef enum domain_keep {
                              method "input" */
 } domain_keep;
 
+/* One texture domain of a job: what does not depend on the budget. */
 typedef struct job_domain {
     texopt_mesh *mesh;
     texopt_triangle_target *targets; /* stage 1 or a baseline; NULL for method "input" */

@@ -512,12 +512,10 @@ bool anisotropy_fixed_in_uv_frame(const tinygltf::Material &m)
     return strength > 0 && !map_on_set0;
 }
 
-/* The materials KHR_materials_variants lets primitive p be drawn with besides its own (each
- * once), into *out. Each reads the primitive's TEXCOORD_0, which a new layout changes for
- * all of them: one that reads it must have the primitive's texture transform (the loader
- * applies the primitive material's), and the primitive must have TEXCOORD_0. */
-texopt_status variant_materials(const tinygltf::Model &g, const texopt_model *model, const tinygltf::Primitive &p,
-                                int mesh, int prim_index, std::vector<int> *out, char *err, size_t err_len)
+/* The materials primitive p's KHR_materials_variants mappings name, in mapping order, into
+ * *out; a mapping naming no material is malformed. */
+texopt_status mapped_materials(const tinygltf::Model &g, const tinygltf::Primitive &p, int mesh, int prim_index,
+                               std::vector<int> *out, char *err, size_t err_len)
 {
     out->clear();
     auto e = p.extensions.find("KHR_materials_variants");
@@ -532,6 +530,22 @@ texopt_status variant_materials(const tinygltf::Model &g, const texopt_model *mo
             return texopt_fail(err, err_len, TEXOPT_E_MALFORMED,
                                "mesh %d primitive %d: KHR_materials_variants mapping %zu names no material", mesh,
                                prim_index, k);
+        out->push_back(material);
+    }
+    return TEXOPT_OK;
+}
+
+/* Of the materials primitive p's variants map to (mapped_materials), those reading
+ * TEXCOORD_0 besides its own material, each once, into *out. Each reads the primitive's
+ * TEXCOORD_0, which a new layout changes for all of them: it must have the primitive's
+ * texture transform (the loader applies the primitive material's), and the primitive must
+ * have TEXCOORD_0. */
+texopt_status variant_materials(const texopt_model *model, const tinygltf::Primitive &p,
+                                const std::vector<int> &mapped, int mesh, int prim_index, std::vector<int> *out,
+                                char *err, size_t err_len)
+{
+    out->clear();
+    for (int material : mapped) {
         if (material == p.material || std::find(out->begin(), out->end(), material) != out->end() ||
             !material_uses_texcoord0(model, material))
             continue;
@@ -550,22 +564,18 @@ texopt_status variant_materials(const tinygltf::Model &g, const texopt_model *mo
 }
 
 /* For a primitive whose TEXCOORD_0 a new layout changes: refuses when it has no TANGENT and
- * its material or a variant material (untextured ones too) sets an anisotropy direction in
- * the tangent frame a renderer derives from those UVs (anisotropy_fixed_in_uv_frame). */
-texopt_status check_anisotropy_frames(const tinygltf::Model &g, const tinygltf::Primitive &p, int mesh,
-                                      int prim_index, char *err, size_t err_len)
+ * its material or a material its variants map to (`mapped`, untextured ones too) sets an
+ * anisotropy direction in the tangent frame a renderer derives from those UVs
+ * (anisotropy_fixed_in_uv_frame). */
+texopt_status check_anisotropy_frames(const tinygltf::Model &g, const tinygltf::Primitive &p,
+                                      const std::vector<int> &mapped, int mesh, int prim_index, char *err,
+                                      size_t err_len)
 {
     if (attribute(p, "TANGENT") >= 0)
         return TEXOPT_OK;
-    std::vector<int> drawn_with;
+    std::vector<int> drawn_with = mapped;
     if (p.material >= 0)
-        drawn_with.push_back(p.material);
-    auto e = p.extensions.find("KHR_materials_variants");
-    if (e != p.extensions.end() && e->second.IsObject() && e->second.Has("mappings")) {
-        const tinygltf::Value &mappings = e->second.Get("mappings");
-        for (size_t k = 0; mappings.IsArray() && k < mappings.ArrayLen(); k++)
-            drawn_with.push_back(mappings.Get((int)k).Get("material").GetNumberAsInt()); /* checked */
-    }
+        drawn_with.insert(drawn_with.begin(), p.material);
     for (int material : drawn_with)
         if (anisotropy_fixed_in_uv_frame(g.materials[(size_t)material]))
             return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
@@ -607,10 +617,12 @@ texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model,
             return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
                                "mesh %d primitive %d: morph target %zu moves TEXCOORD_0, by offsets that hold for "
                                "its layout only", mesh, prim_index, t);
-    std::vector<int> variants;
-    texopt_status st = variant_materials(g, model, p, mesh, prim_index, &variants, err, err_len);
+    std::vector<int> mapped, variants;
+    texopt_status st = mapped_materials(g, p, mesh, prim_index, &mapped, err, err_len);
+    if (st == TEXOPT_OK)
+        st = variant_materials(model, p, mapped, mesh, prim_index, &variants, err, err_len);
     if (st == TEXOPT_OK && (material_uses_texcoord0(model, p.material) || !variants.empty()))
-        st = check_anisotropy_frames(g, p, mesh, prim_index, err, err_len);
+        st = check_anisotropy_frames(g, p, mapped, mesh, prim_index, err, err_len);
     if (st != TEXOPT_OK)
         return st;
     std::vector<float> pos, uv;

@@ -279,6 +279,12 @@ texopt_status encode_replacements(const texopt_model *model, const texopt_model_
         err, err_len);
 }
 
+/* Whether texopt replaced image (its new bytes in encoded). */
+bool is_replaced(const std::vector<std::vector<unsigned char>> &encoded, int image)
+{
+    return image >= 0 && (size_t)image < encoded.size() && !encoded[(size_t)image].empty();
+}
+
 /* Gives bindings through another set than TEXCOORD_0 that read a replaced image (encoded[i]
  * not empty) a texture of their own on an untouched copy of that image (its MIME type appended to
  * mime, an empty entry to encoded), each copy made once. */
@@ -312,24 +318,19 @@ class other_set_bindings {
         if (texcoord == 0 || *index < 0 || (size_t)*index >= g_.textures.size())
             return;
         /* the image texopt read for it: a WebP-only texture's is its alternate */
-        if (!replaced(gltf_texture_source(g_.textures[(size_t)*index])))
+        if (!is_replaced(encoded_, gltf_texture_source(g_.textures[(size_t)*index])))
             return;
         auto t = texture_copy_.find(*index);
         if (t == texture_copy_.end()) {
             tinygltf::Texture copy = g_.textures[(size_t)*index];
             gltf_for_each_texture_image(copy, [&](int *image) {
-                if (replaced(*image))
+                if (is_replaced(encoded_, *image))
                     *image = original_of(*image);
             });
             g_.textures.push_back(copy);
             t = texture_copy_.emplace(*index, (int)g_.textures.size() - 1).first;
         }
         *index = t->second;
-    }
-
-    bool replaced(int image) const
-    {
-        return image >= 0 && (size_t)image < encoded_.size() && !encoded_[(size_t)image].empty();
     }
 
     int original_of(int image)
@@ -370,7 +371,7 @@ void point_textures_at_replacements(tinygltf::Model &g, const std::vector<std::v
 {
     for (tinygltf::Texture &t : g.textures) {
         int image = gltf_texture_source(t);
-        if (image >= 0 && (size_t)image < encoded.size() && !encoded[(size_t)image].empty())
+        if (is_replaced(encoded, image))
             gltf_texture_read_only(t, image);
     }
     gltf_drop_unused_source_extensions(g);
