@@ -106,7 +106,9 @@ static void add_material_use(const texopt_model *model, int m, int image, image_
         return;
     const texopt_material *mat = &model->materials[m];
     for (int b = 0; b < texopt_material_binding_count(mat); b++) {
-        if (texopt_material_binding(mat, b)->image != image)
+        const texopt_texture_ref *ref = texopt_material_binding(mat, b);
+        /* A binding through another UV set reads the image along a layout this one leaves. */
+        if (ref->image != image || ref->texcoord != 0)
             continue;
         unsigned channels = texopt_material_binding_channels(mat, b);
         if (texopt_material_binding_kind(mat, b) == TEXOPT_TEXTURE_COLOR) {

@@ -227,10 +227,10 @@ static texopt_model *grid_with_blue_stripes(void)
 }
 
 /* Signals stage 1 compares on the grid of grid_with_blue_stripes with its second image (made
- * RGBA when `alpha`) bound as an extension texture of the given kind reading `channels`, and
- * base colour bound to the first image (base 1), to the second (2) or to none (0); -1 on
- * failure. */
-static int signals_with_extension_texture(texopt_texture_kind kind, unsigned channels, int alpha, int base)
+ * RGBA when `alpha`) bound as an extension texture of the given kind reading `channels` through
+ * TEXCOORD_`texcoord`, and base colour bound to the first image (base 1), to the second (2) or
+ * to none (0); -1 on failure. */
+static int signals_through(texopt_texture_kind kind, unsigned channels, int alpha, int base, int texcoord)
 {
     texopt_model *m = grid_with_blue_stripes();
     char err[256] = "";
@@ -240,6 +240,7 @@ static int signals_with_extension_texture(texopt_texture_kind kind, unsigned cha
     texopt_material *mat = &m->materials[0];
     mat->extra[0].ref = mat->slot[TEXOPT_SLOT_BASE_COLOR];
     mat->extra[0].ref.image = 1;
+    mat->extra[0].ref.texcoord = texcoord;
     mat->extra[0].kind = kind;
     mat->extra[0].channels = channels;
     mat->extra[0].name = "clearcoatTexture";
@@ -256,6 +257,11 @@ static int signals_with_extension_texture(texopt_texture_kind kind, unsigned cha
     texopt_mesh_destroy(mesh);
     texopt_model_destroy(m);
     return count;
+}
+
+static int signals_with_extension_texture(texopt_texture_kind kind, unsigned channels, int alpha, int base)
+{
+    return signals_through(kind, channels, alpha, base, 0);
 }
 
 TEST(extension_textures_are_compared_by_their_kind_and_channels)
@@ -276,6 +282,14 @@ TEST(extension_textures_are_compared_by_their_kind_and_channels)
     /* ...unless nothing else is: then its R, G and B, so that stage 1 has a signal. */
     CHECK_EQ_INT(signals_with_extension_texture(TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_A, 0, 0), 3);
     CHECK_EQ_INT(signals_with_extension_texture(TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_A, 1, 0), 1);
+}
+
+TEST(a_binding_through_another_uv_set_adds_no_signal)
+{
+    /* The second image as base colour and, through TEXCOORD_1, as clearcoat's R: that R is read
+     * along a layout texopt leaves, so the new one keeps the colour's luma alone. */
+    CHECK_EQ_INT(signals_through(TEXOPT_TEXTURE_DATA, TEXOPT_CHANNEL_R, 0, 2, 1), 1);
+    CHECK_EQ_INT(signals_through(TEXOPT_TEXTURE_NORMAL, TEXOPT_CHANNELS_RGB, 0, 1, 1), 1);
 }
 
 /* E under J of a triangle in the middle of m (an 8 x 8 grid on 64 texels; taken), its signals
