@@ -13,30 +13,6 @@ static int counted(const texopt_mesh *mesh, size_t t)
     return !(mesh->flags[t] & (TEXOPT_TRI_DEGENERATE_3D | TEXOPT_TRI_DEGENERATE_UV));
 }
 
-/* Columns of P: edges b - a and c - a of the 3D triangle in an orthonormal frame of its
- * plane with x along b - a; mirrored (y negated) when the texel triangle is mirrored. */
-static int plane_edges(const texopt_mesh *mesh, size_t t, double mirror, double P[2][2])
-{
-    const uint32_t *v = mesh->triangle + 3 * t;
-    const double *a = texopt_mesh_vertex_point(mesh, v[0]);
-    const double *b = texopt_mesh_vertex_point(mesh, v[1]);
-    const double *c = texopt_mesh_vertex_point(mesh, v[2]);
-    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    double l1 = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
-    if (!(l1 > 0))
-        return -1;
-    double x2 = (e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]) / l1;
-    double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
-           cz = e1[0] * e2[1] - e1[1] * e2[0];
-    double y2 = sqrt(cx * cx + cy * cy + cz * cz) / l1;
-    P[0][0] = l1;
-    P[1][0] = 0;
-    P[0][1] = x2;
-    P[1][1] = mirror * y2;
-    return y2 > 0 ? 0 : -1;
-}
-
 static void isometric_target(const texopt_mesh *mesh, size_t t, double scale,
                              texopt_triangle_target *g)
 {
@@ -46,8 +22,9 @@ static void isometric_target(const texopt_mesh *mesh, size_t t, double scale,
     double T[2][2] = {{p1[0] - p0[0], p2[0] - p0[0]}, {p1[1] - p0[1], p2[1] - p0[1]}};
     double det = T[0][0] * T[1][1] - T[0][1] * T[1][0];
     double P[2][2];
-    if (!(fabs(det) > 0) || plane_edges(mesh, t, det < 0 ? -1.0 : 1.0, P) != 0)
+    if (!(fabs(det) > 0) || texopt_mesh_plane_edges(mesh, t, P) != 0)
         return;
+    P[1][1] *= det < 0 ? -1.0 : 1.0; /* mirrored like the texel triangle */
     double Ti[2][2] = {{T[1][1] / det, -T[0][1] / det}, {-T[1][0] / det, T[0][0] / det}};
     double J[2][2];
     for (int r = 0; r < 2; r++)

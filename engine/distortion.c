@@ -42,26 +42,6 @@ size_t texopt_count_flipped(const texopt_mesh *mesh, const double *texel)
     return flipped;
 }
 
-/* The triangle in an orthonormal frame of its own 3D plane: first vertex at the origin,
- * first edge along x. Returns the 2x2 matrix of edge columns [e1 e2] in that frame. */
-static void planar_edges(const texopt_mesh *mesh, const uint32_t *tri, double P[2][2])
-{
-    const double *a = texopt_mesh_vertex_point(mesh, tri[0]);
-    const double *b = texopt_mesh_vertex_point(mesh, tri[1]);
-    const double *c = texopt_mesh_vertex_point(mesh, tri[2]);
-    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    double len1 = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
-    double cx = e1[1] * e2[2] - e1[2] * e2[1];
-    double cy = e1[2] * e2[0] - e1[0] * e2[2];
-    double cz = e1[0] * e2[1] - e1[1] * e2[0];
-    double cross_len = sqrt(cx * cx + cy * cy + cz * cz);
-    P[0][0] = len1;
-    P[1][0] = 0.0;
-    P[0][1] = (e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]) / len1;
-    P[1][1] = cross_len / len1;
-}
-
 /* |J|^2 + |J^-1|^2 for J = scale * T P^-1; +inf when the texel triangle collapsed. The
  * frame of P has an arbitrary orientation, so only |det J| matters here (flips are judged
  * against the input layout by texopt_count_flipped). */
@@ -129,7 +109,7 @@ texopt_status texopt_distortion_measure(const texopt_mesh *mesh, const double *t
         const uint32_t *tri = mesh->triangle + 3 * t;
         double T[2][2], P[2][2];
         texel_edges(texel, tri, T);
-        planar_edges(mesh, tri, P);
+        texopt_mesh_plane_edges(mesh, t, P);
         double e = symmetric_dirichlet(T, P, scale);
         weighted += mesh->area_3d[t] * e;
         if (e > worst)

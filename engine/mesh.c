@@ -315,6 +315,24 @@ static int is_degenerate(double doubled_area, double longest_edge_sq)
     return doubled_area <= DEGENERATE_RELATIVE * longest_edge_sq;
 }
 
+int texopt_mesh_plane_edges(const texopt_mesh *mesh, size_t t, double P[2][2])
+{
+    const uint32_t *v = mesh->triangle + 3 * t;
+    const double *a = texopt_mesh_vertex_point(mesh, v[0]);
+    const double *b = texopt_mesh_vertex_point(mesh, v[1]);
+    const double *c = texopt_mesh_vertex_point(mesh, v[2]);
+    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double l1 = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+           cz = e1[0] * e2[1] - e1[1] * e2[0];
+    P[0][0] = l1;
+    P[1][0] = 0.0;
+    P[0][1] = (e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]) / l1;
+    P[1][1] = sqrt(cx * cx + cy * cy + cz * cz) / l1;
+    return P[1][1] > 0 ? 0 : -1;
+}
+
 static void measure_triangle(texopt_mesh *mesh, size_t t)
 {
     const uint32_t *v = mesh->triangle + 3 * t;

@@ -90,6 +90,11 @@ static inline const double *texopt_mesh_vertex_point(const texopt_mesh *mesh, ui
     return mesh->position + 3 * (size_t)mesh->point_of[vertex];
 }
 
+/* The columns of P are the edges b - a and c - a of triangle t (vertices a, b, c) in an
+ * orthonormal frame of its 3D plane with x along b - a: P is upper triangular with a positive
+ * diagonal. Returns -1 (P not meaningful) when the triangle has no area, else 0. */
+int texopt_mesh_plane_edges(const texopt_mesh *mesh, size_t t, double P[2][2]);
+
 /* Builds the mesh of domain `domain` of `model`. On success the caller owns *out and frees it
  * with texopt_mesh_destroy. */
 texopt_status texopt_mesh_create(texopt_mesh **out, const texopt_model *model, int domain,

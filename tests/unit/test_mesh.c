@@ -229,6 +229,28 @@ TEST(degenerate_triangles_are_flagged_relative_to_their_size)
     texopt_model_destroy(model);
 }
 
+TEST(plane_edges_are_the_triangle_in_a_frame_of_its_plane)
+{
+    /* t0: b - a = (0, 0, 3), c - a = (0, 4, 1): along the first edge 3 then 1, across it 4.
+     * t1: collinear, no frame. */
+    const float pos[] = {2, 2, 2, 2, 2, 5, 2, 6, 3,
+                         0, 0, 0, 1, 1, 1, 2, 2, 2};
+    const float uv[] = {0, 0, 0.5f, 0, 0, 0.5f, 0.6f, 0.6f, 0.9f, 0.6f, 0.6f, 0.9f};
+    const uint32_t tri[] = {0, 1, 2, 3, 4, 5};
+    texopt_model *model = fixture_model_from_arrays(pos, uv, 6, tri, 2, 16, 16, "flat");
+    CHECK(model != NULL);
+    texopt_mesh *m = NULL;
+    char err[256] = "";
+    CHECK_OK(texopt_mesh_create(&m, model, 0, err, sizeof err), err);
+    double P[2][2];
+    CHECK_EQ_INT(texopt_mesh_plane_edges(m, 0, P), 0);
+    CHECK(fabs(P[0][0] - 3) < 1e-12 && fabs(P[0][1] - 1) < 1e-12);
+    CHECK(P[1][0] == 0 && fabs(P[1][1] - 4) < 1e-12);
+    CHECK_EQ_INT(texopt_mesh_plane_edges(m, 1, P), -1);
+    texopt_mesh_destroy(m);
+    texopt_model_destroy(model);
+}
+
 TEST(fold_over_inside_a_chart_is_flipped_mirrored_chart_is_not)
 {
     texopt_model *model = fixture_grid(2, 16, "flat");
