@@ -158,6 +158,10 @@ static texopt_params run_params(const texopt_compare_options *opt, texopt_method
     p.budget = TEXOPT_BUDGET_RELATIVE_COST;
     p.evaluate = 0;
     p.mipmapped = opt->evaluate.mipmapped != 0;
+    /* A JPEG input's outputs are measured as re-baked: the q of a layout, as the statistics'
+     * and the target_loss search's q are, not that of quality-98 JPEG noise, which `input`
+     * at c_r 1 (its bytes kept) would not pay. */
+    p.lossless_textures = 1;
     return p;
 }
 

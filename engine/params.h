@@ -74,6 +74,10 @@ typedef struct texopt_params {
     double packing_efficiency; /* [0, 1): when a packing's efficiency falls short of it, the
                                charts filling little of their box are reshaped toward it and
                                packed again (budget.h reshape_efficiency); 0 -> never */
+    int lossless_textures;  /* non-zero: replaced textures are written as PNG even where the
+                               input's were JPEG (texopt_model_edit.lossless), so that a q
+                               measured from the file is the layout's and not the encoding's
+                               (compare.h sets it); 0: a JPEG stays a JPEG */
 } texopt_params;
 
 const char *texopt_method_name(texopt_method method);

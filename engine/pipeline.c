@@ -1996,7 +1996,7 @@ texopt_status texopt_job_write(texopt_job *job, const texopt_job_budget *budget,
     if (st == TEXOPT_OK) {
         job_stage(&job->jm, "save", end, 1.0);
         double t0 = now_seconds();
-        texopt_model_edit edit = {out.uvs, out.edit_images};
+        texopt_model_edit edit = {out.uvs, out.edit_images, p.lossless_textures};
         st = texopt_model_save_glb(job->model, &edit, output_glb, err, err_len);
         js->seconds_save = now_seconds() - t0;
     }

@@ -78,11 +78,15 @@ typedef struct texopt_model_edit {
      * file's. Written to the primitives that had TEXCOORD_0 as new float accessors with exact
      * min/max; the KHR_texture_transform of bindings on TEXCOORD_0 is dropped. */
     const float *uvs;
-    /* images[i] replaces model image i (any size; encoded as PNG), or NULL keeps the
-     * original encoded bytes untouched. The array has model->image_count entries; the
-     * whole array may be NULL to keep every image. Bindings through another set than
-     * TEXCOORD_0 that read a replaced image are pointed at an untouched copy of it. */
+    /* images[i] replaces model image i (any size; a JPEG's replacement encoded as a JPEG of
+     * quality 98, any other as PNG), or NULL keeps the original encoded bytes untouched. The
+     * array has model->image_count entries; the whole array may be NULL to keep every image.
+     * Bindings through another set than TEXCOORD_0 that read a replaced image are pointed at
+     * an untouched copy of it. */
     const texopt_image *const *images;
+    /* Non-zero: every replacement is encoded as PNG, a JPEG's too, so the file holds the
+     * replacement's texels exactly (to its bit depth). */
+    int lossless;
 } texopt_model_edit;
 
 /* Writes model (as loaded by texopt_model_load*) with edit applied as a binary glTF at path:

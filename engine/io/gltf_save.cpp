@@ -243,10 +243,13 @@ void replace_texcoords(tinygltf::Model &g, const texopt_model *model, const floa
  * file keeps"). */
 const int JPEG_QUALITY = 98;
 
-/* Whether replacement image i is written as a JPEG (its original was one). */
-bool replaced_as_jpeg(const texopt_model *model, const texopt_image *img, size_t i)
+/* Whether replacement image i is written as a JPEG (its original was one, and the edit may
+ * lose detail). */
+bool replaced_as_jpeg(const texopt_model *model, const texopt_model_edit *edit, size_t i)
 {
-    return model->document->image_mime[i] == "image/jpeg" && (img->channels == 1 || img->channels == 3);
+    const texopt_image *img = edit->images[i];
+    return !edit->lossless && model->document->image_mime[i] == "image/jpeg" &&
+           (img->channels == 1 || img->channels == 3);
 }
 
 /* Encodes every replacement image into (*encoded)[i]: a JPEG's as a JPEG (replaced_as_jpeg),
@@ -268,7 +271,7 @@ texopt_status encode_replacements(const texopt_model *model, const texopt_model_
             size_t len = 0;
             int bits = model->document->image_bits[i] > 8 ? 16 : 8;
             texopt_status st =
-                replaced_as_jpeg(model, img, i)
+                replaced_as_jpeg(model, edit, i)
                     ? texopt_image_encode_jpeg(img, JPEG_QUALITY, &bytes, &len, job_err, job_err_len)
                     : texopt_image_encode_png_bits(img, bits, &bytes, &len, job_err, job_err_len);
             if (st == TEXOPT_OK)
@@ -413,7 +416,7 @@ texopt_status build_output(const texopt_model *model, const texopt_model_edit *e
     point_textures_at_replacements(g, encoded);
     for (size_t i = 0; i < (size_t)model->image_count; i++)
         if (!encoded[i].empty())
-            mime[i] = replaced_as_jpeg(model, edit->images[i], i) ? "image/jpeg" : "image/png";
+            mime[i] = replaced_as_jpeg(model, edit, i) ? "image/jpeg" : "image/png";
     drop_images_made_unused(g, src, &encoded, &mime);
 
     /* Data of the views that will exist, by old index; views made here carry their bytes. */

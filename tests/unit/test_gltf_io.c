@@ -318,7 +318,7 @@ TEST(triangle_strips_and_fans_load_as_their_triangles_and_stay_strips_when_saved
         float uvs[8];
         for (int i = 0; i < 8; i++)
             uvs[i] = 0.5f * m->uvs[i] + 0.25f;
-        texopt_model_edit edit = {uvs, NULL};
+        texopt_model_edit edit = {uvs, NULL, 0};
         CHECK_OK(texopt_model_save_glb(m, &edit, out, err, sizeof err), err);
         CHECK_EQ_INT(file_contains(out, modes[k]), 1);
         texopt_model *back = NULL;
@@ -385,7 +385,7 @@ static void check_round_trip(const char *path, float uv_shift, const char *out)
     float *uvs = NULL;
     texopt_image repl = {0, 0, 0, NULL};
     const texopt_image **imgs = NULL;
-    texopt_model_edit edit = {NULL, NULL};
+    texopt_model_edit edit = {NULL, NULL, 0};
     if (uv_shift != 0) {
         uvs = malloc(sizeof(float) * 2 * m->vertex_count);
         for (size_t i = 0; i < 2 * m->vertex_count; i++)
@@ -469,7 +469,7 @@ TEST(jpeg_texture_keeps_its_bytes_unless_replaced_and_unused_views_are_dropped)
     CHECK_OK(st, err);
     CHECK_EQ_INT(m->images[0].width, 16);
     float uvs[8] = {0, 0, 0.5f, 0, 0.5f, 0.5f, 0, 0.5f};
-    texopt_model_edit edit = {uvs, NULL};
+    texopt_model_edit edit = {uvs, NULL, 0};
     snprintf(out, sizeof out, "%s/jpeg.glb", dir);
     CHECK_OK(texopt_model_save_glb(m, &edit, out, err, sizeof err), err);
     f = fopen(out, "rb");
@@ -510,6 +510,22 @@ TEST(jpeg_texture_keeps_its_bytes_unless_replaced_and_unused_views_are_dropped)
     for (size_t i = 0; i < 32 * 16 * 3; i++)
         worst = fmax(worst, fabs(back->images[0].pixels[i] - rebaked.pixels[i]));
     CHECK_MSG(worst < 0.03, "JPEG off by %g", worst);
+    texopt_model_destroy(back);
+
+    /* Lossless (the copies compare measures): a PNG holding the replacement to 8 bits. */
+    edit.lossless = 1;
+    CHECK_OK(texopt_model_save_glb(m, &edit, out, err, sizeof err), err);
+    f = fopen(out, "rb");
+    CHECK(f != NULL);
+    len = fread(buf, 1, sizeof buf, f);
+    fclose(f);
+    CHECK(len > 0 && len < sizeof buf);
+    CHECK(builder_contains(buf, len, "image/png", 9) && !builder_contains(buf, len, "image/jpeg", 10));
+    CHECK_OK(texopt_model_load(&back, out, NULL, err, sizeof err), err);
+    worst = 0;
+    for (size_t i = 0; i < 32 * 16 * 3; i++)
+        worst = fmax(worst, fabs(back->images[0].pixels[i] - rebaked.pixels[i]));
+    CHECK_MSG(worst <= 0.5 / 255 + 1e-6, "PNG off by %g", worst);
     texopt_image_destroy(&rebaked);
     texopt_model_destroy(m);
     texopt_model_destroy(back);
@@ -529,7 +545,7 @@ TEST(saving_refuses_bad_edits_and_keeps_the_old_file)
     snprintf(out, sizeof out, "%s/q.glb", dir);
     CHECK(builder_write(out, "old", 3));
     float uvs[8] = {0, 0, 1, 0, 1, 1, 0, NAN};
-    texopt_model_edit edit = {uvs, NULL};
+    texopt_model_edit edit = {uvs, NULL, 0};
     CHECK_EQ_INT(texopt_model_save_glb(m, &edit, out, err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
     CHECK(strstr(err, "vertex 3") != NULL);
     FILE *f = fopen(out, "rb");
@@ -538,7 +554,7 @@ TEST(saving_refuses_bad_edits_and_keeps_the_old_file)
     fclose(f);
     texopt_image empty = {0, 0, 0, NULL};
     const texopt_image *imgs[1] = {&empty};
-    texopt_model_edit edit2 = {NULL, imgs};
+    texopt_model_edit edit2 = {NULL, imgs, 0};
     CHECK_EQ_INT(texopt_model_save_glb(m, &edit2, out, err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
     snprintf(out, sizeof out, "%s/no/such/dir/q.glb", dir);
     CHECK_EQ_INT(texopt_model_save_glb(m, NULL, out, err, sizeof err), TEXOPT_E_IO);
@@ -666,7 +682,7 @@ TEST(texture_transforms_on_texcoord0_are_applied_to_the_uvs_and_dropped_when_sav
      * loading it again applies nothing more. */
     CHECK(builder_tempdir(dir));
     snprintf(out, sizeof out, "%s/out.glb", dir);
-    texopt_model_edit edit = {m->uvs, NULL};
+    texopt_model_edit edit = {m->uvs, NULL, 0};
     CHECK_OK(texopt_model_save_glb(m, &edit, out, err, sizeof err), err);
     CHECK_EQ_INT(file_contains(out, "KHR_texture_transform"), 0);
     int rc = validate_against_quad(out, &doc, json, dir);
@@ -718,7 +734,7 @@ static texopt_model *save_and_reload(const texopt_model *m, const char *dir, con
                                      size_t path_len, char *err, size_t err_len)
 {
     snprintf(path, path_len, "%s/%s", dir, name);
-    texopt_model_edit edit = {m->uvs, NULL};
+    texopt_model_edit edit = {m->uvs, NULL, 0};
     texopt_model *back = NULL;
     if (texopt_model_save_glb(m, &edit, path, err, err_len) != TEXOPT_OK ||
         texopt_model_load(&back, path, NULL, err, err_len) != TEXOPT_OK)
@@ -832,7 +848,7 @@ static texopt_model *save_rebaked_and_reload(const texopt_model *m, const char *
     texopt_model *back = NULL;
     if (images && builder_texture(&rebaked, 2, 2)) {
         images[0] = &rebaked;
-        texopt_model_edit edit = {m->uvs, images};
+        texopt_model_edit edit = {m->uvs, images, 0};
         if (texopt_model_save_glb(m, &edit, out, err, err_len) != TEXOPT_OK ||
             texopt_model_load(&back, out, NULL, err, err_len) != TEXOPT_OK) {
             texopt_model_destroy(back);
@@ -957,7 +973,7 @@ TEST(a_16_bit_texture_is_replaced_at_16_bits)
     CHECK_MSG(max_difference(&m->images[0], &original) < 0.5 / 65535, "decoded off by %g",
               max_difference(&m->images[0], &original));
     const texopt_image *images[1] = {&rebaked};
-    texopt_model_edit edit = {m->uvs, images};
+    texopt_model_edit edit = {m->uvs, images, 0};
     CHECK(builder_tempdir(dir));
     snprintf(out, sizeof out, "%s/out.glb", dir);
     CHECK_OK(texopt_model_save_glb(m, &edit, out, err, sizeof err), err);

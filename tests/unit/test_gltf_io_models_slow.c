@@ -48,7 +48,7 @@ static void check_model(const char *path, const char *out)
     float *uvs = malloc(sizeof(float) * 2 * m->vertex_count);
     for (size_t i = 0; i < 2 * m->vertex_count; i++)
         uvs[i] = 0.75f - 0.5f * m->uvs[i];
-    texopt_model_edit edit = {uvs, NULL};
+    texopt_model_edit edit = {uvs, NULL, 0};
     CHECK_OK(texopt_model_save_glb(m, &edit, out, err, sizeof err), err);
     double t3 = seconds_now();
     CHECK_OK(texopt_model_load(&back, out, &header_only, err, sizeof err), err);
