@@ -68,6 +68,8 @@ void texopt_params_resolve(texopt_params *p)
         p->lambda_min = 0.1;
     if (p->refinements == 0)
         p->refinements = TEXOPT_DEFAULT_REFINEMENTS;
+    if (p->hessian_floor == 0)
+        p->hessian_floor = TEXOPT_DEFAULT_HESSIAN_FLOOR;
 }
 
 int texopt_params_refinement_rounds(const texopt_params *p)
@@ -117,6 +119,9 @@ texopt_status texopt_params_validate(const texopt_params *p, char *err, size_t e
     if (!(p->packing_efficiency >= 0 && p->packing_efficiency < 1))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "packing_efficiency: %g is outside [0, 1)", p->packing_efficiency);
+    if (!(p->hessian_floor == -1 || (p->hessian_floor > 0 && p->hessian_floor <= 1)))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "hessian_floor: %g is neither -1 nor in (0, 1]", p->hessian_floor);
     if (!isfinite(p->relative_cost) || !isfinite(p->epsilon))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "parameters must be finite");
     return TEXOPT_OK;

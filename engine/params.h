@@ -28,6 +28,16 @@
  * 60 s on two idle cores (BENCHMARKS.md "Correction (lead, ninth session)"). */
 #define TEXOPT_DEFAULT_REFINEMENTS 4
 
+/* The floor under stage 1's targets when the user gives none: a triangle whose area scale is
+ * below that of this factor times tewari's target (tewari.h, the Hessian metric) takes that
+ * target scaled by it. Stage 1 judges a triangle on its one-ring's pixels, where a sliver
+ * with sharp detail (Duck's eyes) weighs little; the Hessian metric sees its texels alone. At
+ * 0.5 q fell at 21 of the 48 points of the eight benchmark models by over 5% (Duck 0.32-0.76x,
+ * DamagedHelmet to 0.76x) and rose at 5 by over 5% (spot 1.22x, Fox 1.08-1.14x, CesiumMan
+ * 1.07x, all at c_r 0.1-0.5); perceptual below tewari at 46 of 48 against 40 (BENCHMARKS.md
+ * "A floor at half the Hessian metric's targets, re-measured"). */
+#define TEXOPT_DEFAULT_HESSIAN_FLOOR 0.5
+
 typedef enum texopt_method {
     TEXOPT_METHOD_PERCEPTUAL = 0, /* stage 1 + stage 2 (the paper) */
     TEXOPT_METHOD_INPUT,          /* the input layout, textures resized to the budget */
@@ -74,6 +84,8 @@ typedef struct texopt_params {
     double packing_efficiency; /* [0, 1): when a packing's efficiency falls short of it, the
                                charts filling little of their box are reshaped toward it and
                                packed again (budget.h reshape_efficiency); 0 -> never */
+    double hessian_floor;   /* perceptual: (0, 1], the floor's factor under stage 1's targets
+                               (TEXOPT_DEFAULT_HESSIAN_FLOOR); 0 -> that default, -1 -> none */
     int lossless_textures;  /* non-zero: replaced textures are written as PNG even where the
                                input's were JPEG (texopt_model_edit.lossless), so that a q
                                measured from the file is the layout's and not the encoding's

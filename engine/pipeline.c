@@ -437,6 +437,27 @@ static texopt_status baseline_or_perceptual_targets(const texopt_model *model, c
     }
 }
 
+/* Raises stage 1's targets to the Hessian floor (params.h TEXOPT_DEFAULT_HESSIAN_FLOOR): the
+ * slivers whose one-ring hides their detail from stage 1 get at least k^2 of tewari's
+ * area. *raised: how many targets it raised. */
+static texopt_status raise_to_hessian_floor(const texopt_model *model, const texopt_mesh *mesh,
+                                            const texopt_params *params, texopt_triangle_target *targets,
+                                            size_t *raised, char *err, size_t err_len)
+{
+    *raised = 0;
+    if (params->hessian_floor <= 0 || mesh->triangle_count == 0)
+        return TEXOPT_OK;
+    texopt_triangle_target *hessian = calloc(mesh->triangle_count, sizeof *hessian);
+    if (!hessian)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the Hessian floor of %zu triangles",
+                           mesh->triangle_count);
+    texopt_status st = texopt_tewari_targets(model, mesh, params->lambda_min, hessian, err, err_len);
+    if (st == TEXOPT_OK)
+        *raised = texopt_targets_raise_to_floor(targets, hessian, mesh->triangle_count, params->hessian_floor);
+    free(hessian);
+    return st;
+}
+
 /* What a layout method does with a domain. */
 typedef enum domain_keep {
     DOMAIN_LAID_OUT = 0,
@@ -624,6 +645,9 @@ static texopt_status prepare_domain(texopt_job *job, int d, double from, double 
     topt.signal_weights = job->signal_weights;
     st = baseline_or_perceptual_targets(model, jd->mesh, params, &topt, jd->targets, &trep, &job->jm,
                                         err, err_len);
+    if (st == TEXOPT_OK && params->method == TEXOPT_METHOD_PERCEPTUAL)
+        st = raise_to_hessian_floor(model, jd->mesh, params, jd->targets, &ds->hessian_floor_triangles, err,
+                                    err_len);
     ds->seconds_stage1 = now_seconds() - t0;
     if (st == TEXOPT_OK && params->method == TEXOPT_METHOD_PERCEPTUAL)
         record_stage1(jd->mesh, jd->targets, &trep, params->epsilon, ds);

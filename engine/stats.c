@@ -53,6 +53,7 @@ static void add_stage_stats(cJSON *dom, const texopt_domain_stats *d)
         cJSON_AddNumberToObject(s1, "within_epsilon_share", d->within_epsilon_share);
         cJSON_AddNumberToObject(s1, "evaluations", (double)d->evaluations);
         cJSON_AddNumberToObject(s1, "close_up_triangles", (double)d->close_up_triangles);
+        cJSON_AddNumberToObject(s1, "hessian_floor_triangles", (double)d->hessian_floor_triangles);
     }
     if (d->has_stage2) {
         cJSON *s2 = cJSON_AddObjectToObject(dom, "stage2");

@@ -46,6 +46,7 @@ typedef struct texopt_domain_stats {
     double loss_mean, loss_max, area_scale_mean, within_epsilon_share;
     long long evaluations;
     size_t close_up_triangles;
+    size_t hessian_floor_triangles; /* targets raised to the Hessian floor (params.h) */
 
     int has_stage2;
     int stage2_iterations;

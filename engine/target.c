@@ -30,3 +30,19 @@ void texopt_target_set_stretch(texopt_triangle_target *g, double theta, double a
         g->lambda2 = along;
     }
 }
+
+size_t texopt_targets_raise_to_floor(texopt_triangle_target *targets, const texopt_triangle_target *floor_targets,
+                                     size_t count, double k)
+{
+    size_t raised = 0;
+    for (size_t t = 0; t < count; t++) {
+        const texopt_triangle_target *f = &floor_targets[t];
+        if (targets[t].lambda1 * targets[t].lambda2 < k * k * f->lambda1 * f->lambda2) {
+            targets[t].lambda1 = k * f->lambda1;
+            targets[t].lambda2 = k * f->lambda2;
+            targets[t].beta = f->beta;
+            raised++;
+        }
+    }
+    return raised;
+}

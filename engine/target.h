@@ -8,6 +8,8 @@
 #ifndef TEXOPT_TARGET_H
 #define TEXOPT_TARGET_H
 
+#include <stddef.h>
+
 typedef struct texopt_triangle_target {
     double alpha;    /* rotation, [0, pi/2) */
     double lambda1;  /* singular values, (lambda_min, 1] for the perceptual stage */
@@ -26,5 +28,11 @@ void texopt_sym2_eigen(const double m[3], double *mu1, double *mu2, double *thet
 /* Sets beta, lambda1, lambda2 of g for the scale `along` in direction theta in [0, pi) and
  * `across` perpendicular to it (beta folded into [0, pi/2), the scales swapped past it). */
 void texopt_target_set_stretch(texopt_triangle_target *g, double theta, double along, double across);
+
+/* Raises the targets whose area scale lambda1 lambda2 is below k^2 times floor_targets' to k
+ * times their singular values along their axes (beta), keeping their rotation and weights; k in
+ * (0, 1]. Returns how many were raised. */
+size_t texopt_targets_raise_to_floor(texopt_triangle_target *targets, const texopt_triangle_target *floor_targets,
+                                     size_t count, double k);
 
 #endif

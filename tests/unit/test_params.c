@@ -14,6 +14,7 @@ TEST(zero_params_resolve_to_paper_defaults)
     CHECK_NEAR(p.relative_cost, 1.0, 0);
     CHECK(p.method == TEXOPT_METHOD_PERCEPTUAL);
     CHECK_EQ_INT(p.refinements, TEXOPT_DEFAULT_REFINEMENTS);
+    CHECK_NEAR(p.hessian_floor, TEXOPT_DEFAULT_HESSIAN_FLOOR, 0);
     char err[128] = "";
     CHECK_OK(texopt_params_validate(&p, err, sizeof err), err);
 }
@@ -42,6 +43,14 @@ TEST(out_of_range_fields_are_named)
     CHECK(texopt_params_validate(&p, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     CHECK(strstr(err, "packing_efficiency") != NULL);
     p.packing_efficiency = NAN;
+    CHECK(texopt_params_validate(&p, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    p.packing_efficiency = 0;
+    p.hessian_floor = -1; /* none: valid */
+    CHECK_OK(texopt_params_validate(&p, err, sizeof err), err);
+    p.hessian_floor = 1.5;
+    CHECK(texopt_params_validate(&p, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "hessian_floor") != NULL);
+    p.hessian_floor = -0.5;
     CHECK(texopt_params_validate(&p, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
 }
 

@@ -590,6 +590,7 @@ static texopt_status optimize_grid_with_variant(const scratch *s, const char *co
     texopt_params p = {0};
     p.relative_cost = 0.5;
     p.threads = 1;
+    p.hessian_floor = -1; /* stage 1's own reading of the variant, not the floor's */
     return texopt_optimize_file(s->in, s->out, s->stats, &p, NULL, err, err_len);
 }
 
@@ -633,6 +634,38 @@ TEST(stage1_reads_a_variant_material_s_texture)
     printf("  stage 1 mean area scale %.4f\n", area);
     CHECK_MSG(area > 0.1, "stage 1 mean area scale %.4f", area);
     cJSON_Delete(st);
+    scratch_free(&s);
+}
+
+/* The Hessian floor (params.h) raises stage 1's targets below k^2 of tewari's area: at k = 1
+ * on a grid whose texture is half flat, half detailed, some are raised, the statistics count
+ * them and the mean area scale grows; with the floor off none is raised. */
+TEST(the_hessian_floor_raises_stage_1_targets_and_says_how_many)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 6, 64, "half") == 0);
+    double raised[2], area[2];
+    const double floors[2] = {-1, 1};
+    for (int k = 0; k < 2; k++) {
+        texopt_params p = {0};
+        p.relative_cost = 0.5;
+        p.threads = 1;
+        p.iterations = 5;
+        p.hessian_floor = floors[k];
+        char err[512] = "";
+        CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+        cJSON *st = read_json(s.stats);
+        CHECK(st != NULL);
+        cJSON *stage1 = cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(st, "domains"), 0), "stage1");
+        cJSON *n = cJSON_GetObjectItem(stage1, "hessian_floor_triangles");
+        raised[k] = cJSON_IsNumber(n) ? n->valuedouble : -1;
+        area[k] = cJSON_GetObjectItem(stage1, "area_scale_mean")->valuedouble;
+        cJSON_Delete(st);
+    }
+    printf("  raised %g of 72 (off: %g), mean area scale %.4f (off: %.4f)\n", raised[1], raised[0], area[1], area[0]);
+    CHECK_MSG(raised[0] == 0, "raised with the floor off: %g", raised[0]);
+    CHECK_MSG(raised[1] > 0 && raised[1] <= 72, "raised at k = 1: %g", raised[1]);
+    CHECK_MSG(area[1] > area[0], "mean area scale %.4f with the floor, %.4f without", area[1], area[0]);
     scratch_free(&s);
 }
 

@@ -1,4 +1,5 @@
-/* test_target.c - the stretch helpers of engine/target.h on matrices with known answers. */
+/* test_target.c - the stretch helpers of engine/target.h on matrices with known answers, and
+ * the floor raising targets below a share of another's area. */
 #include <math.h>
 
 #include "target.h"
@@ -51,4 +52,29 @@ TEST(stretch_direction_past_a_quarter_turn_swaps_the_scales)
     CHECK_NEAR(g.beta, 0.4, 1e-15);
     CHECK_NEAR(g.lambda1, 0.2, 0);
     CHECK_NEAR(g.lambda2, 0.9, 0);
+}
+
+/* Below k^2 of the floor's area a target takes k times the floor's values and axes, keeping
+ * its rotation and weights; at or above it, it is left as it is. */
+TEST(a_floor_raises_only_the_targets_below_k_squared_of_its_area)
+{
+    texopt_triangle_target t[3] = {
+        {.alpha = 0.2, .lambda1 = 0.1, .lambda2 = 0.1, .beta = 0.3, .loss = 0.5, .w_rotation = 2, .w_stretch = 3},
+        {.lambda1 = 0.5, .lambda2 = 0.125, .beta = 0.1}, /* 0.0625: exactly k^2 times the floor's */
+        {.lambda1 = 1.0, .lambda2 = 0.05, .beta = 0.2},  /* 0.05: below, though one value is not */
+    };
+    const texopt_triangle_target floor[3] = {
+        {.lambda1 = 0.8, .lambda2 = 0.4, .beta = 1.0},
+        {.lambda1 = 0.5, .lambda2 = 0.5, .beta = 1.0},
+        {.lambda1 = 0.5, .lambda2 = 0.5, .beta = 1.2},
+    };
+    CHECK_EQ_INT(texopt_targets_raise_to_floor(t, floor, 3, 0.5), 2);
+    CHECK_NEAR(t[0].lambda1, 0.4, 0);
+    CHECK_NEAR(t[0].lambda2, 0.2, 0);
+    CHECK_NEAR(t[0].beta, 1.0, 0);
+    CHECK(t[0].alpha == 0.2 && t[0].loss == 0.5 && t[0].w_rotation == 2 && t[0].w_stretch == 3);
+    CHECK(t[1].lambda1 == 0.5 && t[1].lambda2 == 0.125 && t[1].beta == 0.1);
+    CHECK(t[2].lambda1 == 0.25 && t[2].lambda2 == 0.25 && t[2].beta == 1.2);
+    /* Raised targets are at the floor: a second pass raises none. */
+    CHECK_EQ_INT(texopt_targets_raise_to_floor(t, floor, 3, 0.5), 0);
 }
