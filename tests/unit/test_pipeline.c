@@ -23,10 +23,15 @@
 #include "sample.h"
 #include "test.h"
 
+/* Domain 0's `key` in the statistics root, NULL when absent. */
+static cJSON *domain_item(cJSON *root, const char *key)
+{
+    return cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(root, "domains"), 0), key);
+}
+
 static double domain_number(cJSON *root, const char *key)
 {
-    cJSON *d = cJSON_GetArrayItem(cJSON_GetObjectItem(root, "domains"), 0);
-    cJSON *v = cJSON_GetObjectItem(d, key);
+    cJSON *v = domain_item(root, key);
     return cJSON_IsNumber(v) ? v->valuedouble : NAN;
 }
 
@@ -452,7 +457,7 @@ TEST(a_domain_magnified_nearest_is_kept_as_pixel_art)
 /* The statistics' reason for keeping domain 0's input layout, "" when it was laid out. */
 static const char *input_layout_kept(cJSON *st)
 {
-    cJSON *why = cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(st, "domains"), 0), "input_layout_kept");
+    cJSON *why = domain_item(st, "input_layout_kept");
     return cJSON_IsString(why) ? why->valuestring : "";
 }
 
@@ -541,8 +546,7 @@ TEST(a_tiling_texture_keeps_its_input_layout)
                 CHECK_EQ_INT(out->images[0].width, 45); /* 64 sqrt(0.5) */
                 CHECK(memcmp(out->uvs, uv, sizeof uv) == 0);
             } else
-                CHECK_MSG(*why == '\0' && cJSON_IsTrue(cJSON_GetObjectItem(
-                                              cJSON_GetArrayItem(cJSON_GetObjectItem(st, "domains"), 0), "repacked")),
+                CHECK_MSG(*why == '\0' && cJSON_IsTrue(domain_item(st, "repacked")),
                           "%s: '%s'", texopt_method_name(p.method), why);
             cJSON_Delete(st);
             texopt_model_destroy(out);
@@ -629,7 +633,7 @@ TEST(stage1_reads_a_variant_material_s_texture)
     CHECK_OK(optimize_grid_with_variant(&s, patterns, err, sizeof err), err);
     cJSON *st = read_json(s.stats);
     CHECK(st != NULL);
-    cJSON *stage1 = cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(st, "domains"), 0), "stage1");
+    cJSON *stage1 = domain_item(st, "stage1");
     double area = cJSON_GetObjectItem(stage1, "area_scale_mean")->valuedouble;
     printf("  stage 1 mean area scale %.4f\n", area);
     CHECK_MSG(area > 0.1, "stage 1 mean area scale %.4f", area);
@@ -656,7 +660,7 @@ TEST(the_hessian_floor_raises_stage_1_targets_and_says_how_many)
         CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
         cJSON *st = read_json(s.stats);
         CHECK(st != NULL);
-        cJSON *stage1 = cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(st, "domains"), 0), "stage1");
+        cJSON *stage1 = domain_item(st, "stage1");
         cJSON *n = cJSON_GetObjectItem(stage1, "hessian_floor_triangles");
         raised[k] = cJSON_IsNumber(n) ? n->valuedouble : -1;
         area[k] = cJSON_GetObjectItem(stage1, "area_scale_mean")->valuedouble;
@@ -960,7 +964,7 @@ TEST(material_extension_textures_are_rebaked_like_the_slots)
     CHECK(!same_pixels(&out->images[2], &out->images[3]));
     /* The statistics name each image by the binding that reads it. */
     cJSON *st = read_json(s.stats);
-    cJSON *images = cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(st, "domains"), 0), "images");
+    cJSON *images = domain_item(st, "images");
     const char *want[6] = {"baseColor",        "normal",           "clearcoatNormalTexture",
                            "clearcoatTexture", "sheenColorTexture", "anisotropyTexture"};
     CHECK_EQ_INT(cJSON_GetArraySize(images), 6);
