@@ -35,6 +35,17 @@ static double paid_area(const texopt_mesh *mesh, size_t t, const texopt_allocate
     return opt && opt->paid ? opt->paid[t] * a : a;
 }
 
+double texopt_targets_area(const texopt_mesh *mesh, const texopt_triangle_target *targets, const double *paid)
+{
+    texopt_allocate_options o = {0};
+    o.paid = paid;
+    double sum = 0;
+    for (size_t t = 0; t < mesh->triangle_count; t++)
+        if (counted(mesh, t))
+            sum += paid_area(mesh, t, &o) * targets[t].lambda1 * targets[t].lambda2;
+    return sum;
+}
+
 static double capped(double s, double lambda, double cap)
 {
     double v = s * lambda;

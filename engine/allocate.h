@@ -63,6 +63,10 @@ texopt_status texopt_allocate_targets(const texopt_mesh *mesh, const texopt_tria
                                       texopt_triangle_target *out, texopt_allocation *report,
                                       char *err, size_t err_len);
 
+/* The targets' total texel area as allocated above: sum a_i lambda1 lambda2 over the counted
+ * triangles, a_i times paid[i] when paid is not NULL. */
+double texopt_targets_area(const texopt_mesh *mesh, const texopt_triangle_target *targets, const double *paid);
+
 /* Closed-loop reallocation from what the screen shows (Sun et al. 2022's principle, the
  * perceptual loss on screen, applied to the whole mesh; pipeline.c iterates it). error[t]
  * (mesh->triangle_count entries, >= 0) is triangle t's on-screen error under the layout that

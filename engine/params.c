@@ -70,6 +70,8 @@ void texopt_params_resolve(texopt_params *p)
         p->refinements = TEXOPT_DEFAULT_REFINEMENTS;
     if (p->hessian_floor == 0)
         p->hessian_floor = TEXOPT_DEFAULT_HESSIAN_FLOOR;
+    if (p->metric_candidates == 0)
+        p->metric_candidates = 1;
 }
 
 int texopt_params_refinement_rounds(const texopt_params *p)
@@ -122,6 +124,9 @@ texopt_status texopt_params_validate(const texopt_params *p, char *err, size_t e
     if (!(p->hessian_floor == -1 || (p->hessian_floor > 0 && p->hessian_floor <= 1)))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "hessian_floor: %g is neither -1 nor in (0, 1]", p->hessian_floor);
+    if (p->metric_candidates != -1 && p->metric_candidates != 1)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "metric_candidates: %d is neither -1 nor 1", p->metric_candidates);
     if (!isfinite(p->relative_cost) || !isfinite(p->epsilon))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "parameters must be finite");
     return TEXOPT_OK;

@@ -86,6 +86,9 @@ typedef struct texopt_params {
                                packed again (budget.h reshape_efficiency); 0 -> never */
     double hessian_floor;   /* perceptual: (0, 1], the floor's factor under stage 1's targets
                                (TEXOPT_DEFAULT_HESSIAN_FLOOR); 0 -> that default, -1 -> none */
+    int metric_candidates;  /* perceptual: 1: the signal metrics' targets (tewari.h, ssp.h),
+                               solved as they are, are candidate layouts beside stage 1's
+                               (pipeline.c run_best_budget); 0 -> 1, -1 -> not made */
     int lossless_textures;  /* non-zero: replaced textures are written as PNG even where the
                                input's were JPEG (texopt_model_edit.lossless), so that a q
                                measured from the file is the layout's and not the encoding's

@@ -157,6 +157,10 @@ static cJSON *job_json(const texopt_job_stats *s)
         if (s->allocation_dense_made)
             cJSON_AddNumberToObject(a, "q_allocated_dense", s->q_allocated_dense);
         cJSON_AddNumberToObject(a, "q_uniform", s->q_uniform);
+        if (s->metric_candidates_made) {
+            cJSON_AddNumberToObject(a, "q_hessian", s->q_hessian);
+            cJSON_AddNumberToObject(a, "q_signal_stretch", s->q_signal_stretch);
+        }
         cJSON_AddStringToObject(a, "chosen", s->allocation_chosen ? s->allocation_chosen : "");
         cJSON *t = cJSON_AddObjectToObject(a, "seconds");
         cJSON_AddNumberToObject(t, "evaluate", s->seconds_choice_evaluate);

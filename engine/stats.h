@@ -88,17 +88,20 @@ typedef struct texopt_job_stats {
     double search_cost_below;    /* largest cost tried that missed the target (0: none) */
     double search_q_below;       /* its q */
     int has_allocation_choice;   /* perceptual: q of the candidate layouts (pipeline.c) */
-    double q_allocated, q_allocated_dense, q_uniform;
+    double q_allocated, q_allocated_dense, q_uniform, q_hessian, q_signal_stretch;
     int allocation_dense_made;   /* 0: no target met the cap at input density, so the dense
                                     candidate would have been the allocated one */
-    const char *allocation_chosen; /* "allocated", "allocated_dense" or "uniform" (static) */
+    int metric_candidates_made;  /* the hessian and signal_stretch candidates were made
+                                    (params.h metric_candidates) */
+    const char *allocation_chosen; /* a candidate_name of pipeline.c (static) */
     double seconds_choice_evaluate; /* the evaluation pass of the candidates */
     double seconds_other_candidate; /* the discarded candidates' stage 2, packing and bake */
     int refinement_rounds;       /* closed-loop rounds tried on the kept candidate ... */
     int refinement_kept;         /* ... and kept (each lowered q_refinement) */
     int refinement_lit;          /* the rounds' screen: lit (evaluate.h), else base colour */
     double q_refinement_before, q_refinement_after; /* on the refinement's 12 cameras */
-    double seconds_refinement;   /* its renders and rounds */
+    double seconds_refinement;   /* its renders and rounds, and those of the candidate refined
+                                    beside it (pipeline.c refine_best) */
     int has_evaluation;          /* params.evaluate: whole-mesh loss of the result */
     double q;                    /* evaluate.h: mean GMSD over the 20 views */
     int eval_resolution;

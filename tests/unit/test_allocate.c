@@ -1,8 +1,9 @@
 /* test_allocate.c - water-filling of per-triangle targets to a texel budget (allocate.c), on
  * the meshes of generated grids: the allocated area meets the request, no singular value
  * passes input density, uncapped targets keep their ratios, lossless targets can grow slower,
- * and bad input is refused; the closed-loop reallocation moves area to the triangles with
- * on-screen error, within its step and cap. */
+ * the targets' area counts what each triangle pays, and bad input is refused; the
+ * closed-loop reallocation moves area to the triangles with on-screen error, within its step
+ * and cap. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -153,6 +154,9 @@ TEST(triangles_that_pay_nothing_cost_nothing_but_scale_alike)
     /* Without the shares the same request is spread over twice the area: smaller targets. */
     CHECK_OK(texopt_allocate_targets(g.mesh, g.in, 0.25 * own, NULL, g.out, &rep, err, sizeof err), err);
     CHECK(rep.scale < 0.45);
+    /* The targets' area as the allocation counts it: with the shares, and without. */
+    CHECK_NEAR(texopt_targets_area(g.mesh, g.in, paid), own, 1e-9 * own);
+    CHECK_NEAR(texopt_targets_area(g.mesh, g.in, NULL), total_area(g.mesh, g.in), 1e-9 * own);
     paid[5] = 1.5;
     CHECK(texopt_allocate_targets(g.mesh, g.in, 0.25 * own, &opt, g.out, &rep, err, sizeof err) ==
           TEXOPT_E_INVALID_ARGUMENT);

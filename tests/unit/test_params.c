@@ -15,6 +15,7 @@ TEST(zero_params_resolve_to_paper_defaults)
     CHECK(p.method == TEXOPT_METHOD_PERCEPTUAL);
     CHECK_EQ_INT(p.refinements, TEXOPT_DEFAULT_REFINEMENTS);
     CHECK_NEAR(p.hessian_floor, TEXOPT_DEFAULT_HESSIAN_FLOOR, 0);
+    CHECK_EQ_INT(p.metric_candidates, 1);
     char err[128] = "";
     CHECK_OK(texopt_params_validate(&p, err, sizeof err), err);
 }
@@ -52,6 +53,12 @@ TEST(out_of_range_fields_are_named)
     CHECK(strstr(err, "hessian_floor") != NULL);
     p.hessian_floor = -0.5;
     CHECK(texopt_params_validate(&p, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    p.hessian_floor = -1;
+    p.metric_candidates = -1; /* not made: valid */
+    CHECK_OK(texopt_params_validate(&p, err, sizeof err), err);
+    p.metric_candidates = 2;
+    CHECK(texopt_params_validate(&p, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "metric_candidates") != NULL);
 }
 
 TEST(refinement_rounds_count_as_users_do)
