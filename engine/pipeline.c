@@ -1561,6 +1561,24 @@ static texopt_status draft_candidate_images(texopt_job *job, const texopt_params
     return st;
 }
 
+/* What one candidate's refinement did (refine_kept), for the statistics. */
+typedef struct refinement_record {
+    int rounds, kept, lit;
+    double q_before, q_after, seconds;
+} refinement_record;
+
+/* The kept candidate's refinement in the statistics, with the seconds of every refinement the
+ * budget ran. */
+static void record_refinement(texopt_job_stats *js, const refinement_record *r, double seconds)
+{
+    js->refinement_rounds = r->rounds;
+    js->refinement_kept = r->kept;
+    js->refinement_lit = r->lit;
+    js->q_refinement_before = r->q_before;
+    js->q_refinement_after = r->q_after;
+    js->seconds_refinement = seconds;
+}
+
 /* Closed-loop refinement of the kept perceptual candidate, the paper's principle (perceptual
  * loss on screen) applied to the whole mesh: render the layout against the input, take each
  * triangle's on-screen error (evaluate.h triangle_error_edges: value and gradient both wrong,
@@ -1582,15 +1600,13 @@ static texopt_status draft_candidate_images(texopt_job *job, const texopt_params
  * so that every layout is judged with the same bake; the saved layout's drafts are baked
  * again with the fit (bake_remaining_images).
  * The rounds tried and kept, the measure, the 12-view q before and after and their time go
- * to the statistics (allocation_choice.refinement); after a kept round kept->ev is the
- * icosahedron's. */
+ * to *rec (for the statistics' allocation_choice.refinement); after a kept round kept->ev is
+ * the icosahedron's. */
 static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candidate *kept, double cap,
-                                 double from, double to, char *err, size_t err_len)
+                                 double from, double to, refinement_record *rec, char *err, size_t err_len)
 {
     int rounds = texopt_params_refinement_rounds(p), nd = job->model->domain_count;
-    texopt_job_stats *js = &job->stats;
-    js->refinement_rounds = js->refinement_kept = js->refinement_lit = 0;
-    js->seconds_refinement = 0;
+    memset(rec, 0, sizeof *rec);
     if (rounds <= 0)
         return TEXOPT_OK;
     double t0 = now_seconds();
@@ -1603,7 +1619,7 @@ static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candid
                            : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the refinement");
     if (st == TEXOPT_OK)
         st = copy_targets(job, best, next, err, err_len);
-    int lit = js->refinement_lit = p->refine_lit && texopt_lit_has_maps(job->model);
+    int lit = rec->lit = p->refine_lit && texopt_lit_has_maps(job->model);
     const job_output *shown = &kept->out;
     texopt_evaluation best_ev;
     double span = (to - from) / (rounds + 1);
@@ -1619,7 +1635,7 @@ static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candid
     if (st == TEXOPT_OK) {
         st = evaluate_outputs_on(job->model, &shown, 1, p, TEXOPT_CAMERAS_ICOSAHEDRON, lit, views, error, &job->jm,
                                  &best_ev, err, err_len);
-        js->q_refinement_before = best_ev.q;
+        rec->q_before = best_ev.q;
     }
     texopt_reallocate_options step = refinement_step;
     for (int r = 0; r < rounds && st == TEXOPT_OK; r++) {
@@ -1640,16 +1656,16 @@ static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candid
             double *e = error;
             error = next_error;
             next_error = e;
-            js->refinement_kept++;
+            rec->kept++;
         } else
             step.gamma *= 0.5;
         free_domain_stats(trial.domains, nd);
         job_output_destroy(&trial.out, job->model->image_count);
-        js->refinement_rounds = r + 1;
+        rec->rounds = r + 1;
     }
     if (st == TEXOPT_OK)
-        js->q_refinement_after = best_ev.q; /* the kept layout's; unchanged when no round was kept */
-    js->seconds_refinement = now_seconds() - t0;
+        rec->q_after = best_ev.q; /* the kept layout's; unchanged when no round was kept */
+    rec->seconds = now_seconds() - t0;
     texopt_evaluate_reference_destroy(views);
     free_targets(best, nd);
     free_targets(next, nd);
@@ -1765,40 +1781,18 @@ static void record_choice(texopt_job_stats *js, const texopt_evaluation *evs, co
             js->seconds_other_candidate += seconds[i];
 }
 
-/* The refinement's statistics (refine_kept's), to set aside while another candidate is refined. */
-typedef struct refinement_record {
-    int rounds, kept;
-    double q_before, q_after, seconds;
-} refinement_record;
-
-static refinement_record refinement_of(const texopt_job_stats *js)
-{
-    refinement_record r = {js->refinement_rounds, js->refinement_kept, js->q_refinement_before,
-                           js->q_refinement_after, js->seconds_refinement};
-    return r;
-}
-
-static void restore_refinement(texopt_job_stats *js, const refinement_record *r, double seconds)
-{
-    js->refinement_rounds = r->rounds;
-    js->refinement_kept = r->kept;
-    js->q_refinement_before = r->q_before;
-    js->q_refinement_after = r->q_after;
-    js->seconds_refinement = seconds;
-}
-
 /* Refines candidate i of cand (refine_kept, starting from its targets' source). A metric
  * candidate gets twice the rounds: it starts nearer an optimum of its own, where the first
  * rounds' steps overshoot and only the halved ones gain (CesiumMan at c_r 0.1: the fifth
  * round, BENCHMARKS.md "The signal metrics' layouts as candidates"). */
 static texopt_status refine_candidate(texopt_job *job, const texopt_params *p, candidate *cand, int i, double from,
-                                      double to, char *err, size_t err_len)
+                                      double to, refinement_record *rec, char *err, size_t err_len)
 {
     texopt_params rounds = *p;
     if (candidate_source[i] != SOURCE_STAGE1 && p->refinements > 0)
         rounds.refinements = p->refinements * 2 > 20 ? 20 : p->refinements * 2;
     job->source = candidate_source[i];
-    texopt_status st = refine_kept(job, &rounds, &cand[i], candidate_cap[i], from, to, err, err_len);
+    texopt_status st = refine_kept(job, &rounds, &cand[i], candidate_cap[i], from, to, rec, err, err_len);
     job->source = SOURCE_STAGE1;
     return st;
 }
@@ -1812,26 +1806,19 @@ static texopt_status refine_candidate(texopt_job *job, const texopt_params *p, c
 static texopt_status refine_best(texopt_job *job, const texopt_params *p, candidate *cand, const int best[2],
                                  double from, double to, int *kept, char *err, size_t err_len)
 {
-    texopt_job_stats *js = &job->stats;
     int challenge = best[1] >= 0 && cand[best[1]].ev.q < cand[best[0]].ev.q;
-    *kept = best[0];
-    if (texopt_params_refinement_rounds(p) <= 0) {
+    refinement_record rec[2] = {{0}, {0}};
+    texopt_status st = TEXOPT_OK;
+    if (texopt_params_refinement_rounds(p) <= 0)
         *kept = challenge ? best[1] : best[0];
-        return refine_candidate(job, p, cand, *kept, from, to, err, err_len); /* records no rounds */
+    else {
+        double split = challenge ? 0.5 * (from + to) : to;
+        st = refine_candidate(job, p, cand, best[0], from, split, &rec[0], err, err_len);
+        if (st == TEXOPT_OK && challenge)
+            st = refine_candidate(job, p, cand, best[1], split, to, &rec[1], err, err_len);
+        *kept = st == TEXOPT_OK && challenge && rec[1].q_after < rec[0].q_after ? best[1] : best[0];
     }
-    double split = challenge ? 0.5 * (from + to) : to;
-    texopt_status st = refine_candidate(job, p, cand, best[0], from, split, err, err_len);
-    if (st != TEXOPT_OK || !challenge)
-        return st;
-    refinement_record stage1 = refinement_of(js);
-    st = refine_candidate(job, p, cand, best[1], split, to, err, err_len);
-    refinement_record metric = refinement_of(js);
-    double seconds = stage1.seconds + metric.seconds;
-    if (st == TEXOPT_OK && metric.q_after < stage1.q_after) {
-        *kept = best[1];
-        restore_refinement(js, &metric, seconds);
-    } else
-        restore_refinement(js, &stage1, seconds);
+    record_refinement(&job->stats, &rec[*kept == best[1]], rec[0].seconds + rec[1].seconds);
     return st;
 }
 
