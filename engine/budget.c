@@ -439,7 +439,7 @@ static texopt_status calibrate_scale(work *w, double target, double area, double
     texopt_status st = TEXOPT_OK;
     double best_miss = INFINITY, best_s = *s;
     for (int round = 0; st == TEXOPT_OK && round < COST_ROUNDS && best_miss > COST_TOLERANCE; round++) {
-        int strip = round_up4(sqrt(area * *s * *s / 0.7 * aspect)), fits = 0, pw, ph;
+        int strip = round_up4(sqrt(area * *s * *s / 0.7 * aspect)), fits = 0, pw = 0, ph = 0;
         double cost = 0;
         texopt_packer *packer = NULL;
         w->sequence = NULL;
@@ -502,7 +502,7 @@ static texopt_status fit_relative_cost(work *w, const texopt_budget_request *req
     res->cost = cost;
     for (int round = 0; st == TEXOPT_OK && round < COST_ROUNDS && best_miss > COST_TOLERANCE && cost > 0; round++) {
         double k = sqrt(target / cost);
-        int fits, pw, ph, next_strip = round_up4(strip * k);
+        int fits = 0, pw = 0, ph = 0, next_strip = round_up4(strip * k);
         if (next_strip > MAX_SIDE) {
             st = texopt_fail(err, err_len, TEXOPT_E_LIMIT, "budget: the layout needs a texture wider than %d texels",
                              MAX_SIDE);
