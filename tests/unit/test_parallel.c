@@ -98,7 +98,8 @@ TEST(workers_whose_threads_cannot_start_run_in_order_on_the_calling_thread)
     CHECK(pthread_attr_setstacksize(&huge, (size_t)1 << 62) == 0);
     CHECK(pthread_setattr_default_np(&huge) == 0);
     pthread_t t;
-    int could_start = pthread_create(&t, NULL, count_calls, &(atomic_int){0}) == 0;
+    atomic_int calls = 0;
+    int could_start = pthread_create(&t, NULL, count_calls, &calls) == 0;
     if (could_start)
         pthread_join(t, NULL);
     rendezvous rv = {.expected = 1}; /* alone on one thread, nobody else to meet */
