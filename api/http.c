@@ -26,8 +26,12 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "json_depth.h"
 #include "log.h"
 #include "problem.h"
+
+/* A body on a request that takes none is read and dropped up to this size, then cut. */
+#define MAX_IGNORED_BODY_BYTES (1u << 20)
 
 static double monotonic_seconds(void)
 {
@@ -203,7 +207,14 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *c, const cha
         return MHD_YES;
     }
     if (strcmp(rq->method, "POST") != 0) {
-        *upload_data_size = 0; /* a body on GET/DELETE means nothing here */
+        /* A body on GET/DELETE/OPTIONS (axios sends `{}` with DELETE) means nothing here: it
+         * is read and dropped, and the request answered once it is complete (an answer
+         * queued while body bytes are pending makes libmicrohttpd drop the connection). */
+        if (*upload_data_size > 0) {
+            rq->discarded += *upload_data_size;
+            *upload_data_size = 0;
+            return rq->discarded > MAX_IGNORED_BODY_BYTES ? MHD_NO : MHD_YES;
+        }
         return rq->status ? MHD_YES : first_call(rq, c);
     }
     if (rq->status) {
@@ -276,6 +287,7 @@ struct MHD_Daemon *api_http_start(api_service *svc, int *port_out, char *err, si
         MHD_OPTION_CONNECTION_LIMIT, (unsigned int)svc->config.max_connections,
         MHD_OPTION_CONNECTION_TIMEOUT, (unsigned int)120,
         MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)(256 * 1024),
+        MHD_OPTION_THREAD_STACK_SIZE, TEXOPT_PARSE_STACK_BYTES,
         MHD_OPTION_END);
     if (!d) {
         texopt_fail(err, err_len, TEXOPT_E_IO, "cannot listen on %s:%d (address in use or not permitted)",

@@ -189,7 +189,7 @@ static enum MHD_Result accept_job(request_ctx *rq, struct MHD_Connection *c, con
     job.created_ms = store_now_ms();
     job.eta_seconds = -1;
     job.params = *params;
-    job.upload_bytes = api_upload_bytes(rq->upload);
+    job.upload_bytes = api_upload_file_bytes(rq->upload);
     snprintf(job.model_name, sizeof job.model_name, "%s", api_upload_model_name(rq->upload));
     snprintf(job.input_rel, sizeof job.input_rel, "%s", api_upload_model_rel(rq->upload));
     const char *key = MHD_lookup_connection_value(c, MHD_HEADER_KIND, "Idempotency-Key");

@@ -19,7 +19,8 @@ struct api_upload {
     char dir[PATH_MAX - 64];
     int multipart;
     struct MHD_PostProcessor *pp;
-    uint64_t bytes, limit;
+    uint64_t bytes, limit;      /* the body as received */
+    uint64_t file_bytes;        /* of the files stored (no envelope, no params) */
     int fd;                     /* the file being written, -1 between files */
     int in_part;                /* a part has started */
     char part_key[64];          /* field and file name of the part being received */
@@ -114,6 +115,7 @@ static int open_file(api_upload *u, const char *name)
 static int write_file(api_upload *u, const char *data, size_t size)
 {
     u->digest = fingerprint_mix(u->digest, data, size);
+    u->file_bytes += size;
     while (size > 0) {
         ssize_t n = write(u->fd, data, size);
         if (n < 0 && errno == EINTR)
@@ -282,6 +284,11 @@ int api_upload_error(const api_upload *u, const char **slug, const char **detail
 uint64_t api_upload_bytes(const api_upload *u)
 {
     return u->bytes;
+}
+
+uint64_t api_upload_file_bytes(const api_upload *u)
+{
+    return u->file_bytes;
 }
 
 uint64_t api_upload_digest(const api_upload *u)

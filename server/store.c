@@ -95,6 +95,7 @@ static char *record_to_json(const job_record *r)
     cJSON_AddStringToObject(o, "idempotency_key", r->idempotency_key);
     cJSON_AddStringToObject(o, "request_digest", r->request_digest);
     cJSON_AddNumberToObject(o, "upload_bytes", (double)r->upload_bytes);
+    cJSON_AddBoolToObject(o, "report", r->has_report != 0);
     cJSON_AddItemToObject(o, "params", api_params_to_json(&r->params));
     if (r->state == JOB_FAILED)
         job_problem_add_json(o, &r->problem);
@@ -136,6 +137,7 @@ static int record_from_json(const char *text, job_record *r, char *err, size_t e
     r->progress = get_double(o, "progress");
     copy_string(r->stage, sizeof r->stage, o, "stage");
     r->upload_bytes = (uint64_t)get_double(o, "upload_bytes");
+    r->has_report = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(o, "report"));
     r->eta_seconds = -1;
     copy_string(r->model_name, sizeof r->model_name, o, "model_name");
     copy_string(r->input_rel, sizeof r->input_rel, o, "input");
@@ -485,7 +487,9 @@ void store_progress(job_store *store, store_job *job, const char *stage, double 
     pthread_mutex_lock(&store->mu);
     int new_stage = strncmp(job->rec.stage, stage, sizeof job->rec.stage - 1) != 0;
     snprintf(job->rec.stage, sizeof job->rec.stage, "%s", stage);
-    job->rec.progress = progress < 0 ? 0 : progress > 1 ? 1 : progress;
+    /* Within a run progress only grows: a client may draw it as a bar. */
+    if (progress > job->rec.progress)
+        job->rec.progress = progress > 1 ? 1 : progress;
     job->rec.eta_seconds = eta_seconds;
     job->rec.mean_loss = mean_loss;
     job->rec.mean_area_scale = mean_area_scale;
@@ -495,11 +499,12 @@ void store_progress(job_store *store, store_job *job, const char *stage, double 
     pthread_mutex_unlock(&store->mu);
 }
 
-static void end_run(job_store *store, store_job *job, job_state state, const job_problem *problem)
+static void end_run(job_store *store, store_job *job, job_state state, const job_problem *problem, int has_report)
 {
     pthread_mutex_lock(&store->persist_mu);
     pthread_mutex_lock(&store->mu);
     job->rec.state = state;
+    job->rec.has_report = has_report;
     if (state == JOB_SUCCEEDED)
         job->rec.progress = 1;
     if (job_state_finished(state))
@@ -520,14 +525,14 @@ static void end_run(job_store *store, store_job *job, job_state state, const job
     log_state(&copy);
 }
 
-void store_finish(job_store *store, store_job *job, job_state state, const job_problem *problem)
+void store_finish(job_store *store, store_job *job, job_state state, const job_problem *problem, int has_report)
 {
-    end_run(store, job, state, problem);
+    end_run(store, job, state, problem, has_report);
 }
 
 void store_requeue(job_store *store, store_job *job)
 {
-    end_run(store, job, JOB_QUEUED, NULL);
+    end_run(store, job, JOB_QUEUED, NULL, 0);
 }
 
 cancel_outcome store_cancel(job_store *store, const char *id, job_record *out)

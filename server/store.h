@@ -66,7 +66,8 @@ typedef struct job_record {
     char input_rel[300];     /* the model file, relative to the job directory */
     char idempotency_key[129];
     char request_digest[17]; /* api/fingerprint.h of files + params; "" for older jobs */
-    uint64_t upload_bytes;
+    uint64_t upload_bytes;   /* the files uploaded (model and its files), not the envelope */
+    int has_report;          /* report.html was written */
     texopt_params params;
     job_problem problem;     /* when failed */
 } job_record;
@@ -107,13 +108,15 @@ int store_queued_ids(job_store *store, char (**ids)[JOB_ID_LEN + 1]);
  * watches, or NULL when the job is no longer queued (canceled or deleted meanwhile). */
 store_job *store_begin(job_store *store, const char *id, job_record *out, const atomic_int **cancel);
 
-/* A running job's progress; publishes an event when it moved enough to matter (a new
- * stage, +0.5% or 250 ms later), so watchers are not flooded per triangle. */
+/* A running job's progress (kept when lower than the last: it never runs backwards within
+ * a run); publishes an event when it moved enough to matter (a new stage, +0.5% or 250 ms
+ * later), so watchers are not flooded per triangle. */
 void store_progress(job_store *store, store_job *job, const char *stage, double progress,
                     double eta_seconds, double mean_loss, double mean_area_scale);
 
-/* running -> succeeded/failed/canceled (problem used when failed). */
-void store_finish(job_store *store, store_job *job, job_state state, const job_problem *problem);
+/* running -> succeeded/failed/canceled (problem used when failed; has_report: report.html
+ * was written). */
+void store_finish(job_store *store, store_job *job, job_state state, const job_problem *problem, int has_report);
 /* running -> queued, for a job stopped by shutdown; it runs again after restart. */
 void store_requeue(job_store *store, store_job *job);
 

@@ -9,6 +9,7 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 
+#include "json_depth.h"
 #include "log.h"
 #include "run_job.h"
 #include "status.h"
@@ -74,14 +75,19 @@ worker_pool *workers_start(job_store *store, job_queue *queue, service_metrics *
     pool->queue = queue;
     pool->metrics = metrics;
     pool->nice = WORKER_NICE;
+    pthread_attr_t attr;
+    pthread_attr_init(&attr);
+    pthread_attr_setstacksize(&attr, TEXOPT_PARSE_STACK_BYTES);
     for (int i = 0; i < config->workers; i++) {
-        if (pthread_create(&pool->threads[i], NULL, worker_main, pool) != 0) {
+        if (pthread_create(&pool->threads[i], &attr, worker_main, pool) != 0) {
+            pthread_attr_destroy(&attr);
             texopt_fail(err, err_len, TEXOPT_E_INTERNAL, "cannot start worker thread %d", i);
             workers_destroy(pool);
             return NULL;
         }
         pool->count++;
     }
+    pthread_attr_destroy(&attr);
     log_event("level=info event=workers started=%d", pool->count);
     return pool;
 }

@@ -8,7 +8,7 @@
 source "$(dirname "$0")/service_common.bash"
 SPOT="$TEXOPT_SOURCE_DIR/tests/data/spot/spot.glb"
 make_fixtures "$WORK/fx"
-start_server --max-upload-bytes 400000
+start_server --max-upload-bytes 1000000
 
 head -c 5000 "$SPOT" >"$WORK/truncated.glb"
 expect_problem 400 "$(post_glb "$WORK/truncated.glb" "method=input")" malformed-model
@@ -18,7 +18,7 @@ expect_problem 415 "$(curl -s -o "$WORK/resp" -D "$WORK/headers" -w '%{http_code
 expect_problem 415 "$(curl -s -o "$WORK/resp" -D "$WORK/headers" -w '%{http_code}' -X POST \
   --data-binary "@$SPOT" "$BASE/v1/jobs")" unsupported-media-type
 
-head -c 500000 /dev/zero >"$WORK/big.glb"
+head -c 1100000 /dev/zero >"$WORK/big.glb"
 expect_problem 413 "$(post_glb "$WORK/big.glb" "")" body-too-large
 # Without Content-Length (chunked), the limit is enforced while streaming.
 expect_problem 413 "$(curl -s -o "$WORK/resp" -D "$WORK/headers" -w '%{http_code}' -X POST \
@@ -50,6 +50,33 @@ expect_problem 400 "$(multipart -F 'params={"method":"input"}')" bad-multipart
 expect_problem 400 "$(multipart -F "model=@$SPOT" -F 'colour=red')" bad-multipart
 expect_problem 415 "$(multipart -F "model=@$WORK/fx/tex.png")" unsupported-media-type
 
+# JSON nesting 100,000 deep (200 KB) overflowed the connection thread's stack: raw .glb,
+# multipart .gltf, params part, and `texopt info` on the same file.
+/usr/bin/python3 - "$WORK/fx/quad.gltf" "$WORK/deep" <<'PY'
+import json, struct, sys
+doc = open(sys.argv[1]).read()
+deep = '{"extras":' + "[" * 100000 + "]" * 100000 + "," + doc[1:]
+open(sys.argv[2] + ".gltf", "w").write(deep)
+j = deep.encode() + b" " * (-len(deep) % 4)
+open(sys.argv[2] + ".glb", "wb").write(struct.pack("<III", 0x46546C67, 2, 20 + len(j)) + struct.pack("<I", len(j)) + b"JSON" + j)
+open(sys.argv[2] + "-params.json", "w").write('{"seed":' + "[" * 5000 + "]" * 5000 + "}")
+PY
+expect_problem 400 "$(post_glb "$WORK/deep.glb" "")" malformed-model
+grep -q 'JSON nests deeper than 128' "$WORK/resp" || fail "deep .glb refusal: $(cat "$WORK/resp")"
+expect_problem 400 "$(multipart -F "model=@$WORK/deep.gltf" -F "files=@$WORK/fx/quad.bin" -F "files=@$WORK/fx/tex.png")" malformed-model
+expect_problem 400 "$(multipart -F "model=@$WORK/fx/quad.gltf" -F "files=@$WORK/fx/quad.bin" -F "files=@$WORK/fx/tex.png" \
+  -F "params=<$WORK/deep-params.json")" invalid-params
+grep -q 'nests deeper than' "$WORK/resp" || fail "deep params refusal: $(cat "$WORK/resp")"
+set +e
+"$TEXOPT_BIN" info "$WORK/deep.gltf" >"$WORK/info.txt" 2>&1
+rc=$?
+set -e
+[ "$rc" = 1 ] && grep -q 'JSON nests deeper than 128' "$WORK/info.txt" || fail "texopt info on the deep file: rc $rc, $(cat "$WORK/info.txt")"
+# Params JSON with text after it or a key twice.
+expect_problem 400 "$(multipart -F "model=@$SPOT" -F 'params={"method":"input"} trailing')" invalid-params
+expect_problem 400 "$(multipart -F "model=@$SPOT" -F 'params={"method":"input","method":"arap"}')" invalid-params
+grep -q "key 'method' given twice" "$WORK/resp" || fail "duplicate key refusal: $(cat "$WORK/resp")"
+
 # Valid but unusable: no TEXCOORD_0 on a textured primitive.
 expect_problem 422 "$(post_glb "$WORK/fx/nouv.glb" "method=input")" unsupported-model
 grep -qi 'texcoord' "$WORK/resp" || fail "422 does not say what is missing: $(cat "$WORK/resp")"
@@ -74,6 +101,12 @@ id=$(json "$WORK/resp" 'd["id"]')
 wait_state "$id" succeeded 120
 left=$(ls "$DATA/jobs")
 [ "$left" = "$id" ] || fail "refused uploads left directories: $left"
+# A body on GET, OPTIONS and DELETE (axios sends `{}` with DELETE) is read and dropped.
+[ "$(get "/v1/jobs/$id" -H 'Content-Type: application/json' --data-binary '{}' -X GET)" = 200 ] ||
+  fail "GET with a body: $(cat "$WORK/resp")"
+[ "$(curl -s -o /dev/null -w '%{http_code}' -X OPTIONS -d '{}' "$BASE/v1/jobs")" = 204 ] || fail "OPTIONS with a body"
+code=$(curl -s -o "$WORK/resp" -w '%{http_code}' -X DELETE -H 'Content-Type: application/json' -d '{}' "$BASE/v1/jobs/$id")
+[ "$code" = 204 ] || fail "DELETE with a JSON body answered $code"
 grep -q 'status="400"' <(curl -s "$BASE/metrics") || fail "metrics do not count the 400s"
 stop_server TERM || fail "texoptd did not exit cleanly"
 echo "service_hostile: ok"
