@@ -51,6 +51,13 @@ static int fail(api_upload *u, int status, const char *slug, const char *fmt, ..
     return -1;
 }
 
+/* A write that failed: a full disk (or quota) passes, so 503 and retry; anything else is 500. */
+static int fail_storage(api_upload *u)
+{
+    int full = errno == ENOSPC || errno == EDQUOT;
+    return fail(u, full ? 503 : 500, "storage-error", "cannot store the upload: %s", strerror(errno));
+}
+
 int api_upload_safe_name(const char *name)
 {
     size_t len = name ? strlen(name) : 0;
@@ -88,7 +95,7 @@ static int close_file(api_upload *u)
         rc = -1;
     u->fd = -1;
     if (rc != 0)
-        return fail(u, 500, "storage-error", "cannot store the upload: %s", strerror(errno));
+        return fail_storage(u);
     return 0;
 }
 
@@ -100,7 +107,7 @@ static int open_file(api_upload *u, const char *name)
     char *slash = strrchr(path, '/');
     *slash = '\0';
     if (fs_mkdir_p(path) != 0)
-        return fail(u, 500, "storage-error", "cannot store the upload: %s", strerror(errno));
+        return fail_storage(u);
     *slash = '/';
     /* The name and its terminating NUL: "a" + "bc" and "ab" + "c" differ. */
     u->digest = fingerprint_mix(u->digest, name, strlen(name) + 1);
@@ -108,7 +115,7 @@ static int open_file(api_upload *u, const char *name)
     if (u->fd < 0 && errno == EEXIST)
         return fail(u, 400, "bad-multipart", "file '%s' sent twice", name);
     if (u->fd < 0)
-        return fail(u, 500, "storage-error", "cannot store the upload: %s", strerror(errno));
+        return fail_storage(u);
     return 0;
 }
 
@@ -121,8 +128,7 @@ static int write_file(api_upload *u, const char *data, size_t size)
         if (n < 0 && errno == EINTR)
             continue;
         if (n < 0)
-            return fail(u, errno == ENOSPC ? 503 : 500, "storage-error", "cannot store the upload: %s",
-                        strerror(errno));
+            return fail_storage(u);
         data += n;
         size -= (size_t)n;
     }

@@ -59,6 +59,7 @@ static void wait_for_stop(const sigset_t *signals, api_service *svc)
             log_event("level=info event=shutdown signal=%s", sig == SIGTERM ? "SIGTERM" : "SIGINT");
             return;
         }
+        store_retry_unsaved(svc->store); /* ends of runs a full disk kept from job.json */
         time_t now = time(NULL);
         if (svc->config.retention_seconds > 0 && now - last_expire >= EXPIRE_EVERY_SECONDS) {
             last_expire = now;
