@@ -24,7 +24,7 @@ void config_defaults(service_config *cfg)
     cfg->max_pixels = 1ull << 28;
     cfg->retention_seconds = 7 * 24 * 3600;
     cfg->max_connections = 512;
-    cfg->max_connections_per_ip = 32;
+    cfg->max_connections_per_ip = 64;
     cfg->header_timeout_seconds = 10;
     cfg->idle_timeout_seconds = 30;
     long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
@@ -157,7 +157,7 @@ const char *config_usage(void)
            "               [--max-pixels N] [--retention-seconds N] [--max-connections N]\n"
            "               [--max-connections-per-ip N] [--header-timeout S] [--idle-timeout S]\n"
            "               [--memory-budget BYTES] [--cors-origin ORIGIN] [--port-file PATH]\n"
-           "Slow clients: at most --max-connections-per-ip (32) connections per address, the\n"
+           "Slow clients: at most --max-connections-per-ip (64) connections per address, the\n"
            "request line and headers within --header-timeout seconds (10) in all, and no more\n"
            "than --idle-timeout seconds (30) without a byte. Jobs run while the memory their\n"
            "images need by estimate fits in --memory-budget (default half the RAM).\n"

@@ -11,7 +11,7 @@
  *   --max-pixels N         TEXOPT_MAX_PIXELS       268435456 decoded texels over all images
  *   --retention-seconds N  TEXOPT_RETENTION_SECONDS 604800 (finished jobs kept a week; 0 = forever)
  *   --max-connections N    TEXOPT_MAX_CONNECTIONS  512
- *   --max-connections-per-ip N  TEXOPT_MAX_CONNECTIONS_PER_IP  32 open connections per client address
+ *   --max-connections-per-ip N  TEXOPT_MAX_CONNECTIONS_PER_IP  64 open connections per client address
  *   --header-timeout S     TEXOPT_HEADER_TIMEOUT   10 s to send the request line and headers, in all
  *   --idle-timeout S       TEXOPT_IDLE_TIMEOUT     30 s without a byte from the client (body, keep-alive)
  *   --memory-budget N      TEXOPT_MEMORY_BUDGET    bytes running jobs may take by estimate

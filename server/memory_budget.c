@@ -7,7 +7,7 @@
 /* The estimate's terms, measured on texopt optimize (BENCHMARKS.md "texoptd under hostile
  * load"): what a job holds besides its images, and per image pixel. */
 #define JOB_BASE_BYTES (256ull << 20)
-#define JOB_BYTES_PER_PIXEL 24ull
+#define JOB_BYTES_PER_PIXEL 28ull
 
 struct memory_budget {
     pthread_mutex_t mu;

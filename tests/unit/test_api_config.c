@@ -17,7 +17,7 @@ TEST(defaults_bind_loopback)
     CHECK(c.max_upload_bytes == 256ull << 20);
     CHECK(c.api_token[0] == '\0');
     CHECK(c.cors_origin[0] == '\0');
-    CHECK_EQ_INT(c.max_connections_per_ip, 32);
+    CHECK_EQ_INT(c.max_connections_per_ip, 64);
     CHECK_EQ_INT(c.header_timeout_seconds, 10);
     CHECK_EQ_INT(c.idle_timeout_seconds, 30);
     CHECK(c.memory_budget > 0);
