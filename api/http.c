@@ -34,6 +34,12 @@
 
 /* A body on a request that takes none is read and dropped up to this size, then cut. */
 #define MAX_IGNORED_BODY_BYTES (1u << 20)
+/* Request heads up to HEAD_MEMORY_BYTES reach texoptd, which refuses a URL or head past
+ * these limits as problem+json (414, 431); libmicrohttpd refuses larger heads itself, with
+ * its own short HTML answer, as it does a malformed Content-Length (before any callback). */
+#define MAX_URL_BYTES (16u << 10)
+#define MAX_HEAD_BYTES (64u << 10)
+#define HEAD_MEMORY_BYTES ((size_t)512 << 10)
 
 static double monotonic_seconds(void)
 {
@@ -166,9 +172,30 @@ static enum MHD_Result dispatch(request_ctx *rq, struct MHD_Connection *c)
     }
 }
 
+static enum MHD_Result add_header_bytes(void *cls, enum MHD_ValueKind kind, const char *key, const char *value)
+{
+    (void)kind;
+    *(size_t *)cls += strlen(key) + (value ? strlen(value) : 0) + 4; /* ": " and CRLF */
+    return MHD_YES;
+}
+
+static size_t head_bytes(struct MHD_Connection *c)
+{
+    size_t n = 0;
+    MHD_get_connection_values(c, MHD_HEADER_KIND, add_header_bytes, &n);
+    return n;
+}
+
 /* The first call for a request: everything that can be decided from the headers. */
 static enum MHD_Result first_call(request_ctx *rq, struct MHD_Connection *c)
 {
+    if (rq->url_bytes > MAX_URL_BYTES)
+        return http_send_problem(rq, c, 414, "uri-too-long", 0, "the URL has %zu bytes, more than %u", rq->url_bytes,
+                                 MAX_URL_BYTES);
+    size_t head = head_bytes(c);
+    if (head > MAX_HEAD_BYTES)
+        return http_send_problem(rq, c, 431, "headers-too-large", 0, "the headers have %zu bytes, more than %u",
+                                 head, MAX_HEAD_BYTES);
     if (rq->match.route == ROUTE_NOT_FOUND)
         return http_send_problem(rq, c, 404, "not-found", 0, "no resource at %s", rq->path);
     if (strcmp(rq->method, "OPTIONS") == 0)
@@ -223,6 +250,7 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *c, const cha
         rq->started = monotonic_seconds();
         snprintf(rq->method, sizeof rq->method, "%s", method);
         snprintf(rq->path, sizeof rq->path, "%s", url);
+        rq->url_bytes = strlen(url);
         rq->match = api_route_match(url);
         /* Only an upload is answered from the headers alone (its refusals must come before
          * the body). Other requests are answered on the next call, once libmicrohttpd has
@@ -356,7 +384,7 @@ struct MHD_Daemon *api_http_start(api_service *svc, int *port_out, char *err, si
         MHD_OPTION_CONNECTION_LIMIT, (unsigned int)cfg->max_connections,
         MHD_OPTION_PER_IP_CONNECTION_LIMIT, (unsigned int)cfg->max_connections_per_ip,
         MHD_OPTION_CONNECTION_TIMEOUT, (unsigned int)cfg->idle_timeout_seconds,
-        MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)(256 * 1024),
+        MHD_OPTION_CONNECTION_MEMORY_LIMIT, HEAD_MEMORY_BYTES,
         MHD_OPTION_THREAD_STACK_SIZE, TEXOPT_PARSE_STACK_BYTES,
         MHD_OPTION_END);
     if (!d) {

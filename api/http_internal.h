@@ -18,6 +18,7 @@ typedef struct request_ctx {
     api_match match;
     char method[16];
     char path[256];
+    size_t url_bytes;       /* of the whole URL (path is cut to fit) */
     double started;         /* monotonic seconds */
     int status;             /* the status answered, 0 until then */
     /* POST /v1/jobs only: */
