@@ -77,6 +77,36 @@ expect_problem 400 "$(multipart -F "model=@$SPOT" -F 'params={"method":"input"} 
 expect_problem 400 "$(multipart -F "model=@$SPOT" -F 'params={"method":"input","method":"arap"}')" invalid-params
 grep -q "key 'method' given twice" "$WORK/resp" || fail "duplicate key refusal: $(cat "$WORK/resp")"
 
+# A texture whose header is sound but whose pixels do not decode: the upload check reads
+# headers only (a PNG may declare 256 Mpx in 250 KB), so the job is accepted and fails.
+/usr/bin/python3 - "$WORK/fx" "$WORK/corrupt.glb" <<'PY'
+import json, struct, sys
+fx, out = sys.argv[1], sys.argv[2]
+doc = json.load(open(f"{fx}/quad.gltf"))
+binary, png = open(f"{fx}/quad.bin", "rb").read(), bytearray(open(f"{fx}/tex.png", "rb").read())
+at = 8
+while at + 12 <= len(png):
+    n = struct.unpack(">I", png[at:at + 4])[0]
+    if png[at + 4:at + 8] == b"IDAT":
+        png[at + 8:at + 8 + n] = b"\x5a" * n
+    at += 12 + n
+body = binary + bytes(png) + b"\0" * (-len(png) % 4)
+doc["buffers"] = [{"byteLength": len(body)}]
+doc["bufferViews"].append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(png)})
+doc["images"] = [{"bufferView": 3, "mimeType": "image/png"}]
+j = json.dumps(doc).encode()
+j += b" " * (-len(j) % 4)
+open(out, "wb").write(struct.pack("<III", 0x46546C67, 2, 28 + len(j) + len(body)) + struct.pack("<II", len(j), 0x4E4F534A)
+                      + j + struct.pack("<II", len(body), 0x004E4942) + body)
+PY
+[ "$(post_glb "$WORK/corrupt.glb" "method=input")" = 202 ] || fail "corrupt texture upload: $(cat "$WORK/resp")"
+corrupt=$(json "$WORK/resp" 'd["id"]')
+wait_state "$corrupt" failed 60
+curl -s -o "$WORK/corrupt.json" "$BASE/v1/jobs/$corrupt"
+[ "$(json "$WORK/corrupt.json" 'd["problem"]["type"]')" = urn:texopt:problem:malformed-model ] ||
+  fail "corrupt texture job: $(cat "$WORK/corrupt.json")"
+[ "$(curl -s -o /dev/null -w '%{http_code}' -X DELETE "$BASE/v1/jobs/$corrupt")" = 204 ] || fail "delete the failed job"
+
 # Valid but unusable: no TEXCOORD_0 on a textured primitive.
 expect_problem 422 "$(post_glb "$WORK/fx/nouv.glb" "method=input")" unsupported-model
 grep -qi 'texcoord' "$WORK/resp" || fail "422 does not say what is missing: $(cat "$WORK/resp")"
