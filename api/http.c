@@ -311,18 +311,9 @@ static void on_completed(void *cls, struct MHD_Connection *c, void **con_cls, en
  * rest counted in the next line written. */
 #define MHD_LOG_PER_SECOND 20
 
-typedef struct log_limit {
-    pthread_mutex_t mu;
-    long second;
-    int written;
-    long long dropped;
-} log_limit;
-
-static log_limit mhd_log_limit = {PTHREAD_MUTEX_INITIALIZER, 0, 0, 0};
-
 static void on_mhd_log(void *cls, const char *fmt, va_list ap)
 {
-    log_limit *limit = cls;
+    api_log_limit *limit = cls;
     long now = (long)monotonic_seconds();
     pthread_mutex_lock(&limit->mu);
     if (now != limit->second) {
@@ -375,9 +366,11 @@ struct MHD_Daemon *api_http_start(api_service *svc, int *port_out, char *err, si
         texopt_fail(err, err_len, TEXOPT_E_NOMEM, "out of memory");
         return NULL;
     }
+    memset(&svc->mhd_log, 0, sizeof svc->mhd_log);
+    pthread_mutex_init(&svc->mhd_log.mu, NULL);
     struct MHD_Daemon *d = MHD_start_daemon(
         flags, (uint16_t)svc->config.port, NULL, NULL, on_request, svc,
-        MHD_OPTION_EXTERNAL_LOGGER, on_mhd_log, &mhd_log_limit,
+        MHD_OPTION_EXTERNAL_LOGGER, on_mhd_log, &svc->mhd_log,
         MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&addr,
         MHD_OPTION_NOTIFY_COMPLETED, on_completed, svc,
         MHD_OPTION_NOTIFY_CONNECTION, on_connection, svc,
@@ -390,6 +383,7 @@ struct MHD_Daemon *api_http_start(api_service *svc, int *port_out, char *err, si
     if (!d) {
         head_watch_destroy(svc->heads);
         svc->heads = NULL;
+        pthread_mutex_destroy(&svc->mhd_log.mu);
         texopt_fail(err, err_len, TEXOPT_E_IO, "cannot listen on %s:%d (address in use or not permitted)",
                     svc->config.bind, svc->config.port);
         return NULL;
@@ -424,4 +418,5 @@ void api_http_stop(api_service *svc, struct MHD_Daemon *daemon)
         MHD_stop_daemon(daemon);
     head_watch_destroy(svc->heads);
     svc->heads = NULL;
+    pthread_mutex_destroy(&svc->mhd_log.mu);
 }

@@ -6,6 +6,7 @@
 #ifndef TEXOPT_API_SERVICE_H
 #define TEXOPT_API_SERVICE_H
 
+#include <pthread.h>
 #include <stdatomic.h>
 #include <stddef.h>
 
@@ -17,6 +18,14 @@
 struct worker_pool;
 struct head_watch;
 
+/* libmicrohttpd's own log lines written this second, and those dropped (api/http.c). */
+typedef struct api_log_limit {
+    pthread_mutex_t mu;
+    long second;
+    int written;
+    long long dropped;
+} api_log_limit;
+
 typedef struct api_service {
     service_config config;
     job_store *store;
@@ -26,6 +35,7 @@ typedef struct api_service {
     atomic_int draining;         /* set at SIGTERM: no new jobs, /readyz fails */
     atomic_int open_streams;     /* event streams whose response is not freed yet */
     struct head_watch *heads;    /* connections sending a request head (api/head_watch.h) */
+    api_log_limit mhd_log;
     const char *openapi;         /* the contents of openapi.yaml, served as is */
     size_t openapi_len;
 } api_service;
