@@ -4,7 +4,8 @@
  * when the state differs from the last one this stream sent, else `event: progress`, and
  * `id:` the job's event sequence number. Events are coalesced: a stream sends the latest
  * state whenever it is behind, so a client that resumes with Last-Event-ID gets the current
- * state at once (not every step it missed). The stream ends after a finished state.
+ * state at once (not every step it missed). The stream ends after a finished state; asked
+ * again with the finished state's id as Last-Event-ID, it answers 204 No Content.
  *
  * No busy loop: the content-reader callback waits on the store's condition variable with a
  * timeout (store_wait_event) and sends a comment line as keep-alive when it expires. The
@@ -127,10 +128,14 @@ enum MHD_Result jobs_events(request_ctx *rq, struct MHD_Connection *c)
     memcpy(s->id, job.id, sizeof s->id);
     s->last_seq = last_event_id(c);
     s->last_state = JOB_STATE_COUNT;
-    /* A finished job whose final event the client already has: an empty, ended stream. */
-    if (job_state_finished(job.state) && s->last_seq == job.event_seq)
-        s->done = 1;
-    else if (set_pending_text(s, "retry: 2000\n\n") != 0) /* reconnect after 2 s if cut */
+    /* A finished job whose final event the client already has: 204 is what makes an
+     * EventSource stop reconnecting (an empty 200 makes it retry every few seconds). */
+    if (job_state_finished(job.state) && s->last_seq == job.event_seq) {
+        free_stream(s);
+        struct MHD_Response *none = MHD_create_response_from_buffer(0, (void *)"", MHD_RESPMEM_PERSISTENT);
+        return http_send(rq, c, 204, none);
+    }
+    if (set_pending_text(s, "retry: 2000\n\n") != 0) /* reconnect after 2 s if cut */
         return free_stream(s), MHD_NO;
     struct MHD_Response *r = MHD_create_response_from_callback(MHD_SIZE_UNKNOWN, 4096, read_events, s, free_stream);
     if (!r) {

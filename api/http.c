@@ -17,6 +17,7 @@
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
+#include <pthread.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -26,8 +27,19 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "head_watch.h"
+#include "json_depth.h"
 #include "log.h"
 #include "problem.h"
+
+/* A body on a request that takes none is read and dropped up to this size, then cut. */
+#define MAX_IGNORED_BODY_BYTES (1u << 20)
+/* Request heads up to HEAD_MEMORY_BYTES reach texoptd, which refuses a URL or head past
+ * these limits as problem+json (414, 431); libmicrohttpd refuses larger heads itself, with
+ * its own short HTML answer, as it does a malformed Content-Length (before any callback). */
+#define MAX_URL_BYTES (16u << 10)
+#define MAX_HEAD_BYTES (64u << 10)
+#define HEAD_MEMORY_BYTES ((size_t)512 << 10)
 
 static double monotonic_seconds(void)
 {
@@ -160,9 +172,30 @@ static enum MHD_Result dispatch(request_ctx *rq, struct MHD_Connection *c)
     }
 }
 
+static enum MHD_Result add_header_bytes(void *cls, enum MHD_ValueKind kind, const char *key, const char *value)
+{
+    (void)kind;
+    *(size_t *)cls += strlen(key) + (value ? strlen(value) : 0) + 4; /* ": " and CRLF */
+    return MHD_YES;
+}
+
+static size_t head_bytes(struct MHD_Connection *c)
+{
+    size_t n = 0;
+    MHD_get_connection_values(c, MHD_HEADER_KIND, add_header_bytes, &n);
+    return n;
+}
+
 /* The first call for a request: everything that can be decided from the headers. */
 static enum MHD_Result first_call(request_ctx *rq, struct MHD_Connection *c)
 {
+    if (rq->url_bytes > MAX_URL_BYTES)
+        return http_send_problem(rq, c, 414, "uri-too-long", 0, "the URL has %zu bytes, more than %u", rq->url_bytes,
+                                 MAX_URL_BYTES);
+    size_t head = head_bytes(c);
+    if (head > MAX_HEAD_BYTES)
+        return http_send_problem(rq, c, 431, "headers-too-large", 0, "the headers have %zu bytes, more than %u",
+                                 head, MAX_HEAD_BYTES);
     if (rq->match.route == ROUTE_NOT_FOUND)
         return http_send_problem(rq, c, 404, "not-found", 0, "no resource at %s", rq->path);
     if (strcmp(rq->method, "OPTIONS") == 0)
@@ -178,6 +211,29 @@ static enum MHD_Result first_call(request_ctx *rq, struct MHD_Connection *c)
     return dispatch(rq, c);
 }
 
+static head_entry *head_of(struct MHD_Connection *c)
+{
+    const union MHD_ConnectionInfo *info = MHD_get_connection_info(c, MHD_CONNECTION_INFO_SOCKET_CONTEXT);
+    return info ? info->socket_context : NULL;
+}
+
+/* Every connection is watched while it sends a request head (head_watch.h). */
+static void on_connection(void *cls, struct MHD_Connection *c, void **socket_context,
+                          enum MHD_ConnectionNotificationCode code)
+{
+    api_service *svc = cls;
+    if (code == MHD_CONNECTION_NOTIFY_STARTED) {
+        const union MHD_ConnectionInfo *fd = MHD_get_connection_info(c, MHD_CONNECTION_INFO_CONNECTION_FD);
+        const union MHD_ConnectionInfo *addr = MHD_get_connection_info(c, MHD_CONNECTION_INFO_CLIENT_ADDRESS);
+        *socket_context = fd ? head_watch_open(svc->heads, fd->connect_fd, addr ? addr->client_addr : NULL,
+                                               monotonic_seconds())
+                             : NULL;
+        return;
+    }
+    head_watch_close(svc->heads, *socket_context);
+    *socket_context = NULL;
+}
+
 static enum MHD_Result on_request(void *cls, struct MHD_Connection *c, const char *url, const char *method,
                                   const char *version, const char *upload_data, size_t *upload_data_size,
                                   void **con_cls)
@@ -185,6 +241,7 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *c, const cha
     (void)version;
     request_ctx *rq = *con_cls;
     if (!rq) {
+        head_watch_done(((api_service *)cls)->heads, head_of(c));
         rq = calloc(1, sizeof *rq);
         if (!rq)
             return MHD_NO;
@@ -193,6 +250,7 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *c, const cha
         rq->started = monotonic_seconds();
         snprintf(rq->method, sizeof rq->method, "%s", method);
         snprintf(rq->path, sizeof rq->path, "%s", url);
+        rq->url_bytes = strlen(url);
         rq->match = api_route_match(url);
         /* Only an upload is answered from the headers alone (its refusals must come before
          * the body). Other requests are answered on the next call, once libmicrohttpd has
@@ -203,7 +261,14 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *c, const cha
         return MHD_YES;
     }
     if (strcmp(rq->method, "POST") != 0) {
-        *upload_data_size = 0; /* a body on GET/DELETE means nothing here */
+        /* A body on GET/DELETE/OPTIONS (axios sends `{}` with DELETE) means nothing here: it
+         * is read and dropped, and the request answered once it is complete (an answer
+         * queued while body bytes are pending makes libmicrohttpd drop the connection). */
+        if (*upload_data_size > 0) {
+            rq->discarded += *upload_data_size;
+            *upload_data_size = 0;
+            return rq->discarded > MAX_IGNORED_BODY_BYTES ? MHD_NO : MHD_YES;
+        }
         return rq->status ? MHD_YES : first_call(rq, c);
     }
     if (rq->status) {
@@ -218,8 +283,9 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *c, const cha
 
 static void on_completed(void *cls, struct MHD_Connection *c, void **con_cls, enum MHD_RequestTerminationCode toe)
 {
-    (void)c;
     api_service *svc = cls;
+    if (toe == MHD_REQUEST_TERMINATED_COMPLETED_OK)
+        head_watch_again(svc->heads, head_of(c), monotonic_seconds()); /* keep-alive: the next head */
     request_ctx *rq = *con_cls;
     if (!rq)
         return;
@@ -240,12 +306,35 @@ static void on_completed(void *cls, struct MHD_Connection *c, void **con_cls, en
     *con_cls = NULL;
 }
 
+/* libmicrohttpd logs every connection a client drops mid-request: under a slowloris load
+ * that is thousands of lines a second, so at most MHD_LOG_PER_SECOND are written and the
+ * rest counted in the next line written. */
+#define MHD_LOG_PER_SECOND 20
+
 static void on_mhd_log(void *cls, const char *fmt, va_list ap)
 {
-    (void)cls;
+    api_log_limit *limit = cls;
+    long now = (long)monotonic_seconds();
+    pthread_mutex_lock(&limit->mu);
+    if (now != limit->second) {
+        limit->second = now;
+        limit->written = 0;
+    }
+    int write = limit->written < MHD_LOG_PER_SECOND;
+    long long dropped = write ? limit->dropped : 0;
+    if (write) {
+        limit->written++;
+        limit->dropped = 0;
+    } else {
+        limit->dropped++;
+    }
+    pthread_mutex_unlock(&limit->mu);
+    if (!write)
+        return;
     char text[400], quoted[420];
     vsnprintf(text, sizeof text, fmt, ap);
-    log_event("level=warn event=http message=%s", log_quote(quoted, sizeof quoted, text));
+    log_event("level=warn event=http message=%s dropped_before=%lld", log_quote(quoted, sizeof quoted, text),
+              dropped);
 }
 
 struct MHD_Daemon *api_http_start(api_service *svc, int *port_out, char *err, size_t err_len)
@@ -268,16 +357,33 @@ struct MHD_Daemon *api_http_start(api_service *svc, int *port_out, char *err, si
                     svc->config.bind);
         return NULL;
     }
+    const service_config *cfg = &svc->config;
+    /* Trickling heads may hold half the connections and a quarter of an address's, so a
+     * request that sends its head at once finds room, from that address too (head_watch.h). */
+    svc->heads = head_watch_create(cfg->header_timeout_seconds, cfg->max_connections / 2,
+                                   cfg->max_connections_per_ip >= 4 ? cfg->max_connections_per_ip / 4 : 1);
+    if (!svc->heads) {
+        texopt_fail(err, err_len, TEXOPT_E_NOMEM, "out of memory");
+        return NULL;
+    }
+    memset(&svc->mhd_log, 0, sizeof svc->mhd_log);
+    pthread_mutex_init(&svc->mhd_log.mu, NULL);
     struct MHD_Daemon *d = MHD_start_daemon(
         flags, (uint16_t)svc->config.port, NULL, NULL, on_request, svc,
-        MHD_OPTION_EXTERNAL_LOGGER, on_mhd_log, NULL,
+        MHD_OPTION_EXTERNAL_LOGGER, on_mhd_log, &svc->mhd_log,
         MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&addr,
         MHD_OPTION_NOTIFY_COMPLETED, on_completed, svc,
-        MHD_OPTION_CONNECTION_LIMIT, (unsigned int)svc->config.max_connections,
-        MHD_OPTION_CONNECTION_TIMEOUT, (unsigned int)120,
-        MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)(256 * 1024),
+        MHD_OPTION_NOTIFY_CONNECTION, on_connection, svc,
+        MHD_OPTION_CONNECTION_LIMIT, (unsigned int)cfg->max_connections,
+        MHD_OPTION_PER_IP_CONNECTION_LIMIT, (unsigned int)cfg->max_connections_per_ip,
+        MHD_OPTION_CONNECTION_TIMEOUT, (unsigned int)cfg->idle_timeout_seconds,
+        MHD_OPTION_CONNECTION_MEMORY_LIMIT, HEAD_MEMORY_BYTES,
+        MHD_OPTION_THREAD_STACK_SIZE, TEXOPT_PARSE_STACK_BYTES,
         MHD_OPTION_END);
     if (!d) {
+        head_watch_destroy(svc->heads);
+        svc->heads = NULL;
+        pthread_mutex_destroy(&svc->mhd_log.mu);
         texopt_fail(err, err_len, TEXOPT_E_IO, "cannot listen on %s:%d (address in use or not permitted)",
                     svc->config.bind, svc->config.port);
         return NULL;
@@ -301,8 +407,16 @@ void api_http_drain_streams(api_service *svc, int timeout_ms)
         nanosleep(&step, NULL);
 }
 
-void api_http_stop(struct MHD_Daemon *daemon)
+int api_http_sweep(api_service *svc)
+{
+    return svc->heads ? head_watch_sweep(svc->heads, monotonic_seconds()) : 0;
+}
+
+void api_http_stop(api_service *svc, struct MHD_Daemon *daemon)
 {
     if (daemon)
         MHD_stop_daemon(daemon);
+    head_watch_destroy(svc->heads);
+    svc->heads = NULL;
+    pthread_mutex_destroy(&svc->mhd_log.mu);
 }

@@ -18,6 +18,7 @@ typedef struct request_ctx {
     api_match match;
     char method[16];
     char path[256];
+    size_t url_bytes;       /* of the whole URL (path is cut to fit) */
     double started;         /* monotonic seconds */
     int status;             /* the status answered, 0 until then */
     /* POST /v1/jobs only: */
@@ -26,7 +27,7 @@ typedef struct request_ctx {
     char job_dir[PATH_MAX - 512];
     int job_accepted;       /* keep the directory: it belongs to a job now */
     int key_known;          /* the Idempotency-Key names a job: replay it if the request matches */
-    uint64_t discarded;     /* body bytes thrown away after a failure */
+    uint64_t discarded;     /* body bytes thrown away (after a failure, or on GET/DELETE) */
 } request_ctx;
 
 /* Queues response with the status, adds the CORS headers, records the status and frees

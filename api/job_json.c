@@ -23,12 +23,14 @@ static void add_time(cJSON *o, const char *key, int64_t ms)
     cJSON_AddStringToObject(o, key, text);
 }
 
-static void add_links(cJSON *o, const char *id)
+/* report only once it exists (a job made with evaluate=true that succeeded). */
+static void add_links(cJSON *o, const char *id, int has_report)
 {
     cJSON *links = cJSON_AddObjectToObject(o, "links");
     static const char *const names[] = {"self", "events", "result", "stats", "report"};
     static const char *const suffixes[] = {"", "/events", "/result", "/stats", "/report"};
-    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+    size_t n = sizeof names / sizeof names[0] - (has_report ? 0 : 1);
+    for (size_t i = 0; i < n; i++) {
         char href[96];
         snprintf(href, sizeof href, "/v1/jobs/%s%s", id, suffixes[i]);
         cJSON_AddStringToObject(links, names[i], href);
@@ -65,7 +67,7 @@ cJSON *api_job_to_json(const job_record *job)
     cJSON_AddItemToObject(o, "params", api_params_to_json(&job->params));
     if (job->state == JOB_FAILED)
         job_problem_add_json(o, &job->problem);
-    add_links(o, job->id);
+    add_links(o, job->id, job->has_report);
     return o;
 }
 

@@ -25,6 +25,8 @@
 #define POLL_RETRY_SECONDS 1
 /* Seconds to wait before retrying an upload refused because the queue is full. */
 #define QUEUE_FULL_RETRY_SECONDS 30
+/* Seconds to wait before retrying what could not be stored (a full disk). */
+#define STORAGE_RETRY_SECONDS 30
 /* After a failed upload the rest of the body is read and dropped (libmicrohttpd answers only
  * once the request is complete); past this many bytes the connection is cut instead. */
 #define MAX_DISCARD_BYTES (64ull << 20)
@@ -48,6 +50,12 @@ static enum MHD_Result send_job(request_ctx *rq, struct MHD_Connection *c, int s
     if (replayed)
         MHD_add_response_header(r, "Idempotent-Replayed", "true");
     return http_send(rq, c, status, r);
+}
+
+/* 503 + Retry-After: the disk cannot take what the request needs stored, now. */
+static enum MHD_Result storage_full(request_ctx *rq, struct MHD_Connection *c, const char *what)
+{
+    return http_send_problem(rq, c, 503, "storage-full", STORAGE_RETRY_SECONDS, "%s; retry later", what);
 }
 
 /* ---- POST /v1/jobs ------------------------------------------------------------------ */
@@ -85,10 +93,12 @@ enum MHD_Result jobs_post_headers(request_ctx *rq, struct MHD_Connection *c)
     if (!rq->key_known && queue_depth(svc->queue) >= queue_limit(svc->queue))
         return http_send_problem(rq, c, 503, "queue-full", QUEUE_FULL_RETRY_SECONDS,
                                  "the job queue is full (%d jobs waiting); retry later", queue_limit(svc->queue));
+    if (!rq->key_known && !store_can_store(svc->store, length ? strtoull(length, NULL, 10) : 0))
+        return storage_full(rq, c, "uploads cannot be stored now (the disk is full)");
     if (store_new_job_dir(svc->store, rq->job_id, rq->job_dir, sizeof rq->job_dir) != 0) {
         rq->job_id[0] = '\0';
-        return http_send_problem(rq, c, 500, "storage-error", 0, "cannot create the job directory: %s",
-                                 strerror(errno));
+        return http_send_problem(rq, c, 503, "storage-error", STORAGE_RETRY_SECONDS,
+                                 "cannot create the job directory: %s", strerror(errno));
     }
     int status = 0;
     const char *slug = "";
@@ -180,7 +190,7 @@ static enum MHD_Result answer_known_key(request_ctx *rq, struct MHD_Connection *
 }
 
 static enum MHD_Result accept_job(request_ctx *rq, struct MHD_Connection *c, const texopt_params *params,
-                                  const char *digest)
+                                  const char *digest, uint64_t image_pixels)
 {
     api_service *svc = rq->svc;
     job_record job;
@@ -189,7 +199,8 @@ static enum MHD_Result accept_job(request_ctx *rq, struct MHD_Connection *c, con
     job.created_ms = store_now_ms();
     job.eta_seconds = -1;
     job.params = *params;
-    job.upload_bytes = api_upload_bytes(rq->upload);
+    job.upload_bytes = api_upload_file_bytes(rq->upload);
+    job.image_pixels = image_pixels;
     snprintf(job.model_name, sizeof job.model_name, "%s", api_upload_model_name(rq->upload));
     snprintf(job.input_rel, sizeof job.input_rel, "%s", api_upload_model_rel(rq->upload));
     const char *key = MHD_lookup_connection_value(c, MHD_HEADER_KIND, "Idempotency-Key");
@@ -201,7 +212,7 @@ static enum MHD_Result accept_job(request_ctx *rq, struct MHD_Connection *c, con
     if (rc == STORE_DUPLICATE)
         return answer_known_key(rq, c, &existing, digest); /* a concurrent request won the race */
     if (rc != STORE_OK)
-        return http_send_problem(rq, c, 500, "storage-error", 0, "cannot record the job");
+        return storage_full(rq, c, "the job cannot be recorded now (the disk is full)");
     rq->job_accepted = 1;
     int pushed = queue_push(svc->queue, job.id, 0);
     if (pushed != QUEUE_OK) {
@@ -224,7 +235,7 @@ enum MHD_Result jobs_post_complete(request_ctx *rq, struct MHD_Connection *c)
     const char *slug, *detail;
     if (api_upload_finish(rq->upload) != 0) {
         int status = api_upload_error(rq->upload, &slug, &detail);
-        return http_send_problem(rq, c, status, slug, 0, "%s", detail);
+        return http_send_problem(rq, c, status, slug, status == 503 ? STORAGE_RETRY_SECONDS : 0, "%s", detail);
     }
     char err[512] = "";
     texopt_params params;
@@ -241,14 +252,15 @@ enum MHD_Result jobs_post_complete(request_ctx *rq, struct MHD_Connection *c)
 
     char model[PATH_MAX];
     snprintf(model, sizeof model, "%s/%s", rq->job_dir, api_upload_model_rel(rq->upload));
-    texopt_status s = api_model_check(model, rq->svc->config.max_upload_bytes, rq->svc->config.max_pixels, err,
-                                      sizeof err);
+    uint64_t pixels = 0;
+    texopt_status s = api_model_check(model, rq->svc->config.max_upload_bytes, rq->svc->config.max_pixels, &pixels,
+                                      err, sizeof err);
     if (s != TEXOPT_OK) {
         int status = api_status_from_engine(s);
         return http_send_problem(rq, c, status, api_slug_from_engine(s), 0, "%s",
                                  err[0] ? err : texopt_strerror(s));
     }
-    return accept_job(rq, c, &params, digest);
+    return accept_job(rq, c, &params, digest, pixels);
 }
 
 void jobs_post_abandon(request_ctx *rq)
@@ -322,6 +334,8 @@ enum MHD_Result jobs_delete(request_ctx *rq, struct MHD_Connection *c)
         return send_job(rq, c, 200, &job, 0, 0);
     case CANCEL_REQUESTED:
         return send_job(rq, c, 202, &job, 0, 0);
+    case CANCEL_UNSAVED:
+        return storage_full(rq, c, "the cancel cannot be recorded now (the disk is full); the job stays queued");
     case CANCEL_FINISHED:
         break;
     }

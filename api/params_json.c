@@ -2,9 +2,12 @@
  * error rather than ignored: a typo ("iteration") must not silently run the default. */
 #include "params_json.h"
 
+#include <ctype.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "json_depth.h"
 
 static const char *const budget_names[TEXOPT_BUDGET_COUNT] = {
     [TEXOPT_BUDGET_RELATIVE_COST] = "relative_cost",
@@ -200,10 +203,17 @@ texopt_status api_params_from_json(const cJSON *obj, texopt_params *out, char *e
     if (obj && !cJSON_IsObject(obj))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "params: must be a JSON object");
     if (obj) {
-        for (const cJSON *item = obj->child; item; item = item->next)
+        for (const cJSON *item = obj->child; item; item = item->next) {
             if (!item->string || !is_known_key(item->string))
                 return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "params: unknown key '%.64s'",
                                    item->string ? item->string : "");
+            /* cJSON keeps both copies of a key and reads the first: which one the client
+             * meant is unknown, so neither is taken. */
+            for (const cJSON *later = item->next; later; later = later->next)
+                if (later->string && strcmp(later->string, item->string) == 0)
+                    return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "params: key '%s' given twice",
+                                       item->string);
+        }
     }
     texopt_status s;
     if (obj && ((s = read_method(obj, &p, err, err_len)) != TEXOPT_OK ||
@@ -220,11 +230,22 @@ texopt_status api_params_from_json(const cJSON *obj, texopt_params *out, char *e
 texopt_status api_params_from_text(const char *text, size_t len, texopt_params *out, char *err,
                                    size_t err_len)
 {
+    char why[128];
+    if (texopt_json_check_depth(text, len, TEXOPT_JSON_MAX_DEPTH, why, sizeof why) != TEXOPT_OK)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "params: %s", why);
     const char *end = NULL;
     cJSON *obj = cJSON_ParseWithLengthOpts(text, len, &end, 0);
     if (!obj) {
         size_t at = end && end >= text ? (size_t)(end - text) : 0;
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "params: not valid JSON (near byte %zu)", at);
+    }
+    size_t used = (size_t)(end - text);
+    while (used < len && isspace((unsigned char)text[used]))
+        used++;
+    if (used < len) {
+        cJSON_Delete(obj);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "params: text after the JSON object (at byte %zu)", used);
     }
     texopt_status s = api_params_from_json(obj, out, err, err_len);
     cJSON_Delete(obj);

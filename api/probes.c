@@ -1,6 +1,7 @@
 /* probes.c - /healthz, /readyz, /metrics and /openapi.yaml.
  * healthz: the process answers. readyz: it would accept a job now (not shutting down,
- * queue not full) — what a load balancer should route uploads by. */
+ * uploads and job states can be stored, queue not full) — what a load balancer should
+ * route uploads by. */
 #include "http_internal.h"
 
 #include <stdio.h>
@@ -14,6 +15,9 @@ static enum MHD_Result answer_ready(request_ctx *rq, struct MHD_Connection *c)
     api_service *svc = rq->svc;
     if (atomic_load(&svc->draining))
         return http_send_problem(rq, c, 503, "shutting-down", 5, "the service is shutting down");
+    if (!store_can_store(svc->store, 0))
+        return http_send_problem(rq, c, 503, "storage-full", 30,
+                                 "uploads or job states cannot be stored now (the disk is full)");
     int depth = queue_depth(svc->queue), limit = queue_limit(svc->queue);
     if (depth >= limit)
         return http_send_problem(rq, c, 503, "queue-full", 30, "the job queue is full (%d of %d)", depth, limit);

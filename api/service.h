@@ -6,6 +6,7 @@
 #ifndef TEXOPT_API_SERVICE_H
 #define TEXOPT_API_SERVICE_H
 
+#include <pthread.h>
 #include <stdatomic.h>
 #include <stddef.h>
 
@@ -15,6 +16,15 @@
 #include "store.h"
 
 struct worker_pool;
+struct head_watch;
+
+/* libmicrohttpd's own log lines written this second, and those dropped (api/http.c). */
+typedef struct api_log_limit {
+    pthread_mutex_t mu;
+    long second;
+    int written;
+    long long dropped;
+} api_log_limit;
 
 typedef struct api_service {
     service_config config;
@@ -24,6 +34,8 @@ typedef struct api_service {
     struct worker_pool *workers; /* NULL in tests without workers */
     atomic_int draining;         /* set at SIGTERM: no new jobs, /readyz fails */
     atomic_int open_streams;     /* event streams whose response is not freed yet */
+    struct head_watch *heads;    /* connections sending a request head (api/head_watch.h) */
+    api_log_limit mhd_log;
     const char *openapi;         /* the contents of openapi.yaml, served as is */
     size_t openapi_len;
 } api_service;
@@ -41,8 +53,12 @@ void api_http_quiesce(struct MHD_Daemon *daemon);
  * end, so that stopping the daemon does not cut one off mid-chunk. */
 void api_http_drain_streams(api_service *svc, int timeout_ms);
 
+/* Cuts the connections whose request head is past --header-timeout. Returns how many;
+ * called once a second. */
+int api_http_sweep(api_service *svc);
+
 /* Waits for every connection to end and frees the daemon (event streams end when the store
- * is woken with store_wake_all first). Accepts NULL. */
-void api_http_stop(struct MHD_Daemon *daemon);
+ * is woken with store_wake_all first). Accepts a NULL daemon. */
+void api_http_stop(api_service *svc, struct MHD_Daemon *daemon);
 
 #endif

@@ -19,7 +19,8 @@ struct api_upload {
     char dir[PATH_MAX - 64];
     int multipart;
     struct MHD_PostProcessor *pp;
-    uint64_t bytes, limit;
+    uint64_t bytes, limit;      /* the body as received */
+    uint64_t file_bytes;        /* of the files stored (no envelope, no params) */
     int fd;                     /* the file being written, -1 between files */
     int in_part;                /* a part has started */
     char part_key[64];          /* field and file name of the part being received */
@@ -48,6 +49,13 @@ static int fail(api_upload *u, int status, const char *slug, const char *fmt, ..
         va_end(ap);
     }
     return -1;
+}
+
+/* A write that failed: a full disk (or quota) passes, so 503 and retry; anything else is 500. */
+static int fail_storage(api_upload *u)
+{
+    int full = errno == ENOSPC || errno == EDQUOT;
+    return fail(u, full ? 503 : 500, "storage-error", "cannot store the upload: %s", strerror(errno));
 }
 
 int api_upload_safe_name(const char *name)
@@ -87,7 +95,7 @@ static int close_file(api_upload *u)
         rc = -1;
     u->fd = -1;
     if (rc != 0)
-        return fail(u, 500, "storage-error", "cannot store the upload: %s", strerror(errno));
+        return fail_storage(u);
     return 0;
 }
 
@@ -99,7 +107,7 @@ static int open_file(api_upload *u, const char *name)
     char *slash = strrchr(path, '/');
     *slash = '\0';
     if (fs_mkdir_p(path) != 0)
-        return fail(u, 500, "storage-error", "cannot store the upload: %s", strerror(errno));
+        return fail_storage(u);
     *slash = '/';
     /* The name and its terminating NUL: "a" + "bc" and "ab" + "c" differ. */
     u->digest = fingerprint_mix(u->digest, name, strlen(name) + 1);
@@ -107,20 +115,20 @@ static int open_file(api_upload *u, const char *name)
     if (u->fd < 0 && errno == EEXIST)
         return fail(u, 400, "bad-multipart", "file '%s' sent twice", name);
     if (u->fd < 0)
-        return fail(u, 500, "storage-error", "cannot store the upload: %s", strerror(errno));
+        return fail_storage(u);
     return 0;
 }
 
 static int write_file(api_upload *u, const char *data, size_t size)
 {
     u->digest = fingerprint_mix(u->digest, data, size);
+    u->file_bytes += size;
     while (size > 0) {
         ssize_t n = write(u->fd, data, size);
         if (n < 0 && errno == EINTR)
             continue;
         if (n < 0)
-            return fail(u, errno == ENOSPC ? 503 : 500, "storage-error", "cannot store the upload: %s",
-                        strerror(errno));
+            return fail_storage(u);
         data += n;
         size -= (size_t)n;
     }
@@ -282,6 +290,11 @@ int api_upload_error(const api_upload *u, const char **slug, const char **detail
 uint64_t api_upload_bytes(const api_upload *u)
 {
     return u->bytes;
+}
+
+uint64_t api_upload_file_bytes(const api_upload *u)
+{
+    return u->file_bytes;
 }
 
 uint64_t api_upload_digest(const api_upload *u)

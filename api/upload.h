@@ -36,7 +36,10 @@ int api_upload_finish(api_upload *u);
 /* The failure: HTTP status, problem slug, detail. Status 0 when none. */
 int api_upload_error(const api_upload *u, const char **slug, const char **detail);
 
+/* Bytes of the body as received (the multipart envelope included), and of the files stored
+ * from it (the model and its files: what the job's upload_bytes reports). */
 uint64_t api_upload_bytes(const api_upload *u);
+uint64_t api_upload_file_bytes(const api_upload *u);
 /* fingerprint.h digest of the stored files' names and bytes, in the order they came. */
 uint64_t api_upload_digest(const api_upload *u);
 /* The model file relative to dir ("input/model.glb") and its client-side name. */

@@ -1,4 +1,5 @@
 /* config.c - parsing texoptd's flags and environment (see config.h for the list). */
+#define _DEFAULT_SOURCE
 #include "config.h"
 
 #include <errno.h>
@@ -6,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "status.h"
 
@@ -22,6 +24,11 @@ void config_defaults(service_config *cfg)
     cfg->max_pixels = 1ull << 28;
     cfg->retention_seconds = 7 * 24 * 3600;
     cfg->max_connections = 512;
+    cfg->max_connections_per_ip = 64;
+    cfg->header_timeout_seconds = 10;
+    cfg->idle_timeout_seconds = 30;
+    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    cfg->memory_budget = pages > 0 && page > 0 ? (uint64_t)pages * (uint64_t)page / 2 : 4ull << 30;
 }
 
 static int parse_int(const char *text, long long lo, long long hi, long long *out)
@@ -60,6 +67,10 @@ static const setting settings[] = {
     {"--max-pixels", "TEXOPT_MAX_PIXELS", KIND_U64, offsetof(service_config, max_pixels), 0, 1, LLONG_MAX},
     {"--retention-seconds", "TEXOPT_RETENTION_SECONDS", KIND_I64, offsetof(service_config, retention_seconds), 0, 0, LLONG_MAX},
     INT_SETTING("--max-connections", "TEXOPT_MAX_CONNECTIONS", max_connections, 4, 100000),
+    INT_SETTING("--max-connections-per-ip", "TEXOPT_MAX_CONNECTIONS_PER_IP", max_connections_per_ip, 1, 100000),
+    INT_SETTING("--header-timeout", "TEXOPT_HEADER_TIMEOUT", header_timeout_seconds, 1, 3600),
+    INT_SETTING("--idle-timeout", "TEXOPT_IDLE_TIMEOUT", idle_timeout_seconds, 1, 86400),
+    {"--memory-budget", "TEXOPT_MEMORY_BUDGET", KIND_U64, offsetof(service_config, memory_budget), 0, 1, LLONG_MAX},
     STR_SETTING("--cors-origin", "TEXOPT_CORS_ORIGIN", cors_origin),
     STR_SETTING("--port-file", "TEXOPT_PORT_FILE", port_file),
     STR_SETTING(NULL, "TEXOPT_API_TOKEN", api_token),
@@ -144,7 +155,12 @@ const char *config_usage(void)
     return "usage: texoptd [--bind ADDR] [--port N] [--data-dir DIR] [--workers N]\n"
            "               [--threads-per-job N] [--queue-limit N] [--max-upload-bytes N]\n"
            "               [--max-pixels N] [--retention-seconds N] [--max-connections N]\n"
-           "               [--cors-origin ORIGIN] [--port-file PATH]\n"
+           "               [--max-connections-per-ip N] [--header-timeout S] [--idle-timeout S]\n"
+           "               [--memory-budget BYTES] [--cors-origin ORIGIN] [--port-file PATH]\n"
+           "Slow clients: at most --max-connections-per-ip (64) connections per address, the\n"
+           "request line and headers within --header-timeout seconds (10) in all, and no more\n"
+           "than --idle-timeout seconds (30) without a byte. Jobs run while the memory their\n"
+           "images need by estimate fits in --memory-budget (default half the RAM).\n"
            "Each flag has a TEXOPT_* environment variable (--data-dir: TEXOPT_DATA_DIR);\n"
            "TEXOPT_API_TOKEN (environment only) turns on bearer-token authentication.\n";
 }

@@ -11,6 +11,11 @@
  *   --max-pixels N         TEXOPT_MAX_PIXELS       268435456 decoded texels over all images
  *   --retention-seconds N  TEXOPT_RETENTION_SECONDS 604800 (finished jobs kept a week; 0 = forever)
  *   --max-connections N    TEXOPT_MAX_CONNECTIONS  512
+ *   --max-connections-per-ip N  TEXOPT_MAX_CONNECTIONS_PER_IP  64 open connections per client address
+ *   --header-timeout S     TEXOPT_HEADER_TIMEOUT   10 s to send the request line and headers, in all
+ *   --idle-timeout S       TEXOPT_IDLE_TIMEOUT     30 s without a byte from the client (body, keep-alive)
+ *   --memory-budget N      TEXOPT_MEMORY_BUDGET    bytes running jobs may take by estimate
+ *                                                  (server/memory_budget.h); default half the RAM
  *   --cors-origin ORIGIN   TEXOPT_CORS_ORIGIN      unset = no CORS headers
  *   --port-file PATH       TEXOPT_PORT_FILE        unset; where to write the bound port
  *   (no flag)              TEXOPT_API_TOKEN        unset = no authentication
@@ -32,6 +37,10 @@ typedef struct service_config {
     uint64_t max_pixels;
     int64_t retention_seconds;
     int max_connections;
+    int max_connections_per_ip;
+    int header_timeout_seconds;
+    int idle_timeout_seconds;
+    uint64_t memory_budget;
     char cors_origin[256];
     char port_file[1024];
     char api_token[256];

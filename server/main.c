@@ -59,6 +59,10 @@ static void wait_for_stop(const sigset_t *signals, api_service *svc)
             log_event("level=info event=shutdown signal=%s", sig == SIGTERM ? "SIGTERM" : "SIGINT");
             return;
         }
+        store_retry_unsaved(svc->store); /* ends of runs a full disk kept from job.json */
+        int cut = api_http_sweep(svc);
+        if (cut > 0)
+            log_event("level=warn event=slow-heads cut=%d", cut);
         time_t now = time(NULL);
         if (svc->config.retention_seconds > 0 && now - last_expire >= EXPIRE_EVERY_SECONDS) {
             last_expire = now;
@@ -144,7 +148,7 @@ int main(int argc, char **argv)
     workers_stop(svc.workers);
     store_wake_all(svc.store);
     api_http_drain_streams(&svc, 2000);
-    api_http_stop(daemon);
+    api_http_stop(&svc, daemon);
     workers_destroy(svc.workers);
     queue_destroy(svc.queue);
     store_close(svc.store);

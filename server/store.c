@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -20,11 +21,22 @@
 #include "params_json.h"
 #include "status.h"
 
+/* A run's end that could not be written yet: the job stays "running" (what job.json says)
+ * until store_retry_unsaved writes it. */
+typedef struct unsaved_end {
+    int pending;
+    job_state state;
+    job_problem problem;
+    int has_report;
+    int64_t finished_ms;
+} unsaved_end;
+
 struct store_job {
     job_record rec;
     atomic_int cancel;
     int64_t published_ms;
     double published_progress;
+    unsaved_end unsaved;
 };
 
 struct job_store {
@@ -35,6 +47,7 @@ struct job_store {
     store_job **jobs; /* creation order: oldest first */
     int count, capacity;
     int closing;
+    atomic_int unsaved; /* jobs whose end is not on disk yet */
 };
 
 /* Event ids of a job's run n + 1 after a crash start at (n + 1) * EVENT_ID_EPOCH. */
@@ -95,6 +108,8 @@ static char *record_to_json(const job_record *r)
     cJSON_AddStringToObject(o, "idempotency_key", r->idempotency_key);
     cJSON_AddStringToObject(o, "request_digest", r->request_digest);
     cJSON_AddNumberToObject(o, "upload_bytes", (double)r->upload_bytes);
+    cJSON_AddBoolToObject(o, "report", r->has_report != 0);
+    cJSON_AddNumberToObject(o, "image_pixels", (double)r->image_pixels);
     cJSON_AddItemToObject(o, "params", api_params_to_json(&r->params));
     if (r->state == JOB_FAILED)
         job_problem_add_json(o, &r->problem);
@@ -136,6 +151,8 @@ static int record_from_json(const char *text, job_record *r, char *err, size_t e
     r->progress = get_double(o, "progress");
     copy_string(r->stage, sizeof r->stage, o, "stage");
     r->upload_bytes = (uint64_t)get_double(o, "upload_bytes");
+    r->has_report = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(o, "report"));
+    r->image_pixels = (uint64_t)get_double(o, "image_pixels");
     r->eta_seconds = -1;
     copy_string(r->model_name, sizeof r->model_name, o, "model_name");
     copy_string(r->input_rel, sizeof r->input_rel, o, "input");
@@ -157,28 +174,35 @@ static int record_from_json(const char *text, job_record *r, char *err, size_t e
     return 0;
 }
 
-/* Writes the job's current record. The caller holds persist_mu, which orders the writes (an
- * older record never overwrites a newer) and keeps store_delete from freeing the job
- * meanwhile. Serialised under mu, written outside it: the fsync must not stall readers. */
+/* Writes record as its job's job.json. The caller holds persist_mu, which orders the writes
+ * (an older record never overwrites a newer), keeps store_delete from freeing the job and
+ * every other state change from starting meanwhile. Written outside mu: the fsync must not
+ * stall readers. */
+static int persist_record(job_store *store, const job_record *record)
+{
+    int rc = -1;
+    char *text = record_to_json(record);
+    if (text) {
+        char path[PATH_MAX];
+        snprintf(path, sizeof path, "%s/%s/job.json", store->jobs_dir, record->id);
+        rc = fs_write_atomic(path, text, strlen(text));
+        if (rc != 0) {
+            char why[128];
+            log_event("level=error event=persist job=%s state=%s error=%s", record->id,
+                      job_state_name(record->state), log_quote(why, sizeof why, strerror(errno)));
+        }
+        free(text);
+    }
+    return rc;
+}
+
+/* Writes the job's current record (serialised under mu). */
 static int persist_held(job_store *store, store_job *job)
 {
     pthread_mutex_lock(&store->mu);
     job_record copy = job->rec;
     pthread_mutex_unlock(&store->mu);
-    int rc = -1;
-    char *text = record_to_json(&copy);
-    if (text) {
-        char path[PATH_MAX];
-        snprintf(path, sizeof path, "%s/%s/job.json", store->jobs_dir, copy.id);
-        rc = fs_write_atomic(path, text, strlen(text));
-        if (rc != 0) {
-            char why[128];
-            log_event("level=error event=persist job=%s error=%s", copy.id,
-                      log_quote(why, sizeof why, strerror(errno)));
-        }
-        free(text);
-    }
-    return rc;
+    return persist_record(store, &copy);
 }
 
 static void log_state(const job_record *r)
@@ -485,7 +509,9 @@ void store_progress(job_store *store, store_job *job, const char *stage, double 
     pthread_mutex_lock(&store->mu);
     int new_stage = strncmp(job->rec.stage, stage, sizeof job->rec.stage - 1) != 0;
     snprintf(job->rec.stage, sizeof job->rec.stage, "%s", stage);
-    job->rec.progress = progress < 0 ? 0 : progress > 1 ? 1 : progress;
+    /* Within a run progress only grows: a client may draw it as a bar. */
+    if (progress > job->rec.progress)
+        job->rec.progress = progress > 1 ? 1 : progress;
     job->rec.eta_seconds = eta_seconds;
     job->rec.mean_loss = mean_loss;
     job->rec.mean_area_scale = mean_area_scale;
@@ -495,39 +521,85 @@ void store_progress(job_store *store, store_job *job, const char *stage, double 
     pthread_mutex_unlock(&store->mu);
 }
 
-static void end_run(job_store *store, store_job *job, job_state state, const job_problem *problem)
+static void apply_end(job_record *r, const unsaved_end *end)
+{
+    r->state = end->state;
+    r->has_report = end->has_report;
+    if (end->state == JOB_SUCCEEDED)
+        r->progress = 1;
+    if (job_state_finished(end->state))
+        r->finished_ms = end->finished_ms;
+    if (end->state == JOB_FAILED)
+        r->problem = end->problem;
+    r->eta_seconds = end->state == JOB_SUCCEEDED ? 0 : -1;
+    r->cancel_requested = 0;
+    if (end->state == JOB_QUEUED) { /* re-queued at shutdown: the re-run starts from nothing */
+        r->progress = 0;
+        r->stage[0] = '\0';
+    }
+}
+
+/* Writes the job's end, then makes it what everyone sees; while it cannot be written the job
+ * stays running (as job.json says) and the end waits in job->unsaved. Holds persist_mu. */
+static int save_end(job_store *store, store_job *job)
+{
+    pthread_mutex_lock(&store->mu);
+    job_record next = job->rec;
+    apply_end(&next, &job->unsaved);
+    next.event_seq++;
+    pthread_mutex_unlock(&store->mu);
+    if (persist_record(store, &next) != 0)
+        return STORE_IO;
+    pthread_mutex_lock(&store->mu);
+    apply_end(&job->rec, &job->unsaved);
+    job->unsaved.pending = 0;
+    publish(store, job);
+    pthread_mutex_unlock(&store->mu);
+    log_state(&next);
+    return STORE_OK;
+}
+
+static int end_run(job_store *store, store_job *job, job_state state, const job_problem *problem, int has_report)
 {
     pthread_mutex_lock(&store->persist_mu);
-    pthread_mutex_lock(&store->mu);
-    job->rec.state = state;
-    if (state == JOB_SUCCEEDED)
-        job->rec.progress = 1;
-    if (job_state_finished(state))
-        job->rec.finished_ms = store_now_ms();
-    if (state == JOB_FAILED && problem)
-        job->rec.problem = *problem;
-    job->rec.eta_seconds = state == JOB_SUCCEEDED ? 0 : -1;
-    job->rec.cancel_requested = 0;
-    if (state == JOB_QUEUED) { /* re-queued at shutdown: the re-run starts from nothing */
-        job->rec.progress = 0;
-        job->rec.stage[0] = '\0';
-    }
-    publish(store, job);
-    job_record copy = job->rec;
-    pthread_mutex_unlock(&store->mu);
-    persist_held(store, job);
+    unsaved_end *end = &job->unsaved;
+    memset(end, 0, sizeof *end);
+    end->pending = 1;
+    end->state = state;
+    if (problem)
+        end->problem = *problem;
+    end->has_report = has_report;
+    end->finished_ms = store_now_ms();
+    int rc = save_end(store, job);
+    if (rc != STORE_OK)
+        atomic_fetch_add(&store->unsaved, 1);
     pthread_mutex_unlock(&store->persist_mu);
-    log_state(&copy);
+    return rc;
 }
 
-void store_finish(job_store *store, store_job *job, job_state state, const job_problem *problem)
+int store_finish(job_store *store, store_job *job, job_state state, const job_problem *problem, int has_report)
 {
-    end_run(store, job, state, problem);
+    return end_run(store, job, state, problem, has_report);
 }
 
-void store_requeue(job_store *store, store_job *job)
+int store_requeue(job_store *store, store_job *job)
 {
-    end_run(store, job, JOB_QUEUED, NULL);
+    return end_run(store, job, JOB_QUEUED, NULL, 0);
+}
+
+int store_retry_unsaved(job_store *store)
+{
+    if (atomic_load(&store->unsaved) == 0)
+        return 0;
+    /* persist_mu keeps every job in place: adding and deleting take it too. */
+    pthread_mutex_lock(&store->persist_mu);
+    for (int i = 0; i < store->count; i++) {
+        store_job *job = store->jobs[i];
+        if (job->unsaved.pending && save_end(store, job) == STORE_OK)
+            atomic_fetch_sub(&store->unsaved, 1);
+    }
+    pthread_mutex_unlock(&store->persist_mu);
+    return atomic_load(&store->unsaved);
 }
 
 cancel_outcome store_cancel(job_store *store, const char *id, job_record *out)
@@ -537,10 +609,21 @@ cancel_outcome store_cancel(job_store *store, const char *id, job_record *out)
     store_job *job = find(store, id);
     cancel_outcome outcome = CANCEL_NOT_FOUND;
     if (job && job->rec.state == JOB_QUEUED) {
-        job->rec.state = JOB_CANCELED;
-        job->rec.finished_ms = store_now_ms();
-        publish(store, job);
-        outcome = CANCEL_DONE;
+        /* Written first: a cancel that is not on disk would be undone by a restart. No
+         * other state change runs meanwhile (they all take persist_mu). */
+        job_record next = job->rec;
+        next.state = JOB_CANCELED;
+        next.finished_ms = store_now_ms();
+        next.event_seq++;
+        pthread_mutex_unlock(&store->mu);
+        int saved = persist_record(store, &next) == 0;
+        pthread_mutex_lock(&store->mu);
+        if (saved) {
+            job->rec.state = JOB_CANCELED;
+            job->rec.finished_ms = next.finished_ms;
+            publish(store, job);
+        }
+        outcome = saved ? CANCEL_DONE : CANCEL_UNSAVED;
     } else if (job && job->rec.state == JOB_RUNNING) {
         atomic_store(&job->cancel, 1);
         job->rec.cancel_requested = 1;
@@ -552,8 +635,6 @@ cancel_outcome store_cancel(job_store *store, const char *id, job_record *out)
     if (job)
         *out = job->rec;
     pthread_mutex_unlock(&store->mu);
-    if (outcome == CANCEL_DONE)
-        persist_held(store, job);
     pthread_mutex_unlock(&store->persist_mu);
     if (outcome == CANCEL_DONE)
         log_state(out);
@@ -664,6 +745,20 @@ void store_wake_all(job_store *store)
     store->closing = 1;
     pthread_cond_broadcast(&store->changed);
     pthread_mutex_unlock(&store->mu);
+}
+
+/* Room kept free for job records, beyond an upload's own bytes. */
+#define STORE_RESERVE_BYTES (1ull << 20)
+
+int store_can_store(job_store *store, uint64_t bytes)
+{
+    if (atomic_load(&store->unsaved) > 0)
+        return 0;
+    struct statvfs fs;
+    if (statvfs(store->jobs_dir, &fs) != 0)
+        return 0;
+    uint64_t free_bytes = (uint64_t)fs.f_bavail * (uint64_t)fs.f_frsize;
+    return free_bytes >= bytes + STORE_RESERVE_BYTES;
 }
 
 void store_counts(job_store *store, int counts[JOB_STATE_COUNT])

@@ -66,7 +66,9 @@ typedef struct job_record {
     char input_rel[300];     /* the model file, relative to the job directory */
     char idempotency_key[129];
     char request_digest[17]; /* api/fingerprint.h of files + params; "" for older jobs */
-    uint64_t upload_bytes;
+    uint64_t upload_bytes;   /* the files uploaded (model and its files), not the envelope */
+    int has_report;          /* report.html was written */
+    uint64_t image_pixels;   /* width x height over the model's images, from their headers */
     texopt_params params;
     job_problem problem;     /* when failed */
 } job_record;
@@ -107,21 +109,35 @@ int store_queued_ids(job_store *store, char (**ids)[JOB_ID_LEN + 1]);
  * watches, or NULL when the job is no longer queued (canceled or deleted meanwhile). */
 store_job *store_begin(job_store *store, const char *id, job_record *out, const atomic_int **cancel);
 
-/* A running job's progress; publishes an event when it moved enough to matter (a new
- * stage, +0.5% or 250 ms later), so watchers are not flooded per triangle. */
+/* A running job's progress (kept when lower than the last: it never runs backwards within
+ * a run); publishes an event when it moved enough to matter (a new stage, +0.5% or 250 ms
+ * later), so watchers are not flooded per triangle. */
 void store_progress(job_store *store, store_job *job, const char *stage, double progress,
                     double eta_seconds, double mean_loss, double mean_area_scale);
 
-/* running -> succeeded/failed/canceled (problem used when failed). */
-void store_finish(job_store *store, store_job *job, job_state state, const job_problem *problem);
-/* running -> queued, for a job stopped by shutdown; it runs again after restart. */
-void store_requeue(job_store *store, store_job *job);
+/* running -> succeeded/failed/canceled (problem used when failed; has_report: report.html
+ * was written). The new state is written to job.json first; when that fails (a full disk)
+ * the job stays "running", as on disk, and STORE_IO is returned: store_retry_unsaved
+ * writes it later. Either way the caller is done with the handle. */
+int store_finish(job_store *store, store_job *job, job_state state, const job_problem *problem, int has_report);
+/* running -> queued, for a job stopped by shutdown; it runs again after restart. As
+ * store_finish. */
+int store_requeue(job_store *store, store_job *job);
+
+/* Writes the ends of runs that could not be written before; each becomes visible once on
+ * disk. Returns how many are still unwritten. Called once a second. */
+int store_retry_unsaved(job_store *store);
+
+/* Whether an upload of `bytes` can be stored now: every job's state is on disk and the data
+ * directory's filesystem has that much free beyond a reserve for job records. */
+int store_can_store(job_store *store, uint64_t bytes);
 
 typedef enum cancel_outcome {
     CANCEL_NOT_FOUND,
     CANCEL_DONE,      /* it was queued and is now canceled */
     CANCEL_REQUESTED, /* it is running and stops at the next checkpoint */
-    CANCEL_FINISHED   /* it had already finished: nothing to cancel */
+    CANCEL_FINISHED,  /* it had already finished: nothing to cancel */
+    CANCEL_UNSAVED    /* it is queued, and stays so: the cancel could not be written */
 } cancel_outcome;
 /* Cancels job id; *out gets the job after the call. The caller removes a canceled queued
  * job from the job queue. */

@@ -9,7 +9,9 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 
+#include "json_depth.h"
 #include "log.h"
+#include "memory_budget.h"
 #include "run_job.h"
 #include "status.h"
 
@@ -19,6 +21,7 @@ struct worker_pool {
     job_store *store;
     job_queue *queue;
     service_metrics *metrics;
+    memory_budget *memory;
     pthread_t *threads;
     int count;
     atomic_int busy;
@@ -44,17 +47,23 @@ static void *worker_main(void *arg)
     lower_own_priority(pool->nice);
     while (queue_pop(pool->queue, id) == QUEUE_OK) {
         job_record record;
+        if (store_get(pool->store, id, &record) != STORE_OK)
+            continue; /* deleted while it waited */
+        /* Still queued while it waits for memory: it can be canceled meanwhile, and a
+         * shutdown leaves it queued on disk. */
+        uint64_t need = memory_budget_job_bytes(record.image_pixels);
+        if (memory_budget_acquire(pool->memory, need) != 0)
+            break;
         const atomic_int *cancel = NULL;
         store_job *job = store_begin(pool->store, id, &record, &cancel);
-        if (!job)
-            continue; /* canceled or deleted while it waited */
-        if (atomic_load(&pool->stopping)) {
+        if (job && atomic_load(&pool->stopping)) {
             store_requeue(pool->store, job); /* taken just as the service stops */
-            continue;
+        } else if (job) {
+            atomic_fetch_add(&pool->busy, 1);
+            run_job(pool->store, pool->metrics, job, &record, cancel, &pool->stopping);
+            atomic_fetch_sub(&pool->busy, 1);
         }
-        atomic_fetch_add(&pool->busy, 1);
-        run_job(pool->store, pool->metrics, job, &record, cancel, &pool->stopping);
-        atomic_fetch_sub(&pool->busy, 1);
+        memory_budget_release(pool->memory, need);
     }
     return NULL;
 }
@@ -73,15 +82,26 @@ worker_pool *workers_start(job_store *store, job_queue *queue, service_metrics *
     pool->store = store;
     pool->queue = queue;
     pool->metrics = metrics;
+    pool->memory = memory_budget_create(config->memory_budget);
+    if (!pool->memory) {
+        workers_destroy(pool);
+        texopt_fail(err, err_len, TEXOPT_E_NOMEM, "out of memory");
+        return NULL;
+    }
     pool->nice = WORKER_NICE;
+    pthread_attr_t attr;
+    pthread_attr_init(&attr);
+    pthread_attr_setstacksize(&attr, TEXOPT_PARSE_STACK_BYTES);
     for (int i = 0; i < config->workers; i++) {
-        if (pthread_create(&pool->threads[i], NULL, worker_main, pool) != 0) {
+        if (pthread_create(&pool->threads[i], &attr, worker_main, pool) != 0) {
+            pthread_attr_destroy(&attr);
             texopt_fail(err, err_len, TEXOPT_E_INTERNAL, "cannot start worker thread %d", i);
             workers_destroy(pool);
             return NULL;
         }
         pool->count++;
     }
+    pthread_attr_destroy(&attr);
     log_event("level=info event=workers started=%d", pool->count);
     return pool;
 }
@@ -103,6 +123,8 @@ void workers_stop(worker_pool *pool)
     /* This order leaves no gap: a job begun after the cancel sweep sees `stopping`. */
     atomic_store(&pool->stopping, 1);
     queue_close(pool->queue);
+    if (pool->memory)
+        memory_budget_close(pool->memory);
     store_cancel_running(pool->store);
     for (int i = 0; i < pool->count; i++)
         pthread_join(pool->threads[i], NULL);
@@ -114,6 +136,7 @@ void workers_destroy(worker_pool *pool)
     if (!pool)
         return;
     workers_stop(pool);
+    memory_budget_destroy(pool->memory);
     free(pool->threads);
     free(pool);
 }

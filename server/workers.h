@@ -8,7 +8,10 @@
  *
  * Stopping (SIGTERM): workers_stop raises the cancel flag of every running job; the engine
  * stops at its next checkpoint and the job goes back to "queued" on disk (not "canceled"),
- * so it runs again from the start after the next start-up. Queued jobs stay queued. */
+ * so it runs again from the start after the next start-up. Queued jobs stay queued.
+ *
+ * Memory: a worker takes a job only once its estimated memory fits in the budget beside the
+ * running jobs' (memory_budget.h, config memory_budget); until then the job stays queued. */
 #ifndef TEXOPT_SERVER_WORKERS_H
 #define TEXOPT_SERVER_WORKERS_H
 

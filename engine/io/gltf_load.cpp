@@ -1,7 +1,8 @@
 /* gltf_load.cpp - texopt_model_load / texopt_model_load_memory (see gltf_io.h).
  *
  * Order of work, each step refusing with a message that names the element:
- *   1. tinygltf parses the JSON / GLB container, reading files only through the confined
+ *   1. The JSON's nesting is bounded (json_depth.h: tinygltf's parser recurses), then
+ *      tinygltf parses the JSON / GLB container, reading files only through the confined
  *      callbacks of gltf_files.hpp (inside the model's directory, under the size limit,
  *      never from the network).
  *      Its image callback only keeps the encoded bytes (after checking the buffer view
@@ -39,6 +40,7 @@
 #include "gltf_texture_source.hpp"
 #include "image_io.h"
 #include "image_jobs.hpp"
+#include "json_depth.h"
 
 namespace {
 
@@ -99,6 +101,9 @@ texopt_status parse_document(tinygltf::Model *gltf, const unsigned char *bytes, 
         return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "file is empty or truncated (%zu bytes)", len);
     if (len > UINT_MAX)
         return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "model of %zu bytes is too large to parse", len);
+    texopt_status depth = texopt_gltf_check_depth(bytes, len, TEXOPT_JSON_MAX_DEPTH, err, err_len);
+    if (depth != TEXOPT_OK)
+        return depth;
     gltf_load_context ctx;
     ctx.base_dir = base_dir;
     ctx.max_file_bytes = lim.max_file_bytes;

@@ -2,8 +2,8 @@
 # service_events: server-sent events. A job queued behind a long one (the perceptual method,
 # canceled once the stream is open) is watched from before it starts: the stream has id:
 # lines that increase, the queued and running states, progress with an engine stage, and
-# ends by itself after "succeeded". Resuming with Last-Event-ID at the last id gives an empty
-# stream that ends at once; resuming earlier gives the current state. DELETE cancels a queued
+# ends by itself after "succeeded". Resuming with Last-Event-ID at the last id answers 204
+# (so an EventSource stops); resuming earlier gives the current state. DELETE cancels a queued
 # job at once and a running one at its next checkpoint.
 source "$(dirname "$0")/service_common.bash"
 SPOT="$TEXOPT_SOURCE_DIR/tests/data/spot/spot.glb"
@@ -50,9 +50,10 @@ open(sys.argv[1] + ".last", "w").write(str(ids[-1]))
 PY
 last=$(cat "$WORK/events.txt.last")
 
-# Resume at the last id: nothing new, the stream ends at once.
-timeout 10 curl -s -N -o "$WORK/resume.txt" -H "Last-Event-ID: $last" "$BASE/v1/jobs/$id/events" ||
-  fail "resumed stream of a finished job did not end"
+# Resume at the last id: nothing new, 204 (an EventSource stops reconnecting on it).
+code=$(timeout 10 curl -s -N -o "$WORK/resume.txt" -w '%{http_code}' -H "Last-Event-ID: $last" \
+  "$BASE/v1/jobs/$id/events") || fail "resumed stream of a finished job did not end"
+[ "$code" = 204 ] || fail "resume at the last id of a finished job answered $code, not 204"
 [ ! -s "$WORK/resume.txt" ] || fail "resume at the last id repeated events: $(cat "$WORK/resume.txt")"
 # Resume from an older id: the current (final) state comes at once.
 timeout 10 curl -s -N -o "$WORK/resume2.txt" -H "Last-Event-ID: 1" "$BASE/v1/jobs/$id/events" || fail "resume from 1"

@@ -8,7 +8,7 @@
 source "$(dirname "$0")/service_common.bash"
 SPOT="$TEXOPT_SOURCE_DIR/tests/data/spot/spot.glb"
 make_fixtures "$WORK/fx"
-start_server --max-upload-bytes 400000
+start_server --max-upload-bytes 1000000
 
 head -c 5000 "$SPOT" >"$WORK/truncated.glb"
 expect_problem 400 "$(post_glb "$WORK/truncated.glb" "method=input")" malformed-model
@@ -18,7 +18,7 @@ expect_problem 415 "$(curl -s -o "$WORK/resp" -D "$WORK/headers" -w '%{http_code
 expect_problem 415 "$(curl -s -o "$WORK/resp" -D "$WORK/headers" -w '%{http_code}' -X POST \
   --data-binary "@$SPOT" "$BASE/v1/jobs")" unsupported-media-type
 
-head -c 500000 /dev/zero >"$WORK/big.glb"
+head -c 1100000 /dev/zero >"$WORK/big.glb"
 expect_problem 413 "$(post_glb "$WORK/big.glb" "")" body-too-large
 # Without Content-Length (chunked), the limit is enforced while streaming.
 expect_problem 413 "$(curl -s -o "$WORK/resp" -D "$WORK/headers" -w '%{http_code}' -X POST \
@@ -50,6 +50,63 @@ expect_problem 400 "$(multipart -F 'params={"method":"input"}')" bad-multipart
 expect_problem 400 "$(multipart -F "model=@$SPOT" -F 'colour=red')" bad-multipart
 expect_problem 415 "$(multipart -F "model=@$WORK/fx/tex.png")" unsupported-media-type
 
+# JSON nesting 100,000 deep (200 KB) overflowed the connection thread's stack: raw .glb,
+# multipart .gltf, params part, and `texopt info` on the same file.
+/usr/bin/python3 - "$WORK/fx/quad.gltf" "$WORK/deep" <<'PY'
+import json, struct, sys
+doc = open(sys.argv[1]).read()
+deep = '{"extras":' + "[" * 100000 + "]" * 100000 + "," + doc[1:]
+open(sys.argv[2] + ".gltf", "w").write(deep)
+j = deep.encode() + b" " * (-len(deep) % 4)
+open(sys.argv[2] + ".glb", "wb").write(struct.pack("<III", 0x46546C67, 2, 20 + len(j)) + struct.pack("<I", len(j)) + b"JSON" + j)
+open(sys.argv[2] + "-params.json", "w").write('{"seed":' + "[" * 5000 + "]" * 5000 + "}")
+PY
+expect_problem 400 "$(post_glb "$WORK/deep.glb" "")" malformed-model
+grep -q 'JSON nests deeper than 128' "$WORK/resp" || fail "deep .glb refusal: $(cat "$WORK/resp")"
+expect_problem 400 "$(multipart -F "model=@$WORK/deep.gltf" -F "files=@$WORK/fx/quad.bin" -F "files=@$WORK/fx/tex.png")" malformed-model
+expect_problem 400 "$(multipart -F "model=@$WORK/fx/quad.gltf" -F "files=@$WORK/fx/quad.bin" -F "files=@$WORK/fx/tex.png" \
+  -F "params=<$WORK/deep-params.json")" invalid-params
+grep -q 'nests deeper than' "$WORK/resp" || fail "deep params refusal: $(cat "$WORK/resp")"
+set +e
+"$TEXOPT_BIN" info "$WORK/deep.gltf" >"$WORK/info.txt" 2>&1
+rc=$?
+set -e
+[ "$rc" = 1 ] && grep -q 'JSON nests deeper than 128' "$WORK/info.txt" || fail "texopt info on the deep file: rc $rc, $(cat "$WORK/info.txt")"
+# Params JSON with text after it or a key twice.
+expect_problem 400 "$(multipart -F "model=@$SPOT" -F 'params={"method":"input"} trailing')" invalid-params
+expect_problem 400 "$(multipart -F "model=@$SPOT" -F 'params={"method":"input","method":"arap"}')" invalid-params
+grep -q "key 'method' given twice" "$WORK/resp" || fail "duplicate key refusal: $(cat "$WORK/resp")"
+
+# A texture whose header is sound but whose pixels do not decode: the upload check reads
+# headers only (a PNG may declare 256 Mpx in 250 KB), so the job is accepted and fails.
+/usr/bin/python3 - "$WORK/fx" "$WORK/corrupt.glb" <<'PY'
+import json, struct, sys
+fx, out = sys.argv[1], sys.argv[2]
+doc = json.load(open(f"{fx}/quad.gltf"))
+binary, png = open(f"{fx}/quad.bin", "rb").read(), bytearray(open(f"{fx}/tex.png", "rb").read())
+at = 8
+while at + 12 <= len(png):
+    n = struct.unpack(">I", png[at:at + 4])[0]
+    if png[at + 4:at + 8] == b"IDAT":
+        png[at + 8:at + 8 + n] = b"\x5a" * n
+    at += 12 + n
+body = binary + bytes(png) + b"\0" * (-len(png) % 4)
+doc["buffers"] = [{"byteLength": len(body)}]
+doc["bufferViews"].append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(png)})
+doc["images"] = [{"bufferView": 3, "mimeType": "image/png"}]
+j = json.dumps(doc).encode()
+j += b" " * (-len(j) % 4)
+open(out, "wb").write(struct.pack("<III", 0x46546C67, 2, 28 + len(j) + len(body)) + struct.pack("<II", len(j), 0x4E4F534A)
+                      + j + struct.pack("<II", len(body), 0x004E4942) + body)
+PY
+[ "$(post_glb "$WORK/corrupt.glb" "method=input")" = 202 ] || fail "corrupt texture upload: $(cat "$WORK/resp")"
+corrupt=$(json "$WORK/resp" 'd["id"]')
+wait_state "$corrupt" failed 60
+curl -s -o "$WORK/corrupt.json" "$BASE/v1/jobs/$corrupt"
+[ "$(json "$WORK/corrupt.json" 'd["problem"]["type"]')" = urn:texopt:problem:malformed-model ] ||
+  fail "corrupt texture job: $(cat "$WORK/corrupt.json")"
+[ "$(curl -s -o /dev/null -w '%{http_code}' -X DELETE "$BASE/v1/jobs/$corrupt")" = 204 ] || fail "delete the failed job"
+
 # Valid but unusable: no TEXCOORD_0 on a textured primitive.
 expect_problem 422 "$(post_glb "$WORK/fx/nouv.glb" "method=input")" unsupported-model
 grep -qi 'texcoord' "$WORK/resp" || fail "422 does not say what is missing: $(cat "$WORK/resp")"
@@ -67,6 +124,27 @@ grep -qi '^allow: GET, HEAD, POST, OPTIONS' "$WORK/headers" || fail "405 without
 expect_problem 405 "$(curl -s -o "$WORK/resp" -D "$WORK/headers" -w '%{http_code}' -X POST "$BASE/healthz")" method-not-allowed
 expect_problem 400 "$(get '/v1/jobs?limit=1000')" bad-query
 
+# A 300 KB URL or header: problem+json from texoptd (libmicrohttpd's own answer was HTML).
+# raw_request URL_PAD HEADER_PAD: a GET with that many bytes more in its URL and in one
+# header, sent as is (too long for a command line); body and headers as `get` leaves them.
+raw_request() {
+  /usr/bin/python3 - "${BASE##*:}" "$1" "$2" "$WORK/resp" "$WORK/headers" <<'PY'
+import socket, sys
+port, url_pad, header_pad, body_path, headers_path = int(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), sys.argv[4], sys.argv[5]
+s = socket.create_connection(("127.0.0.1", port))
+s.sendall(b"GET /healthz" + b"a" * url_pad + b" HTTP/1.1\r\nHost: x\r\nConnection: close\r\nX-Pad: " + b"a" * header_pad + b"\r\n\r\n")
+data = b""
+while chunk := s.recv(65536):
+    data += chunk
+head, _, body = data.partition(b"\r\n\r\n")
+open(headers_path, "wb").write(head.replace(b"\r\n", b"\n") + b"\n")
+open(body_path, "wb").write(body)
+print(head.split(b" ")[1].decode())
+PY
+}
+expect_problem 414 "$(raw_request 300000 0)" uri-too-long
+expect_problem 431 "$(raw_request 0 300000)" headers-too-large
+
 # Still serving, and nothing of the refused uploads was left behind.
 [ "$(get /healthz)" = 200 ] || fail "healthz after hostile input"
 [ "$(post_glb "$SPOT" "method=input")" = 202 ] || fail "a good upload after hostile input: $(cat "$WORK/resp")"
@@ -74,6 +152,12 @@ id=$(json "$WORK/resp" 'd["id"]')
 wait_state "$id" succeeded 120
 left=$(ls "$DATA/jobs")
 [ "$left" = "$id" ] || fail "refused uploads left directories: $left"
+# A body on GET, OPTIONS and DELETE (axios sends `{}` with DELETE) is read and dropped.
+[ "$(get "/v1/jobs/$id" -H 'Content-Type: application/json' --data-binary '{}' -X GET)" = 200 ] ||
+  fail "GET with a body: $(cat "$WORK/resp")"
+[ "$(curl -s -o /dev/null -w '%{http_code}' -X OPTIONS -d '{}' "$BASE/v1/jobs")" = 204 ] || fail "OPTIONS with a body"
+code=$(curl -s -o "$WORK/resp" -w '%{http_code}' -X DELETE -H 'Content-Type: application/json' -d '{}' "$BASE/v1/jobs/$id")
+[ "$code" = 204 ] || fail "DELETE with a JSON body answered $code"
 grep -q 'status="400"' <(curl -s "$BASE/metrics") || fail "metrics do not count the 400s"
 stop_server TERM || fail "texoptd did not exit cleanly"
 echo "service_hostile: ok"

@@ -48,6 +48,9 @@ code=$(curl -s -o "$WORK/resp" -D "$WORK/headers" -w '%{http_code}' "${AUTH[@]}"
 id2=$(json "$WORK/resp" 'd["id"]')
 [ "$(json "$WORK/resp" 'd["params"]["budget"]')" = texture_size ] || fail "params part not applied"
 [ "$(json "$WORK/resp" 'd["model"]["name"]')" = quad.gltf ] || fail "model name lost"
+files=$(cat "$WORK/fx/quad.gltf" "$WORK/fx/quad.bin" "$WORK/fx/tex.png" | wc -c)
+[ "$(json "$WORK/resp" 'd["model"]["upload_bytes"]')" = "$files" ] ||
+  fail "upload_bytes $(json "$WORK/resp" 'd["model"]["upload_bytes"]') is not the files' $files bytes"
 
 wait_state "$id" succeeded 120
 wait_state "$id2" succeeded 120

@@ -17,6 +17,27 @@ TEST(defaults_bind_loopback)
     CHECK(c.max_upload_bytes == 256ull << 20);
     CHECK(c.api_token[0] == '\0');
     CHECK(c.cors_origin[0] == '\0');
+    CHECK_EQ_INT(c.max_connections_per_ip, 64);
+    CHECK_EQ_INT(c.header_timeout_seconds, 10);
+    CHECK_EQ_INT(c.idle_timeout_seconds, 30);
+    CHECK(c.memory_budget > 0);
+}
+
+TEST(slow_client_and_memory_settings_are_read)
+{
+    service_config c;
+    char err[256] = "";
+    config_defaults(&c);
+    char *argv[] = {"texoptd", "--max-connections-per-ip", "8", "--header-timeout=3", "--idle-timeout", "7",
+                    "--memory-budget", "1000000", NULL};
+    CHECK(config_apply_args(&c, 8, argv, err, sizeof err) == 0);
+    CHECK_EQ_INT(c.max_connections_per_ip, 8);
+    CHECK_EQ_INT(c.header_timeout_seconds, 3);
+    CHECK_EQ_INT(c.idle_timeout_seconds, 7);
+    CHECK(c.memory_budget == 1000000);
+    char *zero[] = {"texoptd", "--header-timeout", "0", NULL};
+    CHECK(config_apply_args(&c, 3, zero, err, sizeof err) == -1);
+    CHECK(strstr(err, "--header-timeout") != NULL);
 }
 
 TEST(flags_override_the_environment)

@@ -1,5 +1,7 @@
 /* test_api_params.c - job params from JSON: defaults, every key, budget inference, unknown
  * keys and wrong types refused by name, and the JSON round trip. */
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "params_json.h"
@@ -106,6 +108,32 @@ TEST(bad_params_are_refused_by_name)
     check_refused("{\"packing_efficiency\":-0.1}", "packing_efficiency");
     check_refused("[1,2]", "must be a JSON object");
     check_refused("{\"method\":\"input\",", "not valid JSON");
+}
+
+TEST(trailing_text_duplicate_keys_and_deep_nesting_are_refused)
+{
+    check_refused("{\"method\":\"input\"} x", "text after the JSON object");
+    check_refused("{\"method\":\"input\"}{}", "text after the JSON object");
+    check_refused("{\"method\":\"input\",\"method\":\"arap\"}", "key 'method' given twice");
+    check_refused("{\"seed\":1,\"iterations\":3,\"seed\":2}", "key 'seed' given twice");
+    texopt_params p;
+    char err[256];
+    CHECK_OK(parse("{\"method\":\"input\"} \n\t ", &p, err), err);
+    /* Deeper than cJSON's own limit of 1000, which it reaches by recursing. */
+    enum { DEPTH = 5000 };
+    char *deep = malloc(2 * DEPTH + 16);
+    CHECK(deep);
+    size_t n = 0;
+    n += (size_t)sprintf(deep, "{\"seed\":");
+    for (int i = 0; i < DEPTH; i++)
+        deep[n++] = '[';
+    for (int i = 0; i < DEPTH; i++)
+        deep[n++] = ']';
+    deep[n++] = '}';
+    texopt_status s = api_params_from_text(deep, n, &p, err, sizeof err);
+    free(deep);
+    CHECK(s == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK_MSG(strstr(err, "nests deeper than") != NULL, "%s", err);
 }
 
 TEST(query_text_becomes_typed_values)

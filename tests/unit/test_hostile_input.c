@@ -3,6 +3,7 @@
  * model's directory. Each case is the generated quad of gltf_builder.h with one thing
  * broken; the sanitizer build runs these too. */
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,6 +12,7 @@
 
 #include "gltf_builder.h"
 #include "gltf_io.h"
+#include "json_depth.h"
 #include "test.h"
 
 /* Loads the quad with json (and the doc's binary) from memory; returns the status and
@@ -495,4 +497,99 @@ TEST(broken_references_are_malformed)
     CHECK_REFUSED_JSON("\"nodes\":[{\"mesh\":0,", "\"nodes\":[{\"mesh\":2,", TEXOPT_E_MALFORMED, "mesh 2");
     CHECK_REFUSED_JSON("\"count\":4,\"type\":\"VEC2\"", "\"count\":3,\"type\":\"VEC2\"", TEXOPT_E_MALFORMED,
                        "TEXCOORD_0 has 3");
+}
+
+/* The quad's JSON with "extras" holding `depth` nested arrays (the root object is one more
+ * level); malloc'ed. */
+static char *quad_with_nested_extras(const quad_doc *d, int depth)
+{
+    size_t n = strlen(d->json);
+    char *json = malloc(n + 2 * (size_t)depth + 16);
+    if (!json)
+        return NULL;
+    size_t at = (size_t)sprintf(json, "{\"extras\":");
+    for (int i = 0; i < depth; i++)
+        json[at++] = '[';
+    for (int i = 0; i < depth; i++)
+        json[at++] = ']';
+    json[at++] = ',';
+    memcpy(json + at, d->json + 1, n); /* the quad's members and its closing brace */
+    return json;
+}
+
+TEST(json_nesting_past_the_bound_is_refused_before_parsing)
+{
+    quad_doc d;
+    char err[512];
+    CHECK(quad_doc_init(&d, 4, 4));
+    /* 100,000 deep overflowed the parser's stack (a crash) before the bound. */
+    char *json = quad_with_nested_extras(&d, 100000);
+    CHECK(json);
+    texopt_status glb = try_glb(&d, json, NULL, err, sizeof err);
+    texopt_model *m = NULL;
+    texopt_status text = texopt_model_load_memory(&m, json, strlen(json), NULL, NULL, err, sizeof err);
+    free(json);
+    quad_doc_free(&d);
+    CHECK_EQ_INT(glb, TEXOPT_E_MALFORMED);
+    CHECK_EQ_INT(text, TEXOPT_E_MALFORMED);
+    CHECK(m == NULL);
+    CHECK_MSG(strstr(err, "JSON nests deeper than 128") != NULL, "%s", err);
+}
+
+TEST(json_brackets_inside_strings_do_not_count)
+{
+    quad_doc d;
+    char err[512];
+    CHECK(quad_doc_init(&d, 4, 4));
+    char extras[600];
+    memset(extras, '[', sizeof extras);
+    memcpy(extras, "{\"extras\":\"\\\"", 13);
+    memcpy(extras + sizeof extras - 4, "\",", 3);
+    size_t n = strlen(d.json);
+    char *json = malloc(n + sizeof extras);
+    CHECK(json);
+    memcpy(json, extras, sizeof extras - 2);
+    memcpy(json + sizeof extras - 2, d.json + 1, n);
+    texopt_status st = try_glb(&d, json, NULL, err, sizeof err);
+    free(json);
+    quad_doc_free(&d);
+    CHECK_OK(st, err);
+}
+
+typedef struct nested_load {
+    const quad_doc *doc;
+    int depth;
+    texopt_status status;
+    char err[512];
+} nested_load;
+
+static void *load_nested(void *arg)
+{
+    nested_load *job = arg;
+    char *json = quad_with_nested_extras(job->doc, job->depth);
+    job->status = json ? try_glb(job->doc, json, NULL, job->err, sizeof job->err) : TEXOPT_E_NOMEM;
+    free(json);
+    return NULL;
+}
+
+/* The threads that parse uploads get TEXOPT_PARSE_STACK_BYTES (8 MiB): a document at the
+ * bound loads on an eighth of that. */
+TEST(a_document_at_the_depth_bound_loads_on_a_one_mib_stack)
+{
+    quad_doc d;
+    CHECK(quad_doc_init(&d, 4, 4));
+    nested_load at = {&d, TEXOPT_JSON_MAX_DEPTH - 1, TEXOPT_E_INTERNAL, ""};
+    nested_load past = {&d, TEXOPT_JSON_MAX_DEPTH, TEXOPT_E_INTERNAL, ""};
+    pthread_attr_t attr;
+    pthread_attr_init(&attr);
+    pthread_attr_setstacksize(&attr, TEXOPT_PARSE_STACK_BYTES / 8);
+    pthread_t t;
+    CHECK(pthread_create(&t, &attr, load_nested, &at) == 0);
+    pthread_join(t, NULL);
+    CHECK(pthread_create(&t, &attr, load_nested, &past) == 0);
+    pthread_join(t, NULL);
+    pthread_attr_destroy(&attr);
+    quad_doc_free(&d);
+    CHECK_OK(at.status, at.err);
+    CHECK_EQ_INT(past.status, TEXOPT_E_MALFORMED);
 }

@@ -102,7 +102,7 @@ TEST(interrupted_jobs_come_back_queued_and_finished_ones_stay)
     CHECK(seen >= 40);
     store_job *jb = store_begin(s, b.id, &got, &cancel);
     CHECK(jb != NULL);
-    store_finish(s, jb, JOB_SUCCEEDED, NULL);
+    store_finish(s, jb, JOB_SUCCEEDED, NULL, 0);
     /* A crash now: the second store sees what is on disk, as a restarted texoptd would. */
     job_store *after = store_open(root, err, sizeof err);
     CHECK(after != NULL);
@@ -175,7 +175,7 @@ TEST(cancel_and_delete_follow_the_state)
     CHECK_EQ_INT(got.state, JOB_RUNNING);
     CHECK(got.cancel_requested);
     CHECK(atomic_load(cancel) == 1);
-    store_finish(s, jr, JOB_CANCELED, NULL);
+    store_finish(s, jr, JOB_CANCELED, NULL, 0);
     CHECK_EQ_INT(store_cancel(s, r.id, &got), CANCEL_FINISHED);
     CHECK_EQ_INT(store_cancel(s, "ffffffffffffffffffffffffffffffff", &got), CANCEL_NOT_FOUND);
 
@@ -197,7 +197,7 @@ TEST(failed_jobs_keep_their_problem_across_reopening)
     const atomic_int *cancel;
     store_job *j = store_begin(s, a.id, &got, &cancel);
     job_problem p = {422, "urn:texopt:problem:unsupported-model", "unsupported", "domain 0: no texture"};
-    store_finish(s, j, JOB_FAILED, &p);
+    store_finish(s, j, JOB_FAILED, &p, 0);
     job_store *again = store_open(root, err, sizeof err);
     CHECK_EQ_INT(store_get(again, a.id, &got), STORE_OK);
     CHECK_EQ_INT(got.state, JOB_FAILED);
@@ -272,12 +272,18 @@ TEST(event_waiters_wake_on_progress_and_time_out_otherwise)
     CHECK_EQ_INT(store_get(s, a.id, &got), STORE_OK);
     CHECK_EQ_INT(got.event_seq, before);
     CHECK_NEAR(got.progress, 0.401, 1e-12);
+    /* A later stage reporting less (an evaluation starting at its own zero) does not move
+     * it back. */
+    store_progress(s, j, "compare", 0.2, -1, 0.002, 0.6);
+    CHECK_EQ_INT(store_get(s, a.id, &got), STORE_OK);
+    CHECK_NEAR(got.progress, 0.401, 1e-12);
+    CHECK(strcmp(got.stage, "compare") == 0);
     /* A client claiming an id the job never reached gets the current state at once. */
     CHECK_EQ_INT(store_wait_event(s, a.id, got.event_seq + 1000, 5000, &got), 1);
     store_wake_all(s);
     CHECK_EQ_INT(store_wait_event(s, a.id, got.event_seq, 5000, &got), -4);
     CHECK_EQ_INT(store_wait_event(s, "ffffffffffffffffffffffffffffffff", 0, 10, &got), -4);
-    store_finish(s, j, JOB_SUCCEEDED, NULL);
+    store_finish(s, j, JOB_SUCCEEDED, NULL, 0);
     close_temp_store(s, root);
 }
 
