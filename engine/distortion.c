@@ -7,6 +7,7 @@
  * anything; meshwise.c and the evaluation call it on finished layouts. */
 #include "distortion.h"
 
+#include <cjson/cJSON.h>
 #include <math.h>
 
 static int is_counted(const texopt_mesh *mesh, size_t t)
@@ -173,4 +174,38 @@ texopt_status texopt_distortion_measure(const texopt_mesh *mesh, const double *t
             mean[k] = max[k] = INFINITY;
     store_metrics(out, mean, max);
     return TEXOPT_OK;
+}
+
+static void add_stat(cJSON *o, const char *name, texopt_distortion_stat s)
+{
+    cJSON *m = cJSON_AddObjectToObject(o, name);
+    if (!m)
+        return;
+    /* JSON has no infinity: a flipped layout's metrics are null. */
+    if (isfinite(s.mean))
+        cJSON_AddNumberToObject(m, "mean", s.mean);
+    else
+        cJSON_AddNullToObject(m, "mean");
+    if (isfinite(s.max))
+        cJSON_AddNumberToObject(m, "max", s.max);
+    else
+        cJSON_AddNullToObject(m, "max");
+}
+
+cJSON *texopt_distortion_json(const texopt_distortion *d)
+{
+    cJSON *o = cJSON_CreateObject();
+    if (!o)
+        return NULL;
+    cJSON_AddNumberToObject(o, "counted", (double)d->counted);
+    cJSON_AddNumberToObject(o, "flipped", (double)d->flipped);
+    add_stat(o, "symmetric_dirichlet", (texopt_distortion_stat){d->symmetric_dirichlet, d->max_symmetric_dirichlet});
+    add_stat(o, "conformal", d->conformal);
+    add_stat(o, "mips", d->mips);
+    add_stat(o, "isometric", d->isometric);
+    add_stat(o, "max_isometric", d->max_isometric);
+    add_stat(o, "area", d->area);
+    add_stat(o, "l2_stretch", d->l2_stretch);
+    add_stat(o, "linf_stretch", d->linf_stretch);
+    return o;
 }

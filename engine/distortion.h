@@ -72,6 +72,11 @@ void texopt_jacobian(const double T[2][2], const double P[2][2], double scale, d
 /* The lecture's metrics of one triangle from its Jacobian. */
 void texopt_triangle_distortion_of(const double J[2][2], texopt_triangle_distortion *out);
 
+/* The metrics as JSON: {"counted", "flipped", and per metric {"mean", "max"}} under the
+ * names symmetric_dirichlet, conformal, mips, isometric, max_isometric, area, l2_stretch,
+ * linf_stretch; an infinite value is null. NULL when out of memory. */
+struct cJSON *texopt_distortion_json(const texopt_distortion *d);
+
 /* Number of non-degenerate triangles whose det grad_phi <= 0 relative to mesh->texel. */
 size_t texopt_count_flipped(const texopt_mesh *mesh, const double *texel);
 
