@@ -42,6 +42,10 @@ texopt_status texopt_param_boundary_create(texopt_param_boundary **out, const te
                                            char *err, size_t err_len);
 void texopt_param_boundary_destroy(texopt_param_boundary *boundary);
 
+/* Triangles with all three vertices on the boundary ("ears"): a boundary mapped onto
+ * straight sides flattens each ear lying along one side. */
+size_t texopt_param_boundary_ears(const texopt_param_chart *chart, const texopt_param_boundary *boundary);
+
 /* The corner angles (radians) of triangle t in 3D, at its vertices 0, 1, 2. */
 void texopt_param_corner_angles(const texopt_param_chart *chart, size_t t, double angle[3]);
 

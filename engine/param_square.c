@@ -248,6 +248,14 @@ texopt_status texopt_param_square(const texopt_param_chart *chart, const texopt_
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "square: the boundary has %zu vertices; a square needs 4", b->count);
     }
+    size_t ears = texopt_param_boundary_ears(chart, b);
+    if (ears > 0) {
+        texopt_param_boundary_destroy(b);
+        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                           "square: %zu triangles have all three vertices on the boundary; a square "
+                           "side would flatten them (split them first)",
+                           ears);
+    }
     size_t nv = chart->vertex_count;
     square_search s = {.chart = chart, .b = b, .params = params, .m = count_candidates(b), .best = INFINITY};
     s.stretch = malloc(s.m * sizeof *s.stretch);

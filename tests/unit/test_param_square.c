@@ -90,6 +90,19 @@ TEST(bad_parameters_are_refused)
     texopt_square_params_default(&p);
     p.search = (texopt_square_search)7;
     CHECK_EQ_INT(texopt_param_square(&g->chart, &p, uv, NULL, err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
+    /* The grid with its two corner quads cut the other way: those corners are ears. */
+    uint32_t *tris = malloc(3 * g->chart.triangle_count * sizeof *tris);
+    for (size_t i = 0; i < 3 * g->chart.triangle_count; i++)
+        tris[i] = g->chart.triangle[i];
+    size_t corner_quad = 2; /* (n - 1, 0) of the 3 x 3 grid: a b c d = 2 3 7 6 */
+    uint32_t a = 2, b = 3, c = 7, d = 6, quad[6] = {a, b, c, a, c, d};
+    for (int k = 0; k < 6; k++)
+        tris[6 * corner_quad + (size_t)k] = quad[k];
+    texopt_param_chart eared = g->chart;
+    eared.triangle = tris;
+    texopt_square_params_default(&p);
+    CHECK_EQ_INT(texopt_param_square(&eared, &p, uv, NULL, err, sizeof err), TEXOPT_E_UNSUPPORTED);
+    free(tris);
     free(uv);
     param_grid_destroy(g);
 }
