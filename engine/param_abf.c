@@ -140,40 +140,13 @@ static texopt_status add_corner_rows(texopt_spd *spd, const abf_problem *p, size
     return st == TEXOPT_OK ? texopt_param_add_layout_row(spd, var, uv, vertex, axis_v, row_v, 5) : st;
 }
 
-static texopt_status reconstruct(const abf_problem *p, double *uv, char *err, size_t err_len)
+/* The rows of every corner of triangle t. */
+static texopt_status add_triangle_rows(texopt_spd *spd, const void *context, size_t t, const int64_t *var,
+                                       const double *uv)
 {
-    const texopt_param_chart *c = p->chart;
-    const uint32_t *first = c->triangle;
-    double e[3];
-    texopt_param_edge_lengths(c, 0, e);
-    int64_t *var = malloc(c->vertex_count * sizeof *var);
-    double *x = malloc(2 * c->vertex_count * sizeof *x);
-    size_t free_count = 0;
     texopt_status st = TEXOPT_OK;
-    if (!var || !x)
-        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "abf: out of memory");
-    for (size_t v = 0; v < c->vertex_count && st == TEXOPT_OK; v++)
-        var[v] = (v == first[0] || v == first[1]) ? -1 : (int64_t)free_count++;
-    texopt_spd *spd = NULL;
-    if (st == TEXOPT_OK) {
-        uv[2 * (size_t)first[0]] = uv[2 * (size_t)first[0] + 1] = uv[2 * (size_t)first[1] + 1] = 0.0;
-        uv[2 * (size_t)first[1]] = e[2]; /* edge 0-1 is opposite vertex 2 */
-        st = texopt_spd_create(&spd, 2 * free_count, 1, err, err_len);
-    }
-    for (size_t t = 0; t < c->triangle_count && st == TEXOPT_OK; t++)
-        for (int k = 0; k < 3 && st == TEXOPT_OK; k++)
-            if ((st = add_corner_rows(spd, p, t, k, var, uv)) != TEXOPT_OK)
-                st = texopt_fail(err, err_len, st, "abf: cannot assemble the reconstruction");
-    if (st == TEXOPT_OK)
-        st = texopt_spd_solve(spd, x, err, err_len);
-    for (size_t v = 0; v < c->vertex_count && st == TEXOPT_OK; v++)
-        if (var[v] >= 0) {
-            uv[2 * v] = x[2 * var[v]];
-            uv[2 * v + 1] = x[2 * var[v] + 1];
-        }
-    texopt_spd_destroy(spd);
-    free(var);
-    free(x);
+    for (int k = 0; k < 3 && st == TEXOPT_OK; k++)
+        st = add_corner_rows(spd, context, t, k, var, uv);
     return st;
 }
 
@@ -219,7 +192,7 @@ texopt_status texopt_param_abf(const texopt_param_chart *chart, double *uv, texo
     if (st == TEXOPT_OK)
         st = solve_angles(&p, err, err_len);
     if (st == TEXOPT_OK)
-        st = reconstruct(&p, uv, err, err_len);
+        st = texopt_param_solve_pinned(chart, chart->triangle, add_triangle_rows, &p, uv, err, err_len);
     if (st == TEXOPT_OK && report)
         fill_report(&p, uv, report);
     free(p.interior_of);

@@ -12,17 +12,11 @@ static const double *point(const texopt_param_chart *chart, uint32_t v)
     return chart->position + 3 * (size_t)v;
 }
 
-static double distance3(const double *a, const double *b)
-{
-    double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-    return sqrt(dx * dx + dy * dy + dz * dz);
-}
-
 void texopt_param_edge_lengths(const texopt_param_chart *chart, size_t t, double length[3])
 {
     const uint32_t *v = chart->triangle + 3 * t;
     for (int k = 0; k < 3; k++)
-        length[k] = distance3(point(chart, v[(k + 1) % 3]), point(chart, v[(k + 2) % 3]));
+        length[k] = texopt_distance3(point(chart, v[(k + 1) % 3]), point(chart, v[(k + 2) % 3]));
 }
 
 void texopt_param_corner_angles(const texopt_param_chart *chart, size_t t, double angle[3])
@@ -156,7 +150,7 @@ static texopt_status measure_arcs(texopt_param_boundary *b, const texopt_param_c
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "chart: out of memory");
     b->arc[0] = 0.0;
     for (size_t i = 0; i < b->count; i++)
-        b->arc[i + 1] = b->arc[i] + distance3(point(chart, b->vertex[i]), point(chart, b->vertex[(i + 1) % b->count]));
+        b->arc[i + 1] = b->arc[i] + texopt_distance3(point(chart, b->vertex[i]), point(chart, b->vertex[(i + 1) % b->count]));
     return TEXOPT_OK;
 }
 
@@ -292,4 +286,38 @@ texopt_status texopt_param_add_layout_row(texopt_spd *spd, const int64_t *var, c
         }
     }
     return count > 0 ? texopt_spd_add_row(spd, cols, a, count, &rhs, 1.0) : TEXOPT_OK;
+}
+
+texopt_status texopt_param_solve_pinned(const texopt_param_chart *chart, const uint32_t pin[2], texopt_param_rows_fn add_rows,
+                                        const void *context, double *uv, char *err, size_t err_len)
+{
+    size_t nv = chart->vertex_count, free_count = 0;
+    int64_t *var = malloc(nv * sizeof *var);
+    double *x = malloc(2 * nv * sizeof *x);
+    texopt_spd *spd = NULL;
+    texopt_status st = TEXOPT_OK;
+    if (!var || !x)
+        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "layout solve: out of memory");
+    for (size_t v = 0; v < nv && st == TEXOPT_OK; v++)
+        var[v] = (v == pin[0] || v == pin[1]) ? -1 : (int64_t)free_count++;
+    if (st == TEXOPT_OK) {
+        uv[2 * (size_t)pin[0]] = uv[2 * (size_t)pin[0] + 1] = uv[2 * (size_t)pin[1] + 1] = 0.0;
+        uv[2 * (size_t)pin[1]] = texopt_distance3(point(chart, pin[0]), point(chart, pin[1]));
+        if (free_count > 0)
+            st = texopt_spd_create(&spd, 2 * free_count, 1, err, err_len);
+    }
+    for (size_t t = 0; t < chart->triangle_count && st == TEXOPT_OK && spd; t++)
+        if ((st = add_rows(spd, context, t, var, uv)) != TEXOPT_OK)
+            st = texopt_fail(err, err_len, st, "layout solve: cannot assemble the system");
+    if (st == TEXOPT_OK && spd)
+        st = texopt_spd_solve(spd, x, err, err_len);
+    for (size_t v = 0; v < nv && st == TEXOPT_OK; v++)
+        if (var[v] >= 0) {
+            uv[2 * v] = x[2 * var[v]];
+            uv[2 * v + 1] = x[2 * var[v] + 1];
+        }
+    texopt_spd_destroy(spd);
+    free(var);
+    free(x);
+    return st;
 }

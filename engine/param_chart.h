@@ -68,4 +68,14 @@ int texopt_param_stretch(const texopt_param_chart *chart, const double *uv, doub
 texopt_status texopt_param_add_layout_row(texopt_spd *spd, const int64_t *var, const double *uv,
                                           const uint32_t *vertex, const int *axis, const double *coef, int n);
 
+/* The rows triangle t adds to a layout system (see texopt_param_solve_pinned). */
+typedef texopt_status (*texopt_param_rows_fn)(texopt_spd *spd, const void *context, size_t t, const int64_t *var,
+                                              const double *uv);
+
+/* Least-squares layout with vertex pin[0] held at (0, 0) and pin[1] at (d, 0), d their 3D
+ * distance; every triangle adds its rows through add_rows (texopt_param_add_layout_row).
+ * Writes 2 doubles per vertex into uv. */
+texopt_status texopt_param_solve_pinned(const texopt_param_chart *chart, const uint32_t pin[2], texopt_param_rows_fn add_rows,
+                                        const void *context, double *uv, char *err, size_t err_len);
+
 #endif

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 
 #include "sparse_spd.h"
+#include "vec3.h"
 
 /* The weighted neighbours of every vertex in CSR form, a neighbour once per adjacent
  * triangle (the least-squares rows add duplicates up). */
@@ -22,12 +23,6 @@ static void neighbours_free(neighbours *n)
     free(n->start);
     free(n->vertex);
     free(n->weight);
-}
-
-static double distance3(const double *a, const double *b)
-{
-    double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-    return sqrt(dx * dx + dy * dy + dz * dz);
 }
 
 /* Mean-value weight of edge ij from corner i of a triangle: tan(angle_i / 2) / |x_i - x_j|. */
@@ -57,7 +52,7 @@ static int mean_value_weights(const texopt_param_chart *chart, const double *div
                 uint32_t j = tri[(k + s) % 3];
                 uint32_t slot = n->start[i] + fill[i]++;
                 n->vertex[slot] = j;
-                n->weight[slot] = half_tan / distance3(chart->position + 3 * (size_t)i, chart->position + 3 * (size_t)j) /
+                n->weight[slot] = half_tan / texopt_distance3(chart->position + 3 * (size_t)i, chart->position + 3 * (size_t)j) /
                                   (divisor ? divisor[j] : 1.0);
             }
         }

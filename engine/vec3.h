@@ -19,6 +19,12 @@ static inline void texopt_cross3(const double a[3], const double b[3], double ou
     out[2] = a[0] * b[1] - a[1] * b[0];
 }
 
+static inline double texopt_distance3(const double a[3], const double b[3])
+{
+    double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+    return sqrt(texopt_dot3(d, d));
+}
+
 /* Scales v to unit length and returns 1; 0, v unchanged, when its length is 0 or not finite. */
 static inline int texopt_normalize3(double v[3])
 {
