@@ -5,8 +5,8 @@
  * vertices of a whole texture domain). The caller owns all arrays. A chart is a disk when
  * every vertex is used, every edge has one or two triangles with consistent orientation, and
  * the boundary edges form one simple loop (Euler characteristic 1). This module checks that,
- * orders the boundary loop and measures the L2/Linf stretch of a layout of the chart; it
- * makes no layout itself. */
+ * orders the boundary loop, measures the L2/Linf stretch of a layout of the chart and runs
+ * the pinned least-squares solve LSCM and ABF share; the methods are in param_*.h. */
 #ifndef TEXOPT_PARAM_CHART_H
 #define TEXOPT_PARAM_CHART_H
 
