@@ -243,10 +243,11 @@ texopt_status texopt_param_square(const texopt_param_chart *chart, const texopt_
         st = texopt_param_boundary_create(&b, chart, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    if (b->count < 4) {
+    size_t boundary_count = b->count;
+    if (boundary_count < 4) {
         texopt_param_boundary_destroy(b);
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "square: the boundary has %zu vertices; a square needs 4", b->count);
+                           "square: the boundary has %zu vertices; a square needs 4", boundary_count);
     }
     size_t ears = texopt_param_boundary_ears(chart, b);
     if (ears > 0) {

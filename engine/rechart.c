@@ -207,27 +207,66 @@ static texopt_status layout_region(context *c, const uint32_t *tris, size_t n)
     return st;
 }
 
+/* The region bookkeeping of one growth: which triangles and how many of its triangles use
+ * each point (both reset after the region). */
+typedef struct region {
+    uint32_t *region_of;   /* per triangle: the serial of the region holding it, 0 = none */
+    uint32_t *point_uses;  /* per point: triangles of the current region using it */
+    uint32_t serial;
+} region;
+
+static uint32_t point_at(const context *c, uint32_t t, int k)
+{
+    return c->mesh->point_of[c->mesh->triangle[3 * (size_t)t + (size_t)k]];
+}
+
+/* Adding triangle u keeps the region a disk when its vertex off the shared edge is new to
+ * the region, or when u fills a notch (two of its edges shared, that vertex already in). A
+ * vertex touched a second time through one edge would pinch the boundary. */
+static int keeps_disk(const context *c, const region *g, uint32_t u)
+{
+    int shared = 0;
+    for (int k = 0; k < 3; k++) {
+        uint32_t w = c->across[3 * (size_t)u + (size_t)k];
+        shared += w != UINT32_MAX && g->region_of[w] == g->serial;
+    }
+    int new_points = 0;
+    for (int k = 0; k < 3; k++)
+        new_points += g->point_uses[point_at(c, u, k)] == 0;
+    return (shared == 1 && new_points == 1) || (shared == 2 && new_points == 0);
+}
+
+static void add_to_region(const context *c, region *g, uint32_t t, uint32_t *order, size_t *n)
+{
+    g->region_of[t] = g->serial;
+    for (int k = 0; k < 3; k++)
+        g->point_uses[point_at(c, t, k)]++;
+    order[(*n)++] = t;
+}
+
 /* Grows one region from `seed` breadth first into order[]; returns its size. */
-static size_t grow(const context *c, uint32_t seed, uint8_t *taken, uint32_t *order)
+static size_t grow(const context *c, region *g, uint32_t seed, uint32_t *order)
 {
     const double to_rad = 3.14159265358979323846 / 180.0;
     double cos_crease = cos(c->opt.crease_degrees * to_rad), cos_cone = cos(c->opt.cone_degrees * to_rad);
     const double *seed_normal = c->normal + 3 * (size_t)seed;
     size_t n = 0, head = 0;
-    order[n++] = seed;
-    taken[seed] = 1;
+    g->serial++;
+    add_to_region(c, g, seed, order, &n);
     while (head < n && n < c->opt.max_triangles) {
         uint32_t t = order[head++];
         for (int k = 0; k < 3 && n < c->opt.max_triangles; k++) {
             uint32_t u = c->across[3 * (size_t)t + (size_t)k];
-            if (u == UINT32_MAX || taken[u] || is_degenerate(c, u) ||
+            if (u == UINT32_MAX || g->region_of[u] || is_degenerate(c, u) ||
                 texopt_dot3(c->normal + 3 * (size_t)t, c->normal + 3 * (size_t)u) < cos_crease ||
-                texopt_dot3(seed_normal, c->normal + 3 * (size_t)u) < cos_cone)
+                texopt_dot3(seed_normal, c->normal + 3 * (size_t)u) < cos_cone || !keeps_disk(c, g, u))
                 continue;
-            taken[u] = 1;
-            order[n++] = u;
+            add_to_region(c, g, u, order, &n);
         }
     }
+    for (size_t i = 0; i < n; i++)
+        for (int k = 0; k < 3; k++)
+            g->point_uses[point_at(c, order[i], k)] = 0;
     return n;
 }
 
@@ -276,10 +315,11 @@ static int context_alloc(context *c)
 static texopt_status make_charts(context *c, char *err, size_t err_len)
 {
     size_t nt = c->mesh->triangle_count;
-    uint8_t *taken = calloc(nt, 1);
+    region g = {.region_of = calloc(nt, sizeof *g.region_of),
+                .point_uses = calloc(c->mesh->point_count ? c->mesh->point_count : 1, sizeof *g.point_uses)};
     uint32_t *order = malloc((c->opt.max_triangles < nt ? c->opt.max_triangles : nt) * sizeof *order);
     texopt_status st = TEXOPT_OK;
-    if (!taken || !order || find_neighbours(c) != 0)
+    if (!g.region_of || !g.point_uses || !order || find_neighbours(c) != 0)
         st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "rechart: out of memory");
     if (st == TEXOPT_OK)
         triangle_normals(c);
@@ -288,14 +328,15 @@ static texopt_status make_charts(context *c, char *err, size_t err_len)
             c->out->chart_of[t] = (uint32_t)c->out->chart_count++; /* corners stay at (0, 0) */
             continue;
         }
-        if (taken[t])
+        if (g.region_of[t])
             continue;
-        size_t n = grow(c, (uint32_t)t, taken, order);
+        size_t n = grow(c, &g, (uint32_t)t, order);
         st = layout_region(c, order, n);
         if (st != TEXOPT_OK)
             st = texopt_fail(err, err_len, st, "rechart: chart %zu could not be laid out", c->out->chart_count);
     }
-    free(taken);
+    free(g.region_of);
+    free(g.point_uses);
     free(order);
     return st;
 }

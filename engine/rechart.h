@@ -3,9 +3,10 @@
  *
  * Triangles are grouped by region growing over shared 3D edges (through UV seams): a chart
  * never crosses a crease (normals more than crease_degrees apart) nor holds a triangle whose
- * normal is more than cone_degrees from its seed's, nor grows past max_triangles. A region
- * that is not a disk (param_chart.h) is split in two along its growth order until every part
- * is one. Each chart is laid out by the chosen method at 3D scale (1 unit = 1 world unit);
+ * normal is more than cone_degrees from its seed's, nor grows past max_triangles, and only
+ * takes a triangle that keeps it a disk (no vertex reached twice, no surface closed). A
+ * region that is still no disk (param_chart.h: a non-manifold or inconsistently oriented
+ * mesh) is split in two along its growth order until every part is one. Each chart is laid out by the chosen method at 3D scale (1 unit = 1 world unit);
  * when the method fails or flips a triangle (LSCM may fold; the square refuses ears) the
  * chart falls back to the mean-value Tutte map, which cannot flip. Degenerate (zero 3D area)
  * triangles get a chart of their own with all corners at (0, 0). It does not pack the charts

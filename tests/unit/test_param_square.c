@@ -103,6 +103,11 @@ TEST(bad_parameters_are_refused)
     texopt_square_params_default(&p);
     CHECK_EQ_INT(texopt_param_square(&eared, &p, uv, NULL, err, sizeof err), TEXOPT_E_UNSUPPORTED);
     free(tris);
+    /* One triangle: a boundary of three vertices cannot go onto four corners. */
+    static const double corners[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    static const uint32_t one[3] = {0, 1, 2};
+    texopt_param_chart single = {3, corners, 1, one};
+    CHECK_EQ_INT(texopt_param_square(&single, &p, uv, NULL, err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
     free(uv);
     param_grid_destroy(g);
 }

@@ -1,10 +1,12 @@
 /* test_rechart.c - new disk charts laid out by each parameterization method
- * (engine/rechart.c), on a hand-built cube and a generated closed sphere. */
+ * (engine/rechart.c), on a hand-built cube, a generated closed sphere and spot
+ * (tests/data). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "fixtures.h"
+#include "gltf_io.h"
 #include "handmesh.h"
 #include "mesh.h"
 #include "rechart.h"
@@ -91,16 +93,55 @@ TEST(closed_sphere_is_cut_into_disks_without_flips)
             CHECK_EQ_INT(r->fallback_charts, 0);
         texopt_rechart_destroy(r);
     }
-    /* No crease and no cone: the whole closed sphere grows as one region, which is no disk
-     * and must be split until its parts are. */
+    /* No crease and no cone: growth alone must stop short of closing the sphere, leaving one
+     * large disk and what closes it. */
     texopt_rechart_options open = {.method = TEXOPT_PARAMETERIZER_LSCM, .crease_degrees = 180, .cone_degrees = 180};
     texopt_rechart *r = NULL;
     CHECK_OK(texopt_rechart_create(&r, m, &open, err, sizeof err), err);
-    CHECK(r->chart_count >= 2);
+    CHECK(r->chart_count >= 2 && r->chart_count <= 3);
     size_t degenerate = 0;
     for (size_t t = 0; t < m->triangle_count; t++)
         degenerate += (m->flags[t] & TEXOPT_TRI_DEGENERATE_3D) != 0;
     CHECK_EQ_INT(corner_flips(r), degenerate);
+    texopt_rechart_destroy(r);
+    texopt_mesh_destroy(m);
+    texopt_model_destroy(model);
+}
+
+/* One face triangle reversed: its edges run the same way as its neighbours', so a region
+ * holding it is no disk and is split until the parts are; nothing flips. */
+TEST(inconsistent_orientation_is_split_into_disks)
+{
+    texopt_mesh *m = cube();
+    uint32_t swap = m->triangle[3 * 4 + 1];
+    m->triangle[3 * 4 + 1] = m->triangle[3 * 4 + 2];
+    m->triangle[3 * 4 + 2] = swap;
+    handmesh_finish(m);
+    texopt_rechart_options opt = {.method = TEXOPT_PARAMETERIZER_ABF, .crease_degrees = 180, .cone_degrees = 180};
+    texopt_rechart *r = NULL;
+    char err[256] = "";
+    CHECK_OK(texopt_rechart_create(&r, m, &opt, err, sizeof err), err);
+    CHECK(r->chart_count >= 2);
+    CHECK_EQ_INT(corner_flips(r), 0);
+    texopt_rechart_destroy(r);
+    texopt_mesh_destroy(m);
+}
+
+/* On a real scan-like mesh a breadth-first front meets itself at many vertices: growth that
+ * did not refuse those pinches would leave regions to be split into ~1800 slivers. */
+TEST(spot_grows_into_few_charts)
+{
+    texopt_model *model = NULL;
+    texopt_load_options lo = {.skip_images = 1};
+    char err[512] = "";
+    CHECK_OK(texopt_model_load(&model, TEXOPT_TEST_DATA_DIR "/spot/spot.glb", &lo, err, sizeof err), err);
+    texopt_mesh *m = NULL;
+    CHECK_OK(texopt_mesh_create(&m, model, 0, err, sizeof err), err);
+    texopt_rechart_options opt = {.method = TEXOPT_PARAMETERIZER_ABF};
+    texopt_rechart *r = NULL;
+    CHECK_OK(texopt_rechart_create(&r, m, &opt, err, sizeof err), err);
+    CHECK(r->chart_count < 100);
+    CHECK_EQ_INT(corner_flips(r), 0);
     texopt_rechart_destroy(r);
     texopt_mesh_destroy(m);
     texopt_model_destroy(model);
