@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "coverage.h"
+#include "distortion.h"
 #include "mesh.h"
 
 const char *texopt_wrap_name(texopt_wrap wrap)
@@ -206,6 +207,19 @@ static void add_frame_and_wrap(cJSON *o, const texopt_domain *dom)
     cJSON_AddStringToObject(wrap, "t", texopt_wrap_name(dom->wrap_t));
 }
 
+/* The input layout's distortion (distortion.h); null when no triangle can be measured. */
+static void add_distortion(cJSON *o, const texopt_mesh *mesh)
+{
+    texopt_distortion d;
+    cJSON *dj = NULL;
+    if (texopt_distortion_measure(mesh, NULL, &d, NULL, 0) == TEXOPT_OK)
+        dj = texopt_distortion_json(&d);
+    if (dj)
+        cJSON_AddItemToObject(o, "distortion", dj);
+    else
+        cJSON_AddNullToObject(o, "distortion");
+}
+
 static texopt_status domain_json(const texopt_model *model, int d, cJSON **out, char *err,
                                  size_t err_len)
 {
@@ -267,6 +281,7 @@ static texopt_status domain_json(const texopt_model *model, int d, cJSON **out, 
     cJSON_AddNumberToObject(o, "flipped", (double)fc.flipped);
     cJSON_AddNumberToObject(o, "overlapping", (double)fc.overlapping);
     cJSON_AddNumberToObject(o, "wrapped", (double)fc.wrapped);
+    add_distortion(o, mesh);
     texopt_mesh_destroy(mesh);
     *out = o;
     return TEXOPT_OK;

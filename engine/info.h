@@ -24,7 +24,8 @@
  *                                                         magFilter is NEAREST: pixel art, kept
  *                                                         as it is by the layout methods)
  *        "covered_texels", "overlap_texels", "packing_efficiency", "texel_area", "area_3d",
- *        "degenerate", "degenerate_3d", "degenerate_uv", "flipped", "overlapping", "wrapped"
+ *        "degenerate", "degenerate_3d", "degenerate_uv", "flipped", "overlapping", "wrapped",
+ *        "distortion" (texopt_distortion_json of distortion.h; null when no triangle counts)
  *     } ] }
  * "degenerate" counts triangles with either degenerate flag; the others are mesh.h flags.
  * When coverage refuses the layout with TEXOPT_E_LIMIT (frame past its cap, a triangle over

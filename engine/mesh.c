@@ -14,6 +14,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "vec3.h"
+
 /* Relative degeneracy threshold: doubled area <= this * (longest edge)^2. Floats carry
  * ~6e-8 relative precision, so a triangle this thin has no reliable shape in either space. */
 #define DEGENERATE_RELATIVE 1e-10
@@ -318,19 +320,8 @@ static int is_degenerate(double doubled_area, double longest_edge_sq)
 int texopt_mesh_plane_edges(const texopt_mesh *mesh, size_t t, double P[2][2])
 {
     const uint32_t *v = mesh->triangle + 3 * t;
-    const double *a = texopt_mesh_vertex_point(mesh, v[0]);
-    const double *b = texopt_mesh_vertex_point(mesh, v[1]);
-    const double *c = texopt_mesh_vertex_point(mesh, v[2]);
-    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    double l1 = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
-    double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
-           cz = e1[0] * e2[1] - e1[1] * e2[0];
-    P[0][0] = l1;
-    P[1][0] = 0.0;
-    P[0][1] = (e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]) / l1;
-    P[1][1] = sqrt(cx * cx + cy * cy + cz * cz) / l1;
-    return P[1][1] > 0 ? 0 : -1;
+    return texopt_plane_edges(texopt_mesh_vertex_point(mesh, v[0]), texopt_mesh_vertex_point(mesh, v[1]),
+                              texopt_mesh_vertex_point(mesh, v[2]), P);
 }
 
 static void measure_triangle(texopt_mesh *mesh, size_t t)

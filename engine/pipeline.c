@@ -415,6 +415,8 @@ static void record_distortion(const texopt_mesh *mesh, const double *texel, texo
         ds->has_distortion = 1;
         ds->distortion_input = in.symmetric_dirichlet;
         ds->distortion_output = out.symmetric_dirichlet;
+        ds->distortion_in = in;
+        ds->distortion_out = out;
     }
 }
 

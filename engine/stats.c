@@ -77,6 +77,8 @@ static void add_stage_stats(cJSON *dom, const texopt_domain_stats *d)
         cJSON *ds = cJSON_AddObjectToObject(dom, "distortion");
         cJSON_AddNumberToObject(ds, "symmetric_dirichlet_input", d->distortion_input);
         cJSON_AddNumberToObject(ds, "symmetric_dirichlet_output", d->distortion_output);
+        cJSON_AddItemToObject(ds, "input", texopt_distortion_json(&d->distortion_in));
+        cJSON_AddItemToObject(ds, "output", texopt_distortion_json(&d->distortion_out));
     }
 }
 

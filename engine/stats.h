@@ -15,6 +15,7 @@
 
 #include <stddef.h>
 
+#include "distortion.h"
 #include "status.h"
 
 typedef struct texopt_image_stats {
@@ -56,6 +57,7 @@ typedef struct texopt_domain_stats {
     double solved_within_epsilon_share, solved_loss_mean, solved_loss_max;
     int has_distortion;
     double distortion_input, distortion_output; /* symmetric Dirichlet, mean */
+    texopt_distortion distortion_in, distortion_out; /* every metric (distortion.h) */
     int has_allocation;              /* targets rescaled to the budget (allocate.h) */
     double allocation_scale;         /* the common factor s on the singular values */
     double allocation_capped_share;  /* triangles at input density (a cap reached) */

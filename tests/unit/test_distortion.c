@@ -4,6 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <cjson/cJSON.h>
+
 #include "distortion.h"
 #include "handmesh.h"
 #include "test.h"
@@ -73,6 +75,14 @@ TEST(two_to_one_stretch_measures_five)
     char err[256] = "";
     CHECK_OK(texopt_distortion_measure(m, out, &d, err, sizeof err), err);
     CHECK_NEAR(d.symmetric_dirichlet, 5.0, 1e-9);
+    /* The lecture's other metrics of diag(sqrt 2, 1/sqrt 2), the same on every triangle. */
+    CHECK_NEAR(d.conformal.mean, 2.0, 1e-9);
+    CHECK_NEAR(d.mips.mean, 2.5, 1e-9);
+    CHECK_NEAR(d.isometric.mean, 2.0, 1e-9);
+    CHECK_NEAR(d.max_isometric.max, sqrt(2.0), 1e-9);
+    CHECK_NEAR(d.area.max, 1.0, 1e-9);
+    CHECK_NEAR(d.l2_stretch.mean, sqrt(1.25), 1e-9);
+    CHECK_NEAR(d.linf_stretch.max, sqrt(2.0), 1e-9);
     /* Stretch 2x only on one half: area normalisation makes it uneven; the mean lies
      * strictly between the two pure cases and above 4. */
     for (size_t v = 0; v < m->vertex_count; v++)
@@ -138,4 +148,51 @@ TEST(degenerate_triangles_are_not_counted_and_bad_input_fails)
     CHECK_EQ_INT(texopt_distortion_measure(NULL, NULL, &d, err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
     free(out);
     texopt_mesh_destroy(m);
+}
+
+/* J = R(0.4) diag(3, 0.5) R(-1.1): every metric is a function of the singular values 3 and
+ * 0.5 alone, whatever the rotations. */
+TEST(triangle_metrics_follow_the_singular_values)
+{
+    double c1 = cos(0.4), s1 = sin(0.4), c2 = cos(-1.1), s2 = sin(-1.1);
+    double A[2][2] = {{3.0 * c1, -0.5 * s1}, {3.0 * s1, 0.5 * c1}};
+    double J[2][2] = {{A[0][0] * c2 + A[0][1] * s2, -A[0][0] * s2 + A[0][1] * c2},
+                      {A[1][0] * c2 + A[1][1] * s2, -A[1][0] * s2 + A[1][1] * c2}};
+    texopt_triangle_distortion d;
+    texopt_triangle_distortion_of(J, &d);
+    CHECK_NEAR(d.sigma_max, 3.0, 1e-12);
+    CHECK_NEAR(d.sigma_min, 0.5, 1e-12);
+    CHECK_NEAR(d.conformal, 6.0, 1e-12);
+    CHECK_NEAR(d.mips, 6.0 + 1.0 / 6.0, 1e-12);
+    CHECK_NEAR(d.isometric, sqrt(13.0), 1e-12);
+    CHECK_NEAR(d.max_isometric, 3.0, 1e-12);
+    CHECK_NEAR(d.area, 1.5, 1e-12);
+    CHECK_NEAR(d.symmetric_dirichlet, 9.0 + 0.25 + 1.0 / 9.0 + 4.0, 1e-12);
+    CHECK_NEAR(d.l2_stretch, sqrt((4.0 + 1.0 / 9.0) / 2.0), 1e-12);
+    CHECK_NEAR(d.linf_stretch, 2.0, 1e-12);
+    /* A mirror (det < 0) is not a valid map of the triangle. */
+    double M[2][2] = {{J[0][0], J[0][1]}, {-J[1][0], -J[1][1]}};
+    texopt_triangle_distortion_of(M, &d);
+    CHECK(isinf(d.conformal) && isinf(d.l2_stretch) && isinf(d.area));
+    /* Area only: J = diag(2, 2) keeps angles and doubles lengths. */
+    double S[2][2] = {{2.0, 0.0}, {0.0, 2.0}};
+    texopt_triangle_distortion_of(S, &d);
+    CHECK_NEAR(d.conformal, 1.0, 1e-12);
+    CHECK_NEAR(d.mips, 2.0, 1e-12);
+    CHECK_NEAR(d.area, 4.0, 1e-12);
+    CHECK_NEAR(d.l2_stretch, 0.5, 1e-12);
+}
+
+TEST(metrics_json_writes_null_for_infinity)
+{
+    texopt_distortion d = {0};
+    d.symmetric_dirichlet = d.max_symmetric_dirichlet = INFINITY;
+    d.conformal = (texopt_distortion_stat){1.5, 2.5};
+    d.flipped = 3;
+    cJSON *o = texopt_distortion_json(&d);
+    CHECK(o != NULL);
+    CHECK(cJSON_IsNull(cJSON_GetObjectItem(cJSON_GetObjectItem(o, "symmetric_dirichlet"), "mean")));
+    CHECK_NEAR(cJSON_GetObjectItem(cJSON_GetObjectItem(o, "conformal"), "max")->valuedouble, 2.5, 0);
+    CHECK_NEAR(cJSON_GetObjectItem(o, "flipped")->valuedouble, 3, 0);
+    cJSON_Delete(o);
 }

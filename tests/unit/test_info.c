@@ -62,6 +62,14 @@ TEST(cube_document_has_the_constructed_numbers)
     CHECK_NEAR(num(d, "texel_area"), 1536, 1e-9);
     CHECK_NEAR(num(d, "area_3d"), 6, 1e-12);
     CHECK_NEAR(num(d, "flipped") + num(d, "overlapping") + num(d, "degenerate") + num(d, "wrapped"), 0, 0);
+    /* Each face is a 16 x 16 texel square: an isometry up to scale, every metric minimal. */
+    const cJSON *dist = cJSON_GetObjectItemCaseSensitive(d, "distortion");
+    CHECK_NEAR(num(dist, "counted"), 12, 0);
+    CHECK_NEAR(num(cJSON_GetObjectItemCaseSensitive(dist, "symmetric_dirichlet"), "max"), 4.0, 1e-12);
+    CHECK_NEAR(num(cJSON_GetObjectItemCaseSensitive(dist, "mips"), "mean"), 2.0, 1e-12);
+    CHECK_NEAR(num(cJSON_GetObjectItemCaseSensitive(dist, "isometric"), "mean"), sqrt(2.0), 1e-12);
+    CHECK_NEAR(num(cJSON_GetObjectItemCaseSensitive(dist, "l2_stretch"), "max"), 1.0, 1e-12);
+    CHECK_NEAR(num(cJSON_GetObjectItemCaseSensitive(dist, "area"), "max"), 1.0, 1e-12);
     cJSON_Delete(doc);
     texopt_model_destroy(model);
 }

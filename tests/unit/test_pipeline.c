@@ -692,6 +692,9 @@ TEST(baseline_methods_run_through_the_same_stages)
     cJSON *dist = cJSON_GetObjectItem(d, "distortion");
     CHECK(dist != NULL);
     CHECK_NEAR(cJSON_GetObjectItem(dist, "symmetric_dirichlet_output")->valuedouble, 4.0, 1e-3);
+    cJSON *conformal = cJSON_GetObjectItem(cJSON_GetObjectItem(dist, "output"), "conformal");
+    CHECK(conformal != NULL);
+    CHECK_NEAR(cJSON_GetObjectItem(conformal, "mean")->valuedouble, 1.0, 1e-3);
     CHECK(cJSON_GetObjectItem(d, "stage1") == NULL); /* no perceptual stage ran */
     cJSON_Delete(st);
     scratch_free(&s);
