@@ -2,6 +2,7 @@
 // run by service_page.sh. Usage: node service_page.mjs BASE MODEL [TOKEN]
 // Uploads MODEL through the file picker with the fast `input` method, follows the progress
 // bar to the end, checks the sizes shown and the downloaded file against the API; then
+// checks the two 3D views, the UV heat maps and the q-cost plot of two evaluated jobs; then
 // starts a slow (perceptual) job and cancels it from the page; fails on any console error.
 import { createRequire } from 'node:module';
 import { readFileSync } from 'node:fs';
@@ -55,7 +56,7 @@ try {
     setInterval(() => { if (!document.querySelector('#job').hidden) window.samples.push(document.querySelector('#bar').value); }, 10);
   });
   await page.click('#start');
-  await page.waitForFunction(() => !document.querySelector('#result').hidden, { timeout: 120000 });
+  await page.waitForFunction(() => document.querySelector('#result').dataset.job, { timeout: 120000 });
   const done = await page.evaluate(() => ({
     samples: window.samples,
     state: document.querySelector('#state').textContent,
@@ -85,11 +86,76 @@ try {
   check(fileRow[1] === `${(readFileSync(modelPath).length / 1024).toFixed(1)} KiB` &&
     fileRow[2] === `${(direct.length / 1024).toFixed(1)} KiB`, 'file bytes before/after match the upload and the result');
 
+  // The viewers drew the model, with one camera: the two renders cover the same pixels and
+  // look alike (the output is the input at half the texels); after a drag on the output
+  // view both renders changed and still agree.
+  const compareViews = () => page.evaluate(() => {
+    const pixels = id => {
+      const src = document.getElementById(id);
+      const c = document.createElement('canvas');
+      c.width = src.width; c.height = src.height;
+      const ctx = c.getContext('2d');
+      ctx.drawImage(src, 0, 0);
+      return ctx.getImageData(0, 0, c.width, c.height).data;
+    };
+    const a = pixels('view-in'), b = pixels('view-out');
+    const isModel = (d, i) => Math.abs(d[i] - 242) + Math.abs(d[i + 1] - 242) + Math.abs(d[i + 2] - 242) > 12;
+    let inA = 0, inB = 0, both = 0, diff = 0;
+    for (let i = 0; i < a.length; i += 4) {
+      const ma = isModel(a, i), mb = isModel(b, i);
+      inA += ma; inB += mb; both += ma && mb;
+      if (ma && mb) diff += (Math.abs(a[i] - b[i]) + Math.abs(a[i + 1] - b[i + 1]) + Math.abs(a[i + 2] - b[i + 2])) / 3;
+    }
+    const n = a.length / 4;
+    return { coverA: inA / n, coverB: inB / n, iou: both / (inA + inB - both), meanDiff: diff / Math.max(both, 1),
+      signature: [...a.filter((_, i) => i % 4004 === 0)].join() };
+  });
+  await page.waitForFunction(() => document.querySelector('#view-out').width > 0);
+  const first = await compareViews();
+  check(first.coverA > 0.05 && first.coverB > 0.05, `both viewers drew the model (cover ${first.coverA.toFixed(3)}, ${first.coverB.toFixed(3)})`);
+  check(first.iou > 0.97, `the two views show the model from one camera (overlap ${first.iou.toFixed(3)})`);
+  check(first.meanDiff < 12, `output render within tolerance of the input render (mean difference ${first.meanDiff.toFixed(2)} of 255)`);
+  const box = await (await page.$('#view-out')).boundingBox();
+  await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+  await page.mouse.down();
+  await page.mouse.move(box.x + box.width / 2 + 120, box.y + box.height / 2 + 30, { steps: 8 });
+  await page.mouse.up();
+  const turned = await compareViews();
+  check(turned.signature !== first.signature && turned.iou > 0.97,
+    `a drag on the output view turned both (overlap ${turned.iou.toFixed(3)})`);
+  const heat = await page.evaluate(() => ['uv-in', 'uv-out'].map(id => {
+    const d = document.getElementById(id).getContext('2d').getImageData(0, 0, 360, 360).data;
+    let coloured = 0;
+    for (let i = 0; i < d.length; i += 4) coloured += d[i] !== 0x33 || d[i + 1] !== 0x33 || d[i + 2] !== 0x33;
+    return coloured / (d.length / 4);
+  }));
+  check(heat[0] > 0.1 && heat[1] > 0.1, `both UV heat maps drawn (${heat.map(h => h.toFixed(3))} of the canvas covered)`);
+  check(await page.$eval('#qcost-box', e => e.hidden), 'no q-cost plot for a job without evaluation');
+
+  // An evaluated job: the q-cost plot shows it beside the other evaluated job of the model.
+  for (const cost of ['0.25', '0.5']) {
+    await page.$eval('#param-relative_cost', (el, c) => { el.value = c; }, cost);
+    await page.$eval('#param-evaluate', el => { el.checked = true; });
+    const before = await page.$eval('#job', e => e.dataset.id);
+    await page.click('#start');
+    await page.waitForFunction(id => document.querySelector('#job').dataset.id !== id &&
+      document.querySelector('#result').dataset.job === document.querySelector('#job').dataset.id,
+      { timeout: 180000 }, before);
+  }
+  const plot = await page.$$eval('#qcost circle.point', cs => cs.map(c => Number(c.getAttribute('r'))));
+  check(plot.length === 2 && plot.includes(5), `q-cost plot shows the evaluated jobs (${plot.length} points)`);
+  check(!(await page.$eval('#qcost-box', e => e.hidden)), 'the q-cost plot shows for an evaluated job');
+  check(!(await page.$eval('#report', e => e.hidden)), 'the evaluated job links its report');
+  // SCREENSHOT=docs/page.jpg regenerates the picture of the README.
+  if (process.env.SCREENSHOT) await page.screenshot({ path: process.env.SCREENSHOT, fullPage: true, quality: 80 });
+  await page.$eval('#param-evaluate', el => { el.checked = false; });
+
   // 2. a slow job, canceled from the page.
   await page.select('#param-method', 'perceptual');
+  const last = await page.$eval('#job', e => e.dataset.id);
   await page.click('#start');
   await page.waitForFunction(id => document.querySelector('#job').dataset.id !== id &&
-    document.querySelector('#state').textContent === 'running', { timeout: 60000 }, done.id);
+    document.querySelector('#state').textContent === 'running', { timeout: 60000 }, last);
   await page.click('#cancel');
   await page.waitForFunction(() => document.querySelector('#state').textContent === 'canceled', { timeout: 120000 });
   check(true, 'a running job was canceled from the page');
@@ -99,7 +165,6 @@ try {
   const states = await page.$$eval('#job-rows tr', rows => rows.map(r => r.cells[3].textContent));
   check(states.includes('succeeded') && states.includes('canceled'), `job list shows the jobs (${states})`);
 
-  if (process.env.SCREENSHOT) await page.screenshot({ path: process.env.SCREENSHOT, fullPage: true });
   check(problems.length === 0, `no console errors${problems.length ? ': ' + problems.join('; ') : ''}`);
 } finally {
   await browser.close();

@@ -19,6 +19,7 @@ run_page "$BASE" "$model" || fail "the page without a token"
 stop_server || fail "texoptd did not stop cleanly"
 
 token="page-test-$RANDOM$RANDOM"
+DATA="$WORK/data-token" # a fresh job list
 TEXOPT_API_TOKEN="$token" start_server --workers 1
 code=$(curl -s -o /dev/null -w '%{http_code}' "$BASE/v1/params")
 [ "$code" = 401 ] || fail "/v1/params without the token answered $code"

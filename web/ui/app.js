@@ -1,6 +1,8 @@
 // app.js - the texopt page: choose a model, set parameters, follow the job, fetch the
 // result, list jobs. Talks to texoptd only through api.js (the public API).
 import { call, json, paramsSchema, followEvents, setToken, getToken } from './api.js';
+import { SideBySide, texelDensities, medianDensity, drawHeatMap } from './viewer.js';
+import { drawQCost } from './plot.js';
 
 const $ = id => document.getElementById(id);
 const FINISHED = ['succeeded', 'failed', 'canceled'];
@@ -14,7 +16,9 @@ let model = null;          // {main: File, files: [{file, path}]}
 let schema = {}, defaults = {};
 let following = null;      // AbortController of the event stream followed
 let shownProgress = 0;
-let jobsCursor = null, jobsNext = null;
+let jobsCursor = null, jobsNext = null, jobsShown = [];
+let viewer = null;
+const inputs = new Map();  // job id -> the model uploaded from this page, for the input view
 
 function say(text, isError = false) {
   $('message').textContent = text;
@@ -168,6 +172,7 @@ async function start() {
   try {
     const response = await call('/v1/jobs', { method: 'POST', body: form });
     const job = await response.json();
+    inputs.set(job.id, model);
     say('');
     follow(job);
   } catch (error) {
@@ -206,8 +211,8 @@ function follow(job) {
       if (following.signal.aborted) return;
       last = await json(`/v1/jobs/${job.id}`);
       showJob(last);
+      await listJobs(jobsCursor); // first: the q-cost plot reads the listed jobs
       if (last.state === 'succeeded') await showResult(last);
-      listJobs(jobsCursor);
     })
     .catch(error => say(`Following the job failed: ${error.message}`, true));
 }
@@ -250,10 +255,48 @@ async function showResult(job) {
     for (const text of [label, before != null ? show(before) : '–', show(after), before ? (after / before).toFixed(3) : '–'])
       tr.insertCell().textContent = text;
   }
+  await showModels(job.id, await blob.arrayBuffer());
+  await showQCost(job, stats);
   const report = $('report');
   report.hidden = !(job.links && job.links.report);
   if (!report.hidden) report.href = job.links.report;
   $('result').hidden = false;
+  $('result').dataset.job = job.id; // complete: scripts driving the page wait for this
+}
+
+// The input (when uploaded from this page) and the output side by side, and their layouts.
+async function showModels(id, resultBytes) {
+  if (!viewer) viewer = new SideBySide([$('view-in'), $('view-out')]);
+  $('result').hidden = false; // the canvases need their size before the first frame
+  const input = inputs.get(id);
+  let inputScene = null;
+  if (input) {
+    const files = new Map(input.files.map(e => [e.path, e.file]));
+    inputScene = await viewer.show(0, await input.main.arrayBuffer(), files);
+  }
+  const outputScene = await viewer.show(1, resultBytes);
+  const before = inputScene ? texelDensities(inputScene) : [], after = texelDensities(outputScene);
+  const reference = medianDensity(before.length ? before : after);
+  drawHeatMap($('uv-in'), before, reference);
+  drawHeatMap($('uv-out'), after, reference);
+}
+
+// q against cost for the evaluated, succeeded jobs of the same model on the listed page.
+async function showQCost(job, stats) {
+  const box = $('qcost-box');
+  box.hidden = !stats.evaluation;
+  if (box.hidden) return;
+  const point = (s, current) => ({ method: s.method, cost: s.domains[0].relative_cost, q: s.evaluation.q, current });
+  const others = jobsShown.filter(j => j.id !== job.id && j.state === 'succeeded' && j.params && j.params.evaluate &&
+    j.model && job.model && j.model.name === job.model.name);
+  const points = [point(stats, true)];
+  for (const other of others) {
+    try {
+      const s = await json(`/v1/jobs/${other.id}/stats`);
+      if (s.evaluation) points.push(point(s, false));
+    } catch { /* deleted meanwhile */ }
+  }
+  drawQCost($('qcost'), points);
 }
 
 async function listJobs(cursor) {
@@ -261,6 +304,7 @@ async function listJobs(cursor) {
   const page = await json('/v1/jobs' + query);
   jobsCursor = cursor;
   jobsNext = page.next;
+  jobsShown = page.jobs;
   const rows = $('job-rows');
   rows.textContent = '';
   for (const job of page.jobs) {
