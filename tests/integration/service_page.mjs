@@ -145,7 +145,13 @@ try {
   const plot = await page.$$eval('#qcost circle.point', cs => cs.map(c => Number(c.getAttribute('r'))));
   check(plot.length === 2 && plot.includes(5), `q-cost plot shows the evaluated jobs (${plot.length} points)`);
   check(!(await page.$eval('#qcost-box', e => e.hidden)), 'the q-cost plot shows for an evaluated job');
-  check(!(await page.$eval('#report', e => e.hidden)), 'the evaluated job links its report');
+  const report = await page.$eval('#report', async e => ({
+    hidden: e.hidden, href: e.getAttribute('href'),
+    head: (await (await fetch(e.href)).text()).slice(0, 200).toLowerCase(),
+  }));
+  check(!report.hidden && report.head.includes('<html'), `the evaluated job links its report (${report.href.slice(0, 30)})`);
+  check(token ? report.href.startsWith('blob:') : report.href.startsWith('/v1/jobs/'),
+    token ? 'with a token the report is fetched with it' : 'without a token the report is a plain link');
   // SCREENSHOT=docs/page.jpg regenerates the picture of the README.
   if (process.env.SCREENSHOT) await page.screenshot({ path: process.env.SCREENSHOT, fullPage: true, quality: 80 });
   await page.$eval('#param-evaluate', el => { el.checked = false; });
@@ -164,6 +170,27 @@ try {
   await page.waitForFunction(() => document.querySelectorAll('#job-rows tr').length >= 2, { timeout: 10000 });
   const states = await page.$$eval('#job-rows tr', rows => rows.map(r => r.cells[3].textContent));
   check(states.includes('succeeded') && states.includes('canceled'), `job list shows the jobs (${states})`);
+
+  // Paging: 11 jobs are a page of 10 and a page of 1.
+  if (!token) {
+    const glb = readFileSync(modelPath);
+    for (let i = states.length; i < 11; i++) {
+      const r = await fetch(`${base}/v1/jobs?method=input&relative_cost=0.1`,
+        { method: 'POST', headers: { 'Content-Type': 'model/gltf-binary' }, body: glb });
+      if (r.status !== 202) throw new Error(`upload for paging answered ${r.status}`);
+    }
+    await page.click('#jobs-first');
+    await page.waitForFunction(() => document.querySelectorAll('#job-rows tr').length === 10 &&
+      !document.querySelector('#jobs-next').disabled, { timeout: 10000 });
+    const firstPage = await page.$$eval('#job-rows tr', rows => rows.map(r => r.cells[0].textContent));
+    await page.click('#jobs-next');
+    await page.waitForFunction(() => document.querySelectorAll('#job-rows tr').length === 1, { timeout: 10000 });
+    const secondPage = await page.$$eval('#job-rows tr', rows => rows.map(r => r.cells[0].textContent));
+    check(!firstPage.includes(secondPage[0]) && await page.$eval('#jobs-next', b => b.disabled),
+      'the job list pages: 10 jobs, then the 11th, then no next page');
+    await page.click('#jobs-first');
+    await page.waitForFunction(() => document.querySelectorAll('#job-rows tr').length === 10, { timeout: 10000 });
+  }
 
   check(problems.length === 0, `no console errors${problems.length ? ': ' + problems.join('; ') : ''}`);
 } finally {

@@ -6,6 +6,7 @@ import { drawQCost } from './plot.js';
 
 const $ = id => document.getElementById(id);
 const FINISHED = ['succeeded', 'failed', 'canceled'];
+const FIRST_JOBS_PAGE = '/v1/jobs?limit=10';
 // The parameters the form shows; the others keep the engine's defaults.
 const SHOWN = ['method', 'budget', 'relative_cost', 'texture_width', 'texture_height', 'target_loss',
   'iterations', 'evaluate'];
@@ -16,7 +17,7 @@ let model = null;          // {main: File, files: [{file, path}]}
 let schema = {}, defaults = {};
 let following = null;      // AbortController of the event stream followed
 let shownProgress = 0;
-let jobsCursor = null, jobsNext = null, jobsShown = [];
+let jobsPage = null, jobsNext = null, jobsShown = [];
 let viewer = null;
 const inputs = new Map();  // job id -> the model uploaded from this page, for the input view
 
@@ -211,7 +212,7 @@ function follow(job) {
       if (following.signal.aborted) return;
       last = await json(`/v1/jobs/${job.id}`);
       showJob(last);
-      await listJobs(jobsCursor); // first: the q-cost plot reads the listed jobs
+      await listJobs(jobsPage); // first: the q-cost plot reads the listed jobs
       if (last.state === 'succeeded') await showResult(last);
     })
     .catch(error => say(`Following the job failed: ${error.message}`, true));
@@ -257,11 +258,27 @@ async function showResult(job) {
   }
   await showModels(job.id, await blob.arrayBuffer());
   await showQCost(job, stats);
-  const report = $('report');
-  report.hidden = !(job.links && job.links.report);
-  if (!report.hidden) report.href = job.links.report;
+  await linkReport(job);
   $('result').hidden = false;
   $('result').dataset.job = job.id; // complete: scripts driving the page wait for this
+}
+
+// A link opens the report in a tab; with a token (a link cannot send it) the report is
+// fetched with it and saved as a file instead.
+async function linkReport(job) {
+  const report = $('report');
+  if (report.href.startsWith('blob:')) URL.revokeObjectURL(report.href);
+  report.hidden = !(job.links && job.links.report);
+  report.removeAttribute('download');
+  report.href = '#';
+  if (report.hidden) return;
+  if (!getToken()) {
+    report.href = job.links.report;
+    return;
+  }
+  const html = await (await call(job.links.report)).blob();
+  report.href = URL.createObjectURL(html);
+  report.download = `${job.id}-report.html`;
 }
 
 // The input (when uploaded from this page) and the output side by side, and their layouts.
@@ -299,10 +316,10 @@ async function showQCost(job, stats) {
   drawQCost($('qcost'), points);
 }
 
-async function listJobs(cursor) {
-  const query = cursor ? `?limit=10&after=${encodeURIComponent(cursor)}` : '?limit=10';
-  const page = await json('/v1/jobs' + query);
-  jobsCursor = cursor;
+// Lists a page of jobs: the first, or the one a page's `next` link names.
+async function listJobs(url) {
+  const page = await json(url || FIRST_JOBS_PAGE);
+  jobsPage = url;
   jobsNext = page.next;
   jobsShown = page.jobs;
   const rows = $('job-rows');
@@ -319,7 +336,6 @@ async function listJobs(cursor) {
       tr.insertCell().textContent = text;
   }
   $('jobs-next').disabled = !jobsNext;
-  $('jobs-first').disabled = !cursor;
 }
 
 async function openJob(id) {
