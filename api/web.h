@@ -2,7 +2,8 @@
  *
  * Does: map a request path to a file of the page's directory (--web-dir), with its
  * Content-Type, and answer it with validation caching (ETag, Cache-Control: no-cache) and
- * a Content-Security-Policy that keeps the page to its own origin. Does not: decide
+ * a Content-Security-Policy that keeps the page to its own origin; a symbolic link is not
+ * followed (404). Does not: decide
  * which names are safe (routes.c lets only flat names through /ui/), or authenticate (the
  * page is public; it sends the token the user gives it with each API call). */
 #ifndef TEXOPT_API_WEB_H
