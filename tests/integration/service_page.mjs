@@ -123,6 +123,19 @@ try {
   const turned = await compareViews();
   check(turned.signature !== first.signature && turned.iou > 0.97,
     `a drag on the output view turned both (overlap ${turned.iou.toFixed(3)})`);
+  // Compare on one view: the output lies on the input, cut at the slider, same camera.
+  await page.click('#overlay');
+  await page.$eval('#split', el => { el.value = '30'; el.dispatchEvent(new Event('input')); });
+  const overlay = await page.evaluate(() => {
+    const a = document.querySelector('#view-in').getBoundingClientRect();
+    const b = document.querySelector('#view-out').getBoundingClientRect();
+    return { same: a.x === b.x && a.y === b.y && a.width === b.width && a.height === b.height,
+      clip: document.querySelector('#view-out').style.clipPath };
+  });
+  check(overlay.same && overlay.clip === 'inset(0px 0px 0px 30%)', `compare on one view (${overlay.clip})`);
+  const overlaid = await compareViews();
+  check(overlaid.coverA > 0.05 && overlaid.iou > 0.97, `one camera in the overlay too (overlap ${overlaid.iou.toFixed(3)})`);
+  await page.click('#overlay');
   const heat = await page.evaluate(() => ['uv-in', 'uv-out'].map(id => {
     const d = document.getElementById(id).getContext('2d').getImageData(0, 0, 360, 360).data;
     let coloured = 0;

@@ -360,10 +360,24 @@ async function boot() {
   }
 }
 
+// Side by side, or the output over the input with the part left of the slider cut away.
+function setUpCompare() {
+  const update = () => {
+    const on = $('overlay').checked;
+    $('views').classList.toggle('overlay', on);
+    $('split').hidden = !on;
+    $('view-out').style.clipPath = on ? `inset(0 0 0 ${$('split').value}%)` : '';
+    if (viewer) viewer.render();
+  };
+  $('overlay').addEventListener('change', update);
+  $('split').addEventListener('input', update);
+}
+
 function setUp() {
   $('token').value = getToken();
   $('token').addEventListener('change', e => { setToken(e.target.value.trim()); boot(); });
   setUpDrop();
+  setUpCompare();
   $('start').addEventListener('click', start);
   $('cancel').addEventListener('click', cancel);
   $('jobs-next').addEventListener('click', () => listJobs(jobsNext));
