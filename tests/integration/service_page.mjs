@@ -5,7 +5,8 @@
 // checks the two 3D views, the UV heat maps and the q-cost plot of two evaluated jobs; then
 // starts a slow (perceptual) job and cancels it from the page; fails on any console error.
 import { createRequire } from 'node:module';
-import { readFileSync } from 'node:fs';
+import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 
 const [base, modelPath, token = ''] = process.argv.slice(2);
@@ -13,6 +14,29 @@ const require = createRequire(join(process.env.TEXOPT_SOURCE_DIR, 'tools', 'pack
 const puppeteer = require('puppeteer-core');
 
 const problems = [];
+
+// The .glb as a .gltf with its files: the binary buffer as model.bin and each image as a
+// file of its own (its bytes stay in the buffer too; the images are read from their uri).
+function splitGlb(glbPath, dir) {
+  const glb = readFileSync(glbPath);
+  const jsonLength = glb.readUInt32LE(12);
+  const gltf = JSON.parse(glb.subarray(20, 20 + jsonLength).toString());
+  const bin = glb.subarray(20 + jsonLength + 8);
+  const files = [join(dir, 'model.gltf'), join(dir, 'model.bin')];
+  writeFileSync(files[1], bin.subarray(0, gltf.buffers[0].byteLength));
+  gltf.buffers[0].uri = 'model.bin';
+  gltf.images.forEach((image, i) => {
+    const view = gltf.bufferViews[image.bufferView];
+    const name = `image${i}.${image.mimeType === 'image/png' ? 'png' : 'jpg'}`;
+    writeFileSync(join(dir, name), bin.subarray(view.byteOffset || 0, (view.byteOffset || 0) + view.byteLength));
+    files.push(join(dir, name));
+    delete image.bufferView;
+    delete image.mimeType;
+    image.uri = name;
+  });
+  writeFileSync(files[0], JSON.stringify(gltf));
+  return files;
+}
 function check(ok, what) {
   if (!ok) throw new Error(`check failed: ${what}`);
   console.log(`ok   ${what}`);
@@ -169,6 +193,27 @@ try {
   if (process.env.SCREENSHOT) await page.screenshot({ path: process.env.SCREENSHOT, fullPage: true, quality: 80 });
   await page.$eval('#param-evaluate', el => { el.checked = false; });
 
+  // A .gltf with its .bin and image, chosen together: uploaded as multipart, shown in 3D.
+  const split = mkdtempSync(join(tmpdir(), 'texopt-page-'));
+  try {
+    await (await page.$('#files')).uploadFile(...splitGlb(modelPath, split));
+    const chosen = await page.$eval('#chosen', e => e.textContent);
+    check(chosen.startsWith('model.gltf with 2 file(s)'), `a .gltf with its files chosen (${chosen})`);
+    await page.$eval('#param-evaluate', el => { el.checked = false; });
+    const previous = await page.$eval('#job', e => e.dataset.id);
+    await page.click('#start');
+    await page.waitForFunction(id => document.querySelector('#job').dataset.id !== id &&
+      document.querySelector('#result').dataset.job === document.querySelector('#job').dataset.id,
+      { timeout: 120000 }, previous);
+    const gltfViews = await compareViews();
+    const gltfPixels = await page.$$eval('#sizes tbody tr', rows => rows.map(r => r.cells[2].textContent));
+    check(gltfViews.coverA > 0.05 && gltfViews.iou > 0.97 && gltfPixels.includes((724 * 724).toLocaleString('en')),
+      `the .gltf job succeeded and its input drew from its files (overlap ${gltfViews.iou.toFixed(3)})`);
+    await (await page.$('#files')).uploadFile(modelPath); // the page's File objects must outlive split/
+  } finally {
+    rmSync(split, { recursive: true, force: true });
+  }
+
   // 2. a slow job, canceled from the page.
   await page.select('#param-method', 'perceptual');
   const last = await page.$eval('#job', e => e.dataset.id);
@@ -180,7 +225,9 @@ try {
   check(true, 'a running job was canceled from the page');
 
   // 3. the job list shows both jobs, linked.
-  await page.waitForFunction(() => document.querySelectorAll('#job-rows tr').length >= 2, { timeout: 10000 });
+  // The list is refreshed when the followed job ends.
+  await page.waitForFunction(() => [...document.querySelectorAll('#job-rows tr')].some(r => r.cells[3].textContent === 'canceled'),
+    { timeout: 10000 }).catch(() => {});
   const states = await page.$$eval('#job-rows tr', rows => rows.map(r => r.cells[3].textContent));
   check(states.includes('succeeded') && states.includes('canceled'), `job list shows the jobs (${states})`);
 
