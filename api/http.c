@@ -27,6 +27,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "cors.h"
 #include "head_watch.h"
 #include "json_depth.h"
 #include "log.h"
@@ -48,22 +49,30 @@ static double monotonic_seconds(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
-static void add_cors(const api_service *svc, struct MHD_Response *r)
+/* The request's Origin, when --cors-origin lets it read the answer; NULL otherwise. */
+static const char *cors_origin(const api_service *svc, struct MHD_Connection *c)
 {
-    if (!svc->config.cors_origin[0])
+    return api_cors_allow(svc->config.cors_origin, MHD_lookup_connection_value(c, MHD_HEADER_KIND, "Origin"));
+}
+
+static void add_cors(const api_service *svc, struct MHD_Connection *c, struct MHD_Response *r)
+{
+    const char *allowed = svc->config.cors_origin;
+    if (allowed[0] && strcmp(allowed, "*") != 0)
+        MHD_add_response_header(r, "Vary", "Origin"); /* the answer depends on who asks */
+    const char *origin = cors_origin(svc, c);
+    if (!origin)
         return;
-    MHD_add_response_header(r, "Access-Control-Allow-Origin", svc->config.cors_origin);
+    MHD_add_response_header(r, "Access-Control-Allow-Origin", origin);
     MHD_add_response_header(r, "Access-Control-Expose-Headers",
                             "Location, Retry-After, Content-Disposition, Idempotent-Replayed");
-    if (strcmp(svc->config.cors_origin, "*") != 0)
-        MHD_add_response_header(r, "Vary", "Origin");
 }
 
 enum MHD_Result http_send(request_ctx *rq, struct MHD_Connection *c, int status, struct MHD_Response *r)
 {
     if (!r)
         return MHD_NO;
-    add_cors(rq->svc, r);
+    add_cors(rq->svc, c, r);
     enum MHD_Result ok = MHD_queue_response(c, (unsigned)status, r);
     MHD_destroy_response(r);
     if (ok == MHD_YES)
@@ -145,7 +154,7 @@ static enum MHD_Result answer_options(request_ctx *rq, struct MHD_Connection *c)
     if (!r)
         return MHD_NO;
     MHD_add_response_header(r, "Allow", api_route_allow(rq->match.route));
-    if (rq->svc->config.cors_origin[0]) {
+    if (cors_origin(rq->svc, c)) {
         MHD_add_response_header(r, "Access-Control-Allow-Methods", api_route_allow(rq->match.route));
         MHD_add_response_header(r, "Access-Control-Allow-Headers",
                                 "Authorization, Content-Type, Idempotency-Key, Last-Event-ID");
@@ -167,6 +176,9 @@ static enum MHD_Result dispatch(request_ctx *rq, struct MHD_Connection *c)
     case ROUTE_JOB_STATS:
     case ROUTE_JOB_REPORT:
         return jobs_file(rq, c);
+    case ROUTE_PAGE:
+    case ROUTE_ASSET:
+        return web_answer(rq, c);
     default:
         return probes_answer(rq, c);
     }
@@ -204,7 +216,7 @@ static enum MHD_Result first_call(request_ctx *rq, struct MHD_Connection *c)
         return http_send_problem(rq, c, 405, "method-not-allowed", 0, "%s is not allowed on %s (allowed: %s)",
                                  rq->method, api_route_template(rq->match.route),
                                  api_route_allow(rq->match.route));
-    if (!api_route_is_health(rq->match.route) && !authorized(rq->svc, c))
+    if (!api_route_is_public(rq->match.route) && !authorized(rq->svc, c))
         return http_send_problem(rq, c, 401, "unauthorized", 0, "a valid 'Authorization: Bearer <token>' is required");
     if (strcmp(rq->method, "POST") == 0)
         return jobs_post_headers(rq, c);

@@ -56,7 +56,8 @@ enum MHD_Result jobs_get(request_ctx *rq, struct MHD_Connection *c);
 enum MHD_Result jobs_delete(request_ctx *rq, struct MHD_Connection *c);
 enum MHD_Result jobs_file(request_ctx *rq, struct MHD_Connection *c);  /* result, stats, report */
 enum MHD_Result jobs_events(request_ctx *rq, struct MHD_Connection *c);
-enum MHD_Result probes_answer(request_ctx *rq, struct MHD_Connection *c); /* healthz, readyz, metrics, openapi */
+enum MHD_Result probes_answer(request_ctx *rq, struct MHD_Connection *c); /* healthz, readyz, metrics, openapi, params */
+enum MHD_Result web_answer(request_ctx *rq, struct MHD_Connection *c);    /* the page and its files */
 
 /* Removes the directory of an upload that did not become a job. */
 void jobs_post_abandon(request_ctx *rq);

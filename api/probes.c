@@ -1,4 +1,5 @@
-/* probes.c - /healthz, /readyz, /metrics and /openapi.yaml.
+/* probes.c - /healthz, /readyz, /metrics, /openapi.yaml and /v1/params (the engine's
+ * defaults, which the page shows beside the ranges of openapi.yaml).
  * healthz: the process answers. readyz: it would accept a job now (not shutting down,
  * uploads and job states can be stored, queue not full) — what a load balancer should
  * route uploads by. */
@@ -8,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "params_json.h"
 #include "workers.h"
 
 static enum MHD_Result answer_ready(request_ctx *rq, struct MHD_Connection *c)
@@ -40,6 +42,25 @@ static enum MHD_Result answer_metrics(request_ctx *rq, struct MHD_Connection *c)
     return http_send(rq, c, 200, r);
 }
 
+/* {"defaults": {...}}: every parameter as a job without parameters would run. */
+static enum MHD_Result answer_params(request_ctx *rq, struct MHD_Connection *c)
+{
+    texopt_params params;
+    char err[256];
+    if (api_params_from_json(NULL, &params, err, sizeof err) != TEXOPT_OK)
+        return http_send_problem(rq, c, 500, "internal", 0, "%s", err);
+    cJSON *body = cJSON_CreateObject();
+    cJSON *defaults = api_params_to_json(&params);
+    if (!body || !defaults || !cJSON_AddItemToObject(body, "defaults", defaults)) {
+        cJSON_Delete(defaults);
+        cJSON_Delete(body);
+        return MHD_NO;
+    }
+    char *text = cJSON_PrintUnformatted(body);
+    cJSON_Delete(body);
+    return http_send(rq, c, 200, http_response_owning(text, "application/json"));
+}
+
 enum MHD_Result probes_answer(request_ctx *rq, struct MHD_Connection *c)
 {
     switch (rq->match.route) {
@@ -53,6 +74,8 @@ enum MHD_Result probes_answer(request_ctx *rq, struct MHD_Connection *c)
         if (!rq->svc->openapi)
             return http_send_problem(rq, c, 404, "not-found", 0, "this build has no openapi.yaml");
         return http_send_text(rq, c, 200, "application/yaml", rq->svc->openapi, rq->svc->openapi_len);
+    case ROUTE_PARAMS:
+        return answer_params(rq, c);
     default:
         return http_send_problem(rq, c, 404, "not-found", 0, "no resource at %s", rq->path);
     }

@@ -20,7 +20,12 @@ static const route_entry table[ROUTE_COUNT] = {
     [ROUTE_READYZ] = {"/readyz", "GET, HEAD, OPTIONS"},
     [ROUTE_METRICS] = {"/metrics", "GET, HEAD, OPTIONS"},
     [ROUTE_OPENAPI] = {"/openapi.yaml", "GET, HEAD, OPTIONS"},
+    [ROUTE_PARAMS] = {"/v1/params", "GET, HEAD, OPTIONS"},
+    [ROUTE_PAGE] = {"/", "GET, HEAD, OPTIONS"},
+    [ROUTE_ASSET] = {"/ui/{file}", "GET, HEAD, OPTIONS"},
 };
+
+#define MAX_ASSET_NAME 100
 
 static int is_job_id(const char *s, size_t len)
 {
@@ -28,6 +33,18 @@ static int is_job_id(const char *s, size_t len)
         return 0;
     for (size_t i = 0; i < len; i++)
         if (!((s[i] >= '0' && s[i] <= '9') || (s[i] >= 'a' && s[i] <= 'f')))
+            return 0;
+    return 1;
+}
+
+static int is_asset_name(const char *s)
+{
+    size_t n = strlen(s);
+    if (n == 0 || n > MAX_ASSET_NAME || s[0] == '.')
+        return 0;
+    for (size_t i = 0; i < n; i++)
+        if (!((s[i] >= '0' && s[i] <= '9') || (s[i] >= 'a' && s[i] <= 'z') || (s[i] >= 'A' && s[i] <= 'Z') ||
+              s[i] == '.' || s[i] == '_' || s[i] == '-'))
             return 0;
     return 1;
 }
@@ -50,12 +67,19 @@ static api_route job_subroute(const char *rest)
 api_match api_route_match(const char *path)
 {
     api_match m = {ROUTE_NOT_FOUND, ""};
-    static const api_route fixed[] = {ROUTE_JOBS, ROUTE_HEALTHZ, ROUTE_READYZ, ROUTE_METRICS, ROUTE_OPENAPI};
+    static const api_route fixed[] = {ROUTE_JOBS,    ROUTE_HEALTHZ, ROUTE_READYZ, ROUTE_METRICS,
+                                      ROUTE_OPENAPI, ROUTE_PARAMS,  ROUTE_PAGE};
     for (size_t i = 0; i < sizeof fixed / sizeof fixed[0]; i++)
         if (strcmp(path, table[fixed[i]].template) == 0) {
             m.route = fixed[i];
             return m;
         }
+    static const char ui[] = "/ui/";
+    if (strncmp(path, ui, sizeof ui - 1) == 0) {
+        if (is_asset_name(path + sizeof ui - 1))
+            m.route = ROUTE_ASSET;
+        return m;
+    }
     static const char prefix[] = "/v1/jobs/";
     if (strncmp(path, prefix, sizeof prefix - 1) != 0)
         return m;
@@ -98,4 +122,9 @@ int api_route_allows(api_route route, const char *method)
 int api_route_is_health(api_route route)
 {
     return route == ROUTE_HEALTHZ || route == ROUTE_READYZ;
+}
+
+int api_route_is_public(api_route route)
+{
+    return api_route_is_health(route) || route == ROUTE_PAGE || route == ROUTE_ASSET;
 }

@@ -21,6 +21,9 @@ typedef enum api_route {
     ROUTE_READYZ,
     ROUTE_METRICS,
     ROUTE_OPENAPI,
+    ROUTE_PARAMS,
+    ROUTE_PAGE,
+    ROUTE_ASSET,
     ROUTE_COUNT
 } api_route;
 
@@ -29,8 +32,9 @@ typedef struct api_match {
     char id[JOB_ID_LEN + 1]; /* for the /v1/jobs/{id}... routes */
 } api_match;
 
-/* Matches path (without the query string). A job id must be 32 lowercase hex digits; any
- * other path is ROUTE_NOT_FOUND. */
+/* Matches path (without the query string). A job id must be 32 lowercase hex digits; an
+ * asset name (/ui/{file}) letters, digits, '.', '_' and '-', not starting with '.', so it
+ * cannot leave the page's directory; any other path is ROUTE_NOT_FOUND. */
 api_match api_route_match(const char *path);
 
 /* The route's template ("/v1/jobs/{id}"; "unmatched" for ROUTE_NOT_FOUND), static. */
@@ -42,7 +46,11 @@ const char *api_route_allow(api_route route);
 /* Whether method is allowed on route (HEAD wherever GET is; OPTIONS everywhere). */
 int api_route_allows(api_route route, const char *method);
 
-/* Whether the route is a health probe, which answers without authentication. */
+/* Whether the route is a health probe. */
 int api_route_is_health(api_route route);
+
+/* Whether the route answers without authentication: the health probes, and the page and its
+ * files (a browser cannot send a token when it opens a page; the page holds no data). */
+int api_route_is_public(api_route route);
 
 #endif

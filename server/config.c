@@ -11,12 +11,17 @@
 
 #include "status.h"
 
+#ifndef TEXOPT_WEB_DEFAULT
+#define TEXOPT_WEB_DEFAULT "/usr/share/texopt/web"
+#endif
+
 void config_defaults(service_config *cfg)
 {
     memset(cfg, 0, sizeof *cfg);
     snprintf(cfg->bind, sizeof cfg->bind, "127.0.0.1");
     cfg->port = 8080;
     snprintf(cfg->data_dir, sizeof cfg->data_dir, "./texopt-data");
+    snprintf(cfg->web_dir, sizeof cfg->web_dir, "%s", TEXOPT_WEB_DEFAULT);
     cfg->workers = 1;
     cfg->threads_per_job = 0;
     cfg->queue_limit = 16;
@@ -73,6 +78,7 @@ static const setting settings[] = {
     {"--memory-budget", "TEXOPT_MEMORY_BUDGET", KIND_U64, offsetof(service_config, memory_budget), 0, 1, LLONG_MAX},
     STR_SETTING("--cors-origin", "TEXOPT_CORS_ORIGIN", cors_origin),
     STR_SETTING("--port-file", "TEXOPT_PORT_FILE", port_file),
+    STR_SETTING("--web-dir", "TEXOPT_WEB_DIR", web_dir),
     STR_SETTING(NULL, "TEXOPT_API_TOKEN", api_token),
 };
 #define SETTING_COUNT (sizeof settings / sizeof settings[0])
@@ -156,7 +162,8 @@ const char *config_usage(void)
            "               [--threads-per-job N] [--queue-limit N] [--max-upload-bytes N]\n"
            "               [--max-pixels N] [--retention-seconds N] [--max-connections N]\n"
            "               [--max-connections-per-ip N] [--header-timeout S] [--idle-timeout S]\n"
-           "               [--memory-budget BYTES] [--cors-origin ORIGIN] [--port-file PATH]\n"
+           "               [--memory-budget BYTES] [--cors-origin LIST] [--port-file PATH]\n"
+           "               [--web-dir DIR]\n"
            "Slow clients: at most --max-connections-per-ip (64) connections per address, the\n"
            "request line and headers within --header-timeout seconds (10) in all, and no more\n"
            "than --idle-timeout seconds (30) without a byte. Jobs run while the memory their\n"

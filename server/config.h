@@ -16,7 +16,10 @@
  *   --idle-timeout S       TEXOPT_IDLE_TIMEOUT     30 s without a byte from the client (body, keep-alive)
  *   --memory-budget N      TEXOPT_MEMORY_BUDGET    bytes running jobs may take by estimate
  *                                                  (server/memory_budget.h); default half the RAM
- *   --cors-origin ORIGIN   TEXOPT_CORS_ORIGIN      unset = no CORS headers
+ *   --cors-origin LIST     TEXOPT_CORS_ORIGIN      unset = no CORS headers; "*", or origins
+ *                                                  separated by commas (the request's is echoed)
+ *   --web-dir DIR          TEXOPT_WEB_DIR          the page's files (web/ of the source tree,
+ *                                                  or /usr/share/texopt/web when installed)
  *   --port-file PATH       TEXOPT_PORT_FILE        unset; where to write the bound port
  *   (no flag)              TEXOPT_API_TOKEN        unset = no authentication
  * The token is only read from the environment so that it never shows in `ps`. */
@@ -41,7 +44,8 @@ typedef struct service_config {
     int header_timeout_seconds;
     int idle_timeout_seconds;
     uint64_t memory_budget;
-    char cors_origin[256];
+    char cors_origin[1024];
+    char web_dir[1024];
     char port_file[1024];
     char api_token[256];
 } service_config;

@@ -7,7 +7,7 @@ source "$(dirname "$0")/service_common.bash"
 SPOT="$TEXOPT_SOURCE_DIR/tests/data/spot/spot.glb"
 make_fixtures "$WORK/fx"
 export TEXOPT_API_TOKEN=secret-token
-start_server --cors-origin https://app.example
+start_server --cors-origin 'https://other.example, https://app.example'
 
 # Auth: everything but the probes needs the token.
 [ "$(get /healthz)" = 200 ] || fail "healthz without token"
@@ -18,13 +18,17 @@ grep -qi '^www-authenticate: Bearer' "$WORK/headers" || fail "401 without WWW-Au
 expect_problem 401 "$(curl -s -o "$WORK/resp" -D "$WORK/headers" -w '%{http_code}' -H 'Authorization: Bearer wrong' "$BASE/metrics")" unauthorized
 
 # Raw upload with parameters in the query string.
-code=$(post_glb "$SPOT" "method=input&relative_cost=0.5" -H 'Idempotency-Key: upload-1')
+code=$(post_glb "$SPOT" "method=input&relative_cost=0.5" -H 'Idempotency-Key: upload-1' -H 'Origin: https://app.example')
 [ "$code" = 202 ] || fail "raw upload answered $code: $(cat "$WORK/resp")"
 id=$(json "$WORK/resp" 'd["id"]')
 grep -qi "^location: /v1/jobs/$id" "$WORK/headers" || fail "202 without Location"
 grep -qi '^retry-after: ' "$WORK/headers" || fail "202 without Retry-After"
 grep -qi '^access-control-allow-origin: https://app.example' "$WORK/headers" || fail "no CORS header"
 [ "$(json "$WORK/resp" 'd["params"]["relative_cost"]')" = 0.5 ] || fail "relative_cost not taken from the query"
+# An origin not in the list gets no CORS header, and Vary tells caches so.
+[ "$(get /healthz -H 'Origin: https://app.example.evil')" = 200 ] || fail "healthz with another origin"
+! grep -qi '^access-control-allow-origin' "$WORK/headers" || fail "CORS header for an unlisted origin"
+grep -qi '^vary: origin' "$WORK/headers" || fail "no Vary: Origin"
 
 # The same Idempotency-Key returns the same job, without a second one.
 code=$(post_glb "$SPOT" "method=input&relative_cost=0.5" -H 'Idempotency-Key: upload-1')
@@ -96,7 +100,7 @@ grep -q '^texopt_stage_duration_seconds_count{stage="save"} 2$' "$WORK/metrics.t
 grep -q '^texopt_stage_duration_seconds_bucket{stage="save",le="+Inf"} 2$' "$WORK/metrics.txt" || fail "metrics: +Inf bucket"
 
 # CORS preflight needs no token.
-code=$(curl -s -o /dev/null -D "$WORK/headers" -w '%{http_code}' -X OPTIONS "$BASE/v1/jobs")
+code=$(curl -s -o /dev/null -D "$WORK/headers" -w '%{http_code}' -X OPTIONS -H "Origin: https://other.example" "$BASE/v1/jobs")
 [ "$code" = 204 ] || fail "preflight answered $code"
 grep -qi '^access-control-allow-methods: GET, HEAD, POST, OPTIONS' "$WORK/headers" || fail "preflight methods"
 

@@ -8,6 +8,8 @@
 #include "routes.h"
 #include "test.h"
 #include "upload.h"
+#include "web.h"
+#include "cors.h"
 
 #define ID "0123456789abcdef0123456789abcdef"
 
@@ -25,6 +27,66 @@ TEST(paths_match_their_routes)
     CHECK_EQ_INT(api_route_match("/readyz").route, ROUTE_READYZ);
     CHECK_EQ_INT(api_route_match("/metrics").route, ROUTE_METRICS);
     CHECK_EQ_INT(api_route_match("/openapi.yaml").route, ROUTE_OPENAPI);
+    CHECK_EQ_INT(api_route_match("/v1/params").route, ROUTE_PARAMS);
+    CHECK_EQ_INT(api_route_match("/").route, ROUTE_PAGE);
+    CHECK_EQ_INT(api_route_match("/ui/app.js").route, ROUTE_ASSET);
+    CHECK_EQ_INT(api_route_match("/ui/three.module.min.js").route, ROUTE_ASSET);
+}
+
+TEST(asset_names_cannot_leave_the_page_directory)
+{
+    CHECK_EQ_INT(api_route_match("/ui/").route, ROUTE_NOT_FOUND);
+    CHECK_EQ_INT(api_route_match("/ui/..").route, ROUTE_NOT_FOUND);
+    CHECK_EQ_INT(api_route_match("/ui/../openapi.yaml").route, ROUTE_NOT_FOUND);
+    CHECK_EQ_INT(api_route_match("/ui/.hidden").route, ROUTE_NOT_FOUND);
+    CHECK_EQ_INT(api_route_match("/ui/a/b.js").route, ROUTE_NOT_FOUND);
+    CHECK_EQ_INT(api_route_match("/ui/%2e%2e").route, ROUTE_NOT_FOUND);
+    CHECK_EQ_INT(api_route_match("/ui/a\\b").route, ROUTE_NOT_FOUND);
+    CHECK_EQ_INT(api_route_match("/index.html").route, ROUTE_NOT_FOUND);
+    char long_name[200] = "/ui/";
+    memset(long_name + 4, 'a', 150);
+    long_name[154] = '\0';
+    CHECK_EQ_INT(api_route_match(long_name).route, ROUTE_NOT_FOUND);
+}
+
+TEST(page_files_and_their_types)
+{
+    char name[64];
+    CHECK_EQ_INT(web_file_name(ROUTE_PAGE, "/", name, sizeof name), 0);
+    CHECK(strcmp(name, "index.html") == 0);
+    CHECK_EQ_INT(web_file_name(ROUTE_ASSET, "/ui/app.js", name, sizeof name), 0);
+    CHECK(strcmp(name, "ui/app.js") == 0);
+    CHECK_EQ_INT(web_file_name(ROUTE_ASSET, "/ui/app.js", name, 6), -1); /* does not fit */
+    CHECK_EQ_INT(web_file_name(ROUTE_JOB, "/v1/jobs/" ID, name, sizeof name), -1);
+    CHECK(strcmp(web_content_type("index.html"), "text/html; charset=utf-8") == 0);
+    CHECK(strcmp(web_content_type("ui/app.js"), "text/javascript; charset=utf-8") == 0);
+    CHECK(strcmp(web_content_type("ui/page.css"), "text/css; charset=utf-8") == 0);
+    CHECK(strcmp(web_content_type("ui/three.LICENSE.txt"), "text/plain; charset=utf-8") == 0);
+    CHECK(strcmp(web_content_type("ui/x.js.map"), "application/octet-stream") == 0);
+    CHECK(strcmp(web_content_type("ui/js"), "application/octet-stream") == 0);
+}
+
+TEST(the_page_is_public_and_the_api_is_not)
+{
+    CHECK(api_route_is_public(ROUTE_PAGE) && api_route_is_public(ROUTE_ASSET));
+    CHECK(api_route_is_public(ROUTE_HEALTHZ));
+    CHECK(!api_route_is_public(ROUTE_PARAMS) && !api_route_is_public(ROUTE_JOBS));
+    CHECK(!api_route_is_public(ROUTE_OPENAPI) && !api_route_is_public(ROUTE_JOB_RESULT));
+}
+
+TEST(cors_answers_listed_origins_only)
+{
+    CHECK(api_cors_allow("", "https://a.example") == NULL);
+    CHECK(strcmp(api_cors_allow("*", NULL), "*") == 0);
+    const char *list = "https://a.example, http://localhost:5173,https://b.example";
+    CHECK(strcmp(api_cors_allow(list, "https://a.example"), "https://a.example") == 0);
+    CHECK(strcmp(api_cors_allow(list, "http://localhost:5173"), "http://localhost:5173") == 0);
+    CHECK(strcmp(api_cors_allow(list, "https://b.example"), "https://b.example") == 0);
+    CHECK(api_cors_allow(list, "https://a.example.evil") == NULL);
+    CHECK(api_cors_allow(list, "https://a.exampl") == NULL);
+    CHECK(api_cors_allow(list, "http://localhost") == NULL);
+    CHECK(api_cors_allow(list, NULL) == NULL);
+    CHECK(api_cors_allow(list, "") == NULL);
 }
 
 TEST(malformed_ids_and_paths_are_not_found)
