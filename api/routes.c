@@ -110,6 +110,8 @@ int api_route_allows(api_route route, const char *method)
 {
     const char *allow = api_route_allow(route);
     size_t n = strlen(method);
+    if (n == 0) /* "" would match at every position without advancing */
+        return 0;
     for (const char *p = allow; (p = strstr(p, method)) != NULL; p += n) {
         int starts = p == allow || p[-1] == ' ';
         int ends = p[n] == ',' || p[n] == '\0';

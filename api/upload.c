@@ -23,8 +23,8 @@ struct api_upload {
     uint64_t file_bytes;        /* of the files stored (no envelope, no params) */
     int fd;                     /* the file being written, -1 between files */
     int in_part;                /* a part has started */
-    char part_key[64];          /* field and file name of the part being received */
-    char part_file[256];
+    char *part_key, *part_file; /* field and file name of the part being received, whole: a
+                                   cut one would not match the next piece of its part */
     uint64_t part_bytes;
     char model_rel[300], model_name[256];
     char *params;
@@ -139,8 +139,12 @@ static int start_part(api_upload *u, const char *key, const char *filename)
 {
     if (close_file(u) != 0)
         return -1;
-    snprintf(u->part_key, sizeof u->part_key, "%s", key ? key : "");
-    snprintf(u->part_file, sizeof u->part_file, "%s", filename ? filename : "");
+    free(u->part_key);
+    free(u->part_file);
+    u->part_key = strdup(key ? key : "");
+    u->part_file = strdup(filename ? filename : "");
+    if (!u->part_key || !u->part_file)
+        return fail(u, 500, "out-of-memory", "out of memory");
     u->in_part = 1;
     u->part_bytes = 0;
     u->in_params = 0;
@@ -326,6 +330,8 @@ void api_upload_destroy(api_upload *u)
         MHD_destroy_post_processor(u->pp);
     if (u->fd >= 0)
         close(u->fd);
+    free(u->part_key);
+    free(u->part_file);
     free(u->params);
     free(u);
 }
