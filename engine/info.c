@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "coverage.h"
+#include "file_cost.h"
 #include "mesh.h"
 
 const char *texopt_wrap_name(texopt_wrap wrap)
@@ -291,6 +292,11 @@ texopt_status texopt_info_json(const texopt_model *model, cJSON **out, char *err
     cJSON_AddNumberToObject(root, "materials", model->material_count);
     cJSON_AddNumberToObject(root, "untextured_primitives", untextured);
     cJSON_AddItemToObject(root, "images", images_json(model));
+    texopt_file_cost fc;
+    texopt_file_cost_of_model(model, &fc);
+    cJSON *file = cJSON_AddObjectToObject(root, "file_cost");
+    cJSON_AddNumberToObject(file, "texture_pixels", (double)fc.texture_pixels);
+    cJSON_AddNumberToObject(file, "texture_bytes", (double)fc.texture_bytes);
     cJSON *domains = cJSON_AddArrayToObject(root, "domains");
     for (int d = 0; d < model->domain_count; d++) {
         cJSON *dj = NULL;

@@ -10,6 +10,8 @@
  * Document (every count an integer, areas in texels or world units squared):
  *   { "vertices", "triangles", "primitives", "materials", "untextured_primitives",
  *     "images": [ { "index", "name", "width", "height", "channels" } ],
+ *     "file_cost": { "texture_pixels", "texture_bytes" },  (file_cost.h: sum of width x height
+ *                                                      over the images, their encoded bytes)
  *     "domains": [ {
  *        "index", "primitives": [..], "triangles", "model_vertices", "uv_vertices", "points",
  *        "charts", "mirrored_charts", "folded_charts",

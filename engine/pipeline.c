@@ -75,6 +75,7 @@
 #include "coverage.h"
 #include "distortion.h"
 #include "evaluate.h"
+#include "file_cost.h"
 #include "gltf_io.h"
 #include "gltf_tangents.h"
 #include "lit_shade.h"
@@ -2151,6 +2152,8 @@ texopt_status texopt_job_write(texopt_job *job, const texopt_job_budget *budget,
         st = texopt_model_save_glb(job->model, &edit, output_glb, err, err_len);
         js->seconds_save = now_seconds() - t0;
     }
+    if (st == TEXOPT_OK && stats_json) /* the costs reported are the written file's */
+        st = texopt_file_cost_record(output_glb, js, err, err_len);
     js->seconds_total = now_seconds() - job->jm.start;
     if (st == TEXOPT_OK && stats_json)
         st = texopt_stats_write(js, stats_json, err, err_len);

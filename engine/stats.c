@@ -182,6 +182,12 @@ static cJSON *job_json(const texopt_job_stats *s)
         cJSON_AddStringToObject(e, "lookup", texopt_lookup_name(s->mipmapped));
         cJSON_AddNumberToObject(e, "seconds", s->seconds_evaluate);
     }
+    if (s->has_file_cost) {
+        cJSON *f = cJSON_AddObjectToObject(root, "file_cost");
+        cJSON_AddNumberToObject(f, "texture_pixels", (double)s->file_texture_pixels);
+        cJSON_AddNumberToObject(f, "texture_bytes", (double)s->file_texture_bytes);
+        cJSON_AddNumberToObject(f, "bytes", (double)s->file_bytes);
+    }
     cJSON *arr = cJSON_AddArrayToObject(root, "domains");
     for (int d = 0; d < s->domain_count; d++)
         cJSON_AddItemToArray(arr, domain_json(&s->domains[d]));

@@ -31,7 +31,9 @@ typedef struct texopt_domain_stats {
     size_t triangles, charts;
     int input_width, input_height;   /* texel frame */
     int output_width, output_height;
-    double cost_input, cost_output;  /* unique covered texels */
+    double cost_input, cost_output;  /* unique covered texels; cost_output, relative_cost and
+                                        packing_efficiency are those of the written file
+                                        (file_cost.h), as `texopt info` measures them */
     double relative_cost_requested;  /* < 0 when the budget was a texture size */
     double relative_cost;            /* cost_output / cost_input */
     double packing_efficiency_input; /* covered texels / frame texels */
@@ -106,6 +108,10 @@ typedef struct texopt_job_stats {
     double q;                    /* evaluate.h: mean GMSD over the 20 views */
     int eval_resolution;
     double seconds_evaluate;
+    int has_file_cost;           /* the written file measured (file_cost.h) */
+    unsigned long long file_texture_pixels; /* sum of width x height over its images */
+    unsigned long long file_texture_bytes;  /* their encoded sizes */
+    unsigned long long file_bytes;          /* the whole file */
     int domain_count;
     texopt_domain_stats *domains;
 } texopt_job_stats;
