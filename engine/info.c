@@ -14,6 +14,7 @@
 
 #include "coverage.h"
 #include "file_cost.h"
+#include "layout_check.h"
 #include "mesh.h"
 
 const char *texopt_wrap_name(texopt_wrap wrap)
@@ -268,7 +269,15 @@ static texopt_status domain_json(const texopt_model *model, int d, cJSON **out, 
     cJSON_AddNumberToObject(o, "flipped", (double)fc.flipped);
     cJSON_AddNumberToObject(o, "overlapping", (double)fc.overlapping);
     cJSON_AddNumberToObject(o, "wrapped", (double)fc.wrapped);
+    texopt_layout_check check;
+    st = texopt_layout_check_own(mesh, &check, err, err_len);
+    if (st == TEXOPT_OK)
+        cJSON_AddItemToObject(o, "layout_check", texopt_layout_check_json(&check));
     texopt_mesh_destroy(mesh);
+    if (st != TEXOPT_OK) {
+        cJSON_Delete(o);
+        return st;
+    }
     *out = o;
     return TEXOPT_OK;
 }

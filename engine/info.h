@@ -26,8 +26,13 @@
  *                                                         magFilter is NEAREST: pixel art, kept
  *                                                         as it is by the layout methods)
  *        "covered_texels", "overlap_texels", "packing_efficiency", "texel_area", "area_3d",
- *        "degenerate", "degenerate_3d", "degenerate_uv", "flipped", "overlapping", "wrapped"
+ *        "degenerate", "degenerate_3d", "degenerate_uv", "flipped", "overlapping", "wrapped",
+ *        "layout_check": { "passed", "failed", "triangles", "overlapping_triangles",
+ *                          "foldover_triangles", "oversized_triangles" }
  *     } ] }
+ * "layout_check" is layout_check.h's check of the file's own layout (texopt_layout_check_own):
+ * triangles on texels of another sharing group (mirrored twins laid on one region are one
+ * group, as the pipeline keeps them), fold-overs ("flipped"); the first 16 offenders listed.
  * "degenerate" counts triangles with either degenerate flag; the others are mesh.h flags.
  * When coverage refuses the layout with TEXOPT_E_LIMIT (frame past its cap, a triangle over
  * thousands of repeats), covered_texels, overlap_texels and packing_efficiency are null and

@@ -15,6 +15,7 @@
 
 #include <stddef.h>
 
+#include "layout_check.h"
 #include "status.h"
 
 typedef struct texopt_image_stats {
@@ -62,6 +63,8 @@ typedef struct texopt_domain_stats {
     double allocation_scale;         /* the common factor s on the singular values */
     double allocation_capped_share;  /* triangles at input density (a cap reached) */
     double allocation_lossless_share; /* targets grown as lossless (allocate.h) */
+    int has_layout_check;            /* a new layout was checked (layout_check.h) ... */
+    texopt_layout_check layout_check; /* ... with this result; failed: the input layout kept */
     double budget_scale;             /* with repacked: the uniform scale budget.h applied after
                                         stage 2 (output texels per solved texel); near 1 when
                                         the allocation predicted the cost well */
