@@ -2,6 +2,7 @@
 #include "file_cost.h"
 
 #include <sys/stat.h>
+#include <time.h>
 
 #include "coverage.h"
 #include "gltf_io.h"
@@ -34,8 +35,16 @@ static texopt_status record_domain(const texopt_model *model, int d, texopt_doma
     return TEXOPT_OK;
 }
 
+static double seconds_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 texopt_status texopt_file_cost_record(const char *path, texopt_job_stats *stats, char *err, size_t err_len)
 {
+    double t0 = seconds_now();
     texopt_model *model = NULL;
     texopt_load_options opt = {.skip_images = 1};
     texopt_status st = texopt_model_load(&model, path, &opt, err, err_len);
@@ -53,6 +62,7 @@ texopt_status texopt_file_cost_record(const char *path, texopt_job_stats *stats,
         stats->file_texture_pixels = fc.texture_pixels;
         stats->file_texture_bytes = fc.texture_bytes;
         stats->file_bytes = stat(path, &sb) == 0 ? (uint64_t)sb.st_size : 0;
+        stats->seconds_file_cost = seconds_now() - t0;
     }
     texopt_model_destroy(model);
     return st;

@@ -1093,8 +1093,10 @@ static int layout_fails_check(const texopt_job *job, int d, const double *packed
     const texopt_triangle_target *targets = job->refined && job->refined[d] ? job->refined[d] : source_targets(job, jd);
     texopt_layout_check *c = &ds->layout_check;
     ds->has_layout_check = 1;
+    double t0 = now_seconds();
     *st = texopt_layout_check_run(jd->mesh, packed, br->width, br->height, jd->share ? jd->share->primary_of : NULL,
                                   targets, c, err, err_len);
+    ds->seconds_layout_check = now_seconds() - t0;
     if (*st != TEXOPT_OK || c->failed == TEXOPT_LAYOUT_PASSED)
         return 0;
     int ow, oh;

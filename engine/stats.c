@@ -111,6 +111,8 @@ static cJSON *domain_json(const texopt_domain_stats *d)
         cJSON_AddNumberToObject(t, "loss_share", d->seconds_loss_share);
     cJSON_AddNumberToObject(t, "pack", d->seconds_pack);
     cJSON_AddNumberToObject(t, "bake", d->seconds_bake);
+    if (d->has_layout_check)
+        cJSON_AddNumberToObject(t, "layout_check", d->seconds_layout_check);
     add_images(o, d);
     return o;
 }
@@ -140,6 +142,8 @@ static cJSON *job_json(const texopt_job_stats *s)
     cJSON *t = cJSON_AddObjectToObject(root, "seconds");
     cJSON_AddNumberToObject(t, "load", s->seconds_load);
     cJSON_AddNumberToObject(t, "save", s->seconds_save);
+    if (s->has_file_cost)
+        cJSON_AddNumberToObject(t, "file_cost", s->seconds_file_cost);
     cJSON_AddNumberToObject(t, "total", s->seconds_total);
     if (s->has_search) {
         cJSON *q = cJSON_AddObjectToObject(root, "target_search");

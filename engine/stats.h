@@ -71,6 +71,7 @@ typedef struct texopt_domain_stats {
 
     double seconds_mesh, seconds_stage1, seconds_stage2, seconds_pack, seconds_bake;
     double seconds_loss_share; /* the per-triangle losses under the solved layout */
+    double seconds_layout_check; /* the last layout check (layout_check.h) */
 } texopt_domain_stats;
 
 typedef struct texopt_job_stats {
@@ -111,7 +112,8 @@ typedef struct texopt_job_stats {
     double q;                    /* evaluate.h: mean GMSD over the 20 views */
     int eval_resolution;
     double seconds_evaluate;
-    int has_file_cost;           /* the written file measured (file_cost.h) */
+    int has_file_cost;           /* the written file measured (file_cost.h) ... */
+    double seconds_file_cost;    /* ... in this time */
     unsigned long long file_texture_pixels; /* sum of width x height over its images */
     unsigned long long file_texture_bytes;  /* their encoded sizes */
     unsigned long long file_bytes;          /* the whole file */
