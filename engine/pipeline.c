@@ -37,7 +37,9 @@
  * "input": an atlas would need the repeats' texels. A domain whose new layout would pack into
  * over twice the pixels of its input layout resized to the budget, or fit a texture size at
  * no scale (charts of a texel or less, mostly gutter), keeps its input layout resized as by
- * method "input" (input_layout_packs_better).
+ * method "input" (input_layout_packs_better); so does one whose new layout fails the layout
+ * check (layout_check.h: overlap, fold-over or a triangle far above its target;
+ * layout_fails_check). The statistics' costs are measured on the written file (file_cost.h).
  * Budgets: a relative cost is allocated as asked; a texture size at the cost it is expected
  * to reach (texels x typical packing efficiency), solved again once at the cost reached
  * when that misses by more than 10%, and refused above 4 times the pixels of the images it
