@@ -6,11 +6,7 @@
 #include "arap.h"
 
 #include <math.h>
-#include <stdlib.h>
 #include <string.h>
-
-/* Singular values are capped at this many times the domain's median (see arap.h). */
-#define ARAP_STRETCH_CAP 4.0
 
 static int counted(const texopt_mesh *mesh, size_t t)
 {
@@ -43,43 +39,6 @@ static void isometric_target(const texopt_mesh *mesh, size_t t, double scale,
     g->w_stretch = 1;
 }
 
-static int compare_doubles(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-/* The median of the counted triangles' singular values; 0 when memory runs out. */
-static double median_stretch(const texopt_mesh *mesh, const texopt_triangle_target *targets)
-{
-    double *s = malloc(2 * (mesh->triangle_count ? mesh->triangle_count : 1) * sizeof *s);
-    size_t n = 0;
-    for (size_t t = 0; s && t < mesh->triangle_count; t++)
-        if (counted(mesh, t)) {
-            s[n++] = targets[t].lambda1;
-            s[n++] = targets[t].lambda2;
-        }
-    double median = 0;
-    if (n) {
-        qsort(s, n, sizeof *s, compare_doubles);
-        median = s[n / 2];
-    }
-    free(s);
-    return median;
-}
-
-/* Caps every singular value at ARAP_STRETCH_CAP times the median (arap.h). */
-static void cap_stretch(const texopt_mesh *mesh, texopt_triangle_target *targets)
-{
-    double cap = ARAP_STRETCH_CAP * median_stretch(mesh, targets);
-    if (!(cap > 0))
-        return;
-    for (size_t t = 0; t < mesh->triangle_count; t++) {
-        targets[t].lambda1 = fmin(targets[t].lambda1, cap);
-        targets[t].lambda2 = fmin(targets[t].lambda2, cap);
-    }
-}
-
 texopt_status texopt_arap_targets(const texopt_mesh *mesh, texopt_triangle_target *targets,
                                   char *err, size_t err_len)
 {
@@ -102,6 +61,5 @@ texopt_status texopt_arap_targets(const texopt_mesh *mesh, texopt_triangle_targe
         if (counted(mesh, t))
             isometric_target(mesh, t, scale, g);
     }
-    cap_stretch(mesh, targets);
     return TEXOPT_OK;
 }

@@ -22,12 +22,8 @@
 #include "target.h"
 
 /* Isometric targets for every triangle of mesh (alpha = 0, w_rotation = 0, w_stretch = 1;
- * degenerate triangles J = I with zero weights). A region the input squeezed gets lambda >
- * 1, up to 4 times the domain's median singular value: a sliver of the input layout (a face
- * mapped to nearly one texel line, its texels one line of the texture) would otherwise be
- * asked for its 3D shape, thousands of times its input width, and open into a large
- * triangle showing that line smeared (issue 37). Fails when no triangle has both 3D and
- * texel area. */
+ * degenerate triangles J = I with zero weights). lambda1, lambda2 are not clamped: a region
+ * the input squeezed gets lambda > 1. Fails when no triangle has both 3D and texel area. */
 texopt_status texopt_arap_targets(const texopt_mesh *mesh, texopt_triangle_target *targets,
                                   char *err, size_t err_len);
 

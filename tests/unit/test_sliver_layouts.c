@@ -2,9 +2,12 @@
  * method (issue 37 item 1): grids with such a strip (tests/support/sliver_grids.h), alone and
  * as mirrored twins, optimised end to end by each method; the strip's triangles are measured
  * on the written file. Before the collapse ties (meshwise.h) the zero-area strip opened to
- * 2,558 texels (perceptual) and 3,798 (tewari) of a 128x128 texture at c_r 0.5; before the
- * cap of arap.h the sliver strip took 451 texels under arap; both now fail the layout check
- * (layout_check.h) instead, whose fallback keeps the input layout. */
+ * 2,558 texels (perceptual) and 3,798 (tewari) of a 128x128 texture at c_r 0.5, and without
+ * them the layout check (layout_check.h) now fails it and keeps the input layout instead.
+ * A sliver (not degenerate) keeps its fitting term: under perceptual, ssp and tewari, whose
+ * targets never exceed input density, it stays thin; arap's isometric targets open it to its
+ * 3D shape (451 texels here) inside its own chart, which the layout check accepts: capping
+ * them measured worse on Duck, whose 443 sub-texel slivers open alike (BENCHMARKS.md). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -72,8 +75,9 @@ static int optimise_and_measure(const sliver_grid *g, const char *method, strip_
 
 static const char *const methods[] = {"perceptual", "ssp", "tewari", "arap"};
 
-/* Every method keeps the strip under max_strip texels in all, with its own layout (the
- * layout check passed, so no fallback to the input layout hid an opened strip). */
+/* Every method passes the layout check with its own layout (no fallback to the input layout
+ * hid an opened strip) and keeps the strip under max_strip texels in all; with slivers arap
+ * is exempt from the bound: its isometric targets ask a sliver for its 3D shape (see below). */
 static void check_strip_stays_thin(double strip_height, int twins, double max_strip)
 {
     sliver_grid g;
@@ -85,7 +89,8 @@ static void check_strip_stays_thin(double strip_height, int twins, double max_st
         printf("%s h %g twins %d: strip %.4g texels (input %.4g), other triangles >= %.3g\n", methods[m],
                strip_height, twins, a.strip, a.strip_input, a.other_min);
         CHECK_MSG(a.check_passed, "%s: the layout check failed", methods[m]);
-        CHECK_MSG(a.strip <= max_strip, "%s: the strip covers %.4g texels", methods[m], a.strip);
+        int isometric_sliver = strip_height > 0 && strcmp(methods[m], "arap") == 0;
+        CHECK_MSG(isometric_sliver || a.strip <= max_strip, "%s: the strip covers %.4g texels", methods[m], a.strip);
     }
     sliver_grid_free(&g);
 }
@@ -102,7 +107,7 @@ TEST(zero_area_strip_of_mirrored_twins_stays_a_line_in_every_method)
 
 TEST(sliver_strip_stays_thin_in_every_method)
 {
-    check_strip_stays_thin(1e-3, 0, 4.0);
+    check_strip_stays_thin(1e-3, 0, 1.0);
 }
 
 TEST(extreme_sliver_strip_stays_thin_in_every_method)
