@@ -1,12 +1,11 @@
 /* layout_check.c - the validity check of a new layout; see layout_check.h. */
 #include "layout_check.h"
 
-#include "texel_share.h"
-
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "texel_share.h"
 
 const char *texopt_layout_failure_name(texopt_layout_failure failure)
 {
