@@ -3,7 +3,8 @@
  * Does: hold what the pipeline measured (stage timings, costs in and out, relative cost
  * reached, packing efficiency, texture sizes, stage-1 loss statistics, stage-2 energy and
  * distortion) and write them as one JSON document with cJSON, atomically.
- * Does not: measure anything itself (pipeline.c fills the struct).
+ * Does not: measure anything itself (pipeline.c fills the struct, file_cost.c the written
+ * file's costs).
  *
  * The numbers are those Sun et al. 2022, "Efficient Texture Parameterization Driven by
  * Perceptual-Loss-on-Screen", report: cost c = covered texels (eq. 20), relative cost c_r
