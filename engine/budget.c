@@ -38,10 +38,10 @@ static double layout_area(const texopt_mesh *mesh, const double *texel)
 {
     double area = 0;
     for (size_t t = 0; t < mesh->triangle_count; t++) {
-        if (mesh->flags[t] & TEXOPT_TRI_DEGENERATE_UV)
-            continue;
         const uint32_t *v = mesh->triangle + 3 * t;
         const double *a = texel + 2 * v[0], *b = texel + 2 * v[1], *c = texel + 2 * v[2];
+        if (texopt_texel_triangle_degenerate(a, b, c)) /* covers nothing (coverage.h) */
+            continue;
         area += 0.5 * fabs((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]));
     }
     return area;

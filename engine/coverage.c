@@ -198,6 +198,15 @@ static void triangle_points(const texopt_mesh *mesh, const double *texel, size_t
         p[k] = texel + 2 * (size_t)mesh->triangle[3 * t + (size_t)k];
 }
 
+/* Whether triangle t covers nothing: degenerate in the layout measured (mesh.h's test), so
+ * that a layout is measured alike from any mesh of it, the one a file of it loads as too. */
+static int covers_nothing(const texopt_mesh *mesh, const double *texel, size_t t)
+{
+    const double *p[3];
+    triangle_points(mesh, texel, t, p);
+    return texopt_texel_triangle_degenerate(p[0], p[1], p[2]);
+}
+
 static double signed_area(const double *p[3])
 {
     return 0.5 * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]));
@@ -253,7 +262,7 @@ texopt_status texopt_coverage_measure(const texopt_mesh *mesh, const texopt_cove
     }
     texopt_coverage res = {.width = m.width, .height = m.height};
     for (size_t t = 0; t < mesh->triangle_count; t++) {
-        if (mesh->flags[t] & TEXOPT_TRI_DEGENERATE_UV)
+        if (covers_nothing(mesh, texel, t))
             continue;
         const double *p[3];
         triangle_points(mesh, texel, t, p);
@@ -268,7 +277,7 @@ texopt_status texopt_coverage_measure(const texopt_mesh *mesh, const texopt_cove
     res.packing_efficiency = (double)res.covered_texels / ((double)m.width * (double)m.height);
     for (size_t t = 0; t < mesh->triangle_count; t++) {
         int overlaps = 0;
-        if (res.overlap_texels > 0 && !(mesh->flags[t] & TEXOPT_TRI_DEGENERATE_UV)) {
+        if (res.overlap_texels > 0 && !covers_nothing(mesh, texel, t)) {
             const double *p[3];
             triangle_points(mesh, texel, t, p);
             overlaps = fill_triangle(&m, p, SPAN_QUERY);

@@ -55,12 +55,13 @@ typedef struct texopt_coverage {
     double texel_area;              /* sum of |signed texel area| of non-degenerate triangles */
 } texopt_coverage;
 
-/* Measures the layout. Triangles flagged TEXOPT_TRI_DEGENERATE_UV in mesh->flags cover
- * nothing. Fails with TEXOPT_E_INVALID_ARGUMENT for a bad frame or non-finite positions,
- * TEXOPT_E_LIMIT for a frame past TEXOPT_COVERAGE_MAX_TEXELS, a triangle spanning more than
- * 4096 repeats of it or triangles covering more than 2^36 texels together (a layout that
- * repeats its texture that often takes minutes to fill), TEXOPT_E_NOMEM. *out is written only
- * on success. */
+/* Measures the layout. Triangles degenerate in the layout measured (mesh.h's relative test:
+ * TEXOPT_TRI_DEGENERATE_UV of the mesh's own layout) cover nothing; a triangle degenerate in
+ * the input but not in a new layout is counted, as on the file written with it. Fails with
+ * TEXOPT_E_INVALID_ARGUMENT for a bad frame or non-finite positions, TEXOPT_E_LIMIT for a
+ * frame past TEXOPT_COVERAGE_MAX_TEXELS, a triangle spanning more than 4096 repeats of it or
+ * triangles covering more than 2^36 texels together (a layout that repeats its texture that
+ * often takes minutes to fill), TEXOPT_E_NOMEM. *out is written only on success. */
 texopt_status texopt_coverage_measure(const texopt_mesh *mesh, const texopt_coverage_options *opt,
                                       texopt_coverage *out, char *err, size_t err_len);
 

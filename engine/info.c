@@ -14,6 +14,8 @@
 
 #include "coverage.h"
 #include "distortion.h"
+#include "file_cost.h"
+#include "layout_check.h"
 #include "mesh.h"
 
 const char *texopt_wrap_name(texopt_wrap wrap)
@@ -282,7 +284,15 @@ static texopt_status domain_json(const texopt_model *model, int d, cJSON **out, 
     cJSON_AddNumberToObject(o, "overlapping", (double)fc.overlapping);
     cJSON_AddNumberToObject(o, "wrapped", (double)fc.wrapped);
     add_distortion(o, mesh);
+    texopt_layout_check check;
+    st = texopt_layout_check_own(mesh, &check, err, err_len);
+    if (st == TEXOPT_OK)
+        cJSON_AddItemToObject(o, "layout_check", texopt_layout_check_json(&check));
     texopt_mesh_destroy(mesh);
+    if (st != TEXOPT_OK) {
+        cJSON_Delete(o);
+        return st;
+    }
     *out = o;
     return TEXOPT_OK;
 }
@@ -306,6 +316,11 @@ texopt_status texopt_info_json(const texopt_model *model, cJSON **out, char *err
     cJSON_AddNumberToObject(root, "materials", model->material_count);
     cJSON_AddNumberToObject(root, "untextured_primitives", untextured);
     cJSON_AddItemToObject(root, "images", images_json(model));
+    texopt_file_cost fc;
+    texopt_file_cost_of_model(model, &fc);
+    cJSON *file = cJSON_AddObjectToObject(root, "file_cost");
+    cJSON_AddNumberToObject(file, "texture_pixels", (double)fc.texture_pixels);
+    cJSON_AddNumberToObject(file, "texture_bytes", (double)fc.texture_bytes);
     cJSON *domains = cJSON_AddArrayToObject(root, "domains");
     for (int d = 0; d < model->domain_count; d++) {
         cJSON *dj = NULL;

@@ -10,6 +10,8 @@
  * Document (every count an integer, areas in texels or world units squared):
  *   { "vertices", "triangles", "primitives", "materials", "untextured_primitives",
  *     "images": [ { "index", "name", "width", "height", "channels" } ],
+ *     "file_cost": { "texture_pixels", "texture_bytes" },  (file_cost.h: sum of width x height
+ *                                                      over the images, their encoded bytes)
  *     "domains": [ {
  *        "index", "primitives": [..], "triangles", "model_vertices", "uv_vertices", "points",
  *        "charts", "mirrored_charts", "folded_charts",
@@ -25,8 +27,13 @@
  *                                                         as it is by the layout methods)
  *        "covered_texels", "overlap_texels", "packing_efficiency", "texel_area", "area_3d",
  *        "degenerate", "degenerate_3d", "degenerate_uv", "flipped", "overlapping", "wrapped",
- *        "distortion" (texopt_distortion_json of distortion.h; null when no triangle counts)
+ *        "distortion" (texopt_distortion_json of distortion.h; null when no triangle counts),
+ *        "layout_check": { "passed", "failed", "triangles", "overlapping_triangles",
+ *                          "foldover_triangles", "oversized_triangles" }
  *     } ] }
+ * "layout_check" is layout_check.h's check of the file's own layout (texopt_layout_check_own):
+ * triangles on texels of another sharing group (mirrored twins laid on one region are one
+ * group, as the pipeline keeps them), fold-overs ("flipped"); the first 16 offenders listed.
  * "degenerate" counts triangles with either degenerate flag; the others are mesh.h flags.
  * When coverage refuses the layout with TEXOPT_E_LIMIT (frame past its cap, a triangle over
  * thousands of repeats), covered_texels, overlap_texels and packing_efficiency are null and

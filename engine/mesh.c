@@ -317,6 +317,15 @@ static int is_degenerate(double doubled_area, double longest_edge_sq)
     return doubled_area <= DEGENERATE_RELATIVE * longest_edge_sq;
 }
 
+int texopt_texel_triangle_degenerate(const double *a, const double *b, const double *c)
+{
+    double signed2 = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    double m1 = squared(b[0] - a[0]) + squared(b[1] - a[1]);
+    double m2 = squared(c[0] - a[0]) + squared(c[1] - a[1]);
+    double m3 = squared(c[0] - b[0]) + squared(c[1] - b[1]);
+    return is_degenerate(fabs(signed2), fmax(m1, fmax(m2, m3)));
+}
+
 int texopt_mesh_plane_edges(const texopt_mesh *mesh, size_t t, double P[2][2])
 {
     const uint32_t *v = mesh->triangle + 3 * t;
@@ -350,12 +359,8 @@ static void measure_triangle(texopt_mesh *mesh, size_t t)
     const double *a = mesh->texel + 2 * (size_t)v[0];
     const double *b = mesh->texel + 2 * (size_t)v[1];
     const double *c = mesh->texel + 2 * (size_t)v[2];
-    double signed2 = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-    double m1 = squared(b[0] - a[0]) + squared(b[1] - a[1]);
-    double m2 = squared(c[0] - a[0]) + squared(c[1] - a[1]);
-    double m3 = squared(c[0] - b[0]) + squared(c[1] - b[1]);
-    mesh->area_texel[t] = 0.5 * signed2;
-    if (is_degenerate(fabs(signed2), fmax(m1, fmax(m2, m3))))
+    mesh->area_texel[t] = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    if (texopt_texel_triangle_degenerate(a, b, c))
         flags |= TEXOPT_TRI_DEGENERATE_UV;
 
     double w = mesh->width + WRAP_TOLERANCE_TEXELS, h = mesh->height + WRAP_TOLERANCE_TEXELS;

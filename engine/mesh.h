@@ -90,6 +90,10 @@ static inline const double *texopt_mesh_vertex_point(const texopt_mesh *mesh, ui
     return mesh->position + 3 * (size_t)mesh->point_of[vertex];
 }
 
+/* Whether the texel triangle (a, b, c) (2 doubles each) is degenerate by the relative test
+ * above: what TEXOPT_TRI_DEGENERATE_UV says of a mesh's own layout, for any layout. */
+int texopt_texel_triangle_degenerate(const double *a, const double *b, const double *c);
+
 /* The columns of P are the edges b - a and c - a of triangle t (vertices a, b, c) in an
  * orthonormal frame of its 3D plane with x along b - a: P is upper triangular with a positive
  * diagonal. Returns -1 (P not meaningful) when the triangle has no area, else 0. */

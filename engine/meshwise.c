@@ -103,6 +103,7 @@ typedef struct tri_frame {
     mat2 rbar, sbar;
     int fitted;         /* contributes the fitting, rotation and stretch terms */
     int barrier;        /* carries the barrier */
+    int collapsed;      /* no input texel area but a 3D one: held on a line (collapse ties) */
 } tri_frame;
 
 typedef struct tri_state {
@@ -136,6 +137,7 @@ typedef struct solver {
     uint32_t *rep_of;          /* per vertex: the vertex whose unknown it shares */
     uint32_t *chart_of_vertex; /* per used vertex: its chart's sharing group */
     const texopt_texel_share *share; /* may be NULL: every chart is its own group */
+    size_t collapse_ties;      /* after the fold ties: collapsed triangles held on a line */
     size_t shared_ties;        /* the last ties: secondaries held on their primaries */
 
     double *x, *trial, *grad, *step;
@@ -418,6 +420,7 @@ static texopt_status build_frames(solver *sv, const texopt_triangle_target *targ
                             !isfinite(det);
         f->barrier = !degenerate_uv;
         f->fitted = f->barrier && !(m->flags[t] & TEXOPT_TRI_DEGENERATE_3D);
+        f->collapsed = degenerate_uv && !(m->flags[t] & TEXOPT_TRI_DEGENERATE_3D);
         if (!f->barrier)
             continue;
         /* Rows of [e1 e2]^-1 are the gradients of barycentrics 1 and 2. */
@@ -544,7 +547,7 @@ static texopt_status number_unknowns(solver *sv, char *err, size_t err_len)
     size_t pin_count = 0;
     for (size_t t = 0; t < sv->tri_count && st == TEXOPT_OK; t++) {
         const tri_frame *f = &sv->tri[t];
-        if (!f->barrier)
+        if (!f->barrier && !f->collapsed)
             continue;
         if (m->chart_of[t] >= m->chart_count) {
             st = texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
@@ -553,7 +556,7 @@ static texopt_status number_unknowns(solver *sv, char *err, size_t err_len)
             break;
         }
         uint32_t chart = group_of(sv, m->chart_of[t]);
-        if (!pinned_chart[chart] && chart == m->chart_of[t]) {
+        if (f->barrier && !pinned_chart[chart] && chart == m->chart_of[t]) {
             pinned_chart[chart] = 1;
             pins[pin_count++] = f->v[0];
         }
@@ -714,6 +717,74 @@ done:
     free(majority);
     free(folded);
     texopt_tri_bins_free(&grid);
+    return st;
+}
+
+/* Appends a tie sum_i c[i] x[v[i]] = 0 over three vertices (the fourth slot unused). */
+static texopt_status push_line_tie(solver *sv, size_t *cap, const uint32_t v[3], const double c[3], char *err,
+                                   size_t err_len)
+{
+    if (sv->tie_count == *cap) {
+        *cap = *cap ? 2 * *cap : 64;
+        fold_tie *grown = realloc(sv->ties, *cap * sizeof *grown);
+        if (!grown)
+            return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory for the collapse ties");
+        sv->ties = grown;
+    }
+    fold_tie *tie = &sv->ties[sv->tie_count++];
+    for (int i = 0; i < 3; i++) {
+        tie->v[i] = v[i];
+        tie->c[i] = c[i];
+    }
+    tie->v[3] = v[2];
+    tie->c[3] = 0.0;
+    sv->collapse_ties++;
+    return TEXOPT_OK;
+}
+
+/* Ties every collapsed triangle (no input texel area, a 3D one: a face an exporter mapped
+ * to one texel line or point) to stay collapsed: the corner opposite its longest input
+ * edge is held on the point of that edge it lay on (the same fraction along it), or, when
+ * the corners coincide, two corners on the third. Its Jacobian against the input is
+ * singular, so no fitting term can hold it; without the tie its corners follow the
+ * triangles on either side of the line, which stage 2 solves apart, and it opens into a
+ * large triangle that shows one line of input texels smeared and can cover other charts'
+ * texels (issue 37). The tie keeps it a line wherever the line goes. */
+static texopt_status add_collapse_ties(solver *sv, char *err, size_t err_len)
+{
+    const texopt_mesh *m = sv->mesh;
+    size_t cap = sv->tie_count;
+    texopt_status st = TEXOPT_OK;
+    for (size_t t = 0; t < sv->tri_count && st == TEXOPT_OK; t++) {
+        const tri_frame *f = &sv->tri[t];
+        if (!f->collapsed)
+            continue;
+        int longest = 0; /* edge (j, j + 1) */
+        double best = -1.0;
+        for (int j = 0; j < 3; j++) {
+            const double *a = m->texel + 2 * (size_t)f->v[j], *b = m->texel + 2 * (size_t)f->v[(j + 1) % 3];
+            double l2 = (b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]);
+            if (l2 > best) {
+                best = l2;
+                longest = j;
+            }
+        }
+        uint32_t p = f->v[longest], q = f->v[(longest + 1) % 3], r = f->v[(longest + 2) % 3];
+        const double *a = m->texel + 2 * (size_t)p, *b = m->texel + 2 * (size_t)q, *c = m->texel + 2 * (size_t)r;
+        if (best > 0.0) {
+            double s = ((c[0] - a[0]) * (b[0] - a[0]) + (c[1] - a[1]) * (b[1] - a[1])) / best;
+            s = s < 0.0 ? 0.0 : (s > 1.0 ? 1.0 : s);
+            const uint32_t v[3] = {r, p, q};
+            const double w[3] = {1.0, -(1.0 - s), -s};
+            st = push_line_tie(sv, &cap, v, w, err, err_len);
+        } else {
+            const uint32_t v1[3] = {q, p, r}, v2[3] = {r, p, q};
+            const double w[3] = {1.0, -1.0, 0.0};
+            st = push_line_tie(sv, &cap, v1, w, err, err_len);
+            if (st == TEXOPT_OK)
+                st = push_line_tie(sv, &cap, v2, w, err, err_len);
+        }
+    }
     return st;
 }
 
@@ -1228,6 +1299,8 @@ static texopt_status solver_init(solver *sv, const texopt_mesh *mesh,
         return TEXOPT_OK;
     if ((st = find_fold_ties(sv, err, err_len)) != TEXOPT_OK)
         return st;
+    if ((st = add_collapse_ties(sv, err, err_len)) != TEXOPT_OK)
+        return st;
     if ((st = add_shared_ties(sv, err, err_len)) != TEXOPT_OK)
         return st;
     if ((st = build_pattern(sv, err, err_len)) != TEXOPT_OK)
@@ -1376,7 +1449,8 @@ texopt_status texopt_meshwise_solve(const texopt_mesh *mesh, const texopt_triang
         memcpy(texel_out, sv.x, 2 * mesh->vertex_count * sizeof *texel_out);
         rep.barrier_weight_final = sv.w_b;
         rep.factorizations = sv.ax[0].factorizations + sv.ax[1].factorizations;
-        rep.fold_ties = (int)(sv.tie_count - sv.shared_ties);
+        rep.fold_ties = (int)(sv.tie_count - sv.shared_ties - sv.collapse_ties);
+        rep.collapse_ties = (int)sv.collapse_ties;
         rep.shared_ties = (int)sv.shared_ties;
         for (size_t v = 0; v < mesh->vertex_count && sv.rep_of; v++)
             rep.merged_vertices += sv.rep_of[v] != v;

@@ -38,7 +38,13 @@
  *    floors measured worse (meshwise.c, BENCHMARKS.md). w_R has no floor.
  *  - Degenerate triangles (TEXOPT_TRI_DEGENERATE_3D/UV) add no fitting energy; those with a
  *    non-zero input texel area still carry the barrier, so they never flip either. Their
- *    vertices move with their neighbours.
+ *    vertices move with their neighbours. A COLLAPSED triangle (degenerate in UV, not in
+ *    3D: a face an exporter mapped to one texel line) has a singular input Jacobian, so
+ *    nothing above holds its shape: it is tied (like a fold's minority vertex, same
+ *    stiffness) to stay on a line, the corner opposite its longest input edge held at its
+ *    fraction along that edge. Its corners are unknowns (never a chart's pin), so a line
+ *    between two parts of a chart follows them as one, and its image stays (near) zero
+ *    area inside its chart instead of opening over other texels.
  *
  * Overlapping / mirrored input charts (Duck, DamagedHelmet):
  *  - Separate charts that overlap (mirrored or repeated parts cut apart): kept shared when
@@ -110,6 +116,7 @@ typedef struct texopt_meshwise_report {
     int merged_vertices;   /* vertices sharing the unknown of a coincident one (folds) */
     int fold_ties;         /* minority-side fold vertices tied to the majority side */
     int shared_ties;       /* secondary vertices tied to their primary (opt->share) */
+    int collapse_ties;     /* ties holding collapsed triangles on a line (see above) */
 } texopt_meshwise_report;
 
 /* Computes new texel positions of every mesh vertex (2 per vertex, texel units of the input

@@ -37,7 +37,9 @@
  * "input": an atlas would need the repeats' texels. A domain whose new layout would pack into
  * over twice the pixels of its input layout resized to the budget, or fit a texture size at
  * no scale (charts of a texel or less, mostly gutter), keeps its input layout resized as by
- * method "input" (input_layout_packs_better).
+ * method "input" (input_layout_packs_better); so does one whose new layout fails the layout
+ * check (layout_check.h: overlap, fold-over or a triangle far above its target;
+ * layout_fails_check). The statistics' costs are measured on the written file (file_cost.h).
  * Budgets: a relative cost is allocated as asked; a texture size at the cost it is expected
  * to reach (texels x typical packing efficiency), solved again once at the cost reached
  * when that misses by more than 10%, and refused above 4 times the pixels of the images it
@@ -75,8 +77,10 @@
 #include "coverage.h"
 #include "distortion.h"
 #include "evaluate.h"
+#include "file_cost.h"
 #include "gltf_io.h"
 #include "gltf_tangents.h"
+#include "layout_check.h"
 #include "lit_shade.h"
 #include "lit_weight.h"
 #include "mesh.h"
@@ -1082,8 +1086,35 @@ static int input_layout_packs_better(const texopt_model *model, const texopt_mes
     return 1;
 }
 
+/* Whether the packed layout fails the layout check (layout_check.h, against the targets it
+ * was solved from), recorded in ds, with the reason in ds->input_layout_kept; *st: the
+ * check's status. */
+static int layout_fails_check(const texopt_job *job, int d, const double *packed, const texopt_budget_result *br,
+                              const texopt_params *p, texopt_domain_stats *ds, texopt_status *st, char *err,
+                              size_t err_len)
+{
+    const job_domain *jd = &job->domains[d];
+    const texopt_triangle_target *targets = job->refined && job->refined[d] ? job->refined[d] : source_targets(job, jd);
+    texopt_layout_check *c = &ds->layout_check;
+    ds->has_layout_check = 1;
+    double t0 = now_seconds();
+    *st = texopt_layout_check_run(jd->mesh, packed, br->width, br->height, jd->share ? jd->share->primary_of : NULL,
+                                  targets, c, err, err_len);
+    ds->seconds_layout_check = now_seconds() - t0;
+    if (*st != TEXOPT_OK || c->failed == TEXOPT_LAYOUT_PASSED)
+        return 0;
+    int ow, oh;
+    input_method_frame(&job->model->domains[d], p, &ow, &oh);
+    snprintf(ds->input_layout_kept, sizeof ds->input_layout_kept,
+             "the new layout failed the layout check (%s: %zu triangles, model triangle %u first); the input layout "
+             "is kept, its images resized to %dx%d", texopt_layout_failure_name(c->failed),
+             c->failed == TEXOPT_LAYOUT_OVERLAP ? c->overlapping
+             : c->failed == TEXOPT_LAYOUT_FOLDOVER ? c->folded : c->oversized, c->triangles[0], ow, oh);
+    return 1;
+}
+
 /* Methods "perceptual" and the baselines at one budget: allocation, stage 2, budget + pack,
- * re-bake; or the input layout resized (input_layout_packs_better). */
+ * re-bake; or the input layout resized (input_layout_packs_better, layout_fails_check). */
 static texopt_status run_optimised_method(const texopt_job *job, int d, const texopt_params *p,
                                           int with_stats, job_output *out, texopt_domain_stats *ds,
                                           job_monitor *jm, double from, double to, char *err, size_t err_len)
@@ -1101,7 +1132,9 @@ static texopt_status run_optimised_method(const texopt_job *job, int d, const te
     ds->input_layout_kept[0] = '\0';
     if (st == TEXOPT_OK)
         st = layout_for_budget(job, d, p, texel_new, packed, &br, ds, jm, from, pack_from, bake_from, err, err_len);
-    if (input_layout_packs_better(job->model, mesh, p, &br, st, ds)) {
+    ds->has_layout_check = 0;
+    if (input_layout_packs_better(job->model, mesh, p, &br, st, ds) ||
+        (st == TEXOPT_OK && layout_fails_check(job, d, packed, &br, p, ds, &st, err, err_len))) {
         free(texel_new);
         free(packed);
         ds->repacked = 0;
@@ -2153,6 +2186,8 @@ texopt_status texopt_job_write(texopt_job *job, const texopt_job_budget *budget,
         st = texopt_model_save_glb(job->model, &edit, output_glb, err, err_len);
         js->seconds_save = now_seconds() - t0;
     }
+    if (st == TEXOPT_OK && stats_json) /* the costs reported are the written file's */
+        st = texopt_file_cost_record(output_glb, js, err, err_len);
     js->seconds_total = now_seconds() - job->jm.start;
     if (st == TEXOPT_OK && stats_json)
         st = texopt_stats_write(js, stats_json, err, err_len);

@@ -97,6 +97,8 @@ static cJSON *domain_json(const texopt_domain_stats *d)
     cJSON_AddNumberToObject(o, "relative_cost", d->relative_cost);
     cJSON_AddNumberToObject(o, "packing_efficiency_input", d->packing_efficiency_input);
     cJSON_AddNumberToObject(o, "packing_efficiency", d->packing_efficiency);
+    if (d->has_layout_check)
+        cJSON_AddItemToObject(o, "layout_check", texopt_layout_check_json(&d->layout_check));
     cJSON_AddBoolToObject(o, "repacked", d->repacked);
     if (d->input_layout_kept[0])
         cJSON_AddStringToObject(o, "input_layout_kept", d->input_layout_kept);
@@ -111,6 +113,8 @@ static cJSON *domain_json(const texopt_domain_stats *d)
         cJSON_AddNumberToObject(t, "loss_share", d->seconds_loss_share);
     cJSON_AddNumberToObject(t, "pack", d->seconds_pack);
     cJSON_AddNumberToObject(t, "bake", d->seconds_bake);
+    if (d->has_layout_check)
+        cJSON_AddNumberToObject(t, "layout_check", d->seconds_layout_check);
     add_images(o, d);
     return o;
 }
@@ -140,6 +144,8 @@ static cJSON *job_json(const texopt_job_stats *s)
     cJSON *t = cJSON_AddObjectToObject(root, "seconds");
     cJSON_AddNumberToObject(t, "load", s->seconds_load);
     cJSON_AddNumberToObject(t, "save", s->seconds_save);
+    if (s->has_file_cost)
+        cJSON_AddNumberToObject(t, "file_cost", s->seconds_file_cost);
     cJSON_AddNumberToObject(t, "total", s->seconds_total);
     if (s->has_search) {
         cJSON *q = cJSON_AddObjectToObject(root, "target_search");
@@ -183,6 +189,12 @@ static cJSON *job_json(const texopt_job_stats *s)
         cJSON_AddNumberToObject(e, "resolution", s->eval_resolution);
         cJSON_AddStringToObject(e, "lookup", texopt_lookup_name(s->mipmapped));
         cJSON_AddNumberToObject(e, "seconds", s->seconds_evaluate);
+    }
+    if (s->has_file_cost) {
+        cJSON *f = cJSON_AddObjectToObject(root, "file_cost");
+        cJSON_AddNumberToObject(f, "texture_pixels", (double)s->file_texture_pixels);
+        cJSON_AddNumberToObject(f, "texture_bytes", (double)s->file_texture_bytes);
+        cJSON_AddNumberToObject(f, "bytes", (double)s->file_bytes);
     }
     cJSON *arr = cJSON_AddArrayToObject(root, "domains");
     for (int d = 0; d < s->domain_count; d++)

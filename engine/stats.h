@@ -3,7 +3,8 @@
  * Does: hold what the pipeline measured (stage timings, costs in and out, relative cost
  * reached, packing efficiency, texture sizes, stage-1 loss statistics, stage-2 energy and
  * distortion) and write them as one JSON document with cJSON, atomically.
- * Does not: measure anything itself (pipeline.c fills the struct).
+ * Does not: measure anything itself (pipeline.c fills the struct, file_cost.c the written
+ * file's costs).
  *
  * The numbers are those Sun et al. 2022, "Efficient Texture Parameterization Driven by
  * Perceptual-Loss-on-Screen", report: cost c = covered texels (eq. 20), relative cost c_r
@@ -16,6 +17,7 @@
 #include <stddef.h>
 
 #include "distortion.h"
+#include "layout_check.h"
 #include "status.h"
 
 typedef struct texopt_image_stats {
@@ -32,7 +34,9 @@ typedef struct texopt_domain_stats {
     size_t triangles, charts;
     int input_width, input_height;   /* texel frame */
     int output_width, output_height;
-    double cost_input, cost_output;  /* unique covered texels */
+    double cost_input, cost_output;  /* unique covered texels; cost_output, relative_cost and
+                                        packing_efficiency are those of the written file
+                                        (file_cost.h), as `texopt info` measures them */
     double relative_cost_requested;  /* < 0 when the budget was a texture size */
     double relative_cost;            /* cost_output / cost_input */
     double packing_efficiency_input; /* covered texels / frame texels */
@@ -62,12 +66,15 @@ typedef struct texopt_domain_stats {
     double allocation_scale;         /* the common factor s on the singular values */
     double allocation_capped_share;  /* triangles at input density (a cap reached) */
     double allocation_lossless_share; /* targets grown as lossless (allocate.h) */
+    int has_layout_check;            /* a new layout was checked (layout_check.h) ... */
+    texopt_layout_check layout_check; /* ... with this result; failed: the input layout kept */
     double budget_scale;             /* with repacked: the uniform scale budget.h applied after
                                         stage 2 (output texels per solved texel); near 1 when
                                         the allocation predicted the cost well */
 
     double seconds_mesh, seconds_stage1, seconds_stage2, seconds_pack, seconds_bake;
     double seconds_loss_share; /* the per-triangle losses under the solved layout */
+    double seconds_layout_check; /* the last layout check (layout_check.h) */
 } texopt_domain_stats;
 
 typedef struct texopt_job_stats {
@@ -108,6 +115,11 @@ typedef struct texopt_job_stats {
     double q;                    /* evaluate.h: mean GMSD over the 20 views */
     int eval_resolution;
     double seconds_evaluate;
+    int has_file_cost;           /* the written file measured (file_cost.h) ... */
+    double seconds_file_cost;    /* ... in this time */
+    unsigned long long file_texture_pixels; /* sum of width x height over its images */
+    unsigned long long file_texture_bytes;  /* their encoded sizes */
+    unsigned long long file_bytes;          /* the whole file */
     int domain_count;
     texopt_domain_stats *domains;
 } texopt_job_stats;

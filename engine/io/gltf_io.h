@@ -64,6 +64,10 @@ typedef struct texopt_load_options {
 texopt_status texopt_model_load(texopt_model **out, const char *path,
                                 const texopt_load_options *opt, char *err, size_t err_len);
 
+/* The encoded size in bytes of model image `image` as its file holds it (PNG, JPEG, ...), 0
+ * when the model was not loaded from a file or the index is out of range. */
+uint64_t texopt_model_image_bytes(const texopt_model *model, int image);
+
 /* As texopt_model_load, from a .glb or .gltf held in memory (the caller keeps bytes).
  * base_dir is the directory external URIs resolve against; NULL refuses every external
  * URI (only buffer views and data URIs are then allowed). */

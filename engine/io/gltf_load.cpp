@@ -985,3 +985,10 @@ extern "C" texopt_status texopt_model_load(texopt_model **out, const char *path,
     std::string dir = gltf_absolute_directory(slash == std::string::npos ? "." : slash == 0 ? "/" : p.substr(0, slash).c_str());
     return load_common(out, bytes.data(), bytes.size(), dir, opt, err, err_len);
 }
+
+extern "C" uint64_t texopt_model_image_bytes(const texopt_model *model, int image)
+{
+    if (!model || !model->document || image < 0 || (size_t)image >= model->document->gltf.images.size())
+        return 0;
+    return (uint64_t)model->document->gltf.images[(size_t)image].image.size();
+}

@@ -8,6 +8,7 @@
 #include "fixtures.h"
 #include "gltf_io.h"
 #include "info.h"
+#include "sliver_grids.h"
 #include "test.h"
 
 static double num(const cJSON *o, const char *key)
@@ -294,4 +295,33 @@ TEST(spot_document_matches_its_file)
     CHECK_NEAR(num(d, "packing_efficiency"), num(d, "covered_texels") / (1024.0 * 1024.0), 1e-12);
     cJSON_Delete(doc);
     texopt_model_destroy(model);
+}
+
+/* The layout check of info on the model's own layout (layout_check.h): mirrored twins laid
+ * on one region are one sharing group and pass; the twin shifted a quarter of the frame off
+ * (half its texels on the other's, under texel_share.h's 90%) is another group and fails
+ * "overlap"; the texture pixels are the image's. */
+TEST(the_layout_check_tells_shared_twins_from_overlapping_charts)
+{
+    sliver_grid g;
+    CHECK(sliver_grid_make(&g, 8, 0.5, 1) == 0);
+    for (int shifted = 0; shifted < 2; shifted++) {
+        for (size_t v = g.vertex_count / 2; shifted && v < g.vertex_count; v++)
+            g.uvs[2 * v] += 0.45f;
+        texopt_model *model = fixture_model_from_arrays(g.positions, g.uvs, g.vertex_count, g.triangles,
+                                                        g.triangle_count, 64, 64, "checker");
+        CHECK(model != NULL);
+        cJSON *doc = NULL;
+        char err[256] = "";
+        CHECK_OK(texopt_info_json(model, &doc, err, sizeof err), err);
+        const cJSON *check = cJSON_GetObjectItemCaseSensitive(domain(doc, 0), "layout_check");
+        CHECK_NEAR(num(cJSON_GetObjectItemCaseSensitive(doc, "file_cost"), "texture_pixels"), 64 * 64, 0);
+        CHECK(cJSON_IsBool(cJSON_GetObjectItemCaseSensitive(check, "passed")));
+        CHECK(cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(check, "passed")) == !shifted);
+        CHECK(strcmp(str(check, "failed"), shifted ? "overlap" : "") == 0);
+        CHECK((num(check, "overlapping_triangles") > 0) == shifted);
+        cJSON_Delete(doc);
+        texopt_model_destroy(model);
+    }
+    sliver_grid_free(&g);
 }

@@ -1,0 +1,185 @@
+/* layout_check.c - the validity check of a new layout; see layout_check.h. */
+#include "layout_check.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "texel_share.h"
+
+const char *texopt_layout_failure_name(texopt_layout_failure failure)
+{
+    switch (failure) {
+    case TEXOPT_LAYOUT_OVERLAP:
+        return "overlap";
+    case TEXOPT_LAYOUT_FOLDOVER:
+        return "foldover";
+    case TEXOPT_LAYOUT_AREA:
+        return "area";
+    default:
+        return NULL;
+    }
+}
+
+static double texel_area(const texopt_mesh *mesh, const double *texel, size_t t)
+{
+    const uint32_t *v = mesh->triangle + 3 * t;
+    const double *a = texel + 2 * (size_t)v[0], *b = texel + 2 * (size_t)v[1], *c = texel + 2 * (size_t)v[2];
+    if (texopt_texel_triangle_degenerate(a, b, c))
+        return 0.0;
+    return 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+}
+
+/* Counts one offending triangle of check `kind`, listing it when that check is the one that
+ * failed first. */
+static void offend(texopt_layout_check *out, texopt_layout_failure kind, size_t *count, uint32_t model_triangle)
+{
+    (*count)++;
+    if (out->failed == TEXOPT_LAYOUT_PASSED)
+        out->failed = kind;
+    if (out->failed == kind && out->listed < TEXOPT_LAYOUT_CHECK_LISTED)
+        out->triangles[out->listed++] = model_triangle;
+}
+
+/* Frames past this many texels get no overlap check (4 bytes a texel). */
+#define OWNER_MAX_TEXELS (1u << 26)
+#define NO_OWNER UINT32_MAX
+
+/* Whether texel centre (x, y) lies strictly inside triangle (a, b, c) of either orientation
+ * (a centre on an edge belongs to neither, so that charts that touch never overlap). */
+static int centre_inside(const double *a, const double *b, const double *c, double x, double y)
+{
+    double d0 = (b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0]);
+    double d1 = (c[0] - b[0]) * (y - b[1]) - (c[1] - b[1]) * (x - b[0]);
+    double d2 = (a[0] - c[0]) * (y - c[1]) - (a[1] - c[1]) * (x - c[0]);
+    const double e = 1e-9;
+    return (d0 > e && d1 > e && d2 > e) || (d0 < -e && d1 < -e && d2 < -e);
+}
+
+/* Marks the texels of triangle t with its group in owner; returns 1 when one of them was
+ * another group's. */
+static int claim_texels(const texopt_mesh *m, const double *texel, int width, int height, size_t t, uint32_t group,
+                        uint32_t *owner)
+{
+    const uint32_t *v = m->triangle + 3 * t;
+    const double *a = texel + 2 * (size_t)v[0], *b = texel + 2 * (size_t)v[1], *c = texel + 2 * (size_t)v[2];
+    int x0 = (int)floor(fmin(a[0], fmin(b[0], c[0]))), x1 = (int)ceil(fmax(a[0], fmax(b[0], c[0])));
+    int y0 = (int)floor(fmin(a[1], fmin(b[1], c[1]))), y1 = (int)ceil(fmax(a[1], fmax(b[1], c[1])));
+    x0 = x0 < 0 ? 0 : x0;
+    y0 = y0 < 0 ? 0 : y0;
+    x1 = x1 > width ? width : x1;
+    y1 = y1 > height ? height : y1;
+    int clash = 0;
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) {
+            if (!centre_inside(a, b, c, x + 0.5, y + 0.5))
+                continue;
+            uint32_t *o = &owner[(size_t)y * (size_t)width + (size_t)x];
+            clash |= *o != NO_OWNER && *o != group;
+            *o = group;
+        }
+    return clash;
+}
+
+/* Triangles covering a texel of another sharing group (group_of_chart) in the new layout. */
+static texopt_status check_overlaps(const texopt_mesh *m, const double *texel, int width, int height,
+                                    const uint32_t *group_of_chart, texopt_layout_check *out, char *err,
+                                    size_t err_len)
+{
+    if ((uint64_t)width * (uint64_t)height > OWNER_MAX_TEXELS || width <= 0 || height <= 0)
+        return TEXOPT_OK;
+    uint32_t *owner = malloc((size_t)width * (size_t)height * sizeof *owner);
+    if (!owner)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "layout check: no memory for a %dx%d frame", width, height);
+    memset(owner, 0xff, (size_t)width * (size_t)height * sizeof *owner);
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        uint32_t chart = m->chart_of[t];
+        if (texel_area(m, texel, t) != 0.0 &&
+            claim_texels(m, texel, width, height, t, group_of_chart ? group_of_chart[chart] : chart, owner))
+            offend(out, TEXOPT_LAYOUT_OVERLAP, &out->overlapping, m->model_triangle[t]);
+    }
+    free(owner);
+    return TEXOPT_OK;
+}
+
+static double total_area(const texopt_mesh *m, const double *texel)
+{
+    double have = 0;
+    for (size_t t = 0; t < m->triangle_count; t++)
+        have += fabs(texel_area(m, texel, t));
+    return have;
+}
+
+/* The area scale that takes the targets' areas to the layout's total. */
+static double target_scale(const texopt_mesh *m, const double *texel, const texopt_triangle_target *targets)
+{
+    double want = 0, have = 0;
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        want += targets[t].lambda1 * targets[t].lambda2 * fabs(m->area_texel[t]) *
+                !(m->flags[t] & TEXOPT_TRI_DEGENERATE_UV);
+        have += fabs(texel_area(m, texel, t));
+    }
+    return want > 0 ? have / want : 0;
+}
+
+texopt_status texopt_layout_check_run(const texopt_mesh *input, const double *texel, int width, int height,
+                                      const uint32_t *group_of_chart, const texopt_triangle_target *targets,
+                                      texopt_layout_check *out, char *err, size_t err_len)
+{
+    memset(out, 0, sizeof *out);
+    texopt_status st = check_overlaps(input, texel, width, height, group_of_chart, out, err, err_len);
+    double scale = st == TEXOPT_OK && targets ? target_scale(input, texel, targets) : 0;
+    double total = total_area(input, texel), total_in = total_area(input, input->texel);
+    double mean = input->triangle_count ? total / (double)input->triangle_count : 0;
+    double uniform_scale = total_in > 0 ? total / total_in : 0;
+    for (size_t t = 0; st == TEXOPT_OK && t < input->triangle_count; t++) {
+        uint32_t mt = input->model_triangle[t];
+        double a = texel_area(input, texel, t), a_in = input->area_texel[t];
+        int had_area = !(input->flags[t] & (TEXOPT_TRI_DEGENERATE_UV | TEXOPT_TRI_FLIPPED));
+        if (had_area && a != 0.0 && (a < 0) != (a_in < 0))
+            offend(out, TEXOPT_LAYOUT_FOLDOVER, &out->folded, mt);
+        int collapsed_in = (input->flags[t] & TEXOPT_TRI_DEGENERATE_UV) != 0;
+        double target = targets && !collapsed_in ? targets[t].lambda1 * targets[t].lambda2 * fabs(a_in) * scale : 0;
+        double uniform = collapsed_in ? 0 : fabs(a_in) * uniform_scale;
+        if (fabs(a) > TEXOPT_LAYOUT_CHECK_AREA_FACTOR * fmax(target, uniform) + mean)
+            offend(out, TEXOPT_LAYOUT_AREA, &out->oversized, mt);
+    }
+    return st;
+}
+
+texopt_status texopt_layout_check_own(const texopt_mesh *mesh, texopt_layout_check *out, char *err, size_t err_len)
+{
+    texopt_texel_share *share = NULL;
+    texopt_status st = texopt_texel_share_create(&share, mesh, err, err_len);
+    if (st == TEXOPT_OK)
+        st = texopt_layout_check_run(mesh, mesh->texel, mesh->width, mesh->height, share->primary_of, NULL, out, err,
+                                     err_len);
+    texopt_texel_share_destroy(share);
+    out->oversized = 0; /* its own areas: nothing to compare with */
+    if (out->failed == TEXOPT_LAYOUT_AREA) {
+        out->failed = TEXOPT_LAYOUT_PASSED;
+        out->listed = 0;
+    }
+    for (size_t t = 0; st == TEXOPT_OK && t < mesh->triangle_count; t++)
+        if (mesh->flags[t] & TEXOPT_TRI_FLIPPED)
+            offend(out, TEXOPT_LAYOUT_FOLDOVER, &out->folded, mesh->model_triangle[t]);
+    return st;
+}
+
+cJSON *texopt_layout_check_json(const texopt_layout_check *c)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddBoolToObject(o, "passed", c->failed == TEXOPT_LAYOUT_PASSED);
+    const char *failed = texopt_layout_failure_name(c->failed);
+    if (failed)
+        cJSON_AddStringToObject(o, "failed", failed);
+    else
+        cJSON_AddNullToObject(o, "failed");
+    cJSON *t = cJSON_AddArrayToObject(o, "triangles");
+    for (size_t i = 0; t && i < c->listed; i++)
+        cJSON_AddItemToArray(t, cJSON_CreateNumber(c->triangles[i]));
+    cJSON_AddNumberToObject(o, "overlapping_triangles", (double)c->overlapping);
+    cJSON_AddNumberToObject(o, "foldover_triangles", (double)c->folded);
+    cJSON_AddNumberToObject(o, "oversized_triangles", (double)c->oversized);
+    return o;
+}
