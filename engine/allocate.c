@@ -5,7 +5,7 @@
  * bisection on log s.
  * texopt_reallocate_by_error multiplies each target's area by a step from its on-screen
  * error and rescales with the same water-filling; the error of the one-ring instead of the
- * triangle's own measured worse on Fox (BENCHMARKS.md "Quality").
+ * triangle's own measured worse on Fox (BENCHMARKS.md@9f788a8 "Quality").
  * Does not: look at the texture, the loss curve of a triangle beyond its stage-1 loss, or
  * the layout; measure the errors (evaluate.h does). */
 #include "allocate.h"

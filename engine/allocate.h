@@ -17,7 +17,7 @@
  * (loss <= lossless_loss, e.g. flat colour at lambda_min) grow by s^lossless_growth instead
  * of s: more texels cannot improve a look that is already exact, so the budget goes where
  * the loss is (a step towards equal marginal loss, DESIGN.md 3.2). Growth 0 keeps them as
- * they are; that measured worse at large budgets (BENCHMARKS.md "Quality"): stage 1 judges
+ * they are; that measured worse at large budgets (BENCHMARKS.md@9f788a8 "Quality"): stage 1 judges
  * a triangle with its whole one-ring shrunk alike, not next to neighbours at full density.
  *
  * The allocation fixes areas only approximately: stage 2 trades the targets against one

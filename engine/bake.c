@@ -214,7 +214,7 @@ static cell_box gather_footprints(texopt_bake_workspace *ws, int pixel_count,
  * texel with the next row (column), so A^T A's band is about one row (column) of the patch;
  * for an elliptic patch the chord along the box's shorter side is the shorter one, and
  * Cholesky costs n kd^2 (squeezed candidates lying along the texture's x axis had bands
- * as wide as the patch: BENCHMARKS.md, "Stage 1"). In column order the footprint's
+ * as wide as the patch: BENCHMARKS.md@9f788a8, "Stage 1"). In column order the footprint's
  * entries 1 and 2 (and their weights) swap, so its four unknowns stay ascending. Touched
  * slots are marked with a byte (plain stores), so the scan reads 8 slots a load
  * and the marks take a quarter of the cache an int per slot did (the box may hold up to

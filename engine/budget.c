@@ -22,7 +22,7 @@
 #define WIDTH_LO 0.75          /* strip widths tried, relative to the estimate */
 #define WIDTH_HI 1.35
 /* Box fill a reshape lifts the charts below it to. Measured on the perceptual layouts of
- * spot, Fox and Duck (BENCHMARKS.md "Packing efficiency"): asking each chart for what the
+ * spot, Fox and Duck (BENCHMARKS.md@9f788a8 "Packing efficiency"): asking each chart for what the
  * efficiency's shortfall needs (the aggregate fill raised by (0.75 / efficiency)^4,
  * efficiency following the fill only weakly) cost q up to +148% (Duck); one goal of 0.8
  * for every chart gained less efficiency on Fox and Duck but moved q by -8% to +16%. */

@@ -20,7 +20,7 @@
 
 #include "status.h"
 
-/* Stage 1's default for texopt_camera_limit_zoom (BENCHMARKS.md "Quality"). */
+/* Stage 1's default for texopt_camera_limit_zoom (BENCHMARKS.md@9f788a8 "Quality"). */
 #define TEXOPT_CAMERA_MAX_ZOOM 1.25
 
 typedef struct texopt_camera {

@@ -22,7 +22,7 @@
  * and stretch weights (with w_rs = 1 every triangle is about equally stiff, w_rs w_S /
  * (w_rs + w_S) with w_S >= 1). Measured on spot's perceptual layout (c_r 0.5, charts pulled
  * to box fill 0.7, before the overlap check existed): q +131% with w_rs = 1, +20% with 100
- * (BENCHMARKS.md "Packing efficiency"). */
+ * (BENCHMARKS.md@9f788a8 "Packing efficiency"). */
 #define FIT_WEIGHT 100.0
 /* Self-overlap check: samples per chart (at most) and per triangle, and the share of
  * covered samples a reshape may add to those covered twice. */

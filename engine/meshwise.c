@@ -19,7 +19,7 @@
  *    part B''(det) grad(det) grad(det)^T (positive semi-definite; the indefinite
  *    B'(det) hess(det) part and the u-v coupling are dropped), so the Newton system splits
  *    into two n x n systems. That is 4-8x fewer flops than the coupled 2n x 2n system (on
- *    a 30K-face sphere: 2.2 s wall coupled, 0.4 s CPU split; BENCHMARKS.md); the line
+ *    a 30K-face sphere: 2.2 s wall coupled, 0.4 s CPU split; BENCHMARKS.md@9f788a8); the line
  *    search keeps every step a descent. The numeric factorisation is redone only when some
  *    barrier is active (then once per axis, the two in parallel with threads >= 2) or was
  *    active at the last factorisation.

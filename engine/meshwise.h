@@ -35,7 +35,7 @@
  *    variance of a loss, ~1e-4) does not vanish against w_rs; all-ones weights stay ones.
  *    The normalised w_S is at least 1 (the mean), so a triangle whose loss ignores its
  *    stretch (flat colour, variance 0) still moves toward its (area-driven) target; lower
- *    floors measured worse (meshwise.c, BENCHMARKS.md). w_R has no floor.
+ *    floors measured worse (meshwise.c, BENCHMARKS.md@9f788a8). w_R has no floor.
  *  - Degenerate triangles (TEXOPT_TRI_DEGENERATE_3D/UV) add no fitting energy; those with a
  *    non-zero input texel area still carry the barrier, so they never flip either. Their
  *    vertices move with their neighbours. A COLLAPSED triangle (degenerate in UV, not in

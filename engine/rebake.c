@@ -33,7 +33,7 @@
 #define FIT_TOLERANCE 1e-2
 #define FIT_MAX_ITERATIONS 60
 /* Least squares everywhere: whole-mesh q (evaluate.h) against the prefilter, baseline
- * layouts on four models, fell by 4-69% (median about 45%; BENCHMARKS.md "Re-bake"), while
+ * layouts on four models, fell by 4-69% (median about 45%; BENCHMARKS.md@9f788a8 "Re-bake"), while
  * fitting only magnified triangles gained little except where everything is magnified. */
 #define DEFAULT_FIT TEXOPT_REBAKE_FIT_LEAST_SQUARES
 

@@ -37,7 +37,7 @@
 
 /* A secondary's texels that must lie on its primary's: near-complete overlaps only, so
  * that a secondary's untied part cannot fold over other texels of the primary.
- * BENCHMARKS.md "Shared texels kept" for the measured overlaps. */
+ * BENCHMARKS.md@9f788a8 "Shared texels kept" for the measured overlaps. */
 #define TEXOPT_TEXEL_SHARE_FRACTION 0.9
 #define TEXOPT_TEXEL_SHARE_TOLERANCE 0.5 /* texels */
 #define TEXOPT_TEXEL_SHARE_MAX_CELLS (1u << 25)

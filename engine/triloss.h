@@ -32,7 +32,7 @@
  * at its own texel density, at over 1.5 times the limit, E is also taken on up to
  * TEXOPT_TRILOSS_CLOSE_UPS windows at the limit inside the triangle (the same camera frame
  * and pivot; 1,400 pixels each), those whose E under J = 0.25 I is largest among a grid of
- * candidates: E is the maximum over the one-ring's view and the close-ups (BENCHMARKS.md
+ * candidates: E is the maximum over the one-ring's view and the close-ups (BENCHMARKS.md@9f788a8
  * "Close-ups").
  *
  * The candidate grid: J moves texels to a new layout whose wrap mode does not matter, so
@@ -96,7 +96,7 @@ texopt_status texopt_triloss_eval(texopt_triloss *loss, const double jacobian[4]
  * reached stop_above). E is then the maximum over them, at most the full one. Triopt
  * evaluates eq. 17's weight samples this way after the search: on DamagedHelmet 2.5 of 8
  * active signals decide, and the weights rank the triangles as the full maximum does
- * (BENCHMARKS.md, "Stage 1"). Does nothing when no signal has decided (every E was 0). */
+ * (BENCHMARKS.md@9f788a8, "Stage 1"). Does nothing when no signal has decided (every E was 0). */
 void texopt_triloss_keep_deciding(texopt_triloss *loss);
 
 /* The raster of the prepared triangle (covered pixels, camera). */

@@ -37,7 +37,7 @@
  * 20-70 with the default plan). */
 #define TRIOPT_HISTORY 128
 /* Default polish stop: polish_patience evaluations in a row that gain less than this share
- * of f (BENCHMARKS.md, "Stage 1"). */
+ * of f (BENCHMARKS.md@9f788a8, "Stage 1"). */
 #define TRIOPT_POLISH_STOP 0.001
 #define TRIOPT_POLISH_PATIENCE 1
 
@@ -224,7 +224,7 @@ static void shuffle(texopt_rng *rng, int *perm, int n)
 /* Eq. 17: how much E moves when only the rotation, or only the stretch, changes. The
  * stretch samples form a Latin hypercube: each of lambda1, lambda2, beta uniform and
  * stratified into n strata, which ranks the triangles' w_stretch closer to a dense
- * estimate than independent draws at the same cost (BENCHMARKS.md, "Stage 1"). */
+ * estimate than independent draws at the same cost (BENCHMARKS.md@9f788a8, "Stage 1"). */
 static texopt_status sensitivity_weights(worker *w, uint32_t t, texopt_triangle_target *o,
                                          char *err, size_t err_len)
 {
@@ -390,7 +390,7 @@ static void probe_every_orientation(triangle_search *s, const double start[TRIOP
  * squeezed coordinate over [0, its start] with `golden_steps` points. The first refinement
  * probes every orientation (coarse to fine); a later one starts from an anisotropic point
  * whose orientation already fits the texture, so it probes only that orientation and its
- * two neighbours (6 probes instead of 2 x directions: BENCHMARKS.md, "Stage 1"). */
+ * two neighbours (6 probes instead of 2 x directions: BENCHMARKS.md@9f788a8, "Stage 1"). */
 static void anisotropic_search(triangle_search *s, int directions, int golden_steps, int first)
 {
     if (!isfinite(s->best_f) || golden_steps < 2)

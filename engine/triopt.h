@@ -11,7 +11,7 @@
  * (x0 pi/2, lmin + (1 - lmin) x1, lmin + (1 - lmin) x2, x3 pi/2). E >= eps is infeasible: the
  * objective returns +INFINITY and bayesopt.h's penalty rule applies.
  *
- * Evaluation plan per triangle (measured in BENCHMARKS.md, "Stage 1"):
+ * Evaluation plan per triangle (measured in BENCHMARKS.md@9f788a8, "Stage 1"):
  *  1. J = lambda_min I. If it loses nothing (f within 1e-6 of the objective's lower bound
  *     lambda_min^2 |T| - log(eps)), no J can do better: stop, with w_rotation = w_stretch = 0
  *     (E is 0 over the whole box, so eq. 17's variances are 0; sampling them confirmed it).
@@ -41,7 +41,7 @@
  * decided the search (texopt_triloss_keep_deciding: those that gave E in one of its
  * evaluations; a single-signal domain is unaffected). On DamagedHelmet that is 2.5 of 8
  * active signals per triangle for 6-10% less CPU, and the weights rank the triangles against
- * a 32-sample estimate as the full maximum does (BENCHMARKS.md, "Stage 1").
+ * a 32-sample estimate as the full maximum does (BENCHMARKS.md@9f788a8, "Stage 1").
  *
  * Determinism: triangle t draws from seed_t = mix(seed, t) and nothing else, and threads
  * only decide who computes which triangle, so the output is identical for any thread count.

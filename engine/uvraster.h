@@ -11,7 +11,7 @@
  * closest to the camera winning, ties to the earlier face of the one-ring with the triangle
  * itself first; then the triangle drawn again over its ring when ring faces in front hide
  * more than TEXOPT_UVRASTER_HIDDEN_SHARE of its pixels). Each face interpolates its own UV
- * vertices, so a UV seam inside the one-ring shows each side's own texels. BENCHMARKS.md,
+ * vertices, so a UV seam inside the one-ring shows each side's own texels. BENCHMARKS.md@9f788a8,
  * "Stage 1", compares it with an OSMesa float-target render of the same buffer. */
 #ifndef TEXOPT_UVRASTER_H
 #define TEXOPT_UVRASTER_H
@@ -29,12 +29,12 @@
  * pixels nearest the triangle (screen distance to its projection; the triangle's own pixels
  * always kept); the others are uncovered exactly like
  * pixels outside the ring, so the bake, the GMSD mask and the loss follow. Rings the paper's
- * window shows at or under the limit are rasterised as before, whole. BENCHMARKS.md,
+ * window shows at or under the limit are rasterised as before, whole. BENCHMARKS.md@9f788a8,
  * "Stage 1", for the value. */
 #define TEXOPT_UVRASTER_MAX_COVERED 1400
 
 /* The share of a triangle's pixels that ring faces in front of it may hide before it is drawn
- * over them (a bulge seen from behind its face; BENCHMARKS.md "The triangle its ring hides"). */
+ * over them (a bulge seen from behind its face; BENCHMARKS.md@9f788a8 "The triangle its ring hides"). */
 #define TEXOPT_UVRASTER_HIDDEN_SHARE 0.2
 
 typedef struct texopt_uvraster {

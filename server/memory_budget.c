@@ -4,7 +4,7 @@
 #include <pthread.h>
 #include <stdlib.h>
 
-/* The estimate's terms, measured on texopt optimize (BENCHMARKS.md "texoptd under hostile
+/* The estimate's terms, measured on texopt optimize (docs/benchmarks.md "Under hostile
  * load"): what a job holds besides its images, and per image pixel. */
 #define JOB_BASE_BYTES (256ull << 20)
 #define JOB_BYTES_PER_PIXEL 28ull

@@ -239,7 +239,7 @@ void replace_texcoords(tinygltf::Model &g, const texopt_model *model, const floa
 /* A JPEG input's replacement is a JPEG again: as PNG, FoodApple01's three 4096x4096 JPEGs
  * (3.5 MB) resized to a tenth of their texels took 3.3 MB. At quality 98 they take 1.3 MB and
  * the file's q is 0.7% above the PNG's (95: 0.9 MB, +4.6%; 90: 0.7 MB, +10%): the encoding
- * adds next to nothing to the loss the layout was chosen for (BENCHMARKS.md "What the written
+ * adds next to nothing to the loss the layout was chosen for (BENCHMARKS.md@9f788a8 "What the written
  * file keeps"). */
 const int JPEG_QUALITY = 98;
 

@@ -68,7 +68,7 @@ static double hartmann6(void *user, const double *x)
 
 /* BO is a randomised global search: over seeds 0..9 Branin reaches 1e-2 in 9-10 of 10
  * runs, Hartmann-6 reaches 0.05 in 7 of 10 (the others sit in its -3.203 local minimum;
- * BENCHMARKS.md). The tests ask for two seeds of three, so a regression that breaks the
+ * BENCHMARKS.md@9f788a8). The tests ask for two seeds of three, so a regression that breaks the
  * search fails them while one unlucky seed does not. */
 TEST(branin_reaches_its_minimum_within_60_evaluations)
 {

@@ -1,7 +1,7 @@
 /* test_kernels_bench_slow.c - timings of the stage-1 kernels the triangle-wise driver calls
  * in its hot loop (Sun et al. 2022, section 4.1): one least-squares bake plus one GMSD of a
  * 64x64 window, and one Bayesian-optimisation iteration at 20, 50 and 100 samples.
- * Prints the figures (scripts/bench.d/kernels runs it; BENCHMARKS.md records them) and
+ * Prints the figures (scripts/bench.d/kernels runs it; BENCHMARKS.md@9f788a8 records them) and
  * checks that the work done is right, so it is also a test. Times are thread CPU time. */
 #include <stdint.h>
 #include <stdlib.h>

@@ -8,7 +8,7 @@
  * every chart moved by a translation and a quarter turn only (no mirror), or with turned
  * charts rigidly (no mirror, no scale), and packing efficiency >= 0.635 (the earlier
  * packer's worst here was 0.626; issue 4's target of 0.75 is not reached by placement
- * alone, see BENCHMARKS.md "Packing efficiency").
+ * alone, see BENCHMARKS.md@9f788a8 "Packing efficiency").
  * Prints one line per packing (efficiency, size, CPU seconds).
  * Models: spot and Fox from tests/data, or the paths in TEXOPT_PACK_MODELS (space
  * separated, e.g. the pipeline's outputs of /work/shared/assets, whose UVs are optimised

@@ -7,7 +7,8 @@
  * A sliver (not degenerate) keeps its fitting term: under perceptual, ssp and tewari, whose
  * targets never exceed input density, it stays thin; arap's isometric targets open it to its
  * 3D shape (451 texels here) inside its own chart, which the layout check accepts: capping
- * them measured worse on Duck, whose 443 sub-texel slivers open alike (BENCHMARKS.md). */
+ * them measured worse on Duck, whose 443 sub-texel slivers open alike (docs/benchmarks.md
+ * "Valid layouts and the file's costs"). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>

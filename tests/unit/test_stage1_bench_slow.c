@@ -1,4 +1,4 @@
-/* test_stage1_bench_slow.c - stage 1 measurements (BENCHMARKS.md, "Stage 1").
+/* test_stage1_bench_slow.c - stage 1 measurements (BENCHMARKS.md@9f788a8, "Stage 1").
  *
  * Under ctest: the one-ring buffer rasterised by uvraster.c is checked against the same
  * buffer rendered by OSMesa (float colour target, fixed-function smooth shading of the texel
