@@ -22,10 +22,10 @@
  *     material has maps a light reads), the one lower after its rounds is kept and its
  *     other images are baked after that.
  *   "input": the input layout kept as it is (UVs untouched, seams, overlaps and wrapping
- *     included) and each texture resampled with the prefilter of texture_filter.h to the
+ *     included) and each texture resized with Lanczos-3 (lanczos.h, Pillow's rules) to the
  *     budget: a relative cost c_r scales both sides by sqrt(c_r) (rounded to whole texels),
  *     a texture size is taken as given. This is the paper's "input parameterization"
- *     baseline and a useful product on its own (a well-filtered downscale).
+ *     baseline, the resize an asset pipeline would do, and a useful product on its own.
  *   "ssp", "tewari", "arap": the baselines of the paper's section 5 (ssp.h, tewari.h,
  *     arap.h targets in place of stage 1, rotation weight 0), solved as they are, then the
  *     same stage 2, budget (a uniform scale), packing and re-bake as "perceptual".
@@ -77,6 +77,7 @@
 #include "evaluate.h"
 #include "gltf_io.h"
 #include "gltf_tangents.h"
+#include "lanczos.h"
 #include "lit_shade.h"
 #include "lit_weight.h"
 #include "mesh.h"
@@ -316,7 +317,8 @@ static void input_method_frame(const texopt_domain *dom, const texopt_params *pa
     }
 }
 
-/* Method "input": same UVs, every image of the domain resampled to the budget. */
+/* Method "input": same UVs, every image of the domain resized to the budget with Lanczos-3
+ * (lanczos.h), as an asset pipeline would resize it. */
 static texopt_status run_input_method(const texopt_model *model, const texopt_mesh *mesh,
                                       const texopt_params *params, job_output *out,
                                       texopt_domain_stats *ds, job_monitor *jm, double from,
@@ -346,11 +348,9 @@ static texopt_status run_input_method(const texopt_model *model, const texopt_me
         if (!src->pixels)
             return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "image %d (%s) was not decoded", im,
                                is->name ? is->name : "unnamed");
-        texopt_wrap ws, wt;
-        image_wrap(model, im, &ws, &wt);
         st = texopt_image_create(&out->images[im], w, h, src->channels, err, err_len);
         if (st == TEXOPT_OK)
-            st = texopt_texture_resize(src, ws, wt, &out->images[im], worker_threads(params), err, err_len);
+            st = texopt_lanczos_resize(src, &out->images[im], worker_threads(params), err, err_len);
         if (st != TEXOPT_OK)
             return st;
         out->edit_images[im] = &out->images[im];

@@ -50,10 +50,11 @@ TEST(input_method_quarter_cost_halves_each_side)
     CHECK_EQ_INT(out->images[0].height, 32);
     for (size_t i = 0; i < 2 * in->vertex_count; i++)
         CHECK(out->uvs[i] == in->uvs[i]);
-    /* 8-texel checker squares become 4-texel squares of exactly 0 and 1 (box prefilter). */
+    /* 8-texel checker squares become 4-texel squares of 0 and 1, Lanczos-3's ringing at their
+     * edges (clamped into [0, 1]) within 26/255, as Pillow's LANCZOS resize gives. */
     for (int y = 0; y < 32; y++)
         for (int x = 0; x < 32; x++)
-            CHECK_NEAR(texopt_image_at(&out->images[0], x, y)[0], (float)(((x / 4) + (y / 4)) & 1), 1.0 / 255);
+            CHECK_NEAR(texopt_image_at(&out->images[0], x, y)[0], (float)(((x / 4) + (y / 4)) & 1), 27.0 / 255);
     cJSON *st = read_json(s.stats);
     CHECK(st != NULL);
     CHECK_NEAR(domain_number(st, "relative_cost"), 0.25, 0.02 * 0.25);
