@@ -15,12 +15,13 @@
  *     allocated to the budget (allocate.h) up to input density and up to 1.5x it, the
  *     targets as they are (a uniform scale by the budget), and the signal metrics' targets
  *     (tewari.h, ssp.h) as those methods lay them out. The candidates bake only base colour
- *     (all q looks at) and are evaluated in one pass (whole-mesh loss q, evaluate.h); the
+ *     (all q looks at) and are evaluated in one pass (whole-mesh loss q, evaluate.h, on the
+ *     icosahedron's 12 views, not on the 20 the reported q uses: CHOICE_CAMERAS); the
  *     best of stage 1's, and the best metric one when its q is lower, are refined in closed
- *     loop from their on-screen error per triangle (refine_best, refine_kept, on the
- *     icosahedron's cameras; with params.refine_lit lit, every image baked, when the
- *     material has maps a light reads), the one lower after its rounds is kept and its
- *     other images are baked after that.
+ *     loop from their on-screen error per triangle (refine_best, refine_kept, on the same
+ *     views; with params.refine_lit lit, every image baked, when the material has maps a
+ *     light reads), the one lower after its rounds is kept and its other images are baked
+ *     after that.
  *   "input": the input layout kept as it is (UVs untouched, seams, overlaps and wrapping
  *     included) and each texture resized with Lanczos-3 (lanczos.h, Pillow's rules) to the
  *     budget: a relative cost c_r scales both sides by sqrt(c_r) (rounded to whole texels),
@@ -1279,6 +1280,11 @@ static void fill_job_params(texopt_job_stats *js, const texopt_params *p)
 
 #define MAX_EVALUATED_OUTPUTS 5 /* run_best_budget's candidates */
 
+/* The views perceptual chooses its layout on (run_candidates, refine_kept): the icosahedron's
+ * 12, not the dodecahedron's 20 that the reported q is measured on (evaluate_output), so that
+ * q is judged on views the choice never saw. */
+#define CHOICE_CAMERAS TEXOPT_CAMERAS_ICOSAHEDRON
+
 /* The options of the pipeline's evaluations: q's resolution, the job's threads, its
  * monitor. */
 static texopt_evaluate_options evaluation_options(const texopt_params *p, texopt_camera_set cameras, int lit,
@@ -1334,18 +1340,11 @@ static texopt_status evaluate_outputs_on(const texopt_model *model, const job_ou
     return st;
 }
 
-/* q as the paper and the benchmark define it: the dodecahedron's 20 views. */
-static texopt_status evaluate_outputs(const texopt_model *model, const job_output *const *outs, int n,
-                                      const texopt_params *p, job_monitor *jm, texopt_evaluation *ev, char *err,
-                                      size_t err_len)
-{
-    return evaluate_outputs_on(model, outs, n, p, TEXOPT_CAMERAS_DODECAHEDRON, 0, NULL, NULL, jm, ev, err, err_len);
-}
-
+/* The reported q, as the paper and the benchmark define it: the dodecahedron's 20 views. */
 static texopt_status evaluate_output(const texopt_model *model, const job_output *out, const texopt_params *p,
                                      job_monitor *jm, texopt_evaluation *ev, char *err, size_t err_len)
 {
-    return evaluate_outputs(model, &out, 1, p, jm, ev, err, err_len);
+    return evaluate_outputs_on(model, &out, 1, p, TEXOPT_CAMERAS_DODECAHEDRON, 0, NULL, NULL, jm, ev, err, err_len);
 }
 
 static void free_domain_stats(texopt_domain_stats *ds, int n)
@@ -1543,7 +1542,7 @@ static texopt_status refinement_trial(texopt_job *job, const texopt_params *p, t
     const job_output *shown = &trial->out;
     if (st == TEXOPT_OK) {
         job_stage(&job->jm, "evaluate", from + 0.8 * (to - from), to);
-        st = evaluate_outputs_on(job->model, &shown, 1, p, TEXOPT_CAMERAS_ICOSAHEDRON, lit, views, triangle_error,
+        st = evaluate_outputs_on(job->model, &shown, 1, p, CHOICE_CAMERAS, lit, views, triangle_error,
                                  &job->jm, &trial->ev, err, err_len);
     }
     return st;
@@ -1587,8 +1586,8 @@ static void record_refinement(texopt_job_stats *js, const refinement_record *r, 
  * texels from the triangles shown right to those shown wrong (reallocate_domains), solve, pack
  * and bake again, and keep the new layout when its q is lower; a round that is not lower is
  * retried from the best layout with half the step (gamma), as a backtracking line search.
- * Errors and q are measured on the icosahedron's 12 cameras, not on the dodecahedron's 20 that
- * define q (meshrender.h): the layout is not tuned on the views it is graded on. With
+ * Errors and q are measured on the choice's views (CHOICE_CAMERAS), not on those that define
+ * the reported q: the layout is not tuned on the views it is graded on. With
  * p->refine_lit, and when the material has maps a light reads besides base colour, the screen
  * is lit (with the luma difference per triangle, the measure it was tuned with; evaluate.h
  * `lit`: every map under one light), else base colour's: on a glossy multi-map material what
@@ -1600,8 +1599,7 @@ static void record_refinement(texopt_job_stats *js, const refinement_record *r, 
  * so that every layout is judged with the same bake; the saved layout's drafts are baked
  * again with the fit (bake_remaining_images).
  * The rounds tried and kept, the measure, the 12-view q before and after and their time go
- * to *rec (for the statistics' allocation_choice.refinement); after a kept round kept->ev is
- * the icosahedron's. */
+ * to *rec (for the statistics' allocation_choice.refinement); kept->ev stays the choice's. */
 static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candidate *kept, double cap,
                                  double from, double to, refinement_record *rec, char *err, size_t err_len)
 {
@@ -1629,11 +1627,11 @@ static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candid
     if (st == TEXOPT_OK)
         job_stage(&job->jm, "evaluate", from + (lit ? 0.5 * span : 0), from + span);
     if (st == TEXOPT_OK && lit) {
-        texopt_evaluate_options opt = evaluation_options(p, TEXOPT_CAMERAS_ICOSAHEDRON, lit, &job->jm);
+        texopt_evaluate_options opt = evaluation_options(p, CHOICE_CAMERAS, lit, &job->jm);
         st = texopt_evaluate_reference_create(job->model, &opt, &views, err, err_len);
     }
     if (st == TEXOPT_OK) {
-        st = evaluate_outputs_on(job->model, &shown, 1, p, TEXOPT_CAMERAS_ICOSAHEDRON, lit, views, error, &job->jm,
+        st = evaluate_outputs_on(job->model, &shown, 1, p, CHOICE_CAMERAS, lit, views, error, &job->jm,
                                  &best_ev, err, err_len);
         rec->q_before = best_ev.q;
     }
@@ -1724,9 +1722,9 @@ static void candidate_free(texopt_job *job, candidate *c)
 }
 
 /* Makes the candidates of one budget in their order (the dense one only when the cap at
- * input density bound), evaluates them in one pass and returns in best[0] the index of stage
- * 1's with the smallest q and in best[1] the metric one's (-1 when none was made), a tie
- * keeping the earlier, simpler one; *made says which were made. */
+ * input density bound), evaluates them in one pass on the choice's views and returns in
+ * best[0] the index of stage 1's with the smallest q and in best[1] the metric one's (-1 when
+ * none was made), a tie keeping the earlier, simpler one; *made says which were made. */
 static texopt_status run_candidates(texopt_job *job, const texopt_params *p, candidate *cand, int *made,
                                     double from, double to, double chosen, int best[2], char *err, size_t err_len)
 {
@@ -1746,7 +1744,7 @@ static texopt_status run_candidates(texopt_job *job, const texopt_params *p, can
     texopt_evaluation evs[CANDIDATES];
     if (st == TEXOPT_OK) {
         job_stage(&job->jm, "evaluate", to, chosen);
-        st = evaluate_outputs(job->model, outs, n, p, &job->jm, evs, err, err_len);
+        st = evaluate_outputs_on(job->model, outs, n, p, CHOICE_CAMERAS, 0, NULL, NULL, &job->jm, evs, err, err_len);
     }
     best[0] = best[1] = -1;
     for (int i = 0, e = 0; i < CANDIDATES && st == TEXOPT_OK; i++) {
@@ -1824,17 +1822,15 @@ static texopt_status refine_best(texopt_job *job, const texopt_params *p, candid
 
 /* One budget into *out. For perceptual, the candidate layouts above are made, stage 1's best
  * and (when lower) the metric candidates' best are refined (refine_best), and the one with the
- * smaller q is kept (its evaluation in *ev, *evaluated = 1 when no round was kept). The
- * candidates bake only the images q looks at (base colour) and are held until the choice,
- * so the winner is not rebuilt; its other images are left to bake_remaining_images (not
+ * smaller q on the choice's views (CHOICE_CAMERAS) is kept (its reported q is measured
+ * after, on other views). The candidates bake only the images q looks at (base colour) and
+ * are held until the choice, so the winner is not rebuilt; its other images are left to
+ * bake_remaining_images (not
  * needed at all by the target_loss search's steps), and the per-triangle loss share is
- * measured on the winner only. After a kept round, *evaluated = 0 (the rounds are judged on
- * other cameras than q's). */
+ * measured on the winner only. */
 static texopt_status run_best_budget(texopt_job *job, const texopt_params *p, int with_stats, job_output *out,
-                                     double from, double to, texopt_evaluation *ev, int *evaluated, char *err,
-                                     size_t err_len)
+                                     double from, double to, char *err, size_t err_len)
 {
-    *evaluated = 0;
     job->allocating = 0;
     if (p->method != TEXOPT_METHOD_PERCEPTUAL)
         return run_budget(job, p, with_stats, out, from, to, err, err_len);
@@ -1865,10 +1861,8 @@ static texopt_status run_best_budget(texopt_job *job, const texopt_params *p, in
         kept->domains = NULL;
         *out = kept->out;
         memset(&kept->out, 0, sizeof kept->out);
-        *ev = kept->ev;
         if (with_stats)
             st = measure_chosen_loss_share(job, out, err, err_len);
-        *evaluated = st == TEXOPT_OK && !js->refinement_kept; /* a refined layout's q is the icosahedron's */
     }
     for (int i = 0; i < CANDIDATES; i++)
         candidate_free(job, &cand[i]);
@@ -2046,10 +2040,8 @@ static texopt_status search_step(void *user, double relative_cost, double *q, ch
     s->p.relative_cost = relative_cost;
     job_output out = {0};
     texopt_evaluation ev;
-    int evaluated;
-    texopt_status st = run_best_budget(s->job, &s->p, 0, &out, from, from + 0.8 * step, &ev, &evaluated, err,
-                                       err_len);
-    if (st == TEXOPT_OK && !evaluated) {
+    texopt_status st = run_best_budget(s->job, &s->p, 0, &out, from, from + 0.8 * step, err, err_len);
+    if (st == TEXOPT_OK) {
         job_stage(&s->job->jm, "evaluate", from + 0.8 * step, from + step);
         st = evaluate_output(s->job->model, &out, &s->p, &s->job->jm, &ev, err, err_len);
     }
@@ -2131,7 +2123,7 @@ texopt_status texopt_job_write(texopt_job *job, const texopt_job_budget *budget,
         if (st == TEXOPT_OK && stats_json)
             st = measure_chosen_loss_share(job, &out, err, err_len);
     } else {
-        st = run_best_budget(job, &p, stats_json != NULL, &out, from, baked, &ev, &evaluated, err, err_len);
+        st = run_best_budget(job, &p, stats_json != NULL, &out, from, baked, err, err_len);
     }
     if (st == TEXOPT_OK)
         st = bake_remaining_images(job, &p, BAKE_ALL, &out, baked, end - tail, err, err_len);

@@ -87,7 +87,8 @@ typedef struct texopt_job_stats {
     int search_evaluations;      /* layouts baked and evaluated by the search */
     double search_cost_below;    /* largest cost tried that missed the target (0: none) */
     double search_q_below;       /* its q */
-    int has_allocation_choice;   /* perceptual: q of the candidate layouts (pipeline.c) */
+    int has_allocation_choice;   /* perceptual: q of the candidate layouts (pipeline.c), on the
+                                    choice's 12 icosahedron views, not on q's 20 */
     double q_allocated, q_allocated_dense, q_uniform, q_hessian, q_signal_stretch;
     int allocation_dense_made;   /* 0: no target met the cap at input density, so the dense
                                     candidate would have been the allocated one */
