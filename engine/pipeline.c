@@ -1280,9 +1280,9 @@ static void fill_job_params(texopt_job_stats *js, const texopt_params *p)
 
 #define MAX_EVALUATED_OUTPUTS 5 /* run_best_budget's candidates */
 
-/* The views perceptual chooses its layout on (run_candidates, refine_kept): the icosahedron's
- * 12, not the dodecahedron's 20 that the reported q is measured on (evaluate_output), so that
- * q is judged on views the choice never saw. */
+/* The views perceptual chooses its layout on (run_candidates, refine_kept,
+ * keep_resize_if_better): the icosahedron's 12, not the dodecahedron's 20 that the reported q
+ * is measured on (evaluate_output), so that q is judged on views the choice never saw. */
 #define CHOICE_CAMERAS TEXOPT_CAMERAS_ICOSAHEDRON
 
 /* The options of the pipeline's evaluations: q's resolution, the job's threads, its
@@ -1820,10 +1820,126 @@ static texopt_status refine_best(texopt_job *job, const texopt_params *p, candid
     return st;
 }
 
+/* Domain d's vertices in uvs back to the model's TEXCOORD_0 (as alloc_uvs copied them). */
+static void restore_domain_uvs(const texopt_model *model, int d, float *uvs)
+{
+    const texopt_domain *dom = &model->domains[d];
+    for (int i = 0; model->uvs && i < dom->primitive_count; i++) {
+        const texopt_primitive *prim = &model->primitives[dom->primitives[i]];
+        memcpy(uvs + 2 * prim->first_vertex, model->uvs + 2 * prim->first_vertex,
+               2 * prim->vertex_count * sizeof *uvs);
+    }
+}
+
+/* Into *resized: out with domain d's input layout in place of its new one, its images resized
+ * by method "input" (Lanczos-3) to the sizes out's layout writes them at, the same file
+ * texture pixels; the other domains' UVs copied and their images borrowed from out. The
+ * resize's statistics in rs[d] (a copy of the job's). */
+static texopt_status resized_input_layout(texopt_job *job, const texopt_params *p, const job_output *out, int d,
+                                          double at, job_output *resized, texopt_domain_stats *rs, char *err,
+                                          size_t err_len)
+{
+    const texopt_model *model = job->model;
+    const texopt_domain *dom = &model->domains[d];
+    texopt_status st = alloc_output(model, p->method, resized, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    memcpy(resized->uvs, out->uvs, 2 * model->vertex_count * sizeof *resized->uvs);
+    restore_domain_uvs(model, d, resized->uvs);
+    for (int i = 0; i < model->image_count; i++)
+        resized->edit_images[i] = out->edit_images[i];
+    for (int i = 0; i < dom->image_count; i++)
+        resized->edit_images[dom->images[i]] = NULL;
+    texopt_params same_pixels = *p;
+    same_pixels.budget = TEXOPT_BUDGET_TEXTURE_SIZE;
+    same_pixels.texture_width = rs[d].output_width;
+    same_pixels.texture_height = rs[d].output_height;
+    return run_input_method(model, job->domains[d].mesh, &same_pixels, resized, &rs[d], &job->jm, at, at, err,
+                            err_len);
+}
+
+/* Puts domain d of *resized (resized_input_layout) and its statistics rs[d] in place of out's
+ * new layout of it. */
+static void keep_resized_input_layout(texopt_job *job, job_output *out, job_output *resized, int d,
+                                      const texopt_domain_stats *rs)
+{
+    const texopt_domain *dom = &job->model->domains[d];
+    for (int i = 0; i < dom->image_count; i++) {
+        int im = dom->images[i];
+        texopt_image_destroy(&out->images[im]);
+        out->images[im] = resized->images[im];
+        memset(&resized->images[im], 0, sizeof resized->images[im]);
+        out->edit_images[im] = resized->edit_images[im] ? &out->images[im] : NULL;
+        out->draft[im] = 0;
+    }
+    restore_domain_uvs(job->model, d, out->uvs);
+    free(out->solved[d]);
+    free(out->packed[d]);
+    out->solved[d] = NULL;
+    out->packed[d] = NULL;
+    texopt_domain_stats *ds = &job->stats.domains[d];
+    texopt_image_stats *images = ds->images;
+    *ds = rs[d];
+    ds->images = images;
+    memcpy(ds->images, rs[d].images, (size_t)ds->image_count * sizeof *ds->images);
+    ds->repacked = 0;
+}
+
+/* Never worse than a resize: each domain perceptual laid out anew is judged against its input
+ * layout resized to the same file texture pixels (resized_input_layout), both on the choice's
+ * views (CHOICE_CAMERAS, base colour), and keeps the resize when its new layout's q is not
+ * below the resize's (stats resize_check, input_layout_kept). A domain at its input's pixels
+ * thus keeps its input (the identity resize, q 0). Domains are judged one after another, each
+ * beside the others' kept layouts. params.resize_check -1 leaves the layouts as they are. */
+static texopt_status keep_resize_if_better(texopt_job *job, const texopt_params *p, job_output *out, double at,
+                                           char *err, size_t err_len)
+{
+    texopt_status st = TEXOPT_OK;
+    int n = job->model->domain_count;
+    for (int d = 0; d < n; d++)
+        job->stats.domains[d].has_resize_check = 0;
+    for (int d = 0; d < n && st == TEXOPT_OK && p->resize_check > 0; d++) {
+        if (!out->packed || !out->packed[d])
+            continue;
+        double t0 = now_seconds();
+        job_output resized = {0};
+        texopt_evaluation ev[2];
+        texopt_domain_stats *rs = copy_domain_stats(&job->stats);
+        st = rs ? resized_input_layout(job, p, out, d, at, &resized, rs, err, err_len)
+                : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the resize's statistics");
+        const job_output *shown[2] = {out, &resized};
+        if (st == TEXOPT_OK) {
+            job_stage(&job->jm, "evaluate", at, at);
+            st = evaluate_outputs_on(job->model, shown, 2, p, CHOICE_CAMERAS, 0, NULL, NULL, &job->jm, ev, err,
+                                     err_len);
+        }
+        int kept = st == TEXOPT_OK && !(ev[0].q < ev[1].q);
+        if (kept)
+            keep_resized_input_layout(job, out, &resized, d, rs);
+        texopt_domain_stats *ds = &job->stats.domains[d];
+        if (kept)
+            snprintf(ds->input_layout_kept, sizeof ds->input_layout_kept,
+                     "its new layout's q on the choice's views, %.6g, is not below the %.6g of its input layout "
+                     "resized with Lanczos-3 to the same %dx%d texture; the input layout is kept, its images "
+                     "resized", ev[0].q, ev[1].q, ds->output_width, ds->output_height);
+        if (st == TEXOPT_OK) {
+            ds->has_resize_check = 1;
+            ds->resize_check_kept = kept;
+            ds->q_resize_check_layout = ev[0].q;
+            ds->q_resize_check_resize = ev[1].q;
+            ds->seconds_resize_check = now_seconds() - t0;
+        }
+        job_output_destroy(&resized, job->model->image_count);
+        free_domain_stats(rs, n);
+    }
+    return st;
+}
+
 /* One budget into *out. For perceptual, the candidate layouts above are made, stage 1's best
  * and (when lower) the metric candidates' best are refined (refine_best), and the one with the
  * smaller q on the choice's views (CHOICE_CAMERAS) is kept (its reported q is measured
- * after, on other views). The candidates bake only the images q looks at (base colour) and
+ * after, on other views), unless a resize of the input layout is not worse there
+ * (keep_resize_if_better). The candidates bake only the images q looks at (base colour) and
  * are held until the choice, so the winner is not rebuilt; its other images are left to
  * bake_remaining_images (not
  * needed at all by the target_loss search's steps), and the per-triangle loss share is
@@ -1861,7 +1977,8 @@ static texopt_status run_best_budget(texopt_job *job, const texopt_params *p, in
         kept->domains = NULL;
         *out = kept->out;
         memset(&kept->out, 0, sizeof kept->out);
-        if (with_stats)
+        st = keep_resize_if_better(job, p, out, to, err, err_len);
+        if (st == TEXOPT_OK && with_stats)
             st = measure_chosen_loss_share(job, out, err, err_len);
     }
     for (int i = 0; i < CANDIDATES; i++)

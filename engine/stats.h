@@ -39,6 +39,12 @@ typedef struct texopt_domain_stats {
     int repacked;                    /* 1 when charts were packed anew */
     char input_layout_kept[320];     /* a layout method's domain that kept its input layout:
                                         why ("" when it was laid out anew) */
+    int has_resize_check;            /* perceptual: its new layout against its input layout
+                                        resized to the same pixels (pipeline.c
+                                        keep_resize_if_better) ... */
+    int resize_check_kept;           /* ... the resize kept (its q not above the layout's) */
+    double q_resize_check_layout, q_resize_check_resize; /* on the choice's 12 views */
+    double seconds_resize_check;     /* the resize and the evaluation of both */
     int image_count;
     texopt_image_stats *images;
 

@@ -96,11 +96,14 @@ static void check_choice_views(const scratch *s, cJSON *st)
     CHECK_MSG(fabs(chosen - reported) > 0.05 * reported, "chosen at q %g, reported %g", chosen, reported);
 }
 
-/* A perceptual job small enough for every build: one thread, 5 BO iterations, 96 px views. */
+/* A perceptual job small enough for every build: one thread, 5 BO iterations, 96 px views;
+ * the layout machinery alone, without the resize check (test_pipeline_resize.c), whose resize
+ * these flat grids' layouts mostly do not beat. */
 static texopt_params small_perceptual_job(double relative_cost)
 {
     texopt_params p = {0};
     p.threads = 1;
+    p.resize_check = -1;
     p.iterations = 5;
     p.relative_cost = relative_cost;
     p.eval_resolution = 96;
