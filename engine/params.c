@@ -72,6 +72,8 @@ void texopt_params_resolve(texopt_params *p)
         p->hessian_floor = TEXOPT_DEFAULT_HESSIAN_FLOOR;
     if (p->metric_candidates == 0)
         p->metric_candidates = 1;
+    if (p->resize_check == 0)
+        p->resize_check = 1;
 }
 
 int texopt_params_refinement_rounds(const texopt_params *p)
@@ -127,6 +129,9 @@ texopt_status texopt_params_validate(const texopt_params *p, char *err, size_t e
     if (p->metric_candidates != -1 && p->metric_candidates != 1)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "metric_candidates: %d is neither -1 nor 1", p->metric_candidates);
+    if (p->resize_check != -1 && p->resize_check != 1)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "resize_check: %d is neither -1 nor 1", p->resize_check);
     if (!isfinite(p->relative_cost) || !isfinite(p->epsilon))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "parameters must be finite");
     return TEXOPT_OK;

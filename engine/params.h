@@ -18,14 +18,14 @@
  * slowly (shading, mild gradients) shrink next to those whose loss rises steeply (edges,
  * text), which then get a larger share of any budget. The paper's 0.01 gave edges too small
  * a share at low costs; 0.02-0.05 measured better, 0.03 (the plateau's middle) below 0.01 at
- * 40 of the 48 points of the eight benchmark models (BENCHMARKS.md, "Stage 1's loss
+ * 40 of the 48 points of the eight benchmark models (BENCHMARKS.md@9f788a8, "Stage 1's loss
  * threshold"). */
 #define TEXOPT_DEFAULT_EPSILON 0.03
 
 /* Rounds of the closed-loop refinement when the user gives none (pipeline.c refine_kept). Two
  * were chosen on Fox, spot and Duck at epsilon 0.01; at 0.03 four are better at most points of
  * the small models and of WaterBottle, level on DamagedHelmet, whose whole job stays under
- * 60 s on two idle cores (BENCHMARKS.md "Correction (lead, ninth session)"). */
+ * 60 s on two idle cores (BENCHMARKS.md@9f788a8 "Correction (lead, ninth session)"). */
 #define TEXOPT_DEFAULT_REFINEMENTS 4
 
 /* The floor under stage 1's targets when the user gives none: a triangle whose area scale is
@@ -34,7 +34,7 @@
  * with sharp detail (Duck's eyes) weighs little; the Hessian metric sees its texels alone. At
  * 0.5 q fell at 21 of the 48 points of the eight benchmark models by over 5% (Duck 0.32-0.76x,
  * DamagedHelmet to 0.76x) and rose at 5 by over 5% (spot 1.22x, Fox 1.08-1.14x, CesiumMan
- * 1.07x, all at c_r 0.1-0.5); perceptual below tewari at 46 of 48 against 40 (BENCHMARKS.md
+ * 1.07x, all at c_r 0.1-0.5); perceptual below tewari at 46 of 48 against 40 (BENCHMARKS.md@9f788a8
  * "A floor at half the Hessian metric's targets, re-measured"). */
 #define TEXOPT_DEFAULT_HESSIAN_FLOOR 0.5
 
@@ -89,6 +89,9 @@ typedef struct texopt_params {
     int metric_candidates;  /* perceptual: 1: the signal metrics' targets (tewari.h, ssp.h),
                                solved as they are, are candidate layouts beside stage 1's
                                (pipeline.c run_best_budget); 0 -> 1, -1 -> not made */
+    int resize_check;       /* perceptual: 1: a domain whose new layout's q is not below its
+                               input layout resized to the same pixels keeps the resize
+                               (pipeline.c keep_resize_if_better); 0 -> 1, -1 -> never */
     int lossless_textures;  /* non-zero: replaced textures are written as PNG even where the
                                input's were JPEG (texopt_model_edit.lossless), so that a q
                                measured from the file is the layout's and not the encoding's

@@ -15,17 +15,18 @@
  *     allocated to the budget (allocate.h) up to input density and up to 1.5x it, the
  *     targets as they are (a uniform scale by the budget), and the signal metrics' targets
  *     (tewari.h, ssp.h) as those methods lay them out. The candidates bake only base colour
- *     (all q looks at) and are evaluated in one pass (whole-mesh loss q, evaluate.h); the
+ *     (all q looks at) and are evaluated in one pass (whole-mesh loss q, evaluate.h, on the
+ *     icosahedron's 12 views, not on the 20 the reported q uses: CHOICE_CAMERAS); the
  *     best of stage 1's, and the best metric one when its q is lower, are refined in closed
- *     loop from their on-screen error per triangle (refine_best, refine_kept, on the
- *     icosahedron's cameras; with params.refine_lit lit, every image baked, when the
- *     material has maps a light reads), the one lower after its rounds is kept and its
- *     other images are baked after that.
+ *     loop from their on-screen error per triangle (refine_best, refine_kept, on the same
+ *     views; with params.refine_lit lit, every image baked, when the material has maps a
+ *     light reads), the one lower after its rounds is kept and its other images are baked
+ *     after that.
  *   "input": the input layout kept as it is (UVs untouched, seams, overlaps and wrapping
- *     included) and each texture resampled with the prefilter of texture_filter.h to the
+ *     included) and each texture resized with Lanczos-3 (lanczos.h, Pillow's rules) to the
  *     budget: a relative cost c_r scales both sides by sqrt(c_r) (rounded to whole texels),
  *     a texture size is taken as given. This is the paper's "input parameterization"
- *     baseline and a useful product on its own (a well-filtered downscale).
+ *     baseline, the resize an asset pipeline would do, and a useful product on its own.
  *   "ssp", "tewari", "arap": the baselines of the paper's section 5 (ssp.h, tewari.h,
  *     arap.h targets in place of stage 1, rotation weight 0), solved as they are, then the
  *     same stage 2, budget (a uniform scale), packing and re-bake as "perceptual".
@@ -57,7 +58,7 @@
  * Every rendering here (the candidates' choice, the refinement's screens, target_loss's steps,
  * evaluate) uses the lookups of params.mipmapped: a layout tuned on bilinear screens spends
  * texels on matching the input's unfiltered minification, which a mip-mapped renderer does
- * not show (BENCHMARKS.md "Tuned for the lookups it is judged with").
+ * not show (BENCHMARKS.md@9f788a8 "Tuned for the lookups it is judged with").
  * Does not: parse command lines or HTTP, or print. */
 #include "pipeline.h"
 
@@ -80,6 +81,7 @@
 #include "file_cost.h"
 #include "gltf_io.h"
 #include "gltf_tangents.h"
+#include "lanczos.h"
 #include "layout_check.h"
 #include "lit_shade.h"
 #include "lit_weight.h"
@@ -320,7 +322,8 @@ static void input_method_frame(const texopt_domain *dom, const texopt_params *pa
     }
 }
 
-/* Method "input": same UVs, every image of the domain resampled to the budget. */
+/* Method "input": same UVs, every image of the domain resized to the budget with Lanczos-3
+ * (lanczos.h), as an asset pipeline would resize it. */
 static texopt_status run_input_method(const texopt_model *model, const texopt_mesh *mesh,
                                       const texopt_params *params, job_output *out,
                                       texopt_domain_stats *ds, job_monitor *jm, double from,
@@ -350,11 +353,9 @@ static texopt_status run_input_method(const texopt_model *model, const texopt_me
         if (!src->pixels)
             return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "image %d (%s) was not decoded", im,
                                is->name ? is->name : "unnamed");
-        texopt_wrap ws, wt;
-        image_wrap(model, im, &ws, &wt);
         st = texopt_image_create(&out->images[im], w, h, src->channels, err, err_len);
         if (st == TEXOPT_OK)
-            st = texopt_texture_resize(src, ws, wt, &out->images[im], worker_threads(params), err, err_len);
+            st = texopt_lanczos_resize(src, &out->images[im], worker_threads(params), err, err_len);
         if (st != TEXOPT_OK)
             return st;
         out->edit_images[im] = &out->images[im];
@@ -486,7 +487,7 @@ static const texopt_texel_share *sharing(const job_domain *jd)
  * the prefilter alone (rebake.h; a fraction of the least-squares fit's time), to be baked
  * again with the fit for the saved layout. Normal maps are fitted even then: their detail
  * shows in every highlight, and rounds judged on blurred normal drafts ended 1-6% higher in
- * lit q on DamagedHelmet (BENCHMARKS.md "Cheaper lit refinement"). */
+ * lit q on DamagedHelmet (BENCHMARKS.md@9f788a8 "Cheaper lit refinement"). */
 typedef enum bake_plan {
     BAKE_ALL = 0,    /* every image not baked yet or drafted, with the fit */
     BAKE_EVALUATED,  /* the images base colour's evaluation reads */
@@ -678,7 +679,7 @@ static texopt_status prepare_domain(texopt_job *job, int d, double from, double 
 }
 
 /* The perceptual targets' allocation (allocate.h), the best of the variants measured with
- * the whole-mesh evaluation (BENCHMARKS.md "Quality"): lossless optima (flat colour at
+ * the whole-mesh evaluation (BENCHMARKS.md@9f788a8 "Quality"): lossless optima (flat colour at
  * lambda_min) grow only by sqrt(s) (kept at lambda_min, q rose with the cost). The cap is
  * the candidate's (run_best_budget). */
 static const texopt_allocate_options perceptual_allocation = {1, 1e-6, 1.0, 0.5, NULL};
@@ -709,7 +710,7 @@ static const texopt_triangle_target *source_targets(const texopt_job *job, const
  * perceptual candidate), solved by stage 2 into texel_new (input texel units). The baselines' targets are solved as they are
  * and the budget scales the result uniformly: for ssp and tewari (whose largest targets are
  * normalised to 1, not to "needs input density") the allocation measured worse or no
- * better (BENCHMARKS.md "Quality"); arap's are isometric. */
+ * better (BENCHMARKS.md@9f788a8 "Quality"); arap's are isometric. */
 static texopt_status solve_layout(const texopt_job *job, int d, double relative_cost, double *texel_new,
                                   texopt_domain_stats *ds, job_monitor *jm, char *err, size_t err_len)
 {
@@ -870,7 +871,7 @@ static texopt_status bake_image(const texopt_model *model, const texopt_domain *
 }
 
 /* Several images of a domain baked at once, one thread each: a bake scales about 1.5x on
- * two threads (BENCHMARKS.md "End to end"), whole images side by side nearly 2x, and the
+ * two threads (BENCHMARKS.md@9f788a8 "End to end"), whole images side by side nearly 2x, and the
  * re-bake's result does not depend on its thread count. Progress per finished image. */
 typedef struct bake_pool {
     const texopt_model *model;
@@ -991,7 +992,7 @@ static texopt_status rebake_domain(const texopt_model *model, const texopt_mesh 
 
 /* Texture-size budgets are allocated at the relative cost they are expected to reach: the
  * texture's texels times the packing efficiency budget.h typically achieves (0.61-0.81 on
- * the sample models, BENCHMARKS.md "End to end"). A miss by more than RESOLVE_RATIO is
+ * the sample models, BENCHMARKS.md@9f788a8 "End to end"). A miss by more than RESOLVE_RATIO is
  * solved once more at the cost reached. */
 #define EXPECTED_PACKING_EFFICIENCY 0.68
 #define RESOLVE_RATIO 1.1
@@ -1056,7 +1057,7 @@ static texopt_status layout_for_budget(const texopt_job *job, int d, const texop
 /* Charts of a few texels or less (a palette's colour spots, each face an island of its own)
  * pack mostly gutter: such a layout's texture can take many times the pixels of the input
  * layout's at the same budget (a 64x64 palette of 4,212 spots at c_r 0.3: 28x3056 against
- * 35x35, BENCHMARKS.md "Palette models"), or fit a texture size at no scale. The domain then
+ * 35x35, BENCHMARKS.md@9f788a8 "Palette models"), or fit a texture size at no scale. The domain then
  * keeps its input layout, its images resized to the budget as by method "input": a budget met
  * with over twice the pixels the input layout needs for it is not what was asked for. The
  * sample assets' perceptual layouts take 0.62-1.06 times the input layout's pixels at c_r 0.1,
@@ -1314,6 +1315,11 @@ static void fill_job_params(texopt_job_stats *js, const texopt_params *p)
 
 #define MAX_EVALUATED_OUTPUTS 5 /* run_best_budget's candidates */
 
+/* The views perceptual chooses its layout on (run_candidates, refine_kept,
+ * keep_resize_if_better): the icosahedron's 12, not the dodecahedron's 20 that the reported q
+ * is measured on (evaluate_output), so that q is judged on views the choice never saw. */
+#define CHOICE_CAMERAS TEXOPT_CAMERAS_ICOSAHEDRON
+
 /* The options of the pipeline's evaluations: q's resolution, the job's threads, its
  * monitor. */
 static texopt_evaluate_options evaluation_options(const texopt_params *p, texopt_camera_set cameras, int lit,
@@ -1369,18 +1375,11 @@ static texopt_status evaluate_outputs_on(const texopt_model *model, const job_ou
     return st;
 }
 
-/* q as the paper and the benchmark define it: the dodecahedron's 20 views. */
-static texopt_status evaluate_outputs(const texopt_model *model, const job_output *const *outs, int n,
-                                      const texopt_params *p, job_monitor *jm, texopt_evaluation *ev, char *err,
-                                      size_t err_len)
-{
-    return evaluate_outputs_on(model, outs, n, p, TEXOPT_CAMERAS_DODECAHEDRON, 0, NULL, NULL, jm, ev, err, err_len);
-}
-
+/* The reported q, as the paper and the benchmark define it: the dodecahedron's 20 views. */
 static texopt_status evaluate_output(const texopt_model *model, const job_output *out, const texopt_params *p,
                                      job_monitor *jm, texopt_evaluation *ev, char *err, size_t err_len)
 {
-    return evaluate_outputs(model, &out, 1, p, jm, ev, err, err_len);
+    return evaluate_outputs_on(model, &out, 1, p, TEXOPT_CAMERAS_DODECAHEDRON, 0, NULL, NULL, jm, ev, err, err_len);
 }
 
 static void free_domain_stats(texopt_domain_stats *ds, int n)
@@ -1477,7 +1476,7 @@ static texopt_status bake_remaining_images(texopt_job *job, const texopt_params 
 }
 
 /* The closed-loop refinement's step (allocate.h texopt_reallocate_by_error), the best of
- * those measured on Fox, spot and Duck (BENCHMARKS.md "Quality"): area steps of (e_t /
+ * those measured on Fox, spot and Duck (BENCHMARKS.md@9f788a8 "Quality"): area steps of (e_t /
  * e_mean)^0.5 within [0.5, 2] per round, singular values up to twice input density. */
 static const texopt_reallocate_options refinement_step = {0.5, 0.5, 2.0, 2.0, NULL};
 
@@ -1578,7 +1577,7 @@ static texopt_status refinement_trial(texopt_job *job, const texopt_params *p, t
     const job_output *shown = &trial->out;
     if (st == TEXOPT_OK) {
         job_stage(&job->jm, "evaluate", from + 0.8 * (to - from), to);
-        st = evaluate_outputs_on(job->model, &shown, 1, p, TEXOPT_CAMERAS_ICOSAHEDRON, lit, views, triangle_error,
+        st = evaluate_outputs_on(job->model, &shown, 1, p, CHOICE_CAMERAS, lit, views, triangle_error,
                                  &job->jm, &trial->ev, err, err_len);
     }
     return st;
@@ -1618,25 +1617,24 @@ static void record_refinement(texopt_job_stats *js, const refinement_record *r, 
  * loss on screen) applied to the whole mesh: render the layout against the input, take each
  * triangle's on-screen error (evaluate.h triangle_error_edges: value and gradient both wrong,
  * as GMSD sees an edge; base-colour q 0.85-0.96x that of the plain luma difference on seven
- * sample models and level on Duck, BENCHMARKS.md "The refinement steered by edges"), move
+ * sample models and level on Duck, BENCHMARKS.md@9f788a8 "The refinement steered by edges"), move
  * texels from the triangles shown right to those shown wrong (reallocate_domains), solve, pack
  * and bake again, and keep the new layout when its q is lower; a round that is not lower is
  * retried from the best layout with half the step (gamma), as a backtracking line search.
- * Errors and q are measured on the icosahedron's 12 cameras, not on the dodecahedron's 20 that
- * define q (meshrender.h): the layout is not tuned on the views it is graded on. With
+ * Errors and q are measured on the choice's views (CHOICE_CAMERAS), not on those that define
+ * the reported q: the layout is not tuned on the views it is graded on. With
  * p->refine_lit, and when the material has maps a light reads besides base colour, the screen
  * is lit (with the luma difference per triangle, the measure it was tuned with; evaluate.h
  * `lit`: every map under one light), else base colour's: on a glossy multi-map material what
  * the light shows of the normal and roughness maps is what a viewer sees, and base colour's
  * error alone moves texels away from it; it costs base colour's q and over twice the rounds'
- * time (BENCHMARKS.md "Specular lit loss", "Cheaper lit refinement"), hence not the default.
+ * time (BENCHMARKS.md@9f788a8 "Specular lit loss", "Cheaper lit refinement"), hence not the default.
  * Lit rounds read the input's views shaded once (texopt_evaluate_reference_create) and
  * draft the maps besides base colour and normal (BAKE_DRAFT_REST), the kept layout's too,
  * so that every layout is judged with the same bake; the saved layout's drafts are baked
  * again with the fit (bake_remaining_images).
  * The rounds tried and kept, the measure, the 12-view q before and after and their time go
- * to *rec (for the statistics' allocation_choice.refinement); after a kept round kept->ev is
- * the icosahedron's. */
+ * to *rec (for the statistics' allocation_choice.refinement); kept->ev stays the choice's. */
 static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candidate *kept, double cap,
                                  double from, double to, refinement_record *rec, char *err, size_t err_len)
 {
@@ -1664,11 +1662,11 @@ static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candid
     if (st == TEXOPT_OK)
         job_stage(&job->jm, "evaluate", from + (lit ? 0.5 * span : 0), from + span);
     if (st == TEXOPT_OK && lit) {
-        texopt_evaluate_options opt = evaluation_options(p, TEXOPT_CAMERAS_ICOSAHEDRON, lit, &job->jm);
+        texopt_evaluate_options opt = evaluation_options(p, CHOICE_CAMERAS, lit, &job->jm);
         st = texopt_evaluate_reference_create(job->model, &opt, &views, err, err_len);
     }
     if (st == TEXOPT_OK) {
-        st = evaluate_outputs_on(job->model, &shown, 1, p, TEXOPT_CAMERAS_ICOSAHEDRON, lit, views, error, &job->jm,
+        st = evaluate_outputs_on(job->model, &shown, 1, p, CHOICE_CAMERAS, lit, views, error, &job->jm,
                                  &best_ev, err, err_len);
         rec->q_before = best_ev.q;
     }
@@ -1713,14 +1711,14 @@ static texopt_status refine_kept(texopt_job *job, const texopt_params *p, candid
 /* The perceptual candidates of run_best_budget: stage 1's targets allocated to the budget
  * (allocate.h) with singular values capped at input density, the same capped at 1.5x it,
  * and the targets as they are (cap 0), scaled uniformly by the budget. None wins everywhere
- * (BENCHMARKS.md "Quality", "A candidate denser than the input"): the uniform one on spot,
+ * (BENCHMARKS.md@9f788a8 "Quality", "A candidate denser than the input"): the uniform one on spot,
  * the dense one on Duck at c_r 0.1, 0.2 and 1 and on WaterBottle at 1, giving the
  * triangles the first one capped more texels than the input has (tewari's targets put up
  * to 1.8x on Duck's pupils' edge); cap 2 measured no better. Then the signal metrics'
  * targets as they are, the layouts of methods tewari and ssp: at the smallest budgets stage
  * 1's targets, found at one loss threshold, spread too few texels where the loss is
  * (CesiumMan at c_r 0.1: q 0.053 for the best of them before the refinement, 0.034 for
- * tewari's; WaterBottle 0.019 against ssp's 0.0138; BENCHMARKS.md "The signal metrics'
+ * tewari's; WaterBottle 0.019 against ssp's 0.0138; BENCHMARKS.md@9f788a8 "The signal metrics'
  * layouts as candidates"); refine_best decides between the best of each kind. */
 enum { CANDIDATE_UNIFORM, CANDIDATE_ALLOCATED, CANDIDATE_DENSE, CANDIDATE_HESSIAN, CANDIDATE_STRETCH, CANDIDATES };
 static const double candidate_cap[CANDIDATES] = {0.0, 1.0, 1.5, 0.0, 0.0};
@@ -1759,9 +1757,9 @@ static void candidate_free(texopt_job *job, candidate *c)
 }
 
 /* Makes the candidates of one budget in their order (the dense one only when the cap at
- * input density bound), evaluates them in one pass and returns in best[0] the index of stage
- * 1's with the smallest q and in best[1] the metric one's (-1 when none was made), a tie
- * keeping the earlier, simpler one; *made says which were made. */
+ * input density bound), evaluates them in one pass on the choice's views and returns in
+ * best[0] the index of stage 1's with the smallest q and in best[1] the metric one's (-1 when
+ * none was made), a tie keeping the earlier, simpler one; *made says which were made. */
 static texopt_status run_candidates(texopt_job *job, const texopt_params *p, candidate *cand, int *made,
                                     double from, double to, double chosen, int best[2], char *err, size_t err_len)
 {
@@ -1781,7 +1779,7 @@ static texopt_status run_candidates(texopt_job *job, const texopt_params *p, can
     texopt_evaluation evs[CANDIDATES];
     if (st == TEXOPT_OK) {
         job_stage(&job->jm, "evaluate", to, chosen);
-        st = evaluate_outputs(job->model, outs, n, p, &job->jm, evs, err, err_len);
+        st = evaluate_outputs_on(job->model, outs, n, p, CHOICE_CAMERAS, 0, NULL, NULL, &job->jm, evs, err, err_len);
     }
     best[0] = best[1] = -1;
     for (int i = 0, e = 0; i < CANDIDATES && st == TEXOPT_OK; i++) {
@@ -1819,7 +1817,7 @@ static void record_choice(texopt_job_stats *js, const texopt_evaluation *evs, co
 /* Refines candidate i of cand (refine_kept, starting from its targets' source). A metric
  * candidate gets twice the rounds: it starts nearer an optimum of its own, where the first
  * rounds' steps overshoot and only the halved ones gain (CesiumMan at c_r 0.1: the fifth
- * round, BENCHMARKS.md "The signal metrics' layouts as candidates"). */
+ * round, BENCHMARKS.md@9f788a8 "The signal metrics' layouts as candidates"). */
 static texopt_status refine_candidate(texopt_job *job, const texopt_params *p, candidate *cand, int i, double from,
                                       double to, refinement_record *rec, char *err, size_t err_len)
 {
@@ -1837,7 +1835,7 @@ static texopt_status refine_candidate(texopt_job *job, const texopt_params *p, c
  * refinement's cameras, the same for both) is lower, its refinement's statistics in
  * job->stats (seconds: both). The refinement gains most on stage 1's layouts (CesiumMan at
  * c_r 0.3: 0.0084 -> 0.0059, below tewari's 0.0079, on which no round is kept), so the choice
- * before it would lose them (BENCHMARKS.md "The signal metrics' layouts as candidates"). */
+ * before it would lose them (BENCHMARKS.md@9f788a8 "The signal metrics' layouts as candidates"). */
 static texopt_status refine_best(texopt_job *job, const texopt_params *p, candidate *cand, const int best[2],
                                  double from, double to, int *kept, char *err, size_t err_len)
 {
@@ -1857,19 +1855,133 @@ static texopt_status refine_best(texopt_job *job, const texopt_params *p, candid
     return st;
 }
 
+/* Domain d's vertices in uvs back to the model's TEXCOORD_0 (as alloc_uvs copied them). */
+static void restore_domain_uvs(const texopt_model *model, int d, float *uvs)
+{
+    const texopt_domain *dom = &model->domains[d];
+    for (int i = 0; model->uvs && i < dom->primitive_count; i++) {
+        const texopt_primitive *prim = &model->primitives[dom->primitives[i]];
+        memcpy(uvs + 2 * prim->first_vertex, model->uvs + 2 * prim->first_vertex,
+               2 * prim->vertex_count * sizeof *uvs);
+    }
+}
+
+/* Into *resized: out with domain d's input layout in place of its new one, its images resized
+ * by method "input" (Lanczos-3) to the sizes out's layout writes them at, the same file
+ * texture pixels; the other domains' UVs copied and their images borrowed from out. The
+ * resize's statistics in rs[d] (a copy of the job's). */
+static texopt_status resized_input_layout(texopt_job *job, const texopt_params *p, const job_output *out, int d,
+                                          double at, job_output *resized, texopt_domain_stats *rs, char *err,
+                                          size_t err_len)
+{
+    const texopt_model *model = job->model;
+    const texopt_domain *dom = &model->domains[d];
+    texopt_status st = alloc_output(model, p->method, resized, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    memcpy(resized->uvs, out->uvs, 2 * model->vertex_count * sizeof *resized->uvs);
+    restore_domain_uvs(model, d, resized->uvs);
+    for (int i = 0; i < model->image_count; i++)
+        resized->edit_images[i] = out->edit_images[i];
+    for (int i = 0; i < dom->image_count; i++)
+        resized->edit_images[dom->images[i]] = NULL;
+    texopt_params same_pixels = *p;
+    same_pixels.budget = TEXOPT_BUDGET_TEXTURE_SIZE;
+    same_pixels.texture_width = rs[d].output_width;
+    same_pixels.texture_height = rs[d].output_height;
+    return run_input_method(model, job->domains[d].mesh, &same_pixels, resized, &rs[d], &job->jm, at, at, err,
+                            err_len);
+}
+
+/* Puts domain d of *resized (resized_input_layout) and its statistics rs[d] in place of out's
+ * new layout of it. */
+static void keep_resized_input_layout(texopt_job *job, job_output *out, job_output *resized, int d,
+                                      const texopt_domain_stats *rs)
+{
+    const texopt_domain *dom = &job->model->domains[d];
+    for (int i = 0; i < dom->image_count; i++) {
+        int im = dom->images[i];
+        texopt_image_destroy(&out->images[im]);
+        out->images[im] = resized->images[im];
+        memset(&resized->images[im], 0, sizeof resized->images[im]);
+        out->edit_images[im] = resized->edit_images[im] ? &out->images[im] : NULL;
+        out->draft[im] = 0;
+    }
+    restore_domain_uvs(job->model, d, out->uvs);
+    free(out->solved[d]);
+    free(out->packed[d]);
+    out->solved[d] = NULL;
+    out->packed[d] = NULL;
+    texopt_domain_stats *ds = &job->stats.domains[d];
+    texopt_image_stats *images = ds->images;
+    *ds = rs[d];
+    ds->images = images;
+    memcpy(ds->images, rs[d].images, (size_t)ds->image_count * sizeof *ds->images);
+    ds->repacked = 0;
+}
+
+/* Never worse than a resize: each domain perceptual laid out anew is judged against its input
+ * layout resized to the same file texture pixels (resized_input_layout), both on the choice's
+ * views (CHOICE_CAMERAS, base colour), and keeps the resize when its new layout's q is not
+ * below the resize's (stats resize_check, input_layout_kept). A domain at its input's pixels
+ * thus keeps its input (the identity resize, q 0). Domains are judged one after another, each
+ * beside the others' kept layouts. params.resize_check -1 leaves the layouts as they are. */
+static texopt_status keep_resize_if_better(texopt_job *job, const texopt_params *p, job_output *out, double at,
+                                           char *err, size_t err_len)
+{
+    texopt_status st = TEXOPT_OK;
+    int n = job->model->domain_count;
+    for (int d = 0; d < n; d++)
+        job->stats.domains[d].has_resize_check = 0;
+    for (int d = 0; d < n && st == TEXOPT_OK && p->resize_check > 0; d++) {
+        if (!out->packed || !out->packed[d])
+            continue;
+        double t0 = now_seconds();
+        job_output resized = {0};
+        texopt_evaluation ev[2];
+        texopt_domain_stats *rs = copy_domain_stats(&job->stats);
+        st = rs ? resized_input_layout(job, p, out, d, at, &resized, rs, err, err_len)
+                : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the resize's statistics");
+        const job_output *shown[2] = {out, &resized};
+        if (st == TEXOPT_OK) {
+            job_stage(&job->jm, "evaluate", at, at);
+            st = evaluate_outputs_on(job->model, shown, 2, p, CHOICE_CAMERAS, 0, NULL, NULL, &job->jm, ev, err,
+                                     err_len);
+        }
+        int kept = st == TEXOPT_OK && !(ev[0].q < ev[1].q);
+        if (kept)
+            keep_resized_input_layout(job, out, &resized, d, rs);
+        texopt_domain_stats *ds = &job->stats.domains[d];
+        if (kept)
+            snprintf(ds->input_layout_kept, sizeof ds->input_layout_kept,
+                     "its new layout's q on the choice's views, %.6g, is not below the %.6g of its input layout "
+                     "resized with Lanczos-3 to the same %dx%d texture; the input layout is kept, its images "
+                     "resized", ev[0].q, ev[1].q, ds->output_width, ds->output_height);
+        if (st == TEXOPT_OK) {
+            ds->has_resize_check = 1;
+            ds->resize_check_kept = kept;
+            ds->q_resize_check_layout = ev[0].q;
+            ds->q_resize_check_resize = ev[1].q;
+            ds->seconds_resize_check = now_seconds() - t0;
+        }
+        job_output_destroy(&resized, job->model->image_count);
+        free_domain_stats(rs, n);
+    }
+    return st;
+}
+
 /* One budget into *out. For perceptual, the candidate layouts above are made, stage 1's best
  * and (when lower) the metric candidates' best are refined (refine_best), and the one with the
- * smaller q is kept (its evaluation in *ev, *evaluated = 1 when no round was kept). The
- * candidates bake only the images q looks at (base colour) and are held until the choice,
- * so the winner is not rebuilt; its other images are left to bake_remaining_images (not
+ * smaller q on the choice's views (CHOICE_CAMERAS) is kept (its reported q is measured
+ * after, on other views), unless a resize of the input layout is not worse there
+ * (keep_resize_if_better). The candidates bake only the images q looks at (base colour) and
+ * are held until the choice, so the winner is not rebuilt; its other images are left to
+ * bake_remaining_images (not
  * needed at all by the target_loss search's steps), and the per-triangle loss share is
- * measured on the winner only. After a kept round, *evaluated = 0 (the rounds are judged on
- * other cameras than q's). */
+ * measured on the winner only. */
 static texopt_status run_best_budget(texopt_job *job, const texopt_params *p, int with_stats, job_output *out,
-                                     double from, double to, texopt_evaluation *ev, int *evaluated, char *err,
-                                     size_t err_len)
+                                     double from, double to, char *err, size_t err_len)
 {
-    *evaluated = 0;
     job->allocating = 0;
     if (p->method != TEXOPT_METHOD_PERCEPTUAL)
         return run_budget(job, p, with_stats, out, from, to, err, err_len);
@@ -1900,10 +2012,9 @@ static texopt_status run_best_budget(texopt_job *job, const texopt_params *p, in
         kept->domains = NULL;
         *out = kept->out;
         memset(&kept->out, 0, sizeof kept->out);
-        *ev = kept->ev;
-        if (with_stats)
+        st = keep_resize_if_better(job, p, out, to, err, err_len);
+        if (st == TEXOPT_OK && with_stats)
             st = measure_chosen_loss_share(job, out, err, err_len);
-        *evaluated = st == TEXOPT_OK && !js->refinement_kept; /* a refined layout's q is the icosahedron's */
     }
     for (int i = 0; i < CANDIDATES; i++)
         candidate_free(job, &cand[i]);
@@ -2081,10 +2192,8 @@ static texopt_status search_step(void *user, double relative_cost, double *q, ch
     s->p.relative_cost = relative_cost;
     job_output out = {0};
     texopt_evaluation ev;
-    int evaluated;
-    texopt_status st = run_best_budget(s->job, &s->p, 0, &out, from, from + 0.8 * step, &ev, &evaluated, err,
-                                       err_len);
-    if (st == TEXOPT_OK && !evaluated) {
+    texopt_status st = run_best_budget(s->job, &s->p, 0, &out, from, from + 0.8 * step, err, err_len);
+    if (st == TEXOPT_OK) {
         job_stage(&s->job->jm, "evaluate", from + 0.8 * step, from + step);
         st = evaluate_output(s->job->model, &out, &s->p, &s->job->jm, &ev, err, err_len);
     }
@@ -2166,7 +2275,7 @@ texopt_status texopt_job_write(texopt_job *job, const texopt_job_budget *budget,
         if (st == TEXOPT_OK && stats_json)
             st = measure_chosen_loss_share(job, &out, err, err_len);
     } else {
-        st = run_best_budget(job, &p, stats_json != NULL, &out, from, baked, &ev, &evaluated, err, err_len);
+        st = run_best_budget(job, &p, stats_json != NULL, &out, from, baked, err, err_len);
     }
     if (st == TEXOPT_OK)
         st = bake_remaining_images(job, &p, BAKE_ALL, &out, baked, end - tail, err, err_len);

@@ -43,6 +43,18 @@ static void add_images(cJSON *dom, const texopt_domain_stats *d)
     }
 }
 
+/* The new layout against its input layout resized to the same pixels (pipeline.c
+ * keep_resize_if_better). */
+static void add_resize_check(cJSON *o, const texopt_domain_stats *d)
+{
+    cJSON *r = cJSON_AddObjectToObject(o, "resize_check");
+    cJSON_AddStringToObject(r, "views", "icosahedron");
+    cJSON_AddNumberToObject(r, "q_layout", d->q_resize_check_layout);
+    cJSON_AddNumberToObject(r, "q_resize", d->q_resize_check_resize);
+    cJSON_AddStringToObject(r, "kept", d->resize_check_kept ? "resize" : "layout");
+    cJSON_AddNumberToObject(r, "seconds", d->seconds_resize_check);
+}
+
 static void add_stage_stats(cJSON *dom, const texopt_domain_stats *d)
 {
     if (d->has_stage1) {
@@ -102,6 +114,8 @@ static cJSON *domain_json(const texopt_domain_stats *d)
     cJSON_AddBoolToObject(o, "repacked", d->repacked);
     if (d->input_layout_kept[0])
         cJSON_AddStringToObject(o, "input_layout_kept", d->input_layout_kept);
+    if (d->has_resize_check)
+        add_resize_check(o, d);
     if (d->repacked)
         cJSON_AddNumberToObject(o, "budget_scale", d->budget_scale);
     add_stage_stats(o, d);

@@ -44,6 +44,12 @@ typedef struct texopt_domain_stats {
     int repacked;                    /* 1 when charts were packed anew */
     char input_layout_kept[320];     /* a layout method's domain that kept its input layout:
                                         why ("" when it was laid out anew) */
+    int has_resize_check;            /* perceptual: its new layout against its input layout
+                                        resized to the same pixels (pipeline.c
+                                        keep_resize_if_better) ... */
+    int resize_check_kept;           /* ... the resize kept (its q not above the layout's) */
+    double q_resize_check_layout, q_resize_check_resize; /* on the choice's 12 views */
+    double seconds_resize_check;     /* the resize and the evaluation of both */
     int image_count;
     texopt_image_stats *images;
 
@@ -96,7 +102,8 @@ typedef struct texopt_job_stats {
     int search_evaluations;      /* layouts baked and evaluated by the search */
     double search_cost_below;    /* largest cost tried that missed the target (0: none) */
     double search_q_below;       /* its q */
-    int has_allocation_choice;   /* perceptual: q of the candidate layouts (pipeline.c) */
+    int has_allocation_choice;   /* perceptual: q of the candidate layouts (pipeline.c), on the
+                                    choice's 12 icosahedron views, not on q's 20 */
     double q_allocated, q_allocated_dense, q_uniform, q_hessian, q_signal_stretch;
     int allocation_dense_made;   /* 0: no target met the cap at input density, so the dense
                                     candidate would have been the allocated one */

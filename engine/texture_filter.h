@@ -9,7 +9,7 @@
  * minor axis (the usual anisotropic-filtering scheme of GPUs, after Heckbert 1989 and
  * Schilling et al. 1996). Wrap modes of glTF samplers are respected at every level.
  * Does not: convert colour spaces (values stay as encoded, see image.h), or know about
- * meshes: re-baking a layout (rebake.h) and resizing use it.
+ * meshes: re-baking a layout (rebake.h) uses it.
  *
  * Used by the re-bake of Sun et al. 2022, "Efficient Texture Parameterization Driven by
  * Perceptual-Loss-on-Screen" (section 4.2 ends with a new layout whose regions shrink, and
@@ -42,8 +42,9 @@ void texopt_texture_filter_sample(const texopt_texture_filter *filter, double x,
                                   const double jacobian[4], float *out);
 
 /* Resamples the whole of src into dst (already allocated with its size and the same channel
- * count), each dst texel the prefiltered footprint of its square: the "input" layout at a
- * new resolution. Rows are shared among `threads` workers (0 -> 1); the result does not
+ * count), each dst texel the prefiltered footprint of its square: what a re-bake of the
+ * unchanged layout would give (method "input" resizes with Lanczos-3 instead, lanczos.h, as
+ * image tools do). Rows are shared among `threads` workers (0 -> 1); the result does not
  * depend on their number. */
 texopt_status texopt_texture_resize(const texopt_image *src, texopt_wrap wrap_s, texopt_wrap wrap_t,
                                     texopt_image *dst, int threads, char *err, size_t err_len);

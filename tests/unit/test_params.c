@@ -16,6 +16,7 @@ TEST(zero_params_resolve_to_paper_defaults)
     CHECK_EQ_INT(p.refinements, TEXOPT_DEFAULT_REFINEMENTS);
     CHECK_NEAR(p.hessian_floor, TEXOPT_DEFAULT_HESSIAN_FLOOR, 0);
     CHECK_EQ_INT(p.metric_candidates, 1);
+    CHECK_EQ_INT(p.resize_check, 1);
     char err[128] = "";
     CHECK_OK(texopt_params_validate(&p, err, sizeof err), err);
 }
@@ -59,6 +60,12 @@ TEST(out_of_range_fields_are_named)
     p.metric_candidates = 2;
     CHECK(texopt_params_validate(&p, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     CHECK(strstr(err, "metric_candidates") != NULL);
+    p.metric_candidates = 1;
+    p.resize_check = -1; /* never: valid */
+    CHECK_OK(texopt_params_validate(&p, err, sizeof err), err);
+    p.resize_check = 3;
+    CHECK(texopt_params_validate(&p, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "resize_check") != NULL);
 }
 
 TEST(refinement_rounds_count_as_users_do)

@@ -49,7 +49,6 @@ static void check_choice(cJSON *st, double relative_cost)
     cJSON *dense = cJSON_GetObjectItem(choice, "q_allocated_dense");
     cJSON *seconds = cJSON_GetObjectItem(choice, "seconds");
     CHECK(number_at(seconds, "evaluate", NULL) > 0 && number_at(seconds, "other_candidate", NULL) > 0);
-    CHECK_NEAR(number_at(st, "evaluation", "q"), kept, 0);
     cJSON *d = first_domain(st);
     double area_scale = number_at(d, "stage1", "area_scale_mean");
     double bs = number_at(d, "budget_scale", NULL);
@@ -64,11 +63,47 @@ static void check_choice(cJSON *st, double relative_cost)
     }
 }
 
-/* A perceptual job small enough for every build: one thread, 5 BO iterations, 96 px views. */
+/* q of the written output against the input on one camera set, at 96 px. */
+static double file_q(const scratch *s, texopt_camera_set cameras)
+{
+    texopt_model *in = load(s->in), *out = load(s->out);
+    texopt_evaluate_options opt = {0};
+    opt.resolution = 96;
+    opt.cameras = cameras;
+    texopt_evaluation ev;
+    char err[256];
+    int ok = in && out && texopt_evaluate(in, out, &opt, &ev, err, sizeof err) == TEXOPT_OK;
+    texopt_model_destroy(in);
+    texopt_model_destroy(out);
+    return ok ? ev.q : NAN;
+}
+
+/* The choice is made on other views than the reported q's: the kept candidate's q is the
+ * written file's on the icosahedron's 12 views, the reported q its q on the dodecahedron's 20
+ * (each up to the PNG's 8-bit rounding), and the two differ by more than that. */
+static void check_choice_views(const scratch *s, cJSON *st)
+{
+    cJSON *choice = cJSON_GetObjectItem(st, "allocation_choice");
+    const char *name = cJSON_GetObjectItem(choice, "chosen")->valuestring;
+    char key[64];
+    snprintf(key, sizeof key, "q_%s", name);
+    double chosen = candidate_q(choice, key), reported = number_at(st, "evaluation", "q");
+    double choice_views = file_q(s, TEXOPT_CAMERAS_ICOSAHEDRON), reported_views = file_q(s, TEXOPT_CAMERAS_DODECAHEDRON);
+    CHECK_MSG(fabs(choice_views - chosen) < 0.02 * chosen, "chosen at q %g, the file's on its views %g", chosen,
+              choice_views);
+    CHECK_MSG(fabs(reported_views - reported) < 0.02 * reported, "reported q %g, the file's %g", reported,
+              reported_views);
+    CHECK_MSG(fabs(chosen - reported) > 0.05 * reported, "chosen at q %g, reported %g", chosen, reported);
+}
+
+/* A perceptual job small enough for every build: one thread, 5 BO iterations, 96 px views;
+ * the layout machinery alone, without the resize check (test_pipeline_resize.c), whose resize
+ * these flat grids' layouts mostly do not beat. */
 static texopt_params small_perceptual_job(double relative_cost)
 {
     texopt_params p = {0};
     p.threads = 1;
+    p.resize_check = -1;
     p.iterations = 5;
     p.relative_cost = relative_cost;
     p.eval_resolution = 96;
@@ -92,6 +127,7 @@ TEST(perceptual_keeps_the_best_of_its_candidate_layouts)
     CHECK_NEAR(number_at(first_domain(st), "relative_cost", NULL), 0.9, 0.01);
     CHECK(number_at(first_domain(st), "stage1", "area_scale_mean") < 0.7);
     check_choice(st, 0.9);
+    check_choice_views(&s, st);
     /* At c_r 0.9 the text half's targets reach input density: the cap binds, so the dense
      * candidate is made and weighed. */
     CHECK(cJSON_GetObjectItem(cJSON_GetObjectItem(st, "allocation_choice"), "q_allocated_dense") != NULL);
@@ -124,9 +160,11 @@ static double job_q(const scratch *s, const texopt_params *p, cJSON **stats)
     return *stats ? number_at(*stats, "evaluation", "q") : NAN;
 }
 
-/* Perceptual's metric candidates are the tewari and ssp methods' layouts at the same budget,
- * to the bit (q equal), so the layout it keeps is never worse than either on q; with
- * metric_candidates = -1 they are not made. On the half-flat grid at c_r 0.3. */
+/* Perceptual's metric candidates are the tewari and ssp methods' layouts at the same budget:
+ * their q on the choice's views is those methods' written files' there, up to the PNG's 8-bit
+ * rounding (measured 0.1%), so the layout it keeps is not worse than either on those views
+ * (and here on the reported ones); with metric_candidates = -1 they are not made. On the
+ * half-flat grid at c_r 0.3. */
 TEST(the_metric_candidates_are_the_signal_metric_baselines_layouts)
 {
     scratch s;
@@ -139,18 +177,20 @@ TEST(the_metric_candidates_are_the_signal_metric_baselines_layouts)
     cJSON *choice = cJSON_GetObjectItem(st, "allocation_choice");
     double q_hessian = candidate_q(choice, "q_hessian"), q_stretch = candidate_q(choice, "q_signal_stretch");
     cJSON_Delete(st);
-    double baseline[2];
+    double baseline[2], choice_views[2];
     const texopt_method methods[2] = {TEXOPT_METHOD_TEWARI, TEXOPT_METHOD_SSP};
     for (int m = 0; m < 2; m++) {
         texopt_params b = p;
         b.method = methods[m];
         baseline[m] = job_q(&s, &b, &st);
+        choice_views[m] = file_q(&s, TEXOPT_CAMERAS_ICOSAHEDRON);
         cJSON_Delete(st);
     }
-    printf("  perceptual q %.5f; hessian candidate %.5f, tewari %.5f; signal_stretch %.5f, ssp %.5f\n", q, q_hessian,
-           baseline[0], q_stretch, baseline[1]);
-    CHECK_NEAR(q_hessian, baseline[0], 1e-12);
-    CHECK_NEAR(q_stretch, baseline[1], 1e-12);
+    printf("  perceptual q %.5f; hessian candidate %.5f, tewari %.5f (%.5f on the choice's views); signal_stretch "
+           "%.5f, ssp %.5f (%.5f)\n", q, q_hessian, baseline[0], choice_views[0], q_stretch, baseline[1],
+           choice_views[1]);
+    CHECK_NEAR(q_hessian, choice_views[0], 0.005 * choice_views[0]);
+    CHECK_NEAR(q_stretch, choice_views[1], 0.005 * choice_views[1]);
     CHECK(isfinite(q) && q <= baseline[0] && q <= baseline[1]);
     p.metric_candidates = -1;
     job_q(&s, &p, &st);
@@ -185,10 +225,10 @@ static double refined_q(const scratch *s, double cost, int with, int *rounds, in
 
 /* With the refinement on, a metric candidate whose q is lower than stage 1's best is refined
  * too, with twice the rounds, and kept only when its refined q (the refinement's cameras) is
- * lower. On a checker grid whose tewari and ssp layouts start below stage 1's at c_r 0.1 and
- * 0.2: the refined q with the metric candidates is at most that without them, lower exactly
- * when one is kept; measured, stage 1's refined layout stays at 0.1 (0.16525 either way) and
- * a metric one is kept at 0.2 (0.1415 against 0.1525). */
+ * lower. On a checker grid whose tewari and ssp layouts start below stage 1's at c_r 0.2 (on
+ * the choice's views) and not at 0.1: the refined q with the metric candidates is at most that
+ * without them, lower exactly when one is kept; measured, stage 1's refined layout stays at
+ * 0.1 (0.16525 either way) and a metric one is kept at 0.2 (0.1415 against 0.1526). */
 TEST(a_metric_candidate_is_refined_beside_stage_1_s_and_kept_when_lower)
 {
     scratch s;
@@ -202,7 +242,8 @@ TEST(a_metric_candidate_is_refined_beside_stage_1_s_and_kept_when_lower)
         kept[c] = metric[1];
         printf("  c_r %.1f: refined q %.5f without the metric candidates, %.5f with (%s kept, %d rounds)\n", costs[c],
                without, with, metric[1] ? "a metric one" : "stage 1's", rounds[1]);
-        CHECK_MSG(lower[1], "c_r %.1f: the metric candidates started no lower than stage 1's", costs[c]);
+        CHECK_MSG(lower[1] || !metric[1], "c_r %.1f: a metric candidate kept but not refined", costs[c]);
+        CHECK_MSG(lower[1] == (c == 1), "c_r %.1f: the metric candidates started lower: %d", costs[c], lower[1]);
         CHECK(with <= without);
         CHECK((with < without) == metric[1]);
         CHECK_EQ_INT(rounds[1], metric[1] ? 2 * TEXOPT_DEFAULT_REFINEMENTS : TEXOPT_DEFAULT_REFINEMENTS);
@@ -258,7 +299,7 @@ static void check_refinement(const char *pattern, const char *mr_pattern)
     /* 128 texels at the default screen (1.25 pixels per texel side). On 64 texels the rounds
      * moved q by about the layout's noise: at 96 px the luma difference kept one round 3%
      * lower and the edge measure none, at 160 and 192 px the luma difference kept none
-     * (BENCHMARKS.md "The refinement steered by edges"). */
+     * (BENCHMARKS.md@9f788a8 "The refinement steered by edges"). */
     p.eval_resolution = 160;
     /* Refining stage 1's layout: the hessian candidate, kept here otherwise, already gives
      * the text 93% of the texels, and its rounds lowered q (0.0446 -> 0.0428) moving 0.3%. */
@@ -326,12 +367,13 @@ static double cut_out_detailed_share(const char *mode)
 /* Text cut out of a flat surface (alphaMode MASK) keeps the texels a colour text would; as
  * OPAQUE the same file is flat everywhere and neither half is preferred. Either reader of the
  * alpha suffices here (stage 1 alone: 0.775, the evaluation's choice and rounds alone: 0.825,
- * both: 0.825); with neither, as before 1e60ff9, MASK gave 0.500 too. */
+ * both: 0.825, with the choice on the dodecahedron's views; 0.693 on the icosahedron's); with
+ * neither, as before 1e60ff9, MASK gave 0.500 too. */
 TEST(a_cut_out_keeps_its_texels_end_to_end)
 {
     double mask = cut_out_detailed_share("MASK"), opaque = cut_out_detailed_share("OPAQUE");
     printf("  text half's share of the texels: MASK %.3f, OPAQUE %.3f\n", mask, opaque);
-    CHECK_MSG(mask > 0.7, "MASK %g", mask);
+    CHECK_MSG(mask > 0.65, "MASK %g", mask);
     CHECK_MSG(opaque > 0.3 && opaque < 0.6, "OPAQUE %g", opaque);
 }
 
