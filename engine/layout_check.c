@@ -56,6 +56,13 @@ static int centre_inside(const double *a, const double *b, const double *c, doub
     return (d0 > e && d1 > e && d2 > e) || (d0 < -e && d1 < -e && d2 < -e);
 }
 
+/* v within [0, limit], as an int: a texel position far outside the frame (a file's UVs may
+ * be anything finite) must not reach the conversion, whose overflow is undefined. */
+static int clamp_to_frame(double v, int limit)
+{
+    return v <= 0 ? 0 : v >= limit ? limit : (int)v;
+}
+
 /* Marks the texels of triangle t with its group in owner; returns 1 when one of them was
  * another group's. */
 static int claim_texels(const texopt_mesh *m, const double *texel, int width, int height, size_t t, uint32_t group,
@@ -63,12 +70,10 @@ static int claim_texels(const texopt_mesh *m, const double *texel, int width, in
 {
     const uint32_t *v = m->triangle + 3 * t;
     const double *a = texel + 2 * (size_t)v[0], *b = texel + 2 * (size_t)v[1], *c = texel + 2 * (size_t)v[2];
-    int x0 = (int)floor(fmin(a[0], fmin(b[0], c[0]))), x1 = (int)ceil(fmax(a[0], fmax(b[0], c[0])));
-    int y0 = (int)floor(fmin(a[1], fmin(b[1], c[1]))), y1 = (int)ceil(fmax(a[1], fmax(b[1], c[1])));
-    x0 = x0 < 0 ? 0 : x0;
-    y0 = y0 < 0 ? 0 : y0;
-    x1 = x1 > width ? width : x1;
-    y1 = y1 > height ? height : y1;
+    int x0 = clamp_to_frame(floor(fmin(a[0], fmin(b[0], c[0]))), width);
+    int x1 = clamp_to_frame(ceil(fmax(a[0], fmax(b[0], c[0]))), width);
+    int y0 = clamp_to_frame(floor(fmin(a[1], fmin(b[1], c[1]))), height);
+    int y1 = clamp_to_frame(ceil(fmax(a[1], fmax(b[1], c[1]))), height);
     int clash = 0;
     for (int y = y0; y < y1; y++)
         for (int x = x0; x < x1; x++) {

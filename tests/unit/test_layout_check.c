@@ -105,3 +105,28 @@ TEST(a_vertex_pushed_across_its_neighbours_fails_foldover)
     texopt_mesh_destroy(mesh);
     sliver_grid_free(&g);
 }
+
+TEST(texel_positions_far_outside_the_frame_are_clamped_not_converted)
+{
+    /* A file's UVs may be any finite value: a chart 1e10 texels away once made the int
+     * conversion of its triangles' boxes undefined (found by fuzz_gltf; UBSan stops this test
+     * on the old code). Moved out of the frame, the twin no longer overlaps its sibling. */
+    sliver_grid g;
+    texopt_mesh *mesh = grid_mesh(&g, 1, N);
+    CHECK(mesh);
+    CHECK_EQ_INT(mesh->chart_count, 2);
+    double *t = copy_layout(mesh);
+    CHECK(t);
+    for (size_t k = 0; k < mesh->triangle_count; k++)
+        if (mesh->chart_of[k] == 1)
+            for (int j = 0; j < 3; j++)
+                t[2 * (size_t)mesh->triangle[3 * k + j]] = mesh->texel[2 * (size_t)mesh->triangle[3 * k + j]] + 1e10;
+    texopt_layout_check c;
+    CHECK(texopt_layout_check_run(mesh, t, mesh->width, mesh->height, NULL, NULL, &c, NULL, 0) == TEXOPT_OK);
+    CHECK_EQ_INT(c.failed, TEXOPT_LAYOUT_PASSED);
+    CHECK(texopt_layout_check_run(mesh, mesh->texel, mesh->width, mesh->height, NULL, NULL, &c, NULL, 0) == TEXOPT_OK);
+    CHECK_EQ_INT(c.failed, TEXOPT_LAYOUT_OVERLAP);
+    free(t);
+    texopt_mesh_destroy(mesh);
+    sliver_grid_free(&g);
+}
