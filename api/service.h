@@ -1,6 +1,6 @@
 /* service.h - what the HTTP layer shares with the rest of texoptd.
  *
- * One api_service is made by server/main.c and outlives the HTTP daemon; the HTTP threads
+ * One api_service is made by api/main.c and outlives the HTTP daemon; the HTTP threads
  * read the configuration and call into the store, the queue and the metrics, which do
  * their own locking. No globals: libmicrohttpd hands this pointer to every callback. */
 #ifndef TEXOPT_API_SERVICE_H

@@ -8,7 +8,7 @@
 int cli_parse_int(const char *s, int lo, int hi, int *out);
 
 /* Parses a random seed: a whole decimal integer in [0, 2^53], the range the service's JSON
- * parameters take (api/params_json.c), so a seed that works in one front end works in all;
+ * parameters take (server/params_json.c), so a seed that works in one front end works in all;
  * 0 on success, -1 otherwise. */
 int cli_parse_seed(const char *s, uint64_t *out);
 

@@ -68,7 +68,7 @@ texopt_status texopt_allocate_targets(const texopt_mesh *mesh, const texopt_tria
 double texopt_targets_area(const texopt_mesh *mesh, const texopt_triangle_target *targets, const double *paid);
 
 /* Closed-loop reallocation from what the screen shows (Sun et al. 2022's principle, the
- * perceptual loss on screen, applied to the whole mesh; pipeline.c iterates it). error[t]
+ * perceptual loss on screen, applied to the whole mesh; job_refine.c iterates it). error[t]
  * (mesh->triangle_count entries, >= 0) is triangle t's on-screen error under the layout that
  * the targets in produced (evaluate.h triangle_error; the base-colour refinement reads
  * its triangle_error_edges measure). Each triangle's target area is

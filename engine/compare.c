@@ -1,12 +1,11 @@
-/* compare.c - q_r-c_r curves per method through the real pipeline, and the target_loss
- * search (Sun et al. 2022, section 5.1; DESIGN.md 3.4 "a target whole-mesh loss").
+/* compare.c - q_r-c_r curves per method through the real pipeline (Sun et al. 2022,
+ * section 5.1).
  *
  * Each method is one pipeline job (pipeline.h): its targets (stage 1) are computed once and
  * every cost is one texopt_job_write into a private temporary directory, the output
  * loaded back, measured (evaluate.h) and deleted; only the showcase cost's outputs stay in
  * memory for the report. Points run one after the other: the pipeline itself uses the
- * cores. The target search brackets log(c_r) because q changes by similar amounts per
- * halving of the cost, not per fixed step.
+ * cores.
  * Does not: draw (report.c), decide which methods exist (the pipeline refuses unknown ones). */
 #include "compare.h"
 
@@ -150,7 +149,7 @@ static texopt_status measure_output(const texopt_model *input, const texopt_cost
 }
 
 /* The pipeline's parameters for one run of `method` at a relative cost: a layout is tuned for
- * the lookups q measures it with (pipeline.c renders its candidates with params.mipmapped). */
+ * the lookups q measures it with (job_evaluate.c renders its candidates with params.mipmapped). */
 static texopt_params run_params(const texopt_compare_options *opt, texopt_method method)
 {
     texopt_params p = opt->params;
@@ -495,55 +494,4 @@ double texopt_compare_cost_at_loss(const texopt_compare_curve *curve, double q_g
             return exp(log(c[i - 1]) + t * (log(c[i]) - log(c[i - 1])));
         }
     return -1;
-}
-
-texopt_status texopt_search_target_loss(texopt_loss_at_cost_fn loss_at, void *user, double target,
-                                        double cost_min, double cost_max, double tolerance,
-                                        int max_evaluations, texopt_target_search *out, char *err,
-                                        size_t err_len)
-{
-    if (!loss_at || !out)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "target search: missing callback or result");
-    if (!(target > 0) || !(cost_min > 0 && cost_min < cost_max && cost_max <= 4))
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "target search: target %g and cost range [%g, %g] must be positive, "
-                           "increasing and at most 4", target, cost_min, cost_max);
-    if (tolerance <= 0)
-        tolerance = 0.05;
-    if (max_evaluations <= 0)
-        max_evaluations = 12;
-    texopt_target_search s = {.relative_cost = cost_max, .q = NAN};
-    double q = 0;
-    texopt_status st = loss_at(user, cost_max, &q, err, err_len);
-    s.evaluations = 1;
-    if (st != TEXOPT_OK)
-        return st;
-    s.q = q;
-    s.reached = q <= target;
-    /* Invariant: hi meets the target (s holds it), lo does not or is the untested floor. */
-    double lo = cost_min, hi = cost_max;
-    int lo_tested = 0;
-    while (s.reached && s.evaluations < max_evaluations) {
-        if (lo_tested && hi / lo <= 1 + tolerance)
-            break;
-        double mid = lo_tested ? sqrt(lo * hi) : lo;
-        st = loss_at(user, mid, &q, err, err_len);
-        s.evaluations++;
-        if (st != TEXOPT_OK)
-            return st;
-        if (q <= target) {
-            hi = mid;
-            s.relative_cost = mid;
-            s.q = q;
-            if (!lo_tested)
-                break; /* even the floor is good enough */
-        } else {
-            lo = mid;
-            lo_tested = 1;
-            s.cost_below = mid;
-            s.q_below = q;
-        }
-    }
-    *out = s;
-    return TEXOPT_OK;
 }

@@ -1,4 +1,4 @@
-/* compare.h - q_r-c_r curves of several layout methods, and the target_loss budget search.
+/* compare.h - q_r-c_r curves of several layout methods.
  *
  * Sun et al. 2022, "Efficient Texture Parameterization Driven by Perceptual-Loss-on-Screen",
  * section 5.1 (figures of loss against relative cost): every method (params.h: perceptual,
@@ -15,12 +15,6 @@
  * figures of record. A method the pipeline refuses (not available yet,
  * unsupported model) leaves its points marked failed with the pipeline's message; the other
  * methods still run.
- *
- * texopt_search_target_loss is the target_loss budget (TEXOPT_BUDGET_TARGET_LOSS): the
- * smallest relative cost whose q is at most a target, by bisection on log(c_r) assuming q
- * falls as the cost grows. It takes a callback "q at this cost", so the pipeline answers it
- * without re-running the stages that do not depend on the budget (pipeline.c, budget
- * target_loss).
  *
  * Does not: draw anything (report.h), parse command lines. */
 #ifndef TEXOPT_COMPARE_H
@@ -134,28 +128,5 @@ texopt_status texopt_compare_write_json(const texopt_compare_result *result, con
  * log(c_r) between its successful points (sorted by achieved cost); -1 when the curve never
  * gets that low or has fewer than one point. The "pixels at equal loss" figure. */
 double texopt_compare_cost_at_loss(const texopt_compare_curve *curve, double q_goal);
-
-/* q at relative cost c (run the layout at that budget, evaluate it); non-OK stops the search. */
-typedef texopt_status (*texopt_loss_at_cost_fn)(void *user, double relative_cost, double *q,
-                                                char *err, size_t err_len);
-
-typedef struct texopt_target_search {
-    double relative_cost; /* smallest cost found with q <= target (or cost_max if none) */
-    double q;             /* q at that cost */
-    int reached;          /* 0 when even cost_max has q > target */
-    int evaluations;      /* calls of the callback */
-    double cost_below;    /* the largest cost tried whose q missed the target, 0 when none
-                             was (the floor met it, or the search stopped at cost_max) */
-    double q_below;       /* q at cost_below */
-} texopt_target_search;
-
-/* Bisection on log(c_r) in [cost_min, cost_max] (0 < cost_min < cost_max <= 4) until the
- * bracket's ratio is below 1 + tolerance (tolerance 0 -> 0.05) or max_evaluations (0 -> 12)
- * calls were made. Evaluates cost_max first: when it misses the target the search stops
- * with reached = 0. */
-texopt_status texopt_search_target_loss(texopt_loss_at_cost_fn loss_at, void *user, double target,
-                                        double cost_min, double cost_max, double tolerance,
-                                        int max_evaluations, texopt_target_search *out, char *err,
-                                        size_t err_len);
 
 #endif

@@ -80,7 +80,7 @@ typedef struct texopt_evaluate_options {
      * the pixels GMSD counts (gmsd.h texopt_gmsd_similarity_map) instead of the difference:
      * a pixel then counts as much as its value and its gradient are both wrong, so a blurred
      * edge weighs as GMSD weighs it and a faint shift on a flat region hardly at all. The
-     * base-colour refinement reads this (pipeline.c refine_kept); a triangle only seen where
+     * base-colour refinement reads this (job_refine.c); a triangle only seen where
      * GMSD does not count (a few pixels from the silhouette, gmsd.h's mask rule) gets 0. */
     int triangle_error_edges;
     const texopt_monitor *monitor; /* stage "evaluate", checked between views; may be NULL */

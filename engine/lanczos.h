@@ -6,7 +6,7 @@
  * support is 3 source texels times in/out each side), on upsizing it interpolates (support
  * 3); each output texel's window is cut at the image's edges and its weights renormalised
  * (Pillow's edge rule, not a wrap or a mirror); rows are resized first, then columns, and
- * both passes clamp to [0, 1] as Pillow's 8-bit passes do. Method "input" (pipeline.c) is
+ * both passes clamp to [0, 1] as Pillow's 8-bit passes do. Method "input" (input_method.c) is
  * this resize of every image, the baseline texopt's layouts are compared against.
  * Does not: weight colour by alpha (Pillow premultiplies RGBA; a glTF texture's alpha may be
  * unused, OPAQUE, so every channel is resized on its own), know wrap modes or layouts, or

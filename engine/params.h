@@ -22,7 +22,7 @@
  * threshold"). */
 #define TEXOPT_DEFAULT_EPSILON 0.03
 
-/* Rounds of the closed-loop refinement when the user gives none (pipeline.c refine_kept). Two
+/* Rounds of the closed-loop refinement when the user gives none (job_refine.c). Two
  * were chosen on Fox, spot and Duck at epsilon 0.01; at 0.03 four are better at most points of
  * the small models and of WaterBottle, level on DamagedHelmet, whose whole job stays under
  * 60 s on two idle cores (BENCHMARKS.md@9f788a8 "Correction (lead, ninth session)"). */
@@ -70,12 +70,12 @@ typedef struct texopt_params {
     int evaluate;           /* non-zero: run the whole-mesh evaluation after the bake */
     int eval_resolution;    /* evaluation screen side in pixels; 0 -> automatic */
     int refinements;        /* perceptual: most rounds of the closed-loop refinement of the
-                               kept layout by its on-screen error (pipeline.c refine_kept);
+                               kept layout by its on-screen error (job_refine.c);
                                0 -> TEXOPT_DEFAULT_REFINEMENTS, -1 -> none */
     int refine_lit;         /* perceptual: non-zero: the refinement's screen is the lit render
                                (evaluate.h `lit`, every image baked each round) when the
                                material has a map a light reads besides base colour; 0: base
-                               colour's (pipeline.c refine_kept) */
+                               colour's (job_refine.c) */
     int mipmapped;          /* non-zero: the texture lookups the layout is tuned for and its q
                                is measured with (the perceptual candidates' choice, the
                                refinement's screens, `evaluate`, the target_loss search) are
@@ -88,10 +88,10 @@ typedef struct texopt_params {
                                (TEXOPT_DEFAULT_HESSIAN_FLOOR); 0 -> that default, -1 -> none */
     int metric_candidates;  /* perceptual: 1: the signal metrics' targets (tewari.h, ssp.h),
                                solved as they are, are candidate layouts beside stage 1's
-                               (pipeline.c run_best_budget); 0 -> 1, -1 -> not made */
+                               (job_candidates.c); 0 -> 1, -1 -> not made */
     int resize_check;       /* perceptual: 1: a domain whose new layout's q is not below its
                                input layout resized to the same pixels keeps the resize
-                               (pipeline.c keep_resize_if_better); 0 -> 1, -1 -> never */
+                               (resize_check.c); 0 -> 1, -1 -> never */
     int lossless_textures;  /* non-zero: replaced textures are written as PNG even where the
                                input's were JPEG (texopt_model_edit.lossless), so that a q
                                measured from the file is the layout's and not the encoding's

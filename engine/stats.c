@@ -43,8 +43,8 @@ static void add_images(cJSON *dom, const texopt_domain_stats *d)
     }
 }
 
-/* The new layout against its input layout resized to the same pixels (pipeline.c
- * keep_resize_if_better). */
+/* The new layout against its input layout resized to the same pixels (resize_check.c
+ * job_keep_resize_if_better). */
 static void add_resize_check(cJSON *o, const texopt_domain_stats *d)
 {
     cJSON *r = cJSON_AddObjectToObject(o, "resize_check");

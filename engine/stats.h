@@ -3,7 +3,7 @@
  * Does: hold what the pipeline measured (stage timings, costs in and out, relative cost
  * reached, packing efficiency, texture sizes, stage-1 loss statistics, stage-2 energy and
  * distortion) and write them as one JSON document with cJSON, atomically.
- * Does not: measure anything itself (pipeline.c fills the struct, file_cost.c the written
+ * Does not: measure anything itself (the job, engine/job/, fills the struct, file_cost.c the written
  * file's costs).
  *
  * The numbers are those Sun et al. 2022, "Efficient Texture Parameterization Driven by
@@ -45,8 +45,8 @@ typedef struct texopt_domain_stats {
     char input_layout_kept[320];     /* a layout method's domain that kept its input layout:
                                         why ("" when it was laid out anew) */
     int has_resize_check;            /* perceptual: its new layout against its input layout
-                                        resized to the same pixels (pipeline.c
-                                        keep_resize_if_better) ... */
+                                        resized to the same pixels (resize_check.c
+                                        job_keep_resize_if_better) ... */
     int resize_check_kept;           /* ... the resize kept (its q not above the layout's) */
     double q_resize_check_layout, q_resize_check_resize; /* on the choice's 12 views */
     double seconds_resize_check;     /* the resize and the evaluation of both */
@@ -102,14 +102,14 @@ typedef struct texopt_job_stats {
     int search_evaluations;      /* layouts baked and evaluated by the search */
     double search_cost_below;    /* largest cost tried that missed the target (0: none) */
     double search_q_below;       /* its q */
-    int has_allocation_choice;   /* perceptual: q of the candidate layouts (pipeline.c), on the
+    int has_allocation_choice;   /* perceptual: q of the candidate layouts (job_candidates.c), on the
                                     choice's 12 icosahedron views, not on q's 20 */
     double q_allocated, q_allocated_dense, q_uniform, q_hessian, q_signal_stretch;
     int allocation_dense_made;   /* 0: no target met the cap at input density, so the dense
                                     candidate would have been the allocated one */
     int metric_candidates_made;  /* the hessian and signal_stretch candidates were made
                                     (params.h metric_candidates) */
-    const char *allocation_chosen; /* a candidate_name of pipeline.c (static) */
+    const char *allocation_chosen; /* a candidate_name of job_candidates.c (static) */
     double seconds_choice_evaluate; /* the evaluation pass of the candidates */
     double seconds_other_candidate; /* the discarded candidates' stage 2, packing and bake */
     int refinement_rounds;       /* closed-loop rounds tried on the kept candidate ... */
@@ -117,7 +117,7 @@ typedef struct texopt_job_stats {
     int refinement_lit;          /* the rounds' screen: lit (evaluate.h), else base colour */
     double q_refinement_before, q_refinement_after; /* on the refinement's 12 cameras */
     double seconds_refinement;   /* its renders and rounds, and those of the candidate refined
-                                    beside it (pipeline.c refine_best) */
+                                    beside it (job_candidates.c refine_best) */
     int has_evaluation;          /* params.evaluate: whole-mesh loss of the result */
     double q;                    /* evaluate.h: mean GMSD over the 20 views */
     int eval_resolution;

@@ -279,7 +279,7 @@ static double q_on(const texopt_model *in, const texopt_model *out, texopt_camer
     return texopt_evaluate(in, out, &eo, &ev, err, sizeof err) == TEXOPT_OK ? ev.q : -1;
 }
 
-/* The closed-loop refinement (pipeline.c refine_kept) on an 8 x 8 grid whose detail (text)
+/* The closed-loop refinement (job_refine.c) on an 8 x 8 grid whose detail (text)
  * lies on the u > 0.5 half of base colour, or, with mr_pattern, of the metallic-roughness map
  * only: the on-screen error (base colour's, or lit when the material has that map) is on the
  * text, so the refined layout gives the text half more of the same budget, and its loss on

@@ -1,4 +1,4 @@
-/* test_pipeline_resize.c - never worse than a resize (pipeline.c keep_resize_if_better): a
+/* test_pipeline_resize.c - never worse than a resize (resize_check.c): a
  * perceptual domain whose new layout's q, on the choice's views, is not below its input layout
  * resized with Lanczos-3 to the same pixels keeps that resize, exactly as method "input" writes
  * it, and the statistics give both q; a layout that beats the resize is kept. Generated grids

@@ -1,7 +1,8 @@
-/* test_target_search.c - the target_loss budget search and the equal-loss cost (compare.h). */
+/* test_target_search.c - the target_loss budget search and the equal-loss cost (target_search.h, compare.h). */
 #include <math.h>
 
 #include "compare.h"
+#include "target_search.h"
 #include "test.h"
 
 /* A loss that halves with every doubling of the cost: q(c) = 0.02 / sqrt(c). */

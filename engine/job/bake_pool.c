@@ -1,0 +1,248 @@
+/* bake_pool.c - the re-bake of a run's domains into their packed layouts (bake_pool.h). */
+#include "bake_pool.h"
+
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "gltf_tangents.h"
+#include "parallel.h"
+#include "rebake.h"
+
+#define MAX_BAKE_WORKERS 8 /* images of one domain baked at once, at most */
+
+/* Wrap modes the image is read with (of the first binding that reads it). */
+static void image_wrap(const texopt_model *model, int image, texopt_wrap *ws, texopt_wrap *wt)
+{
+    *ws = *wt = TEXOPT_WRAP_REPEAT;
+    for (int m = 0; m < model->material_count; m++) {
+        const texopt_material *mat = &model->materials[m];
+        for (int b = 0; b < texopt_material_binding_count(mat); b++) {
+            const texopt_texture_ref *r = texopt_material_binding(mat, b);
+            if (r->image == image && r->texcoord == 0) {
+                *ws = r->wrap_s;
+                *wt = r->wrap_t;
+                return;
+            }
+        }
+    }
+}
+
+/* Whether a binding reads the image as a tangent-space normal map (the normal slot, or an
+ * extension's such as clearcoatNormalTexture). */
+static int image_is_normal_map(const texopt_model *model, int image)
+{
+    for (int m = 0; m < model->material_count; m++) {
+        const texopt_material *mat = &model->materials[m];
+        for (int b = 0; b < texopt_material_binding_count(mat); b++)
+            if (texopt_material_binding(mat, b)->image == image &&
+                texopt_material_binding_kind(mat, b) == TEXOPT_TEXTURE_NORMAL)
+                return 1;
+    }
+    return 0;
+}
+
+/* Whether the bake must turn the image's tangent-space XY with the layout (rebake.h): only
+ * for a normal map of a domain whose primitives leave tangents to the renderer. */
+static int normal_map_needs_rotation(const texopt_model *model, const texopt_domain *dom, int image)
+{
+    int normal = image_is_normal_map(model, image);
+    for (int i = 0; normal && i < dom->primitive_count; i++)
+        if (texopt_primitive_has_tangents(model, dom->primitives[i]))
+            return 0;
+    return normal;
+}
+
+/* Whether the whole-mesh evaluation (meshrender.h) reads the image: a base colour bound
+ * through TEXCOORD_0. */
+static int image_is_evaluated(const texopt_model *model, int image)
+{
+    for (int m = 0; m < model->material_count; m++) {
+        const texopt_texture_ref *r = &model->materials[m].slot[TEXOPT_SLOT_BASE_COLOR];
+        if (r->image == image && r->texcoord == 0)
+            return 1;
+    }
+    return 0;
+}
+
+/* Whether the plan bakes image im (not baked yet, or a draft to bake again). */
+static int plan_bakes(const texopt_model *model, bake_plan plan, const job_output *out, int im)
+{
+    if (plan == BAKE_ALL)
+        return !out->edit_images[im] || out->draft[im];
+    return !out->edit_images[im] && (plan == BAKE_DRAFT_REST || image_is_evaluated(model, im));
+}
+
+/* One domain's bake: what every image of it is baked with. */
+typedef struct domain_bake {
+    const texopt_model *model;
+    const texopt_domain *dom;
+    const texopt_rebake_layout *layout;
+    bake_plan plan;
+    job_output *out;
+    texopt_domain_stats *ds;
+} domain_bake;
+
+/* Bakes image i of the domain (its output size already in the statistics) into out, a
+ * draft of it where BAKE_DRAFT_REST says so. */
+static texopt_status bake_image(const domain_bake *b, int i, const texopt_monitor *monitor, char *err,
+                                size_t err_len)
+{
+    const texopt_model *model = b->model;
+    job_output *out = b->out;
+    int im = b->dom->images[i];
+    const texopt_image *src = &model->images[im];
+    texopt_image_stats *is = &b->ds->images[i];
+    int draft = b->plan == BAKE_DRAFT_REST && !image_is_evaluated(model, im) && !image_is_normal_map(model, im);
+    texopt_wrap ws, wt;
+    image_wrap(model, im, &ws, &wt);
+    out->edit_images[im] = NULL;
+    out->draft[im] = 0;
+    texopt_image_destroy(&out->images[im]);
+    texopt_status st = texopt_image_create(&out->images[im], is->output_width, is->output_height, src->channels,
+                                           err, err_len);
+    if (st == TEXOPT_OK)
+        st = texopt_rebake_image_fit(src, ws, wt, normal_map_needs_rotation(model, b->dom, im), b->layout,
+                                     draft ? TEXOPT_REBAKE_FIT_PREFILTER : TEXOPT_REBAKE_FIT_DEFAULT,
+                                     &out->images[im], NULL, monitor, err, err_len);
+    if (st == TEXOPT_OK) {
+        out->edit_images[im] = &out->images[im];
+        out->draft[im] = (unsigned char)draft;
+        is->rewritten = 1;
+    }
+    return st;
+}
+
+/* Several images of a domain baked at once, one thread each: a bake scales about 1.5x on
+ * two threads (BENCHMARKS.md@9f788a8 "End to end"), whole images side by side nearly 2x, and the
+ * re-bake's result does not depend on its thread count. Progress per finished image. */
+typedef struct bake_pool {
+    domain_bake bake; /* layout threads = 1 */
+    const int *todo; /* image indices within the domain */
+    int count;
+    atomic_int next;
+    texopt_monitor cancel_only; /* the job's cancel flag, no progress (reported here) */
+    job_monitor *jm;
+    double from, to;
+    pthread_mutex_t lock; /* guards done, status, err and the job monitor */
+    int done;
+    texopt_status status;
+    char err[512];
+} bake_pool;
+
+static void *bake_pool_worker(void *arg)
+{
+    bake_pool *bp = arg;
+    char err[512] = "";
+    for (;;) {
+        int k = atomic_fetch_add(&bp->next, 1);
+        if (k >= bp->count)
+            break;
+        texopt_status st = bake_image(&bp->bake, bp->todo[k], &bp->cancel_only, err, sizeof err);
+        pthread_mutex_lock(&bp->lock);
+        if (st != TEXOPT_OK && bp->status == TEXOPT_OK) {
+            bp->status = st;
+            snprintf(bp->err, sizeof bp->err, "%s", err);
+        }
+        bp->done++;
+        job_stage(bp->jm, "bake", bp->from + (bp->to - bp->from) * bp->done / bp->count, bp->to);
+        pthread_mutex_unlock(&bp->lock);
+        if (st != TEXOPT_OK) {
+            atomic_store(&bp->next, bp->count);
+            break;
+        }
+    }
+    return NULL;
+}
+
+static texopt_status bake_images_side_by_side(bake_pool *bp, int workers, char *err, size_t err_len)
+{
+    atomic_init(&bp->next, 0);
+    pthread_mutex_init(&bp->lock, NULL);
+    texopt_parallel_run(bake_pool_worker, bp, 0, workers);
+    pthread_mutex_destroy(&bp->lock);
+    if (bp->status != TEXOPT_OK)
+        return texopt_fail(err, err_len, bp->status, "%s", bp->err);
+    return TEXOPT_OK;
+}
+
+texopt_status job_rebake_domain(texopt_job *job, const layout_run *run, int d, const double *packed,
+                                const int size[2], double from, double to, char *err, size_t err_len)
+{
+    const texopt_model *model = job->model;
+    const texopt_mesh *mesh = job->domains[d].mesh;
+    texopt_domain_stats *ds = &run->domains[d];
+    job_monitor *jm = &job->jm;
+    int width = size[0], height = size[1], threads = job_worker_threads(run->p);
+    const texopt_domain *dom = &model->domains[mesh->domain];
+    int *todo = malloc((size_t)(dom->image_count > 0 ? dom->image_count : 1) * sizeof *todo), count = 0;
+    if (!todo)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the bake list");
+    for (int i = 0; i < dom->image_count; i++) {
+        int im = dom->images[i];
+        const texopt_image *src = &model->images[im];
+        texopt_image_stats *is = &ds->images[i];
+        if (!src->pixels) {
+            free(todo);
+            return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "image %d (%s) was not decoded", im,
+                               is->name ? is->name : "unnamed");
+        }
+        job_image_output_size(src, dom, width, height, &is->output_width, &is->output_height);
+        if (plan_bakes(model, run->plan, run->out, im))
+            todo[count++] = i;
+    }
+    size_t n = 2 * (mesh->vertex_count ? mesh->vertex_count : 1);
+    double *uv_in = malloc(n * sizeof *uv_in), *uv_out = malloc(n * sizeof *uv_out);
+    if (!uv_in || !uv_out) {
+        free(uv_in);
+        free(uv_out);
+        free(todo);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the bake layouts");
+    }
+    for (size_t v = 0; v < mesh->vertex_count; v++) {
+        uv_in[2 * v] = mesh->texel[2 * v] / mesh->width;
+        uv_in[2 * v + 1] = mesh->texel[2 * v + 1] / mesh->height;
+        uv_out[2 * v] = packed[2 * v] / width;
+        uv_out[2 * v + 1] = packed[2 * v + 1] / height;
+    }
+    texopt_rebake_layout layout = {mesh->triangle_count, mesh->triangle, uv_in, uv_out, threads};
+    domain_bake bake = {model, dom, &layout, run->plan, run->out, ds};
+    texopt_status st = TEXOPT_OK;
+    int workers = threads < count ? threads : count;
+    if (workers > MAX_BAKE_WORKERS)
+        workers = MAX_BAKE_WORKERS;
+    if (workers >= 2) {
+        layout.threads = 1;
+        bake_pool bp = {.bake = bake, .todo = todo, .count = count, .cancel_only = {NULL, NULL, jm->inner.cancel},
+                        .jm = jm, .from = from, .to = to};
+        job_stage(jm, "bake", from, to);
+        st = bake_images_side_by_side(&bp, workers, err, err_len);
+    }
+    for (int k = 0; workers < 2 && k < count && st == TEXOPT_OK; k++) {
+        job_stage(jm, "bake", from + (to - from) * k / count, from + (to - from) * (k + 1) / count);
+        st = bake_image(&bake, todo[k], &jm->inner, err, err_len);
+    }
+    free(todo);
+    free(uv_in);
+    free(uv_out);
+    return st;
+}
+
+texopt_status job_bake_remaining_images(texopt_job *job, const layout_run *run, double from, double to, char *err,
+                                        size_t err_len)
+{
+    texopt_status st = TEXOPT_OK;
+    const job_output *out = run->out;
+    int n = job->model->domain_count;
+    for (int d = 0; d < n && st == TEXOPT_OK; d++) {
+        if (!out->packed || !out->packed[d])
+            continue;
+        texopt_domain_stats *ds = &run->domains[d];
+        double t0 = job_now_seconds();
+        st = job_rebake_domain(job, run, d, out->packed[d], &out->packed_size[2 * d], from + (to - from) * d / n,
+                               from + (to - from) * (d + 1) / n, err, err_len);
+        ds->seconds_bake += job_now_seconds() - t0;
+    }
+    return st;
+}

@@ -1,0 +1,281 @@
+/* budget_layout.c - every domain of a job laid out at one budget (budget_layout.h). */
+#include "budget_layout.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bake_pool.h"
+#include "budget.h"
+#include "domain_keep.h"
+#include "input_method.h"
+#include "job_stats.h"
+#include "meshwise.h"
+#include "meshwise_loss.h"
+
+/* The perceptual targets' allocation (allocate.h), the best of the variants measured with
+ * the whole-mesh evaluation (BENCHMARKS.md@9f788a8 "Quality"): lossless optima (flat colour at
+ * lambda_min) grow only by sqrt(s) (kept at lambda_min, q rose with the cost). The cap is
+ * the candidate's (job_candidates.h). */
+static const texopt_allocate_options perceptual_allocation = {1, 1e-6, 1.0, 0.5, NULL};
+
+/* perceptual_allocation for one domain with singular values capped at cap: its triangles
+ * lying on texels others pay for (folds, sharing groups) cost nothing, so the targets add up
+ * to covered texels, the budget's unit (without it DamagedHelmet's allocation saw half its
+ * budget). */
+texopt_allocate_options job_domain_allocation(const job_domain *jd, double cap)
+{
+    texopt_allocate_options o = perceptual_allocation;
+    o.cap = cap;
+    o.paid = jd->paid;
+    return o;
+}
+
+/* The run's targets, rescaled to relative cost c_r when run->allocating (allocate.h, a
+ * perceptual candidate), solved by stage 2 into texel_new (input texel units). The baselines' targets are solved as they are
+ * and the budget scales the result uniformly: for ssp and tewari (whose largest targets are
+ * normalised to 1, not to "needs input density") the allocation measured worse or no
+ * better (BENCHMARKS.md@9f788a8 "Quality"); arap's are isometric. */
+static texopt_status solve_layout(texopt_job *job, const layout_run *run, int d, double relative_cost,
+                                  double *texel_new, char *err, size_t err_len)
+{
+    const job_domain *jd = &job->domains[d];
+    const texopt_mesh *mesh = jd->mesh;
+    const texopt_params *params = &job->params;
+    texopt_domain_stats *ds = &run->domains[d];
+    const texopt_triangle_target *targets = job_source_targets(jd, run->source);
+    texopt_triangle_target *allocated = NULL;
+    texopt_status st = TEXOPT_OK;
+    double t0 = job_now_seconds();
+    ds->has_allocation = 0;
+    if (run->refined && run->refined[d])
+        targets = run->refined[d];
+    else if (run->allocating) {
+        allocated = malloc((mesh->triangle_count ? mesh->triangle_count : 1) * sizeof *allocated);
+        if (!allocated)
+            return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the allocated targets");
+        texopt_allocation rep;
+        double area = relative_cost * (double)jd->input_coverage.covered_texels;
+        texopt_allocate_options o = job_domain_allocation(jd, run->allocating);
+        st = texopt_allocate_targets(mesh, targets, area > 0 ? area : 1, &o, allocated, &rep, err, err_len);
+        if (st == TEXOPT_OK) {
+            size_t n = mesh->triangle_count ? mesh->triangle_count : 1;
+            ds->has_allocation = 1;
+            ds->allocation_scale = rep.scale;
+            ds->allocation_capped_share = (double)rep.capped / (double)n;
+            ds->allocation_lossless_share = (double)rep.lossless / (double)n;
+            targets = allocated;
+        }
+    }
+    if (st == TEXOPT_OK) {
+        texopt_meshwise_options mopt = {0};
+        mopt.threads = params->threads > 0 ? params->threads : 2;
+        mopt.share = job_sharing(jd);
+        texopt_meshwise_report mrep;
+        st = texopt_meshwise_solve(mesh, targets, NULL, &mopt, texel_new, &mrep, &job->jm.inner, err, err_len);
+        if (st == TEXOPT_OK)
+            job_stats_record_stage2(&mrep, ds);
+    }
+    ds->seconds_stage2 = job_now_seconds() - t0;
+    free(allocated);
+    return st;
+}
+
+/* One loss evaluation per triangle: about 1% of stage 1 but the bulk of a baseline's run,
+ * so it is measured only for statistics that are written, and for baselines only when the
+ * job asks for an evaluation. */
+texopt_status job_measure_loss_share(texopt_job *job, int d, const double *texel_new, texopt_domain_stats *ds,
+                                     char *err, size_t err_len)
+{
+    const texopt_params *params = &job->params;
+    if (!job->method->chooses && !params->evaluate)
+        return TEXOPT_OK;
+    texopt_loss_share share;
+    double t0 = job_now_seconds();
+    texopt_status st =
+        texopt_meshwise_loss_share(job->model, job->domains[d].mesh, texel_new, job->signal_weights, params->epsilon,
+                                   params->threads, 0, NULL, &share, &job->jm.inner, err, err_len);
+    if (st == TEXOPT_OK) {
+        ds->has_loss_share = 1;
+        ds->solved_within_epsilon_share = share.share;
+        ds->solved_loss_mean = share.mean_loss;
+        ds->solved_loss_max = share.max_loss;
+        ds->seconds_loss_share = job_now_seconds() - t0;
+    }
+    return st;
+}
+
+/* Texture-size budgets are allocated at the relative cost they are expected to reach: the
+ * texture's texels times the packing efficiency budget.h typically achieves (0.61-0.81 on
+ * the sample models, BENCHMARKS.md@9f788a8 "End to end"). A miss by more than RESOLVE_RATIO is
+ * solved once more at the cost reached. */
+#define EXPECTED_PACKING_EFFICIENCY 0.68
+#define RESOLVE_RATIO 1.1
+
+static void budget_request(texopt_job *job, const layout_run *run, const job_domain *jd, texopt_budget_request *req)
+{
+    const texopt_params *p = run->p;
+    memset(req, 0, sizeof *req);
+    req->kind = p->budget;
+    req->relative_cost = p->relative_cost;
+    req->texture_width = p->texture_width;
+    req->texture_height = p->texture_height;
+    req->input_cost = (double)jd->input_coverage.covered_texels;
+    req->input_width = jd->mesh->width;
+    req->input_height = jd->mesh->height;
+    req->targets = job_source_targets(jd, run->source); /* charts free to rotate are turned to their smallest box */
+    req->reshape_efficiency = p->packing_efficiency;
+    req->threads = job_worker_threads(p);
+    req->keep_shape = job_sharing(jd) ? jd->share->grouped : NULL;
+    req->monitor = &job->jm.inner;
+}
+
+/* A domain's new layout at the budget. */
+typedef struct domain_layout {
+    double *texel_new;       /* stage 2's, in input texels */
+    double *packed;          /* packed, in output texels */
+    texopt_budget_result br; /* the packing's frame and cost */
+} domain_layout;
+
+/* Allocation, stage 2, budget + pack: the packed layout in output texels; progress of stage
+ * 2 over [from, split], of the packing over [split, to]. */
+static texopt_status layout_for_budget(texopt_job *job, const layout_run *run, int d, domain_layout *l,
+                                       double from, double split, double to, char *err, size_t err_len)
+{
+    const job_domain *jd = &job->domains[d];
+    const texopt_params *p = run->p;
+    texopt_domain_stats *ds = &run->domains[d];
+    job_monitor *jm = &job->jm;
+    double cost = p->relative_cost;
+    if (p->budget == TEXOPT_BUDGET_TEXTURE_SIZE)
+        cost = (double)p->texture_width * p->texture_height * EXPECTED_PACKING_EFFICIENCY /
+               (double)(jd->input_coverage.covered_texels ? jd->input_coverage.covered_texels : 1);
+    texopt_budget_request req;
+    budget_request(job, run, jd, &req);
+    texopt_status st = TEXOPT_OK;
+    for (int round = 0; round < 2 && st == TEXOPT_OK; round++) {
+        job_stage(jm, "stage2", from, split);
+        st = solve_layout(job, run, d, cost, l->texel_new, err, err_len);
+        if (st == TEXOPT_OK)
+            st = job_check_cancel(jm, err, err_len);
+        if (st != TEXOPT_OK)
+            break;
+        job_stage(jm, "pack", split, to);
+        double t0 = job_now_seconds();
+        /* a sharing group packs as one chart, its secondaries on the primary's texels */
+        const texopt_mesh *charts = job_sharing(jd) ? &jd->share->view : jd->mesh;
+        st = texopt_budget_fit(charts, l->texel_new, &req, l->packed, &l->br, err, err_len);
+        ds->seconds_pack = job_now_seconds() - t0;
+        if (st != TEXOPT_OK || p->budget != TEXOPT_BUDGET_TEXTURE_SIZE || !run->allocating ||
+            fabs(log(l->br.relative_cost / cost)) <= log(RESOLVE_RATIO) || !(l->br.relative_cost > 0))
+            break;
+        cost = l->br.relative_cost;
+    }
+    if (st == TEXOPT_OK) {
+        ds->budget_scale = l->br.scale;
+        job_stage_done(jm, "pack");
+    }
+    return st;
+}
+
+/* The layout methods at one budget: allocation, stage 2, budget + pack, re-bake; or the
+ * input layout resized (the per-budget keep rules, domain_keep.h). */
+static texopt_status run_layout_method(texopt_job *job, const layout_run *run, int d, double from, double to,
+                                       char *err, size_t err_len)
+{
+    const job_domain *jd = &job->domains[d];
+    const texopt_mesh *mesh = jd->mesh;
+    texopt_domain_stats *ds = &run->domains[d];
+    job_output *out = run->out;
+    const stage_weights *w = job->method->weights;
+    double span = (to - from) / (w->stage2 + w->pack + w->bake);
+    double pack_from = from + span * w->stage2, bake_from = pack_from + span * w->pack;
+    size_t n = 2 * (mesh->vertex_count ? mesh->vertex_count : 1);
+    domain_layout l = {malloc(n * sizeof(double)), malloc(n * sizeof(double)), {0}};
+    texopt_status st = l.texel_new && l.packed
+                           ? TEXOPT_OK
+                           : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the new layout");
+    ds->input_layout_kept[0] = '\0';
+    if (st == TEXOPT_OK)
+        st = layout_for_budget(job, run, d, &l, from, pack_from, bake_from, err, err_len);
+    ds->has_layout_check = 0;
+    if (job_input_layout_packs_better(job->model, mesh, run->p, &l.br, st, ds) ||
+        (st == TEXOPT_OK && job_layout_fails_check(job, run, d, l.packed, &l.br, &st, err, err_len))) {
+        free(l.texel_new);
+        free(l.packed);
+        ds->repacked = 0;
+        return job_run_input_method(job, run, d, bake_from, to, err, err_len);
+    }
+    if (st == TEXOPT_OK && run->with_stats)
+        st = job_measure_loss_share(job, d, l.texel_new, ds, err, err_len);
+    if (st == TEXOPT_OK) {
+        job_stats_record_distortion(mesh, l.texel_new, ds);
+        ds->output_width = l.br.width;
+        ds->output_height = l.br.height;
+        ds->cost_input = (double)jd->input_coverage.covered_texels;
+        ds->cost_output = l.br.cost;
+        ds->relative_cost = l.br.relative_cost;
+        ds->packing_efficiency_input = jd->input_coverage.packing_efficiency;
+        ds->packing_efficiency = l.br.packing_efficiency;
+        ds->repacked = 1;
+        double t0 = job_now_seconds();
+        int size[2] = {l.br.width, l.br.height};
+        st = job_rebake_domain(job, run, d, l.packed, size, bake_from, to, err, err_len);
+        ds->seconds_bake = job_now_seconds() - t0;
+    }
+    if (st == TEXOPT_OK)
+        job_output_write_uvs(job->model, mesh, l.packed, l.br.width, l.br.height, out->uvs);
+    if (st == TEXOPT_OK && out->solved) {
+        out->solved[d] = l.texel_new;
+        l.texel_new = NULL;
+        out->packed[d] = l.packed;
+        l.packed = NULL;
+        out->packed_size[2 * d] = l.br.width;
+        out->packed_size[2 * d + 1] = l.br.height;
+    }
+    free(l.texel_new);
+    free(l.packed);
+    return st;
+}
+
+double job_domain_weight(const texopt_job *job, int d)
+{
+    const texopt_model *model = job->model;
+    if (!job->method->targets)
+        return (double)model->domains[d].width * model->domains[d].height;
+    double n = 0;
+    for (int i = 0; i < model->domains[d].primitive_count; i++)
+        n += (double)model->primitives[model->domains[d].primitives[i]].triangle_count;
+    return n;
+}
+
+double job_total_domain_weight(const texopt_job *job)
+{
+    double total = 0;
+    for (int d = 0; d < job->model->domain_count; d++)
+        total += job_domain_weight(job, d);
+    return total;
+}
+
+texopt_status job_run_budget(texopt_job *job, const layout_run *run, double from, double to, char *err,
+                             size_t err_len)
+{
+    const texopt_model *model = job->model;
+    const texopt_params *p = run->p;
+    texopt_status st = job_output_alloc(model, job->method->targets != NULL, run->out, err, err_len);
+    double total = job_total_domain_weight(job), at = from;
+    for (int d = 0; d < model->domain_count && st == TEXOPT_OK; d++) {
+        double share = total > 0 ? (to - from) * job_domain_weight(job, d) / total : 0;
+        texopt_domain_stats *ds = &run->domains[d];
+        ds->relative_cost_requested = p->budget == TEXOPT_BUDGET_RELATIVE_COST ? p->relative_cost : -1;
+        st = job_check_cancel(&job->jm, err, err_len);
+        if (st == TEXOPT_OK && job->domains[d].kept == DOMAIN_KEPT_AS_IS)
+            job_keep_domain(model, d, ds);
+        else if (st == TEXOPT_OK && (!job->method->targets || job->domains[d].kept == DOMAIN_INPUT_RESIZED))
+            st = job_run_input_method(job, run, d, at, at + share, err, err_len);
+        else if (st == TEXOPT_OK)
+            st = run_layout_method(job, run, d, at, at + share, err, err_len);
+        at += share;
+    }
+    return st;
+}

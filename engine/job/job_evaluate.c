@@ -1,0 +1,59 @@
+/* job_evaluate.c - the whole-mesh loss q of a job's layouts, in memory (job_evaluate.h). */
+#include "job_evaluate.h"
+
+#include <stdlib.h>
+
+texopt_evaluate_options job_evaluation_options(const texopt_params *p, texopt_camera_set cameras, int lit,
+                                               job_monitor *jm)
+{
+    texopt_evaluate_options opt = {0};
+    opt.resolution = p->eval_resolution;
+    opt.threads = p->threads > 0 ? p->threads : 2;
+    opt.monitor = &jm->inner;
+    opt.cameras = cameras;
+    opt.lit = lit;
+    opt.mipmapped = p->mipmapped != 0;
+    return opt;
+}
+
+texopt_status job_evaluate_outputs(texopt_job *job, const job_output *const *outs, int n, const texopt_params *p,
+                                   const job_screen *screen, texopt_evaluation *ev, char *err, size_t err_len)
+{
+    const texopt_model *model = job->model;
+    texopt_model candidates[JOB_MAX_EVALUATED_OUTPUTS];
+    const texopt_model *shown[JOB_MAX_EVALUATED_OUTPUTS];
+    if (n < 1 || n > JOB_MAX_EVALUATED_OUTPUTS)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "evaluation of %d outputs", n);
+    size_t k = (size_t)(model->image_count > 0 ? model->image_count : 1);
+    texopt_image *images = calloc((size_t)n * k, sizeof *images);
+    if (!images)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the evaluation");
+    for (int c = 0; c < n; c++) {
+        texopt_image *own = images + (size_t)c * k;
+        for (int i = 0; i < model->image_count; i++)
+            own[i] = outs[c]->edit_images[i] ? *outs[c]->edit_images[i] : model->images[i];
+        candidates[c] = *model;
+        candidates[c].images = own;
+        if (outs[c]->uvs)
+            candidates[c].uvs = outs[c]->uvs;
+        candidates[c].document = NULL;
+        candidates[c].destroy_document = NULL;
+        shown[c] = &candidates[c];
+    }
+    texopt_evaluate_options opt = job_evaluation_options(p, screen->cameras, screen->lit, &job->jm);
+    opt.triangle_error = screen->triangle_error;
+    /* The refinement's measure (job_refine.h); the lit refinement keeps the luma difference
+     * it was measured with (the edge measure was measured on base colour only). */
+    opt.triangle_error_edges = !screen->lit;
+    opt.reference_views = screen->reference_views;
+    texopt_status st = texopt_evaluate_many(model, shown, n, &opt, ev, err, err_len);
+    free(images);
+    return st;
+}
+
+texopt_status job_evaluate_output(texopt_job *job, const job_output *out, const texopt_params *p,
+                                  texopt_evaluation *ev, char *err, size_t err_len)
+{
+    job_screen screen = {TEXOPT_CAMERAS_DODECAHEDRON, 0, NULL, NULL};
+    return job_evaluate_outputs(job, &out, 1, p, &screen, ev, err, err_len);
+}

@@ -1,0 +1,50 @@
+/* job_output.h - what one layout of the budget produces for the save step.
+ *
+ * Does: hold the new UVs, the re-baked images and, per domain, the solved and packed layouts
+ * of a run (job_state.h layout_run); allocate, free and edit them. Does not: lay out or bake
+ * (budget_layout.h, bake_pool.h). */
+#ifndef TEXOPT_JOB_OUTPUT_H
+#define TEXOPT_JOB_OUTPUT_H
+
+#include <stddef.h>
+
+#include "image.h"
+#include "mesh.h"
+#include "model.h"
+#include "status.h"
+
+typedef struct job_output {
+    texopt_image *images;        /* per model image; empty when kept */
+    const texopt_image **edit_images;
+    float *uvs;                  /* new TEXCOORD_0 of every model vertex, NULL when unchanged */
+    int domain_count;
+    double **solved;             /* per domain: stage 2's layout in input texels (kept for
+                                    the loss share of a chosen candidate), NULL when none */
+    double **packed;             /* per domain: the packed layout in output texels (kept to
+                                    bake a chosen candidate's remaining images), NULL when none */
+    int *packed_size;            /* per domain: its output width and height */
+    unsigned char *draft;        /* per model image: baked with the prefilter only (bake_plan
+                                    BAKE_DRAFT_REST), to be baked again before it is saved */
+} job_output;
+
+/* Room for the images of the model and, when lays_out, the new UVs (a copy of the model's
+ * TEXCOORD_0, zeros where it has none, that domains overwrite) and per-domain layouts. */
+texopt_status job_output_alloc(const texopt_model *model, int lays_out, job_output *out, char *err,
+                               size_t err_len);
+
+void job_output_destroy(job_output *o, int image_count);
+
+/* Writes the new UVs of the domain's model vertices (output texels / output size). */
+void job_output_write_uvs(const texopt_model *model, const texopt_mesh *mesh, const double *texel, int width,
+                          int height, float *uvs);
+
+/* The side of an image scaled by factor, in [1, 16384]. */
+int job_scaled_side(int side, double factor);
+
+/* Output size of one image of the domain: proportional to the domain frame's new size. */
+void job_image_output_size(const texopt_image *img, const texopt_domain *dom, int out_w, int out_h, int *w, int *h);
+
+/* Domain d's vertices in uvs back to the model's TEXCOORD_0 (as job_output_alloc copied them). */
+void job_output_restore_uvs(const texopt_model *model, int d, float *uvs);
+
+#endif
