@@ -1,7 +1,7 @@
 /* model_check.h - the upload's model is checked once before its job is queued.
  *
  * Why: a client should hear "400 malformed" or "422 no TEXCOORD_0" at once, not find a failed
- * job minutes later. Does: texopt_model_load (engine/io/gltf_io.h) with the service's size
+ * job minutes later. Does: texopt_model_load (engine/model/io/gltf_io.h) with the service's size
  * limits and images read only as far as their headers (size and channels; the pixel cap is
  * checked from them), then freed. Does not: decode images: a 250 KB PNG may declare 16000 x
  * 16000 pixels, a gigabyte to decode on the connection's thread. The worker decodes them

@@ -2,8 +2,8 @@
  * [--json curves.json]`: the q_r-c_r curves of several layout methods on one model.
  *
  * Runs every method through the pipeline at every relative cost, evaluates each output
- * against IN (engine/compare.h, Sun et al. 2022 section 5.1), prints a table of q, and
- * writes the curves as JSON and the self-contained HTML report (engine/report.h). Ctrl-C
+ * against IN (engine/compare/compare.h, Sun et al. 2022 section 5.1), prints a table of q, and
+ * writes the curves as JSON and the self-contained HTML report (engine/compare/report.h). Ctrl-C
  * stops at the next checkpoint (exit 3). */
 #include <stdatomic.h>
 #include <stdio.h>

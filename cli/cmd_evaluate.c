@@ -3,7 +3,7 @@
  *
  * Compares any two models with the same triangles (an input and texopt's output, or the
  * output of another tool): the whole-mesh perceptual loss q of Sun et al. 2022, section 5.1
- * (engine/evaluate.h), and what each layout costs: covered texels, texture pixels, packing
+ * (engine/evaluate/evaluate.h), and what each layout costs: covered texels, texture pixels, packing
  * efficiency, symmetric Dirichlet distortion, and the relative cost c_r = covered texels of
  * OUT / of IN. Text on stdout, or one JSON object with --json. */
 #include <cjson/cJSON.h>
@@ -41,7 +41,7 @@ static void usage(FILE *out)
             "                   IN must have the texture (base colour excepted).\n"
             "                   lit: the model lit by one light per view and a grey sky from\n"
             "                   base colour, metallic-roughness (a specular highlight),\n"
-            "                   normal, occlusion and emissive maps (engine/lit_shade.h)\n"
+            "                   normal, occlusion and emissive maps (engine/evaluate/lit_shade.h)\n"
             "  --json           print one JSON object instead of text\n"
             "  -h, --help       this text\n");
 }

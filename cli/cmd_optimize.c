@@ -1,6 +1,6 @@
 /* cmd_optimize.c - `texopt optimize IN -o OUT.glb [options]`: the whole job on one model.
  *
- * Parses the options into texopt_params, runs texopt_optimize_file (engine/pipeline.h) and
+ * Parses the options into texopt_params, runs texopt_optimize_file (engine/job/pipeline.h) and
  * shows progress on stderr: a redrawn bar (stage, percent, ETA) on a terminal, one plain line
  * per stage and per 10% otherwise, nothing with --quiet. SIGINT/SIGTERM raise the engine's
  * cancel flag; the job stops at its next checkpoint and the command exits 3. Implements no

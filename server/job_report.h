@@ -1,8 +1,8 @@
 /* job_report.h - the HTML evaluation report of a job that asked for one (evaluate=true).
  *
  * Does: compare the job's method with the input layout at the job's relative cost
- * (engine/compare.h: both through the pipeline, both evaluated with the whole-mesh loss of
- * Sun et al. 2022, section 5.1) and write the self-contained report (engine/report.h) as
+ * (engine/compare/compare.h: both through the pipeline, both evaluated with the whole-mesh loss of
+ * Sun et al. 2022, section 5.1) and write the self-contained report (engine/compare/report.h) as
  * report.html in the job directory. The job's method is measured on the job's own
  * result.glb, so only the input layout is run again (a resize and a bake).
  * Does not: change the job's result.glb or stats.json. */

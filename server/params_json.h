@@ -1,6 +1,6 @@
 /* params_json.h - the `params` of a job as JSON, both ways.
  *
- * Does: turn a JSON object into a resolved, validated texopt_params (engine/params.h),
+ * Does: turn a JSON object into a resolved, validated texopt_params (engine/core/params.h),
  * refusing unknown keys and wrong types by name; turn texopt_params back into JSON (the
  * job resource and params.json on disk). Does not: apply server policy (thread caps).
  *

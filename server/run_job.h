@@ -2,7 +2,7 @@
  *
  * Does: build the paths (input, result.glb, stats.json in the job directory), the monitor
  * (progress into the store, stage durations into the metrics, the job's cancel flag), call
- * texopt_optimize_file (engine/pipeline.h), and end the job: succeeded, failed (with a
+ * texopt_optimize_file (engine/job/pipeline.h), and end the job: succeeded, failed (with a
  * problem), canceled, or back to queued when the service is stopping. */
 #ifndef TEXOPT_SERVER_RUN_JOB_H
 #define TEXOPT_SERVER_RUN_JOB_H

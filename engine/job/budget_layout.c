@@ -13,7 +13,7 @@
 #include "meshwise.h"
 #include "meshwise_loss.h"
 
-/* The perceptual targets' allocation (allocate.h), the best of the variants measured with
+/* The perceptual targets' allocation (target_allocation.h), the best of the variants measured with
  * the whole-mesh evaluation (BENCHMARKS.md@9f788a8 "Quality"): lossless optima (flat colour at
  * lambda_min) grow only by sqrt(s) (kept at lambda_min, q rose with the cost). The cap is
  * the candidate's (job_candidates.h). */
@@ -31,7 +31,7 @@ texopt_allocate_options job_domain_allocation(const job_domain *jd, double cap)
     return o;
 }
 
-/* The run's targets, rescaled to relative cost c_r when run->allocating (allocate.h, a
+/* The run's targets, rescaled to relative cost c_r when run->allocating (target_allocation.h, a
  * perceptual candidate), solved by stage 2 into texel_new (input texel units). The baselines' targets are solved as they are
  * and the budget scales the result uniformly: for ssp and tewari (whose largest targets are
  * normalised to 1, not to "needs input density") the allocation measured worse or no

@@ -1,6 +1,6 @@
 /* budget_layout.h - every domain of a job laid out at one budget (one layout_run).
  *
- * Does: per domain: allocate.h rescales the targets to the budget (when the run allocates) ->
+ * Does: per domain: target_allocation.h rescales the targets to the budget (when the run allocates) ->
  * stage 2 (meshwise.h, each sharing group's secondaries tied to its primary) -> budget.h
  * packs the charts anew, a sharing group as one, and corrects the scale -> the per-budget
  * keep rules (domain_keep.h) -> re-bake (bake_pool.h); or method "input"'s resize
@@ -11,7 +11,7 @@
 #ifndef TEXOPT_BUDGET_LAYOUT_H
 #define TEXOPT_BUDGET_LAYOUT_H
 
-#include "allocate.h"
+#include "target_allocation.h"
 #include "job_state.h"
 
 /* The perceptual targets' allocation for one domain with singular values capped at cap. */

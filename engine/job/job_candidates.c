@@ -11,7 +11,7 @@
 #include "job_stats.h"
 #include "resize_check.h"
 
-/* The perceptual candidates: stage 1's targets allocated to the budget (allocate.h) with
+/* The perceptual candidates: stage 1's targets allocated to the budget (target_allocation.h) with
  * singular values capped at input density, the same capped at 1.5x it, and the targets as
  * they are (cap 0), scaled uniformly by the budget. None wins everywhere
  * (BENCHMARKS.md@9f788a8 "Quality", "A candidate denser than the input"): the uniform one on spot,

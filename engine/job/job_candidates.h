@@ -1,7 +1,7 @@
 /* job_candidates.h - the best layout of one budget: candidates, refinement, choice.
  *
  * Does: for method "perceptual", up to five candidate layouts per budget: the targets
- * allocated to the budget (allocate.h) up to input density and up to 1.5x it, the targets as
+ * allocated to the budget (target_allocation.h) up to input density and up to 1.5x it, the targets as
  * they are (a uniform scale by the budget), and the signal metrics' targets (tewari.h, ssp.h)
  * as those methods lay them out. The candidates bake only base colour (all q looks at) and
  * are evaluated in one pass (whole-mesh loss q, evaluate.h, on the icosahedron's 12 views,

@@ -4,13 +4,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "allocate.h"
+#include "target_allocation.h"
 #include "budget_layout.h"
 #include "job_evaluate.h"
 #include "job_stats.h"
 #include "lit_shade.h"
 
-/* The closed-loop refinement's step (allocate.h texopt_reallocate_by_error), the best of
+/* The closed-loop refinement's step (target_allocation.h texopt_reallocate_by_error), the best of
  * those measured on Fox, spot and Duck (BENCHMARKS.md@9f788a8 "Quality"): area steps of (e_t /
  * e_mean)^0.5 within [0.5, 2] per round, singular values up to twice input density. */
 static const texopt_reallocate_options refinement_step = {0.5, 0.5, 2.0, 2.0, NULL};
@@ -28,7 +28,7 @@ static texopt_status alloc_domain_targets(const texopt_job *job, texopt_triangle
 }
 
 /* Per domain, the targets the kept candidate was solved from: stage 1's or a signal
- * metric's as they are (uniform, cap 0), or stage 1's allocated (allocate.h) with the
+ * metric's as they are (uniform, cap 0), or stage 1's allocated (target_allocation.h) with the
  * candidate's cap at the cost it reached. */
 static texopt_status kept_targets(const texopt_job *job, const layout_run *made_by, const texopt_domain_stats *ds,
                                   texopt_triangle_target **out, char *err, size_t err_len)

@@ -2,7 +2,7 @@
  *
  * Does: the paper's principle (perceptual loss on screen) applied to the whole mesh: render
  * the layout against the input, take each triangle's on-screen error, move texels from the
- * triangles shown right to those shown wrong (allocate.h texopt_reallocate_by_error), solve,
+ * triangles shown right to those shown wrong (target_allocation.h texopt_reallocate_by_error), solve,
  * pack and bake again, and keep the new layout when its q is lower; a round that is not
  * lower is retried from the best layout with half the step, as a backtracking line search.
  * Does not: choose which candidates are refined (job_candidates.h). */

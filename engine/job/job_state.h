@@ -40,7 +40,7 @@ typedef struct job_domain {
                                         candidate's; NULL when not asked for */
     texopt_coverage input_coverage;
     texopt_texel_share *share; /* charts sharing texels; NULL for method "input" */
-    double *paid; /* per triangle, the share of its texels it pays for (allocate.h); NULL
+    double *paid; /* per triangle, the share of its texels it pays for (target_allocation.h); NULL
                      when every triangle pays for all of its own */
     domain_keep kept; /* laid out, or the input layout kept (and why: stats input_layout_kept) */
 } job_domain;
@@ -75,7 +75,7 @@ typedef enum bake_plan {
 typedef struct layout_run {
     const texopt_params *p;     /* the job's parameters with this budget */
     target_source source;       /* the targets the layouts start from */
-    double allocating;          /* > 0: the targets are allocated to the budget (allocate.h),
+    double allocating;          /* > 0: the targets are allocated to the budget (target_allocation.h),
                                    singular values capped at this */
     texopt_triangle_target *const *refined; /* per domain, when not NULL: these targets are
                                                solved as they are (job_refine.h) */

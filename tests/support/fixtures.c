@@ -3,7 +3,7 @@
  * Builds texopt_model values directly (no glTF document, no file I/O) so that engine tests
  * run without the loader and know every count in advance. Not a mesh generator for the
  * product: only what tests need, with exact (bit-equal) positions on shared corners so the
- * weld in engine/mesh.c sees what real glTF exporters produce. */
+ * weld in engine/model/mesh.c sees what real glTF exporters produce. */
 #include "fixtures.h"
 
 #include <math.h>

@@ -6,7 +6,7 @@
  * Each returns NULL when an argument is out of range, the pattern name is unknown, or
  * memory runs out.
  *
- * Conventions (see engine/image.h and engine/mesh.h): the texel position of UV (u, v) in a
+ * Conventions (see engine/core/image.h and engine/model/mesh.h): the texel position of UV (u, v) in a
  * W x H texture is (W u, H v); image row y holds v in [y/H, (y+1)/H). All generated UV
  * triangles have positive signed area in (u, v) and their 3D winding is counter-clockwise
  * seen from outside, so a fixture has no flipped triangle unless a test makes one.

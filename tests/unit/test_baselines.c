@@ -1,4 +1,4 @@
-/* test_baselines.c - SSP, Tewari and ARAP targets (engine/ssp.h, tewari.h, arap.h). */
+/* test_baselines.c - SSP, Tewari and ARAP targets (engine/stage1/ssp.h, tewari.h, arap.h). */
 #include <math.h>
 #include <stdlib.h>
 

@@ -1,4 +1,4 @@
-/* test_compare_quad.c - what compare measures (engine/compare.h), on generated quads.
+/* test_compare_quad.c - what compare measures (engine/compare/compare.h), on generated quads.
  * Every texture (every_texture): on a quad whose base colour is detailed and whose normal map
  * is flat, a downscale loses base-colour detail and none of the normal map's, so the two q
  * must differ, and a texture the input does not use must not be measured; a material

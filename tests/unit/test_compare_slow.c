@@ -1,4 +1,4 @@
-/* test_compare_slow.c - compare through the real pipeline (engine/compare.h), on
+/* test_compare_slow.c - compare through the real pipeline (engine/compare/compare.h), on
  * tests/data/Fox with the cheap "input" method. (The target_loss budget is tested in
  * test_pipeline_budget, through the pipeline that runs it.) */
 #include <math.h>

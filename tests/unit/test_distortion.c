@@ -1,4 +1,4 @@
-/* test_distortion.c - symmetric Dirichlet distortion and flip counting (engine/distortion.c)
+/* test_distortion.c - symmetric Dirichlet distortion and flip counting (engine/param/distortion.c)
  * on hand-built meshes whose exact values follow from the definition. */
 #include <math.h>
 #include <stdlib.h>

@@ -1,4 +1,4 @@
-/* test_evaluate.c - whole-mesh loss q (engine/evaluate.h) and the renderer under it. */
+/* test_evaluate.c - whole-mesh loss q (engine/evaluate/evaluate.h) and the renderer under it. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -1,6 +1,6 @@
 /* test_evaluate_normal.c - normal-slot q compares the two normal maps in the reference's
- * tangent frame (engine/evaluate.h): a layout that turns the triangles, re-baked with the
- * normal map turned as a renderer needs it (engine/rebake.h), scores near 0; the same map
+ * tangent frame (engine/evaluate/evaluate.h): a layout that turns the triangles, re-baked with the
+ * normal map turned as a renderer needs it (engine/bake/rebake.h), scores near 0; the same map
  * read unturned (as base colour, which is never turned) or baked without the turn scores
  * far worse; a material extension's normal map (clearcoatNormalTexture) the same. Models are
  * generated in code; the stored-tangent case writes a small .gltf. The report's renders

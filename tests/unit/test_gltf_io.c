@@ -1,4 +1,4 @@
-/* test_gltf_io.c - loading and saving glTF (engine/io/gltf_io.h): a generated textured quad
+/* test_gltf_io.c - loading and saving glTF (engine/model/io/gltf_io.h): a generated textured quad
  * in every container (GLB, .gltf with data URIs, .gltf with external files), index and UV
  * encodings, strips and fans, node transforms, texture transforms applied and dropped,
  * load -> save -> load round trips on spot.glb and Fox.glb, and the Khronos validator on

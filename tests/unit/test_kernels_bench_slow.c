@@ -8,7 +8,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "bake.h"
+#include "window_bake.h"
 #include "bayesopt.h"
 #include "gmsd.h"
 #include "rng.h"

@@ -1,4 +1,4 @@
-/* test_meshrender.c - the evaluation's cameras and rasteriser (engine/meshrender.h). */
+/* test_meshrender.c - the evaluation's cameras and rasteriser (engine/evaluate/meshrender.h). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

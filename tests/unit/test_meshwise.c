@@ -1,4 +1,4 @@
-/* test_meshwise.c - the mesh-wise local-global solve (engine/meshwise.c) on generated grids.
+/* test_meshwise.c - the mesh-wise local-global solve (engine/stage2/meshwise.c) on generated grids.
  *
  * Meshes are built by hand (texopt_mesh filled directly) so that each test controls the
  * layout exactly: jittered grids, two charts, mirrored charts, degenerate triangles. */

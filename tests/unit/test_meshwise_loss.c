@@ -1,4 +1,4 @@
-/* test_meshwise_loss.c - per-triangle loss under a finished layout (engine/meshwise_loss.c):
+/* test_meshwise_loss.c - per-triangle loss under a finished layout (engine/stage2/meshwise_loss.c):
  * the share of triangles with E <= eps after the mesh-wise stage (paper Fig. 16). */
 #include <math.h>
 #include <stdlib.h>

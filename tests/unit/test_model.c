@@ -1,4 +1,4 @@
-/* test_model.c - texture-domain grouping of engine/model.c (texopt_model_build_domains):
+/* test_model.c - texture-domain grouping of engine/model/model.c (texopt_model_build_domains):
  * shared images join materials into one domain, unrelated materials stay apart, untextured
  * primitives get domain -1, TEXCOORD_1 bindings do not count, the frame is the largest
  * image, the wrap modes come from the base colour binding; and destroy accepts NULL. */

@@ -1,4 +1,4 @@
-/* test_parallel.c - the engine's worker runner (engine/parallel.c): every worker runs once
+/* test_parallel.c - the engine's worker runner (engine/core/parallel.c): every worker runs once
  * with its own argument, worker 0 on the calling thread and the others at the same time on
  * threads of their own; a shared argument with stride 0; and when no thread can start,
  * every worker still runs, in order, on the calling thread. */

@@ -1,4 +1,4 @@
-/* test_param_abf.c - linear ABF with least-squares reconstruction (engine/param_abf.c). */
+/* test_param_abf.c - linear ABF with least-squares reconstruction (engine/param/param_abf.c). */
 #include <math.h>
 #include <stdlib.h>
 

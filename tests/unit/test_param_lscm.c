@@ -1,4 +1,4 @@
-/* test_param_lscm.c - least squares conformal maps (engine/param_lscm.c) on generated grids. */
+/* test_param_lscm.c - least squares conformal maps (engine/param/param_lscm.c) on generated grids. */
 #include <math.h>
 #include <stdlib.h>
 

@@ -1,5 +1,5 @@
 /* test_param_square.c - square parameterization and its corner searches
- * (engine/param_square.c) on generated grids. */
+ * (engine/param/param_square.c) on generated grids. */
 #include <math.h>
 #include <stdlib.h>
 

@@ -1,5 +1,5 @@
-/* test_param_tutte.c - mean-value Tutte embedding (engine/param_tutte.c) and the disk check
- * of engine/param_chart.c, on generated grids (tests/support/param_grids.h). */
+/* test_param_tutte.c - mean-value Tutte embedding (engine/param/param_tutte.c) and the disk check
+ * of engine/param/param_chart.c, on generated grids (tests/support/param_grids.h). */
 #include <math.h>
 #include <stdlib.h>
 

@@ -1,5 +1,5 @@
 /* test_rechart.c - new disk charts laid out by each parameterization method
- * (engine/rechart.c), on a hand-built cube, a generated closed sphere and spot
+ * (engine/param/rechart.c), on a hand-built cube, a generated closed sphere and spot
  * (tests/data). */
 #include <math.h>
 #include <stdlib.h>

@@ -1,4 +1,4 @@
-/* test_rechart_models_slow.c - new charts (engine/rechart.c) with each parameterization
+/* test_rechart_models_slow.c - new charts (engine/param/rechart.c) with each parameterization
  * method on real models: charts made, charts that fell back to Tutte, CPU seconds, and the
  * distortion of the new layout (each chart scaled to its 3D area, so only shape counts:
  * area-weighted mean conformal distortion smax/smin and Sander's L2 stretch). Models:

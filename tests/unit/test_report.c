@@ -1,4 +1,4 @@
-/* test_report.c - the self-contained HTML report (engine/report.h), on a comparison built
+/* test_report.c - the self-contained HTML report (engine/compare/report.h), on a comparison built
  * in memory (no pipeline run). */
 #include <stdlib.h>
 #include <string.h>

@@ -1,4 +1,4 @@
-/* test_target.c - the stretch helpers of engine/target.h on matrices with known answers, and
+/* test_target.c - the stretch helpers of engine/core/target.h on matrices with known answers, and
  * the floor raising targets below a share of another's area. */
 #include <math.h>
 

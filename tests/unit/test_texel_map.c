@@ -1,5 +1,5 @@
 /* test_texel_map.c - one triangle's texel map, its rotation and the normal-map turn
- * (engine/texel_map.h). */
+ * (engine/core/texel_map.h). */
 #include <math.h>
 
 #include "test.h"

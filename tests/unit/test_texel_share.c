@@ -1,4 +1,4 @@
-/* test_texel_share.c - charts that read the same texels (engine/texel_share.c) kept sharing
+/* test_texel_share.c - charts that read the same texels (engine/stage2/texel_share.c) kept sharing
  * them through stage 2 (meshwise.h, opt.share) and the budget (budget.h on the grouped
  * view).
  *
@@ -285,7 +285,7 @@ TEST(groups_of_another_mesh_are_refused_by_the_solve)
     texopt_mesh_destroy(m);
 }
 
-/* Who pays for shared texels in a budget of covered texels (allocate.h `paid`): a
+/* Who pays for shared texels in a budget of covered texels (target_allocation.h `paid`): a
  * secondary's triangles pay nothing, so the paid area is the primary's, which is what the
  * input covers; a triangle wound against its chart (a fold's minority side) pays nothing;
  * charts on their own texels all pay. */

@@ -1,4 +1,4 @@
-/* test_texture_keys.c - the texture keys of engine/texture_keys.h: the core slots keep their
+/* test_texture_keys.c - the texture keys of engine/model/texture_keys.h: the core slots keep their
  * texopt_slot numbers, every known extension texture has one key whose name, kind and
  * channels are its extension's, names resolve both ways (case-insensitive), and a material's
  * binding of a key is its slot or its extension texture of that name. */

@@ -1,4 +1,4 @@
-/* test_tri_bins.c - the triangle-bin grid for point location (engine/tri_bins.c): every kept
+/* test_tri_bins.c - the triangle-bin grid for point location (engine/stage2/tri_bins.c): every kept
  * triangle that holds a point is listed in the point's bin, no other triangle is listed
  * at all, and keeping none gives an empty grid. */
 #include <stdlib.h>

@@ -1,10 +1,10 @@
 #!/usr/bin/python3
 """Writes gmsd_vectors.txt: GMSD test vectors for tests/unit/test_gmsd.c.
 
-An implementation independent of engine/gmsd.c, written from the authors' MATLAB reference
+An implementation independent of engine/evaluate/gmsd.c, written from the authors' MATLAB reference
 (Xue et al. 2013, GMSD.m): full 2-D convolution and MATLAB's 'same' slicing are emulated
 literally with numpy instead of the C code's direct indexing. The mask rule is the one
-documented in engine/gmsd.h (a downsampled pixel counts when its 2x2 sources and its 3x3
+documented in engine/evaluate/gmsd.h (a downsampled pixel counts when its 2x2 sources and its 3x3
 Prewitt support inside the image are covered), written here with morphological erosion.
 
 Run: /usr/bin/python3 tests/vectors/gmsd_vectors.py  (needs numpy; the C test does not).

@@ -5,7 +5,7 @@ The reference is Pillow itself, Image.resize(size, Image.LANCZOS) on an 8-bit RG
 resize asset pipelines apply (sharp and ImageMagick use the same filter). The input is a
 generated texture with smooth ramps, hard edges, a one-texel grid and noise, so that the
 kernel's lobes, its stretch on downsizing and the edge rule all show. Pillow rounds to 8 bits
-after each of its two passes; engine/lanczos.c does not, which the C test's tolerance covers.
+after each of its two passes; engine/bake/lanczos.c does not, which the C test's tolerance covers.
 
 Run: /usr/bin/python3 tests/vectors/lanczos_vectors.py  (needs python3-pil; the C test does
 not)."""

@@ -1,4 +1,4 @@
-/* bake.c - least-squares bake of the texels a candidate parameterization shows on screen
+/* window_bake.c - least-squares bake of the texels a candidate parameterization shows on screen
  * (Sun et al. 2022, "Efficient Texture Parameterization Driven by Perceptual-Loss-on-
  * Screen", eq. 11; DESIGN.md 3.1). Solves the ridge-regularised normal equations
  * (A^T A + r I) x = A^T ref + r mean(ref) with banded Cholesky, all channels at once.
@@ -15,7 +15,7 @@
  * patch has more touched texels than pixels, the pixel-side system A A^T + r I (push-through
  * identity, see solve notes below) is factored instead when its band is cheaper: same
  * minimiser, smaller and narrower system. */
-#include "bake.h"
+#include "window_bake.h"
 
 #include <lapacke.h>
 #include <math.h>

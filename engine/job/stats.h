@@ -68,10 +68,10 @@ typedef struct texopt_domain_stats {
     int has_distortion;
     double distortion_input, distortion_output; /* symmetric Dirichlet, mean */
     texopt_distortion distortion_in, distortion_out; /* every metric (distortion.h) */
-    int has_allocation;              /* targets rescaled to the budget (allocate.h) */
+    int has_allocation;              /* targets rescaled to the budget (target_allocation.h) */
     double allocation_scale;         /* the common factor s on the singular values */
     double allocation_capped_share;  /* triangles at input density (a cap reached) */
-    double allocation_lossless_share; /* targets grown as lossless (allocate.h) */
+    double allocation_lossless_share; /* targets grown as lossless (target_allocation.h) */
     int has_layout_check;            /* a new layout was checked (layout_check.h) ... */
     texopt_layout_check layout_check; /* ... with this result; failed: the input layout kept */
     double budget_scale;             /* with repacked: the uniform scale budget.h applied after

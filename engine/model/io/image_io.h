@@ -7,7 +7,7 @@
  * Colour space, decided once for all of texopt: pixel values stay exactly as encoded in the
  * file. Colour textures are therefore sRGB-encoded values, data textures (normal,
  * metallic-roughness, occlusion) linear values; nothing is ever linearised or gamma-encoded
- * (engine/image.h says the same), so a decode/encode round trip changes nothing but
+ * (engine/core/image.h says the same), so a decode/encode round trip changes nothing but
  * quantisation. Alpha is unassociated (straight) on read and write: OpenImageIO premultiplies
  * PNG alpha unless told not to, which would change the colour of every half-transparent
  * texel. Values are floats in [0,1]; 8-bit input maps v -> v / 255, 16-bit v -> v / 65535.

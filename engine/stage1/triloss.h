@@ -7,7 +7,7 @@
  *   p(q) = c + J (p_hat(q) - c)        c = the texel centre nearest the triangle's centroid,
  *                                       so the triangle stays put and a quarter turn maps the
  *                                       texel lattice onto itself (the grid's 90-degree symmetry)
- *   x    = LS bake of I_hat on the bilinear footprints of p(q) (bake.h, eq. 11, ridge 1e-6)
+ *   x    = LS bake of I_hat on the bilinear footprints of p(q) (window_bake.h, eq. 11, ridge 1e-6)
  *   I(q) = A x                          what the screen shows with the baked texture
  *   E    = max over the domain's textures and their signals of GMSD(I_hat, I, covered mask),
  *          each signal scaled by its weight when the caller gives them

@@ -71,7 +71,7 @@ texopt_status texopt_texel_share_create(texopt_texel_share **out, const texopt_m
 void texopt_texel_share_destroy(texopt_texel_share *share);
 
 /* Per triangle of the mesh `share` was made from, the share of its texel area that it pays
- * for in a budget of covered texels (allocate.h `paid`): 0 for the triangles of a
+ * for in a budget of covered texels (target_allocation.h `paid`): 0 for the triangles of a
  * secondary, which lie on their primary's texels, and for a chart's triangles of the
  * orientation opposite to its sign (chart_sign: a fold's minority side lies on the
  * majority's texels), 1 for the others. Returns how many pay 0 (none: every weight is 1). */

@@ -2,14 +2,14 @@
  * (Sun et al. 2022, section 4.1.1; GMSD of Xue et al. 2013), on the render-once buffer.
  *
  * Not here: choosing candidates (triopt.c), rasterising (uvraster.c), the bake solver
- * (bake.c) and GMSD itself (gmsd.c). */
+ * (window_bake.c) and GMSD itself (gmsd.c). */
 #include "triloss.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "bake.h"
+#include "window_bake.h"
 #include "gmsd.h"
 #include "lit_weight.h"
 #include "sample.h"

@@ -1,4 +1,4 @@
-/* allocate.c - water-filling of the per-triangle targets to a texel budget (allocate.h).
+/* target_allocation.c - water-filling of the per-triangle targets to a texel budget (target_allocation.h).
  *
  * The allocated area A(s) = sum a_i min(cap, s l1_i) min(cap, s l2_i) (lossless targets
  * with s^growth in place of s) is continuous and non-decreasing in s, so s is found by
@@ -8,7 +8,7 @@
  * triangle's own measured worse on Fox (BENCHMARKS.md@9f788a8 "Quality").
  * Does not: look at the texture, the loss curve of a triangle beyond its stage-1 loss, or
  * the layout; measure the errors (evaluate.h does). */
-#include "allocate.h"
+#include "target_allocation.h"
 
 #include <math.h>
 #include <string.h>

@@ -2,7 +2,7 @@
  *
  * Does: parse .glb / .gltf (external files next to it, data URIs) with tinygltf, validate
  * every accessor, buffer view and URI before reading it, flatten the triangle primitives
- * (lists, strips, fans) into engine/model.h, apply each material's KHR_texture_transform to its TEXCOORD_0,
+ * (lists, strips, fans) into engine/model/model.h, apply each material's KHR_texture_transform to its TEXCOORD_0,
  * decode the images with OpenImageIO (io/image_io.h), group texture domains; and write the
  * same document back with replaced TEXCOORD_0 (its applied transforms dropped) and images.
  * Does not: fetch anything from the network, decode Draco / meshopt compressed geometry or

@@ -1,4 +1,4 @@
-/* test_allocate.c - water-filling of per-triangle targets to a texel budget (allocate.c), on
+/* test_target_allocation.c - water-filling of per-triangle targets to a texel budget (target_allocation.c), on
  * the meshes of generated grids: the allocated area meets the request, no singular value
  * passes input density, uncapped targets keep their ratios, lossless targets can grow slower,
  * the targets' area counts what each triangle pays, and bad input is refused; the
@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "allocate.h"
+#include "target_allocation.h"
 #include "fixtures.h"
 #include "mesh.h"
 #include "test.h"

@@ -1,4 +1,4 @@
-/* allocate.h - spends a texel budget over the triangles before the mesh-wise stage.
+/* target_allocation.h - spends a texel budget over the triangles before the mesh-wise stage.
  *
  * Stage 1 (and the baselines) give each triangle a target Jacobian whose singular values say
  * how much it may shrink at one fixed loss threshold; their total area is whatever it is

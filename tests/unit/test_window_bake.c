@@ -1,10 +1,10 @@
-/* test_bake.c - the least-squares bake (Sun et al. 2022, eq. 11): exact reconstructions,
+/* test_window_bake.c - the least-squares bake (Sun et al. 2022, eq. 11): exact reconstructions,
  * agreement with a dense textbook solve, error falling with more texels, wrap seams and
  * scattered footprints, bad arguments. */
 #include <stdlib.h>
 #include <string.h>
 
-#include "bake.h"
+#include "window_bake.h"
 #include "sample.h"
 #include "test.h"
 

@@ -13,7 +13,7 @@
 #include "status.h"
 
 /* Stage 1's loss threshold when the user gives none. Every job has a texel budget that the
- * targets are rescaled to (allocate.h), so epsilon does not fix how much each triangle loses,
+ * targets are rescaled to (target_allocation.h), so epsilon does not fix how much each triangle loses,
  * only the targets' relative areas: the larger it is, the further triangles whose loss rises
  * slowly (shading, mild gradients) shrink next to those whose loss rises steeply (edges,
  * text), which then get a larger share of any budget. The paper's 0.01 gave edges too small

@@ -1,4 +1,4 @@
-/* bake.h - the least-squares bake of a candidate texture (Sun et al. 2022, eq. 11).
+/* window_bake.h - the least-squares bake of a candidate texture (Sun et al. 2022, eq. 11).
  *
  * Given screen pixels that look up the candidate texture at texel positions p(q) (with
  * bilinear weights, see sample.h) and the reference colours I_hat(q) those pixels should
@@ -18,7 +18,7 @@
  * the patch is wider than tall, so A^T A is banded (bandwidth about one patch row or column,
  * the shorter; only its envelope is worked on) and is solved with
  * banded Cholesky: an own vectorised loop for narrow bands, LAPACK dpbtrf for wide ones
- * (bake.c says why).
+ * (window_bake.c says why).
  * The workspace owns every buffer and only grows, so the hot loop does not allocate once it
  * has seen its largest problem. A workspace is for one thread at a time.
  *

@@ -25,7 +25,6 @@
 #include "distortion.h"
 #include "gltf_tangents.h"
 #include "gmsd.h"
-#include "info.h"
 #include "lit_shade.h"
 #include "mesh.h"
 #include "parallel.h"
