@@ -29,9 +29,9 @@
 
 #include "cors.h"
 #include "head_watch.h"
-#include "json_depth.h"
 #include "log.h"
 #include "problem.h"
+#include "texopt.h"
 
 /* A body on a request that takes none is read and dropped up to this size, then cut. */
 #define MAX_IGNORED_BODY_BYTES (1u << 20)

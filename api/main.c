@@ -16,13 +16,13 @@
 #include <time.h>
 
 #include "config.h"
-#include "library_threads.h"
 #include "fsutil.h"
 #include "log.h"
 #include "metrics.h"
 #include "queue.h"
 #include "service.h"
 #include "store.h"
+#include "texopt.h"
 #include "workers.h"
 
 #ifndef TEXOPT_OPENAPI_DEFAULT

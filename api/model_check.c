@@ -1,8 +1,7 @@
 /* model_check.c - header-only validation of an uploaded model (see model_check.h). */
 #include "model_check.h"
 
-#include "gltf_io.h"
-#include "model.h"
+#include "texopt.h"
 
 texopt_status api_model_check(const char *path, uint64_t max_file_bytes, uint64_t max_pixels, uint64_t *pixels,
                               char *detail, size_t detail_len)

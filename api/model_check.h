@@ -13,7 +13,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "status.h"
+#include "texopt.h"
 
 /* Loads path with the limits, images as headers. Returns the engine status; detail gets its
  * message; *pixels the sum of width x height over the model's images. */

@@ -13,9 +13,7 @@
 #include "cancel.h"
 #include "commands.h"
 #include "numbers.h"
-#include "compare.h"
-#include "info.h"
-#include "report.h"
+#include "texopt.h"
 
 static void usage(FILE *out)
 {

@@ -13,9 +13,7 @@
 
 #include "commands.h"
 #include "numbers.h"
-#include "evaluate.h"
-#include "gltf_io.h"
-#include "info.h"
+#include "texopt.h"
 
 static void usage(FILE *out)
 {

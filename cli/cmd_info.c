@@ -11,8 +11,7 @@
 #include <string.h>
 
 #include "commands.h"
-#include "gltf_io.h"
-#include "info.h"
+#include "texopt.h"
 
 static void usage(FILE *out)
 {

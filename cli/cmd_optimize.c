@@ -16,8 +16,7 @@
 #include "cancel.h"
 #include "commands.h"
 #include "numbers.h"
-#include "params.h"
-#include "pipeline.h"
+#include "texopt.h"
 
 static void usage(FILE *out)
 {

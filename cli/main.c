@@ -2,9 +2,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "build_info.h"
 #include "commands.h"
-#include "library_threads.h"
+#include "texopt.h"
 
 static const cli_command commands[] = {
     /* {"name", "summary", cmd_name}, one line per cmd_*.c */

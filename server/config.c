@@ -9,7 +9,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "status.h"
+#include "texopt.h"
 
 #ifndef TEXOPT_WEB_DEFAULT
 #define TEXOPT_WEB_DEFAULT "/usr/share/texopt/web"

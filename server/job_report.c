@@ -6,9 +6,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "compare.h"
 #include "fsutil.h"
-#include "report.h"
+#include "texopt.h"
 
 /* The relative cost to compare at: the requested one, or for a texture-size budget the one
  * the run achieved (first texture domain, from stats.json). */

@@ -11,9 +11,7 @@
 
 #include <stddef.h>
 
-#include "monitor.h"
-#include "params.h"
-#include "status.h"
+#include "texopt.h"
 
 /* input: the job's model; dir: the job directory (holding result.glb and stats.json of the
  * finished run). */

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "json_depth.h"
+#include "texopt.h"
 
 static const char *const budget_names[TEXOPT_BUDGET_COUNT] = {
     [TEXOPT_BUDGET_RELATIVE_COST] = "relative_cost",

@@ -22,7 +22,7 @@
 
 #include <cjson/cJSON.h>
 
-#include "params.h"
+#include "texopt.h"
 
 /* Fills *out from obj (NULL or an empty object = defaults), resolved and validated.
  * Returns TEXOPT_E_INVALID_ARGUMENT with a message naming the key on any problem. */

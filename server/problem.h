@@ -6,7 +6,7 @@
 #ifndef TEXOPT_API_PROBLEM_H
 #define TEXOPT_API_PROBLEM_H
 
-#include "status.h"
+#include "texopt.h"
 
 /* The standard reason phrase of an HTTP status ("Unprocessable Content"). */
 const char *api_status_title(int status);

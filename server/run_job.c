@@ -9,8 +9,8 @@
 
 #include "job_report.h"
 #include "log.h"
-#include "pipeline.h"
 #include "problem.h"
+#include "texopt.h"
 
 typedef struct job_watch {
     job_store *store;

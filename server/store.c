@@ -19,7 +19,7 @@
 #include "fsutil.h"
 #include "log.h"
 #include "params_json.h"
-#include "status.h"
+#include "texopt.h"
 
 /* A run's end that could not be written yet: the job stays "running" (what job.json says)
  * until store_retry_unsaved writes it. */

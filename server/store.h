@@ -22,8 +22,8 @@
 #include <stdatomic.h>
 #include <stdint.h>
 
-#include "params.h"
 #include "queue.h"
+#include "texopt.h"
 
 typedef enum job_state {
     JOB_QUEUED = 0,

@@ -9,11 +9,10 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 
-#include "json_depth.h"
 #include "log.h"
 #include "memory_budget.h"
 #include "run_job.h"
-#include "status.h"
+#include "texopt.h"
 
 #define WORKER_NICE 10
 
