@@ -37,18 +37,18 @@
 #ifndef TEXOPT_H
 #define TEXOPT_H
 
-#include "status.h"
+#include "build_info.h"
+#include "compare.h"
+#include "evaluate.h"
+#include "gltf_io.h"
+#include "info.h"
+#include "json_depth.h"
+#include "library_threads.h"
+#include "model.h"
 #include "monitor.h"
 #include "params.h"
 #include "pipeline.h"
-#include "model.h"
-#include "gltf_io.h"
-#include "info.h"
-#include "evaluate.h"
-#include "compare.h"
 #include "report.h"
-#include "json_depth.h"
-#include "build_info.h"
-#include "library_threads.h"
+#include "status.h"
 
 #endif

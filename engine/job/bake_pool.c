@@ -86,8 +86,7 @@ typedef struct domain_bake {
 
 /* Bakes image i of the domain (its output size already in the statistics) into out, a
  * draft of it where BAKE_DRAFT_REST says so. */
-static texopt_status bake_image(const domain_bake *b, int i, const texopt_monitor *monitor, char *err,
-                                size_t err_len)
+static texopt_status bake_image(const domain_bake *b, int i, const texopt_monitor *monitor, char *err, size_t err_len)
 {
     const texopt_model *model = b->model;
     job_output *out = b->out;
@@ -100,12 +99,12 @@ static texopt_status bake_image(const domain_bake *b, int i, const texopt_monito
     out->edit_images[im] = NULL;
     out->draft[im] = 0;
     texopt_image_destroy(&out->images[im]);
-    texopt_status st = texopt_image_create(&out->images[im], is->output_width, is->output_height, src->channels,
-                                           err, err_len);
+    texopt_status st =
+        texopt_image_create(&out->images[im], is->output_width, is->output_height, src->channels, err, err_len);
     if (st == TEXOPT_OK)
         st = texopt_rebake_image_fit(src, ws, wt, normal_map_needs_rotation(model, b->dom, im), b->layout,
-                                     draft ? TEXOPT_REBAKE_FIT_PREFILTER : TEXOPT_REBAKE_FIT_DEFAULT,
-                                     &out->images[im], NULL, monitor, err, err_len);
+                                     draft ? TEXOPT_REBAKE_FIT_PREFILTER : TEXOPT_REBAKE_FIT_DEFAULT, &out->images[im],
+                                     NULL, monitor, err, err_len);
     if (st == TEXOPT_OK) {
         out->edit_images[im] = &out->images[im];
         out->draft[im] = (unsigned char)draft;
@@ -119,7 +118,7 @@ static texopt_status bake_image(const domain_bake *b, int i, const texopt_monito
  * re-bake's result does not depend on its thread count. Progress per finished image. */
 typedef struct bake_pool {
     domain_bake bake; /* layout threads = 1 */
-    const int *todo; /* image indices within the domain */
+    const int *todo;  /* image indices within the domain */
     int count;
     atomic_int next;
     texopt_monitor cancel_only; /* the job's cancel flag, no progress (reported here) */
@@ -167,8 +166,8 @@ static texopt_status bake_images_side_by_side(bake_pool *bp, int workers, char *
     return TEXOPT_OK;
 }
 
-texopt_status job_rebake_domain(texopt_job *job, const layout_run *run, int d, const double *packed,
-                                const int size[2], double from, double to, char *err, size_t err_len)
+texopt_status job_rebake_domain(texopt_job *job, const layout_run *run, int d, const double *packed, const int size[2],
+                                double from, double to, char *err, size_t err_len)
 {
     const texopt_model *model = job->model;
     const texopt_mesh *mesh = job->domains[d].mesh;
@@ -214,8 +213,13 @@ texopt_status job_rebake_domain(texopt_job *job, const layout_run *run, int d, c
         workers = MAX_BAKE_WORKERS;
     if (workers >= 2) {
         layout.threads = 1;
-        bake_pool bp = {.bake = bake, .todo = todo, .count = count, .cancel_only = {NULL, NULL, jm->inner.cancel},
-                        .jm = jm, .from = from, .to = to};
+        bake_pool bp = {.bake = bake,
+                        .todo = todo,
+                        .count = count,
+                        .cancel_only = {NULL, NULL, jm->inner.cancel},
+                        .jm = jm,
+                        .from = from,
+                        .to = to};
         job_stage(jm, "bake", from, to);
         st = bake_images_side_by_side(&bp, workers, err, err_len);
     }

@@ -139,8 +139,8 @@ typedef struct domain_layout {
 
 /* Allocation, stage 2, budget + pack: the packed layout in output texels; progress of stage
  * 2 over [from, split], of the packing over [split, to]. */
-static texopt_status layout_for_budget(texopt_job *job, const layout_run *run, int d, domain_layout *l,
-                                       double from, double split, double to, char *err, size_t err_len)
+static texopt_status layout_for_budget(texopt_job *job, const layout_run *run, int d, domain_layout *l, double from,
+                                       double split, double to, char *err, size_t err_len)
 {
     const job_domain *jd = &job->domains[d];
     const texopt_params *p = run->p;
@@ -180,8 +180,8 @@ static texopt_status layout_for_budget(texopt_job *job, const layout_run *run, i
 
 /* The layout methods at one budget: allocation, stage 2, budget + pack, re-bake; or the
  * input layout resized (the per-budget keep rules, domain_keep.h). */
-static texopt_status run_layout_method(texopt_job *job, const layout_run *run, int d, double from, double to,
-                                       char *err, size_t err_len)
+static texopt_status run_layout_method(texopt_job *job, const layout_run *run, int d, double from, double to, char *err,
+                                       size_t err_len)
 {
     const job_domain *jd = &job->domains[d];
     const texopt_mesh *mesh = jd->mesh;
@@ -192,9 +192,8 @@ static texopt_status run_layout_method(texopt_job *job, const layout_run *run, i
     double pack_from = from + span * w->stage2, bake_from = pack_from + span * w->pack;
     size_t n = 2 * (mesh->vertex_count ? mesh->vertex_count : 1);
     domain_layout l = {malloc(n * sizeof(double)), malloc(n * sizeof(double)), {0}};
-    texopt_status st = l.texel_new && l.packed
-                           ? TEXOPT_OK
-                           : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the new layout");
+    texopt_status st =
+        l.texel_new && l.packed ? TEXOPT_OK : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the new layout");
     ds->input_layout_kept[0] = '\0';
     if (st == TEXOPT_OK)
         st = layout_for_budget(job, run, d, &l, from, pack_from, bake_from, err, err_len);
@@ -257,8 +256,7 @@ double job_total_domain_weight(const texopt_job *job)
     return total;
 }
 
-texopt_status job_run_budget(texopt_job *job, const layout_run *run, double from, double to, char *err,
-                             size_t err_len)
+texopt_status job_run_budget(texopt_job *job, const layout_run *run, double from, double to, char *err, size_t err_len)
 {
     const texopt_model *model = job->model;
     const texopt_params *p = run->p;

@@ -11,8 +11,8 @@
 #ifndef TEXOPT_BUDGET_LAYOUT_H
 #define TEXOPT_BUDGET_LAYOUT_H
 
-#include "target_allocation.h"
 #include "job_state.h"
+#include "target_allocation.h"
 
 /* The perceptual targets' allocation for one domain with singular values capped at cap. */
 texopt_allocate_options job_domain_allocation(const job_domain *jd, double cap);
@@ -29,7 +29,6 @@ double job_total_domain_weight(const texopt_job *job);
 /* Every domain at the budget of run->p (relative cost or texture size) into run->out
  * (allocated here), with its statistics in run->domains; progress over [from, to] of the
  * job. */
-texopt_status job_run_budget(texopt_job *job, const layout_run *run, double from, double to, char *err,
-                             size_t err_len);
+texopt_status job_run_budget(texopt_job *job, const layout_run *run, double from, double to, char *err, size_t err_len);
 
 #endif

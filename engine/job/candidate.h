@@ -17,13 +17,13 @@ typedef struct candidate {
 
 /* The layout that `how` describes (its p, source, allocating, refined and plan; not its
  * statistics or output) as candidate c; progress over [from, to] of the job. */
-texopt_status job_run_candidate(texopt_job *job, const layout_run *how, candidate *c, double from, double to,
-                                char *err, size_t err_len);
+texopt_status job_run_candidate(texopt_job *job, const layout_run *how, candidate *c, double from, double to, char *err,
+                                size_t err_len);
 
 /* Drafts the images a candidate left out (BAKE_DRAFT_REST) into its layouts, recording them
  * in its own statistics. */
-texopt_status job_draft_candidate_images(texopt_job *job, const texopt_params *p, candidate *c, double from,
-                                         double to, char *err, size_t err_len);
+texopt_status job_draft_candidate_images(texopt_job *job, const texopt_params *p, candidate *c, double from, double to,
+                                         char *err, size_t err_len);
 
 /* Frees a candidate's layout, bakes and statistics. */
 void job_candidate_free(texopt_job *job, candidate *c);

@@ -24,7 +24,8 @@ int job_keep_if_flat(job_domain *jd, texopt_domain_stats *ds)
         return 0;
     snprintf(ds->input_layout_kept, sizeof ds->input_layout_kept,
              "its %zu triangles have no area in 3D (every vertex on a line or a point), so nothing of it can be "
-             "seen and no layout judged", jd->mesh->triangle_count);
+             "seen and no layout judged",
+             jd->mesh->triangle_count);
     jd->kept = DOMAIN_KEPT_AS_IS;
     return 1;
 }
@@ -35,7 +36,8 @@ int job_keep_if_no_texels(const texopt_domain *dom, job_domain *jd, texopt_domai
         return 0;
     snprintf(ds->input_layout_kept, sizeof ds->input_layout_kept,
              "its layout covers no texel centre of its %dx%d texture, so it has no texels to lay out (a texture "
-             "of one texel, or UVs inside one texel)", dom->width, dom->height);
+             "of one texel, or UVs inside one texel)",
+             dom->width, dom->height);
     jd->kept = DOMAIN_KEPT_AS_IS;
     return 1;
 }
@@ -51,7 +53,8 @@ int job_keep_if_nearest(const texopt_model *model, const texopt_domain *dom, job
              dom->nearest_image, name);
     snprintf(ds->input_layout_kept, sizeof ds->input_layout_kept,
              "its %s is magnified NEAREST (sampler magFilter, pixel art): its texels show as blocks, which a new "
-             "layout would resample off their grid, blurred and misaligned", label);
+             "layout would resample off their grid, blurred and misaligned",
+             label);
     jd->kept = DOMAIN_KEPT_AS_IS;
     return 1;
 }
@@ -82,7 +85,8 @@ int job_keep_if_tiling(const texopt_domain *dom, job_domain *jd, texopt_domain_s
     snprintf(ds->input_layout_kept, sizeof ds->input_layout_kept,
              "its UVs repeat its %dx%d texture %.1f times over (a tiling texture): a layout without repeats "
              "would need that many times its texels; the input layout is kept, its images resized to the "
-             "budget", dom->width, dom->height, repeats);
+             "budget",
+             dom->width, dom->height, repeats);
     jd->kept = DOMAIN_INPUT_RESIZED;
     return 1;
 }
@@ -93,8 +97,8 @@ texopt_status job_check_something_laid_out(const texopt_job *job, char *err, siz
     for (int d = 0; d < n; d++)
         if (job->domains[d].kept != DOMAIN_KEPT_AS_IS)
             return TEXOPT_OK;
-    return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "%sdomain 0: %s",
-                       n > 1 ? "no domain can be laid out; " : "", job->stats.domains[0].input_layout_kept);
+    return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "%sdomain 0: %s", n > 1 ? "no domain can be laid out; " : "",
+                       job->stats.domains[0].input_layout_kept);
 }
 
 void job_keep_domain(const texopt_model *model, int d, texopt_domain_stats *ds)
@@ -130,7 +134,8 @@ int job_input_layout_packs_better(const texopt_model *model, const texopt_mesh *
     if (st == TEXOPT_E_LIMIT && br->no_fit) {
         snprintf(ds->input_layout_kept, sizeof ds->input_layout_kept,
                  "the new layout fits %dx%d at no scale (%zu chart%s); the input layout is kept, its images resized "
-                 "to %dx%d", ow, oh, mesh->chart_count, mesh->chart_count == 1 ? "" : "s", ow, oh);
+                 "to %dx%d",
+                 ow, oh, mesh->chart_count, mesh->chart_count == 1 ? "" : "s", ow, oh);
         return 1;
     }
     double ratio = (double)br->width * br->height / ((double)ow * oh);
@@ -161,8 +166,11 @@ int job_layout_fails_check(const texopt_job *job, const layout_run *run, int d, 
     job_input_frame(&job->model->domains[d], run->p, &ow, &oh);
     snprintf(ds->input_layout_kept, sizeof ds->input_layout_kept,
              "the new layout failed the layout check (%s: %zu triangles, model triangle %u first); the input layout "
-             "is kept, its images resized to %dx%d", texopt_layout_failure_name(c->failed),
-             c->failed == TEXOPT_LAYOUT_OVERLAP ? c->overlapping
-             : c->failed == TEXOPT_LAYOUT_FOLDOVER ? c->folded : c->oversized, c->triangles[0], ow, oh);
+             "is kept, its images resized to %dx%d",
+             texopt_layout_failure_name(c->failed),
+             c->failed == TEXOPT_LAYOUT_OVERLAP    ? c->overlapping
+             : c->failed == TEXOPT_LAYOUT_FOLDOVER ? c->folded
+                                                   : c->oversized,
+             c->triangles[0], ow, oh);
     return 1;
 }

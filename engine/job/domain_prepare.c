@@ -13,9 +13,8 @@
  * candidate layouts (job_candidates.h). Stage 1's targets are raised to the floor
  * (TEXOPT_DEFAULT_HESSIAN_FLOOR): the slivers whose one-ring hides their detail from stage 1
  * get at least k^2 of tewari's area. *raised: how many targets it raised. */
-static texopt_status add_metric_targets(const texopt_model *model, const texopt_mesh *mesh,
-                                        const texopt_params *params, job_domain *jd, size_t *raised, char *err,
-                                        size_t err_len)
+static texopt_status add_metric_targets(const texopt_model *model, const texopt_mesh *mesh, const texopt_params *params,
+                                        job_domain *jd, size_t *raised, char *err, size_t err_len)
 {
     *raised = 0;
     size_t n = mesh->triangle_count;

@@ -9,8 +9,8 @@
 
 /* Cost of the unchanged layout in its input frame and in the resized frame (the same UVs
  * seen on the new texel grid), with the domain's wrap modes. */
-static texopt_status input_layout_costs(const texopt_mesh *mesh, int ow, int oh,
-                                        texopt_domain_stats *ds, char *err, size_t err_len)
+static texopt_status input_layout_costs(const texopt_mesh *mesh, int ow, int oh, texopt_domain_stats *ds, char *err,
+                                        size_t err_len)
 {
     texopt_coverage in, out;
     texopt_status st = texopt_coverage_measure(mesh, NULL, &in, err, err_len);

@@ -25,8 +25,8 @@
  * layouts as candidates"); refine_best decides between the best of each kind. */
 enum { CANDIDATE_UNIFORM, CANDIDATE_ALLOCATED, CANDIDATE_DENSE, CANDIDATE_HESSIAN, CANDIDATE_STRETCH, CANDIDATES };
 static const double candidate_cap[CANDIDATES] = {0.0, 1.0, 1.5, 0.0, 0.0};
-static const target_source candidate_source[CANDIDATES] = {SOURCE_STAGE1, SOURCE_STAGE1, SOURCE_STAGE1,
-                                                           SOURCE_HESSIAN, SOURCE_STRETCH};
+static const target_source candidate_source[CANDIDATES] = {SOURCE_STAGE1, SOURCE_STAGE1, SOURCE_STAGE1, SOURCE_HESSIAN,
+                                                           SOURCE_STRETCH};
 static const char *const candidate_name[CANDIDATES] = {"uniform", "allocated", "allocated_dense", "hessian",
                                                        "signal_stretch"};
 
@@ -68,8 +68,8 @@ static layout_run candidate_run(const texopt_params *p, int i)
 
 /* Makes the candidates of one budget in their order, evaluates them in one pass on the
  * choice's views and finds the best of each kind, a tie keeping the earlier, simpler one. */
-static texopt_status run_candidates(texopt_job *job, const texopt_params *p, candidate_set *s, double from,
-                                    double to, double chosen, char *err, size_t err_len)
+static texopt_status run_candidates(texopt_job *job, const texopt_params *p, candidate_set *s, double from, double to,
+                                    double chosen, char *err, size_t err_len)
 {
     const job_output *outs[CANDIDATES];
     int n = 0;
@@ -112,8 +112,8 @@ static double candidate_seconds(const candidate *c, int domain_count)
 
 /* The candidates' q, the choice and what it cost, in the statistics (the refinement's are
  * job_refine.h's). */
-static void record_choice(texopt_job_stats *js, const texopt_evaluation *evs, const int *made,
-                          const double *seconds, int best)
+static void record_choice(texopt_job_stats *js, const texopt_evaluation *evs, const int *made, const double *seconds,
+                          int best)
 {
     js->has_allocation_choice = 1;
     js->q_allocated = evs[CANDIDATE_ALLOCATED].q;
@@ -184,8 +184,8 @@ texopt_status job_measure_chosen_loss_share(texopt_job *job, const job_output *o
  * images besides base colour are left to job_bake_remaining_images (not needed at all by the
  * target_loss search's steps), and the per-triangle loss share is measured on the winner
  * only. */
-texopt_status job_run_best_budget(texopt_job *job, const texopt_params *p, int with_stats, job_output *out,
-                                  double from, double to, char *err, size_t err_len)
+texopt_status job_run_best_budget(texopt_job *job, const texopt_params *p, int with_stats, job_output *out, double from,
+                                  double to, char *err, size_t err_len)
 {
     if (!job->method->chooses) {
         layout_run run = {.p = p, .with_stats = with_stats, .domains = job->stats.domains, .out = out};
@@ -197,7 +197,7 @@ texopt_status job_run_best_budget(texopt_job *job, const texopt_params *p, int w
     candidate_set s;
     memset(&s, 0, sizeof s);
     int kept_index = -1;
-    double seconds[CANDIDATES] = {0}; /* each candidate's stage 2, packing and bake */
+    double seconds[CANDIDATES] = {0};  /* each candidate's stage 2, packing and bake */
     texopt_evaluation evs[CANDIDATES]; /* before the refinement */
     texopt_status st = run_candidates(job, p, &s, from, made_by, chosen, err, err_len);
     if (st == TEXOPT_OK) {

@@ -17,8 +17,8 @@
 
 /* One budget (p) into *out, with its statistics in job->stats; with_stats: the statistics
  * will be written (the loss share is measured). Progress over [from, to] of the job. */
-texopt_status job_run_best_budget(texopt_job *job, const texopt_params *p, int with_stats, job_output *out,
-                                  double from, double to, char *err, size_t err_len);
+texopt_status job_run_best_budget(texopt_job *job, const texopt_params *p, int with_stats, job_output *out, double from,
+                                  double to, char *err, size_t err_len);
 
 /* The per-triangle loss share (paper Fig. 16) of the kept layout's solved layouts, into
  * job->stats. */

@@ -51,8 +51,8 @@ texopt_status job_evaluate_outputs(texopt_job *job, const job_output *const *out
     return st;
 }
 
-texopt_status job_evaluate_output(texopt_job *job, const job_output *out, const texopt_params *p,
-                                  texopt_evaluation *ev, char *err, size_t err_len)
+texopt_status job_evaluate_output(texopt_job *job, const job_output *out, const texopt_params *p, texopt_evaluation *ev,
+                                  char *err, size_t err_len)
 {
     job_screen screen = {TEXOPT_CAMERAS_DODECAHEDRON, 0, NULL, NULL};
     return job_evaluate_outputs(job, &out, 1, p, &screen, ev, err, err_len);

@@ -23,9 +23,9 @@
 /* What an evaluation looks at and what it hands back besides q. */
 typedef struct job_screen {
     texopt_camera_set cameras;
-    int lit;                                         /* evaluate.h `lit`: every map under one light */
+    int lit;                                          /* evaluate.h `lit`: every map under one light */
     const texopt_evaluate_reference *reference_views; /* the input's kept views, or NULL */
-    double *triangle_error;                          /* per model triangle, or NULL */
+    double *triangle_error;                           /* per model triangle, or NULL */
 } job_screen;
 
 /* The options of the job's evaluations: q's resolution, the job's threads, its monitor. */
@@ -38,7 +38,7 @@ texopt_status job_evaluate_outputs(texopt_job *job, const job_output *const *out
                                    const job_screen *screen, texopt_evaluation *ev, char *err, size_t err_len);
 
 /* The reported q, as the paper and the benchmark define it: the dodecahedron's 20 views. */
-texopt_status job_evaluate_output(texopt_job *job, const job_output *out, const texopt_params *p,
-                                  texopt_evaluation *ev, char *err, size_t err_len);
+texopt_status job_evaluate_output(texopt_job *job, const job_output *out, const texopt_params *p, texopt_evaluation *ev,
+                                  char *err, size_t err_len);
 
 #endif

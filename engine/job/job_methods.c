@@ -28,8 +28,7 @@ static texopt_status stage1_targets(const texopt_model *model, const texopt_mesh
 
 static texopt_status ssp_targets(const texopt_model *model, const texopt_mesh *mesh, const texopt_params *params,
                                  const double *signal_weights, texopt_triangle_target *targets,
-                                 texopt_triopt_report *trep, const texopt_monitor *monitor, char *err,
-                                 size_t err_len)
+                                 texopt_triopt_report *trep, const texopt_monitor *monitor, char *err, size_t err_len)
 {
     (void)signal_weights, (void)trep, (void)monitor;
     return texopt_ssp_targets(model, mesh, params->lambda_min, targets, err, err_len);
@@ -46,8 +45,7 @@ static texopt_status tewari_targets(const texopt_model *model, const texopt_mesh
 
 static texopt_status arap_targets(const texopt_model *model, const texopt_mesh *mesh, const texopt_params *params,
                                   const double *signal_weights, texopt_triangle_target *targets,
-                                  texopt_triopt_report *trep, const texopt_monitor *monitor, char *err,
-                                  size_t err_len)
+                                  texopt_triopt_report *trep, const texopt_monitor *monitor, char *err, size_t err_len)
 {
     (void)model, (void)params, (void)signal_weights, (void)trep, (void)monitor;
     return texopt_arap_targets(mesh, targets, err, err_len);

@@ -32,10 +32,10 @@ typedef struct stage_weights {
 /* The per-triangle targets stage 2 follows, for every triangle of mesh. signal_weights:
  * per image, how much of each signal a lit render shows (lit_weight.h). trep is filled by
  * stage 1 only. */
-typedef texopt_status (*job_targets_fn)(const texopt_model *model, const texopt_mesh *mesh,
-                                        const texopt_params *params, const double *signal_weights,
-                                        texopt_triangle_target *targets, texopt_triopt_report *trep,
-                                        const texopt_monitor *monitor, char *err, size_t err_len);
+typedef texopt_status (*job_targets_fn)(const texopt_model *model, const texopt_mesh *mesh, const texopt_params *params,
+                                        const double *signal_weights, texopt_triangle_target *targets,
+                                        texopt_triopt_report *trep, const texopt_monitor *monitor, char *err,
+                                        size_t err_len);
 
 typedef struct job_method {
     const stage_weights *weights;

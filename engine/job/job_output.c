@@ -35,8 +35,7 @@ static texopt_status alloc_uvs(const texopt_model *model, float **uvs, char *err
     return TEXOPT_OK;
 }
 
-texopt_status job_output_alloc(const texopt_model *model, int lays_out, job_output *out, char *err,
-                               size_t err_len)
+texopt_status job_output_alloc(const texopt_model *model, int lays_out, job_output *out, char *err, size_t err_len)
 {
     size_t n = (size_t)(model->image_count > 0 ? model->image_count : 1);
     out->images = calloc(n, sizeof *out->images);
@@ -76,8 +75,7 @@ void job_output_restore_uvs(const texopt_model *model, int d, float *uvs)
     const texopt_domain *dom = &model->domains[d];
     for (int i = 0; model->uvs && i < dom->primitive_count; i++) {
         const texopt_primitive *prim = &model->primitives[dom->primitives[i]];
-        memcpy(uvs + 2 * prim->first_vertex, model->uvs + 2 * prim->first_vertex,
-               2 * prim->vertex_count * sizeof *uvs);
+        memcpy(uvs + 2 * prim->first_vertex, model->uvs + 2 * prim->first_vertex, 2 * prim->vertex_count * sizeof *uvs);
     }
 }
 

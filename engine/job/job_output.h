@@ -14,23 +14,22 @@
 #include "status.h"
 
 typedef struct job_output {
-    texopt_image *images;        /* per model image; empty when kept */
+    texopt_image *images; /* per model image; empty when kept */
     const texopt_image **edit_images;
-    float *uvs;                  /* new TEXCOORD_0 of every model vertex, NULL when unchanged */
+    float *uvs; /* new TEXCOORD_0 of every model vertex, NULL when unchanged */
     int domain_count;
-    double **solved;             /* per domain: stage 2's layout in input texels (kept for
+    double **solved;      /* per domain: stage 2's layout in input texels (kept for
                                     the loss share of a chosen candidate), NULL when none */
-    double **packed;             /* per domain: the packed layout in output texels (kept to
+    double **packed;      /* per domain: the packed layout in output texels (kept to
                                     bake a chosen candidate's remaining images), NULL when none */
-    int *packed_size;            /* per domain: its output width and height */
-    unsigned char *draft;        /* per model image: baked with the prefilter only (bake_plan
+    int *packed_size;     /* per domain: its output width and height */
+    unsigned char *draft; /* per model image: baked with the prefilter only (bake_plan
                                     BAKE_DRAFT_REST), to be baked again before it is saved */
 } job_output;
 
 /* Room for the images of the model and, when lays_out, the new UVs (a copy of the model's
  * TEXCOORD_0, zeros where it has none, that domains overwrite) and per-domain layouts. */
-texopt_status job_output_alloc(const texopt_model *model, int lays_out, job_output *out, char *err,
-                               size_t err_len);
+texopt_status job_output_alloc(const texopt_model *model, int lays_out, job_output *out, char *err, size_t err_len);
 
 void job_output_destroy(job_output *o, int image_count);
 

@@ -4,11 +4,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "target_allocation.h"
 #include "budget_layout.h"
 #include "job_evaluate.h"
 #include "job_stats.h"
 #include "lit_shade.h"
+#include "target_allocation.h"
 
 /* The closed-loop refinement's step (target_allocation.h texopt_reallocate_by_error), the best of
  * those measured on Fox, spot and Duck (BENCHMARKS.md@9f788a8 "Quality"): area steps of (e_t /
@@ -108,11 +108,11 @@ static void free_targets(texopt_triangle_target **targets, int n)
  * per-triangle errors (into r->next_error) on the refinement's cameras against the input's
  * kept views, lit or of base colour. */
 static texopt_status refinement_trial(texopt_job *job, const layout_run *made_by, const refinement *r, int lit,
-                                      const texopt_evaluate_reference *views, candidate *trial, double from,
-                                      double to, char *err, size_t err_len)
+                                      const texopt_evaluate_reference *views, candidate *trial, double from, double to,
+                                      char *err, size_t err_len)
 {
-    layout_run round = {.p = made_by->p, .source = made_by->source, .refined = r->next,
-                        .plan = lit ? BAKE_DRAFT_REST : BAKE_EVALUATED};
+    layout_run round = {
+        .p = made_by->p, .source = made_by->source, .refined = r->next, .plan = lit ? BAKE_DRAFT_REST : BAKE_EVALUATED};
     texopt_status st = job_run_candidate(job, &round, trial, from, from + 0.8 * (to - from), err, err_len);
     const job_output *shown = &trial->out;
     if (st == TEXOPT_OK) {
@@ -151,7 +151,7 @@ texopt_status job_refine_kept(texopt_job *job, const layout_run *made_by, candid
         return TEXOPT_OK;
     double t0 = job_now_seconds();
     size_t tc = job->model->triangle_count ? job->model->triangle_count : 1, nda = (size_t)(nd > 0 ? nd : 1);
-    refinement r = {calloc(nda, sizeof *r.best), calloc(nda, sizeof *r.next), malloc(tc * sizeof *r.error),
+    refinement r = {calloc(nda, sizeof *r.best),       calloc(nda, sizeof *r.next),    malloc(tc * sizeof *r.error),
                     malloc(tc * sizeof *r.next_error), malloc(tc * sizeof *r.scratch), refinement_step};
     texopt_status st = r.best && r.next && r.error && r.next_error && r.scratch
                            ? kept_targets(job, made_by, kept->domains, r.best, err, err_len)

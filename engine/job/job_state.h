@@ -40,20 +40,20 @@ typedef struct job_domain {
                                         candidate's; NULL when not asked for */
     texopt_coverage input_coverage;
     texopt_texel_share *share; /* charts sharing texels; NULL for method "input" */
-    double *paid; /* per triangle, the share of its texels it pays for (target_allocation.h); NULL
+    double *paid;              /* per triangle, the share of its texels it pays for (target_allocation.h); NULL
                      when every triangle pays for all of its own */
-    domain_keep kept; /* laid out, or the input layout kept (and why: stats input_layout_kept) */
+    domain_keep kept;          /* laid out, or the input layout kept (and why: stats input_layout_kept) */
 } job_domain;
 
 struct texopt_job {
     texopt_params params;
-    const job_method *method;  /* params.method's row */
+    const job_method *method; /* params.method's row */
     texopt_model *model;
-    job_domain *domains;       /* model->domain_count */
+    job_domain *domains; /* model->domain_count */
     texopt_job_stats stats;
     job_monitor jm;
-    double budget_from;        /* the job's progress where the budget's part begins */
-    double *signal_weights;    /* per image, how much of each signal a lit render shows
+    double budget_from;     /* the job's progress where the budget's part begins */
+    double *signal_weights; /* per image, how much of each signal a lit render shows
                                   (lit_weight.h): stage 1's loss compares them so scaled */
 };
 
@@ -73,16 +73,16 @@ typedef enum bake_plan {
 
 /* One layout of every domain at one budget. */
 typedef struct layout_run {
-    const texopt_params *p;     /* the job's parameters with this budget */
-    target_source source;       /* the targets the layouts start from */
-    double allocating;          /* > 0: the targets are allocated to the budget (target_allocation.h),
+    const texopt_params *p;                 /* the job's parameters with this budget */
+    target_source source;                   /* the targets the layouts start from */
+    double allocating;                      /* > 0: the targets are allocated to the budget (target_allocation.h),
                                    singular values capped at this */
     texopt_triangle_target *const *refined; /* per domain, when not NULL: these targets are
                                                solved as they are (job_refine.h) */
-    bake_plan plan;             /* which images the run bakes, and how */
-    int with_stats;             /* measure what only written statistics report (loss share) */
-    texopt_domain_stats *domains; /* where the run records, per domain */
-    job_output *out;            /* what it produces */
+    bake_plan plan;                         /* which images the run bakes, and how */
+    int with_stats;                         /* measure what only written statistics report (loss share) */
+    texopt_domain_stats *domains;           /* where the run records, per domain */
+    job_output *out;                        /* what it produces */
 } layout_run;
 
 /* The sharing groups stage 2 and the budget work with, NULL when no chart shares another's

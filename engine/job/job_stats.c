@@ -10,7 +10,7 @@
 void job_stats_fill_params(texopt_job_stats *js, const texopt_params *p)
 {
     js->method = texopt_method_name(p->method);
-    js->budget = p->budget == TEXOPT_BUDGET_TEXTURE_SIZE ? "texture_size"
+    js->budget = p->budget == TEXOPT_BUDGET_TEXTURE_SIZE  ? "texture_size"
                  : p->budget == TEXOPT_BUDGET_TARGET_LOSS ? "target_loss"
                                                           : "relative_cost";
     js->relative_cost = p->relative_cost;

@@ -10,8 +10,8 @@
 
 typedef struct loss_search {
     texopt_job *job;
-    texopt_params p;     /* relative-cost budget; relative_cost set per step */
-    double from, to;     /* progress range of the search */
+    texopt_params p; /* relative-cost budget; relative_cost set per step */
+    double from, to; /* progress range of the search */
     int max_evaluations;
     int done;
     job_output kept;
@@ -26,8 +26,7 @@ typedef struct loss_search {
 #define SEARCH_MAX_EVALUATIONS 12
 
 /* Keeps a step's output (moved out of *out) and a copy of the statistics it recorded. */
-static texopt_status keep_step(loss_search *s, job_output *out, const texopt_evaluation *ev, char *err,
-                               size_t err_len)
+static texopt_status keep_step(loss_search *s, job_output *out, const texopt_evaluation *ev, char *err, size_t err_len)
 {
     texopt_domain_stats *domains = job_stats_copy_domains(&s->job->stats);
     if (!domains)
@@ -70,8 +69,8 @@ texopt_status job_search_target_loss(texopt_job *job, const texopt_params *p, do
                                      texopt_params *chosen, job_output *out, texopt_evaluation *ev, char *err,
                                      size_t err_len)
 {
-    loss_search s = {.job = job, .p = *p, .from = from, .to = to, .max_evaluations = SEARCH_MAX_EVALUATIONS,
-                     .kept_cost = -1};
+    loss_search s = {
+        .job = job, .p = *p, .from = from, .to = to, .max_evaluations = SEARCH_MAX_EVALUATIONS, .kept_cost = -1};
     s.p.budget = TEXOPT_BUDGET_RELATIVE_COST;
     texopt_target_search res;
     texopt_status st = texopt_search_target_loss(search_step, &s, p->target_loss, SEARCH_COST_MIN, SEARCH_COST_MAX,

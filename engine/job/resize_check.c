@@ -63,8 +63,8 @@ static void keep_resized_input_layout(texopt_job *job, job_output *out, job_outp
     ds->repacked = 0;
 }
 
-texopt_status job_keep_resize_if_better(texopt_job *job, const texopt_params *p, job_output *out, double at,
-                                        char *err, size_t err_len)
+texopt_status job_keep_resize_if_better(texopt_job *job, const texopt_params *p, job_output *out, double at, char *err,
+                                        size_t err_len)
 {
     texopt_status st = TEXOPT_OK;
     int n = job->model->domain_count;
@@ -93,7 +93,8 @@ texopt_status job_keep_resize_if_better(texopt_job *job, const texopt_params *p,
             snprintf(ds->input_layout_kept, sizeof ds->input_layout_kept,
                      "its new layout's q on the choice's views, %.6g, is not below the %.6g of its input layout "
                      "resized with Lanczos-3 to the same %dx%d texture; the input layout is kept, its images "
-                     "resized", ev[0].q, ev[1].q, ds->output_width, ds->output_height);
+                     "resized",
+                     ev[0].q, ev[1].q, ds->output_width, ds->output_height);
         if (st == TEXOPT_OK) {
             ds->has_resize_check = 1;
             ds->resize_check_kept = kept;

@@ -15,7 +15,7 @@
 
 /* Judges the domains of *out (the budget p's kept layout, statistics in job->stats) and puts
  * the resize in place of those it keeps; progress at `at` of the job. */
-texopt_status job_keep_resize_if_better(texopt_job *job, const texopt_params *p, job_output *out, double at,
-                                        char *err, size_t err_len);
+texopt_status job_keep_resize_if_better(texopt_job *job, const texopt_params *p, job_output *out, double at, char *err,
+                                        size_t err_len);
 
 #endif

@@ -3,17 +3,17 @@
 
 #include <math.h>
 
-texopt_status texopt_search_target_loss(texopt_loss_at_cost_fn loss_at, void *user, double target,
-                                        double cost_min, double cost_max, double tolerance,
-                                        int max_evaluations, texopt_target_search *out, char *err,
-                                        size_t err_len)
+texopt_status texopt_search_target_loss(texopt_loss_at_cost_fn loss_at, void *user, double target, double cost_min,
+                                        double cost_max, double tolerance, int max_evaluations,
+                                        texopt_target_search *out, char *err, size_t err_len)
 {
     if (!loss_at || !out)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "target search: missing callback or result");
     if (!(target > 0) || !(cost_min > 0 && cost_min < cost_max && cost_max <= 4))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "target search: target %g and cost range [%g, %g] must be positive, "
-                           "increasing and at most 4", target, cost_min, cost_max);
+                           "increasing and at most 4",
+                           target, cost_min, cost_max);
     if (tolerance <= 0)
         tolerance = 0.05;
     if (max_evaluations <= 0)

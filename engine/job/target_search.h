@@ -14,8 +14,7 @@
 #include "status.h"
 
 /* q at relative cost c (run the layout at that budget, evaluate it); non-OK stops the search. */
-typedef texopt_status (*texopt_loss_at_cost_fn)(void *user, double relative_cost, double *q,
-                                                char *err, size_t err_len);
+typedef texopt_status (*texopt_loss_at_cost_fn)(void *user, double relative_cost, double *q, char *err, size_t err_len);
 
 typedef struct texopt_target_search {
     double relative_cost; /* smallest cost found with q <= target (or cost_max if none) */
@@ -31,9 +30,8 @@ typedef struct texopt_target_search {
  * bracket's ratio is below 1 + tolerance (tolerance 0 -> 0.05) or max_evaluations (0 -> 12)
  * calls were made. Evaluates cost_max first: when it misses the target the search stops
  * with reached = 0. */
-texopt_status texopt_search_target_loss(texopt_loss_at_cost_fn loss_at, void *user, double target,
-                                        double cost_min, double cost_max, double tolerance,
-                                        int max_evaluations, texopt_target_search *out, char *err,
-                                        size_t err_len);
+texopt_status texopt_search_target_loss(texopt_loss_at_cost_fn loss_at, void *user, double target, double cost_min,
+                                        double cost_max, double tolerance, int max_evaluations,
+                                        texopt_target_search *out, char *err, size_t err_len);
 
 #endif
