@@ -1,5 +1,5 @@
-/* http_internal.h - what the request handlers (jobs.c, events.c, probes.c) share with the
- * libmicrohttpd glue in http.c. Not a public interface. */
+/* http_internal.h - what the request handlers (jobs.c, events.c, probes.c, web.c) share with
+ * the libmicrohttpd glue in http.c and the answers in respond.c. Not a public interface. */
 #ifndef TEXOPT_API_HTTP_INTERNAL_H
 #define TEXOPT_API_HTTP_INTERNAL_H
 
@@ -46,6 +46,10 @@ enum MHD_Result http_send_text(request_ctx *rq, struct MHD_Connection *c, int st
  * 405 adds Allow, 401 WWW-Authenticate. */
 enum MHD_Result http_send_problem(request_ctx *rq, struct MHD_Connection *c, int status, const char *slug,
                                   int retry_after, const char *fmt, ...) __attribute__((format(printf, 6, 7)));
+
+/* The answer to an OPTIONS request: Allow, and the CORS preflight's headers when the Origin
+ * may read the answer. */
+enum MHD_Result http_answer_options(request_ctx *rq, struct MHD_Connection *c);
 
 /* Route handlers. */
 enum MHD_Result jobs_post_headers(request_ctx *rq, struct MHD_Connection *c);  /* first call */
