@@ -105,20 +105,23 @@ static void free_targets(texopt_triangle_target **targets, int n)
 }
 
 /* One round of the refinement: the layout of r->next as a candidate, with its loss and
- * per-triangle errors (into r->next_error) on the refinement's cameras against the input's
- * kept views, lit or of base colour. */
-static texopt_status refinement_trial(texopt_job *job, const layout_run *made_by, const refinement *r, int lit,
-                                      const texopt_evaluate_reference *views, candidate *trial, double from, double to,
-                                      char *err, size_t err_len)
+ * per-triangle errors (into r->next_error) on screen (the refinement's cameras against the
+ * input's kept views, lit or of base colour). */
+static texopt_status refinement_trial(texopt_job *job, const layout_run *made_by, const refinement *r,
+                                      const job_screen *screen, candidate *trial, double from, double to, char *err,
+                                      size_t err_len)
 {
-    layout_run round = {
-        .p = made_by->p, .source = made_by->source, .refined = r->next, .plan = lit ? BAKE_DRAFT_REST : BAKE_EVALUATED};
+    layout_run round = {.p = made_by->p,
+                        .source = made_by->source,
+                        .refined = r->next,
+                        .plan = screen->lit ? BAKE_DRAFT_REST : BAKE_EVALUATED};
     texopt_status st = job_run_candidate(job, &round, trial, from, from + 0.8 * (to - from), err, err_len);
     const job_output *shown = &trial->out;
     if (st == TEXOPT_OK) {
         job_stage(&job->jm, "evaluate", from + 0.8 * (to - from), to);
-        job_screen screen = {CHOICE_CAMERAS, lit, views, r->next_error};
-        st = job_evaluate_outputs(job, &shown, 1, made_by->p, &screen, &trial->ev, err, err_len);
+        job_screen errors = *screen;
+        errors.triangle_error = r->next_error;
+        st = job_evaluate_outputs(job, &shown, 1, made_by->p, &errors, &trial->ev, err, err_len);
     }
     return st;
 }
@@ -171,8 +174,8 @@ texopt_status job_refine_kept(texopt_job *job, const layout_run *made_by, candid
         texopt_evaluate_options opt = job_evaluation_options(p, CHOICE_CAMERAS, lit, &job->jm);
         st = texopt_evaluate_reference_create(job->model, &opt, &views, err, err_len);
     }
+    job_screen screen = {CHOICE_CAMERAS, lit, views, r.error}; /* a round's errors: r.next_error */
     if (st == TEXOPT_OK) {
-        job_screen screen = {CHOICE_CAMERAS, lit, views, r.error};
         st = job_evaluate_outputs(job, &shown, 1, p, &screen, &best_ev, err, err_len);
         rec->q_before = best_ev.q;
     }
@@ -180,8 +183,8 @@ texopt_status job_refine_kept(texopt_job *job, const layout_run *made_by, candid
         candidate trial = {0};
         st = reallocate_domains(job, made_by->source, kept->domains, &r, err, err_len);
         if (st == TEXOPT_OK)
-            st = refinement_trial(job, made_by, &r, lit, views, &trial, from + span * (k + 1), from + span * (k + 2),
-                                  err, err_len);
+            st = refinement_trial(job, made_by, &r, &screen, &trial, from + span * (k + 1), from + span * (k + 2), err,
+                                  err_len);
         if (st == TEXOPT_OK && trial.ev.q < best_ev.q) {
             job_stats_free_domains(kept->domains, nd);
             job_output_destroy(&kept->out, job->model->image_count);
