@@ -1,0 +1,147 @@
+#!/usr/bin/env bash
+# service_nodes: three texoptd nodes share one PostgreSQL job store (a throw-away cluster in
+# a temp directory) and one blob directory. 30 jobs are submitted across the nodes; one node
+# is killed with SIGKILL while it runs a job and is not restarted: every job succeeds exactly
+# once (the killed node's job runs again elsewhere once its lease runs out), every result is
+# a valid model, and events of a job reach clients connected to other nodes. A cancel sent
+# to one node stops the job another node runs. With the database stopped, /readyz and
+# uploads answer 503 + Retry-After; once it is back, uploads are accepted again.
+source "$(dirname "$0")/pg_cluster.bash"
+SPOT="$TEXOPT_SOURCE_DIR/tests/data/spot/spot.glb"
+JOB_QUERY="method=input" # a fraction of a second: the queue's work, not the engine's
+: "${TEXOPT_BIN:?TEXOPT_BIN must name the texopt binary}"
+
+pg_start || fail "cannot start a PostgreSQL cluster"
+BLOBS="$WORK/blobs"
+declare -a NODE_PID NODE_BASE
+start_node() { # start_node N: node N on a free loopback port
+  local n="$1"
+  rm -f "$WORK/port$n"
+  "$TEXOPTD_BIN" --bind 127.0.0.1 --port 0 --port-file "$WORK/port$n" --data-dir "$WORK/node$n" \
+    --store "$PG_URL" --blob-dir "$BLOBS" --lease-seconds 3 --workers 1 --queue-limit 100 \
+    >>"$WORK/node$n.log" 2>&1 &
+  NODE_PID[$n]=$!
+  for _ in $(seq 1 150); do
+    [ -s "$WORK/port$n" ] && break
+    kill -0 "${NODE_PID[$n]}" 2>/dev/null || fail "node $n exited at start: $(tail -n 5 "$WORK/node$n.log")"
+    sleep 0.1
+  done
+  [ -s "$WORK/port$n" ] || fail "node $n did not start"
+  NODE_BASE[$n]="http://127.0.0.1:$(cat "$WORK/port$n")"
+}
+stop_nodes() {
+  for n in 1 2 3; do
+    if [ -n "${NODE_PID[$n]:-}" ] && kill -0 "${NODE_PID[$n]}" 2>/dev/null; then
+      kill -9 "${NODE_PID[$n]}" 2>/dev/null || true
+      wait "${NODE_PID[$n]}" 2>/dev/null || true
+    fi
+  done
+}
+cleanup_all() {
+  stop_nodes
+  pg_stop
+  cleanup
+}
+trap cleanup_all EXIT
+for n in 1 2 3; do start_node "$n"; done
+
+# Events: streams opened on nodes 1 and 2 for a job submitted to node 3 (at most one of them
+# is the node that runs it). This job also writes a report, published with its result.
+BASE="${NODE_BASE[3]}"
+[ "$(post_glb "$SPOT" "$JOB_QUERY&evaluate=true")" = 202 ] || fail "first upload: $(cat "$WORK/resp")"
+watched=$(json "$WORK/resp" 'd["id"]')
+stream_pids=()
+for n in 1 2; do
+  curl -s -N --max-time 90 "${NODE_BASE[$n]}/v1/jobs/$watched/events" >"$WORK/events$n" &
+  stream_pids+=($!)
+done
+
+# 30 jobs in all, round-robin over the nodes.
+ids=("$watched")
+for i in $(seq 2 30); do
+  BASE="${NODE_BASE[$((i % 3 + 1))]}"
+  [ "$(post_glb "$SPOT" "$JOB_QUERY")" = 202 ] || fail "upload $i: $(cat "$WORK/resp")"
+  ids+=("$(json "$WORK/resp" 'd["id"]')")
+done
+
+# Node 3 dies in the middle of a job. Its /metrics says when it runs one; it is frozen
+# (SIGSTOP) to read its log: the job it took last must not have ended, else it thaws and
+# the wait goes on.
+killed_job=""
+for _ in $(seq 1 1000); do
+  if curl -s "${NODE_BASE[3]}/metrics" | grep -q '^texopt_workers_busy 1$'; then
+    kill -STOP "${NODE_PID[3]}"
+    last=$(grep 'event=job .*state=running' "$WORK/node3.log" | tail -n 1 | sed 's/.* job=\([0-9a-f]*\) .*/\1/')
+    if [ -n "$last" ] && ! grep -q "job=$last state=succeeded" "$WORK/node3.log"; then
+      killed_job=$last
+      kill -9 "${NODE_PID[3]}"
+      break
+    fi
+    kill -CONT "${NODE_PID[3]}"
+  fi
+  sleep 0.01
+done
+[ -n "$killed_job" ] || fail "node 3 was never caught running a job"
+wait "${NODE_PID[3]}" 2>/dev/null || true
+NODE_PID[3]=""
+
+BASE="${NODE_BASE[1]}"
+for id in "${ids[@]}"; do wait_state "$id" succeeded 150; done
+[ "$(get "/v1/jobs/$killed_job")" = 200 ] || fail "the killed node's job is gone"
+[ "$(json "$WORK/resp" 'd["attempts"]')" -ge 2 ] || fail "the killed node's job did not run again: $(cat "$WORK/resp")"
+grep -q "job=$killed_job action=queued reason=lease-expired" "$WORK"/node[12].log ||
+  fail "no node took back the killed node's job"
+
+# Exactly once: one succeeded per job over every node's log, none for an unknown job.
+cat "$WORK"/node[123].log | grep 'event=job .*state=succeeded' | sed 's/.* job=\([0-9a-f]*\) .*/\1/' | sort >"$WORK/succeeded"
+[ "$(wc -l <"$WORK/succeeded")" = 30 ] || fail "$(wc -l <"$WORK/succeeded") successes logged for 30 jobs"
+[ "$(sort -u "$WORK/succeeded" | wc -l)" = 30 ] || fail "a job was reported succeeded twice"
+printf '%s\n' "${ids[@]}" | sort | cmp -s - "$WORK/succeeded" || fail "successes are not the 30 jobs"
+
+# Every result is a model texopt can read, whichever node is asked.
+mkdir -p "$WORK/results"
+for i in "${!ids[@]}"; do
+  base="${NODE_BASE[$((i % 2 + 1))]}"
+  code=$(curl -s -o "$WORK/results/${ids[$i]}.glb" -w '%{http_code}' "$base/v1/jobs/${ids[$i]}/result")
+  [ "$code" = 200 ] || fail "result of ${ids[$i]}: HTTP $code"
+done
+ls "$WORK"/results/*.glb | xargs -P 2 -I{} sh -c '"$0" info "$1" >"$1.info" 2>&1 || { echo "invalid: $1"; cat "$1.info"; exit 1; }' \
+  "$TEXOPT_BIN" {} || fail "a result does not validate"
+[ "$(get "/v1/jobs/${ids[0]}/report")" = 200 ] || fail "the report of a job run on another node"
+
+wait "${stream_pids[@]}" || true # the streams end after the finished state
+for n in 1 2; do
+  grep -q '"state":"running"' "$WORK/events$n" || fail "the start did not reach node $n: $(cat "$WORK/events$n")"
+  grep -q '"state":"succeeded"' "$WORK/events$n" || fail "the end did not reach node $n: $(tail -n 3 "$WORK/events$n")"
+done
+
+# A cancel sent to one node reaches the node running the job.
+[ "$(post_glb "$SPOT" "method=ssp")" = 202 ] || fail "upload to cancel"
+long=$(json "$WORK/resp" 'd["id"]')
+wait_state "$long" running 60
+runner=$(grep -l "job=$long state=running" "$WORK"/node[12].log)
+other=1
+[ "$runner" = "$WORK/node1.log" ] && other=2
+[ "$(curl -s -o /dev/null -w '%{http_code}' -X DELETE "${NODE_BASE[$other]}/v1/jobs/$long")" = 202 ] ||
+  fail "cancel through node $other"
+wait_state "$long" canceled 30
+
+# The database goes away: no node is ready and uploads are refused with Retry-After (nothing
+# is accepted that could be lost); when it is back, they are accepted again.
+pg_stop
+for _ in $(seq 1 50); do
+  [ "$(get /readyz)" = 503 ] && break
+  sleep 0.1
+done
+expect_problem 503 "$(get /readyz)" database-unavailable
+expect_problem 503 "$(post_glb "$SPOT" "$JOB_QUERY")" database-unavailable
+grep -qi '^retry-after: [1-9]' "$WORK/headers" || fail "503 without Retry-After"
+pg_start_again || fail "cannot restart PostgreSQL"
+for _ in $(seq 1 100); do
+  [ "$(get /readyz)" = 200 ] && break
+  sleep 0.1
+done
+[ "$(get /readyz)" = 200 ] || fail "not ready after the database came back: $(cat "$WORK/resp")"
+[ "$(post_glb "$SPOT" "method=input")" = 202 ] || fail "upload after the database came back: $(cat "$WORK/resp")"
+wait_state "$(json "$WORK/resp" 'd["id"]')" succeeded 60
+echo "service_nodes: ok"
