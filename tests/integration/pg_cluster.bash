@@ -6,6 +6,7 @@
 #                 its unix socket in $WORK/pg and no TCP listener; sets PG_URL.
 # pg_stop         stops it at once (as a crash would), when running.
 # pg_start_again  starts the stopped cluster on the same port.
+# PG_FSYNC=on makes commits durable (off by default: a test's cluster is thrown away).
 source "$(dirname "${BASH_SOURCE[0]}")/service_common.bash"
 
 PG_BIN=$(ls -d /usr/lib/postgresql/*/bin 2>/dev/null | sort -V | tail -n 1)
@@ -19,7 +20,7 @@ pg_as() {
 
 pg_start_again() {
   pg_as "$PG_BIN/pg_ctl" -D "$PG_DIR/data" -l "$PG_DIR/log" -w -t 30 \
-    -o "-p $PG_PORT -k $PG_DIR -c listen_addresses= -c fsync=off -c max_connections=200" start >/dev/null
+    -o "-p $PG_PORT -k $PG_DIR -c listen_addresses= -c fsync=${PG_FSYNC:-off} -c max_connections=200" start >/dev/null
 }
 
 pg_start() {
