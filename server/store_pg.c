@@ -347,6 +347,20 @@ static void pg_counts(job_store *base, int counts[JOB_STATE_COUNT])
 
 /* ---- leases ------------------------------------------------------------------------- */
 
+/* The CLOCK_REALTIME time ms from now, for pthread_cond_timedwait. */
+static struct timespec realtime_in(int ms)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_REALTIME, &t);
+    t.tv_sec += ms / 1000;
+    t.tv_nsec += (long)(ms % 1000) * 1000000L;
+    if (t.tv_nsec >= 1000000000L) {
+        t.tv_sec++;
+        t.tv_nsec -= 1000000000L;
+    }
+    return t;
+}
+
 /* Leases the oldest queued job (only job `id` when not empty) to this node. */
 static store_job *lease(pg_store *s, const char *id, job_record *out, const atomic_int **cancel)
 {
@@ -403,14 +417,7 @@ static store_job *pg_lease_next(job_store *base, int timeout_ms, job_record *out
     store_job *job = lease(s, "", out, cancel);
     if (job)
         return job;
-    struct timespec deadline;
-    clock_gettime(CLOCK_REALTIME, &deadline);
-    deadline.tv_sec += timeout_ms / 1000;
-    deadline.tv_nsec += (long)(timeout_ms % 1000) * 1000000L;
-    if (deadline.tv_nsec >= 1000000000L) {
-        deadline.tv_sec++;
-        deadline.tv_nsec -= 1000000000L;
-    }
+    struct timespec deadline = realtime_in(timeout_ms);
     pthread_mutex_lock(&s->mu);
     int timed_out = 0;
     while (s->queue_gen == gen && !s->closing && !timed_out)
@@ -830,16 +837,7 @@ static int pg_wait_event(job_store *base, const char *id, long long after_seq, i
         int64_t left = deadline - store_now_ms();
         if (left <= 0)
             return 0;
-        if (left > WAKE_MS)
-            left = WAKE_MS;
-        struct timespec until;
-        clock_gettime(CLOCK_REALTIME, &until);
-        until.tv_sec += left / 1000;
-        until.tv_nsec += (long)(left % 1000) * 1000000L;
-        if (until.tv_nsec >= 1000000000L) {
-            until.tv_sec++;
-            until.tv_nsec -= 1000000000L;
-        }
+        struct timespec until = realtime_in(left > WAKE_MS ? WAKE_MS : (int)left);
         pthread_mutex_lock(&s->mu);
         while (s->events_gen == gen && !s->closing)
             if (pthread_cond_timedwait(&s->events_changed, &s->mu, &until) == ETIMEDOUT)
@@ -881,7 +879,7 @@ static void pg_close(job_store *base)
 }
 
 /* Creates or upgrades the schema, one node at a time. */
-static int migrate(pg_store *s, PGconn *conn, char *err, size_t err_len)
+static int migrate(PGconn *conn, char *err, size_t err_len)
 {
     PGresult *res = PQexec(conn, "BEGIN; SELECT pg_advisory_xact_lock(" SCHEMA_LOCK_KEY "); "
                                  "CREATE TABLE IF NOT EXISTS texopt_schema (version integer NOT NULL); "
@@ -918,7 +916,6 @@ static int migrate(pg_store *s, PGconn *conn, char *err, size_t err_len)
     PQclear(res);
     if (!ok)
         texopt_fail(err, err_len, TEXOPT_E_IO, "cannot record the schema version: %s", PQerrorMessage(conn));
-    (void)s;
     return ok ? 0 : -1;
 }
 
@@ -957,7 +954,7 @@ job_store *pg_store_open(const service_config *config, char *err, size_t err_len
         pg_close(&s->base);
         return NULL;
     }
-    int migrated = migrate(s, conn, err, err_len);
+    int migrated = migrate(conn, err, err_len);
     s->pool[0] = conn;
     if (migrated != 0 || pthread_create(&s->node_thread, NULL, node_main, s) != 0) {
         if (migrated == 0)
