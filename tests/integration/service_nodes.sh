@@ -44,7 +44,7 @@ wait_all_succeeded() {
     left=$(/usr/bin/python3 -c 'import json, sys
 d = {j["id"]: j["state"] for j in json.load(open(sys.argv[1]))["jobs"]}
 bad = [i for i in sys.argv[2:] if d.get(i) in ("failed", "canceled")]
-if bad: sys.exit("ended badly: " + " ".join(bad))
+if bad: print("jobs ended badly: " + " ".join(bad)); sys.exit(1)
 print(sum(d.get(i) != "succeeded" for i in sys.argv[2:]))' "$WORK/list" "$@") || fail "$left"
     [ "$left" = 0 ] && return 0
     sleep 0.2
