@@ -2,6 +2,7 @@
 #define _DEFAULT_SOURCE
 #include "store_pg.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <libpq-fe.h>
 #include <limits.h>
@@ -26,6 +27,9 @@
 #define POOL_SIZE 16
 /* Any wait for a notification also ends after this long (a lost one only delays). */
 #define WAKE_MS 1000
+/* A job directory without a row this old is an upload its node died in (a job's directory
+ * exists before its row is committed); far longer than any upload may take. */
+#define ORPHAN_AGE_SECONDS (24 * 3600)
 /* Key of the advisory lock that serialises schema migrations across nodes. */
 #define SCHEMA_LOCK_KEY "4407202611"
 
@@ -799,9 +803,69 @@ static int pg_delete(job_store *base, const char *id)
     return rc == STORE_OK ? STORE_CONFLICT : rc;
 }
 
+static int is_job_id(const char *name)
+{
+    size_t n = strspn(name, "0123456789abcdef");
+    return n == JOB_ID_LEN && name[n] == '\0';
+}
+
+/* "{id,id,...}": the job directories older than ORPHAN_AGE_SECONDS, as a text[] literal
+ * (ids are hex). NULL when there are none. Caller frees. */
+static char *old_job_dirs(const pg_store *s, time_t now)
+{
+    DIR *d = opendir(s->jobs_dir);
+    if (!d)
+        return NULL;
+    char *list = NULL;
+    size_t len = 0, cap = 0;
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL) {
+        char path[PATH_MAX];
+        struct stat st;
+        snprintf(path, sizeof path, "%s/%s", s->jobs_dir, e->d_name);
+        if (!is_job_id(e->d_name) || stat(path, &st) != 0 || st.st_mtime > now - ORPHAN_AGE_SECONDS)
+            continue;
+        if (len + JOB_ID_LEN + 3 > cap) {
+            cap = cap ? cap * 2 : 64 * (JOB_ID_LEN + 1);
+            char *grown = realloc(list, cap);
+            if (!grown)
+                break;
+            list = grown;
+        }
+        len += (size_t)snprintf(list + len, cap - len, "%c%s", len ? ',' : '{', e->d_name);
+    }
+    closedir(d);
+    if (list)
+        snprintf(list + len, cap - len, "}");
+    return list;
+}
+
+/* Removes the directories of uploads whose node died before the job was recorded. */
+static void remove_orphan_uploads(pg_store *s)
+{
+    char *ids = old_job_dirs(s, time(NULL));
+    if (!ids)
+        return;
+    const char *params[] = {ids};
+    PGresult *res = exec_sql(s,
+                             "SELECT u.id FROM unnest($1::text[]) AS u(id) "
+                             "WHERE NOT EXISTS (SELECT 1 FROM texopt_jobs j WHERE j.id = u.id)",
+                             1, params);
+    free(ids);
+    for (int i = 0; res && i < PQntuples(res); i++) {
+        char dir[PATH_MAX];
+        pg_job_dir(&s->base, PQgetvalue(res, i, 0), dir, sizeof dir);
+        log_event("level=info event=recover dir=%s action=remove reason=no-job-row", PQgetvalue(res, i, 0));
+        fs_remove_tree(dir);
+    }
+    PQclear(res);
+}
+
+/* Also sweeps the blob directory for orphaned uploads (the on-disk store does that at open). */
 static int pg_expire(job_store *base, int64_t now_ms, int64_t retention_ms)
 {
     pg_store *s = as_pg(base);
+    remove_orphan_uploads(s);
     char before[32];
     snprintf(before, sizeof before, "%lld", (long long)(now_ms - retention_ms));
     const char *params[] = {before};

@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # service_nodes: three texoptd nodes share one PostgreSQL job store (a throw-away cluster in
 # a temp directory) and one blob directory. 30 jobs are submitted across the nodes; one node
-# is killed with SIGKILL while it runs a job and is not restarted: every job succeeds exactly
+# is killed with SIGKILL while it runs a job and not restarted (until the last check): every job succeeds exactly
 # once (the killed node's job runs again elsewhere once its lease runs out), every result is
 # a valid model, and events of a job reach clients connected to other nodes. A cancel sent
 # to one node stops the job another node runs. With the database stopped, /readyz and
 # uploads answer 503 + Retry-After; once it is back, uploads are accepted again. With
-# --max-attempts 1, the job of a killed node fails with the reason instead of running again.
+# --max-attempts 1, the job of a killed node fails with the reason instead of running again,
+# and a day-old upload directory without a job is swept away.
 source "$(dirname "$0")/pg_cluster.bash"
 SPOT="$TEXOPT_SOURCE_DIR/tests/data/spot/spot.glb"
 JOB_QUERY="method=input" # a fraction of a second: the queue's work, not the engine's
@@ -68,43 +69,48 @@ trap cleanup_all EXIT
 for n in 1 2 3; do launch_node "$n"; done
 for n in 1 2 3; do await_node "$n"; done
 
-# Events: streams opened on nodes 1 and 2 for a job submitted to node 3 (at most one of them
-# is the node that runs it). This job also writes a report, published with its result.
-BASE="${NODE_BASE[3]}"
-[ "$(post_glb "$SPOT" "$JOB_QUERY&evaluate=true")" = 202 ] || fail "first upload: $(cat "$WORK/resp")"
-watched=$(json "$WORK/resp" 'd["id"]')
-stream_pids=()
-for n in 1 2; do
-  curl -s -N --max-time 90 "${NODE_BASE[$n]}/v1/jobs/$watched/events" >"$WORK/events$n" &
-  stream_pids+=($!)
-done
+# Node 3 dies in the middle of a job, while the jobs below are uploaded. Its /metrics says
+# when it runs one; it is frozen (SIGSTOP) to read which job it took last from its log: that
+# job must still be running (asked of node 1: a frozen node commits nothing), else it thaws
+# and the watch goes on. The job's id goes to $WORK/killed.
+kill_node3_mid_job() {
+  for _ in $(seq 1 2000); do
+    if curl -s "${NODE_BASE[3]}/metrics" | grep -q '^texopt_workers_busy 1$'; then
+      kill -STOP "${NODE_PID[3]}"
+      last=$(grep 'event=job .*state=running' "$WORK/node3.log" | tail -n 1 | sed 's/.* job=\([0-9a-f]*\) .*/\1/')
+      if [ -n "$last" ] && [ "$(curl -s "${NODE_BASE[1]}/v1/jobs/$last" | sed -n 's/.*"state":"\([a-z]*\)".*/\1/p')" = running ]; then
+        kill -9 "${NODE_PID[3]}"
+        echo "$last" >"$WORK/killed"
+        return 0
+      fi
+      kill -CONT "${NODE_PID[3]}"
+    fi
+    sleep 0.01
+  done
+}
+kill_node3_mid_job &
+watcher=$!
 
-# 30 jobs in all, round-robin over the nodes.
-ids=("$watched")
-for i in $(seq 2 30); do
-  BASE="${NODE_BASE[$((i % 3 + 1))]}"
-  [ "$(post_glb "$SPOT" "$JOB_QUERY")" = 202 ] || fail "upload $i: $(cat "$WORK/resp")"
+# 30 jobs uploaded to nodes 1 and 2 in turn (node 3 is the one to die); every node takes
+# jobs from the shared queue. Events: streams opened on nodes 1 and 2 for the last one (at
+# most one of them is the node that runs it); it waits behind the others, so the streams see
+# it queued, running and succeeded.
+ids=()
+for i in $(seq 1 30); do
+  n=$((i % 2 + 1))
+  BASE="${NODE_BASE[$n]}"
+  [ "$(post_glb "$SPOT" "$JOB_QUERY")" = 202 ] || fail "upload $i to node $n: $(cat "$WORK/resp")"
   ids+=("$(json "$WORK/resp" 'd["id"]')")
 done
-
-# Node 3 dies in the middle of a job. Its /metrics says when it runs one; it is frozen
-# (SIGSTOP) to read which job it took last from its log: that job must still be running
-# (asked of node 1: a frozen node commits nothing), else it thaws and the wait goes on.
-killed_job=""
-for _ in $(seq 1 1000); do
-  if curl -s "${NODE_BASE[3]}/metrics" | grep -q '^texopt_workers_busy 1$'; then
-    kill -STOP "${NODE_PID[3]}"
-    last=$(grep 'event=job .*state=running' "$WORK/node3.log" | tail -n 1 | sed 's/.* job=\([0-9a-f]*\) .*/\1/')
-    if [ -n "$last" ] && [ "$(curl -s "${NODE_BASE[1]}/v1/jobs/$last" | sed -n 's/.*"state":"\([a-z]*\)".*/\1/p')" = running ]; then
-      killed_job=$last
-      kill -9 "${NODE_PID[3]}"
-      break
-    fi
-    kill -CONT "${NODE_PID[3]}"
-  fi
-  sleep 0.01
+watched="${ids[29]}"
+stream_pids=()
+for n in 1 2; do
+  curl -s -N --max-time 120 "${NODE_BASE[$n]}/v1/jobs/$watched/events" >"$WORK/events$n" &
+  stream_pids+=($!)
 done
-[ -n "$killed_job" ] || fail "node 3 was never caught running a job"
+wait "$watcher"
+[ -s "$WORK/killed" ] || fail "node 3 was never caught running a job"
+killed_job=$(cat "$WORK/killed")
 wait "${NODE_PID[3]}" 2>/dev/null || true
 NODE_PID[3]=""
 
@@ -133,7 +139,6 @@ done
 sha256sum "$WORK"/results/*.glb | sort -u -k1,1 | while read -r _ file; do
   "$TEXOPT_BIN" info "$file" >"$file.info" 2>&1 || fail "$file does not validate: $(cat "$file.info")"
 done
-[ "$(get "/v1/jobs/${ids[0]}/report")" = 200 ] || fail "the report of a job run on another node"
 
 wait "${stream_pids[@]}" || true # the streams end after the finished state
 for n in 1 2; do
@@ -187,6 +192,11 @@ wait_state "$doomed" running 60
 kill -9 "${NODE_PID[3]}"
 wait "${NODE_PID[3]}" 2>/dev/null || true
 NODE_PID[3]=""
+# Also: an upload directory without a job (its node died mid-upload) a day old is removed
+# when node 4 starts (its first retention sweep); an old directory of a job is kept.
+orphan="$BLOBS/jobs/$(printf '%032d' 7)"
+mkdir -p "$orphan/input"
+touch -d '2 days ago' "$orphan" "$BLOBS/jobs/${ids[1]}"
 start_node 4 --max-attempts 1
 BASE="${NODE_BASE[4]}"
 for _ in $(seq 1 100); do
@@ -196,4 +206,6 @@ done
 [ "$(json "$WORK/resp" 'd["state"]')" = failed ] || fail "the job of a killed node was not failed: $(cat "$WORK/resp")"
 [ "$(json "$WORK/resp" 'd["problem"]["type"]')" = urn:texopt:problem:attempts-exhausted ] ||
   fail "no reason for the failure: $(cat "$WORK/resp")"
+[ ! -e "$orphan" ] || fail "the orphaned upload directory is still there"
+[ "$(get "/v1/jobs/${ids[1]}/result")" = 200 ] || fail "an old job's files were removed"
 echo "service_nodes: ok"
