@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # service_nodes: three texoptd nodes share one PostgreSQL job store (a throw-away cluster in
 # a temp directory) and one blob directory. 30 jobs are submitted across the nodes; one node
-# is killed with SIGKILL while it runs a job and not restarted (until the last check): every job succeeds exactly
-# once (the killed node's job runs again elsewhere once its lease runs out), every result is
+# is killed with SIGKILL while it runs a job and not restarted (until the last check): every
+# job succeeds exactly once (the killed node's job runs again elsewhere once its lease runs
+# out), every result is
 # a valid model, and events of a job reach clients connected to other nodes. A cancel sent
 # to one node stops the job another node runs. With the database stopped, /readyz and
 # uploads answer 503 + Retry-After; once it is back, uploads are accepted again. With
