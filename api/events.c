@@ -117,7 +117,10 @@ static long long last_event_id(struct MHD_Connection *c)
 enum MHD_Result jobs_events(request_ctx *rq, struct MHD_Connection *c)
 {
     job_record job;
-    if (store_get(rq->svc->store, rq->match.id, &job) != STORE_OK)
+    int rc = store_get(rq->svc->store, rq->match.id, &job);
+    if (rc == STORE_IO)
+        return http_store_unreachable(rq, c);
+    if (rc != STORE_OK)
         return http_send_problem(rq, c, 404, "job-not-found", 0, "no job %s", rq->match.id);
     event_stream *s = calloc(1, sizeof *s);
     if (!s)

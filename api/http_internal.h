@@ -63,6 +63,14 @@ enum MHD_Result jobs_events(request_ctx *rq, struct MHD_Connection *c);
 enum MHD_Result probes_answer(request_ctx *rq, struct MHD_Connection *c); /* healthz, readyz, metrics, openapi, params */
 enum MHD_Result web_answer(request_ctx *rq, struct MHD_Connection *c);    /* the page and its files */
 
+/* Jobs waiting for a worker: this node's queue, or the shared store's queued jobs (the
+ * --queue-limit then bounds them over every node). */
+int api_queue_depth(api_service *svc);
+
+/* 503 + Retry-After: the store's database cannot be reached now (what is asked is not lost:
+ * nothing was recorded). */
+enum MHD_Result http_store_unreachable(request_ctx *rq, struct MHD_Connection *c);
+
 /* Removes the directory of an upload that did not become a job. */
 void jobs_post_abandon(request_ctx *rq);
 

@@ -90,7 +90,9 @@ enum MHD_Result jobs_post_headers(request_ctx *rq, struct MHD_Connection *c)
         return http_send_problem(rq, c, 413, "body-too-large", 0,
                                  "the body of %s bytes is larger than the limit of %llu bytes", length,
                                  (unsigned long long)svc->config.max_upload_bytes);
-    if (!rq->key_known && queue_depth(svc->queue) >= queue_limit(svc->queue))
+    if (!rq->key_known && store_unreachable(svc->store))
+        return http_store_unreachable(rq, c);
+    if (!rq->key_known && api_queue_depth(svc) >= queue_limit(svc->queue))
         return http_send_problem(rq, c, 503, "queue-full", QUEUE_FULL_RETRY_SECONDS,
                                  "the job queue is full (%d jobs waiting); retry later", queue_limit(svc->queue));
     if (!rq->key_known && !store_can_store(svc->store, length ? strtoull(length, NULL, 10) : 0))
@@ -211,10 +213,13 @@ static enum MHD_Result accept_job(request_ctx *rq, struct MHD_Connection *c, con
     int rc = store_add(svc->store, &job, &existing);
     if (rc == STORE_DUPLICATE)
         return answer_known_key(rq, c, &existing, digest); /* a concurrent request won the race */
+    if (rc != STORE_OK && store_unreachable(svc->store))
+        return http_store_unreachable(rq, c);
     if (rc != STORE_OK)
         return storage_full(rq, c, "the job cannot be recorded now (the disk is full)");
     rq->job_accepted = 1;
-    int pushed = queue_push(svc->queue, job.id, 0);
+    /* A shared store's workers lease the job from the database, on any node. */
+    int pushed = store_shared(svc->store) ? QUEUE_OK : queue_push(svc->queue, job.id, 0);
     if (pushed != QUEUE_OK) {
         job_record gone;
         store_cancel(svc->store, job.id, &gone);
@@ -318,7 +323,10 @@ static enum MHD_Result no_such_job(request_ctx *rq, struct MHD_Connection *c)
 enum MHD_Result jobs_get(request_ctx *rq, struct MHD_Connection *c)
 {
     job_record job;
-    if (store_get(rq->svc->store, rq->match.id, &job) != STORE_OK)
+    int rc = store_get(rq->svc->store, rq->match.id, &job);
+    if (rc == STORE_IO)
+        return http_store_unreachable(rq, c);
+    if (rc != STORE_OK)
         return no_such_job(rq, c);
     return send_job(rq, c, 200, &job, 0, 0);
 }
@@ -335,6 +343,8 @@ enum MHD_Result jobs_delete(request_ctx *rq, struct MHD_Connection *c)
     case CANCEL_REQUESTED:
         return send_job(rq, c, 202, &job, 0, 0);
     case CANCEL_UNSAVED:
+        if (store_unreachable(rq->svc->store))
+            return http_store_unreachable(rq, c);
         return storage_full(rq, c, "the cancel cannot be recorded now (the disk is full); the job stays queued");
     case CANCEL_FINISHED:
         break;
@@ -393,7 +403,10 @@ static enum MHD_Result send_file(request_ctx *rq, struct MHD_Connection *c, cons
 enum MHD_Result jobs_file(request_ctx *rq, struct MHD_Connection *c)
 {
     job_record job;
-    if (store_get(rq->svc->store, rq->match.id, &job) != STORE_OK)
+    int rc = store_get(rq->svc->store, rq->match.id, &job);
+    if (rc == STORE_IO)
+        return http_store_unreachable(rq, c);
+    if (rc != STORE_OK)
         return no_such_job(rq, c);
     char dir[PATH_MAX - 32], path[PATH_MAX];
     store_job_dir(rq->svc->store, job.id, dir, sizeof dir);

@@ -122,12 +122,13 @@ int main(int argc, char **argv)
         snprintf(err, sizeof err, "cannot create %s: %s", svc.config.data_dir, strerror(errno));
         return fail_start("data-dir", err);
     }
-    svc.store = store_open(svc.config.data_dir, err, sizeof err);
+    svc.store = store_open_config(&svc.config, err, sizeof err);
     svc.queue = queue_create(svc.config.queue_limit);
     svc.metrics = metrics_create();
     if (!svc.store || !svc.queue || !svc.metrics)
         return fail_start("store", err[0] ? err : "out of memory");
-    int restored = requeue_restored(svc.store, svc.queue);
+    /* A shared store's queued jobs are in its database, not this node's queue. */
+    int restored = store_shared(svc.store) ? 0 : requeue_restored(svc.store, svc.queue);
     svc.workers = workers_start(svc.store, svc.queue, svc.metrics, &svc.config, err, sizeof err);
     if (!svc.workers)
         return fail_start("workers", err);
@@ -137,9 +138,10 @@ int main(int argc, char **argv)
         return fail_start("http", err);
     if (svc.config.port_file[0] && write_port_file(svc.config.port_file, port) != 0)
         return fail_start("port-file", strerror(errno));
-    log_event("level=info event=listening bind=%s port=%d data_dir=%s workers=%d queue_limit=%d restored=%d auth=%s",
-              svc.config.bind, port, svc.config.data_dir, svc.config.workers, svc.config.queue_limit, restored,
-              svc.config.api_token[0] ? "bearer" : "none");
+    log_event("level=info event=listening bind=%s port=%d data_dir=%s store=%s workers=%d queue_limit=%d "
+              "restored=%d auth=%s",
+              svc.config.bind, port, svc.config.data_dir, store_kind(svc.store), svc.config.workers,
+              svc.config.queue_limit, restored, svc.config.api_token[0] ? "bearer" : "none");
 
     wait_for_stop(&signals, &svc);
 

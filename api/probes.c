@@ -12,15 +12,35 @@
 #include "params_json.h"
 #include "workers.h"
 
+/* Seconds to wait before retrying while the store's database cannot be reached. */
+#define DATABASE_RETRY_SECONDS 5
+
+int api_queue_depth(api_service *svc)
+{
+    if (!store_shared(svc->store))
+        return queue_depth(svc->queue);
+    int counts[JOB_STATE_COUNT];
+    store_counts(svc->store, counts);
+    return counts[JOB_QUEUED];
+}
+
+enum MHD_Result http_store_unreachable(request_ctx *rq, struct MHD_Connection *c)
+{
+    return http_send_problem(rq, c, 503, "database-unavailable", DATABASE_RETRY_SECONDS,
+                             "the job database cannot be reached now; retry shortly");
+}
+
 static enum MHD_Result answer_ready(request_ctx *rq, struct MHD_Connection *c)
 {
     api_service *svc = rq->svc;
     if (atomic_load(&svc->draining))
         return http_send_problem(rq, c, 503, "shutting-down", 5, "the service is shutting down");
+    if (store_unreachable(svc->store))
+        return http_store_unreachable(rq, c);
     if (!store_can_store(svc->store, 0))
         return http_send_problem(rq, c, 503, "storage-full", 30,
                                  "uploads or job states cannot be stored now (the disk is full)");
-    int depth = queue_depth(svc->queue), limit = queue_limit(svc->queue);
+    int depth = api_queue_depth(svc), limit = queue_limit(svc->queue);
     if (depth >= limit)
         return http_send_problem(rq, c, 503, "queue-full", 30, "the job queue is full (%d of %d)", depth, limit);
     char body[128];
@@ -35,7 +55,8 @@ static enum MHD_Result answer_metrics(request_ctx *rq, struct MHD_Connection *c)
     store_counts(svc->store, counts);
     int busy = svc->workers ? workers_busy(svc->workers) : 0;
     int workers = svc->workers ? workers_count(svc->workers) : 0;
-    char *text = metrics_render(svc->metrics, counts, queue_depth(svc->queue), queue_limit(svc->queue), busy, workers);
+    int depth = store_shared(svc->store) ? counts[JOB_QUEUED] : queue_depth(svc->queue);
+    char *text = metrics_render(svc->metrics, counts, depth, queue_limit(svc->queue), busy, workers);
     struct MHD_Response *r = http_response_owning(text, "text/plain; version=0.0.4; charset=utf-8");
     if (!r)
         return MHD_NO;

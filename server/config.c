@@ -32,6 +32,8 @@ void config_defaults(service_config *cfg)
     cfg->max_connections_per_ip = 64;
     cfg->header_timeout_seconds = 10;
     cfg->idle_timeout_seconds = 30;
+    cfg->lease_seconds = 30;
+    cfg->max_attempts = 3;
     long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
     cfg->memory_budget = pages > 0 && page > 0 ? (uint64_t)pages * (uint64_t)page / 2 : 4ull << 30;
 }
@@ -79,6 +81,10 @@ static const setting settings[] = {
     STR_SETTING("--cors-origin", "TEXOPT_CORS_ORIGIN", cors_origin),
     STR_SETTING("--port-file", "TEXOPT_PORT_FILE", port_file),
     STR_SETTING("--web-dir", "TEXOPT_WEB_DIR", web_dir),
+    STR_SETTING("--store", "TEXOPT_STORE", store),
+    STR_SETTING("--blob-dir", "TEXOPT_BLOB_DIR", blob_dir),
+    INT_SETTING("--lease-seconds", "TEXOPT_LEASE_SECONDS", lease_seconds, 2, 3600),
+    INT_SETTING("--max-attempts", "TEXOPT_MAX_ATTEMPTS", max_attempts, 1, 100),
     STR_SETTING(NULL, "TEXOPT_API_TOKEN", api_token),
 };
 #define SETTING_COUNT (sizeof settings / sizeof settings[0])
@@ -163,11 +169,15 @@ const char *config_usage(void)
            "               [--max-pixels N] [--retention-seconds N] [--max-connections N]\n"
            "               [--max-connections-per-ip N] [--header-timeout S] [--idle-timeout S]\n"
            "               [--memory-budget BYTES] [--cors-origin LIST] [--port-file PATH]\n"
-           "               [--web-dir DIR]\n"
+           "               [--web-dir DIR] [--store postgresql://...] [--blob-dir DIR]\n"
+           "               [--lease-seconds N] [--max-attempts N]\n"
            "Slow clients: at most --max-connections-per-ip (64) connections per address, the\n"
            "request line and headers within --header-timeout seconds (10) in all, and no more\n"
            "than --idle-timeout seconds (30) without a byte. Jobs run while the memory their\n"
            "images need by estimate fits in --memory-budget (default half the RAM).\n"
            "Each flag has a TEXOPT_* environment variable (--data-dir: TEXOPT_DATA_DIR);\n"
-           "TEXOPT_API_TOKEN (environment only) turns on bearer-token authentication.\n";
+           "TEXOPT_API_TOKEN (environment only) turns on bearer-token authentication.\n"
+           "Many nodes: --store postgresql://user@host/db (or TEXOPT_STORE, which keeps a\n"
+           "password out of `ps`) keeps jobs in PostgreSQL and uploads and results in the\n"
+           "--blob-dir every node mounts; see docs/api.md, \"Deployment\".\n";
 }

@@ -21,6 +21,15 @@
  *   --web-dir DIR          TEXOPT_WEB_DIR          the page's files (web/ of the source tree,
  *                                                  or /usr/share/texopt/web when installed)
  *   --port-file PATH       TEXOPT_PORT_FILE        unset; where to write the bound port
+ *   --store URL            TEXOPT_STORE            unset = jobs on disk in --data-dir; a
+ *                                                  postgresql:// URL = jobs in that database,
+ *                                                  shared by every node given the same URL
+ *   --blob-dir DIR         TEXOPT_BLOB_DIR         with --store: the directory every node
+ *                                                  shares for uploads and results (default --data-dir)
+ *   --lease-seconds N      TEXOPT_LEASE_SECONDS    30: with --store, a running job whose node
+ *                                                  sent no heartbeat for this long runs again elsewhere
+ *   --max-attempts N       TEXOPT_MAX_ATTEMPTS     3: with --store, runs a job may start before
+ *                                                  lost leases mark it failed
  *   (no flag)              TEXOPT_API_TOKEN        unset = no authentication
  * The token is only read from the environment so that it never shows in `ps`. */
 #ifndef TEXOPT_SERVER_CONFIG_H
@@ -47,6 +56,10 @@ typedef struct service_config {
     char cors_origin[1024];
     char web_dir[1024];
     char port_file[1024];
+    char store[1024];
+    char blob_dir[1024];
+    int lease_seconds;
+    int max_attempts;
     char api_token[256];
 } service_config;
 

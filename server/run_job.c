@@ -64,9 +64,11 @@ static void on_progress(void *user, const texopt_progress *p)
 void run_job(job_store *store, service_metrics *metrics, store_job *job, const job_record *record,
              const atomic_int *cancel, const atomic_int *stopping)
 {
+    /* The input is the job's; the outputs go where the store publishes them from. */
     char dir[PATH_MAX - 400], input[PATH_MAX], result[PATH_MAX], stats[PATH_MAX];
     store_job_dir(store, record->id, dir, sizeof dir);
     snprintf(input, sizeof input, "%s/%s", dir, record->input_rel);
+    store_run_dir(store, job, dir, sizeof dir);
     snprintf(result, sizeof result, "%s/result.glb", dir);
     snprintf(stats, sizeof stats, "%s/stats.json", dir);
 

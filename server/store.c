@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "fsutil.h"
+#include "store_backend.h"
 #include "log.h"
 #include "params_json.h"
 #include "texopt.h"
@@ -39,7 +40,9 @@ struct store_job {
     unsaved_end unsaved;
 };
 
-struct job_store {
+/* The on-disk store; base comes first, so a job_store * of this store is a disk_store *. */
+typedef struct disk_store {
+    job_store base;
     pthread_mutex_t mu;
     pthread_cond_t changed;
     pthread_mutex_t persist_mu; /* orders job.json writes; never taken while holding mu */
@@ -48,7 +51,7 @@ struct job_store {
     int count, capacity;
     int closing;
     atomic_int unsaved; /* jobs whose end is not on disk yet */
-};
+} disk_store;
 
 /* Event ids of a job's run n + 1 after a crash start at (n + 1) * EVENT_ID_EPOCH. */
 #define EVENT_ID_EPOCH 1000000000LL
@@ -81,14 +84,15 @@ int64_t store_now_ms(void)
     return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
 }
 
-void store_job_dir(const job_store *store, const char *id, char *dir, size_t dir_len)
+static void disk_job_dir(const job_store *base, const char *id, char *dir, size_t dir_len)
 {
+    const disk_store *store = (const disk_store *)base;
     snprintf(dir, dir_len, "%s/%s", store->jobs_dir, id);
 }
 
 /* ---- job.json ---------------------------------------------------------------------- */
 
-static char *record_to_json(const job_record *r)
+char *store_record_to_json(const job_record *r)
 {
     cJSON *o = cJSON_CreateObject();
     if (!o)
@@ -130,7 +134,7 @@ static double get_double(const cJSON *obj, const char *key)
     return cJSON_IsNumber(v) ? v->valuedouble : 0;
 }
 
-static int record_from_json(const char *text, job_record *r, char *err, size_t err_len)
+int store_record_from_json(const char *text, job_record *r, char *err, size_t err_len)
 {
     cJSON *o = cJSON_Parse(text);
     if (!o)
@@ -178,10 +182,10 @@ static int record_from_json(const char *text, job_record *r, char *err, size_t e
  * (an older record never overwrites a newer), keeps store_delete from freeing the job and
  * every other state change from starting meanwhile. Written outside mu: the fsync must not
  * stall readers. */
-static int persist_record(job_store *store, const job_record *record)
+static int persist_record(disk_store *store, const job_record *record)
 {
     int rc = -1;
-    char *text = record_to_json(record);
+    char *text = store_record_to_json(record);
     if (text) {
         char path[PATH_MAX];
         snprintf(path, sizeof path, "%s/%s/job.json", store->jobs_dir, record->id);
@@ -197,7 +201,7 @@ static int persist_record(job_store *store, const job_record *record)
 }
 
 /* Writes the job's current record (serialised under mu). */
-static int persist_held(job_store *store, store_job *job)
+static int persist_held(disk_store *store, store_job *job)
 {
     pthread_mutex_lock(&store->mu);
     job_record copy = job->rec;
@@ -219,7 +223,7 @@ static void log_state(const job_record *r)
 
 /* ---- in-memory table (caller holds mu) ---------------------------------------------- */
 
-static store_job *find(job_store *store, const char *id)
+static store_job *find(disk_store *store, const char *id)
 {
     for (int i = 0; i < store->count; i++)
         if (strcmp(store->jobs[i]->rec.id, id) == 0)
@@ -227,7 +231,7 @@ static store_job *find(job_store *store, const char *id)
     return NULL;
 }
 
-static int append(job_store *store, store_job *job)
+static int append(disk_store *store, store_job *job)
 {
     if (store->count == store->capacity) {
         int capacity = store->capacity ? store->capacity * 2 : 64;
@@ -241,7 +245,7 @@ static int append(job_store *store, store_job *job)
     return 0;
 }
 
-static void remove_at(job_store *store, int index)
+static void remove_at(disk_store *store, int index)
 {
     free(store->jobs[index]);
     memmove(&store->jobs[index], &store->jobs[index + 1], (size_t)(store->count - index - 1) * sizeof *store->jobs);
@@ -249,7 +253,7 @@ static void remove_at(job_store *store, int index)
 }
 
 /* A new event: everything watching this job wakes and sends the latest record. */
-static void publish(job_store *store, store_job *job)
+static void publish(disk_store *store, store_job *job)
 {
     job->rec.event_seq++;
     job->published_ms = store_now_ms();
@@ -267,7 +271,7 @@ static int by_creation(const void *a, const void *b)
     return strcmp(x->rec.id, y->rec.id);
 }
 
-static void load_one(job_store *store, const char *name)
+static void load_one(disk_store *store, const char *name)
 {
     char dir[PATH_MAX], path[PATH_MAX + 16], err[256] = "";
     snprintf(dir, sizeof dir, "%s/%s", store->jobs_dir, name);
@@ -280,7 +284,7 @@ static void load_one(job_store *store, const char *name)
         return;
     }
     store_job *job = calloc(1, sizeof *job);
-    if (!job || record_from_json(text, &job->rec, err, sizeof err) != 0 || strcmp(job->rec.id, name) != 0) {
+    if (!job || store_record_from_json(text, &job->rec, err, sizeof err) != 0 || strcmp(job->rec.id, name) != 0) {
         char why[300];
         log_event("level=error event=recover dir=%s action=skip error=%s", name,
                   log_quote(why, sizeof why, err[0] ? err : "id does not match directory"));
@@ -310,26 +314,30 @@ static void load_one(job_store *store, const char *name)
     }
 }
 
+static const store_ops disk_ops;
+static void disk_close(job_store *base);
+
 job_store *store_open(const char *data_dir, char *err, size_t err_len)
 {
-    job_store *store = calloc(1, sizeof *store);
+    disk_store *store = calloc(1, sizeof *store);
     if (!store) {
         texopt_fail(err, err_len, TEXOPT_E_NOMEM, "out of memory");
         return NULL;
     }
+    store->base.ops = &disk_ops;
     pthread_mutex_init(&store->mu, NULL);
     pthread_mutex_init(&store->persist_mu, NULL);
     pthread_cond_init(&store->changed, NULL);
     snprintf(store->jobs_dir, sizeof store->jobs_dir, "%s/jobs", data_dir);
     if (fs_mkdir_p(store->jobs_dir) != 0) {
         texopt_fail(err, err_len, TEXOPT_E_IO, "cannot create %s: %s", store->jobs_dir, strerror(errno));
-        store_close(store);
+        disk_close(&store->base);
         return NULL;
     }
     DIR *d = opendir(store->jobs_dir);
     if (!d) {
         texopt_fail(err, err_len, TEXOPT_E_IO, "cannot read %s: %s", store->jobs_dir, strerror(errno));
-        store_close(store);
+        disk_close(&store->base);
         return NULL;
     }
     struct dirent *e;
@@ -339,11 +347,12 @@ job_store *store_open(const char *data_dir, char *err, size_t err_len)
     closedir(d);
     if (store->count > 1)
         qsort(store->jobs, (size_t)store->count, sizeof *store->jobs, by_creation);
-    return store;
+    return &store->base;
 }
 
-void store_close(job_store *store)
+static void disk_close(job_store *base)
 {
+    disk_store *store = (disk_store *)base;
     if (!store)
         return;
     for (int i = 0; i < store->count; i++)
@@ -357,7 +366,7 @@ void store_close(job_store *store)
 
 /* ---- jobs -------------------------------------------------------------------------- */
 
-static int random_id(char *id)
+int store_random_id(char *id)
 {
     unsigned char bytes[JOB_ID_LEN / 2];
     int fd = open("/dev/urandom", O_RDONLY | O_CLOEXEC);
@@ -372,16 +381,23 @@ static int random_id(char *id)
     return 0;
 }
 
-int store_new_job_dir(job_store *store, char *id, char *dir, size_t dir_len)
+static void disk_run_dir(job_store *base, store_job *job, char *dir, size_t dir_len)
 {
-    if (random_id(id) != 0)
+    disk_job_dir(base, job->rec.id, dir, dir_len);
+}
+
+static int disk_new_job_dir(job_store *base, char *id, char *dir, size_t dir_len)
+{
+    disk_store *store = (disk_store *)base;
+    if (store_random_id(id) != 0)
         return -1;
-    store_job_dir(store, id, dir, dir_len);
+    disk_job_dir(&store->base, id, dir, dir_len);
     return mkdir(dir, 0750);
 }
 
-int store_add(job_store *store, const job_record *record, job_record *existing)
+static int disk_add(job_store *base, const job_record *record, job_record *existing)
 {
+    disk_store *store = (disk_store *)base;
     store_job *job = calloc(1, sizeof *job);
     if (!job)
         return STORE_IO;
@@ -422,8 +438,9 @@ int store_add(job_store *store, const job_record *record, job_record *existing)
     return STORE_OK;
 }
 
-int store_get(job_store *store, const char *id, job_record *out)
+static int disk_get(job_store *base, const char *id, job_record *out)
 {
+    disk_store *store = (disk_store *)base;
     pthread_mutex_lock(&store->mu);
     store_job *job = find(store, id);
     if (job)
@@ -432,8 +449,9 @@ int store_get(job_store *store, const char *id, job_record *out)
     return job ? STORE_OK : STORE_NOT_FOUND;
 }
 
-int store_find_key(job_store *store, const char *key, job_record *out)
+static int disk_find_key(job_store *base, const char *key, job_record *out)
 {
+    disk_store *store = (disk_store *)base;
     int rc = STORE_NOT_FOUND;
     pthread_mutex_lock(&store->mu);
     for (int i = 0; i < store->count && rc != STORE_OK; i++)
@@ -445,8 +463,9 @@ int store_find_key(job_store *store, const char *key, job_record *out)
     return rc;
 }
 
-int store_list(job_store *store, const char *after, job_record *out, int max, int *more)
+static int disk_list(job_store *base, const char *after, job_record *out, int max, int *more)
 {
+    disk_store *store = (disk_store *)base;
     pthread_mutex_lock(&store->mu);
     int start = store->count - 1;
     if (after && *after) {
@@ -464,8 +483,9 @@ int store_list(job_store *store, const char *after, job_record *out, int max, in
     return n;
 }
 
-int store_queued_ids(job_store *store, char (**ids)[JOB_ID_LEN + 1])
+static int disk_queued_ids(job_store *base, char (**ids)[JOB_ID_LEN + 1])
 {
+    disk_store *store = (disk_store *)base;
     pthread_mutex_lock(&store->mu);
     *ids = calloc((size_t)store->count + 1, sizeof **ids);
     int n = 0;
@@ -476,8 +496,9 @@ int store_queued_ids(job_store *store, char (**ids)[JOB_ID_LEN + 1])
     return *ids ? n : -1;
 }
 
-store_job *store_begin(job_store *store, const char *id, job_record *out, const atomic_int **cancel)
+static store_job *disk_begin(job_store *base, const char *id, job_record *out, const atomic_int **cancel)
 {
+    disk_store *store = (disk_store *)base;
     pthread_mutex_lock(&store->persist_mu);
     pthread_mutex_lock(&store->mu);
     store_job *job = find(store, id);
@@ -503,9 +524,10 @@ store_job *store_begin(job_store *store, const char *id, job_record *out, const 
     return job;
 }
 
-void store_progress(job_store *store, store_job *job, const char *stage, double progress,
+static void disk_progress(job_store *base, store_job *job, const char *stage, double progress,
                     double eta_seconds, double mean_loss, double mean_area_scale)
 {
+    disk_store *store = (disk_store *)base;
     pthread_mutex_lock(&store->mu);
     int new_stage = strncmp(job->rec.stage, stage, sizeof job->rec.stage - 1) != 0;
     snprintf(job->rec.stage, sizeof job->rec.stage, "%s", stage);
@@ -515,8 +537,8 @@ void store_progress(job_store *store, store_job *job, const char *stage, double 
     job->rec.eta_seconds = eta_seconds;
     job->rec.mean_loss = mean_loss;
     job->rec.mean_area_scale = mean_area_scale;
-    if (new_stage || job->rec.progress >= job->published_progress + 0.005 ||
-        store_now_ms() >= job->published_ms + 250)
+    if (store_progress_worth_publishing(new_stage, job->rec.progress, job->published_progress, store_now_ms(),
+                                        job->published_ms))
         publish(store, job);
     pthread_mutex_unlock(&store->mu);
 }
@@ -541,7 +563,7 @@ static void apply_end(job_record *r, const unsaved_end *end)
 
 /* Writes the job's end, then makes it what everyone sees; while it cannot be written the job
  * stays running (as job.json says) and the end waits in job->unsaved. Holds persist_mu. */
-static int save_end(job_store *store, store_job *job)
+static int save_end(disk_store *store, store_job *job)
 {
     pthread_mutex_lock(&store->mu);
     job_record next = job->rec;
@@ -559,7 +581,7 @@ static int save_end(job_store *store, store_job *job)
     return STORE_OK;
 }
 
-static int end_run(job_store *store, store_job *job, job_state state, const job_problem *problem, int has_report)
+static int end_run(disk_store *store, store_job *job, job_state state, const job_problem *problem, int has_report)
 {
     pthread_mutex_lock(&store->persist_mu);
     unsaved_end *end = &job->unsaved;
@@ -577,18 +599,21 @@ static int end_run(job_store *store, store_job *job, job_state state, const job_
     return rc;
 }
 
-int store_finish(job_store *store, store_job *job, job_state state, const job_problem *problem, int has_report)
+static int disk_finish(job_store *base, store_job *job, job_state state, const job_problem *problem, int has_report)
 {
+    disk_store *store = (disk_store *)base;
     return end_run(store, job, state, problem, has_report);
 }
 
-int store_requeue(job_store *store, store_job *job)
+static int disk_requeue(job_store *base, store_job *job)
 {
+    disk_store *store = (disk_store *)base;
     return end_run(store, job, JOB_QUEUED, NULL, 0);
 }
 
-int store_retry_unsaved(job_store *store)
+static int disk_retry_unsaved(job_store *base)
 {
+    disk_store *store = (disk_store *)base;
     if (atomic_load(&store->unsaved) == 0)
         return 0;
     /* persist_mu keeps every job in place: adding and deleting take it too. */
@@ -602,8 +627,9 @@ int store_retry_unsaved(job_store *store)
     return atomic_load(&store->unsaved);
 }
 
-cancel_outcome store_cancel(job_store *store, const char *id, job_record *out)
+static cancel_outcome disk_cancel(job_store *base, const char *id, job_record *out)
 {
+    disk_store *store = (disk_store *)base;
     pthread_mutex_lock(&store->persist_mu);
     pthread_mutex_lock(&store->mu);
     store_job *job = find(store, id);
@@ -641,8 +667,9 @@ cancel_outcome store_cancel(job_store *store, const char *id, job_record *out)
     return outcome;
 }
 
-void store_cancel_running(job_store *store)
+static void disk_cancel_running(job_store *base)
 {
+    disk_store *store = (disk_store *)base;
     pthread_mutex_lock(&store->mu);
     for (int i = 0; i < store->count; i++)
         if (store->jobs[i]->rec.state == JOB_RUNNING)
@@ -650,18 +677,19 @@ void store_cancel_running(job_store *store)
     pthread_mutex_unlock(&store->mu);
 }
 
-static int delete_locked(job_store *store, int index)
+static int delete_locked(disk_store *store, int index)
 {
     char dir[PATH_MAX];
-    store_job_dir(store, store->jobs[index]->rec.id, dir, sizeof dir);
+    disk_job_dir(&store->base, store->jobs[index]->rec.id, dir, sizeof dir);
     log_event("level=info event=job job=%s state=deleted", store->jobs[index]->rec.id);
     remove_at(store, index);
     pthread_cond_broadcast(&store->changed);
     return fs_remove_tree(dir);
 }
 
-int store_delete(job_store *store, const char *id)
+static int disk_delete(job_store *base, const char *id)
 {
+    disk_store *store = (disk_store *)base;
     /* persist_mu first: a job.json write of this job may not be under way while its
      * directory goes away. */
     pthread_mutex_lock(&store->persist_mu);
@@ -680,8 +708,9 @@ int store_delete(job_store *store, const char *id)
     return rc;
 }
 
-int store_expire(job_store *store, int64_t now_ms, int64_t retention_ms)
+static int disk_expire(job_store *base, int64_t now_ms, int64_t retention_ms)
 {
+    disk_store *store = (disk_store *)base;
     pthread_mutex_lock(&store->persist_mu);
     pthread_mutex_lock(&store->mu);
     int n = 0;
@@ -697,9 +726,10 @@ int store_expire(job_store *store, int64_t now_ms, int64_t retention_ms)
     return n;
 }
 
-int store_wait_event(job_store *store, const char *id, long long after_seq, int timeout_ms,
+static int disk_wait_event(job_store *base, const char *id, long long after_seq, int timeout_ms,
                      job_record *out)
 {
+    disk_store *store = (disk_store *)base;
     struct timespec deadline;
     clock_gettime(CLOCK_REALTIME, &deadline);
     deadline.tv_sec += timeout_ms / 1000;
@@ -739,8 +769,9 @@ int store_wait_event(job_store *store, const char *id, long long after_seq, int 
     return rc;
 }
 
-void store_wake_all(job_store *store)
+static void disk_wake_all(job_store *base)
 {
+    disk_store *store = (disk_store *)base;
     pthread_mutex_lock(&store->mu);
     store->closing = 1;
     pthread_cond_broadcast(&store->changed);
@@ -750,22 +781,59 @@ void store_wake_all(job_store *store)
 /* Room kept free for job records, beyond an upload's own bytes. */
 #define STORE_RESERVE_BYTES (1ull << 20)
 
-int store_can_store(job_store *store, uint64_t bytes)
+static int disk_can_store(job_store *base, uint64_t bytes)
 {
-    if (atomic_load(&store->unsaved) > 0)
-        return 0;
+    disk_store *store = (disk_store *)base;
+    return atomic_load(&store->unsaved) == 0 && store_dir_has_room(store->jobs_dir, bytes);
+}
+
+int store_dir_has_room(const char *dir, uint64_t bytes)
+{
     struct statvfs fs;
-    if (statvfs(store->jobs_dir, &fs) != 0)
+    if (statvfs(dir, &fs) != 0)
         return 0;
     uint64_t free_bytes = (uint64_t)fs.f_bavail * (uint64_t)fs.f_frsize;
     return free_bytes >= bytes + STORE_RESERVE_BYTES;
 }
 
-void store_counts(job_store *store, int counts[JOB_STATE_COUNT])
+static void disk_counts(job_store *base, int counts[JOB_STATE_COUNT])
 {
+    disk_store *store = (disk_store *)base;
     memset(counts, 0, sizeof(int) * JOB_STATE_COUNT);
     pthread_mutex_lock(&store->mu);
     for (int i = 0; i < store->count; i++)
         counts[store->jobs[i]->rec.state]++;
     pthread_mutex_unlock(&store->mu);
 }
+
+int store_progress_worth_publishing(int new_stage, double progress, double published_progress,
+                                    int64_t now_ms, int64_t published_ms)
+{
+    return new_stage || progress >= published_progress + 0.005 || now_ms >= published_ms + 250;
+}
+
+static const store_ops disk_ops = {
+    .name = "disk",
+    .close = disk_close,
+    .new_job_dir = disk_new_job_dir,
+    .job_dir = disk_job_dir,
+    .run_dir = disk_run_dir,
+    .add = disk_add,
+    .get = disk_get,
+    .find_key = disk_find_key,
+    .list = disk_list,
+    .queued_ids = disk_queued_ids,
+    .begin = disk_begin,
+    .progress = disk_progress,
+    .finish = disk_finish,
+    .requeue = disk_requeue,
+    .retry_unsaved = disk_retry_unsaved,
+    .can_store = disk_can_store,
+    .cancel = disk_cancel,
+    .cancel_running = disk_cancel_running,
+    .delete_job = disk_delete,
+    .expire = disk_expire,
+    .wait_event = disk_wait_event,
+    .wake_all = disk_wake_all,
+    .counts = disk_counts,
+};

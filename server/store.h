@@ -15,7 +15,12 @@
  * Events are not stored: an event stream sends the latest state of the job, with ids that
  * keep increasing across restarts (the sequence number is in job.json; an interrupted run's
  * unwritten progress events are skipped over by starting the next run's ids at a new
- * epoch). */
+ * epoch).
+ *
+ * Two implementations sit behind this API (server/store_backend.h): the on-disk store
+ * described above (store_open, the default) and PostgreSQL (server/store_pg.h, chosen by
+ * --store postgresql://...), where many nodes share the jobs. With a shared store the
+ * workers take jobs with store_lease_next instead of the in-process queue. */
 #ifndef TEXOPT_SERVER_STORE_H
 #define TEXOPT_SERVER_STORE_H
 
@@ -79,12 +84,25 @@ typedef struct store_job store_job; /* a running job's handle (see DESIGN) */
 /* Opens (creating) data_dir/jobs and loads every job in it, recovering as described.
  * Returns NULL with a message on failure. */
 job_store *store_open(const char *data_dir, char *err, size_t err_len);
+struct service_config;
+/* The store the configuration asks for: PostgreSQL when config->store is a postgresql://
+ * URL (jobs under config->blob_dir, else data_dir), else the on-disk store in data_dir. */
+job_store *store_open_config(const struct service_config *config, char *err, size_t err_len);
 void store_close(job_store *store); /* accepts NULL */
+const char *store_kind(const job_store *store); /* "disk" or "postgresql" */
+
+/* Whether jobs are shared with other nodes: workers then take them with store_lease_next
+ * and the in-process queue stays empty. */
+int store_shared(const job_store *store);
+/* 1 while the store's database cannot be reached (never for the on-disk store): /readyz
+ * fails and uploads are answered 503 + Retry-After. */
+int store_unreachable(job_store *store);
 
 /* Makes a fresh job id and its directory; fills id (JOB_ID_LEN + 1) and dir. */
 int store_new_job_dir(job_store *store, char *id, char *dir, size_t dir_len);
 void store_job_dir(const job_store *store, const char *id, char *dir, size_t dir_len);
 
+/* STORE_IO: the record could not be written or read (a full disk, an unreachable database). */
 enum { STORE_OK = 0, STORE_DUPLICATE = 1, STORE_NOT_FOUND = -1, STORE_CONFLICT = -2, STORE_IO = -3 };
 
 /* Adds a new queued job (record->id's directory must exist) and writes its job.json.
@@ -92,7 +110,7 @@ enum { STORE_OK = 0, STORE_DUPLICATE = 1, STORE_NOT_FOUND = -1, STORE_CONFLICT =
  * into *existing and returns STORE_DUPLICATE. */
 int store_add(job_store *store, const job_record *record, job_record *existing);
 
-/* Copies job id into *out. STORE_OK or STORE_NOT_FOUND. */
+/* Copies job id into *out. STORE_OK, STORE_NOT_FOUND or STORE_IO. */
 int store_get(job_store *store, const char *id, job_record *out);
 
 /* Copies the job created with idempotency key (non-empty). STORE_OK or STORE_NOT_FOUND. */
@@ -108,6 +126,17 @@ int store_queued_ids(job_store *store, char (**ids)[JOB_ID_LEN + 1]);
 /* queued -> running for a worker. Returns the handle and the cancel flag the engine
  * watches, or NULL when the job is no longer queued (canceled or deleted meanwhile). */
 store_job *store_begin(job_store *store, const char *id, job_record *out, const atomic_int **cancel);
+
+/* A shared store: leases the oldest job that is queued, or running on a node whose lease
+ * ran out, marks it running on this node and returns it as store_begin does. Waits at most
+ * timeout_ms for one; NULL when there is none (always NULL for the on-disk store). */
+store_job *store_lease_next(job_store *store, int timeout_ms, job_record *out, const atomic_int **cancel);
+
+/* Where a running job writes its outputs (result.glb, stats.json, report.html): the job
+ * directory for the on-disk store; a directory of this run for a shared store, whose
+ * store_finish moves them into the job directory when, and only when, the run is still the
+ * job's (its lease was not lost). */
+void store_run_dir(job_store *store, store_job *job, char *dir, size_t dir_len);
 
 /* A running job's progress (kept when lower than the last: it never runs backwards within
  * a run); publishes an event when it moved enough to matter (a new stage, +0.5% or 250 ms

@@ -39,11 +39,46 @@ static void lower_own_priority(int nice_value)
         log_event("level=warn event=workers message=\"cannot lower worker priority\"");
 }
 
+/* How long a worker of a shared store waits for a job before it checks `stopping` again. */
+#define LEASE_WAIT_MS 500
+
+static void run_leased(worker_pool *pool, store_job *job, const job_record *record, const atomic_int *cancel)
+{
+    atomic_fetch_add(&pool->busy, 1);
+    run_job(pool->store, pool->metrics, job, record, cancel, &pool->stopping);
+    atomic_fetch_sub(&pool->busy, 1);
+}
+
+/* A shared store (store_shared): jobs come from the database's queue, not this node's. The
+ * job is leased before its memory is known, so it holds the lease while it waits for the
+ * budget (it is running here, not queued, meanwhile). */
+static void take_shared_jobs(worker_pool *pool)
+{
+    while (!atomic_load(&pool->stopping)) {
+        job_record record;
+        const atomic_int *cancel = NULL;
+        store_job *job = store_lease_next(pool->store, LEASE_WAIT_MS, &record, &cancel);
+        if (!job)
+            continue;
+        uint64_t need = memory_budget_job_bytes(record.image_pixels);
+        if (atomic_load(&pool->stopping) || memory_budget_acquire(pool->memory, need) != 0) {
+            store_requeue(pool->store, job);
+            break;
+        }
+        run_leased(pool, job, &record, cancel);
+        memory_budget_release(pool->memory, need);
+    }
+}
+
 static void *worker_main(void *arg)
 {
     worker_pool *pool = arg;
     char id[JOB_ID_LEN + 1];
     lower_own_priority(pool->nice);
+    if (store_shared(pool->store)) {
+        take_shared_jobs(pool);
+        return NULL;
+    }
     while (queue_pop(pool->queue, id) == QUEUE_OK) {
         job_record record;
         if (store_get(pool->store, id, &record) != STORE_OK)
@@ -58,9 +93,7 @@ static void *worker_main(void *arg)
         if (job && atomic_load(&pool->stopping)) {
             store_requeue(pool->store, job); /* taken just as the service stops */
         } else if (job) {
-            atomic_fetch_add(&pool->busy, 1);
-            run_job(pool->store, pool->metrics, job, &record, cancel, &pool->stopping);
-            atomic_fetch_sub(&pool->busy, 1);
+            run_leased(pool, job, &record, cancel);
         }
         memory_budget_release(pool->memory, need);
     }
