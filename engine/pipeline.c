@@ -83,6 +83,7 @@
 #include "gltf_tangents.h"
 #include "lanczos.h"
 #include "layout_check.h"
+#include "scaffold.h"
 #include "lit_shade.h"
 #include "lit_weight.h"
 #include "mesh.h"
@@ -408,6 +409,15 @@ static void record_stage2(const texopt_meshwise_report *rep, texopt_domain_stats
     ds->energy_initial = rep->energy_initial;
     ds->energy_final = rep->energy_final;
     ds->flipped = (size_t)rep->flipped;
+}
+
+static void record_scaffold(const texopt_scaffold_report *rep, texopt_domain_stats *ds)
+{
+    ds->has_scaffold = 1;
+    ds->scaffold_rounds = rep->rounds;
+    ds->scaffold_charts = rep->charts_scaffolded;
+    ds->scaffold_skipped_charts = rep->charts_skipped;
+    ds->scaffold_triangles = rep->triangles;
 }
 
 static void record_distortion(const texopt_mesh *mesh, const double *texel, texopt_domain_stats *ds)
@@ -746,9 +756,15 @@ static texopt_status solve_layout(const texopt_job *job, int d, double relative_
         mopt.threads = params->threads > 0 ? params->threads : 2;
         mopt.share = sharing(jd);
         texopt_meshwise_report mrep;
-        st = texopt_meshwise_solve(mesh, targets, NULL, &mopt, texel_new, &mrep, &jm->inner, err, err_len);
+        texopt_scaffold_report srep = {0};
+        if (params->bijective) /* layout/scaffold.h */
+            st = texopt_scaffold_solve(mesh, targets, NULL, &mopt, NULL, texel_new, &srep, &jm->inner, err, err_len);
+        else
+            st = texopt_meshwise_solve(mesh, targets, NULL, &mopt, texel_new, &mrep, &jm->inner, err, err_len);
         if (st == TEXOPT_OK)
-            record_stage2(&mrep, ds);
+            record_stage2(params->bijective ? &srep.meshwise : &mrep, ds);
+        if (st == TEXOPT_OK && params->bijective)
+            record_scaffold(&srep, ds);
     }
     ds->seconds_stage2 = now_seconds() - t0;
     free(allocated);

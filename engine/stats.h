@@ -63,6 +63,9 @@ typedef struct texopt_domain_stats {
     int stage2_iterations;
     double energy_initial, energy_final;
     size_t flipped;
+    int has_scaffold;                /* params.bijective: stage 2 with scaffolds (scaffold.h) */
+    int scaffold_rounds;
+    size_t scaffold_charts, scaffold_skipped_charts, scaffold_triangles;
     int has_loss_share;              /* loss of every triangle under the solved layout */
     double solved_within_epsilon_share, solved_loss_mean, solved_loss_max;
     int has_distortion;
