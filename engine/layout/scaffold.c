@@ -351,8 +351,8 @@ texopt_status texopt_scaffold_solve(const texopt_mesh *mesh, const texopt_triang
 }
 
 /* Marks the texel centres strictly inside triangle t; owner[] holds, per centre, the
- * first chart + 1 to cover it, and flags bit 0 / bit 1 a second cover from the same /
- * another chart. */
+ * first chart and orientation to cover it (2 chart + (counter-clockwise) + 1), and flags
+ * bit 0 / bit 1 a second cover from the same chart and orientation / another chart. */
 static void cover_triangle(const texopt_mesh *mesh, const double *texel, size_t t, const double lo[2], size_t w,
                            size_t h, uint32_t *owner, uint8_t *flags)
 {
@@ -365,7 +365,7 @@ static void cover_triangle(const texopt_mesh *mesh, const double *texel, size_t 
     double y0 = fmin(a[1], fmin(b[1], c[1])) - lo[1], y1 = fmax(a[1], fmax(b[1], c[1])) - lo[1];
     size_t i0 = (size_t)fmax(0.0, floor(x0 - 0.5)), i1 = (size_t)fmin((double)w - 1, ceil(x1));
     size_t j0 = (size_t)fmax(0.0, floor(y0 - 0.5)), j1 = (size_t)fmin((double)h - 1, ceil(y1));
-    uint32_t chart = mesh->chart_of[t] + 1;
+    uint32_t code = 2 * mesh->chart_of[t] + (s > 0.0) + 1;
     for (size_t j = j0; j <= j1; j++)
         for (size_t i = i0; i <= i1; i++) {
             double p[2] = {lo[0] + (double)i + 0.5, lo[1] + (double)j + 0.5};
@@ -375,9 +375,11 @@ static void cover_triangle(const texopt_mesh *mesh, const double *texel, size_t 
                 continue;
             size_t k = j * w + i;
             if (owner[k] == 0)
-                owner[k] = chart;
-            else
-                flags[k] |= owner[k] == chart ? 1 : 2;
+                owner[k] = code;
+            else if (owner[k] == code)
+                flags[k] |= 1;
+            else if ((owner[k] - 1) / 2 != (code - 1) / 2)
+                flags[k] |= 2;
         }
 }
 

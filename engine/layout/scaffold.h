@@ -56,9 +56,10 @@ texopt_status texopt_scaffold_solve(const texopt_mesh *mesh, const texopt_triang
                                     size_t err_len);
 
 /* Texel centres (x + 0.5, y + 0.5 of the integer lattice) covered by two triangles of one
- * chart (within) and by triangles of two different charts (between), in the layout texel.
- * Triangles without area and centres on an edge count for neither. For measurement and
- * tests; layouts spanning more than 2^26 centres are refused. */
+ * chart with one orientation (within: a chart over itself; the two sides of a fold are
+ * not counted) and by triangles of two different charts (between: mirrored twins count),
+ * in the layout texel. Triangles without area and centres on an edge count for neither.
+ * For measurement and tests; layouts spanning more than 2^26 centres are refused. */
 texopt_status texopt_count_overlap(const texopt_mesh *mesh, const double *texel, size_t *within, size_t *between,
                                    char *err, size_t err_len);
 
