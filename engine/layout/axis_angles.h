@@ -15,9 +15,9 @@
  *    or less: a fold-over) are split onto K_i - 1 neighbouring non-corner vertices;
  *  - Theta follows from the start edge (the one closest to its axis) by Theta_{i+1} =
  *    Theta_i + K_i (eq. 2).
- * Not here (issue 40, still to do): the deformation that turns the edges to these angles
- * (3.1.2), the flattening, rectangle decomposition, packing and distortion reduction; the
- * corner-reduction tweaks of the paper's supplementary material. */
+ * Not here: the deformation that turns the edges to these angles (axis_deform.h, 3.1.2);
+ * still to do (issue 40): the flattening, rectangle decomposition, packing and distortion
+ * reduction, and the corner-reduction tweaks of the paper's supplementary material. */
 #ifndef TEXOPT_AXIS_ANGLES_H
 #define TEXOPT_AXIS_ANGLES_H
 
