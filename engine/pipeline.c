@@ -1327,6 +1327,7 @@ static void fill_job_params(texopt_job_stats *js, const texopt_params *p)
     js->refine_lit = p->refine_lit != 0;
     js->mipmapped = p->mipmapped != 0;
     js->packing_efficiency = p->packing_efficiency;
+    js->bijective = p->bijective != 0;
 }
 
 #define MAX_EVALUATED_OUTPUTS 5 /* run_best_budget's candidates */

@@ -98,6 +98,7 @@ typedef struct texopt_job_stats {
     int refine_lit;              /* the refinement asked to read the lit render */
     int mipmapped;               /* the lookups tuned for and measured with were mip-mapped */
     double packing_efficiency;   /* reshape goal asked for (0: none) */
+    int bijective;               /* stage 2 with scaffolds was asked for */
     double seconds_load, seconds_save, seconds_total;
     int has_search;              /* budget target_loss: the search over the relative cost */
     double target_loss;          /* the q asked for */
