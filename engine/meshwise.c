@@ -44,6 +44,10 @@
  *    are factorised separately every iteration (the shared fitting factor is not used).
  *    Vertices sharing an unknown (folds) add their pulls; a chart's pinned vertex ignores
  *    its own.
+ *  - Scaffold triangles (optional, layout/scaffold.h) are frames after the mesh's, with
+ *    their own rest shapes, target I, w_R 0, w_S 1 and their area scaled by the scaffold's
+ *    weight; the weight normalisation, pins, folds and ties see only the mesh's triangles,
+ *    and the scaffold's extra vertices are fixed, so it adds terms but no unknowns.
  *  - The rotation step takes the closest rotation of w_R Rbar R^k + w_rs G S (not G S^-1):
  *    since |G - R S|^2 = |G|^2 - 2 tr(R^T G S) + |S|^2 for a rotation R and symmetric S,
  *    that is the exact minimiser of eq. 19 over R, which keeps E non-increasing. */
