@@ -70,13 +70,17 @@ static void set_tri(builder *b, int32_t t, uint32_t v0, uint32_t v1, uint32_t v2
     x->nb[2] = n2;
 }
 
-static void replace_neighbour(builder *b, int32_t t, int32_t from, int32_t to)
+/* Points triangle t's neighbour across its edge (x, y) to `to`. By the edge, not by the old
+ * neighbour: one triangle can border both triangles a split replaces. */
+static void relink(builder *b, int32_t t, uint32_t x, uint32_t y, int32_t to)
 {
     if (t < 0)
         return;
-    for (int i = 0; i < 3; i++)
-        if (b->t[t].nb[i] == from)
+    for (int i = 0; i < 3; i++) {
+        uint32_t p = b->t[t].v[(i + 1) % 3], q = b->t[t].v[(i + 2) % 3];
+        if ((p == x && q == y) || (p == y && q == x))
             b->t[t].nb[i] = to;
+    }
 }
 
 static int corner_facing(const builder *b, int32_t t, int32_t neighbour)
@@ -100,8 +104,8 @@ static void flip(builder *b, int32_t t, int i)
     int32_t uA = U->nb[(j + 1) % 3], uB = U->nb[(j + 2) % 3];
     set_tri(b, t, p, a, q, uA, u, tA);
     set_tri(b, u, p, q, c, uB, tB, t);
-    replace_neighbour(b, uA, u, t);
-    replace_neighbour(b, tB, t, u);
+    relink(b, uA, a, q, t);
+    relink(b, tB, c, p, u);
 }
 
 /* Restores the Delaunay property around a new point that sits at corner 0 of the
@@ -171,7 +175,7 @@ static int split_inside(builder *b, int32_t t, uint32_t p, int32_t *stack)
     int32_t ts[3] = {t, t1, t2};
     for (int k = 0; k < 3; k++) {
         set_tri(b, ts[k], p, old.v[(k + 1) % 3], old.v[(k + 2) % 3], old.nb[k], ts[(k + 1) % 3], ts[(k + 2) % 3]);
-        replace_neighbour(b, old.nb[k], t, ts[k]);
+        relink(b, old.nb[k], old.v[(k + 1) % 3], old.v[(k + 2) % 3], ts[k]);
         stack[k] = ts[k];
     }
     return 3;
@@ -196,10 +200,10 @@ static int split_edge(builder *b, int32_t t, int i, uint32_t p, int32_t *stack)
     set_tri(b, t2, p, bb, c, t_bc, t1, t3);
     set_tri(b, t3, p, d, bb, u_db, t2, t4);
     set_tri(b, t4, p, a, d, u_ad, t3, t1);
-    replace_neighbour(b, t_ca, t, t1);
-    replace_neighbour(b, t_bc, t, t2);
-    replace_neighbour(b, u_db, u, t3);
-    replace_neighbour(b, u_ad, u, t4);
+    relink(b, t_ca, c, a, t1);
+    relink(b, t_bc, bb, c, t2);
+    relink(b, u_db, d, bb, t3);
+    relink(b, u_ad, a, d, t4);
     stack[0] = t1;
     stack[1] = t2;
     stack[2] = t3;

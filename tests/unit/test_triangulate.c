@@ -142,3 +142,24 @@ TEST(a_jittered_grid_boundary_is_kept)
     CHECK_EQ_INT(cw, 0);
     texopt_triangulation_destroy(&tr);
 }
+
+TEST(a_lattice_with_points_on_edges_tiles_its_square)
+{
+    /* 12 x 12 lattice points in a scrambled order: many land on an existing edge, where the
+     * triangle past one side of the split edge can border both triangles being split. */
+    enum { S = 12, N = S * S };
+    double p[2 * N];
+    for (int k = 0; k < N; k++) {
+        int m = (k * 37) % N; /* 37 is prime to 144: a permutation */
+        p[2 * k] = m % S;
+        p[2 * k + 1] = m / S;
+    }
+    texopt_triangulation tr;
+    char err[256];
+    CHECK_OK(texopt_triangulate(p, N, NULL, 0, &tr, err, sizeof err), err);
+    int cw = 0;
+    CHECK_NEAR(area_at(p, &tr, -1, &cw), (S - 1) * (S - 1), 1e-9);
+    CHECK_EQ_INT(cw, 0);
+    CHECK_EQ_INT(tr.triangle_count, 2 * (S - 1) * (S - 1)); /* 2 n - h - 2, h = 4 (S - 1) */
+    texopt_triangulation_destroy(&tr);
+}
