@@ -277,6 +277,21 @@ static texopt_status build_scaffold(const texopt_mesh *mesh, const double *x, in
     return failed ? texopt_fail(err, err_len, TEXOPT_E_NOMEM, "scaffold: out of memory") : TEXOPT_OK;
 }
 
+/* Maps a round's stage-2 progress into the whole solve's, so it never goes back. */
+typedef struct round_monitor {
+    const texopt_monitor *outer;
+    double offset, scale;
+} round_monitor;
+
+static void forward_round(void *user, const texopt_progress *p)
+{
+    const round_monitor *rm = user;
+    texopt_progress q = *p;
+    q.stage_fraction = rm->offset + rm->scale * p->stage_fraction;
+    q.fraction = q.stage_fraction;
+    texopt_monitor_report(rm->outer, &q);
+}
+
 static void add_round(texopt_scaffold_report *total, const texopt_meshwise_report *r)
 {
     int iterations = total->meshwise.iterations + r->iterations;
@@ -315,6 +330,8 @@ texopt_status texopt_scaffold_solve(const texopt_mesh *mesh, const texopt_triang
     texopt_scaffold_report total;
     memset(&total, 0, sizeof total);
     texopt_status st = TEXOPT_OK;
+    round_monitor rm = {monitor, 0.0, 0.0};
+    texopt_monitor inner = {forward_round, &rm, monitor ? monitor->cancel : NULL};
     for (int done = 0; st == TEXOPT_OK && done < max_iterations;) {
         scaffold_build sb = {0};
         sb.base = mesh->vertex_count;
@@ -324,8 +341,10 @@ texopt_status texopt_scaffold_solve(const texopt_mesh *mesh, const texopt_triang
         mopt.scaffold = sb.triangle_count ? &sc : NULL;
         mopt.max_iterations = max_iterations - done < round ? max_iterations - done : round;
         texopt_meshwise_report r;
+        rm.offset = (double)done / max_iterations;
+        rm.scale = (double)mopt.max_iterations / max_iterations;
         if (st == TEXOPT_OK)
-            st = texopt_meshwise_solve(mesh, targets, x, &mopt, next, &r, monitor, err, err_len);
+            st = texopt_meshwise_solve(mesh, targets, x, &mopt, next, &r, &inner, err, err_len);
         if (st == TEXOPT_OK) {
             memcpy(x, next, n * sizeof *x);
             total.rounds++;

@@ -238,3 +238,37 @@ TEST(overlap_count_counts_shared_centres)
     CHECK_EQ_INT(within, 0);
     texopt_mesh_destroy(m);
 }
+
+typedef struct progress_log {
+    double last;
+    int reports, backwards;
+} progress_log;
+
+static void log_progress(void *user, const texopt_progress *p)
+{
+    progress_log *log = user;
+    log->backwards += p->stage_fraction < log->last;
+    log->last = p->stage_fraction;
+    log->reports++;
+}
+
+TEST(progress_runs_forward_through_the_re_meshes)
+{
+    texopt_triangle_target *tg;
+    texopt_mesh *m = closing_u(&tg);
+    double *out = malloc(2 * m->vertex_count * sizeof *out);
+    char err[256];
+    progress_log log = {0};
+    texopt_monitor mon = {log_progress, &log, NULL};
+    texopt_scaffold_options so = {0};
+    so.remesh_iterations = 3;
+    texopt_scaffold_report rep;
+    CHECK_OK(texopt_scaffold_solve(m, tg, NULL, NULL, &so, out, &rep, &mon, err, sizeof err), err);
+    CHECK(rep.rounds >= 2);
+    CHECK(log.reports >= rep.meshwise.iterations);
+    CHECK_EQ_INT(log.backwards, 0);
+    CHECK(log.last <= 1.0);
+    free(out);
+    free(tg);
+    texopt_mesh_destroy(m);
+}
