@@ -54,6 +54,7 @@ static void usage(FILE *out)
             "  --packing-efficiency E   reshape the charts that fill little of their box and\n"
             "                           pack again when the packing falls short of E, [0, 1)\n"
             "                           (default 0: never; changes q either way at equal cost)\n"
+            "  --bijective              stage 2 with scaffold triangles: no chart overlaps itself\n"
             "  --stats PATH             write the job statistics as JSON\n"
             "  --evaluate               measure the whole-mesh perceptual loss q of the result\n"
             "                           against the input (into the statistics)\n"
@@ -197,6 +198,10 @@ static int parse_args(int argc, char **argv, optimize_args *a)
         }
         if (strcmp(arg, "--mipmap") == 0) {
             a->params.mipmapped = 1;
+            continue;
+        }
+        if (strcmp(arg, "--bijective") == 0) {
+            a->params.bijective = 1;
             continue;
         }
         if (arg[0] == '-' && arg[1] != '\0') {

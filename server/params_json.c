@@ -18,7 +18,7 @@ static const char *const budget_names[TEXOPT_BUDGET_COUNT] = {
 static const char *const known_keys[] = {
     "method", "budget", "relative_cost", "texture_width", "texture_height", "target_loss",
     "epsilon", "iterations", "lambda_min", "threads", "seed", "evaluate", "eval_resolution",
-    "refinements", "refine_by", "lookup", "packing_efficiency",
+    "refinements", "refine_by", "lookup", "packing_efficiency", "bijective",
 };
 
 static int is_known_key(const char *key)
@@ -193,6 +193,10 @@ static texopt_status read_rest(const cJSON *obj, texopt_params *p, char *err, si
     if (e && !cJSON_IsBool(e))
         return bad(err, err_len, "evaluate", "must be true or false");
     p->evaluate = e ? cJSON_IsTrue(e) : 0;
+    const cJSON *b = cJSON_GetObjectItemCaseSensitive(obj, "bijective");
+    if (b && !cJSON_IsBool(b))
+        return bad(err, err_len, "bijective", "must be true or false");
+    p->bijective = b ? cJSON_IsTrue(b) : 0;
     return TEXOPT_OK;
 }
 
@@ -298,5 +302,6 @@ cJSON *api_params_to_json(const texopt_params *p)
     cJSON_AddStringToObject(o, "refine_by", texopt_refine_measure_name(p->refine_lit));
     cJSON_AddStringToObject(o, "lookup", texopt_lookup_name(p->mipmapped));
     cJSON_AddNumberToObject(o, "packing_efficiency", p->packing_efficiency);
+    cJSON_AddBoolToObject(o, "bijective", p->bijective != 0);
     return o;
 }

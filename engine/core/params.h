@@ -96,6 +96,8 @@ typedef struct texopt_params {
                                input's were JPEG (texopt_model_edit.lossless), so that a q
                                measured from the file is the layout's and not the encoding's
                                (compare.h sets it); 0: a JPEG stays a JPEG */
+    int bijective;          /* non-zero: stage 2 solves with scaffold triangles around each
+                               chart (layout/scaffold.h), so no chart overlaps itself */
 } texopt_params;
 
 const char *texopt_method_name(texopt_method method);

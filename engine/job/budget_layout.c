@@ -12,6 +12,7 @@
 #include "job_stats.h"
 #include "meshwise.h"
 #include "meshwise_loss.h"
+#include "scaffold.h"
 
 /* The perceptual targets' allocation (target_allocation.h), the best of the variants measured with
  * the whole-mesh evaluation (BENCHMARKS.md@9f788a8 "Quality"): lossless optima (flat colour at
@@ -72,9 +73,16 @@ static texopt_status solve_layout(texopt_job *job, const layout_run *run, int d,
         mopt.threads = params->threads > 0 ? params->threads : 2;
         mopt.share = job_sharing(jd);
         texopt_meshwise_report mrep;
-        st = texopt_meshwise_solve(mesh, targets, NULL, &mopt, texel_new, &mrep, &job->jm.inner, err, err_len);
+        texopt_scaffold_report srep = {0};
+        if (params->bijective)
+            st = texopt_scaffold_solve(mesh, targets, NULL, &mopt, NULL, texel_new, &srep, &job->jm.inner, err,
+                                       err_len);
+        else
+            st = texopt_meshwise_solve(mesh, targets, NULL, &mopt, texel_new, &mrep, &job->jm.inner, err, err_len);
         if (st == TEXOPT_OK)
-            job_stats_record_stage2(&mrep, ds);
+            job_stats_record_stage2(params->bijective ? &srep.meshwise : &mrep, ds);
+        if (st == TEXOPT_OK && params->bijective)
+            job_stats_record_scaffold(&srep, ds);
     }
     ds->seconds_stage2 = job_now_seconds() - t0;
     free(allocated);

@@ -25,6 +25,7 @@ void job_stats_fill_params(texopt_job_stats *js, const texopt_params *p)
     js->refine_lit = p->refine_lit != 0;
     js->mipmapped = p->mipmapped != 0;
     js->packing_efficiency = p->packing_efficiency;
+    js->bijective = p->bijective != 0;
 }
 
 /* The name of the first binding, in slot order then extension textures, that reads image
@@ -92,6 +93,15 @@ void job_stats_record_stage2(const texopt_meshwise_report *rep, texopt_domain_st
     ds->energy_initial = rep->energy_initial;
     ds->energy_final = rep->energy_final;
     ds->flipped = (size_t)rep->flipped;
+}
+
+void job_stats_record_scaffold(const texopt_scaffold_report *rep, texopt_domain_stats *ds)
+{
+    ds->has_scaffold = 1;
+    ds->scaffold_rounds = rep->rounds;
+    ds->scaffold_charts = rep->charts_scaffolded;
+    ds->scaffold_skipped_charts = rep->charts_skipped;
+    ds->scaffold_triangles = rep->triangles;
 }
 
 void job_stats_record_distortion(const texopt_mesh *mesh, const double *texel, texopt_domain_stats *ds)

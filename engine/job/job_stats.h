@@ -11,6 +11,7 @@
 #include "meshwise.h"
 #include "model.h"
 #include "params.h"
+#include "scaffold.h"
 #include "stats.h"
 #include "target.h"
 #include "triopt.h"
@@ -26,6 +27,7 @@ void job_stats_record_stage1(const texopt_mesh *mesh, const texopt_triangle_targ
                              const texopt_triopt_report *rep, double epsilon, texopt_domain_stats *ds);
 
 void job_stats_record_stage2(const texopt_meshwise_report *rep, texopt_domain_stats *ds);
+void job_stats_record_scaffold(const texopt_scaffold_report *rep, texopt_domain_stats *ds);
 
 /* Distortion of the input layout and of texel (input texels); left out when unmeasurable. */
 void job_stats_record_distortion(const texopt_mesh *mesh, const double *texel, texopt_domain_stats *ds);

@@ -73,6 +73,13 @@ static void add_stage_stats(cJSON *dom, const texopt_domain_stats *d)
         cJSON_AddNumberToObject(s2, "energy_initial", d->energy_initial);
         cJSON_AddNumberToObject(s2, "energy_final", d->energy_final);
         cJSON_AddNumberToObject(s2, "flipped_triangles", (double)d->flipped);
+        if (d->has_scaffold) {
+            cJSON *sc = cJSON_AddObjectToObject(s2, "scaffold");
+            cJSON_AddNumberToObject(sc, "rounds", d->scaffold_rounds);
+            cJSON_AddNumberToObject(sc, "charts", (double)d->scaffold_charts);
+            cJSON_AddNumberToObject(sc, "skipped_charts", (double)d->scaffold_skipped_charts);
+            cJSON_AddNumberToObject(sc, "triangles", (double)d->scaffold_triangles);
+        }
         if (d->has_loss_share) {
             cJSON_AddNumberToObject(s2, "within_epsilon_share", d->solved_within_epsilon_share);
             cJSON_AddNumberToObject(s2, "loss_mean", d->solved_loss_mean);
@@ -155,6 +162,7 @@ static cJSON *job_json(const texopt_job_stats *s)
     cJSON_AddStringToObject(p, "refine_by", texopt_refine_measure_name(s->refine_lit));
     cJSON_AddStringToObject(p, "lookup", texopt_lookup_name(s->mipmapped));
     cJSON_AddNumberToObject(p, "packing_efficiency", s->packing_efficiency);
+    cJSON_AddBoolToObject(p, "bijective", s->bijective);
     cJSON *t = cJSON_AddObjectToObject(root, "seconds");
     cJSON_AddNumberToObject(t, "load", s->seconds_load);
     cJSON_AddNumberToObject(t, "save", s->seconds_save);

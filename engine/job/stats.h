@@ -63,6 +63,9 @@ typedef struct texopt_domain_stats {
     int stage2_iterations;
     double energy_initial, energy_final;
     size_t flipped;
+    int has_scaffold;                /* params.bijective: stage 2 with scaffolds (scaffold.h) */
+    int scaffold_rounds;
+    size_t scaffold_charts, scaffold_skipped_charts, scaffold_triangles;
     int has_loss_share;              /* loss of every triangle under the solved layout */
     double solved_within_epsilon_share, solved_loss_mean, solved_loss_max;
     int has_distortion;
@@ -95,6 +98,7 @@ typedef struct texopt_job_stats {
     int refine_lit;              /* the refinement asked to read the lit render */
     int mipmapped;               /* the lookups tuned for and measured with were mip-mapped */
     double packing_efficiency;   /* reshape goal asked for (0: none) */
+    int bijective;               /* stage 2 with scaffolds was asked for */
     double seconds_load, seconds_save, seconds_total;
     int has_search;              /* budget target_loss: the search over the relative cost */
     double target_loss;          /* the q asked for */

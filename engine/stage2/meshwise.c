@@ -44,6 +44,10 @@
  *    are factorised separately every iteration (the shared fitting factor is not used).
  *    Vertices sharing an unknown (folds) add their pulls; a chart's pinned vertex ignores
  *    its own.
+ *  - Scaffold triangles (optional, layout/scaffold.h) are frames after the mesh's, with
+ *    their own rest shapes, target I, w_R 0, w_S 1 and their area scaled by the scaffold's
+ *    weight; the weight normalisation, pins, folds and ties see only the mesh's triangles,
+ *    and the scaffold's extra vertices are fixed, so it adds terms but no unknowns.
  *  - The rotation step takes the closest rotation of w_R Rbar R^k + w_rs G S (not G S^-1):
  *    since |G - R S|^2 = |G|^2 - 2 tr(R^T G S) + |S|^2 for a rotation R and symmetric S,
  *    that is the exact minimiser of eq. 19 over R, which keeps E non-increasing. */
@@ -113,7 +117,9 @@ typedef struct tri_state {
 
 typedef struct solver {
     const texopt_mesh *mesh;
-    size_t tri_count, vertex_count;
+    size_t tri_count, vertex_count; /* the mesh's, then the scaffold's (meshwise.h) */
+    size_t mesh_tris, mesh_vertices;
+    const texopt_meshwise_scaffold *scaffold;
     tri_frame *tri;
     tri_state *st;
     double w_rs, w_b;
@@ -284,7 +290,7 @@ static double anchor_energy(const solver *sv, const double *x)
     if (!sv->anchor_weight)
         return 0.0;
     double e = 0.0;
-    for (size_t i = 0; i < 2 * sv->vertex_count; i++)
+    for (size_t i = 0; i < 2 * sv->mesh_vertices; i++)
         if (sv->anchor_weight[i] > 0.0) {
             double r = x[i] - sv->anchor[i];
             e += sv->anchor_weight[i] * r * r;
@@ -394,11 +400,60 @@ static mat2 target_stretch(const texopt_triangle_target *tg)
     return mul(mul(v, l), transpose(v));
 }
 
+/* Sets the barycentric gradients, area and orientation of f from its rest corners; returns
+ * the signed doubled area. */
+static double set_rest_shape(tri_frame *f, const double *p0, const double *p1, const double *p2)
+{
+    double e1x = p1[0] - p0[0], e1y = p1[1] - p0[1];
+    double e2x = p2[0] - p0[0], e2y = p2[1] - p0[1];
+    double det = e1x * e2y - e1y * e2x;
+    if (!(fabs(det) > 0.0) || !isfinite(det))
+        return det;
+    /* Rows of [e1 e2]^-1 are the gradients of barycentrics 1 and 2. */
+    f->grad[1][0] = e2y / det;
+    f->grad[1][1] = -e2x / det;
+    f->grad[2][0] = -e1y / det;
+    f->grad[2][1] = e1x / det;
+    f->grad[0][0] = -f->grad[1][0] - f->grad[2][0];
+    f->grad[0][1] = -f->grad[1][1] - f->grad[2][1];
+    f->area = 0.5 * fabs(det);
+    f->orientation = det < 0.0 ? -1 : 1;
+    return det;
+}
+
+/* Scaffold triangles (meshwise.h): fitted to their rest shape with the barrier. */
+static texopt_status build_scaffold_frames(solver *sv, char *err, size_t err_len)
+{
+    const texopt_meshwise_scaffold *sc = sv->scaffold;
+    for (size_t k = 0; sc && k < sc->triangle_count; k++) {
+        tri_frame *f = &sv->tri[sv->mesh_tris + k];
+        for (int j = 0; j < 3; j++) {
+            f->v[j] = sc->triangle[3 * k + j];
+            if (f->v[j] >= sv->vertex_count)
+                return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                                   "meshwise: scaffold triangle %zu uses vertex %u past %zu", k, f->v[j],
+                                   sv->vertex_count);
+        }
+        const double *r = sc->rest + 6 * k;
+        if (!(set_rest_shape(f, r, r + 2, r + 4) > 0.0))
+            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                               "meshwise: scaffold triangle %zu has no counter-clockwise rest shape", k);
+        f->area *= sc->weight;
+        f->fitted = f->barrier = 1;
+        f->threshold = BARRIER_FRACTION;
+        f->rbar = rotation(0.0);
+        f->sbar = rotation(0.0);
+        f->w_r = 0.0;
+        f->w_s = 1.0;
+    }
+    return TEXOPT_OK;
+}
+
 static texopt_status build_frames(solver *sv, const texopt_triangle_target *targets, char *err,
                                   size_t err_len)
 {
     const texopt_mesh *m = sv->mesh;
-    for (size_t t = 0; t < sv->tri_count; t++) {
+    for (size_t t = 0; t < sv->mesh_tris; t++) {
         tri_frame *f = &sv->tri[t];
         texopt_status st = check_target(&targets[t], t, err, err_len);
         if (st != TEXOPT_OK)
@@ -410,12 +465,8 @@ static texopt_status build_frames(solver *sv, const texopt_triangle_target *targ
                                    "meshwise: triangle %zu uses vertex %u past vertex count %zu",
                                    t, f->v[j], m->vertex_count);
         }
-        const double *p0 = m->texel + 2 * (size_t)f->v[0];
-        const double *p1 = m->texel + 2 * (size_t)f->v[1];
-        const double *p2 = m->texel + 2 * (size_t)f->v[2];
-        double e1x = p1[0] - p0[0], e1y = p1[1] - p0[1];
-        double e2x = p2[0] - p0[0], e2y = p2[1] - p0[1];
-        double det = e1x * e2y - e1y * e2x;
+        double det = set_rest_shape(f, m->texel + 2 * (size_t)f->v[0], m->texel + 2 * (size_t)f->v[1],
+                                    m->texel + 2 * (size_t)f->v[2]);
         int degenerate_uv = (m->flags[t] & TEXOPT_TRI_DEGENERATE_UV) || !(fabs(det) > 0.0) ||
                             !isfinite(det);
         f->barrier = !degenerate_uv;
@@ -423,15 +474,6 @@ static texopt_status build_frames(solver *sv, const texopt_triangle_target *targ
         f->collapsed = degenerate_uv && !(m->flags[t] & TEXOPT_TRI_DEGENERATE_3D);
         if (!f->barrier)
             continue;
-        /* Rows of [e1 e2]^-1 are the gradients of barycentrics 1 and 2. */
-        f->grad[1][0] = e2y / det;
-        f->grad[1][1] = -e2x / det;
-        f->grad[2][0] = -e1y / det;
-        f->grad[2][1] = e1x / det;
-        f->grad[0][0] = -f->grad[1][0] - f->grad[2][0];
-        f->grad[0][1] = -f->grad[1][1] - f->grad[2][1];
-        f->area = 0.5 * fabs(det);
-        f->orientation = det < 0.0 ? -1 : 1;
         double target_det = targets[t].lambda1 * targets[t].lambda2;
         f->threshold = BARRIER_FRACTION * fmin(1.0, target_det);
         f->rbar = rotation(targets[t].alpha);
@@ -439,7 +481,7 @@ static texopt_status build_frames(solver *sv, const texopt_triangle_target *targ
         f->w_r = targets[t].w_rotation;
         f->w_s = targets[t].w_stretch;
     }
-    return TEXOPT_OK;
+    return build_scaffold_frames(sv, err, err_len);
 }
 
 /* Divides w_R and w_S by the mean w_S (or mean w_R when no triangle has a w_S) of the fitted
@@ -456,7 +498,7 @@ static void normalise_weights(solver *sv)
 {
     double sum_s = 0.0, sum_r = 0.0;
     size_t n = 0;
-    for (size_t t = 0; t < sv->tri_count; t++) {
+    for (size_t t = 0; t < sv->mesh_tris; t++) {
         if (!sv->tri[t].fitted)
             continue;
         sum_s += sv->tri[t].w_s;
@@ -464,7 +506,7 @@ static void normalise_weights(solver *sv)
         n++;
     }
     double scale = sum_s > 0.0 ? sum_s / (double)n : sum_r > 0.0 ? sum_r / (double)n : 1.0;
-    for (size_t t = 0; t < sv->tri_count; t++) {
+    for (size_t t = 0; t < sv->mesh_tris; t++) {
         sv->tri[t].w_s = fmax(sv->tri[t].w_s / scale, STRETCH_WEIGHT_FLOOR);
         sv->tri[t].w_r /= scale;
     }
@@ -545,7 +587,7 @@ static texopt_status number_unknowns(solver *sv, char *err, size_t err_len)
     for (size_t v = 0; v < sv->vertex_count; v++)
         sv->var[v] = -2; /* unused */
     size_t pin_count = 0;
-    for (size_t t = 0; t < sv->tri_count && st == TEXOPT_OK; t++) {
+    for (size_t t = 0; t < sv->mesh_tris && st == TEXOPT_OK; t++) {
         const tri_frame *f = &sv->tri[t];
         if (!f->barrier && !f->collapsed)
             continue;
@@ -625,7 +667,7 @@ static int8_t *chart_orientations(const solver *sv)
         free(sign);
         return NULL;
     }
-    for (size_t t = 0; t < sv->tri_count; t++)
+    for (size_t t = 0; t < sv->mesh_tris; t++)
         if (sv->tri[t].barrier)
             balance[m->chart_of[t]] += sv->tri[t].orientation * sv->tri[t].area;
     for (size_t c = 0; c < m->chart_count; c++)
@@ -664,7 +706,7 @@ static texopt_status find_fold_ties(solver *sv, char *err, size_t err_len)
         st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory");
         goto done;
     }
-    for (size_t t = 0; t < sv->tri_count; t++) {
+    for (size_t t = 0; t < sv->mesh_tris; t++) {
         const tri_frame *f = &sv->tri[t];
         if (!f->barrier || group_of(sv, m->chart_of[t]) != m->chart_of[t]) /* secondaries: add_shared_ties */
             continue;
@@ -676,7 +718,7 @@ static texopt_status find_fold_ties(solver *sv, char *err, size_t err_len)
     }
     for (size_t v = 0; v < sv->vertex_count; v++) /* a merged group counts as one vertex */
         side[sv->rep_of[v]] |= side[v];
-    for (size_t t = 0; t < sv->tri_count; t++)
+    for (size_t t = 0; t < sv->mesh_tris; t++)
         majority[t] = sv->tri[t].barrier && folded[m->chart_of[t]] &&
                       sv->tri[t].orientation == sign[m->chart_of[t]];
     if ((st = texopt_tri_bins_build(&grid, m, majority, err, err_len)) != TEXOPT_OK)
@@ -804,9 +846,9 @@ static texopt_status add_shared_ties(solver *sv, char *err, size_t err_len)
     sv->ties = grown;
     for (size_t k = 0; k < share->tie_count; k++) {
         const texopt_texel_tie *t = &share->ties[k];
-        int in_range = t->vertex < sv->vertex_count;
+        int in_range = t->vertex < sv->mesh_vertices;
         for (int j = 0; j < 3; j++)
-            in_range = in_range && t->corner[j] < sv->vertex_count;
+            in_range = in_range && t->corner[j] < sv->mesh_vertices;
         if (!in_range)
             return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                                "meshwise: shared-texel tie %zu uses a vertex past vertex count %zu", k,
@@ -1265,8 +1307,11 @@ static texopt_status solver_init(solver *sv, const texopt_mesh *mesh,
     }
     sv->threads = opt && opt->threads > 0 ? opt->threads : 1;
     sv->mesh = mesh;
-    sv->tri_count = mesh->triangle_count;
-    sv->vertex_count = mesh->vertex_count;
+    sv->scaffold = opt ? opt->scaffold : NULL;
+    sv->mesh_tris = mesh->triangle_count;
+    sv->mesh_vertices = mesh->vertex_count;
+    sv->tri_count = sv->mesh_tris + (sv->scaffold ? sv->scaffold->triangle_count : 0);
+    sv->vertex_count = sv->mesh_vertices + (sv->scaffold ? sv->scaffold->vertex_count : 0);
     sv->w_rs = opt && opt->fit_weight > 0.0 ? opt->fit_weight : 1.0;
     sv->w_b = opt && opt->barrier_weight > 0.0 ? opt->barrier_weight : 1.0;
     sv->anchor = opt ? opt->anchor : NULL;
@@ -1290,7 +1335,10 @@ static texopt_status solver_init(solver *sv, const texopt_mesh *mesh,
     if (st != TEXOPT_OK)
         return st;
     normalise_weights(sv);
-    memcpy(sv->x, start, 2 * sv->vertex_count * sizeof *sv->x);
+    memcpy(sv->x, start, 2 * sv->mesh_vertices * sizeof *sv->x);
+    if (sv->scaffold && sv->scaffold->vertex_count)
+        memcpy(sv->x + 2 * sv->mesh_vertices, sv->scaffold->position,
+               2 * sv->scaffold->vertex_count * sizeof *sv->x);
     if ((st = check_start(sv, sv->x, err, err_len)) != TEXOPT_OK)
         return st;
     if ((st = number_unknowns(sv, err, err_len)) != TEXOPT_OK)
@@ -1423,6 +1471,11 @@ texopt_status texopt_meshwise_solve(const texopt_mesh *mesh, const texopt_triang
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "meshwise: sharing groups of %zu charts for a mesh of %zu", opt->share->chart_count,
                            mesh->chart_count);
+    const texopt_meshwise_scaffold *sc = opt ? opt->scaffold : NULL;
+    if (sc && ((sc->triangle_count && (!sc->triangle || !sc->rest)) || (sc->vertex_count && !sc->position) ||
+               !(sc->weight > 0.0) || !isfinite(sc->weight)))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "meshwise: scaffold without triangles, rest shapes, positions or a positive weight");
     texopt_status checked = opt ? check_anchors(mesh, opt, err, err_len) : TEXOPT_OK;
     if (checked != TEXOPT_OK)
         return checked;

@@ -100,7 +100,24 @@ typedef struct texopt_meshwise_options {
      * are tied to their primary's triangles like a fold's minority side. NULL: every chart
      * alone. */
     const texopt_texel_share *share;
+    /* Optional scaffold (layout/scaffold.h): triangles filling the space around charts, so
+     * that the barrier keeps charts from crossing one another or themselves. NULL: none. */
+    const struct texopt_meshwise_scaffold *scaffold;
 } texopt_meshwise_options;
+
+/* Extra triangles solved with the mesh's: corners are mesh vertices (index < mesh
+ * vertex_count) or extra vertices (index mesh vertex_count + i), which stay at position[].
+ * Each is fitted to its rest shape as-rigidly-as-possible (w_R 0, w_S 1, target I) with
+ * the barrier, its energy scaled by weight, relative to the rest shape rest[6 t .. 6 t + 6)
+ * (the corners' positions when the scaffold was built: det G starts at 1). */
+typedef struct texopt_meshwise_scaffold {
+    size_t vertex_count;
+    const double *position; /* 2 per extra vertex */
+    size_t triangle_count;
+    const uint32_t *triangle; /* 3 per triangle */
+    const double *rest;       /* 6 per triangle */
+    double weight;            /* > 0 */
+} texopt_meshwise_scaffold;
 
 typedef struct texopt_meshwise_report {
     int iterations;        /* local-global iterations run */

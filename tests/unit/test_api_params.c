@@ -28,6 +28,7 @@ TEST(empty_object_gives_paper_defaults)
     CHECK_EQ_INT(p.refine_lit, 0);
     CHECK_EQ_INT(p.mipmapped, 0);
     CHECK_NEAR(p.packing_efficiency, 0, 0);
+    CHECK_EQ_INT(p.bijective, 0);
 }
 
 TEST(every_key_is_read)
@@ -37,7 +38,7 @@ TEST(every_key_is_read)
     CHECK_OK(parse("{\"method\":\"arap\",\"relative_cost\":0.25,\"epsilon\":0.02,\"iterations\":7,"
                    "\"lambda_min\":0.3,\"threads\":3,\"seed\":123456789012,\"evaluate\":true,"
                    "\"eval_resolution\":256,\"refinements\":5,\"refine_by\":\"lit\",\"lookup\":\"mipmapped\","
-                   "\"packing_efficiency\":0.75}",
+                   "\"packing_efficiency\":0.75,\"bijective\":true}",
                    &p, err), err);
     CHECK_EQ_INT(p.method, TEXOPT_METHOD_ARAP);
     CHECK_NEAR(p.relative_cost, 0.25, 0);
@@ -52,6 +53,7 @@ TEST(every_key_is_read)
     CHECK_EQ_INT(p.refine_lit, 1);
     CHECK_EQ_INT(p.mipmapped, 1);
     CHECK_NEAR(p.packing_efficiency, 0.75, 0);
+    CHECK_EQ_INT(p.bijective, 1);
     CHECK_OK(parse("{\"refinements\":0}", &p, err), err);
     CHECK_EQ_INT(p.refinements, -1); /* none, not the engine's default */
 }
@@ -93,6 +95,7 @@ TEST(bad_params_are_refused_by_name)
     check_refused("{\"relative_cost\":0}", "params.relative_cost");
     check_refused("{\"epsilon\":1}", "epsilon");
     check_refused("{\"evaluate\":1}", "params.evaluate");
+    check_refused("{\"bijective\":\"yes\"}", "params.bijective");
     check_refused("{\"texture_width\":64}", "texture_height");
     check_refused("{\"relative_cost\":0.5,\"target_loss\":0.1}", "only one of");
     check_refused("{\"budget\":\"target_loss\"}", "needs the target_loss");

@@ -18,27 +18,9 @@
 #include "gltf_io.h"
 #include "mesh.h"
 #include "meshwise.h"
-#include "rng.h"
+#include "random_targets.h"
 #include "triopt.h"
 #include "test.h"
-
-#define PI 3.14159265358979323846
-
-static texopt_triangle_target *random_targets(size_t n, uint64_t seed)
-{
-    texopt_triangle_target *t = calloc(n, sizeof *t);
-    texopt_rng rng;
-    texopt_rng_seed(&rng, seed);
-    for (size_t i = 0; i < n && t; i++) {
-        t[i].lambda1 = 0.2 + 0.8 * texopt_rng_uniform(&rng);
-        t[i].lambda2 = 0.2 + 0.8 * texopt_rng_uniform(&rng);
-        t[i].alpha = 0.5 * PI * texopt_rng_uniform(&rng);
-        t[i].beta = 0.5 * PI * texopt_rng_uniform(&rng);
-        t[i].w_rotation = 0.1 + 0.9 * texopt_rng_uniform(&rng);
-        t[i].w_stretch = 0.1 + 0.9 * texopt_rng_uniform(&rng);
-    }
-    return t;
-}
 
 static void solve_domain(const char *path, const texopt_model *model, int domain, int threads)
 {

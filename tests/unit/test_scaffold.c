@@ -1,0 +1,274 @@
+/* test_scaffold.c - bijective stage 2 with scaffold triangles (engine/layout/scaffold.c).
+ *
+ * Charts are unions of square cells (two triangles each) on a lattice, built by hand, with
+ * targets that push them into each other or into themselves: without the scaffold the
+ * solved layout covers texel centres twice, with it never. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "distortion.h"
+#include "handmesh.h"
+#include "meshwise.h"
+#include "scaffold.h"
+#include "test.h"
+
+#define CELL 4.0
+
+typedef struct cell {
+    int i, j;
+    uint32_t chart;
+} cell;
+
+/* A mesh of the given cells; lattice vertices are shared by the cells of one chart. */
+static texopt_mesh *cell_mesh(const cell *cells, size_t n, size_t charts, int lattice)
+{
+    size_t side = (size_t)lattice + 1;
+    uint32_t *id = malloc(side * side * charts * sizeof *id);
+    for (size_t k = 0; k < side * side * charts; k++)
+        id[k] = UINT32_MAX;
+    size_t nv = 0;
+    for (size_t c = 0; c < n; c++)
+        for (int dj = 0; dj < 2; dj++)
+            for (int di = 0; di < 2; di++) {
+                size_t key = (cells[c].chart * side + (size_t)(cells[c].j + dj)) * side + (size_t)(cells[c].i + di);
+                if (id[key] == UINT32_MAX)
+                    id[key] = (uint32_t)nv++;
+            }
+    texopt_mesh *m = handmesh_alloc(nv, 2 * n);
+    m->chart_count = charts;
+    m->width = m->height = (int)(CELL * lattice) + 64;
+    for (size_t k = 0; k < side * side * charts; k++)
+        if (id[k] != UINT32_MAX) {
+            size_t i = k % side, j = (k / side) % side;
+            m->texel[2 * id[k]] = CELL * (double)i;
+            m->texel[2 * id[k] + 1] = CELL * (double)j;
+            m->position[3 * id[k]] = (double)i;
+            m->position[3 * id[k] + 1] = (double)j;
+        }
+    for (size_t c = 0; c < n; c++) {
+        uint32_t v[4];
+        for (int k = 0; k < 4; k++)
+            v[k] = id[(cells[c].chart * side + (size_t)(cells[c].j + k / 2)) * side + (size_t)(cells[c].i + k % 2)];
+        uint32_t tris[6] = {v[0], v[1], v[3], v[0], v[3], v[2]};
+        memcpy(m->triangle + 6 * c, tris, sizeof tris);
+        m->chart_of[2 * c] = m->chart_of[2 * c + 1] = cells[c].chart;
+    }
+    free(id);
+    handmesh_finish(m);
+    return m;
+}
+
+static texopt_triangle_target stretch_target(double l1, double l2)
+{
+    texopt_triangle_target t = {0};
+    t.lambda1 = l1;
+    t.lambda2 = l2;
+    t.w_stretch = 1.0;
+    return t;
+}
+
+static double total_area(const texopt_mesh *m, const double *x)
+{
+    double s = 0.0;
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        const uint32_t *v = m->triangle + 3 * t;
+        const double *a = x + 2 * (size_t)v[0], *b = x + 2 * (size_t)v[1], *c = x + 2 * (size_t)v[2];
+        s += 0.5 * fabs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    }
+    return s;
+}
+
+/* Two 4 x 4 charts one cell apart, each asked to grow 1.6 times: pinned at their lower left
+ * corners, the left one grows into the right one. */
+static texopt_mesh *two_charts(texopt_triangle_target **targets)
+{
+    cell cells[32];
+    size_t n = 0;
+    for (uint32_t c = 0; c < 2; c++)
+        for (int j = 0; j < 4; j++)
+            for (int i = 0; i < 4; i++)
+                cells[n++] = (cell){i + 5 * (int)c, j, c};
+    texopt_mesh *m = cell_mesh(cells, n, 2, 10);
+    *targets = malloc(m->triangle_count * sizeof **targets);
+    for (size_t t = 0; t < m->triangle_count; t++)
+        (*targets)[t] = stretch_target(1.6, 1.6);
+    return m;
+}
+
+TEST(charts_pushed_into_each_other_overlap_without_scaffold_and_not_with_it)
+{
+    texopt_triangle_target *tg;
+    texopt_mesh *m = two_charts(&tg);
+    double *plain = malloc(2 * m->vertex_count * sizeof *plain), *bij = malloc(2 * m->vertex_count * sizeof *bij);
+    char err[256];
+    texopt_meshwise_report mr;
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, plain, &mr, NULL, err, sizeof err), err);
+    size_t within, between;
+    CHECK_OK(texopt_count_overlap(m, plain, &within, &between, err, sizeof err), err);
+    CHECK_MSG(between > 20, "without scaffold: %zu texels shared between charts", between);
+
+    texopt_scaffold_options so = {0};
+    so.one_box = 1;
+    texopt_scaffold_report rep;
+    CHECK_OK(texopt_scaffold_solve(m, tg, NULL, NULL, &so, bij, &rep, NULL, err, sizeof err), err);
+    CHECK_OK(texopt_count_overlap(m, bij, &within, &between, err, sizeof err), err);
+    CHECK_EQ_INT(between, 0);
+    CHECK_EQ_INT(within, 0);
+    CHECK_EQ_INT(rep.charts_scaffolded, 2);
+    CHECK_EQ_INT(rep.charts_skipped, 0);
+    CHECK(rep.triangles > 0);
+    CHECK_EQ_INT(texopt_count_flipped(m, bij), 0);
+    /* The charts still grew (the scaffold gives way): at least 1.5 times their area. */
+    CHECK_MSG(total_area(m, bij) > 1.5 * total_area(m, m->texel), "area %g from %g", total_area(m, bij),
+              total_area(m, m->texel));
+    free(plain);
+    free(bij);
+    free(tg);
+    texopt_mesh_destroy(m);
+}
+
+/* A U: two arms 2 cells wide and 6 high on a base row 5 cells wide, one cell apart. The
+ * arms' triangles ask to be 2.5 times wider: they close the gap. */
+static texopt_mesh *closing_u(texopt_triangle_target **targets)
+{
+    cell cells[64];
+    size_t n = 0;
+    for (int j = 0; j < 7; j++)
+        for (int i = 0; i < 5; i++)
+            if (j == 0 || i != 2)
+                cells[n++] = (cell){i, j, 0};
+    texopt_mesh *m = cell_mesh(cells, n, 1, 8);
+    *targets = malloc(m->triangle_count * sizeof **targets);
+    for (size_t c = 0; c < n; c++)
+        (*targets)[2 * c] = (*targets)[2 * c + 1] = stretch_target(cells[c].j > 0 ? 2.5 : 1.0, 1.0);
+    return m;
+}
+
+TEST(a_chart_closing_on_itself_stays_bijective)
+{
+    texopt_triangle_target *tg;
+    texopt_mesh *m = closing_u(&tg);
+    double *plain = malloc(2 * m->vertex_count * sizeof *plain), *bij = malloc(2 * m->vertex_count * sizeof *bij);
+    char err[256];
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, plain, NULL, NULL, err, sizeof err), err);
+    size_t within, between;
+    CHECK_OK(texopt_count_overlap(m, plain, &within, &between, err, sizeof err), err);
+    CHECK_MSG(within > 10, "without scaffold: %zu texels covered twice", within);
+    CHECK_EQ_INT(texopt_count_flipped(m, plain), 0); /* locally injective, globally not */
+
+    texopt_scaffold_report rep;
+    CHECK_OK(texopt_scaffold_solve(m, tg, NULL, NULL, NULL, bij, &rep, NULL, err, sizeof err), err);
+    CHECK_OK(texopt_count_overlap(m, bij, &within, &between, err, sizeof err), err);
+    CHECK_EQ_INT(within, 0);
+    CHECK_EQ_INT(rep.charts_scaffolded, 1);
+    CHECK(rep.rounds >= 1);
+    CHECK_EQ_INT(texopt_count_flipped(m, bij), 0);
+    CHECK_MSG(total_area(m, bij) > 1.4 * total_area(m, m->texel), "area %g from %g", total_area(m, bij),
+              total_area(m, m->texel));
+    free(plain);
+    free(bij);
+    free(tg);
+    texopt_mesh_destroy(m);
+}
+
+TEST(a_chart_overlapping_at_the_start_is_solved_without_scaffold)
+{
+    /* Two cells of one chart laid on the same texels (a fold): no scaffold can separate
+     * them; the solve goes on and says so. */
+    cell cells[] = {{0, 0, 0}, {1, 0, 0}, {3, 0, 1}};
+    texopt_mesh *m = cell_mesh(cells, 3, 2, 6);
+    /* fold the second cell back onto the first: its right edge moves to x = 0 */
+    for (size_t v = 0; v < m->vertex_count; v++)
+        if (m->texel[2 * v] == 2 * CELL && v < 6) /* vertices 4 and 5: chart 0's right edge */
+            m->texel[2 * v] = 0.5 * CELL;
+    handmesh_finish(m);
+    texopt_triangle_target *tg = malloc(m->triangle_count * sizeof *tg);
+    for (size_t t = 0; t < m->triangle_count; t++)
+        tg[t] = stretch_target(1.0, 1.0);
+    double *out = malloc(2 * m->vertex_count * sizeof *out);
+    char err[256];
+    texopt_scaffold_report rep;
+    CHECK_OK(texopt_scaffold_solve(m, tg, NULL, NULL, NULL, out, &rep, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(rep.charts_skipped, 1);
+    CHECK_EQ_INT(rep.charts_scaffolded, 1);
+    free(out);
+    free(tg);
+    texopt_mesh_destroy(m);
+}
+
+TEST(meshwise_refuses_a_clockwise_scaffold_triangle)
+{
+    texopt_triangle_target *tg;
+    texopt_mesh *m = two_charts(&tg);
+    double corner[2] = {-10, -10};
+    uint32_t tri[3] = {0, 1, (uint32_t)m->vertex_count}; /* (0,0), (4,0), (-10,-10): clockwise */
+    double rest[6] = {0, 0, 4, 0, -10, -10};
+    texopt_meshwise_scaffold sc = {1, corner, 1, tri, rest, 0.01};
+    texopt_meshwise_options o = {0};
+    o.scaffold = &sc;
+    double *out = malloc(2 * m->vertex_count * sizeof *out);
+    char err[256];
+    CHECK(texopt_meshwise_solve(m, tg, NULL, &o, out, NULL, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    sc.weight = 0.0;
+    tri[1] = (uint32_t)m->vertex_count; /* (0,0), (-10,-10), (4,0): counter-clockwise, no weight */
+    tri[2] = 1;
+    rest[2] = rest[3] = -10;
+    rest[4] = 4;
+    rest[5] = 0;
+    CHECK(texopt_meshwise_solve(m, tg, NULL, &o, out, NULL, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    free(out);
+    free(tg);
+    texopt_mesh_destroy(m);
+}
+
+TEST(overlap_count_counts_shared_centres)
+{
+    /* Chart 1 is chart 0's 4 x 4 texel cell moved right by 2: 2 x 4 centres in both, less
+     * the 2 + 2 on one of the two diagonals (on an edge: neither side's). */
+    cell cells[] = {{0, 0, 0}, {0, 0, 1}};
+    texopt_mesh *m = cell_mesh(cells, 2, 2, 2);
+    for (size_t v = 0; v < m->vertex_count; v++)
+        if (v >= 4) /* chart 1's */
+            m->texel[2 * v] += 2.0;
+    size_t within, between;
+    char err[256];
+    CHECK_OK(texopt_count_overlap(m, m->texel, &within, &between, err, sizeof err), err);
+    CHECK_EQ_INT(between, 4);
+    CHECK_EQ_INT(within, 0);
+    texopt_mesh_destroy(m);
+}
+
+typedef struct progress_log {
+    double last;
+    int reports, backwards;
+} progress_log;
+
+static void log_progress(void *user, const texopt_progress *p)
+{
+    progress_log *log = user;
+    log->backwards += p->stage_fraction < log->last;
+    log->last = p->stage_fraction;
+    log->reports++;
+}
+
+TEST(progress_runs_forward_through_the_re_meshes)
+{
+    texopt_triangle_target *tg;
+    texopt_mesh *m = closing_u(&tg);
+    double *out = malloc(2 * m->vertex_count * sizeof *out);
+    char err[256];
+    progress_log log = {0};
+    texopt_monitor mon = {log_progress, &log, NULL};
+    texopt_scaffold_options so = {0};
+    so.remesh_iterations = 3;
+    texopt_scaffold_report rep;
+    CHECK_OK(texopt_scaffold_solve(m, tg, NULL, NULL, &so, out, &rep, &mon, err, sizeof err), err);
+    CHECK(rep.rounds >= 2);
+    CHECK(log.reports >= rep.meshwise.iterations);
+    CHECK_EQ_INT(log.backwards, 0);
+    CHECK(log.last <= 1.0);
+    free(out);
+    free(tg);
+    texopt_mesh_destroy(m);
+}
