@@ -23,10 +23,12 @@
 #include "target.h"
 
 /* Targets into targets[mesh->triangle_count] from the metric `probe` gives on each decoded
- * image of the mesh's domain, lambda_k = eigenvalue_k ^ exponent (texopt_targets_from_metric).
+ * image of the mesh's domain, lambda_k = eigenvalue_k ^ exponent (texopt_targets_from_metric),
+ * the maps measured on up to `threads` workers (< 1: one; the result does not depend on it).
  * Fails with TEXOPT_E_UNSUPPORTED when the domain has no decoded image. */
 texopt_status texopt_metric_targets_every_map(const texopt_model *model, const texopt_mesh *mesh,
                                               texopt_signal_probe probe, double exponent, double lambda_min,
-                                              texopt_triangle_target *targets, char *err, size_t err_len);
+                                              int threads, texopt_triangle_target *targets, char *err,
+                                              size_t err_len);
 
 #endif

@@ -540,9 +540,11 @@ static texopt_status add_metric_targets(const texopt_model *model, const texopt_
     jd->stretch = candidates ? calloc(n, sizeof *jd->stretch) : NULL;
     if (!jd->hessian || (candidates && !jd->stretch))
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the signal metrics of %zu triangles", n);
-    texopt_status st = texopt_tewari_targets_every_map(model, mesh, params->lambda_min, jd->hessian, err, err_len);
+    int threads = worker_threads(params);
+    texopt_status st = texopt_tewari_targets_every_map(model, mesh, params->lambda_min, threads, jd->hessian, err,
+                                                       err_len);
     if (st == TEXOPT_OK && candidates)
-        st = texopt_ssp_targets_every_map(model, mesh, params->lambda_min, jd->stretch, err, err_len);
+        st = texopt_ssp_targets_every_map(model, mesh, params->lambda_min, threads, jd->stretch, err, err_len);
     if (st == TEXOPT_OK && floor)
         *raised = texopt_targets_raise_to_floor(jd->targets, jd->hessian, n, params->hessian_floor);
     return st;

@@ -70,8 +70,9 @@ texopt_status texopt_ssp_targets(const texopt_model *model, const texopt_mesh *m
                                  size_t err_len);
 
 /* SSP targets from every map of the domain, each triangle its most demanding map's
- * (metric_maps.h): the candidate perceptual uses. */
+ * (metric_maps.h, the maps measured on up to `threads` workers): the candidate perceptual
+ * uses. */
 texopt_status texopt_ssp_targets_every_map(const texopt_model *model, const texopt_mesh *mesh, double lambda_min,
-                                           texopt_triangle_target *targets, char *err, size_t err_len);
+                                           int threads, texopt_triangle_target *targets, char *err, size_t err_len);
 
 #endif

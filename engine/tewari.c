@@ -58,8 +58,8 @@ texopt_status texopt_tewari_targets(const texopt_model *model, const texopt_mesh
 }
 
 texopt_status texopt_tewari_targets_every_map(const texopt_model *model, const texopt_mesh *mesh, double lambda_min,
-                                              texopt_triangle_target *targets, char *err, size_t err_len)
+                                              int threads, texopt_triangle_target *targets, char *err, size_t err_len)
 {
-    return texopt_metric_targets_every_map(model, mesh, probe_hessian, HESSIAN_EXPONENT, lambda_min, targets, err,
-                                           err_len);
+    return texopt_metric_targets_every_map(model, mesh, probe_hessian, HESSIAN_EXPONENT, lambda_min, threads, targets,
+                                           err, err_len);
 }

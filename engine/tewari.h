@@ -30,8 +30,9 @@ texopt_status texopt_tewari_targets(const texopt_model *model, const texopt_mesh
                                     size_t err_len);
 
 /* Tewari targets from every map of the domain, each triangle its most demanding map's
- * (metric_maps.h): the floor and candidate perceptual uses. */
+ * (metric_maps.h, the maps measured on up to `threads` workers): the floor and candidate
+ * perceptual uses. */
 texopt_status texopt_tewari_targets_every_map(const texopt_model *model, const texopt_mesh *mesh, double lambda_min,
-                                              texopt_triangle_target *targets, char *err, size_t err_len);
+                                              int threads, texopt_triangle_target *targets, char *err, size_t err_len);
 
 #endif

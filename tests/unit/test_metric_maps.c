@@ -33,8 +33,16 @@ static double centroid_u(const texopt_mesh *mesh, size_t t)
     return u;
 }
 
-typedef texopt_status (*targets_fn)(const texopt_model *, const texopt_mesh *, double, texopt_triangle_target *,
-                                    char *, size_t);
+typedef texopt_status (*targets_fn)(const texopt_model *, const texopt_mesh *, double, int,
+                                    texopt_triangle_target *, char *, size_t);
+
+/* texopt_tewari_targets (base colour alone) as a targets_fn. */
+static texopt_status tewari_base_colour(const texopt_model *m, const texopt_mesh *mesh, double lambda_min, int threads,
+                                        texopt_triangle_target *g, char *err, size_t err_len)
+{
+    (void)threads;
+    return texopt_tewari_targets(m, mesh, lambda_min, g, err, err_len);
+}
 
 /* Mean target area over the left (flat) and right (strokes) halves. */
 static void half_areas(targets_fn fn, int emissive, double *left, double *right)
@@ -46,7 +54,7 @@ static void half_areas(targets_fn fn, int emissive, double *left, double *right)
     CHECK_OK(texopt_mesh_create(&mesh, m, 0, err, sizeof err), err);
     texopt_triangle_target *g = calloc(mesh->triangle_count, sizeof *g);
     CHECK(g);
-    CHECK_OK(fn(m, mesh, 0.1, g, err, sizeof err), err);
+    CHECK_OK(fn(m, mesh, 0.1, 2, g, err, sizeof err), err);
     double sum[2] = {0, 0};
     int count[2] = {0, 0};
     for (size_t t = 0; t < mesh->triangle_count; t++) {
@@ -65,7 +73,7 @@ TEST(detail_in_a_second_map_shrinks_the_flat_half_only)
 {
     double left, right;
     /* Base colour alone is flat: every triangle lambda 1. */
-    half_areas(texopt_tewari_targets, 1, &left, &right);
+    half_areas(tewari_base_colour, 1, &left, &right);
     CHECK_NEAR(left, 1, 1e-12);
     CHECK_NEAR(right, 1, 1e-12);
     /* Every map: the emissive strokes keep their half, the flat half shrinks toward lambda_min
@@ -74,6 +82,25 @@ TEST(detail_in_a_second_map_shrinks_the_flat_half_only)
     CHECK_MSG(left < 0.1 && right > 0.5, "tewari: left %g right %g", left, right);
     half_areas(texopt_ssp_targets_every_map, 1, &left, &right);
     CHECK_MSG(left < 0.1 && right > 0.5, "ssp: left %g right %g", left, right);
+}
+
+TEST(threads_do_not_change_the_targets)
+{
+    texopt_model *m = flat_base(1);
+    CHECK(m);
+    texopt_mesh *mesh = NULL;
+    char err[256] = "";
+    CHECK_OK(texopt_mesh_create(&mesh, m, 0, err, sizeof err), err);
+    size_t n = mesh->triangle_count;
+    texopt_triangle_target *a = calloc(n, sizeof *a), *b = calloc(n, sizeof *b);
+    CHECK(a && b);
+    CHECK_OK(texopt_ssp_targets_every_map(m, mesh, 0.1, 1, a, err, sizeof err), err);
+    CHECK_OK(texopt_ssp_targets_every_map(m, mesh, 0.1, 3, b, err, sizeof err), err);
+    CHECK(memcmp(a, b, n * sizeof *a) == 0);
+    free(a);
+    free(b);
+    texopt_mesh_destroy(mesh);
+    texopt_model_destroy(m);
 }
 
 TEST(all_flat_maps_give_lambda_one)
@@ -95,7 +122,7 @@ TEST(one_map_gives_the_targets_of_that_map)
     texopt_triangle_target *a = calloc(n, sizeof *a), *b = calloc(n, sizeof *b);
     CHECK(a && b);
     CHECK_OK(texopt_tewari_targets(m, mesh, 0.1, a, err, sizeof err), err);
-    CHECK_OK(texopt_tewari_targets_every_map(m, mesh, 0.1, b, err, sizeof err), err);
+    CHECK_OK(texopt_tewari_targets_every_map(m, mesh, 0.1, 2, b, err, sizeof err), err);
     CHECK(memcmp(a, b, n * sizeof *a) == 0);
     free(a);
     free(b);
