@@ -1,101 +1,96 @@
-/* metric_maps.c - per-map signal-metric targets and the most demanding per triangle (see
+/* metric_maps.c - the signal metrics of every map of a domain, weighted and summed (see
  * metric_maps.h). The maps are measured side by side, one per worker at a time (a metric is
  * a few probes per texel of every triangle: seconds per map on the sample assets), and
- * combined afterwards in image order, so the result does not depend on the thread count. */
+ * summed afterwards in image order, so the result does not depend on the thread count. */
 #include "metric_maps.h"
 
-#include <stdio.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "lit_weight.h"
 #include "parallel.h"
 
 #define MAX_THREADS 64
 
-/* One map's targets, filled by a worker. */
-typedef struct map_result {
+/* One map's metric, filled by a worker. */
+typedef struct map_metric {
     const texopt_image *img; /* NULL: not decoded, skipped */
-    texopt_triangle_target *targets;
-    int flat;
-    texopt_status status;
-    char err[256];
-} map_result;
+    double *metric;          /* 3 per triangle */
+    double weight;           /* what a lit render shows of a unit change of it */
+} map_metric;
 
 typedef struct map_worker {
     const texopt_model *model;
     const texopt_mesh *mesh;
     texopt_signal_probe probe;
-    double exponent, lambda_min;
-    map_result *maps;
+    map_metric *maps;
     int map_count, first, step;
 } map_worker;
-
-static double target_area(const texopt_triangle_target *g)
-{
-    return g->lambda1 * g->lambda2;
-}
-
-static void measure_map(const map_worker *w, double *metric, map_result *r)
-{
-    r->status = texopt_signal_metric_of(w->model, w->mesh, r->img, w->probe, metric);
-    if (r->status == TEXOPT_OK)
-        r->status = texopt_metric_flat(w->mesh, metric, w->exponent, &r->flat, r->err, sizeof r->err);
-    if (r->status == TEXOPT_OK)
-        r->status = texopt_targets_from_metric(w->mesh, metric, w->exponent, w->lambda_min, r->targets, r->err,
-                                               sizeof r->err);
-}
 
 static void *measure_maps(void *arg)
 {
     const map_worker *w = arg;
-    double *metric = malloc(3 * (w->mesh->triangle_count ? w->mesh->triangle_count : 1) * sizeof *metric);
-    for (int k = w->first; k < w->map_count; k += w->step) {
-        map_result *r = &w->maps[k];
-        if (!r->img)
-            continue;
-        if (metric)
-            measure_map(w, metric, r);
-        else
-            r->status = texopt_fail(r->err, sizeof r->err, TEXOPT_E_NOMEM, "no memory for a map's metric");
-    }
-    free(metric);
+    for (int k = w->first; k < w->map_count; k += w->step)
+        if (w->maps[k].img)
+            texopt_signal_metric_of(w->model, w->mesh, w->maps[k].img, w->probe, w->maps[k].metric);
     return NULL;
 }
 
-/* Each triangle takes the most demanding map's target; flat maps ask nothing unless all are. */
-static void combine(const map_result *maps, int count, size_t n, texopt_triangle_target *targets)
+/* Whether a binding of the domain's materials reads image `image` as a colour. */
+static int read_as_colour(const texopt_model *model, const texopt_domain *dom, int image)
 {
-    int measured = 0, any_detail = 0;
-    for (int k = 0; k < count; k++) {
-        const map_result *r = &maps[k];
-        if (!r->img || (r->flat && measured))
-            continue;
-        for (size_t t = 0; t < n; t++)
-            if (!measured || (!any_detail && !r->flat) || target_area(&r->targets[t]) > target_area(&targets[t]))
-                targets[t] = r->targets[t];
-        any_detail |= !r->flat;
-        measured = 1;
+    for (int p = 0; p < dom->primitive_count; p++) {
+        const texopt_primitive *prim = &model->primitives[dom->primitives[p]];
+        for (int i = 0; i <= prim->variant_count; i++) {
+            int m = texopt_primitive_material(model, prim, i);
+            const texopt_material *mat = m >= 0 && m < model->material_count ? &model->materials[m] : NULL;
+            for (int b = 0; mat && b < texopt_material_binding_count(mat); b++)
+                if (texopt_material_binding(mat, b)->image == image &&
+                    texopt_material_binding_kind(mat, b) == TEXOPT_TEXTURE_COLOR)
+                    return 1;
+        }
     }
+    return 0;
+}
+
+/* The image's weight (lit_weight.h): its luma's when read as a colour, else the root mean
+ * square of the channels the probes read (R, G, B or the one channel). */
+static double image_weight(const texopt_model *model, const texopt_domain *dom, int image, const double *weights)
+{
+    if (!weights)
+        return 1;
+    const double *w = weights + (size_t)image * TEXOPT_LIT_WEIGHT_STRIDE;
+    if (read_as_colour(model, dom, image))
+        return w[0];
+    int channels = model->images[image].channels >= 3 ? 3 : 1;
+    double sum = 0;
+    for (int c = 0; c < channels; c++)
+        sum += w[1 + c] * w[1 + c];
+    return sqrt(sum / channels);
 }
 
 texopt_status texopt_metric_targets_every_map(const texopt_model *model, const texopt_mesh *mesh,
                                               texopt_signal_probe probe, double exponent, double lambda_min,
-                                              int threads, texopt_triangle_target *targets, char *err,
-                                              size_t err_len)
+                                              const double *signal_weights, int threads,
+                                              texopt_triangle_target *targets, char *err, size_t err_len)
 {
     if (!model || !mesh || !probe || !targets || mesh->domain < 0 || mesh->domain >= model->domain_count)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "metric targets: missing argument");
     const texopt_domain *dom = &model->domains[mesh->domain];
     size_t n = mesh->triangle_count ? mesh->triangle_count : 1;
     int count = dom->image_count, decoded = 0;
-    map_result *maps = calloc(count > 0 ? (size_t)count : 1, sizeof *maps);
-    texopt_status st = maps ? TEXOPT_OK : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the maps' metrics");
+    map_metric *maps = calloc(count > 0 ? (size_t)count : 1, sizeof *maps);
+    double *sum = calloc(3 * n, sizeof *sum);
+    texopt_status st = maps && sum ? TEXOPT_OK
+                                   : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the maps' metrics");
     for (int k = 0; st == TEXOPT_OK && k < count; k++) {
         const texopt_image *img = &model->images[dom->images[k]];
         maps[k].img = img->pixels ? img : NULL;
+        maps[k].weight = image_weight(model, dom, dom->images[k], signal_weights);
         decoded += maps[k].img != NULL;
-        if (maps[k].img && !(maps[k].targets = malloc(n * sizeof *maps[k].targets)))
-            st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the maps' targets");
+        if (maps[k].img && !(maps[k].metric = malloc(3 * n * sizeof *maps[k].metric)))
+            st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the maps' metrics");
     }
     if (st == TEXOPT_OK && decoded == 0)
         st = texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "domain %d has no decoded image to measure", mesh->domain);
@@ -104,18 +99,19 @@ texopt_status texopt_metric_targets_every_map(const texopt_model *model, const t
         workers = workers < decoded ? workers : decoded;
         map_worker w[MAX_THREADS];
         for (int k = 0; k < workers; k++)
-            w[k] = (map_worker){.model = model, .mesh = mesh, .probe = probe, .exponent = exponent,
-                                .lambda_min = lambda_min, .maps = maps, .map_count = count, .first = k,
-                                .step = workers};
+            w[k] = (map_worker){.model = model, .mesh = mesh, .probe = probe, .maps = maps, .map_count = count,
+                                .first = k, .step = workers};
         texopt_parallel_run(measure_maps, w, sizeof *w, workers);
-        for (int k = 0; k < count && st == TEXOPT_OK; k++)
-            if (maps[k].img && maps[k].status != TEXOPT_OK)
-                st = texopt_fail(err, err_len, maps[k].status, "%s", maps[k].err);
+        /* The metrics are squared signal derivatives: a signal scaled by w scales its metric
+         * by w^2, and the maps add as the channels of one map do. */
+        for (int k = 0; k < count; k++)
+            for (size_t i = 0; maps[k].img && i < 3 * mesh->triangle_count; i++)
+                sum[i] += maps[k].weight * maps[k].weight * maps[k].metric[i];
+        st = texopt_targets_from_metric(mesh, sum, exponent, lambda_min, targets, err, err_len);
     }
-    if (st == TEXOPT_OK)
-        combine(maps, count, mesh->triangle_count, targets);
     for (int k = 0; maps && k < count; k++)
-        free(maps[k].targets);
+        free(maps[k].metric);
     free(maps);
+    free(sum);
     return st;
 }

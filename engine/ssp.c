@@ -152,15 +152,6 @@ static double clamp(double x, double lo, double hi)
     return x < lo ? lo : (x > hi ? hi : x);
 }
 
-texopt_status texopt_metric_flat(const texopt_mesh *mesh, const double *metric, double exponent, int *flat,
-                                 char *err, size_t err_len)
-{
-    double ref = 0;
-    texopt_status st = reference_scale(mesh, metric, exponent, &ref, err, err_len);
-    *flat = !(ref > FLAT_SCALE);
-    return st;
-}
-
 texopt_status texopt_targets_from_metric(const texopt_mesh *mesh, const double *metric,
                                          double exponent, double lambda_min,
                                          texopt_triangle_target *targets, char *err,
@@ -216,8 +207,9 @@ texopt_status texopt_ssp_targets(const texopt_model *model, const texopt_mesh *m
 }
 
 texopt_status texopt_ssp_targets_every_map(const texopt_model *model, const texopt_mesh *mesh, double lambda_min,
-                                           int threads, texopt_triangle_target *targets, char *err, size_t err_len)
+                                           const double *signal_weights, int threads,
+                                           texopt_triangle_target *targets, char *err, size_t err_len)
 {
-    return texopt_metric_targets_every_map(model, mesh, probe_gradient, STRETCH_EXPONENT, lambda_min, threads, targets,
-                                           err, err_len);
+    return texopt_metric_targets_every_map(model, mesh, probe_gradient, STRETCH_EXPONENT, lambda_min, signal_weights,
+                                           threads, targets, err, err_len);
 }

@@ -55,11 +55,6 @@ texopt_status texopt_signal_metric(const texopt_model *model, const texopt_mesh 
 texopt_status texopt_signal_metric_of(const texopt_model *model, const texopt_mesh *mesh, const texopt_image *img,
                                       texopt_signal_probe probe, double *metric);
 
-/* *flat = 1 when the metric is flat to float precision over the mesh (texopt_targets_from_metric
- * then gives every triangle lambda 1), else 0. */
-texopt_status texopt_metric_flat(const texopt_mesh *mesh, const double *metric, double exponent, int *flat,
-                                 char *err, size_t err_len);
-
 /* Signal-stretch metric per triangle into metric (3 doubles per triangle). */
 texopt_status texopt_ssp_metric(const texopt_model *model, const texopt_mesh *mesh, double *metric,
                                 char *err, size_t err_len);
@@ -69,10 +64,11 @@ texopt_status texopt_ssp_targets(const texopt_model *model, const texopt_mesh *m
                                  double lambda_min, texopt_triangle_target *targets, char *err,
                                  size_t err_len);
 
-/* SSP targets from every map of the domain, each triangle its most demanding map's
- * (metric_maps.h, the maps measured on up to `threads` workers): the candidate perceptual
- * uses. */
+/* SSP targets from every map of the domain
+ * (metric_maps.h: weighted by signal_weights, measured on up to `threads` workers): the
+ * candidate perceptual uses. */
 texopt_status texopt_ssp_targets_every_map(const texopt_model *model, const texopt_mesh *mesh, double lambda_min,
-                                           int threads, texopt_triangle_target *targets, char *err, size_t err_len);
+                                           const double *signal_weights, int threads,
+                                           texopt_triangle_target *targets, char *err, size_t err_len);
 
 #endif

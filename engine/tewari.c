@@ -58,8 +58,9 @@ texopt_status texopt_tewari_targets(const texopt_model *model, const texopt_mesh
 }
 
 texopt_status texopt_tewari_targets_every_map(const texopt_model *model, const texopt_mesh *mesh, double lambda_min,
-                                              int threads, texopt_triangle_target *targets, char *err, size_t err_len)
+                                              const double *signal_weights, int threads,
+                                              texopt_triangle_target *targets, char *err, size_t err_len)
 {
-    return texopt_metric_targets_every_map(model, mesh, probe_hessian, HESSIAN_EXPONENT, lambda_min, threads, targets,
-                                           err, err_len);
+    return texopt_metric_targets_every_map(model, mesh, probe_hessian, HESSIAN_EXPONENT, lambda_min, signal_weights,
+                                           threads, targets, err, err_len);
 }

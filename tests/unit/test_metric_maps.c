@@ -33,13 +33,15 @@ static double centroid_u(const texopt_mesh *mesh, size_t t)
     return u;
 }
 
-typedef texopt_status (*targets_fn)(const texopt_model *, const texopt_mesh *, double, int,
+typedef texopt_status (*targets_fn)(const texopt_model *, const texopt_mesh *, double, const double *, int,
                                     texopt_triangle_target *, char *, size_t);
 
 /* texopt_tewari_targets (base colour alone) as a targets_fn. */
-static texopt_status tewari_base_colour(const texopt_model *m, const texopt_mesh *mesh, double lambda_min, int threads,
-                                        texopt_triangle_target *g, char *err, size_t err_len)
+static texopt_status tewari_base_colour(const texopt_model *m, const texopt_mesh *mesh, double lambda_min,
+                                        const double *weights, int threads, texopt_triangle_target *g, char *err,
+                                        size_t err_len)
 {
+    (void)weights;
     (void)threads;
     return texopt_tewari_targets(m, mesh, lambda_min, g, err, err_len);
 }
@@ -54,7 +56,7 @@ static void half_areas(targets_fn fn, int emissive, double *left, double *right)
     CHECK_OK(texopt_mesh_create(&mesh, m, 0, err, sizeof err), err);
     texopt_triangle_target *g = calloc(mesh->triangle_count, sizeof *g);
     CHECK(g);
-    CHECK_OK(fn(m, mesh, 0.1, 2, g, err, sizeof err), err);
+    CHECK_OK(fn(m, mesh, 0.1, NULL, 2, g, err, sizeof err), err);
     double sum[2] = {0, 0};
     int count[2] = {0, 0};
     for (size_t t = 0; t < mesh->triangle_count; t++) {
@@ -94,8 +96,8 @@ TEST(threads_do_not_change_the_targets)
     size_t n = mesh->triangle_count;
     texopt_triangle_target *a = calloc(n, sizeof *a), *b = calloc(n, sizeof *b);
     CHECK(a && b);
-    CHECK_OK(texopt_ssp_targets_every_map(m, mesh, 0.1, 1, a, err, sizeof err), err);
-    CHECK_OK(texopt_ssp_targets_every_map(m, mesh, 0.1, 3, b, err, sizeof err), err);
+    CHECK_OK(texopt_ssp_targets_every_map(m, mesh, 0.1, NULL, 1, a, err, sizeof err), err);
+    CHECK_OK(texopt_ssp_targets_every_map(m, mesh, 0.1, NULL, 3, b, err, sizeof err), err);
     CHECK(memcmp(a, b, n * sizeof *a) == 0);
     free(a);
     free(b);
@@ -122,7 +124,7 @@ TEST(one_map_gives_the_targets_of_that_map)
     texopt_triangle_target *a = calloc(n, sizeof *a), *b = calloc(n, sizeof *b);
     CHECK(a && b);
     CHECK_OK(texopt_tewari_targets(m, mesh, 0.1, a, err, sizeof err), err);
-    CHECK_OK(texopt_tewari_targets_every_map(m, mesh, 0.1, 2, b, err, sizeof err), err);
+    CHECK_OK(texopt_tewari_targets_every_map(m, mesh, 0.1, NULL, 2, b, err, sizeof err), err);
     CHECK(memcmp(a, b, n * sizeof *a) == 0);
     free(a);
     free(b);
