@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "fixtures.h"
+#include "lit_weight.h"
 #include "metric_maps.h"
 #include "ssp.h"
 #include "test.h"
@@ -86,23 +87,28 @@ TEST(detail_in_a_second_map_shrinks_the_flat_half_only)
     CHECK_MSG(left < 0.1 && right > 0.5, "ssp: left %g right %g", left, right);
 }
 
-TEST(threads_do_not_change_the_targets)
+/* Whether fn_a(threads_a) and fn_b(threads_b) give m's domain 0 the same targets, bit for bit. */
+static int same_targets(texopt_model *m, targets_fn fn_a, int threads_a, targets_fn fn_b, int threads_b)
 {
-    texopt_model *m = flat_base(1);
-    CHECK(m);
     texopt_mesh *mesh = NULL;
     char err[256] = "";
-    CHECK_OK(texopt_mesh_create(&mesh, m, 0, err, sizeof err), err);
-    size_t n = mesh->triangle_count;
-    texopt_triangle_target *a = calloc(n, sizeof *a), *b = calloc(n, sizeof *b);
-    CHECK(a && b);
-    CHECK_OK(texopt_ssp_targets_every_map(m, mesh, 0.1, NULL, 1, a, err, sizeof err), err);
-    CHECK_OK(texopt_ssp_targets_every_map(m, mesh, 0.1, NULL, 3, b, err, sizeof err), err);
-    CHECK(memcmp(a, b, n * sizeof *a) == 0);
-    free(a);
-    free(b);
+    int same = 0;
+    if (m && texopt_mesh_create(&mesh, m, 0, err, sizeof err) == TEXOPT_OK) {
+        size_t n = mesh->triangle_count;
+        texopt_triangle_target *a = calloc(n, sizeof *a), *b = calloc(n, sizeof *b);
+        same = a && b && fn_a(m, mesh, 0.1, NULL, threads_a, a, err, sizeof err) == TEXOPT_OK &&
+               fn_b(m, mesh, 0.1, NULL, threads_b, b, err, sizeof err) == TEXOPT_OK && memcmp(a, b, n * sizeof *a) == 0;
+        free(a);
+        free(b);
+    }
     texopt_mesh_destroy(mesh);
     texopt_model_destroy(m);
+    return same;
+}
+
+TEST(threads_do_not_change_the_targets)
+{
+    CHECK(same_targets(flat_base(1), texopt_ssp_targets_every_map, 1, texopt_ssp_targets_every_map, 3));
 }
 
 TEST(all_flat_maps_give_lambda_one)
@@ -115,19 +121,36 @@ TEST(all_flat_maps_give_lambda_one)
 
 TEST(one_map_gives_the_targets_of_that_map)
 {
-    texopt_model *m = fixture_grid(8, 128, "half");
+    CHECK(same_targets(fixture_grid(8, 128, "half"), tewari_base_colour, 1, texopt_tewari_targets_every_map, 2));
+}
+
+TEST(a_map_no_light_shows_asks_nothing)
+{
+    /* Weight 0 for the emissive image (image 1, read as a colour: its luma weight [0]) leaves
+     * the flat base colour alone: lambda 1 everywhere; weight 1 brings the strokes back. */
+    texopt_model *m = flat_base(1);
     CHECK(m);
     texopt_mesh *mesh = NULL;
     char err[256] = "";
     CHECK_OK(texopt_mesh_create(&mesh, m, 0, err, sizeof err), err);
-    size_t n = mesh->triangle_count;
-    texopt_triangle_target *a = calloc(n, sizeof *a), *b = calloc(n, sizeof *b);
-    CHECK(a && b);
-    CHECK_OK(texopt_tewari_targets(m, mesh, 0.1, a, err, sizeof err), err);
-    CHECK_OK(texopt_tewari_targets_every_map(m, mesh, 0.1, NULL, 2, b, err, sizeof err), err);
-    CHECK(memcmp(a, b, n * sizeof *a) == 0);
-    free(a);
-    free(b);
+    double weights[2 * TEXOPT_LIT_WEIGHT_STRIDE];
+    for (int i = 0; i < 2 * TEXOPT_LIT_WEIGHT_STRIDE; i++)
+        weights[i] = 1;
+    weights[TEXOPT_LIT_WEIGHT_STRIDE] = 0;
+    texopt_triangle_target *g = calloc(mesh->triangle_count, sizeof *g);
+    CHECK(g);
+    CHECK_OK(texopt_tewari_targets_every_map(m, mesh, 0.1, weights, 2, g, err, sizeof err), err);
+    double smallest = 1;
+    for (size_t t = 0; t < mesh->triangle_count; t++)
+        smallest = fmin(smallest, g[t].lambda1 * g[t].lambda2);
+    CHECK_NEAR(smallest, 1, 1e-12);
+    weights[TEXOPT_LIT_WEIGHT_STRIDE] = 1;
+    CHECK_OK(texopt_tewari_targets_every_map(m, mesh, 0.1, weights, 2, g, err, sizeof err), err);
+    smallest = 1;
+    for (size_t t = 0; t < mesh->triangle_count; t++)
+        smallest = fmin(smallest, g[t].lambda1 * g[t].lambda2);
+    CHECK(smallest < 0.05);
+    free(g);
     texopt_mesh_destroy(mesh);
     texopt_model_destroy(m);
 }
