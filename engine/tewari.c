@@ -8,8 +8,8 @@
 
 #include <stdlib.h>
 
-#include "sample.h"
 #include "metric_maps.h"
+#include "sample.h"
 #include "ssp.h"
 
 /* lambda ~ eig(M)^(1/4) (tewari.h). */
