@@ -102,14 +102,21 @@ static void barycentrics(const mapped_triangle *tri, double x, double y, double 
 
 /* The input value seen at barycentric point w of tri, through a footprint of `scale` output
  * texels, with a normal map's XY turned by the triangle's rotation. */
-static void lookup(const bake_context *ctx, const mapped_triangle *tri, const double w[3],
-                   double scale, float *o)
+/* The input texel position of barycentric point w of tri. */
+static void input_position(const mapped_triangle *tri, const double w[3], double *ix, double *iy)
 {
     double ox = w[0] * tri->q[0][0] + w[1] * tri->q[1][0] + w[2] * tri->q[2][0];
     double oy = w[0] * tri->q[0][1] + w[1] * tri->q[1][1] + w[2] * tri->q[2][1];
     double dx = ox - tri->q[0][0], dy = oy - tri->q[0][1];
-    double ix = tri->p0[0] + tri->m[0] * dx + tri->m[1] * dy;
-    double iy = tri->p0[1] + tri->m[2] * dx + tri->m[3] * dy;
+    *ix = tri->p0[0] + tri->m[0] * dx + tri->m[1] * dy;
+    *iy = tri->p0[1] + tri->m[2] * dx + tri->m[3] * dy;
+}
+
+static void lookup(const bake_context *ctx, const mapped_triangle *tri, const double w[3],
+                   double scale, float *o)
+{
+    double ix, iy;
+    input_position(tri, w, &ix, &iy);
     double foot[4] = {tri->m[0] * scale, tri->m[1] * scale, tri->m[2] * scale, tri->m[3] * scale};
     texopt_texture_filter_sample(ctx->filter, ix, iy, foot, o);
     if (ctx->normal_map && ctx->channels >= 2)
@@ -273,6 +280,58 @@ static void fit_reference(void *user, int x, int y, float *out)
     sample_references(user, x, y, out);
 }
 
+/* The owner of owned texel (x, y) and the barycentrics its value is taken at: its centre,
+ * or for a rim texel the nearest point of the owner. */
+static const mapped_triangle *texel_point(const bake_context *ctx, int x, int y, double w[3])
+{
+    size_t i = (size_t)y * ctx->out->width + x;
+    const mapped_triangle *tri = &ctx->tris[ctx->owner[i]];
+    if (ctx->state[i] == TEXEL_RIM)
+        rim_point(tri, x + 0.5, y + 0.5, w);
+    else
+        barycentrics(tri, x + 0.5, y + 0.5, w);
+    return tri;
+}
+
+/* c times the interval [lo, hi]. */
+static void scale_interval(double c, double lo, double hi, double out[2])
+{
+    out[0] = c >= 0 ? c * lo : c * hi;
+    out[1] = c >= 0 ? c * hi : c * lo;
+}
+
+/* A normal map's XY range turned as its texels are (texopt_normal_turn on the decoded
+ * components, interval arithmetic: a box that holds every turned value). */
+static void turn_range(double c, double s, float *lo, float *hi)
+{
+    double a[2] = {2.0 * lo[0] - 1.0, 2.0 * hi[0] - 1.0}, b[2] = {2.0 * lo[1] - 1.0, 2.0 * hi[1] - 1.0};
+    double ca[2], sb[2], sa[2], cb[2];
+    scale_interval(c, a[0], a[1], ca);
+    scale_interval(-s, b[0], b[1], sb);
+    scale_interval(s, a[0], a[1], sa);
+    scale_interval(c, b[0], b[1], cb);
+    lo[0] = (float)(0.5 + 0.5 * (ca[0] + sb[0]));
+    hi[0] = (float)(0.5 + 0.5 * (ca[1] + sb[1]));
+    lo[1] = (float)(0.5 + 0.5 * (sa[0] + cb[0]));
+    hi[1] = (float)(0.5 + 0.5 * (sa[1] + cb[1]));
+}
+
+/* texel_fit's range callback: the input a bilinear lookup anywhere in the owned texel's square
+ * (mapped back through its triangle) can read, so the fit cannot take a texel beyond what
+ * the input holds around it: the least-squares solution of a sharp edge rings, like any
+ * sharpening, and a bound there is what keeps it from overshooting. */
+static void fit_range(void *user, int x, int y, float *lo, float *hi)
+{
+    const bake_context *ctx = user;
+    double w[3], ix, iy;
+    const mapped_triangle *tri = texel_point(ctx, x, y, w);
+    input_position(tri, w, &ix, &iy);
+    double hx = 0.5 * (fabs(tri->m[0]) + fabs(tri->m[1])), hy = 0.5 * (fabs(tri->m[2]) + fabs(tri->m[3]));
+    texopt_texture_filter_range(ctx->filter, ix, iy, hx, hy, lo, hi);
+    if (ctx->normal_map && ctx->channels >= 2)
+        turn_range(tri->rot_c, tri->rot_s, lo, hi);
+}
+
 typedef struct sample_worker {
     const bake_context *ctx;
     int first_row, step;
@@ -287,12 +346,8 @@ static void sample_row(const bake_context *ctx, int y)
         size_t i = (size_t)y * width + x;
         if (ctx->state[i] == TEXEL_EMPTY)
             continue;
-        const mapped_triangle *tri = &ctx->tris[ctx->owner[i]];
         double w[3];
-        if (ctx->state[i] == TEXEL_RIM)
-            rim_point(tri, x + 0.5, y + 0.5, w);
-        else
-            barycentrics(tri, x + 0.5, y + 0.5, w);
+        const mapped_triangle *tri = texel_point(ctx, x, y, w);
         bake_texel(ctx, tri, x, y, w);
     }
 }
@@ -358,8 +413,8 @@ static texopt_status fit_texels(bake_context *ctx, uint8_t *covered, int threads
             fixed[i] = ctx->state[i] != TEXEL_EMPTY && !sampled[i];
             covered[i] = ctx->state[i] != TEXEL_EMPTY;
         }
-        texopt_texel_fit_problem pb = {.image = ctx->out, .sampled = sampled,
-                                       .reference = fit_reference, .user = ctx, .fixed = fixed,
+        texopt_texel_fit_problem pb = {.image = ctx->out, .sampled = sampled, .reference = fit_reference,
+                                       .range = fit_range, .user = ctx, .fixed = fixed,
                                        .ridge = FIT_RIDGE, .tolerance = FIT_TOLERANCE,
                                        .max_iterations = FIT_MAX_ITERATIONS, .threads = threads};
         st = texopt_texel_fit(&pb, covered, NULL, err, err_len);

@@ -42,7 +42,8 @@
  * LEAST_SQUARES: the prefiltered bake is the start and the ridge target of a least-squares
  *   fit (texel_fit.h): the texels whose bilinear reconstruction best matches the input at
  *   four sub-texel points per covered texel (each point a prefiltered lookup with half a
- *   texel's footprint, i.e. plain bilinear where the layout magnifies).
+ *   texel's footprint, i.e. plain bilinear where the layout magnifies), each texel kept
+ *   within the range of the input its square covers (no ringing at sharp edges).
  * MAGNIFIED: the same fit, only for texels of triangles the layout magnifies (an output
  *   texel covers at most one input texel); texels of shrunk triangles keep the prefilter.
  * DEFAULT is the one measured best with the whole-mesh evaluation (rebake.c says which). */

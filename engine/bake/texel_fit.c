@@ -24,6 +24,8 @@
 #define BLOCK_ROWS 16
 #define MAX_THREADS 64
 #define MAX_SUMS 2
+/* Rounds of holding texels at their bounds and solving again for the others. */
+#define HOLD_ROUNDS 3
 
 enum { NOT_FREE = 0, FREE_BORDER = 1, FREE_INSIDE = 2 };
 
@@ -37,6 +39,8 @@ typedef struct fit_ctx {
     const texopt_texel_fit_problem *pb;
     int w, h, ch;
     uint8_t *is_free; /* per texel: NOT_FREE, FREE_BORDER or FREE_INSIDE */
+    uint8_t *held;    /* per texel: 1 once a bound holds it (a free texel the solve no longer moves) */
+    uint8_t *bounds;  /* per texel: ch lower then ch upper bounds, 8-bit code values */
     float *inv_diag;  /* per free texel: 1 / (K_tt + ridge), the Jacobi preconditioner */
     float *r, *p, *q; /* ch per texel */
     float **border_k9;    /* per row block: the K rows of its FREE_BORDER texels, 9 floats each */
@@ -193,8 +197,9 @@ static void mark_free(fit_ctx *c, int y0, int y1, double *sums, float *scratch)
 }
 
 /* The residuals ref - A x0 of the counted samples of rows [r0, r1) into scratch (4 * ch
- * floats per texel of those rows). */
-static void block_residuals(fit_ctx *c, int r0, int r1, float *scratch)
+ * floats per texel of those rows), and each sampled texel's range into ranges (ch lows then
+ * ch highs per texel; [0, 1] without a range callback). */
+static void block_residuals(fit_ctx *c, int r0, int r1, float *scratch, float *ranges)
 {
     size_t per_texel = TEXOPT_TEXEL_FIT_SAMPLES * (size_t)c->ch;
     for (int uy = r0; uy < r1; uy++)
@@ -203,6 +208,13 @@ static void block_residuals(fit_ctx *c, int r0, int r1, float *scratch)
                 continue;
             float *ref = scratch + ((size_t)(uy - r0) * c->w + ux) * per_texel;
             c->pb->reference(c->pb->user, ux, uy, ref);
+            float *lo = ranges + ((size_t)(uy - r0) * c->w + ux) * 2 * (size_t)c->ch, *hi = lo + c->ch;
+            if (c->pb->range) {
+                c->pb->range(c->pb->user, ux, uy, lo, hi);
+            } else {
+                for (int k = 0; k < c->ch; k++)
+                    lo[k] = 0.0f, hi[k] = 1.0f;
+            }
             for (int s = 0; s < TEXOPT_TEXEL_FIT_SAMPLES; s++) {
                 int sx = s & 1, sy = s >> 1;
                 if (!sample_counts(c, ux, uy, sx, sy))
@@ -219,28 +231,46 @@ static void block_residuals(fit_ctx *c, int r0, int r1, float *scratch)
         }
 }
 
+static uint8_t code_value(float v)
+{
+    return (uint8_t)(v > 0.0f ? (v < 255.0f ? v : 255.0f) : 0.0f);
+}
+
 /* Starting residual A^T (ref - A x0) of the free texels of rows [y0, y1), from the sample
- * residuals of rows y0 - 1 .. y1 (the block and one row on each side). */
+ * residuals of rows y0 - 1 .. y1 (the block and one row on each side), and each free texel's
+ * bounds (code values, widened outward): a sampled texel's own range, another's the union of
+ * the ranges of the sampled texels whose samples it takes part in. */
 static void start_residual(fit_ctx *c, int y0, int y1, double *sums, float *scratch)
 {
     (void)sums;
     int r0 = y0 > 0 ? y0 - 1 : 0, r1 = y1 < c->h ? y1 + 1 : c->h;
     size_t per_texel = TEXOPT_TEXEL_FIT_SAMPLES * (size_t)c->ch;
-    block_residuals(c, r0, r1, scratch);
+    float *ranges = scratch + (size_t)(BLOCK_ROWS + 2) * c->w * per_texel;
+    block_residuals(c, r0, r1, scratch, ranges);
     for (int y = y0; y < y1; y++)
         for (int x = 0; x < c->w; x++) {
             size_t t = (size_t)y * c->w + x;
             float *rt = c->r + t * c->ch;
             double acc[4] = {0, 0, 0, 0};
+            float lo[4] = {1, 1, 1, 1}, hi[4] = {0, 0, 0, 0};
             if (c->is_free[t] != NOT_FREE) {
+                int own = c->pb->sampled[t] != 0;
                 FOR_TOUCHING_SAMPLES(c, x, y, {
-                    const float *e = scratch + ((size_t)(uy - r0) * c->w + ux) * per_texel + (size_t)s * c->ch;
-                    for (int k = 0; k < c->ch; k++)
-                        acc[k] += (double)wt * e[k];
+                    size_t at = ((size_t)(uy - r0) * c->w + ux) * per_texel + (size_t)s * c->ch;
+                    const float *rl = ranges + ((size_t)(uy - r0) * c->w + ux) * 2 * (size_t)c->ch;
+                    int counts = !own || (ux == x && uy == y);
+                    for (int k = 0; k < c->ch; k++) {
+                        acc[k] += (double)wt * scratch[at + k];
+                        lo[k] = counts && rl[k] < lo[k] ? rl[k] : lo[k];
+                        hi[k] = counts && rl[c->ch + k] > hi[k] ? rl[c->ch + k] : hi[k];
+                    }
                 })
             }
-            for (int k = 0; k < c->ch; k++)
+            for (int k = 0; k < c->ch; k++) {
                 rt[k] = (float)acc[k];
+                c->bounds[2 * t * c->ch + k] = code_value(floorf(255.0f * (lo[k] < hi[k] ? lo[k] : hi[k])));
+                c->bounds[(2 * t + 1) * c->ch + k] = code_value(ceilf(255.0f * (hi[k] > lo[k] ? hi[k] : lo[k])));
+            }
         }
 }
 
@@ -252,7 +282,7 @@ static void update_direction(fit_ctx *c, int y0, int y1, double *sums, float *sc
         for (int x = 0; x < c->w; x++) {
             size_t t = (size_t)y * c->w + x;
             float *pt = c->p + t * c->ch;
-            if (c->is_free[t] == NOT_FREE) {
+            if (c->is_free[t] == NOT_FREE || c->held[t]) {
                 memset(pt, 0, (size_t)c->ch * sizeof *pt);
                 continue;
             }
@@ -308,8 +338,9 @@ static void apply_inside_any(const float *pt, size_t w, int ch, float ridge, flo
     }
 }
 
-/* q = (K + ridge I) p on free texels. sums[0] = p . q. p is zero wherever the fit may not
- * change a texel, so inside texels run the constant stencil without tests. */
+/* q = (K + ridge I) p on free texels not held. sums[0] = p . q. p is zero wherever the fit
+ * may not change a texel (but once, when held texels' clamps are passed on: release_held),
+ * so inside texels run the constant stencil without tests. */
 static void apply_matrix(fit_ctx *c, int y0, int y1, double *sums, float *scratch)
 {
     (void)scratch;
@@ -323,6 +354,10 @@ static void apply_matrix(fit_ctx *c, int y0, int y1, double *sums, float *scratc
                 continue;
             const float *pt = c->p + t * ch;
             float acc[4];
+            if (c->held[t]) {
+                border += c->is_free[t] == FREE_BORDER ? 9 : 0;
+                continue;
+            }
             if (c->is_free[t] == FREE_INSIDE) {
                 apply_inside_any(pt, (size_t)c->w, ch, ridge, acc);
                 accumulate_q(c->q + t * ch, pt, acc, ch, sums);
@@ -356,7 +391,7 @@ static void step(fit_ctx *c, int y0, int y1, double *sums, float *scratch)
     for (int y = y0; y < y1; y++)
         for (int x = 0; x < c->w; x++) {
             size_t t = (size_t)y * c->w + x;
-            if (c->is_free[t] == NOT_FREE)
+            if (c->is_free[t] == NOT_FREE || c->held[t])
                 continue;
             float *xt = texopt_image_at(c->pb->image, x, y), *rt = c->r + t * c->ch;
             const float *pt = c->p + t * c->ch, *qt = c->q + t * c->ch;
@@ -369,17 +404,52 @@ static void step(fit_ctx *c, int y0, int y1, double *sums, float *scratch)
         }
 }
 
-static void clamp_free(fit_ctx *c, int y0, int y1, double *sums, float *scratch)
+/* Clamps the free texels to their bounds. The change of each texel not yet held goes to p
+ * (0 where none), and a texel that changed is held from now on. sums[0] counts those. */
+static void clamp_to_bounds(fit_ctx *c, int y0, int y1, double *sums, float *scratch)
+{
+    (void)scratch;
+    for (int y = y0; y < y1; y++)
+        for (int x = 0; x < c->w; x++) {
+            size_t t = (size_t)y * c->w + x;
+            float *pt = c->p + t * c->ch;
+            memset(pt, 0, (size_t)c->ch * sizeof *pt);
+            if (c->is_free[t] == NOT_FREE)
+                continue;
+            float *xt = texopt_image_at(c->pb->image, x, y);
+            const uint8_t *lo = c->bounds + 2 * t * c->ch, *hi = lo + c->ch;
+            int moved = 0;
+            for (int k = 0; k < c->ch; k++) {
+                float l = lo[k] / 255.0f, h = hi[k] / 255.0f;
+                float v = xt[k] > l ? (xt[k] < h ? xt[k] : h) : l;
+                pt[k] = v - xt[k];
+                moved |= v != xt[k];
+                xt[k] = v;
+            }
+            if (moved && !c->held[t]) {
+                c->held[t] = 1;
+                sums[0] += 1;
+            } else if (c->held[t]) {
+                memset(pt, 0, (size_t)c->ch * sizeof *pt);
+            }
+        }
+}
+
+/* r -= q on the free texels not held (q = K times the latest clamps: their effect on the
+ * others' residual), 0 on held ones. */
+static void pass_on_clamps(fit_ctx *c, int y0, int y1, double *sums, float *scratch)
 {
     (void)sums;
     (void)scratch;
     for (int y = y0; y < y1; y++)
         for (int x = 0; x < c->w; x++) {
-            if (c->is_free[(size_t)y * c->w + x] == NOT_FREE)
+            size_t t = (size_t)y * c->w + x;
+            if (c->is_free[t] == NOT_FREE)
                 continue;
-            float *xt = texopt_image_at(c->pb->image, x, y);
+            float *rt = c->r + t * c->ch;
+            const float *qt = c->q + t * c->ch;
             for (int k = 0; k < c->ch; k++)
-                xt[k] = xt[k] > 0.0f ? (xt[k] < 1.0f ? xt[k] : 1.0f) : 0.0f;
+                rt[k] = c->held[t] ? 0.0f : rt[k] - qt[k];
         }
 }
 
@@ -396,21 +466,22 @@ static texopt_status check_problem(const texopt_texel_fit_problem *pb, char *err
     return TEXOPT_OK;
 }
 
-/* Preconditioned conjugate gradients from the residual in c->r. */
+/* Preconditioned conjugate gradients from the residual in c->r; adds its iterations to rep's. */
 static void solve(fit_ctx *c, double *block_sums, texopt_texel_fit_report *rep)
 {
     double sums[MAX_SUMS];
     c->beta = 0;
     run_blocks(c, update_direction, block_sums, sums);
     double rz = sums[0], rz0 = sums[0];
-    rep->iterations = 0;
+    int iterations = 0;
     rep->residual_ratio = 0;
-    while (rz > 0 && rep->iterations < c->pb->max_iterations) {
+    while (rz > 0 && iterations < c->pb->max_iterations) {
         run_blocks(c, apply_matrix, block_sums, sums);
         if (!(sums[0] > 0))
             break;
         c->alpha = rz / sums[0];
         run_blocks(c, step, block_sums, sums);
+        iterations++;
         rep->iterations++;
         double rz_new = sums[0];
         rep->residual_ratio = sqrt(rz_new / rz0);
@@ -420,6 +491,24 @@ static void solve(fit_ctx *c, double *block_sums, texopt_texel_fit_report *rep)
         run_blocks(c, update_direction, block_sums, sums);
         rz = rz_new;
     }
+}
+
+/* The fit with every texel inside its bounds: solve, clamp the texels that left them and hold
+ * them there, pass the clamps on to the others' residual and solve again for those, up to
+ * HOLD_ROUNDS times; the last clamp then holds whatever is still outside. */
+static void solve_within_bounds(fit_ctx *c, double *block_sums, texopt_texel_fit_report *rep)
+{
+    double sums[MAX_SUMS];
+    solve(c, block_sums, rep);
+    for (int round = 0; round < HOLD_ROUNDS; round++) {
+        run_blocks(c, clamp_to_bounds, block_sums, sums);
+        if (!(sums[0] > 0))
+            return;
+        run_blocks(c, apply_matrix, block_sums, sums);
+        run_blocks(c, pass_on_clamps, block_sums, sums);
+        solve(c, block_sums, rep);
+    }
+    run_blocks(c, clamp_to_bounds, block_sums, sums);
 }
 
 texopt_status texopt_texel_fit(const texopt_texel_fit_problem *problem, uint8_t *changed,
@@ -434,6 +523,8 @@ texopt_status texopt_texel_fit(const texopt_texel_fit_problem *problem, uint8_t 
     size_t n = (size_t)c.w * (size_t)c.h;
     int blocks = (c.h + BLOCK_ROWS - 1) / BLOCK_ROWS;
     c.is_free = malloc(n);
+    c.held = calloc(n, 1);
+    c.bounds = malloc(2 * n * (size_t)c.ch);
     c.inv_diag = malloc(n * sizeof *c.inv_diag);
     c.r = malloc(n * (size_t)c.ch * sizeof *c.r);
     /* Zeroed: the first direction update reads p times beta = 0, and 0 times leftover
@@ -444,20 +535,19 @@ texopt_status texopt_texel_fit(const texopt_texel_fit_problem *problem, uint8_t 
     c.border_k9 = calloc((size_t)blocks, sizeof *c.border_k9);
     c.border_count = calloc((size_t)blocks, sizeof *c.border_count);
     texopt_texel_fit_report rep = {0};
-    if (!c.is_free || !c.inv_diag || !c.r || !c.p || !c.q || !block_sums || !c.border_k9 || !c.border_count) {
+    if (!c.is_free || !c.held || !c.bounds || !c.inv_diag || !c.r || !c.p || !c.q || !block_sums || !c.border_k9 || !c.border_count) {
         st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %dx%d texel fit", c.w, c.h);
     } else {
         double sums[MAX_SUMS];
         run_blocks(&c, mark_free, block_sums, sums);
         rep.unknowns = (size_t)sums[0];
-        c.scratch_floats = (size_t)(BLOCK_ROWS + 2) * (size_t)c.w * TEXOPT_TEXEL_FIT_SAMPLES * (size_t)c.ch;
+        c.scratch_floats = 2 * (size_t)(BLOCK_ROWS + 2) * (size_t)c.w * TEXOPT_TEXEL_FIT_SAMPLES * (size_t)c.ch;
         run_blocks(&c, start_residual, block_sums, sums);
         c.scratch_floats = 0;
         if (atomic_load(&c.no_memory)) {
             st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %dx%d texel fit", c.w, c.h);
         } else {
-            solve(&c, block_sums, &rep);
-            run_blocks(&c, clamp_free, block_sums, sums);
+            solve_within_bounds(&c, block_sums, &rep);
             if (changed)
                 for (size_t t = 0; t < n; t++)
                     if (c.is_free[t] != NOT_FREE)
@@ -467,6 +557,8 @@ texopt_status texopt_texel_fit(const texopt_texel_fit_problem *problem, uint8_t 
     if (report)
         *report = rep;
     free(c.is_free);
+    free(c.held);
+    free(c.bounds);
     free(c.inv_diag);
     free(c.r);
     free(c.p);

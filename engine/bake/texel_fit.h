@@ -9,12 +9,19 @@
  * (e.g. a prefiltered bake), which the ridge keeps texels that few samples see close to.
  * Four samples per texel make the problem well posed wherever texels are sampled: a plain
  * point sample at each texel centre would give x = ref and the renderer's second bilinear
- * interpolation would blur the signal again, which is what this fit undoes.
+ * interpolation would blur the signal again, which is what this fit undoes. The minimum is
+ * taken subject to bounds: every texel stays within the range of the input under it (the range
+ * callback; a texel no sample of its own sees takes the union of the ranges of the sampled
+ * texels whose samples it takes part in; [0, 1] without a callback). Unbounded, the fit of a
+ * sharp edge overshoots on both sides (it inverts a blur, as any sharpening does): a glowing
+ * shape would get a dark halo and a bright rim no input texel holds.
  * Solved by conjugate gradients with a Jacobi preconditioner on the 3x3-stencil normal
- * equations; rows are shared among threads in fixed blocks and every sum is taken in block
- * order, so the result does not depend on the thread count. Memory: 1 + 4 + 12 * channels
- * bytes per texel besides the image, and 36 per free texel next to a chart border. Values
- * are clamped to [0, 1] (the engine's image contract, image.h) after the solve.
+ * equations; then, up to three times, the texels outside their bounds are clamped and held
+ * there, and the others solved again with those held (an active set that only grows); a final
+ * clamp holds what is still outside. Rows are shared among threads in fixed blocks and every
+ * sum is taken in block order, so the result does not depend on the thread count. Memory:
+ * 2 + 4 + (12 + 2) * channels bytes per texel besides the image, and 36 per free texel next
+ * to a chart border.
  * Does not: decide where the references come from or which texels to fix (rebake.h does).
  *
  * Implements the "least-squares fit for bilinear reconstruction" alternative of the re-bake
@@ -39,11 +46,17 @@
  * memory: at 4096² that would be a gigabyte. */
 typedef void (*texopt_texel_reference_fn)(void *user, int x, int y, float *out);
 
+/* Writes the range of the input under sampled texel (x, y): per channel the lowest value
+ * into lo and the highest into hi (channels floats each), e.g. of every input texel its
+ * square's lookups read. Called as the reference callback is. */
+typedef void (*texopt_texel_range_fn)(void *user, int x, int y, float *lo, float *hi);
+
 typedef struct texopt_texel_fit_problem {
     texopt_image *image;    /* in: x0 at every texel; out: fitted values where changeable */
     const uint8_t *sampled; /* per texel: non-zero when its four sub-samples take part */
     texopt_texel_reference_fn reference;
-    void *user;             /* passed to reference */
+    texopt_texel_range_fn range; /* NULL: every texel's range is [0, 1] */
+    void *user;             /* passed to reference and range */
     const uint8_t *fixed;   /* per texel: non-zero keeps its value (NULL: none fixed) */
     double ridge;           /* > 0: weight of |x - x0|^2 (e.g. 1e-3) */
     double tolerance;       /* stop when the preconditioned residual fell by this factor */

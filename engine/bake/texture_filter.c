@@ -23,6 +23,9 @@ struct texopt_texture_filter {
     texopt_wrap wrap_s, wrap_t;
 };
 
+/* Farthest reach of texopt_texture_filter_range, in texels each way. */
+#define RANGE_REACH 64.0
+
 static int wrap_index(int i, int n, texopt_wrap mode)
 {
     if (mode == TEXOPT_WRAP_CLAMP)
@@ -33,6 +36,39 @@ static int wrap_index(int i, int n, texopt_wrap mode)
         return m < n ? m : period - 1 - m;
     }
     return ((i % n) + n) % n;
+}
+
+/* Texel index range [first, last] of the bilinear taps of lookups in [c - h, c + h], h cut
+ * to RANGE_REACH. */
+static void tap_span(double c, double h, int *first, int *last)
+{
+    h = h < RANGE_REACH ? h : RANGE_REACH;
+    double lo = floor(c - h - 0.5), hi = floor(c + h - 0.5) + 1;
+    *first = isfinite(lo) ? (int)lo : 0;
+    *last = isfinite(hi) ? (int)hi : 0;
+}
+
+void texopt_texture_filter_range(const texopt_texture_filter *filter, double x, double y, double hx, double hy,
+                                 float *lo, float *hi)
+{
+    const texopt_image *img = &filter->level[0];
+    int x0, x1, y0, y1;
+    tap_span(x, hx, &x0, &x1);
+    tap_span(y, hy, &y0, &y1);
+    for (int k = 0; k < img->channels; k++) {
+        lo[k] = INFINITY;
+        hi[k] = -INFINITY;
+    }
+    for (int j = y0; j <= y1; j++) {
+        int row = wrap_index(j, img->height, filter->wrap_t);
+        for (int i = x0; i <= x1; i++) {
+            const float *v = texopt_image_at(img, wrap_index(i, img->width, filter->wrap_s), row);
+            for (int k = 0; k < img->channels; k++) {
+                lo[k] = v[k] < lo[k] ? v[k] : lo[k];
+                hi[k] = v[k] > hi[k] ? v[k] : hi[k];
+            }
+        }
+    }
 }
 
 static void bilinear(const texopt_image *img, texopt_wrap ws, texopt_wrap wt, double x, double y,

@@ -41,6 +41,13 @@ int texopt_texture_filter_levels(const texopt_texture_filter *filter);
 void texopt_texture_filter_sample(const texopt_texture_filter *filter, double x, double y,
                                   const double jacobian[4], float *out);
 
+/* The range of the input around (x, y): per channel, the minimum into lo and the maximum into
+ * hi of the level-0 texels a bilinear lookup anywhere in the box [x - hx, x + hx] x
+ * [y - hy, y + hy] reads (wrapped), so no lookup, filtered or not, inside the box leaves it.
+ * The box is cut to 64 texels each way from (x, y). Writes `channels` floats to each. */
+void texopt_texture_filter_range(const texopt_texture_filter *filter, double x, double y, double hx, double hy,
+                                 float *lo, float *hi);
+
 /* Resamples the whole of src into dst (already allocated with its size and the same channel
  * count), each dst texel the prefiltered footprint of its square: what a re-bake of the
  * unchanged layout would give (method "input" resizes with Lanczos-3 instead, lanczos.h, as

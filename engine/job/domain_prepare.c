@@ -14,7 +14,8 @@
  * (TEXOPT_DEFAULT_HESSIAN_FLOOR): the slivers whose one-ring hides their detail from stage 1
  * get at least k^2 of tewari's area. *raised: how many targets it raised. */
 static texopt_status add_metric_targets(const texopt_model *model, const texopt_mesh *mesh, const texopt_params *params,
-                                        job_domain *jd, size_t *raised, char *err, size_t err_len)
+                                        const double *signal_weights, job_domain *jd, size_t *raised, char *err,
+                                        size_t err_len)
 {
     *raised = 0;
     size_t n = mesh->triangle_count;
@@ -25,9 +26,12 @@ static texopt_status add_metric_targets(const texopt_model *model, const texopt_
     jd->stretch = candidates ? calloc(n, sizeof *jd->stretch) : NULL;
     if (!jd->hessian || (candidates && !jd->stretch))
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the signal metrics of %zu triangles", n);
-    texopt_status st = texopt_tewari_targets(model, mesh, params->lambda_min, jd->hessian, err, err_len);
+    int threads = job_worker_threads(params);
+    texopt_status st = texopt_tewari_targets_every_map(model, mesh, params->lambda_min, signal_weights, threads,
+                                                       jd->hessian, err, err_len);
     if (st == TEXOPT_OK && candidates)
-        st = texopt_ssp_targets(model, mesh, params->lambda_min, jd->stretch, err, err_len);
+        st = texopt_ssp_targets_every_map(model, mesh, params->lambda_min, signal_weights, threads, jd->stretch, err,
+                                          err_len);
     if (st == TEXOPT_OK && floor)
         *raised = texopt_targets_raise_to_floor(jd->targets, jd->hessian, n, params->hessian_floor);
     return st;
@@ -64,7 +68,8 @@ static texopt_status domain_targets(texopt_job *job, int d, double from, double 
     texopt_status st = job->method->targets(job->model, jd->mesh, params, job->signal_weights, jd->targets, &trep,
                                             &job->jm.inner, err, err_len);
     if (st == TEXOPT_OK && job->method->chooses)
-        st = add_metric_targets(job->model, jd->mesh, params, jd, &ds->hessian_floor_triangles, err, err_len);
+        st = add_metric_targets(job->model, jd->mesh, params, job->signal_weights, jd, &ds->hessian_floor_triangles,
+                                err, err_len);
     ds->seconds_stage1 = job_now_seconds() - t0;
     if (st == TEXOPT_OK && job->method->chooses)
         job_stats_record_stage1(jd->mesh, jd->targets, &trep, params->epsilon, ds);

@@ -12,9 +12,15 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "metric_maps.h"
 #include "sample.h"
 
 #define MAX_SUBDIVISION 32
+/* lambda ~ eig(M)^(1/2) (ssp.h). */
+#define STRETCH_EXPONENT 0.5
+/* A reference scale below this: the signal is flat to float precision, every triangle
+ * equally simple. */
+#define FLAT_SCALE 1e-9
 
 const texopt_image *texopt_domain_signal_image(const texopt_model *model, const texopt_mesh *mesh)
 {
@@ -59,6 +65,12 @@ texopt_status texopt_signal_metric(const texopt_model *model, const texopt_mesh 
     if (!img)
         return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
                            "domain %d has no decoded base colour image to measure", mesh->domain);
+    return texopt_signal_metric_of(model, mesh, img, probe, metric);
+}
+
+texopt_status texopt_signal_metric_of(const texopt_model *model, const texopt_mesh *mesh, const texopt_image *img,
+                                      texopt_signal_probe probe, double *metric)
+{
     const texopt_domain *dom = &model->domains[mesh->domain];
     double sx = (double)mesh->width / img->width, sy = (double)mesh->height / img->height;
     for (size_t t = 0; t < mesh->triangle_count; t++) {
@@ -159,8 +171,7 @@ texopt_status texopt_targets_from_metric(const texopt_mesh *mesh, const double *
     texopt_status st = reference_scale(mesh, metric, exponent, &ref, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    /* Below this the signal is flat to float precision: every triangle is equally simple. */
-    int flat = !(ref > 1e-9);
+    int flat = !(ref > FLAT_SCALE);
     for (size_t t = 0; t < mesh->triangle_count; t++) {
         texopt_triangle_target *g = &targets[t];
         memset(g, 0, sizeof *g);
@@ -190,7 +201,15 @@ texopt_status texopt_ssp_targets(const texopt_model *model, const texopt_mesh *m
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the signal metric");
     texopt_status st = texopt_ssp_metric(model, mesh, metric, err, err_len);
     if (st == TEXOPT_OK)
-        st = texopt_targets_from_metric(mesh, metric, 0.5, lambda_min, targets, err, err_len);
+        st = texopt_targets_from_metric(mesh, metric, STRETCH_EXPONENT, lambda_min, targets, err, err_len);
     free(metric);
     return st;
+}
+
+texopt_status texopt_ssp_targets_every_map(const texopt_model *model, const texopt_mesh *mesh, double lambda_min,
+                                           const double *signal_weights, int threads,
+                                           texopt_triangle_target *targets, char *err, size_t err_len)
+{
+    return texopt_metric_targets_every_map(model, mesh, probe_gradient, STRETCH_EXPONENT, lambda_min, signal_weights,
+                                           threads, targets, err, err_len);
 }

@@ -50,6 +50,11 @@ texopt_status texopt_signal_metric(const texopt_model *model, const texopt_mesh 
                                    texopt_signal_probe probe, double *metric, char *err,
                                    size_t err_len);
 
+/* texopt_signal_metric of image img (any decoded image of the mesh's domain) instead of the
+ * base colour's. Cannot fail. */
+texopt_status texopt_signal_metric_of(const texopt_model *model, const texopt_mesh *mesh, const texopt_image *img,
+                                      texopt_signal_probe probe, double *metric);
+
 /* Signal-stretch metric per triangle into metric (3 doubles per triangle). */
 texopt_status texopt_ssp_metric(const texopt_model *model, const texopt_mesh *mesh, double *metric,
                                 char *err, size_t err_len);
@@ -58,5 +63,12 @@ texopt_status texopt_ssp_metric(const texopt_model *model, const texopt_mesh *me
 texopt_status texopt_ssp_targets(const texopt_model *model, const texopt_mesh *mesh,
                                  double lambda_min, texopt_triangle_target *targets, char *err,
                                  size_t err_len);
+
+/* SSP targets from every map of the domain
+ * (metric_maps.h: weighted by signal_weights, measured on up to `threads` workers): the
+ * candidate perceptual uses. */
+texopt_status texopt_ssp_targets_every_map(const texopt_model *model, const texopt_mesh *mesh, double lambda_min,
+                                           const double *signal_weights, int threads,
+                                           texopt_triangle_target *targets, char *err, size_t err_len);
 
 #endif

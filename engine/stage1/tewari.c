@@ -8,8 +8,12 @@
 
 #include <stdlib.h>
 
+#include "metric_maps.h"
 #include "sample.h"
 #include "ssp.h"
+
+/* lambda ~ eig(M)^(1/4) (tewari.h). */
+#define HESSIAN_EXPONENT 0.25
 
 static void probe_hessian(const texopt_image *img, texopt_wrap ws, texopt_wrap wt, double x,
                           double y, double sx, double sy, double m[3])
@@ -48,7 +52,15 @@ texopt_status texopt_tewari_targets(const texopt_model *model, const texopt_mesh
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the Hessian metric");
     texopt_status st = texopt_tewari_metric(model, mesh, metric, err, err_len);
     if (st == TEXOPT_OK)
-        st = texopt_targets_from_metric(mesh, metric, 0.25, lambda_min, targets, err, err_len);
+        st = texopt_targets_from_metric(mesh, metric, HESSIAN_EXPONENT, lambda_min, targets, err, err_len);
     free(metric);
     return st;
+}
+
+texopt_status texopt_tewari_targets_every_map(const texopt_model *model, const texopt_mesh *mesh, double lambda_min,
+                                              const double *signal_weights, int threads,
+                                              texopt_triangle_target *targets, char *err, size_t err_len)
+{
+    return texopt_metric_targets_every_map(model, mesh, probe_hessian, HESSIAN_EXPONENT, lambda_min, signal_weights,
+                                           threads, targets, err, err_len);
 }

@@ -29,4 +29,11 @@ texopt_status texopt_tewari_targets(const texopt_model *model, const texopt_mesh
                                     double lambda_min, texopt_triangle_target *targets, char *err,
                                     size_t err_len);
 
+/* Tewari targets from every map of the domain
+ * (metric_maps.h: weighted by signal_weights, measured on up to `threads` workers): the
+ * floor and candidate perceptual uses. */
+texopt_status texopt_tewari_targets_every_map(const texopt_model *model, const texopt_mesh *mesh, double lambda_min,
+                                              const double *signal_weights, int threads,
+                                              texopt_triangle_target *targets, char *err, size_t err_len);
+
 #endif

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "map_patterns.h"
 #include "rebake.h"
 #include "sample.h"
 
@@ -24,9 +25,7 @@ static void set_rgb(float *px, int channels, float r, float g, float b)
         px[3] = 1.0f;
 }
 
-/* Text-like glyph strokes: the strokes of an 8x8 cell come from a fixed hash of the cell,
- * and row/column 7 stay blank as spacing between glyphs. */
-static int glyph_ink(int x, int y)
+int fixture_glyph_ink(int x, int y)
 {
     unsigned cx = (unsigned)x / 8u, cy = (unsigned)y / 8u;
     int lx = x % 8, ly = y % 8;
@@ -50,7 +49,7 @@ static int pattern_texel(const char *pattern, int x, int y, int w, int h, float 
     }
     float bw;
     if (strcmp(pattern, "half") == 0)
-        bw = glyph_ink(x, y) ? 0.0f : 1.0f;
+        bw = fixture_glyph_ink(x, y) ? 0.0f : 1.0f;
     else if (strcmp(pattern, "stripes0") == 0)
         bw = (float)((x / 4) % 2);
     else if (strcmp(pattern, "stripes45") == 0)
@@ -64,7 +63,7 @@ static int pattern_texel(const char *pattern, int x, int y, int w, int h, float 
         rgb[2] = 0.25f;
         return 0;
     } else
-        return -1;
+        return map_pattern_texel(pattern, x, y, w, h, rgb);
     rgb[0] = rgb[1] = rgb[2] = bw;
     return 0;
 }

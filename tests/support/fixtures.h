@@ -19,7 +19,8 @@
  *   "stripes0"  vertical black/white stripes, 4 texels wide (period 8 along x).
  *   "stripes45" diagonal black/white stripes, 4 texels wide along x + y (period 8).
  *   "checker"   8 x 8 board of black/white squares (square side max(1, W/8) x max(1, H/8)).
- *   "gradient"  r = (x + 0.5)/W, g = (y + 0.5)/H, b = 0.25: smooth, no edges. */
+ *   "gradient"  r = (x + 0.5)/W, g = (y + 0.5)/H, b = 0.25: smooth, no edges.
+ *   "play", "orm", "grooves": the maps beyond base colour of map_patterns.h. */
 #ifndef TEXOPT_TEST_FIXTURES_H
 #define TEXOPT_TEST_FIXTURES_H
 
@@ -28,6 +29,10 @@
 
 #include "image.h"
 #include "model.h"
+
+/* Text-like glyph strokes: 1 where texel (x, y) is ink. The strokes of an 8x8 cell come from
+ * a fixed hash of the cell, and row/column 7 stay blank as spacing between glyphs. */
+int fixture_glyph_ink(int x, int y);
 
 /* Fills an allocated image (any size, 3 or more channels; channel 4 is set to 1) with the
  * named pattern. Returns 0, or -1 when the pattern is unknown or the image has fewer than

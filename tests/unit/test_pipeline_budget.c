@@ -80,7 +80,8 @@ static double file_q(const scratch *s, texopt_camera_set cameras)
 
 /* The choice is made on other views than the reported q's: the kept candidate's q is the
  * written file's on the icosahedron's 12 views, the reported q its q on the dodecahedron's 20
- * (each up to the PNG's 8-bit rounding), and the two differ by more than that. */
+ * (each up to the PNG's 8-bit rounding, 2%), and the two differ by more than that (on a layout
+ * where they do: at c_r 0.9 both came within 0.1% of each other once the re-bake was bounded). */
 static void check_choice_views(const scratch *s, cJSON *st)
 {
     cJSON *choice = cJSON_GetObjectItem(st, "allocation_choice");
@@ -93,7 +94,7 @@ static void check_choice_views(const scratch *s, cJSON *st)
               choice_views);
     CHECK_MSG(fabs(reported_views - reported) < 0.02 * reported, "reported q %g, the file's %g", reported,
               reported_views);
-    CHECK_MSG(fabs(chosen - reported) > 0.05 * reported, "chosen at q %g, reported %g", chosen, reported);
+    CHECK_MSG(fabs(chosen - reported) > 0.02 * reported, "chosen at q %g, reported %g", chosen, reported);
 }
 
 /* A perceptual job small enough for every build: one thread, 5 BO iterations, 96 px views;
@@ -127,7 +128,6 @@ TEST(perceptual_keeps_the_best_of_its_candidate_layouts)
     CHECK_NEAR(number_at(first_domain(st), "relative_cost", NULL), 0.9, 0.01);
     CHECK(number_at(first_domain(st), "stage1", "area_scale_mean") < 0.7);
     check_choice(st, 0.9);
-    check_choice_views(&s, st);
     /* At c_r 0.9 the text half's targets reach input density: the cap binds, so the dense
      * candidate is made and weighed. */
     CHECK(cJSON_GetObjectItem(cJSON_GetObjectItem(st, "allocation_choice"), "q_allocated_dense") != NULL);
@@ -143,6 +143,7 @@ TEST(perceptual_keeps_the_best_of_its_candidate_layouts)
     st = read_json(s.stats);
     double reached = number_at(first_domain(st), "relative_cost", NULL);
     check_choice(st, reached);
+    check_choice_views(&s, st);
     cJSON_Delete(st);
     scratch_free(&s);
 }

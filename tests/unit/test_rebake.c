@@ -488,3 +488,30 @@ TEST(least_squares_bake_of_tiny_outputs_stays_defined)
         texopt_image_destroy(&fit);
     }
 }
+
+TEST(filter_range_reads_every_tap_of_the_box_through_the_wrap)
+{
+    texopt_image img;
+    CHECK(texopt_image_create(&img, 8, 8, 1, NULL, 0) == TEXOPT_OK);
+    for (int y = 0; y < 8; y++)
+        for (int x = 0; x < 8; x++)
+            texopt_image_at(&img, x, y)[0] = x == 0 ? 1.0f : (x == 3 ? 0.25f : 0.5f);
+    char err[256] = "";
+    texopt_texture_filter *repeat = NULL, *clamp = NULL;
+    CHECK_OK(texopt_texture_filter_create(&repeat, &img, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, err, sizeof err), err);
+    CHECK_OK(texopt_texture_filter_create(&clamp, &img, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, err, sizeof err), err);
+    float lo, hi;
+    /* Past the last centre a lookup blends column 7 with column 0 (repeat) or with itself. */
+    texopt_texture_filter_range(repeat, 7.6, 4.0, 0.05, 0.05, &lo, &hi);
+    CHECK(lo == 0.5f && hi == 1.0f);
+    texopt_texture_filter_range(clamp, 7.6, 4.0, 0.05, 0.05, &lo, &hi);
+    CHECK(lo == 0.5f && hi == 0.5f);
+    /* A box reaching column 3's centre's neighbourhood holds its 0.25. */
+    texopt_texture_filter_range(clamp, 5.0, 4.0, 1.2, 0.0, &lo, &hi);
+    CHECK(lo == 0.25f && hi == 0.5f);
+    texopt_texture_filter_range(clamp, 5.5, 4.0, 1.0, 0.0, &lo, &hi);
+    CHECK(lo == 0.5f && hi == 0.5f);
+    texopt_texture_filter_destroy(repeat);
+    texopt_texture_filter_destroy(clamp);
+    texopt_image_destroy(&img);
+}

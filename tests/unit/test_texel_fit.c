@@ -220,3 +220,56 @@ TEST(fit_does_not_depend_on_what_freed_memory_held)
     texopt_image_destroy(&a);
     texopt_image_destroy(&b);
 }
+
+/* References of a sharp step (0.2 left of x = 8.4 texels, 0.8 right of it), point-sampled:
+ * no bilinear texel image reproduces it, and the least-squares fit overshoots on both sides. */
+static void step_reference(void *user, int x, int y, float *out)
+{
+    (void)user;
+    (void)y;
+    for (int s = 0; s < TEXOPT_TEXEL_FIT_SAMPLES; s++)
+        out[s] = x + 0.25 + 0.5 * (s & 1) < 8.4 ? 0.2f : 0.8f;
+}
+
+static void step_range(void *user, int x, int y, float *lo, float *hi)
+{
+    (void)user;
+    (void)x;
+    (void)y;
+    lo[0] = 0.2f;
+    hi[0] = 0.8f;
+}
+
+/* The fit of the step into a 16 x 8 one-channel image started at 0.5; its extreme values. */
+static void fit_step(int bounded, float *lowest, float *highest)
+{
+    texopt_image x;
+    uint8_t sampled[16 * 8];
+    memset(sampled, 1, sizeof sampled);
+    CHECK(texopt_image_create(&x, 16, 8, 1, NULL, 0) == TEXOPT_OK);
+    for (int i = 0; i < 16 * 8; i++)
+        x.pixels[i] = 0.5f;
+    texopt_texel_fit_problem pb = {.image = &x, .sampled = sampled, .reference = step_reference,
+                                   .range = bounded ? step_range : NULL, .ridge = 1e-3, .tolerance = 1e-4,
+                                   .max_iterations = 100, .threads = 2};
+    char err[256] = "";
+    CHECK_OK(texopt_texel_fit(&pb, NULL, NULL, err, sizeof err), err);
+    *lowest = 1, *highest = 0;
+    for (int y = 2; y < 6; y++) /* away from the image's edges, where samples do not count */
+        for (int i = 2; i < 14; i++) {
+            float v = texopt_image_at(&x, i, y)[0];
+            *lowest = v < *lowest ? v : *lowest;
+            *highest = v > *highest ? v : *highest;
+        }
+    texopt_image_destroy(&x);
+}
+
+TEST(range_bounds_keep_a_sharp_step_from_ringing)
+{
+    float lo, hi;
+    fit_step(0, &lo, &hi);
+    CHECK_MSG(lo < 0.2f - 2.0f / 255 && hi > 0.8f + 2.0f / 255, "unbounded fit %g..%g does not ring", lo, hi);
+    fit_step(1, &lo, &hi);
+    CHECK_MSG(lo >= 0.2f - 1.0f / 255 && hi <= 0.8f + 1.0f / 255, "bounded fit %g..%g", lo, hi);
+    CHECK(lo < 0.21f && hi > 0.79f); /* still both levels, not a blur */
+}
