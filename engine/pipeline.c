@@ -85,6 +85,7 @@
 #include "layout_check.h"
 #include "lit_shade.h"
 #include "lit_weight.h"
+#include "map_check.h"
 #include "mesh.h"
 #include "meshwise.h"
 #include "meshwise_loss.h"
@@ -1335,6 +1336,51 @@ static texopt_evaluate_options evaluation_options(const texopt_params *p, texopt
     return opt;
 }
 
+/* Each of n outputs as the input model seen through its new UVs and images (a shallow view
+ * that owns nothing but *images, which the caller frees). */
+static texopt_status output_models(const texopt_model *model, const job_output *const *outs, int n,
+                                   texopt_model *candidates, const texopt_model **shown, texopt_image **images,
+                                   char *err, size_t err_len)
+{
+    if (n < 1 || n > MAX_EVALUATED_OUTPUTS)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "evaluation of %d outputs", n);
+    size_t k = (size_t)(model->image_count > 0 ? model->image_count : 1);
+    *images = calloc((size_t)n * k, sizeof **images);
+    if (!*images)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the evaluation");
+    for (int c = 0; c < n; c++) {
+        texopt_image *own = *images + (size_t)c * k;
+        for (int i = 0; i < model->image_count; i++)
+            own[i] = outs[c]->edit_images[i] ? *outs[c]->edit_images[i] : model->images[i];
+        candidates[c] = *model;
+        candidates[c].images = own;
+        if (outs[c]->uvs)
+            candidates[c].uvs = outs[c]->uvs;
+        candidates[c].document = NULL;
+        candidates[c].destroy_document = NULL;
+        shown[c] = &candidates[c];
+    }
+    return TEXOPT_OK;
+}
+
+/* q of every map (map_check.h) that shows domain (< 0: the whole model), for each of n outputs. */
+static texopt_status evaluate_maps_on(const texopt_model *model, const job_output *const *outs, int n,
+                                      const texopt_params *p, texopt_camera_set cameras, int domain,
+                                      job_monitor *jm, texopt_map_q *q, char *err, size_t err_len)
+{
+    texopt_model candidates[MAX_EVALUATED_OUTPUTS];
+    const texopt_model *shown[MAX_EVALUATED_OUTPUTS];
+    texopt_image *images = NULL;
+    texopt_status st = output_models(model, outs, n, candidates, shown, &images, err, err_len);
+    int measured[TEXOPT_MAP_MEASURES];
+    texopt_map_measures(model, domain, measured);
+    texopt_evaluate_options opt = evaluation_options(p, cameras, 0, jm);
+    if (st == TEXOPT_OK)
+        st = texopt_map_evaluate(model, shown, n, &opt, measured, q, err, err_len);
+    free(images);
+    return st;
+}
+
 /* The whole-mesh loss q (evaluate.h) of each of n outputs against the input, in memory, in
  * one pass over the views (the input rendered once for all, or read from its kept views
  * when reference_views is not NULL): each candidate is the input model seen through the new
@@ -1346,31 +1392,17 @@ static texopt_status evaluate_outputs_on(const texopt_model *model, const job_ou
 {
     texopt_model candidates[MAX_EVALUATED_OUTPUTS];
     const texopt_model *shown[MAX_EVALUATED_OUTPUTS];
-    if (n < 1 || n > MAX_EVALUATED_OUTPUTS)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "evaluation of %d outputs", n);
-    size_t k = (size_t)(model->image_count > 0 ? model->image_count : 1);
-    texopt_image *images = calloc((size_t)n * k, sizeof *images);
-    if (!images)
-        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the evaluation");
-    for (int c = 0; c < n; c++) {
-        texopt_image *own = images + (size_t)c * k;
-        for (int i = 0; i < model->image_count; i++)
-            own[i] = outs[c]->edit_images[i] ? *outs[c]->edit_images[i] : model->images[i];
-        candidates[c] = *model;
-        candidates[c].images = own;
-        if (outs[c]->uvs)
-            candidates[c].uvs = outs[c]->uvs;
-        candidates[c].document = NULL;
-        candidates[c].destroy_document = NULL;
-        shown[c] = &candidates[c];
-    }
+    texopt_image *images = NULL;
+    texopt_status st = output_models(model, outs, n, candidates, shown, &images, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
     texopt_evaluate_options opt = evaluation_options(p, cameras, lit, jm);
     opt.triangle_error = triangle_error;
     /* The refinement's measure (refine_kept); the lit refinement keeps the luma difference
      * it was measured with (the edge measure was measured on base colour only). */
     opt.triangle_error_edges = !lit;
     opt.reference_views = reference_views;
-    texopt_status st = texopt_evaluate_many(model, shown, n, &opt, ev, err, err_len);
+    st = texopt_evaluate_many(model, shown, n, &opt, ev, err, err_len);
     free(images);
     return st;
 }
@@ -1922,10 +1954,12 @@ static void keep_resized_input_layout(texopt_job *job, job_output *out, job_outp
 
 /* Never worse than a resize: each domain perceptual laid out anew is judged against its input
  * layout resized to the same file texture pixels (resized_input_layout), both on the choice's
- * views (CHOICE_CAMERAS, base colour), and keeps the resize when its new layout's q is not
- * below the resize's (stats resize_check, input_layout_kept). A domain at its input's pixels
- * thus keeps its input (the identity resize, q 0). Domains are judged one after another, each
- * beside the others' kept layouts. params.resize_check -1 leaves the layouts as they are. */
+ * views (CHOICE_CAMERAS), in every map that shows the domain and lit (map_check.h), and keeps
+ * the resize unless its new layout is below it in one and above it in none (stats
+ * resize_check: every map's q, the map that decided; input_layout_kept). A domain at its
+ * input's pixels thus keeps its input (the identity resize, q 0). Every image is baked first,
+ * as it will be saved. Domains are judged one after another, each beside the others' kept
+ * layouts. params.resize_check -1 leaves the layouts as they are. */
 static texopt_status keep_resize_if_better(texopt_job *job, const texopt_params *p, job_output *out, double at,
                                            char *err, size_t err_len)
 {
@@ -1933,35 +1967,40 @@ static texopt_status keep_resize_if_better(texopt_job *job, const texopt_params 
     int n = job->model->domain_count;
     for (int d = 0; d < n; d++)
         job->stats.domains[d].has_resize_check = 0;
+    if (p->resize_check > 0)
+        st = bake_remaining_images(job, p, BAKE_ALL, out, at, at, err, err_len);
     for (int d = 0; d < n && st == TEXOPT_OK && p->resize_check > 0; d++) {
         if (!out->packed || !out->packed[d])
             continue;
         double t0 = now_seconds();
         job_output resized = {0};
-        texopt_evaluation ev[2];
+        texopt_map_q q[2];
         texopt_domain_stats *rs = copy_domain_stats(&job->stats);
         st = rs ? resized_input_layout(job, p, out, d, at, &resized, rs, err, err_len)
                 : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the resize's statistics");
         const job_output *shown[2] = {out, &resized};
         if (st == TEXOPT_OK) {
             job_stage(&job->jm, "evaluate", at, at);
-            st = evaluate_outputs_on(job->model, shown, 2, p, CHOICE_CAMERAS, 0, NULL, NULL, &job->jm, ev, err,
-                                     err_len);
+            st = evaluate_maps_on(job->model, shown, 2, p, CHOICE_CAMERAS, d, &job->jm, q, err, err_len);
         }
-        int kept = st == TEXOPT_OK && !(ev[0].q < ev[1].q);
+        int by = TEXOPT_SLOT_BASE_COLOR, kept = st == TEXOPT_OK && !texopt_map_layout_wins(&q[0], &q[1], &by);
         if (kept)
             keep_resized_input_layout(job, out, &resized, d, rs);
         texopt_domain_stats *ds = &job->stats.domains[d];
         if (kept)
             snprintf(ds->input_layout_kept, sizeof ds->input_layout_kept,
-                     "its new layout's q on the choice's views, %.6g, is not below the %.6g of its input layout "
+                     "its new layout's %s q on the choice's views, %.6g, is not below the %.6g of its input layout "
                      "resized with Lanczos-3 to the same %dx%d texture; the input layout is kept, its images "
-                     "resized", ev[0].q, ev[1].q, ds->output_width, ds->output_height);
+                     "resized", texopt_map_measure_name(by), q[0].q[by], q[1].q[by], ds->output_width,
+                     ds->output_height);
         if (st == TEXOPT_OK) {
             ds->has_resize_check = 1;
             ds->resize_check_kept = kept;
-            ds->q_resize_check_layout = ev[0].q;
-            ds->q_resize_check_resize = ev[1].q;
+            ds->resize_check_decided_by = by;
+            ds->q_resize_check_layout = q[0].q[by];
+            ds->q_resize_check_resize = q[1].q[by];
+            ds->resize_check_maps_layout = q[0];
+            ds->resize_check_maps_resize = q[1];
             ds->seconds_resize_check = now_seconds() - t0;
         }
         job_output_destroy(&resized, job->model->image_count);
@@ -2288,6 +2327,13 @@ texopt_status texopt_job_write(texopt_job *job, const texopt_job_budget *budget,
     }
     if (st == TEXOPT_OK && p.evaluate)
         record_evaluation(js, &ev);
+    const job_output *written = &out;
+    js->has_q_maps = 0;
+    if (st == TEXOPT_OK && p.evaluate && stats_json) {
+        st = evaluate_maps_on(job->model, &written, 1, &p, TEXOPT_CAMERAS_DODECAHEDRON, -1, &job->jm, &js->q_maps,
+                              err, err_len);
+        js->has_q_maps = st == TEXOPT_OK;
+    }
     if (st == TEXOPT_OK) {
         job_stage(&job->jm, "save", end, 1.0);
         double t0 = now_seconds();

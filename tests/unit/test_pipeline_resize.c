@@ -133,3 +133,44 @@ TEST(a_resize_that_wins_is_written_as_method_input_writes_it)
     cJSON_Delete(st);
     scratch_free(&s);
 }
+
+/* The check's q of one map (resize_check.maps), layout's or resize's. */
+static double map_q(cJSON *st, const char *map, const char *which)
+{
+    cJSON *maps = cJSON_GetObjectItem(cJSON_GetObjectItem(domain0(st), "resize_check"), "maps");
+    return number(cJSON_GetObjectItem(maps, map), which);
+}
+
+/* Every map counts (map_check.h): base colour where the layout wins (the gradient above) and
+ * an emissive map of `emissive` where it loses. The resize is kept and the statistics name
+ * emissive as the map that decided, with every map's q and lit's; the reported q per map
+ * covers the same maps. */
+TEST(a_layout_that_loses_on_the_emissive_map_keeps_the_resize)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 4, 64, NULL) == 0);
+    const char *patterns[2] = {"gradient", "checker"};
+    CHECK(write_grid_glb_material(s.in, 4, 64, patterns, 2,
+                                  "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}},"
+                                  "\"emissiveTexture\":{\"index\":1},\"emissiveFactor\":[1,1,1]}") == 0);
+    cJSON *st = run_job(&s, s.out, TEXOPT_METHOD_PERCEPTUAL, 32, 0);
+    CHECK(st != NULL);
+    double q_layout, q_resize;
+    const char *kept = verdict(st, &q_layout, &q_resize);
+    cJSON *by = cJSON_GetObjectItem(cJSON_GetObjectItem(domain0(st), "resize_check"), "decided_by");
+    printf("  decided by %s; base colour %.5f / %.5f, emissive %.5f / %.5f, lit %.5f / %.5f\n",
+           cJSON_IsString(by) ? by->valuestring : "?", map_q(st, "baseColor", "q_layout"),
+           map_q(st, "baseColor", "q_resize"), map_q(st, "emissive", "q_layout"), map_q(st, "emissive", "q_resize"),
+           map_q(st, "lit", "q_layout"), map_q(st, "lit", "q_resize"));
+    CHECK(map_q(st, "baseColor", "q_layout") < map_q(st, "baseColor", "q_resize"));
+    CHECK(map_q(st, "emissive", "q_layout") > map_q(st, "emissive", "q_resize"));
+    CHECK(strcmp(kept, "resize") == 0);
+    CHECK(cJSON_IsString(by) && strcmp(by->valuestring, "emissive") == 0);
+    CHECK(q_layout == map_q(st, "emissive", "q_layout") && q_resize == map_q(st, "emissive", "q_resize"));
+    CHECK(map_q(st, "lit", "q_resize") >= 0 && map_q(st, "normal", "q_layout") != map_q(st, "normal", "q_layout"));
+    cJSON *q_maps = cJSON_GetObjectItem(cJSON_GetObjectItem(st, "evaluation"), "q_maps");
+    CHECK(number(q_maps, "baseColor") == number(cJSON_GetObjectItem(st, "evaluation"), "q"));
+    CHECK(number(q_maps, "emissive") > 0 && number(q_maps, "lit") > 0 && cJSON_GetArraySize(q_maps) == 3);
+    cJSON_Delete(st);
+    scratch_free(&s);
+}
