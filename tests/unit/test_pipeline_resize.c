@@ -174,3 +174,31 @@ TEST(a_layout_that_loses_on_the_emissive_map_keeps_the_resize)
     cJSON_Delete(st);
     scratch_free(&s);
 }
+
+/* Flat base colour, a sharp emissive shape (text-like strokes on half the map): base colour
+ * is the same under any layout, so only the emissive map (and lit) can decide; a check on
+ * base colour alone would keep the resize on a tie. */
+TEST(over_a_flat_base_colour_the_emissive_map_decides)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 4, 64, NULL) == 0);
+    const char *patterns[2] = {"flat", "half"};
+    CHECK(write_grid_glb_material(s.in, 4, 64, patterns, 2,
+                                  "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}},"
+                                  "\"emissiveTexture\":{\"index\":1},\"emissiveFactor\":[1,1,1]}") == 0);
+    cJSON *st = run_job(&s, s.out, TEXOPT_METHOD_PERCEPTUAL, 32, 0);
+    CHECK(st != NULL);
+    double q_layout, q_resize;
+    const char *kept = verdict(st, &q_layout, &q_resize);
+    cJSON *by = cJSON_GetObjectItem(cJSON_GetObjectItem(domain0(st), "resize_check"), "decided_by");
+    double el = map_q(st, "emissive", "q_layout"), er = map_q(st, "emissive", "q_resize");
+    printf("  decided by %s; base colour %.5f / %.5f, emissive %.5f / %.5f, lit %.5f / %.5f\n",
+           cJSON_IsString(by) ? by->valuestring : "?", map_q(st, "baseColor", "q_layout"),
+           map_q(st, "baseColor", "q_resize"), el, er, map_q(st, "lit", "q_layout"), map_q(st, "lit", "q_resize"));
+    CHECK(map_q(st, "baseColor", "q_layout") == map_q(st, "baseColor", "q_resize"));
+    CHECK(cJSON_IsString(by) && strcmp(by->valuestring, "emissive") == 0);
+    CHECK(el != er && q_layout == el && q_resize == er);
+    CHECK(strcmp(kept, el < er && map_q(st, "lit", "q_layout") <= map_q(st, "lit", "q_resize") ? "layout" : "resize") == 0);
+    cJSON_Delete(st);
+    scratch_free(&s);
+}
