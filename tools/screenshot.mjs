@@ -1,7 +1,7 @@
 // screenshot.mjs - a .glb as a PBR viewer shows it (three.js, RoomEnvironment light, headless
 // Chromium through puppeteer-core), saved as a JPEG: for the before/after pictures in
 // docs/benchmarks.md. Not a test; nothing checks the pixels.
-// Usage: node tools/screenshot.mjs MODEL.glb OUT.jpg [--yaw DEG] [--pitch DEG] [--zoom F]
+// Usage: node tools/screenshot.mjs MODEL.glb|.gltf OUT.jpg [--yaw DEG] [--pitch DEG] [--zoom F]
 //        [--target X,Y,Z] [--size WxH] [--quality Q]   (OUT ending in .png: a PNG)
 // The camera looks at the bounding box's centre (or --target, in the box's units relative to
 // its centre, -1..1 per axis) from direction (yaw, pitch), at the distance that frames the
@@ -9,7 +9,7 @@
 import { createRequire } from 'node:module';
 import { createServer } from 'node:http';
 import { readFileSync } from 'node:fs';
-import { dirname, join, resolve } from 'node:path';
+import { basename, dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 
 const here = dirname(fileURLToPath(import.meta.url));
@@ -46,7 +46,7 @@ document.body.appendChild(renderer.domElement);
 const scene = new THREE.Scene();
 scene.background = new THREE.Color(0xffffff);
 scene.environment = new THREE.PMREMGenerator(renderer).fromScene(new RoomEnvironment(), 0.04).texture;
-const gltf = await new GLTFLoader().loadAsync('/model.glb');
+const gltf = await new GLTFLoader().loadAsync('/model/' + ${JSON.stringify(encodeURIComponent(basename(model)))});
 scene.add(gltf.scene);
 const box = new THREE.Box3().setFromObject(gltf.scene);
 const size = box.getSize(new THREE.Vector3()), centre = box.getCenter(new THREE.Vector3());
@@ -61,12 +61,12 @@ renderer.render(scene, camera);
 window.rendered = true;
 </script></body></html>`;
 
-const types = { '.js': 'text/javascript', '.glb': 'model/gltf-binary' };
+const types = { '.js': 'text/javascript', '.glb': 'model/gltf-binary', '.gltf': 'model/gltf+json', '.png': 'image/png' };
 const server = createServer((req, res) => {
   const url = decodeURIComponent(req.url.split('?')[0]);
   let file = null;
   if (url === '/') { res.writeHead(200, { 'content-type': 'text/html' }); res.end(page); return; }
-  if (url === '/model.glb') file = resolve(model);
+  if (url.startsWith('/model/') && !url.includes('..')) file = join(dirname(resolve(model)), url.slice(7));
   else if (url.startsWith('/three/') && !url.includes('..')) file = join(three, url.slice(7));
   try {
     const body = readFileSync(file);
