@@ -1,11 +1,12 @@
 /* cmd_evaluate.c - `texopt evaluate IN OUT.glb [--resolution N] [--threads T] [--mipmap]
- * [--texture NAME|lit] [--json]`.
+ * [--texture NAME|lit] [--maps] [--json]`.
  *
  * Compares any two models with the same triangles (an input and texopt's output, or the
  * output of another tool): the whole-mesh perceptual loss q of Sun et al. 2022, section 5.1
  * (engine/evaluate/evaluate.h), and what each layout costs: covered texels, texture pixels, packing
  * efficiency, symmetric Dirichlet distortion, and the relative cost c_r = covered texels of
- * OUT / of IN. Text on stdout, or one JSON object with --json. */
+ * OUT / of IN. With --maps, also q of every map IN's materials bind and the lit q
+ * (engine/map_check.h). Text on stdout, or one JSON object with --json. */
 #include <cjson/cJSON.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,7 +20,7 @@ static void usage(FILE *out)
 {
     fprintf(out,
             "usage: texopt evaluate IN OUT.glb [--resolution N] [--threads T] [--mipmap]\n"
-            "                      [--texture NAME|lit] [--json]\n"
+            "                      [--texture NAME|lit] [--maps] [--json]\n"
             "\n"
             "Renders IN and OUT from 20 cameras around the model and prints their whole-mesh\n"
             "perceptual loss q (GMSD, 0 = identical; Sun et al. 2022, section 5.1) and the cost\n"
@@ -40,6 +41,9 @@ static void usage(FILE *out)
             "                   lit: the model lit by one light per view and a grey sky from\n"
             "                   base colour, metallic-roughness (a specular highlight),\n"
             "                   normal, occlusion and emissive maps (engine/evaluate/lit_shade.h)\n"
+            "  --maps           also q of every texture IN's materials bind, each as\n"
+            "                   --texture shows it, and lit (when IN has a map a light\n"
+            "                   reads besides base colour)\n"
             "  --json           print one JSON object instead of text\n"
             "  -h, --help       this text\n");
 }
@@ -59,7 +63,7 @@ static cJSON *cost_json(const texopt_cost *c)
 }
 
 static void print_json(const texopt_evaluation *ev, const texopt_evaluate_options *opt, const texopt_cost *in,
-                       const texopt_cost *out)
+                       const texopt_cost *out, const texopt_map_q *maps)
 {
     cJSON *root = cJSON_CreateObject();
     cJSON_AddNumberToObject(root, "q", ev->q);
@@ -74,6 +78,10 @@ static void print_json(const texopt_evaluation *ev, const texopt_evaluate_option
     cJSON_AddItemToObject(root, "input", cost_json(in));
     cJSON_AddItemToObject(root, "output", cost_json(out));
     cJSON_AddNumberToObject(root, "seconds", ev->seconds);
+    cJSON *q_maps = maps ? cJSON_AddObjectToObject(root, "q_maps") : NULL;
+    for (int m = 0; q_maps && m < TEXOPT_MAP_MEASURES; m++)
+        if (maps->measured[m])
+            cJSON_AddNumberToObject(q_maps, texopt_map_measure_name(m), maps->q[m]);
     char *text = cJSON_Print(root);
     if (text)
         printf("%s\n", text);
@@ -82,10 +90,13 @@ static void print_json(const texopt_evaluation *ev, const texopt_evaluate_option
 }
 
 static void print_text(const texopt_evaluation *ev, const texopt_evaluate_options *opt, const texopt_cost *in,
-                       const texopt_cost *out)
+                       const texopt_cost *out, const texopt_map_q *maps)
 {
     printf("q (whole-mesh GMSD of %s, 20 views at %d px, %s lookups): %.6f\n", texopt_evaluate_measure_name(opt),
            ev->resolution, opt->mipmapped ? "mip-mapped" : "bilinear", ev->q);
+    for (int m = 0; maps && m < TEXOPT_MAP_MEASURES; m++)
+        if (maps->measured[m])
+            printf("  q of %-20s %.6f\n", texopt_map_measure_name(m), maps->q[m]);
     printf("relative cost c_r: %.4f\n",
            in->covered_texels ? (double)out->covered_texels / (double)in->covered_texels : 0);
     printf("%-22s %14s %14s\n", "", "input", "output");
@@ -101,7 +112,7 @@ static void print_text(const texopt_evaluation *ev, const texopt_evaluate_option
 int cmd_evaluate(int argc, char **argv)
 {
     const char *paths[2] = {NULL, NULL};
-    int npaths = 0, json = 0;
+    int npaths = 0, json = 0, every_map = 0;
     texopt_evaluate_options opt = {.threads = 2};
     for (int i = 0; i < argc; i++) {
         const char *a = argv[i];
@@ -110,6 +121,8 @@ int cmd_evaluate(int argc, char **argv)
             return EXIT_OK;
         } else if (!strcmp(a, "--json")) {
             json = 1;
+        } else if (!strcmp(a, "--maps")) {
+            every_map = 1;
         } else if (!strcmp(a, "--mipmap")) {
             opt.mipmapped = 1;
         } else if (!strcmp(a, "--texture")) {
@@ -153,15 +166,22 @@ int cmd_evaluate(int argc, char **argv)
     texopt_cost cin, cout;
     if (st == TEXOPT_OK)
         st = texopt_evaluate(in, out, &opt, &ev, err, sizeof err);
+    texopt_map_q maps;
+    int measured[TEXOPT_MAP_MEASURES];
+    if (st == TEXOPT_OK && every_map) {
+        const texopt_model *shown = out;
+        texopt_map_measures(in, -1, measured);
+        st = texopt_map_evaluate(in, &shown, 1, &opt, measured, &maps, err, sizeof err);
+    }
     if (st == TEXOPT_OK)
         st = texopt_evaluate_cost(in, &cin, err, sizeof err);
     if (st == TEXOPT_OK)
         st = texopt_evaluate_cost(out, &cout, err, sizeof err);
     if (st == TEXOPT_OK) {
         if (json)
-            print_json(&ev, &opt, &cin, &cout);
+            print_json(&ev, &opt, &cin, &cout, every_map ? &maps : NULL);
         else
-            print_text(&ev, &opt, &cin, &cout);
+            print_text(&ev, &opt, &cin, &cout, every_map ? &maps : NULL);
     } else {
         fprintf(stderr, "texopt evaluate: %s: %s\n", texopt_strerror(st), err);
     }

@@ -27,6 +27,7 @@
  *   info.h            texopt_info_json: what a model's texture domains look like
  *   evaluate.h        texopt_evaluate: the whole-mesh loss q of one layout against another,
  *                     texopt_evaluate_cost
+ *   map_check.h       texopt_map_evaluate: q of every map a material binds, and lit
  *   compare.h         texopt_compare: q against relative cost for several methods;
  *   report.h          texopt_report_write_html: its self-contained HTML report
  *   json_depth.h      texopt_json_check_depth: a JSON text's nesting, checked before parsing
@@ -44,6 +45,7 @@
 #include "info.h"
 #include "json_depth.h"
 #include "library_threads.h"
+#include "map_check.h"
 #include "model.h"
 #include "monitor.h"
 #include "params.h"

@@ -16,20 +16,20 @@ texopt_evaluate_options job_evaluation_options(const texopt_params *p, texopt_ca
     return opt;
 }
 
-texopt_status job_evaluate_outputs(texopt_job *job, const job_output *const *outs, int n, const texopt_params *p,
-                                   const job_screen *screen, texopt_evaluation *ev, char *err, size_t err_len)
+/* Each of n outputs as the input model seen through its new UVs and images (a shallow view
+ * that owns nothing but *images, which the caller frees). */
+static texopt_status output_models(const texopt_model *model, const job_output *const *outs, int n,
+                                   texopt_model *candidates, const texopt_model **shown, texopt_image **images,
+                                   char *err, size_t err_len)
 {
-    const texopt_model *model = job->model;
-    texopt_model candidates[JOB_MAX_EVALUATED_OUTPUTS];
-    const texopt_model *shown[JOB_MAX_EVALUATED_OUTPUTS];
     if (n < 1 || n > JOB_MAX_EVALUATED_OUTPUTS)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "evaluation of %d outputs", n);
     size_t k = (size_t)(model->image_count > 0 ? model->image_count : 1);
-    texopt_image *images = calloc((size_t)n * k, sizeof *images);
-    if (!images)
+    *images = calloc((size_t)n * k, sizeof **images);
+    if (!*images)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the evaluation");
     for (int c = 0; c < n; c++) {
-        texopt_image *own = images + (size_t)c * k;
+        texopt_image *own = *images + (size_t)c * k;
         for (int i = 0; i < model->image_count; i++)
             own[i] = outs[c]->edit_images[i] ? *outs[c]->edit_images[i] : model->images[i];
         candidates[c] = *model;
@@ -40,13 +40,41 @@ texopt_status job_evaluate_outputs(texopt_job *job, const job_output *const *out
         candidates[c].destroy_document = NULL;
         shown[c] = &candidates[c];
     }
+    return TEXOPT_OK;
+}
+
+texopt_status job_evaluate_outputs(texopt_job *job, const job_output *const *outs, int n, const texopt_params *p,
+                                   const job_screen *screen, texopt_evaluation *ev, char *err, size_t err_len)
+{
+    texopt_model candidates[JOB_MAX_EVALUATED_OUTPUTS];
+    const texopt_model *shown[JOB_MAX_EVALUATED_OUTPUTS];
+    texopt_image *images = NULL;
+    texopt_status st = output_models(job->model, outs, n, candidates, shown, &images, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
     texopt_evaluate_options opt = job_evaluation_options(p, screen->cameras, screen->lit, &job->jm);
     opt.triangle_error = screen->triangle_error;
     /* The refinement's measure (job_refine.h); the lit refinement keeps the luma difference
      * it was measured with (the edge measure was measured on base colour only). */
     opt.triangle_error_edges = !screen->lit;
     opt.reference_views = screen->reference_views;
-    texopt_status st = texopt_evaluate_many(model, shown, n, &opt, ev, err, err_len);
+    st = texopt_evaluate_many(job->model, shown, n, &opt, ev, err, err_len);
+    free(images);
+    return st;
+}
+
+texopt_status job_evaluate_maps(texopt_job *job, const job_output *const *outs, int n, const texopt_params *p,
+                                texopt_camera_set cameras, int domain, texopt_map_q *q, char *err, size_t err_len)
+{
+    texopt_model candidates[JOB_MAX_EVALUATED_OUTPUTS];
+    const texopt_model *shown[JOB_MAX_EVALUATED_OUTPUTS];
+    texopt_image *images = NULL;
+    texopt_status st = output_models(job->model, outs, n, candidates, shown, &images, err, err_len);
+    int measured[TEXOPT_MAP_MEASURES];
+    texopt_map_measures(job->model, domain, measured);
+    texopt_evaluate_options opt = job_evaluation_options(p, cameras, 0, &job->jm);
+    if (st == TEXOPT_OK)
+        st = texopt_map_evaluate(job->model, shown, n, &opt, measured, q, err, err_len);
     free(images);
     return st;
 }

@@ -12,6 +12,7 @@
 
 #include "evaluate.h"
 #include "job_state.h"
+#include "map_check.h"
 
 #define JOB_MAX_EVALUATED_OUTPUTS 5 /* job_candidates.h's candidates */
 
@@ -36,6 +37,11 @@ texopt_evaluate_options job_evaluation_options(const texopt_params *p, texopt_ca
  * over the views of screen (the input rendered once for all, or read from its kept views). */
 texopt_status job_evaluate_outputs(texopt_job *job, const job_output *const *outs, int n, const texopt_params *p,
                                    const job_screen *screen, texopt_evaluation *ev, char *err, size_t err_len);
+
+/* q of every map (map_check.h) that shows domain (< 0: the whole model), for each of n
+ * outputs, on cameras. */
+texopt_status job_evaluate_maps(texopt_job *job, const job_output *const *outs, int n, const texopt_params *p,
+                                texopt_camera_set cameras, int domain, texopt_map_q *q, char *err, size_t err_len);
 
 /* The reported q, as the paper and the benchmark define it: the dodecahedron's 20 views. */
 texopt_status job_evaluate_output(texopt_job *job, const job_output *out, const texopt_params *p, texopt_evaluation *ev,

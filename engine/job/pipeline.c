@@ -219,6 +219,12 @@ texopt_status texopt_job_write(texopt_job *job, const texopt_job_budget *budget,
     }
     if (st == TEXOPT_OK && p.evaluate)
         job_stats_record_evaluation(js, &ev);
+    const job_output *written = &out;
+    js->has_q_maps = 0;
+    if (st == TEXOPT_OK && p.evaluate && stats_json) {
+        st = job_evaluate_maps(job, &written, 1, &p, TEXOPT_CAMERAS_DODECAHEDRON, -1, &js->q_maps, err, err_len);
+        js->has_q_maps = st == TEXOPT_OK;
+    }
     if (st == TEXOPT_OK) {
         job_stage(&job->jm, "save", end, 1.0);
         double t0 = job_now_seconds();

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bake_pool.h"
 #include "input_method.h"
 #include "job_evaluate.h"
 #include "job_stats.h"
@@ -70,36 +71,41 @@ texopt_status job_keep_resize_if_better(texopt_job *job, const texopt_params *p,
     int n = job->model->domain_count;
     for (int d = 0; d < n; d++)
         job->stats.domains[d].has_resize_check = 0;
+    layout_run all = {.p = p, .plan = BAKE_ALL, .domains = job->stats.domains, .out = out};
+    if (p->resize_check > 0)
+        st = job_bake_remaining_images(job, &all, at, at, err, err_len);
     for (int d = 0; d < n && st == TEXOPT_OK && p->resize_check > 0; d++) {
         if (!out->packed || !out->packed[d])
             continue;
         double t0 = job_now_seconds();
         job_output resized = {0};
-        texopt_evaluation ev[2];
+        texopt_map_q q[2];
         texopt_domain_stats *rs = job_stats_copy_domains(&job->stats);
         st = rs ? resized_input_layout(job, p, out, d, at, &resized, rs, err, err_len)
                 : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the resize's statistics");
         const job_output *shown[2] = {out, &resized};
         if (st == TEXOPT_OK) {
             job_stage(&job->jm, "evaluate", at, at);
-            job_screen screen = {CHOICE_CAMERAS, 0, NULL, NULL};
-            st = job_evaluate_outputs(job, shown, 2, p, &screen, ev, err, err_len);
+            st = job_evaluate_maps(job, shown, 2, p, CHOICE_CAMERAS, d, q, err, err_len);
         }
-        int kept = st == TEXOPT_OK && !(ev[0].q < ev[1].q);
+        int by = TEXOPT_SLOT_BASE_COLOR, kept = st == TEXOPT_OK && !texopt_map_layout_wins(&q[0], &q[1], &by);
         if (kept)
             keep_resized_input_layout(job, out, &resized, d, rs);
         texopt_domain_stats *ds = &job->stats.domains[d];
         if (kept)
             snprintf(ds->input_layout_kept, sizeof ds->input_layout_kept,
-                     "its new layout's q on the choice's views, %.6g, is not below the %.6g of its input layout "
+                     "its new layout's %s q on the choice's views, %.6g, is not below the %.6g of its input layout "
                      "resized with Lanczos-3 to the same %dx%d texture; the input layout is kept, its images "
                      "resized",
-                     ev[0].q, ev[1].q, ds->output_width, ds->output_height);
+                     texopt_map_measure_name(by), q[0].q[by], q[1].q[by], ds->output_width, ds->output_height);
         if (st == TEXOPT_OK) {
             ds->has_resize_check = 1;
             ds->resize_check_kept = kept;
-            ds->q_resize_check_layout = ev[0].q;
-            ds->q_resize_check_resize = ev[1].q;
+            ds->resize_check_decided_by = by;
+            ds->q_resize_check_layout = q[0].q[by];
+            ds->q_resize_check_resize = q[1].q[by];
+            ds->resize_check_maps_layout = q[0];
+            ds->resize_check_maps_resize = q[1];
             ds->seconds_resize_check = job_now_seconds() - t0;
         }
         job_output_destroy(&resized, job->model->image_count);

@@ -3,11 +3,13 @@
  *
  * Does: for each domain perceptual laid out anew, resize its input layout's images with
  * Lanczos-3 (input_method.h) to the pixels the new layout writes, measure both on the
- * choice's views (CHOICE_CAMERAS, base colour) and keep the resize when the new layout's q is
- * not below the resize's (stats resize_check, input_layout_kept). A domain at its input's
- * pixels thus keeps its input (the identity resize, q 0). Domains are judged one after
- * another, each beside the others' kept layouts. params.resize_check -1 leaves the layouts
- * as they are. Does not: lay out (job_candidates.h). */
+ * choice's views (CHOICE_CAMERAS) in every map that shows the domain and lit (map_check.h),
+ * and keep the resize unless the new layout is below it in one and above it in none (stats
+ * resize_check: every map's q, the map that decided; input_layout_kept). A domain at its
+ * input's pixels thus keeps its input (the identity resize, q 0). Every image is baked
+ * first, as it will be saved. Domains are judged one after another, each beside the others'
+ * kept layouts. params.resize_check -1 leaves the layouts as they are. Does not: lay out
+ * (job_candidates.h). */
 #ifndef TEXOPT_RESIZE_CHECK_H
 #define TEXOPT_RESIZE_CHECK_H
 

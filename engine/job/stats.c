@@ -52,6 +52,15 @@ static void add_resize_check(cJSON *o, const texopt_domain_stats *d)
     cJSON_AddNumberToObject(r, "q_layout", d->q_resize_check_layout);
     cJSON_AddNumberToObject(r, "q_resize", d->q_resize_check_resize);
     cJSON_AddStringToObject(r, "kept", d->resize_check_kept ? "resize" : "layout");
+    cJSON_AddStringToObject(r, "decided_by", texopt_map_measure_name(d->resize_check_decided_by));
+    cJSON *maps = cJSON_AddObjectToObject(r, "maps");
+    for (int m = 0; m < TEXOPT_MAP_MEASURES; m++) {
+        if (!d->resize_check_maps_layout.measured[m])
+            continue;
+        cJSON *q = cJSON_AddObjectToObject(maps, texopt_map_measure_name(m));
+        cJSON_AddNumberToObject(q, "q_layout", d->resize_check_maps_layout.q[m]);
+        cJSON_AddNumberToObject(q, "q_resize", d->resize_check_maps_resize.q[m]);
+    }
     cJSON_AddNumberToObject(r, "seconds", d->seconds_resize_check);
 }
 
@@ -211,6 +220,10 @@ static cJSON *job_json(const texopt_job_stats *s)
         cJSON_AddNumberToObject(e, "resolution", s->eval_resolution);
         cJSON_AddStringToObject(e, "lookup", texopt_lookup_name(s->mipmapped));
         cJSON_AddNumberToObject(e, "seconds", s->seconds_evaluate);
+        cJSON *maps = s->has_q_maps ? cJSON_AddObjectToObject(e, "q_maps") : NULL;
+        for (int m = 0; maps && m < TEXOPT_MAP_MEASURES; m++)
+            if (s->q_maps.measured[m])
+                cJSON_AddNumberToObject(maps, texopt_map_measure_name(m), s->q_maps.q[m]);
     }
     if (s->has_file_cost) {
         cJSON *f = cJSON_AddObjectToObject(root, "file_cost");

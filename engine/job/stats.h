@@ -18,6 +18,7 @@
 
 #include "distortion.h"
 #include "layout_check.h"
+#include "map_check.h"
 #include "status.h"
 
 typedef struct texopt_image_stats {
@@ -48,7 +49,10 @@ typedef struct texopt_domain_stats {
                                         resized to the same pixels (resize_check.c
                                         job_keep_resize_if_better) ... */
     int resize_check_kept;           /* ... the resize kept (its q not above the layout's) */
-    double q_resize_check_layout, q_resize_check_resize; /* on the choice's 12 views */
+    double q_resize_check_layout, q_resize_check_resize; /* on the choice's 12 views, of the
+                                        measure that decided (map_check.h) */
+    int resize_check_decided_by;     /* that measure: a texture key, or TEXOPT_MAP_LIT */
+    texopt_map_q resize_check_maps_layout, resize_check_maps_resize; /* every measure's q */
     double seconds_resize_check;     /* the resize and the evaluation of both */
     int image_count;
     texopt_image_stats *images;
@@ -126,6 +130,8 @@ typedef struct texopt_job_stats {
     double q;                    /* evaluate.h: mean GMSD over the 20 views */
     int eval_resolution;
     double seconds_evaluate;
+    int has_q_maps;              /* with has_evaluation and a statistics file: ... */
+    texopt_map_q q_maps;         /* ... q of every map the materials bind and lit, same views */
     int has_file_cost;           /* the written file measured (file_cost.h) ... */
     double seconds_file_cost;    /* ... in this time */
     unsigned long long file_texture_pixels; /* sum of width x height over its images */

@@ -11,7 +11,8 @@
 # lit` is another measure (Fox has only base colour: lit, not 0, not base colour's q; compare
 # --texture lit gives the same q as evaluate --texture lit and names it), a slot
 # Fox has no texture in (normal) is an engine error naming it (exit 1, evaluate and compare),
-# an unknown slot a usage error. Also the usage errors' exit codes, the seed's range included.
+# an unknown slot a usage error. --maps: q of every map Fox binds (base colour only, no lit)
+# beside q, base colour's the same. Also the usage errors' exit codes, the seed's range included.
 set -euo pipefail
 : "${TEXOPT_BIN:?TEXOPT_BIN must point to the texopt executable}"
 : "${TEXOPT_SOURCE_DIR:?TEXOPT_SOURCE_DIR must point to the source tree}"
@@ -28,6 +29,8 @@ FOX="$TEXOPT_SOURCE_DIR/tests/data/Fox/Fox.glb"
     fail "evaluate of the reduced Fox exited $?"
 "$TEXOPT_BIN" evaluate "$FOX" "$WORK/quarter.glb" --resolution 200 --texture base --json > "$WORK/quarter_base.json" ||
     fail "evaluate --texture base exited $?"
+"$TEXOPT_BIN" evaluate "$FOX" "$WORK/quarter.glb" --resolution 200 --maps --json > "$WORK/quarter_maps.json" ||
+    fail "evaluate --maps exited $?"
 "$TEXOPT_BIN" evaluate "$FOX" "$WORK/quarter.glb" --resolution 200 --texture lit --json > "$WORK/quarter_lit.json" ||
     fail "evaluate --texture lit exited $?"
 "$TEXOPT_BIN" compare "$FOX" --methods input --costs 1,0.25,0.0625 --resolution 200 --quiet \
@@ -69,6 +72,9 @@ lit_curves = json.load(open(f"{work}/lit_curves.json"))
 lit_point = lit_curves["curves"]["input"][0]["q"]
 if lit_curves["texture"] != "lit" or abs(lit_point - quarter_lit["q"]) > 1e-9:
     fail(f"compare --texture lit: {lit_curves['texture']} q {lit_point} vs evaluate's {quarter_lit['q']}")
+quarter_maps = json.load(open(f"{work}/quarter_maps.json"))
+if quarter_maps["q_maps"] != {"baseColor": quarter["q"]} or quarter_maps["q"] != quarter["q"]:
+    fail(f"--maps: {quarter_maps.get('q_maps')} (q {quarter['q']})")
 quarter_base = json.load(open(f"{work}/quarter_base.json"))
 if quarter_base["q"] != quarter["q"] or quarter_base["texture"] != "baseColor":
     fail(f"--texture base: {quarter_base['q']} {quarter_base['texture']} vs default q {quarter['q']}")

@@ -1,7 +1,8 @@
 /* test_pipeline_resize.c - never worse than a resize (resize_check.c): a
  * perceptual domain whose new layout's q, on the choice's views, is not below its input layout
  * resized with Lanczos-3 to the same pixels keeps that resize, exactly as method "input" writes
- * it, and the statistics give both q; a layout that beats the resize is kept. Generated grids
+ * it, and the statistics give both q; a layout that beats the resize is kept; a layout that
+ * loses on an emissive map keeps the resize, named as the map that decided. Generated grids
  * (grid_glb.h). */
 #include <math.h>
 #include <string.h>
@@ -130,6 +131,78 @@ TEST(a_resize_that_wins_is_written_as_method_input_writes_it)
     CHECK(st != NULL);
     CHECK(q == number(cJSON_GetObjectItem(st, "evaluation"), "q"));
     CHECK(same_model(s.out, s.again));
+    cJSON_Delete(st);
+    scratch_free(&s);
+}
+
+/* The check's q of one map (resize_check.maps), layout's or resize's. */
+static double map_q(cJSON *st, const char *map, const char *which)
+{
+    cJSON *maps = cJSON_GetObjectItem(cJSON_GetObjectItem(domain0(st), "resize_check"), "maps");
+    return number(cJSON_GetObjectItem(maps, map), which);
+}
+
+/* A grid whose material binds a base colour of `base` and an emissive map of `emissive`, at a
+ * quarter of its pixels: the statistics (NULL on failure), the check's verdict and the map
+ * that decided it, printed with base colour's, emissive's and lit's q. */
+static cJSON *run_emissive_job(scratch *s, const char *base, const char *emissive, const char **kept,
+                               const char **decided_by)
+{
+    const char *patterns[2] = {base, emissive};
+    if (scratch_init(s, 4, 64, NULL) != 0 ||
+        write_grid_glb_material(s->in, 4, 64, patterns, 2,
+                                "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}},"
+                                "\"emissiveTexture\":{\"index\":1},\"emissiveFactor\":[1,1,1]}") != 0)
+        return NULL;
+    cJSON *st = run_job(s, s->out, TEXOPT_METHOD_PERCEPTUAL, 32, 0);
+    double q_layout, q_resize;
+    *kept = st ? verdict(st, &q_layout, &q_resize) : "";
+    cJSON *by = cJSON_GetObjectItem(cJSON_GetObjectItem(domain0(st), "resize_check"), "decided_by");
+    *decided_by = cJSON_IsString(by) ? by->valuestring : "";
+    printf("  decided by %s; base colour %.5f / %.5f, emissive %.5f / %.5f, lit %.5f / %.5f\n", *decided_by,
+           map_q(st, "baseColor", "q_layout"), map_q(st, "baseColor", "q_resize"), map_q(st, "emissive", "q_layout"),
+           map_q(st, "emissive", "q_resize"), map_q(st, "lit", "q_layout"), map_q(st, "lit", "q_resize"));
+    return st;
+}
+
+/* Every map counts (map_check.h): base colour where the layout wins (the gradient above) and
+ * an emissive checker where it loses. The resize is kept and the statistics name emissive as
+ * the map that decided, with every map's q and lit's; the reported q per map covers the same
+ * maps. */
+TEST(a_layout_that_loses_on_the_emissive_map_keeps_the_resize)
+{
+    scratch s;
+    const char *kept, *by;
+    cJSON *st = run_emissive_job(&s, "gradient", "checker", &kept, &by);
+    CHECK(st != NULL);
+    CHECK(map_q(st, "baseColor", "q_layout") < map_q(st, "baseColor", "q_resize"));
+    CHECK(map_q(st, "emissive", "q_layout") > map_q(st, "emissive", "q_resize"));
+    CHECK(strcmp(kept, "resize") == 0);
+    CHECK(strcmp(by, "emissive") == 0);
+    cJSON *check = cJSON_GetObjectItem(domain0(st), "resize_check");
+    CHECK(number(check, "q_layout") == map_q(st, "emissive", "q_layout"));
+    CHECK(number(check, "q_resize") == map_q(st, "emissive", "q_resize"));
+    CHECK(map_q(st, "lit", "q_resize") > 0 && isnan(map_q(st, "normal", "q_layout")));
+    cJSON *q_maps = cJSON_GetObjectItem(cJSON_GetObjectItem(st, "evaluation"), "q_maps");
+    CHECK(number(q_maps, "baseColor") == number(cJSON_GetObjectItem(st, "evaluation"), "q"));
+    CHECK(number(q_maps, "emissive") > 0 && number(q_maps, "lit") > 0 && cJSON_GetArraySize(q_maps) == 3);
+    cJSON_Delete(st);
+    scratch_free(&s);
+}
+
+/* Flat base colour, a sharp emissive shape (text-like strokes on half the map): base colour
+ * is the same under any layout, so only the emissive map (and lit) can decide; a check on
+ * base colour alone would keep the resize on a tie. */
+TEST(over_a_flat_base_colour_the_emissive_map_decides)
+{
+    scratch s;
+    const char *kept, *by;
+    cJSON *st = run_emissive_job(&s, "flat", "half", &kept, &by);
+    CHECK(st != NULL);
+    double el = map_q(st, "emissive", "q_layout"), er = map_q(st, "emissive", "q_resize");
+    CHECK(map_q(st, "baseColor", "q_layout") == map_q(st, "baseColor", "q_resize"));
+    CHECK(strcmp(by, "emissive") == 0 && el != er);
+    CHECK(strcmp(kept, el < er && map_q(st, "lit", "q_layout") <= map_q(st, "lit", "q_resize") ? "layout" : "resize") == 0);
     cJSON_Delete(st);
     scratch_free(&s);
 }
