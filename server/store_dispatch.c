@@ -5,7 +5,7 @@
 #include <stdio.h>
 
 #include "config.h"
-#include "status.h"
+#include "texopt.h"
 #ifdef TEXOPT_HAVE_POSTGRES
 #include "store_pg.h"
 #endif

@@ -17,7 +17,7 @@
 
 #include "fsutil.h"
 #include "log.h"
-#include "status.h"
+#include "texopt.h"
 #include "store_backend.h"
 #include "store_lease.h"
 #include "store_pg_schema.h"
