@@ -27,9 +27,9 @@ typedef struct event_stream {
     job_store *store;
     char id[JOB_ID_LEN + 1];
     long long last_seq;
-    job_state last_state;  /* JOB_STATE_COUNT before the first event */
-    int done;              /* the finished state was sent */
-    char *pending;         /* formatted bytes not yet handed to libmicrohttpd */
+    job_state last_state; /* JOB_STATE_COUNT before the first event */
+    int done;             /* the finished state was sent */
+    char *pending;        /* formatted bytes not yet handed to libmicrohttpd */
     size_t pending_len, pending_off;
 } event_stream;
 

@@ -72,21 +72,15 @@ static int authorized(const api_service *svc, struct MHD_Connection *c)
 static enum MHD_Result dispatch(request_ctx *rq, struct MHD_Connection *c)
 {
     switch (rq->match.route) {
-    case ROUTE_JOBS:
-        return jobs_list(rq, c);
-    case ROUTE_JOB:
-        return strcmp(rq->method, "DELETE") == 0 ? jobs_delete(rq, c) : jobs_get(rq, c);
-    case ROUTE_JOB_EVENTS:
-        return jobs_events(rq, c);
+    case ROUTE_JOBS: return jobs_list(rq, c);
+    case ROUTE_JOB: return strcmp(rq->method, "DELETE") == 0 ? jobs_delete(rq, c) : jobs_get(rq, c);
+    case ROUTE_JOB_EVENTS: return jobs_events(rq, c);
     case ROUTE_JOB_RESULT:
     case ROUTE_JOB_STATS:
-    case ROUTE_JOB_REPORT:
-        return jobs_file(rq, c);
+    case ROUTE_JOB_REPORT: return jobs_file(rq, c);
     case ROUTE_PAGE:
-    case ROUTE_ASSET:
-        return web_answer(rq, c);
-    default:
-        return probes_answer(rq, c);
+    case ROUTE_ASSET: return web_answer(rq, c);
+    default: return probes_answer(rq, c);
     }
 }
 
@@ -112,16 +106,15 @@ static enum MHD_Result first_call(request_ctx *rq, struct MHD_Connection *c)
                                  MAX_URL_BYTES);
     size_t head = head_bytes(c);
     if (head > MAX_HEAD_BYTES)
-        return http_send_problem(rq, c, 431, "headers-too-large", 0, "the headers have %zu bytes, more than %u",
-                                 head, MAX_HEAD_BYTES);
+        return http_send_problem(rq, c, 431, "headers-too-large", 0, "the headers have %zu bytes, more than %u", head,
+                                 MAX_HEAD_BYTES);
     if (rq->match.route == ROUTE_NOT_FOUND)
         return http_send_problem(rq, c, 404, "not-found", 0, "no resource at %s", rq->path);
     if (strcmp(rq->method, "OPTIONS") == 0)
         return http_answer_options(rq, c);
     if (!api_route_allows(rq->match.route, rq->method))
         return http_send_problem(rq, c, 405, "method-not-allowed", 0, "%s is not allowed on %s (allowed: %s)",
-                                 rq->method, api_route_template(rq->match.route),
-                                 api_route_allow(rq->match.route));
+                                 rq->method, api_route_template(rq->match.route), api_route_allow(rq->match.route));
     if (!api_route_is_public(rq->match.route) && !authorized(rq->svc, c))
         return http_send_problem(rq, c, 401, "unauthorized", 0, "a valid 'Authorization: Bearer <token>' is required");
     if (strcmp(rq->method, "POST") == 0)
@@ -143,9 +136,9 @@ static void on_connection(void *cls, struct MHD_Connection *c, void **socket_con
     if (code == MHD_CONNECTION_NOTIFY_STARTED) {
         const union MHD_ConnectionInfo *fd = MHD_get_connection_info(c, MHD_CONNECTION_INFO_CONNECTION_FD);
         const union MHD_ConnectionInfo *addr = MHD_get_connection_info(c, MHD_CONNECTION_INFO_CLIENT_ADDRESS);
-        *socket_context = fd ? head_watch_open(svc->heads, fd->connect_fd, addr ? addr->client_addr : NULL,
-                                               monotonic_seconds())
-                             : NULL;
+        *socket_context =
+            fd ? head_watch_open(svc->heads, fd->connect_fd, addr ? addr->client_addr : NULL, monotonic_seconds())
+               : NULL;
         return;
     }
     head_watch_close(svc->heads, *socket_context);
@@ -215,8 +208,7 @@ static void on_completed(void *cls, struct MHD_Connection *c, void **con_cls, en
     if (rq->job_accepted)
         snprintf(job, sizeof job, " job=%s", rq->job_id);
     log_event("level=info event=request method=%s path=%s route=%s status=%d duration_ms=%.3f%s%s", rq->method,
-              log_quote(path, sizeof path, rq->path), route, rq->status,
-              (monotonic_seconds() - rq->started) * 1e3, job,
+              log_quote(path, sizeof path, rq->path), route, rq->status, (monotonic_seconds() - rq->started) * 1e3, job,
               toe == MHD_REQUEST_TERMINATED_COMPLETED_OK ? "" : " aborted=true");
     jobs_post_abandon(rq);
     api_upload_destroy(rq->upload);
@@ -251,16 +243,15 @@ static void on_mhd_log(void *cls, const char *fmt, va_list ap)
         return;
     char text[400], quoted[420];
     vsnprintf(text, sizeof text, fmt, ap);
-    log_event("level=warn event=http message=%s dropped_before=%lld", log_quote(quoted, sizeof quoted, text),
-              dropped);
+    log_event("level=warn event=http message=%s dropped_before=%lld", log_quote(quoted, sizeof quoted, text), dropped);
 }
 
 struct MHD_Daemon *api_http_start(api_service *svc, int *port_out, char *err, size_t err_len)
 {
     struct sockaddr_storage addr;
     memset(&addr, 0, sizeof addr);
-    unsigned int flags = MHD_USE_THREAD_PER_CONNECTION | MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_ITC |
-                         MHD_USE_ERROR_LOG;
+    unsigned int flags =
+        MHD_USE_THREAD_PER_CONNECTION | MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_ITC | MHD_USE_ERROR_LOG;
     struct sockaddr_in *v4 = (struct sockaddr_in *)&addr;
     struct sockaddr_in6 *v6 = (struct sockaddr_in6 *)&addr;
     if (inet_pton(AF_INET, svc->config.bind, &v4->sin_addr) == 1) {
@@ -287,17 +278,13 @@ struct MHD_Daemon *api_http_start(api_service *svc, int *port_out, char *err, si
     memset(&svc->mhd_log, 0, sizeof svc->mhd_log);
     pthread_mutex_init(&svc->mhd_log.mu, NULL);
     struct MHD_Daemon *d = MHD_start_daemon(
-        flags, (uint16_t)svc->config.port, NULL, NULL, on_request, svc,
-        MHD_OPTION_EXTERNAL_LOGGER, on_mhd_log, &svc->mhd_log,
-        MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&addr,
-        MHD_OPTION_NOTIFY_COMPLETED, on_completed, svc,
-        MHD_OPTION_NOTIFY_CONNECTION, on_connection, svc,
-        MHD_OPTION_CONNECTION_LIMIT, (unsigned int)cfg->max_connections,
-        MHD_OPTION_PER_IP_CONNECTION_LIMIT, (unsigned int)cfg->max_connections_per_ip,
-        MHD_OPTION_CONNECTION_TIMEOUT, (unsigned int)cfg->idle_timeout_seconds,
-        MHD_OPTION_CONNECTION_MEMORY_LIMIT, HEAD_MEMORY_BYTES,
-        MHD_OPTION_THREAD_STACK_SIZE, TEXOPT_PARSE_STACK_BYTES,
-        MHD_OPTION_END);
+        flags, (uint16_t)svc->config.port, NULL, NULL, on_request, svc, MHD_OPTION_EXTERNAL_LOGGER, on_mhd_log,
+        &svc->mhd_log, MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&addr, MHD_OPTION_NOTIFY_COMPLETED, on_completed, svc,
+        MHD_OPTION_NOTIFY_CONNECTION, on_connection, svc, MHD_OPTION_CONNECTION_LIMIT,
+        (unsigned int)cfg->max_connections, MHD_OPTION_PER_IP_CONNECTION_LIMIT,
+        (unsigned int)cfg->max_connections_per_ip, MHD_OPTION_CONNECTION_TIMEOUT,
+        (unsigned int)cfg->idle_timeout_seconds, MHD_OPTION_CONNECTION_MEMORY_LIMIT, HEAD_MEMORY_BYTES,
+        MHD_OPTION_THREAD_STACK_SIZE, TEXOPT_PARSE_STACK_BYTES, MHD_OPTION_END);
     if (!d) {
         head_watch_destroy(svc->heads);
         svc->heads = NULL;

@@ -18,16 +18,16 @@ typedef struct request_ctx {
     api_match match;
     char method[16];
     char path[256];
-    size_t url_bytes;       /* of the whole URL (path is cut to fit) */
-    double started;         /* monotonic seconds */
-    int status;             /* the status answered, 0 until then */
+    size_t url_bytes; /* of the whole URL (path is cut to fit) */
+    double started;   /* monotonic seconds */
+    int status;       /* the status answered, 0 until then */
     /* POST /v1/jobs only: */
     api_upload *upload;
     char job_id[JOB_ID_LEN + 1];
     char job_dir[PATH_MAX - 512];
-    int job_accepted;       /* keep the directory: it belongs to a job now */
-    int key_known;          /* the Idempotency-Key names a job: replay it if the request matches */
-    uint64_t discarded;     /* body bytes thrown away (after a failure, or on GET/DELETE) */
+    int job_accepted;   /* keep the directory: it belongs to a job now */
+    int key_known;      /* the Idempotency-Key names a job: replay it if the request matches */
+    uint64_t discarded; /* body bytes thrown away (after a failure, or on GET/DELETE) */
 } request_ctx;
 
 /* Queues response with the status, adds the CORS headers, records the status and frees
@@ -52,16 +52,17 @@ enum MHD_Result http_send_problem(request_ctx *rq, struct MHD_Connection *c, int
 enum MHD_Result http_answer_options(request_ctx *rq, struct MHD_Connection *c);
 
 /* Route handlers. */
-enum MHD_Result jobs_post_headers(request_ctx *rq, struct MHD_Connection *c);  /* first call */
+enum MHD_Result jobs_post_headers(request_ctx *rq, struct MHD_Connection *c); /* first call */
 enum MHD_Result jobs_post_body(request_ctx *rq, struct MHD_Connection *c, const char *data, size_t *size);
 enum MHD_Result jobs_post_complete(request_ctx *rq, struct MHD_Connection *c);
 enum MHD_Result jobs_list(request_ctx *rq, struct MHD_Connection *c);
 enum MHD_Result jobs_get(request_ctx *rq, struct MHD_Connection *c);
 enum MHD_Result jobs_delete(request_ctx *rq, struct MHD_Connection *c);
-enum MHD_Result jobs_file(request_ctx *rq, struct MHD_Connection *c);  /* result, stats, report */
+enum MHD_Result jobs_file(request_ctx *rq, struct MHD_Connection *c); /* result, stats, report */
 enum MHD_Result jobs_events(request_ctx *rq, struct MHD_Connection *c);
-enum MHD_Result probes_answer(request_ctx *rq, struct MHD_Connection *c); /* healthz, readyz, metrics, openapi, params */
-enum MHD_Result web_answer(request_ctx *rq, struct MHD_Connection *c);    /* the page and its files */
+enum MHD_Result probes_answer(request_ctx *rq,
+                              struct MHD_Connection *c);               /* healthz, readyz, metrics, openapi, params */
+enum MHD_Result web_answer(request_ctx *rq, struct MHD_Connection *c); /* the page and its files */
 
 /* Jobs waiting for a worker: this node's queue, or the shared store's queued jobs (the
  * --queue-limit then bounds them over every node). */

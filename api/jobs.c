@@ -105,8 +105,8 @@ enum MHD_Result jobs_post_headers(request_ctx *rq, struct MHD_Connection *c)
     int status = 0;
     const char *slug = "";
     char detail[300];
-    rq->upload = api_upload_begin(rq->job_dir, multipart, c, svc->config.max_upload_bytes, &status, &slug,
-                                  detail, sizeof detail);
+    rq->upload = api_upload_begin(rq->job_dir, multipart, c, svc->config.max_upload_bytes, &status, &slug, detail,
+                                  sizeof detail);
     if (!rq->upload)
         return http_send_problem(rq, c, status, slug, 0, "%s", detail);
     return MHD_YES;
@@ -258,12 +258,11 @@ enum MHD_Result jobs_post_complete(request_ctx *rq, struct MHD_Connection *c)
     char model[PATH_MAX];
     snprintf(model, sizeof model, "%s/%s", rq->job_dir, api_upload_model_rel(rq->upload));
     uint64_t pixels = 0;
-    texopt_status s = api_model_check(model, rq->svc->config.max_upload_bytes, rq->svc->config.max_pixels, &pixels,
-                                      err, sizeof err);
+    texopt_status s =
+        api_model_check(model, rq->svc->config.max_upload_bytes, rq->svc->config.max_pixels, &pixels, err, sizeof err);
     if (s != TEXOPT_OK) {
         int status = api_status_from_engine(s);
-        return http_send_problem(rq, c, status, api_slug_from_engine(s), 0, "%s",
-                                 err[0] ? err : texopt_strerror(s));
+        return http_send_problem(rq, c, status, api_slug_from_engine(s), 0, "%s", err[0] ? err : texopt_strerror(s));
     }
     return accept_job(rq, c, &params, digest, pixels);
 }
@@ -335,19 +334,14 @@ enum MHD_Result jobs_delete(request_ctx *rq, struct MHD_Connection *c)
 {
     job_record job;
     switch (store_cancel(rq->svc->store, rq->match.id, &job)) {
-    case CANCEL_NOT_FOUND:
-        return no_such_job(rq, c);
-    case CANCEL_DONE:
-        queue_remove(rq->svc->queue, job.id);
-        return send_job(rq, c, 200, &job, 0, 0);
-    case CANCEL_REQUESTED:
-        return send_job(rq, c, 202, &job, 0, 0);
+    case CANCEL_NOT_FOUND: return no_such_job(rq, c);
+    case CANCEL_DONE: queue_remove(rq->svc->queue, job.id); return send_job(rq, c, 200, &job, 0, 0);
+    case CANCEL_REQUESTED: return send_job(rq, c, 202, &job, 0, 0);
     case CANCEL_UNSAVED:
         if (store_unreachable(rq->svc->store))
             return http_store_unreachable(rq, c);
         return storage_full(rq, c, "the cancel cannot be recorded now (the disk is full); the job stays queued");
-    case CANCEL_FINISHED:
-        break;
+    case CANCEL_FINISHED: break;
     }
     int rc = store_delete(rq->svc->store, rq->match.id);
     if (rc == STORE_NOT_FOUND)
@@ -378,8 +372,8 @@ static void download_name(const char *model_name, char *out, size_t out_len)
     snprintf(out, out_len, "attachment; filename=\"%s-texopt.glb\"", n ? stem : "model");
 }
 
-static enum MHD_Result send_file(request_ctx *rq, struct MHD_Connection *c, const char *path,
-                                 const char *content_type, const char *disposition)
+static enum MHD_Result send_file(request_ctx *rq, struct MHD_Connection *c, const char *path, const char *content_type,
+                                 const char *disposition)
 {
     int fd = open(path, O_RDONLY | O_CLOEXEC);
     struct stat st;
@@ -415,7 +409,8 @@ enum MHD_Result jobs_file(request_ctx *rq, struct MHD_Connection *c)
         if (job.state != JOB_SUCCEEDED || access(path, R_OK) != 0)
             return http_send_problem(rq, c, 404, "no-report", 0,
                                      "job %s has no report: a report is written for jobs created with "
-                                     "evaluate=true, once they succeeded", job.id);
+                                     "evaluate=true, once they succeeded",
+                                     job.id);
         return send_file(rq, c, path, "text/html; charset=utf-8", NULL);
     }
     if (!job_state_finished(job.state))

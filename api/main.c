@@ -114,7 +114,8 @@ int main(int argc, char **argv)
     size_t openapi_len = 0;
     char *openapi = fs_read_small(openapi_path ? openapi_path : TEXOPT_OPENAPI_DEFAULT, 4u << 20, &openapi_len);
     if (!openapi)
-        log_event("level=warn event=start openapi=missing path=%s", openapi_path ? openapi_path : TEXOPT_OPENAPI_DEFAULT);
+        log_event("level=warn event=start openapi=missing path=%s",
+                  openapi_path ? openapi_path : TEXOPT_OPENAPI_DEFAULT);
     svc.openapi = openapi;
     svc.openapi_len = openapi_len;
 

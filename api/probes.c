@@ -85,19 +85,14 @@ static enum MHD_Result answer_params(request_ctx *rq, struct MHD_Connection *c)
 enum MHD_Result probes_answer(request_ctx *rq, struct MHD_Connection *c)
 {
     switch (rq->match.route) {
-    case ROUTE_HEALTHZ:
-        return http_send_text(rq, c, 200, "application/json", "{\"status\":\"ok\"}", 15);
-    case ROUTE_READYZ:
-        return answer_ready(rq, c);
-    case ROUTE_METRICS:
-        return answer_metrics(rq, c);
+    case ROUTE_HEALTHZ: return http_send_text(rq, c, 200, "application/json", "{\"status\":\"ok\"}", 15);
+    case ROUTE_READYZ: return answer_ready(rq, c);
+    case ROUTE_METRICS: return answer_metrics(rq, c);
     case ROUTE_OPENAPI:
         if (!rq->svc->openapi)
             return http_send_problem(rq, c, 404, "not-found", 0, "this build has no openapi.yaml");
         return http_send_text(rq, c, 200, "application/yaml", rq->svc->openapi, rq->svc->openapi_len);
-    case ROUTE_PARAMS:
-        return answer_params(rq, c);
-    default:
-        return http_send_problem(rq, c, 404, "not-found", 0, "no resource at %s", rq->path);
+    case ROUTE_PARAMS: return answer_params(rq, c);
+    default: return http_send_problem(rq, c, 404, "not-found", 0, "no resource at %s", rq->path);
     }
 }

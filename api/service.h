@@ -36,7 +36,7 @@ typedef struct api_service {
     atomic_int open_streams;     /* event streams whose response is not freed yet */
     struct head_watch *heads;    /* connections sending a request head (api/head_watch.h) */
     api_log_limit mhd_log;
-    const char *openapi;         /* the contents of openapi.yaml, served as is */
+    const char *openapi; /* the contents of openapi.yaml, served as is */
     size_t openapi_len;
 } api_service;
 

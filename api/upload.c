@@ -3,10 +3,10 @@
 #include "upload.h"
 
 #include <errno.h>
-#include <stdarg.h>
 #include <fcntl.h>
 #include <limits.h>
 #include <microhttpd.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,9 +29,9 @@ struct api_upload {
     char model_rel[300], model_name[256];
     char *params;
     size_t params_len;
-    int in_params;              /* the current part is `params` */
-    uint64_t digest;            /* fingerprint.h of the stored files */
-    int status;                 /* first failure wins */
+    int in_params;   /* the current part is `params` */
+    uint64_t digest; /* fingerprint.h of the stored files */
+    int status;      /* first failure wins */
     const char *slug;
     char detail[300];
 };
@@ -175,8 +175,8 @@ static int start_part(api_upload *u, const char *key, const char *filename)
 }
 
 static enum MHD_Result on_part(void *cls, enum MHD_ValueKind kind, const char *key, const char *filename,
-                               const char *content_type, const char *transfer_encoding, const char *data,
-                               uint64_t off, size_t size)
+                               const char *content_type, const char *transfer_encoding, const char *data, uint64_t off,
+                               size_t size)
 {
     (void)kind;
     (void)content_type;
@@ -213,8 +213,8 @@ static enum MHD_Result on_part(void *cls, enum MHD_ValueKind kind, const char *k
     return write_file(u, data, size) == 0 ? MHD_YES : MHD_NO;
 }
 
-api_upload *api_upload_begin(const char *dir, int multipart, struct MHD_Connection *connection,
-                             uint64_t limit, int *status, const char **slug, char *detail, size_t detail_len)
+api_upload *api_upload_begin(const char *dir, int multipart, struct MHD_Connection *connection, uint64_t limit,
+                             int *status, const char **slug, char *detail, size_t detail_len)
 {
     api_upload *u = calloc(1, sizeof *u);
     if (!u) {

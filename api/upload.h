@@ -24,8 +24,8 @@ typedef struct api_upload api_upload;
 /* Starts an upload into dir/input/. multipart selects the form (the connection's headers
  * give the boundary). limit is the largest body accepted. NULL with a problem filled
  * (status, slug, detail) on failure. */
-api_upload *api_upload_begin(const char *dir, int multipart, struct MHD_Connection *connection,
-                             uint64_t limit, int *status, const char **slug, char *detail, size_t detail_len);
+api_upload *api_upload_begin(const char *dir, int multipart, struct MHD_Connection *connection, uint64_t limit,
+                             int *status, const char **slug, char *detail, size_t detail_len);
 
 /* Feeds the next body bytes. Returns 0, or -1 once the upload failed (see api_upload_error). */
 int api_upload_feed(api_upload *u, const char *data, size_t size);

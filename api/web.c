@@ -12,8 +12,8 @@
 #include "http_internal.h"
 
 /* The page talks to this origin only; models arrive as blob: URLs in the 3D viewer. */
-#define PAGE_POLICY                                                                                   \
-    "default-src 'self'; img-src 'self' blob: data:; connect-src 'self' blob: data:; "               \
+#define PAGE_POLICY                                                                                                    \
+    "default-src 'self'; img-src 'self' blob: data:; connect-src 'self' blob: data:; "                                 \
     "object-src 'none'; base-uri 'none'; frame-ancestors 'none'"
 
 int web_file_name(api_route route, const char *path, char *out, size_t out_len)
@@ -39,10 +39,14 @@ const char *web_content_type(const char *name)
     static const struct {
         const char *suffix, *type;
     } types[] = {
-        {".html", "text/html; charset=utf-8"},  {".js", "text/javascript; charset=utf-8"},
-        {".mjs", "text/javascript; charset=utf-8"}, {".css", "text/css; charset=utf-8"},
-        {".svg", "image/svg+xml"},              {".png", "image/png"},
-        {".json", "application/json"},          {".txt", "text/plain; charset=utf-8"},
+        {".html", "text/html; charset=utf-8"},
+        {".js", "text/javascript; charset=utf-8"},
+        {".mjs", "text/javascript; charset=utf-8"},
+        {".css", "text/css; charset=utf-8"},
+        {".svg", "image/svg+xml"},
+        {".png", "image/png"},
+        {".json", "application/json"},
+        {".txt", "text/plain; charset=utf-8"},
     };
     for (size_t i = 0; i < sizeof types / sizeof types[0]; i++)
         if (ends_with(name, types[i].suffix))

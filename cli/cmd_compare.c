@@ -17,47 +17,46 @@
 
 static void usage(FILE *out)
 {
-    fprintf(out,
-            "usage: texopt compare IN [options]\n"
-            "\n"
-            "Runs several layout methods on IN at several relative costs, measures each output's\n"
-            "whole-mesh loss q against IN, and prints the q_r-c_r table.\n"
-            "\n"
-            "options:\n"
-            "  --methods LIST      comma-separated: input,ssp,tewari,arap,perceptual\n"
-            "                      (default: all five)\n"
-            "  --costs LIST        comma-separated relative costs in (0, 4]\n"
-            "                      (default 0.1,0.2,0.3,0.5,0.7,1.0)\n"
-            "  --showcase C        the cost whose outputs the report shows (default: closest to 0.3)\n"
-            "  -o, --report PATH   write the self-contained HTML report\n"
-            "  --json PATH         write the curves as JSON\n"
-            "  --resolution N      evaluation render side (default: 1.25 sqrt(covered texels))\n"
-            "  --mipmap            prefiltered (mip-mapped) lookups, not bilinear: q measures\n"
-            "                      with them and perceptual tunes its layout for them\n"
-            "  --texture NAME      what q measures, as texopt evaluate --texture: a texture\n"
-            "                      (default baseColor; an extension's by its key) or lit (every\n"
-            "                      core map under one light); the methods still lay out by\n"
-            "                      their own rules\n"
-            "  --every-texture     also measure q on every other texture IN has (normal,\n"
-            "                      metallicRoughness, ..., clearcoatTexture, ...) and, when IN\n"
-            "                      has a map besides base colour, lit (texopt evaluate\n"
-            "                      --texture lit): printed as one table each and in the JSON\n"
-            "                      as q_by_texture\n"
-            "  --iterations N      most stage-1 polish iterations per triangle (default 100)\n"
-            "  --epsilon E         perceptual loss threshold of stage 1 (default 0.03)\n"
-            "  --lambda-min L      smallest per-axis scale stage 1 may choose, in (0, 1)\n"
-            "                      (default 0.1)\n"
-            "  --seed S            random seed, 0 to 2^53 (default 0)\n"
-            "  --refinements N     perceptual: most closed-loop refinement rounds, 0-20\n"
-            "                      (default 4; 0 = none), as in texopt optimize\n"
-            "  --refine-by M       perceptual: baseColor (default) or lit, as in texopt optimize\n"
-            "  --threads T         worker threads (default: every core)\n"
-            "  --reuse-layout      each layout method once, at the largest cost; smaller costs by\n"
-            "                      resampling its re-baked textures (much faster, but measurably\n"
-            "                      pessimistic for the layout methods; default: one pipeline run\n"
-            "                      per method and cost)\n"
-            "  --quiet             no progress on stderr\n"
-            "  -h, --help          this text\n");
+    fprintf(out, "usage: texopt compare IN [options]\n"
+                 "\n"
+                 "Runs several layout methods on IN at several relative costs, measures each output's\n"
+                 "whole-mesh loss q against IN, and prints the q_r-c_r table.\n"
+                 "\n"
+                 "options:\n"
+                 "  --methods LIST      comma-separated: input,ssp,tewari,arap,perceptual\n"
+                 "                      (default: all five)\n"
+                 "  --costs LIST        comma-separated relative costs in (0, 4]\n"
+                 "                      (default 0.1,0.2,0.3,0.5,0.7,1.0)\n"
+                 "  --showcase C        the cost whose outputs the report shows (default: closest to 0.3)\n"
+                 "  -o, --report PATH   write the self-contained HTML report\n"
+                 "  --json PATH         write the curves as JSON\n"
+                 "  --resolution N      evaluation render side (default: 1.25 sqrt(covered texels))\n"
+                 "  --mipmap            prefiltered (mip-mapped) lookups, not bilinear: q measures\n"
+                 "                      with them and perceptual tunes its layout for them\n"
+                 "  --texture NAME      what q measures, as texopt evaluate --texture: a texture\n"
+                 "                      (default baseColor; an extension's by its key) or lit (every\n"
+                 "                      core map under one light); the methods still lay out by\n"
+                 "                      their own rules\n"
+                 "  --every-texture     also measure q on every other texture IN has (normal,\n"
+                 "                      metallicRoughness, ..., clearcoatTexture, ...) and, when IN\n"
+                 "                      has a map besides base colour, lit (texopt evaluate\n"
+                 "                      --texture lit): printed as one table each and in the JSON\n"
+                 "                      as q_by_texture\n"
+                 "  --iterations N      most stage-1 polish iterations per triangle (default 100)\n"
+                 "  --epsilon E         perceptual loss threshold of stage 1 (default 0.03)\n"
+                 "  --lambda-min L      smallest per-axis scale stage 1 may choose, in (0, 1)\n"
+                 "                      (default 0.1)\n"
+                 "  --seed S            random seed, 0 to 2^53 (default 0)\n"
+                 "  --refinements N     perceptual: most closed-loop refinement rounds, 0-20\n"
+                 "                      (default 4; 0 = none), as in texopt optimize\n"
+                 "  --refine-by M       perceptual: baseColor (default) or lit, as in texopt optimize\n"
+                 "  --threads T         worker threads (default: every core)\n"
+                 "  --reuse-layout      each layout method once, at the largest cost; smaller costs by\n"
+                 "                      resampling its re-baked textures (much faster, but measurably\n"
+                 "                      pessimistic for the layout methods; default: one pipeline run\n"
+                 "                      per method and cost)\n"
+                 "  --quiet             no progress on stderr\n"
+                 "  -h, --help          this text\n");
 }
 
 static int parse_methods(const char *list, texopt_method *out, int *n)
@@ -140,8 +139,8 @@ static void print_table(const texopt_compare_result *r, const double *costs, int
         for (int c = 0; c < r->curves[m].point_count; c++) {
             const texopt_compare_point *p = &r->curves[m].points[c];
             if (p->status != TEXOPT_OK) {
-                fprintf(stderr, "%s at c_r %.2f: %s: %s\n", texopt_method_name(r->curves[m].method),
-                        p->cost_requested, texopt_strerror(p->status), p->message);
+                fprintf(stderr, "%s at c_r %.2f: %s: %s\n", texopt_method_name(r->curves[m].method), p->cost_requested,
+                        texopt_strerror(p->status), p->message);
             }
         }
 }

@@ -15,17 +15,16 @@
 
 static void usage(FILE *out)
 {
-    fprintf(out,
-            "usage: texopt info MODEL [--pretty]\n"
-            "\n"
-            "Prints a JSON description of MODEL (.glb or .gltf): per texture domain the\n"
-            "triangle, chart and vertex counts, the textures and their wrap modes, the texels\n"
-            "the UV layout covers (each once), packing efficiency, and how many triangles are\n"
-            "flipped, overlapping, degenerate or wrapped.\n"
-            "\n"
-            "options:\n"
-            "  --pretty     indent the JSON\n"
-            "  -h, --help   this text\n");
+    fprintf(out, "usage: texopt info MODEL [--pretty]\n"
+                 "\n"
+                 "Prints a JSON description of MODEL (.glb or .gltf): per texture domain the\n"
+                 "triangle, chart and vertex counts, the textures and their wrap modes, the texels\n"
+                 "the UV layout covers (each once), packing efficiency, and how many triangles are\n"
+                 "flipped, overlapping, degenerate or wrapped.\n"
+                 "\n"
+                 "options:\n"
+                 "  --pretty     indent the JSON\n"
+                 "  -h, --help   this text\n");
 }
 
 int cmd_info(int argc, char **argv)

@@ -60,8 +60,14 @@ typedef struct setting {
     long long lo, hi;
 } setting;
 
-#define STR_SETTING(f, e, field) {f, e, KIND_STRING, offsetof(service_config, field), sizeof(((service_config *)0)->field), 0, 0}
-#define INT_SETTING(f, e, field, lo, hi) {f, e, KIND_INT, offsetof(service_config, field), 0, lo, hi}
+#define STR_SETTING(f, e, field)                                                                                       \
+    {                                                                                                                  \
+        f, e, KIND_STRING, offsetof(service_config, field), sizeof(((service_config *)0)->field), 0, 0                 \
+    }
+#define INT_SETTING(f, e, field, lo, hi)                                                                               \
+    {                                                                                                                  \
+        f, e, KIND_INT, offsetof(service_config, field), 0, lo, hi                                                     \
+    }
 
 static const setting settings[] = {
     STR_SETTING("--bind", "TEXOPT_BIND", bind),
@@ -70,9 +76,11 @@ static const setting settings[] = {
     INT_SETTING("--workers", "TEXOPT_WORKERS", workers, 1, 64),
     INT_SETTING("--threads-per-job", "TEXOPT_THREADS_PER_JOB", threads_per_job, 0, 1024),
     INT_SETTING("--queue-limit", "TEXOPT_QUEUE_LIMIT", queue_limit, 1, 100000),
-    {"--max-upload-bytes", "TEXOPT_MAX_UPLOAD_BYTES", KIND_U64, offsetof(service_config, max_upload_bytes), 0, 1, LLONG_MAX},
+    {"--max-upload-bytes", "TEXOPT_MAX_UPLOAD_BYTES", KIND_U64, offsetof(service_config, max_upload_bytes), 0, 1,
+     LLONG_MAX},
     {"--max-pixels", "TEXOPT_MAX_PIXELS", KIND_U64, offsetof(service_config, max_pixels), 0, 1, LLONG_MAX},
-    {"--retention-seconds", "TEXOPT_RETENTION_SECONDS", KIND_I64, offsetof(service_config, retention_seconds), 0, 0, LLONG_MAX},
+    {"--retention-seconds", "TEXOPT_RETENTION_SECONDS", KIND_I64, offsetof(service_config, retention_seconds), 0, 0,
+     LLONG_MAX},
     INT_SETTING("--max-connections", "TEXOPT_MAX_CONNECTIONS", max_connections, 4, 100000),
     INT_SETTING("--max-connections-per-ip", "TEXOPT_MAX_CONNECTIONS_PER_IP", max_connections_per_ip, 1, 100000),
     INT_SETTING("--header-timeout", "TEXOPT_HEADER_TIMEOUT", header_timeout_seconds, 1, 3600),
@@ -89,34 +97,37 @@ static const setting settings[] = {
 };
 #define SETTING_COUNT (sizeof settings / sizeof settings[0])
 
-static int apply(service_config *cfg, const setting *s, const char *value, const char *name,
-                 char *err, size_t err_len)
+static int apply(service_config *cfg, const setting *s, const char *value, const char *name, char *err, size_t err_len)
 {
     char *field = (char *)cfg + s->offset;
     long long v;
     switch (s->kind) {
     case KIND_STRING:
         if (strlen(value) >= s->size)
-            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "%s: value longer than %zu bytes",
-                               name, s->size - 1), -1;
+            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "%s: value longer than %zu bytes", name,
+                               s->size - 1),
+                   -1;
         memcpy(field, value, strlen(value) + 1);
         return 0;
     case KIND_INT:
         if (parse_int(value, s->lo, s->hi, &v) != 0)
             return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "%s: '%s' is not an integer in %lld .. %lld",
-                               name, value, s->lo, s->hi), -1;
+                               name, value, s->lo, s->hi),
+                   -1;
         *(int *)(void *)field = (int)v;
         return 0;
     case KIND_U64:
         if (parse_int(value, s->lo, s->hi, &v) != 0)
-            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "%s: '%s' is not a positive integer",
-                               name, value), -1;
+            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "%s: '%s' is not a positive integer", name,
+                               value),
+                   -1;
         *(uint64_t *)(void *)field = (uint64_t)v;
         return 0;
     case KIND_I64:
         if (parse_int(value, s->lo, s->hi, &v) != 0)
-            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "%s: '%s' is not a non-negative integer",
-                               name, value), -1;
+            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "%s: '%s' is not a non-negative integer", name,
+                               value),
+                   -1;
         *(int64_t *)(void *)field = (int64_t)v;
         return 0;
     }

@@ -35,8 +35,8 @@
 #ifndef TEXOPT_SERVER_CONFIG_H
 #define TEXOPT_SERVER_CONFIG_H
 
-#include <stdint.h>
 #include <stddef.h>
+#include <stdint.h>
 
 typedef struct service_config {
     char bind[64];

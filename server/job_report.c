@@ -11,8 +11,7 @@
 
 /* The relative cost to compare at: the requested one, or for a texture-size budget the one
  * the run achieved (first texture domain, from stats.json). */
-static texopt_status cost_of_run(const char *dir, const texopt_params *params, double *cost, char *err,
-                                 size_t err_len)
+static texopt_status cost_of_run(const char *dir, const texopt_params *params, double *cost, char *err, size_t err_len)
 {
     if (params->budget == TEXOPT_BUDGET_RELATIVE_COST) {
         *cost = params->relative_cost;
@@ -32,9 +31,8 @@ static texopt_status cost_of_run(const char *dir, const texopt_params *params, d
     return TEXOPT_OK;
 }
 
-texopt_status job_write_report(const char *input, const char *dir, const char *title,
-                               const texopt_params *params, const texopt_monitor *monitor, char *err,
-                               size_t err_len)
+texopt_status job_write_report(const char *input, const char *dir, const char *title, const texopt_params *params,
+                               const texopt_monitor *monitor, char *err, size_t err_len)
 {
     double cost;
     texopt_status s = cost_of_run(dir, params, &cost, err, err_len);

@@ -15,8 +15,7 @@
 
 /* input: the job's model; dir: the job directory (holding result.glb and stats.json of the
  * finished run). */
-texopt_status job_write_report(const char *input, const char *dir, const char *title,
-                               const texopt_params *params, const texopt_monitor *monitor, char *err,
-                               size_t err_len);
+texopt_status job_write_report(const char *input, const char *dir, const char *title, const texopt_params *params,
+                               const texopt_monitor *monitor, char *err, size_t err_len);
 
 #endif

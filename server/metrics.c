@@ -131,8 +131,8 @@ static void append(text_buffer *t, const char *fmt, ...)
     }
 }
 
-char *metrics_render(service_metrics *m, const int job_counts[JOB_STATE_COUNT], int queue_depth,
-                     int queue_limit, int workers_busy, int workers)
+char *metrics_render(service_metrics *m, const int job_counts[JOB_STATE_COUNT], int queue_depth, int queue_limit,
+                     int workers_busy, int workers)
 {
     text_buffer t = {malloc(4096), 0, 4096, 0};
     if (!t.data)
@@ -141,17 +141,24 @@ char *metrics_render(service_metrics *m, const int job_counts[JOB_STATE_COUNT], 
     append(&t, "# HELP texopt_jobs Jobs the service holds, by state.\n# TYPE texopt_jobs gauge\n");
     for (int s = 0; s < JOB_STATE_COUNT; s++)
         append(&t, "texopt_jobs{state=\"%s\"} %d\n", job_state_name((job_state)s), job_counts[s]);
-    append(&t, "# HELP texopt_queue_depth Jobs waiting for a worker.\n# TYPE texopt_queue_depth gauge\n"
-               "texopt_queue_depth %d\n", queue_depth);
-    append(&t, "# HELP texopt_queue_limit Queued jobs accepted before answering 503.\n"
-               "# TYPE texopt_queue_limit gauge\ntexopt_queue_limit %d\n", queue_limit);
-    append(&t, "# HELP texopt_workers_busy Workers running a job.\n# TYPE texopt_workers_busy gauge\n"
-               "texopt_workers_busy %d\n", workers_busy);
+    append(&t,
+           "# HELP texopt_queue_depth Jobs waiting for a worker.\n# TYPE texopt_queue_depth gauge\n"
+           "texopt_queue_depth %d\n",
+           queue_depth);
+    append(&t,
+           "# HELP texopt_queue_limit Queued jobs accepted before answering 503.\n"
+           "# TYPE texopt_queue_limit gauge\ntexopt_queue_limit %d\n",
+           queue_limit);
+    append(&t,
+           "# HELP texopt_workers_busy Workers running a job.\n# TYPE texopt_workers_busy gauge\n"
+           "texopt_workers_busy %d\n",
+           workers_busy);
     append(&t, "# HELP texopt_workers Worker threads.\n# TYPE texopt_workers gauge\ntexopt_workers %d\n", workers);
 
     pthread_mutex_lock(&m->mu);
-    append(&t, "# HELP texopt_upload_bytes_total Request body bytes received for job uploads.\n"
-               "# TYPE texopt_upload_bytes_total counter\ntexopt_upload_bytes_total %llu\n",
+    append(&t,
+           "# HELP texopt_upload_bytes_total Request body bytes received for job uploads.\n"
+           "# TYPE texopt_upload_bytes_total counter\ntexopt_upload_bytes_total %llu\n",
            (unsigned long long)m->upload_bytes);
     append(&t, "# HELP texopt_http_requests_total HTTP requests answered, by route and status.\n"
                "# TYPE texopt_http_requests_total counter\n");

@@ -24,7 +24,7 @@ void metrics_add_upload_bytes(service_metrics *m, uint64_t bytes);
 void metrics_observe_stage(service_metrics *m, const char *stage, double seconds);
 
 /* Renders every metric (with the given gauges) into a new string (caller frees). */
-char *metrics_render(service_metrics *m, const int job_counts[JOB_STATE_COUNT], int queue_depth,
-                     int queue_limit, int workers_busy, int workers);
+char *metrics_render(service_metrics *m, const int job_counts[JOB_STATE_COUNT], int queue_depth, int queue_limit,
+                     int workers_busy, int workers);
 
 #endif

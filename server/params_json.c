@@ -16,9 +16,24 @@ static const char *const budget_names[TEXOPT_BUDGET_COUNT] = {
 };
 
 static const char *const known_keys[] = {
-    "method", "budget", "relative_cost", "texture_width", "texture_height", "target_loss",
-    "epsilon", "iterations", "lambda_min", "threads", "seed", "evaluate", "eval_resolution",
-    "refinements", "refine_by", "lookup", "packing_efficiency", "bijective",
+    "method",
+    "budget",
+    "relative_cost",
+    "texture_width",
+    "texture_height",
+    "target_loss",
+    "epsilon",
+    "iterations",
+    "lambda_min",
+    "threads",
+    "seed",
+    "evaluate",
+    "eval_resolution",
+    "refinements",
+    "refine_by",
+    "lookup",
+    "packing_efficiency",
+    "bijective",
 };
 
 static int is_known_key(const char *key)
@@ -34,8 +49,7 @@ static texopt_status bad(char *err, size_t err_len, const char *key, const char 
     return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "params.%s: %s", key, what);
 }
 
-static texopt_status get_number(const cJSON *obj, const char *key, double *out, int *present,
-                                char *err, size_t err_len)
+static texopt_status get_number(const cJSON *obj, const char *key, double *out, int *present, char *err, size_t err_len)
 {
     const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
     *present = v != NULL;
@@ -47,8 +61,8 @@ static texopt_status get_number(const cJSON *obj, const char *key, double *out, 
     return TEXOPT_OK;
 }
 
-static texopt_status get_integer(const cJSON *obj, const char *key, double lo, double hi,
-                                 double *out, int *present, char *err, size_t err_len)
+static texopt_status get_integer(const cJSON *obj, const char *key, double lo, double hi, double *out, int *present,
+                                 char *err, size_t err_len)
 {
     texopt_status s = get_number(obj, key, out, present, err, err_len);
     if (s != TEXOPT_OK || !*present)
@@ -56,8 +70,8 @@ static texopt_status get_integer(const cJSON *obj, const char *key, double lo, d
     if (*out != floor(*out))
         return bad(err, err_len, key, "must be an integer");
     if (*out < lo || *out > hi)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "params.%s: %.17g is outside %.17g .. %.17g",
-                           key, *out, lo, hi);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "params.%s: %.17g is outside %.17g .. %.17g", key,
+                           *out, lo, hi);
     return TEXOPT_OK;
 }
 
@@ -79,8 +93,8 @@ static texopt_status read_method(const cJSON *obj, texopt_params *p, char *err, 
 
 /* A key whose string value names one of two settings (from_name: -1 for an unknown name)
  * into *out; `choices` is how the refusal lists them. */
-static texopt_status read_named(const cJSON *obj, const char *key, int (*from_name)(const char *),
-                                const char *choices, int *out, char *err, size_t err_len)
+static texopt_status read_named(const cJSON *obj, const char *key, int (*from_name)(const char *), const char *choices,
+                                int *out, char *err, size_t err_len)
 {
     const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
     if (!v)
@@ -108,7 +122,7 @@ static texopt_status read_budget(const cJSON *obj, texopt_params *p, char *err, 
         return bad(err, err_len, has_width ? "texture_height" : "texture_width",
                    "texture_width and texture_height go together");
     int kinds = has_cost + has_width + has_loss;
-    texopt_budget budget = has_width ? TEXOPT_BUDGET_TEXTURE_SIZE
+    texopt_budget budget = has_width  ? TEXOPT_BUDGET_TEXTURE_SIZE
                            : has_loss ? TEXOPT_BUDGET_TARGET_LOSS
                                       : TEXOPT_BUDGET_RELATIVE_COST;
     const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, "budget");
@@ -182,8 +196,8 @@ static texopt_status read_rest(const cJSON *obj, texopt_params *p, char *err, si
         texopt_params_set_refinement_rounds(p, (int)v);
     if ((s = read_named(obj, "refine_by", texopt_refine_measure_from_name, "must be \"baseColor\" or \"lit\"",
                         &p->refine_lit, err, err_len)) != TEXOPT_OK ||
-        (s = read_named(obj, "lookup", texopt_lookup_from_name, "must be \"bilinear\" or \"mipmapped\"",
-                        &p->mipmapped, err, err_len)) != TEXOPT_OK)
+        (s = read_named(obj, "lookup", texopt_lookup_from_name, "must be \"bilinear\" or \"mipmapped\"", &p->mipmapped,
+                        err, err_len)) != TEXOPT_OK)
         return s;
     if ((s = get_number(obj, "packing_efficiency", &v, &present, err, err_len)) != TEXOPT_OK)
         return s;
@@ -220,9 +234,9 @@ texopt_status api_params_from_json(const cJSON *obj, texopt_params *out, char *e
         }
     }
     texopt_status s;
-    if (obj && ((s = read_method(obj, &p, err, err_len)) != TEXOPT_OK ||
-                (s = read_budget(obj, &p, err, err_len)) != TEXOPT_OK ||
-                (s = read_rest(obj, &p, err, err_len)) != TEXOPT_OK))
+    if (obj &&
+        ((s = read_method(obj, &p, err, err_len)) != TEXOPT_OK ||
+         (s = read_budget(obj, &p, err, err_len)) != TEXOPT_OK || (s = read_rest(obj, &p, err, err_len)) != TEXOPT_OK))
         return s;
     texopt_params_resolve(&p);
     if ((s = texopt_params_validate(&p, err, err_len)) != TEXOPT_OK)
@@ -231,8 +245,7 @@ texopt_status api_params_from_json(const cJSON *obj, texopt_params *out, char *e
     return TEXOPT_OK;
 }
 
-texopt_status api_params_from_text(const char *text, size_t len, texopt_params *out, char *err,
-                                   size_t err_len)
+texopt_status api_params_from_text(const char *text, size_t len, texopt_params *out, char *err, size_t err_len)
 {
     char why[128];
     if (texopt_json_check_depth(text, len, TEXOPT_JSON_MAX_DEPTH, why, sizeof why) != TEXOPT_OK)
@@ -248,8 +261,8 @@ texopt_status api_params_from_text(const char *text, size_t len, texopt_params *
         used++;
     if (used < len) {
         cJSON_Delete(obj);
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "params: text after the JSON object (at byte %zu)", used);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "params: text after the JSON object (at byte %zu)",
+                           used);
     }
     texopt_status s = api_params_from_json(obj, out, err, err_len);
     cJSON_Delete(obj);

@@ -29,8 +29,7 @@
 texopt_status api_params_from_json(const cJSON *obj, texopt_params *out, char *err, size_t err_len);
 
 /* Parses text (JSON) then as api_params_from_json. */
-texopt_status api_params_from_text(const char *text, size_t len, texopt_params *out, char *err,
-                                   size_t err_len);
+texopt_status api_params_from_text(const char *text, size_t len, texopt_params *out, char *err, size_t err_len);
 
 /* Adds key = text to obj as the JSON value it spells (number, true/false, else string),
  * for parameters given as URL query arguments. Returns 0, or -1 on allocation failure. */

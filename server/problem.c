@@ -51,16 +51,11 @@ int api_status_from_engine(texopt_status status)
     switch (status) {
     case TEXOPT_E_MALFORMED:
     case TEXOPT_E_IO:
-    case TEXOPT_E_INVALID_ARGUMENT:
-        return 400;
-    case TEXOPT_E_LIMIT:
-        return 413;
-    case TEXOPT_E_UNSUPPORTED:
-        return 422;
-    case TEXOPT_E_CANCELED:
-        return 409;
-    default:
-        return 500;
+    case TEXOPT_E_INVALID_ARGUMENT: return 400;
+    case TEXOPT_E_LIMIT: return 413;
+    case TEXOPT_E_UNSUPPORTED: return 422;
+    case TEXOPT_E_CANCELED: return 409;
+    default: return 500;
     }
 }
 

@@ -57,8 +57,8 @@ static void on_progress(void *user, const texopt_progress *p)
         snprintf(w->stage, sizeof w->stage, "%s", stage);
         w->stage_started = monotonic_seconds();
     }
-    store_progress(w->store, w->job, stage, w->offset + w->scale * part_fraction(w, p), p->eta_seconds,
-                   p->mean_loss, p->mean_area_scale);
+    store_progress(w->store, w->job, stage, w->offset + w->scale * part_fraction(w, p), p->eta_seconds, p->mean_loss,
+                   p->mean_area_scale);
 }
 
 void run_job(job_store *store, service_metrics *metrics, store_job *job, const job_record *record,
@@ -87,8 +87,7 @@ void run_job(job_store *store, service_metrics *metrics, store_job *job, const j
         watch.comparing = 1;
         watch.fraction = 0;
         char why[512] = "";
-        texopt_status rs = job_write_report(input, dir, record->model_name, &record->params, &monitor, why,
-                                            sizeof why);
+        texopt_status rs = job_write_report(input, dir, record->model_name, &record->params, &monitor, why, sizeof why);
         close_stage(&watch);
         if (rs == TEXOPT_OK) {
             has_report = 1;

@@ -17,9 +17,9 @@
 #include <unistd.h>
 
 #include "fsutil.h"
-#include "store_backend.h"
 #include "log.h"
 #include "params_json.h"
+#include "store_backend.h"
 #include "texopt.h"
 
 /* A run's end that could not be written yet: the job stays "running" (what job.json says)
@@ -192,8 +192,8 @@ static int persist_record(disk_store *store, const job_record *record)
         rc = fs_write_atomic(path, text, strlen(text));
         if (rc != 0) {
             char why[128];
-            log_event("level=error event=persist job=%s state=%s error=%s", record->id,
-                      job_state_name(record->state), log_quote(why, sizeof why, strerror(errno)));
+            log_event("level=error event=persist job=%s state=%s error=%s", record->id, job_state_name(record->state),
+                      log_quote(why, sizeof why, strerror(errno)));
         }
         free(text);
     }
@@ -217,8 +217,7 @@ static void log_state(const job_record *r)
                   job_state_name(r->state), r->attempts, r->problem.status,
                   log_quote(detail, sizeof detail, r->problem.detail));
     else
-        log_event("level=info event=job job=%s state=%s attempt=%d", r->id, job_state_name(r->state),
-                  r->attempts);
+        log_event("level=info event=job job=%s state=%s attempt=%d", r->id, job_state_name(r->state), r->attempts);
 }
 
 /* ---- in-memory table (caller holds mu) ---------------------------------------------- */
@@ -524,8 +523,8 @@ static store_job *disk_begin(job_store *base, const char *id, job_record *out, c
     return job;
 }
 
-static void disk_progress(job_store *base, store_job *job, const char *stage, double progress,
-                    double eta_seconds, double mean_loss, double mean_area_scale)
+static void disk_progress(job_store *base, store_job *job, const char *stage, double progress, double eta_seconds,
+                          double mean_loss, double mean_area_scale)
 {
     disk_store *store = (disk_store *)base;
     pthread_mutex_lock(&store->mu);
@@ -726,8 +725,7 @@ static int disk_expire(job_store *base, int64_t now_ms, int64_t retention_ms)
     return n;
 }
 
-static int disk_wait_event(job_store *base, const char *id, long long after_seq, int timeout_ms,
-                     job_record *out)
+static int disk_wait_event(job_store *base, const char *id, long long after_seq, int timeout_ms, job_record *out)
 {
     disk_store *store = (disk_store *)base;
     struct timespec deadline;
@@ -806,8 +804,8 @@ static void disk_counts(job_store *base, int counts[JOB_STATE_COUNT])
     pthread_mutex_unlock(&store->mu);
 }
 
-int store_progress_worth_publishing(int new_stage, double progress, double published_progress,
-                                    int64_t now_ms, int64_t published_ms)
+int store_progress_worth_publishing(int new_stage, double progress, double published_progress, int64_t now_ms,
+                                    int64_t published_ms)
 {
     return new_stage || progress >= published_progress + 0.005 || now_ms >= published_ms + 250;
 }

@@ -59,23 +59,23 @@ void job_problem_add_json(struct cJSON *parent, const job_problem *problem);
 typedef struct job_record {
     char id[JOB_ID_LEN + 1];
     job_state state;
-    char stage[16];          /* engine stage while running; "" before */
-    double progress;         /* 0..1 of the whole job */
-    double eta_seconds;      /* < 0 when unknown */
-    double mean_loss, mean_area_scale; /* running stage-1 statistics */
+    char stage[16];                              /* engine stage while running; "" before */
+    double progress;                             /* 0..1 of the whole job */
+    double eta_seconds;                          /* < 0 when unknown */
+    double mean_loss, mean_area_scale;           /* running stage-1 statistics */
     int64_t created_ms, started_ms, finished_ms; /* Unix ms; 0 = not yet */
-    int attempts;            /* runs started (an interrupted run is retried) */
+    int attempts;                                /* runs started (an interrupted run is retried) */
     int cancel_requested;
-    long long event_seq;     /* id of the latest event */
-    char model_name[256];    /* the uploaded model's file name, for Content-Disposition */
-    char input_rel[300];     /* the model file, relative to the job directory */
+    long long event_seq;  /* id of the latest event */
+    char model_name[256]; /* the uploaded model's file name, for Content-Disposition */
+    char input_rel[300];  /* the model file, relative to the job directory */
     char idempotency_key[129];
     char request_digest[17]; /* api/fingerprint.h of files + params; "" for older jobs */
     uint64_t upload_bytes;   /* the files uploaded (model and its files), not the envelope */
     int has_report;          /* report.html was written */
     uint64_t image_pixels;   /* width x height over the model's images, from their headers */
     texopt_params params;
-    job_problem problem;     /* when failed */
+    job_problem problem; /* when failed */
 } job_record;
 
 typedef struct job_store job_store;
@@ -88,7 +88,7 @@ struct service_config;
 /* The store the configuration asks for: PostgreSQL when config->store is a postgresql://
  * URL (jobs under config->blob_dir, else data_dir), else the on-disk store in data_dir. */
 job_store *store_open_config(const struct service_config *config, char *err, size_t err_len);
-void store_close(job_store *store); /* accepts NULL */
+void store_close(job_store *store);             /* accepts NULL */
 const char *store_kind(const job_store *store); /* "disk" or "postgresql" */
 
 /* Whether jobs are shared with other nodes: workers then take them with store_lease_next
@@ -141,8 +141,8 @@ void store_run_dir(job_store *store, store_job *job, char *dir, size_t dir_len);
 /* A running job's progress (kept when lower than the last: it never runs backwards within
  * a run); publishes an event when it moved enough to matter (a new stage, +0.5% or 250 ms
  * later), so watchers are not flooded per triangle. */
-void store_progress(job_store *store, store_job *job, const char *stage, double progress,
-                    double eta_seconds, double mean_loss, double mean_area_scale);
+void store_progress(job_store *store, store_job *job, const char *stage, double progress, double eta_seconds,
+                    double mean_loss, double mean_area_scale);
 
 /* running -> succeeded/failed/canceled (problem used when failed; has_report: report.html
  * was written). The new state is written to job.json first; when that fails (a full disk)
@@ -186,8 +186,7 @@ int store_expire(job_store *store, int64_t now_ms, int64_t retention_ms);
  * from the future: a stale client), the timeout passes or the store is
  * shutting down. Returns 1 (new event, *out filled), 0 (timeout, *out filled), or
  * STORE_NOT_FOUND; -4 when shutting down. */
-int store_wait_event(job_store *store, const char *id, long long after_seq, int timeout_ms,
-                     job_record *out);
+int store_wait_event(job_store *store, const char *id, long long after_seq, int timeout_ms, job_record *out);
 /* Wakes every store_wait_event caller for good (shutdown). */
 void store_wake_all(job_store *store);
 

@@ -60,7 +60,7 @@ int store_dir_has_room(const char *dir, uint64_t bytes);
 
 /* Whether a running job's progress moved enough to publish an event: a new stage, +0.5%,
  * or 250 ms since the last one (watchers are not flooded per triangle). */
-int store_progress_worth_publishing(int new_stage, double progress, double published_progress,
-                                    int64_t now_ms, int64_t published_ms);
+int store_progress_worth_publishing(int new_stage, double progress, double published_progress, int64_t now_ms,
+                                    int64_t published_ms);
 
 #endif

@@ -14,8 +14,7 @@
 job_store *store_open_config(const service_config *config, char *err, size_t err_len)
 {
     switch (store_url_kind(config->store)) {
-    case STORE_URL_DISK:
-        return store_open(config->data_dir, err, err_len);
+    case STORE_URL_DISK: return store_open(config->data_dir, err, err_len);
     case STORE_URL_POSTGRES:
 #ifdef TEXOPT_HAVE_POSTGRES
         return pg_store_open(config, err, err_len);

@@ -25,7 +25,8 @@ void lease_exhausted_problem(int attempts, job_problem *out)
     snprintf(out->title, sizeof out->title, "The job's runs kept stopping");
     snprintf(out->detail, sizeof out->detail,
              "the node running the job stopped answering %d time%s (its lease ran out); the job is not run "
-             "again", attempts, attempts == 1 ? "" : "s");
+             "again",
+             attempts, attempts == 1 ? "" : "s");
 }
 
 int lease_lost(int found, int64_t leased_ms, int64_t heartbeat_started_ms)

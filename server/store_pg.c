@@ -17,11 +17,11 @@
 
 #include "fsutil.h"
 #include "log.h"
-#include "texopt.h"
 #include "store_backend.h"
 #include "store_lease.h"
 #include "store_pg_schema.h"
 #include "store_url.h"
+#include "texopt.h"
 
 /* Connections for requests and workers; a caller past this many waits for one. */
 #define POOL_SIZE 16
@@ -35,9 +35,9 @@
 
 /* The database's clock in Unix ms: every lease is measured on one clock. */
 #define NOW_MS "(extract(epoch from clock_timestamp()) * 1000)::bigint"
-#define COLS                                                                                                  \
-    "id, description, state, attempts, event_seq, stage, progress, eta_seconds, mean_loss, mean_area_scale, " \
-    "started_ms, finished_ms, cancel_requested, has_report, problem_status, problem_type, problem_title, "     \
+#define COLS                                                                                                           \
+    "id, description, state, attempts, event_seq, stage, progress, eta_seconds, mean_loss, mean_area_scale, "          \
+    "started_ms, finished_ms, cancel_requested, has_report, problem_status, problem_type, problem_title, "             \
     "problem_detail"
 #define FINISHED "('succeeded', 'failed', 'canceled')"
 
@@ -502,8 +502,8 @@ static int end_run(pg_store *s, pg_job *job, job_state state, const job_problem 
     pg_job_dir(&s->base, job->id, job_dir, sizeof job_dir);
     snprintf(status, sizeof status, "%d", problem->status);
     const char *id_node[] = {job->id, s->node};
-    const char *params[] = {job->id, s->node, job_state_name(state), has_report ? "true" : "false", status,
-                            problem->type, problem->title, problem->detail};
+    const char *params[] = {job->id, s->node,       job_state_name(state), has_report ? "true" : "false",
+                            status,  problem->type, problem->title,        problem->detail};
     int rc = STORE_IO, slot;
     PGconn *conn = borrow(s, &slot);
     int borrowed = conn != NULL;
@@ -786,10 +786,9 @@ static int pg_delete(job_store *base, const char *id)
 {
     pg_store *s = as_pg(base);
     const char *params[] = {id};
-    PGresult *res = exec_sql(s,
-                             "DELETE FROM texopt_jobs WHERE id = $1 AND state IN " FINISHED
-                             " RETURNING pg_notify('texopt_events', id)",
-                             1, params);
+    PGresult *res = exec_sql(
+        s, "DELETE FROM texopt_jobs WHERE id = $1 AND state IN " FINISHED " RETURNING pg_notify('texopt_events', id)",
+        1, params);
     if (!res)
         return STORE_IO;
     int deleted = PQntuples(res) == 1;
@@ -1027,8 +1026,8 @@ job_store *pg_store_open(const service_config *config, char *err, size_t err_len
         return NULL;
     }
     s->node_thread_started = 1;
-    log_event("level=info event=store kind=postgresql url=%s node=%s blobs=%s lease_seconds=%d max_attempts=%d",
-              shown, s->node, s->jobs_dir, s->lease_seconds, s->max_attempts);
+    log_event("level=info event=store kind=postgresql url=%s node=%s blobs=%s lease_seconds=%d max_attempts=%d", shown,
+              s->node, s->jobs_dir, s->lease_seconds, s->max_attempts);
     return &s->base;
 }
 

@@ -3,11 +3,11 @@
 #include "workers.h"
 
 #include <pthread.h>
+#include <stdatomic.h>
+#include <stdlib.h>
 #include <sys/resource.h>
 #include <sys/syscall.h>
 #include <unistd.h>
-#include <stdatomic.h>
-#include <stdlib.h>
 
 #include "log.h"
 #include "memory_budget.h"
@@ -100,8 +100,8 @@ static void *worker_main(void *arg)
     return NULL;
 }
 
-worker_pool *workers_start(job_store *store, job_queue *queue, service_metrics *metrics,
-                           const service_config *config, char *err, size_t err_len)
+worker_pool *workers_start(job_store *store, job_queue *queue, service_metrics *metrics, const service_config *config,
+                           char *err, size_t err_len)
 {
     worker_pool *pool = calloc(1, sizeof *pool);
     if (pool)

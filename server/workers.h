@@ -25,8 +25,8 @@
 typedef struct worker_pool worker_pool;
 
 /* Starts config->workers threads. NULL with a message on failure. */
-worker_pool *workers_start(job_store *store, job_queue *queue, service_metrics *metrics,
-                           const service_config *config, char *err, size_t err_len);
+worker_pool *workers_start(job_store *store, job_queue *queue, service_metrics *metrics, const service_config *config,
+                           char *err, size_t err_len);
 
 /* Workers running a job now; worker threads. */
 int workers_busy(const worker_pool *pool);

@@ -6,8 +6,8 @@
 #include <string.h>
 
 /* Appends every uncovered, not yet queued neighbour of the frontier to next. */
-static size_t collect_ring(const texopt_image *img, uint8_t *state, const uint32_t *frontier,
-                           size_t frontier_count, uint32_t *next)
+static size_t collect_ring(const texopt_image *img, uint8_t *state, const uint32_t *frontier, size_t frontier_count,
+                           uint32_t *next)
 {
     int w = img->width, h = img->height;
     size_t n = 0;
@@ -53,21 +53,18 @@ static void fill_ring(texopt_image *img, uint8_t *state, const uint32_t *ring, s
         state[ring[i]] = 1;
 }
 
-texopt_status texopt_dilate(texopt_image *img, uint8_t *covered, int max_distance, char *err,
-                            size_t err_len)
+texopt_status texopt_dilate(texopt_image *img, uint8_t *covered, int max_distance, char *err, size_t err_len)
 {
     size_t count = (size_t)img->width * (size_t)img->height;
     if (count > UINT32_MAX)
-        return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "dilate: image %dx%d is too large",
-                           img->width, img->height);
+        return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "dilate: image %dx%d is too large", img->width, img->height);
     uint8_t *state = malloc(count);
     uint32_t *a = malloc(count * sizeof *a), *b = malloc(count * sizeof *b);
     if (!state || !a || !b) {
         free(state);
         free(a);
         free(b);
-        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory to dilate a %dx%d image",
-                           img->width, img->height);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory to dilate a %dx%d image", img->width, img->height);
     }
     size_t frontier = 0;
     for (size_t i = 0; i < count; i++) {

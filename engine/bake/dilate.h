@@ -22,7 +22,6 @@
 /* covered: width * height bytes, non-zero where img holds a baked value. Texels within
  * max_distance (all when <= 0) get dilated values and are marked covered on return; an
  * image with no covered texel is left as it is. */
-texopt_status texopt_dilate(texopt_image *img, uint8_t *covered, int max_distance, char *err,
-                            size_t err_len);
+texopt_status texopt_dilate(texopt_image *img, uint8_t *covered, int max_distance, char *err, size_t err_len);
 
 #endif

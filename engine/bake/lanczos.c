@@ -118,8 +118,7 @@ static void run_pass(const texopt_image *from, texopt_image *to, const axis_kern
     texopt_parallel_run(resize_pass_rows, w, sizeof *w, threads);
 }
 
-texopt_status texopt_lanczos_resize(const texopt_image *src, texopt_image *dst, int threads, char *err,
-                                    size_t err_len)
+texopt_status texopt_lanczos_resize(const texopt_image *src, texopt_image *dst, int threads, char *err, size_t err_len)
 {
     if (!src || !src->pixels || !dst || !dst->pixels || dst->channels != src->channels || src->channels < 1 ||
         src->channels > 4 || dst->width < 1 || dst->height < 1)

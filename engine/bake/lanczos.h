@@ -23,7 +23,6 @@
 /* Resizes src into dst, already allocated with its new size and src's channel count. Rows
  * are shared among `threads` workers (< 1: one); the result does not depend on their
  * number. */
-texopt_status texopt_lanczos_resize(const texopt_image *src, texopt_image *dst, int threads, char *err,
-                                    size_t err_len);
+texopt_status texopt_lanczos_resize(const texopt_image *src, texopt_image *dst, int threads, char *err, size_t err_len);
 
 #endif

@@ -41,11 +41,11 @@ enum { TEXEL_EMPTY = 0, TEXEL_INSIDE = 1, TEXEL_RIM = 2 };
 
 /* One triangle of the new layout, in output texel units, with its map to the input. */
 typedef struct mapped_triangle {
-    double q[3][2];   /* output texel positions */
-    double p0[2];     /* input texel position of vertex 0 */
-    double m[4];      /* d input / d output, row-major */
-    double area2;     /* twice the signed output area */
-    double edge_len[3]; /* |q[(i+2)%3] - q[(i+1)%3]|: length of the edge opposite vertex i */
+    double q[3][2];      /* output texel positions */
+    double p0[2];        /* input texel position of vertex 0 */
+    double m[4];         /* d input / d output, row-major */
+    double area2;        /* twice the signed output area */
+    double edge_len[3];  /* |q[(i+2)%3] - q[(i+1)%3]|: length of the edge opposite vertex i */
     double rot_c, rot_s; /* rotation part of the map, for normal maps */
     int valid;           /* non-zero output area: owns texels */
     int magnifies;       /* an output texel covers at most one input texel */
@@ -54,16 +54,16 @@ typedef struct mapped_triangle {
 typedef struct bake_context {
     const texopt_texture_filter *filter;
     texopt_image *out;
-    uint8_t *state;           /* per texel: TEXEL_EMPTY / INSIDE / RIM */
-    int32_t *owner;           /* per texel: owning triangle, -1 when empty */
+    uint8_t *state; /* per texel: TEXEL_EMPTY / INSIDE / RIM */
+    int32_t *owner; /* per texel: owning triangle, -1 when empty */
     const mapped_triangle *tris;
     int normal_map;
     int channels;
-    texopt_rebake_fit fit;    /* resolved: never DEFAULT */
+    texopt_rebake_fit fit; /* resolved: never DEFAULT */
 } bake_context;
 
-static int map_triangle(const texopt_rebake_layout *layout, size_t t, const texopt_image *in,
-                        const texopt_image *out, mapped_triangle *tri)
+static int map_triangle(const texopt_rebake_layout *layout, size_t t, const texopt_image *in, const texopt_image *out,
+                        mapped_triangle *tri)
 {
     const uint32_t *v = layout->triangles + 3 * t;
     double p[3][2];
@@ -112,8 +112,7 @@ static void input_position(const mapped_triangle *tri, const double w[3], double
     *iy = tri->p0[1] + tri->m[2] * dx + tri->m[3] * dy;
 }
 
-static void lookup(const bake_context *ctx, const mapped_triangle *tri, const double w[3],
-                   double scale, float *o)
+static void lookup(const bake_context *ctx, const mapped_triangle *tri, const double w[3], double scale, float *o)
 {
     double ix, iy;
     input_position(tri, w, &ix, &iy);
@@ -123,8 +122,7 @@ static void lookup(const bake_context *ctx, const mapped_triangle *tri, const do
         texopt_normal_turn(tri->rot_c, tri->rot_s, o);
 }
 
-static void bake_texel(const bake_context *ctx, const mapped_triangle *tri, int x, int y,
-                       const double w[3])
+static void bake_texel(const bake_context *ctx, const mapped_triangle *tri, int x, int y, const double w[3])
 {
     lookup(ctx, tri, w, 1.0, texopt_image_at(ctx->out, x, y));
 }
@@ -211,8 +209,8 @@ static void report(const texopt_monitor *monitor, double stage_fraction)
     texopt_monitor_report(monitor, &p);
 }
 
-static texopt_status claim_pass(const bake_context *ctx, size_t n, int rim, const texopt_monitor *monitor,
-                                char *err, size_t err_len)
+static texopt_status claim_pass(const bake_context *ctx, size_t n, int rim, const texopt_monitor *monitor, char *err,
+                                size_t err_len)
 {
     for (size_t t = 0; t < n; t++) {
         if (t % CHECK_EVERY == 0) {
@@ -370,8 +368,8 @@ static void *sample_rows(void *arg)
 }
 
 /* Samples every owned texel at its centre, rows interleaved over `threads` workers. */
-static texopt_status sample_owned(const bake_context *ctx, int threads, const texopt_monitor *monitor,
-                                  char *err, size_t err_len)
+static texopt_status sample_owned(const bake_context *ctx, int threads, const texopt_monitor *monitor, char *err,
+                                  size_t err_len)
 {
     if (threads < 1)
         threads = 1;
@@ -393,8 +391,8 @@ static texopt_status sample_owned(const bake_context *ctx, int threads, const te
  * the owned texels is first dilated, because the fit starts from it and may change it;
  * `covered` then marks the owned texels and every texel the fit set, for the final dilation.
  * The fit itself is not interruptible: cancellation is checked before it. */
-static texopt_status fit_texels(bake_context *ctx, uint8_t *covered, int threads,
-                                const texopt_monitor *monitor, char *err, size_t err_len)
+static texopt_status fit_texels(bake_context *ctx, uint8_t *covered, int threads, const texopt_monitor *monitor,
+                                char *err, size_t err_len)
 {
     size_t count = (size_t)ctx->out->width * (size_t)ctx->out->height;
     texopt_status st = texopt_dilate(ctx->out, covered, 1, err, err_len);
@@ -405,18 +403,24 @@ static texopt_status fit_texels(bake_context *ctx, uint8_t *covered, int threads
     report(monitor, 0.5);
     uint8_t *sampled = malloc(count), *fixed = malloc(count);
     if (!sampled || !fixed)
-        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory to fit a %dx%d bake",
-                         ctx->out->width, ctx->out->height);
+        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory to fit a %dx%d bake", ctx->out->width,
+                         ctx->out->height);
     if (st == TEXOPT_OK) {
         for (size_t i = 0; i < count; i++) {
             sampled[i] = (uint8_t)fits_texel(ctx, i);
             fixed[i] = ctx->state[i] != TEXEL_EMPTY && !sampled[i];
             covered[i] = ctx->state[i] != TEXEL_EMPTY;
         }
-        texopt_texel_fit_problem pb = {.image = ctx->out, .sampled = sampled, .reference = fit_reference,
-                                       .range = fit_range, .user = ctx, .fixed = fixed,
-                                       .ridge = FIT_RIDGE, .tolerance = FIT_TOLERANCE,
-                                       .max_iterations = FIT_MAX_ITERATIONS, .threads = threads};
+        texopt_texel_fit_problem pb = {.image = ctx->out,
+                                       .sampled = sampled,
+                                       .reference = fit_reference,
+                                       .range = fit_range,
+                                       .user = ctx,
+                                       .fixed = fixed,
+                                       .ridge = FIT_RIDGE,
+                                       .tolerance = FIT_TOLERANCE,
+                                       .max_iterations = FIT_MAX_ITERATIONS,
+                                       .threads = threads};
         st = texopt_texel_fit(&pb, covered, NULL, err, err_len);
     }
     free(sampled);
@@ -430,29 +434,24 @@ static texopt_status check_layout(const texopt_image *input, const texopt_rebake
     if (!input || !input->pixels || !output || !output->pixels || !layout)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "rebake: missing image or layout");
     if (output->channels != input->channels)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "rebake: output has %d channels, input %d", output->channels,
-                           input->channels);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "rebake: output has %d channels, input %d",
+                           output->channels, input->channels);
     if (layout->triangle_count > 0 && (!layout->triangles || !layout->uv_in || !layout->uv_out))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "rebake: layout arrays missing");
     return TEXOPT_OK;
 }
 
-texopt_status texopt_rebake_image(const texopt_image *input, texopt_wrap wrap_s,
-                                  texopt_wrap wrap_t, int normal_map,
-                                  const texopt_rebake_layout *layout, texopt_image *output,
-                                  size_t *covered_texels, const texopt_monitor *monitor,
-                                  char *err, size_t err_len)
+texopt_status texopt_rebake_image(const texopt_image *input, texopt_wrap wrap_s, texopt_wrap wrap_t, int normal_map,
+                                  const texopt_rebake_layout *layout, texopt_image *output, size_t *covered_texels,
+                                  const texopt_monitor *monitor, char *err, size_t err_len)
 {
-    return texopt_rebake_image_fit(input, wrap_s, wrap_t, normal_map, layout, TEXOPT_REBAKE_FIT_DEFAULT,
-                                   output, covered_texels, monitor, err, err_len);
+    return texopt_rebake_image_fit(input, wrap_s, wrap_t, normal_map, layout, TEXOPT_REBAKE_FIT_DEFAULT, output,
+                                   covered_texels, monitor, err, err_len);
 }
 
-texopt_status texopt_rebake_image_fit(const texopt_image *input, texopt_wrap wrap_s,
-                                      texopt_wrap wrap_t, int normal_map,
-                                      const texopt_rebake_layout *layout, texopt_rebake_fit fit,
-                                      texopt_image *output, size_t *covered_texels,
-                                      const texopt_monitor *monitor, char *err, size_t err_len)
+texopt_status texopt_rebake_image_fit(const texopt_image *input, texopt_wrap wrap_s, texopt_wrap wrap_t, int normal_map,
+                                      const texopt_rebake_layout *layout, texopt_rebake_fit fit, texopt_image *output,
+                                      size_t *covered_texels, const texopt_monitor *monitor, char *err, size_t err_len)
 {
     texopt_status st = check_layout(input, layout, output, err, err_len);
     if (st != TEXOPT_OK)
@@ -465,15 +464,19 @@ texopt_status texopt_rebake_image_fit(const texopt_image *input, texopt_wrap wra
         free(state);
         free(owner);
         free(tris);
-        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %dx%d bake",
-                           output->width, output->height);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %dx%d bake", output->width, output->height);
     }
     for (size_t t = 0; t < n; t++)
         map_triangle(layout, t, input, output, &tris[t]);
     texopt_texture_filter *filter = NULL;
     st = texopt_texture_filter_create(&filter, input, wrap_s, wrap_t, err, err_len);
-    bake_context ctx = {.filter = filter, .out = output, .state = state, .owner = owner, .tris = tris,
-                        .normal_map = normal_map, .channels = output->channels,
+    bake_context ctx = {.filter = filter,
+                        .out = output,
+                        .state = state,
+                        .owner = owner,
+                        .tris = tris,
+                        .normal_map = normal_map,
+                        .channels = output->channels,
                         .fit = fit == TEXOPT_REBAKE_FIT_DEFAULT ? DEFAULT_FIT : fit};
     if (st == TEXOPT_OK)
         st = claim_pass(&ctx, n, 0, monitor, err, err_len);
@@ -489,8 +492,7 @@ texopt_status texopt_rebake_image_fit(const texopt_image *input, texopt_wrap wra
     }
     uint8_t *covered = st == TEXOPT_OK ? malloc(count) : NULL;
     if (st == TEXOPT_OK && !covered)
-        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %dx%d bake", output->width,
-                         output->height);
+        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %dx%d bake", output->width, output->height);
     if (st == TEXOPT_OK) {
         for (size_t i = 0; i < count; i++)
             covered[i] = state[i] != TEXEL_EMPTY;

@@ -70,17 +70,13 @@ typedef struct texopt_rebake_layout {
  * output texels have their centre inside a triangle. The monitor (may be NULL) gets stage
  * "bake" with stage_fraction over the triangles (fraction and eta are left to whoever wraps
  * the monitor) and is checked for cancellation every few thousand triangles. */
-texopt_status texopt_rebake_image(const texopt_image *input, texopt_wrap wrap_s,
-                                  texopt_wrap wrap_t, int normal_map,
-                                  const texopt_rebake_layout *layout, texopt_image *output,
-                                  size_t *covered_texels, const texopt_monitor *monitor,
-                                  char *err, size_t err_len);
+texopt_status texopt_rebake_image(const texopt_image *input, texopt_wrap wrap_s, texopt_wrap wrap_t, int normal_map,
+                                  const texopt_rebake_layout *layout, texopt_image *output, size_t *covered_texels,
+                                  const texopt_monitor *monitor, char *err, size_t err_len);
 
 /* As texopt_rebake_image, with the texel rule chosen (texopt_rebake_image uses DEFAULT). */
-texopt_status texopt_rebake_image_fit(const texopt_image *input, texopt_wrap wrap_s,
-                                      texopt_wrap wrap_t, int normal_map,
-                                      const texopt_rebake_layout *layout, texopt_rebake_fit fit,
-                                      texopt_image *output, size_t *covered_texels,
-                                      const texopt_monitor *monitor, char *err, size_t err_len);
+texopt_status texopt_rebake_image_fit(const texopt_image *input, texopt_wrap wrap_s, texopt_wrap wrap_t, int normal_map,
+                                      const texopt_rebake_layout *layout, texopt_rebake_fit fit, texopt_image *output,
+                                      size_t *covered_texels, const texopt_monitor *monitor, char *err, size_t err_len);
 
 #endif

@@ -14,8 +14,7 @@ static int wrap_index(int i, int n, texopt_wrap wrap)
     if (i >= 0 && i < n) /* inside: every mode agrees, and the hot loops skip the modulo */
         return i;
     switch (wrap) {
-    case TEXOPT_WRAP_CLAMP:
-        return i < 0 ? 0 : (i >= n ? n - 1 : i);
+    case TEXOPT_WRAP_CLAMP: return i < 0 ? 0 : (i >= n ? n - 1 : i);
     case TEXOPT_WRAP_MIRROR: {
         int period = 2 * n;
         int m = i % period;
@@ -50,8 +49,8 @@ static double sanitize_coordinate(double v)
     return v;
 }
 
-void texopt_bilinear_cells(int width, int height, texopt_wrap wrap_s, texopt_wrap wrap_t,
-                           double x, double y, int col[2], int row[2], double weight[4])
+void texopt_bilinear_cells(int width, int height, texopt_wrap wrap_s, texopt_wrap wrap_t, double x, double y,
+                           int col[2], int row[2], double weight[4])
 {
     /* Texel centres sit at half-integers: shift so that they sit at integers. */
     double xs = sanitize_coordinate(x) - 0.5;
@@ -68,8 +67,8 @@ void texopt_bilinear_cells(int width, int height, texopt_wrap wrap_s, texopt_wra
     weight[3] = fx * fy;
 }
 
-void texopt_bilinear_footprint(int width, int height, texopt_wrap wrap_s, texopt_wrap wrap_t,
-                               double x, double y, int index[4], double weight[4])
+void texopt_bilinear_footprint(int width, int height, texopt_wrap wrap_s, texopt_wrap wrap_t, double x, double y,
+                               int index[4], double weight[4])
 {
     int col[2], row[2];
     texopt_bilinear_cells(width, height, wrap_s, wrap_t, x, y, col, row, weight);
@@ -94,8 +93,7 @@ static double into_first_period(double x, int n, texopt_wrap wrap)
     return shifted >= 0.0 && shifted < period ? shifted : x;
 }
 
-void texopt_sample_bilinear(const texopt_image *img, texopt_wrap ws, texopt_wrap wt, double x,
-                            double y, float *out)
+void texopt_sample_bilinear(const texopt_image *img, texopt_wrap ws, texopt_wrap wt, double x, double y, float *out)
 {
     int index[4];
     double weight[4];

@@ -18,18 +18,17 @@
  * non-negative and sum to 1. Two entries may name the same texel (at a clamped edge or on
  * a one-texel-wide texture); callers must add, not assign. width, height > 0. Non-finite
  * x or y are treated as 0. */
-void texopt_bilinear_footprint(int width, int height, texopt_wrap wrap_s, texopt_wrap wrap_t,
-                               double x, double y, int index[4], double weight[4]);
+void texopt_bilinear_footprint(int width, int height, texopt_wrap wrap_s, texopt_wrap wrap_t, double x, double y,
+                               int index[4], double weight[4]);
 
 /* The same lookup as wrapped columns and rows: the four texels are (col[0],row[0]),
  * (col[1],row[0]), (col[0],row[1]), (col[1],row[1]) with weights in that order. Cheaper for
  * callers that need the texel's row and column (no division). */
-void texopt_bilinear_cells(int width, int height, texopt_wrap wrap_s, texopt_wrap wrap_t,
-                           double x, double y, int col[2], int row[2], double weight[4]);
+void texopt_bilinear_cells(int width, int height, texopt_wrap wrap_s, texopt_wrap wrap_t, double x, double y,
+                           int col[2], int row[2], double weight[4]);
 
 /* Bilinear lookup of all channels of img at (x, y) into out[img->channels]. */
-void texopt_sample_bilinear(const texopt_image *img, texopt_wrap ws, texopt_wrap wt, double x,
-                            double y, float *out);
+void texopt_sample_bilinear(const texopt_image *img, texopt_wrap ws, texopt_wrap wt, double x, double y, float *out);
 
 /* Luma of one pixel: BT.601 0.299 R + 0.587 G + 0.114 B for 3-4 channels (the weights the
  * GMSD reference converts colour with); the first channel for 1-2 channel images. */

@@ -38,11 +38,11 @@ static const float T1[3] = {0.375f, 1.25f, 0.375f};
 typedef struct fit_ctx {
     const texopt_texel_fit_problem *pb;
     int w, h, ch;
-    uint8_t *is_free; /* per texel: NOT_FREE, FREE_BORDER or FREE_INSIDE */
-    uint8_t *held;    /* per texel: 1 once a bound holds it (a free texel the solve no longer moves) */
-    uint8_t *bounds;  /* per texel: ch lower then ch upper bounds, 8-bit code values */
-    float *inv_diag;  /* per free texel: 1 / (K_tt + ridge), the Jacobi preconditioner */
-    float *r, *p, *q; /* ch per texel */
+    uint8_t *is_free;     /* per texel: NOT_FREE, FREE_BORDER or FREE_INSIDE */
+    uint8_t *held;        /* per texel: 1 once a bound holds it (a free texel the solve no longer moves) */
+    uint8_t *bounds;      /* per texel: ch lower then ch upper bounds, 8-bit code values */
+    float *inv_diag;      /* per free texel: 1 / (K_tt + ridge), the Jacobi preconditioner */
+    float *r, *p, *q;     /* ch per texel */
     float **border_k9;    /* per row block: the K rows of its FREE_BORDER texels, 9 floats each */
     size_t *border_count; /* per row block */
     double alpha, beta;
@@ -106,18 +106,18 @@ static int sample_counts(const fit_ctx *c, int ux, int uy, int sx, int sy)
 /* Runs the body with (wt, ux, uy, s, sx, sy) for every counted sample s of texel (ux, uy)
  * that touches texel (x, y) with weight wt > 0 (16 candidates: 1, 2 or 4 samples from each
  * of the 3x3 neighbours). */
-#define FOR_TOUCHING_SAMPLES(c, x, y, ...)                                                 \
-    for (int uy = (y) - 1; uy <= (y) + 1; uy++)                                           \
-        for (int ux = (x) - 1; ux <= (x) + 1; ux++) {                                     \
-            if (ux < 0 || uy < 0 || ux >= (c)->w || uy >= (c)->h)                         \
-                continue;                                                                 \
-            for (int s = 0; s < TEXOPT_TEXEL_FIT_SAMPLES; s++) {                          \
-                int sx = s & 1, sy = s >> 1;                                              \
-                float wt = W1[sx][(x) - ux + 1] * W1[sy][(y) - uy + 1];                   \
-                if (wt > 0 && sample_counts((c), ux, uy, sx, sy)) {                       \
-                    __VA_ARGS__                                                           \
-                }                                                                         \
-            }                                                                             \
+#define FOR_TOUCHING_SAMPLES(c, x, y, ...)                                                                             \
+    for (int uy = (y)-1; uy <= (y) + 1; uy++)                                                                          \
+        for (int ux = (x)-1; ux <= (x) + 1; ux++) {                                                                    \
+            if (ux < 0 || uy < 0 || ux >= (c)->w || uy >= (c)->h)                                                      \
+                continue;                                                                                              \
+            for (int s = 0; s < TEXOPT_TEXEL_FIT_SAMPLES; s++) {                                                       \
+                int sx = s & 1, sy = s >> 1;                                                                           \
+                float wt = W1[sx][(x)-ux + 1] * W1[sy][(y)-uy + 1];                                                    \
+                if (wt > 0 && sample_counts((c), ux, uy, sx, sy)) {                                                    \
+                    __VA_ARGS__                                                                                        \
+                }                                                                                                      \
+            }                                                                                                          \
         }
 
 /* Row of K of texel (x, y), gathered from its touching samples: k9[(oy + 1) * 3 + ox + 1]. */
@@ -324,17 +324,10 @@ static void accumulate_q(float *qt, const float *pt, const float *acc, int ch, d
 static void apply_inside_any(const float *pt, size_t w, int ch, float ridge, float *acc)
 {
     switch (ch) {
-    case 1:
-        apply_inside(pt, w, 1, ridge, acc);
-        break;
-    case 3:
-        apply_inside(pt, w, 3, ridge, acc);
-        break;
-    case 4:
-        apply_inside(pt, w, 4, ridge, acc);
-        break;
-    default:
-        apply_inside(pt, w, ch, ridge, acc);
+    case 1: apply_inside(pt, w, 1, ridge, acc); break;
+    case 3: apply_inside(pt, w, 3, ridge, acc); break;
+    case 4: apply_inside(pt, w, 4, ridge, acc); break;
+    default: apply_inside(pt, w, ch, ridge, acc);
     }
 }
 
@@ -517,8 +510,8 @@ texopt_status texopt_texel_fit(const texopt_texel_fit_problem *problem, uint8_t 
     texopt_status st = check_problem(problem, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    fit_ctx c = {.pb = problem, .w = problem->image->width, .h = problem->image->height,
-                 .ch = problem->image->channels};
+    fit_ctx c = {
+        .pb = problem, .w = problem->image->width, .h = problem->image->height, .ch = problem->image->channels};
     atomic_init(&c.no_memory, 0);
     size_t n = (size_t)c.w * (size_t)c.h;
     int blocks = (c.h + BLOCK_ROWS - 1) / BLOCK_ROWS;
@@ -535,7 +528,8 @@ texopt_status texopt_texel_fit(const texopt_texel_fit_problem *problem, uint8_t 
     c.border_k9 = calloc((size_t)blocks, sizeof *c.border_k9);
     c.border_count = calloc((size_t)blocks, sizeof *c.border_count);
     texopt_texel_fit_report rep = {0};
-    if (!c.is_free || !c.held || !c.bounds || !c.inv_diag || !c.r || !c.p || !c.q || !block_sums || !c.border_k9 || !c.border_count) {
+    if (!c.is_free || !c.held || !c.bounds || !c.inv_diag || !c.r || !c.p || !c.q || !block_sums || !c.border_k9 ||
+        !c.border_count) {
         st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %dx%d texel fit", c.w, c.h);
     } else {
         double sums[MAX_SUMS];

@@ -56,18 +56,18 @@ typedef struct texopt_texel_fit_problem {
     const uint8_t *sampled; /* per texel: non-zero when its four sub-samples take part */
     texopt_texel_reference_fn reference;
     texopt_texel_range_fn range; /* NULL: every texel's range is [0, 1] */
-    void *user;             /* passed to reference and range */
-    const uint8_t *fixed;   /* per texel: non-zero keeps its value (NULL: none fixed) */
-    double ridge;           /* > 0: weight of |x - x0|^2 (e.g. 1e-3) */
-    double tolerance;       /* stop when the preconditioned residual fell by this factor */
-    int max_iterations;     /* > 0 */
-    int threads;            /* 0 -> 1 */
+    void *user;                  /* passed to reference and range */
+    const uint8_t *fixed;        /* per texel: non-zero keeps its value (NULL: none fixed) */
+    double ridge;                /* > 0: weight of |x - x0|^2 (e.g. 1e-3) */
+    double tolerance;            /* stop when the preconditioned residual fell by this factor */
+    int max_iterations;          /* > 0 */
+    int threads;                 /* 0 -> 1 */
 } texopt_texel_fit_problem;
 
 typedef struct texopt_texel_fit_report {
-    size_t unknowns;        /* texels the fit could change */
+    size_t unknowns; /* texels the fit could change */
     int iterations;
-    double residual_ratio;  /* final / initial preconditioned residual norm */
+    double residual_ratio; /* final / initial preconditioned residual norm */
 } texopt_texel_fit_report;
 
 /* Fits in place. changed (may be NULL; width * height bytes) gets 1 for every texel the fit

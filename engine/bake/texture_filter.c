@@ -71,8 +71,7 @@ void texopt_texture_filter_range(const texopt_texture_filter *filter, double x, 
     }
 }
 
-static void bilinear(const texopt_image *img, texopt_wrap ws, texopt_wrap wt, double x, double y,
-                     float *out)
+static void bilinear(const texopt_image *img, texopt_wrap ws, texopt_wrap wt, double x, double y, float *out)
 {
     double fx = x - 0.5, fy = y - 0.5;
     double flx = floor(fx), fly = floor(fy);
@@ -127,8 +126,7 @@ static axis_taps taps_under(int d, int n_src, int n_dst)
  * the same place. An even side pairs texels exactly (weights 1/2); an odd one spreads each
  * new texel over a little less than two (a plain 2 x 2 pairing would drift by up to a whole
  * texel of level l across the image, which shifts minified edges). */
-static texopt_status build_next_level(const texopt_image *src, texopt_image *dst, char *err,
-                                      size_t err_len)
+static texopt_status build_next_level(const texopt_image *src, texopt_image *dst, char *err, size_t err_len)
 {
     int w = src->width > 1 ? (src->width + 1) / 2 : 1;
     int h = src->height > 1 ? (src->height + 1) / 2 : 1;
@@ -164,13 +162,11 @@ static texopt_status build_next_level(const texopt_image *src, texopt_image *dst
     return TEXOPT_OK;
 }
 
-texopt_status texopt_texture_filter_create(texopt_texture_filter **out, const texopt_image *img,
-                                           texopt_wrap wrap_s, texopt_wrap wrap_t, char *err,
-                                           size_t err_len)
+texopt_status texopt_texture_filter_create(texopt_texture_filter **out, const texopt_image *img, texopt_wrap wrap_s,
+                                           texopt_wrap wrap_t, char *err, size_t err_len)
 {
     *out = NULL;
-    if (!img || !img->pixels || img->width < 1 || img->height < 1 || img->channels < 1 ||
-        img->channels > 4)
+    if (!img || !img->pixels || img->width < 1 || img->height < 1 || img->channels < 1 || img->channels > 4)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "texture filter: the image is empty or has a bad channel count");
     texopt_texture_filter *f = calloc(1, sizeof *f);
@@ -216,8 +212,7 @@ static void sample_level(const texopt_texture_filter *f, int l, double x, double
     bilinear(lv, f->wrap_s, f->wrap_t, x * sx, y * sy, out);
 }
 
-static void sample_trilinear(const texopt_texture_filter *f, double lod, double x, double y,
-                             float *out)
+static void sample_trilinear(const texopt_texture_filter *f, double lod, double x, double y, float *out)
 {
     int ch = f->level[0].channels;
     if (lod <= 0) {
@@ -267,8 +262,8 @@ static void footprint_axes(const double j[4], double *s1, double *s2, double dir
     dir[1] = ay * inv;
 }
 
-void texopt_texture_filter_sample(const texopt_texture_filter *filter, double x, double y,
-                                  const double jacobian[4], float *out)
+void texopt_texture_filter_sample(const texopt_texture_filter *filter, double x, double y, const double jacobian[4],
+                                  float *out)
 {
     double s1, s2, dir[2];
     footprint_axes(jacobian, &s1, &s2, dir);
@@ -319,8 +314,8 @@ static void *resize_rows(void *arg)
     return NULL;
 }
 
-texopt_status texopt_texture_resize(const texopt_image *src, texopt_wrap wrap_s, texopt_wrap wrap_t,
-                                    texopt_image *dst, int threads, char *err, size_t err_len)
+texopt_status texopt_texture_resize(const texopt_image *src, texopt_wrap wrap_s, texopt_wrap wrap_t, texopt_image *dst,
+                                    int threads, char *err, size_t err_len)
 {
     if (!dst || !dst->pixels || dst->channels != src->channels)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
@@ -332,8 +327,12 @@ texopt_status texopt_texture_resize(const texopt_image *src, texopt_wrap wrap_s,
     threads = threads < 1 ? 1 : (threads > MAX_WORKERS ? MAX_WORKERS : threads);
     resize_worker w[MAX_WORKERS];
     for (int k = 0; k < threads; k++)
-        w[k] = (resize_worker){.filter = f, .dst = dst, .kx = (double)src->width / dst->width,
-                               .ky = (double)src->height / dst->height, .first_row = k, .step = threads};
+        w[k] = (resize_worker){.filter = f,
+                               .dst = dst,
+                               .kx = (double)src->width / dst->width,
+                               .ky = (double)src->height / dst->height,
+                               .first_row = k,
+                               .step = threads};
     texopt_parallel_run(resize_rows, w, sizeof *w, threads);
     texopt_texture_filter_destroy(f);
     return TEXOPT_OK;

@@ -27,9 +27,8 @@ typedef struct texopt_texture_filter texopt_texture_filter;
 
 /* Builds the pyramid of img. Level 0 is img itself, borrowed: img must outlive the filter.
  * Free with texopt_texture_filter_destroy. */
-texopt_status texopt_texture_filter_create(texopt_texture_filter **out, const texopt_image *img,
-                                           texopt_wrap wrap_s, texopt_wrap wrap_t, char *err,
-                                           size_t err_len);
+texopt_status texopt_texture_filter_create(texopt_texture_filter **out, const texopt_image *img, texopt_wrap wrap_s,
+                                           texopt_wrap wrap_t, char *err, size_t err_len);
 
 void texopt_texture_filter_destroy(texopt_texture_filter *filter);
 
@@ -38,8 +37,8 @@ int texopt_texture_filter_levels(const texopt_texture_filter *filter);
 /* Filtered value at input texel position (x, y) (level-0 texel units, texel centres at
  * i + 0.5) of the footprint whose axes are the columns of jacobian = {dx/du, dx/dv,
  * dy/du, dy/dv} (row-major: input texels per output texel). Writes `channels` floats. */
-void texopt_texture_filter_sample(const texopt_texture_filter *filter, double x, double y,
-                                  const double jacobian[4], float *out);
+void texopt_texture_filter_sample(const texopt_texture_filter *filter, double x, double y, const double jacobian[4],
+                                  float *out);
 
 /* The range of the input around (x, y): per channel, the minimum into lo and the maximum into
  * hi of the level-0 texels a bilinear lookup anywhere in the box [x - hx, x + hx] x
@@ -53,7 +52,7 @@ void texopt_texture_filter_range(const texopt_texture_filter *filter, double x, 
  * unchanged layout would give (method "input" resizes with Lanczos-3 instead, lanczos.h, as
  * image tools do). Rows are shared among `threads` workers (0 -> 1); the result does not
  * depend on their number. */
-texopt_status texopt_texture_resize(const texopt_image *src, texopt_wrap wrap_s, texopt_wrap wrap_t,
-                                    texopt_image *dst, int threads, char *err, size_t err_len);
+texopt_status texopt_texture_resize(const texopt_image *src, texopt_wrap wrap_s, texopt_wrap wrap_t, texopt_image *dst,
+                                    int threads, char *err, size_t err_len);
 
 #endif

@@ -63,8 +63,8 @@ static texopt_status check_options(const texopt_compare_options *opt, char *err,
                            "compare: given outputs need exactly one cost and no layout reuse");
     for (int c = 0; c < opt->cost_count; c++)
         if (!(opt->costs[c] > 0 && opt->costs[c] <= 4))
-            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                               "compare: cost %g is outside (0, 4]", opt->costs[c]);
+            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "compare: cost %g is outside (0, 4]",
+                               opt->costs[c]);
     return TEXOPT_OK;
 }
 
@@ -116,9 +116,9 @@ static texopt_status measure_textures(const texopt_model *input, const texopt_mo
  * the per-triangle errors (headline measure) written to tri_err. *ev is the headline's
  * evaluation. */
 static texopt_status measure_output(const texopt_model *input, const texopt_cost *input_cost,
-                                    const texopt_compare_options *opt, const int *measures,
-                                    const char *glb, int keep, texopt_compare_point *pt,
-                                    texopt_model **model, double *tri_err, texopt_evaluation *ev)
+                                    const texopt_compare_options *opt, const int *measures, const char *glb, int keep,
+                                    texopt_compare_point *pt, texopt_model **model, double *tri_err,
+                                    texopt_evaluation *ev)
 {
     char *msg = pt->message;
     size_t len = sizeof pt->message;
@@ -134,9 +134,8 @@ static texopt_status measure_output(const texopt_model *input, const texopt_cost
     pt->status = st;
     if (st == TEXOPT_OK) {
         pt->q = pt->q_by_texture[headline_measure(opt)];
-        pt->cost_achieved = input_cost->covered_texels
-                                ? (double)cost_out.covered_texels / (double)input_cost->covered_texels
-                                : 0;
+        pt->cost_achieved =
+            input_cost->covered_texels ? (double)cost_out.covered_texels / (double)input_cost->covered_texels : 0;
         pt->texture_pixels = cost_out.texture_pixels;
         pt->packing_efficiency = cost_out.packing_efficiency;
         msg[0] = 0;
@@ -171,8 +170,7 @@ static texopt_status optimise(const char *source, const char *glb, const texopt_
     texopt_params p = run_params(opt, method);
     p.relative_cost = cost;
     double t0 = now_seconds();
-    texopt_status st = texopt_optimize_file(source, glb, NULL, &p, opt->monitor, pt->message,
-                                            sizeof pt->message);
+    texopt_status st = texopt_optimize_file(source, glb, NULL, &p, opt->monitor, pt->message, sizeof pt->message);
     pt->seconds_optimize += now_seconds() - t0;
     pt->status = st;
     return st;
@@ -198,8 +196,8 @@ typedef struct run_ctx {
 } run_ctx;
 
 /* Measures point c of the curve from glb, keeping the output when it is the showcase. */
-static texopt_status measure_point(const run_ctx *x, texopt_compare_curve *curve, int c,
-                                   const char *glb, char *err, size_t err_len)
+static texopt_status measure_point(const run_ctx *x, texopt_compare_curve *curve, int c, const char *glb, char *err,
+                                   size_t err_len)
 {
     texopt_compare_point *pt = &curve->points[c];
     int keep = fabs(pt->cost_requested - x->showcase_cost) < 1e-12 && !curve->showcase;
@@ -207,8 +205,8 @@ static texopt_status measure_point(const run_ctx *x, texopt_compare_curve *curve
     if (keep && !(tri_err = calloc(x->input->triangle_count ? x->input->triangle_count : 1, sizeof *tri_err)))
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for triangle errors");
     texopt_evaluation ev;
-    texopt_status st = measure_output(x->input, x->input_cost, x->opt, x->measures, glb, keep, pt, &curve->showcase,
-                                      tri_err, &ev);
+    texopt_status st =
+        measure_output(x->input, x->input_cost, x->opt, x->measures, glb, keep, pt, &curve->showcase, tri_err, &ev);
     if (keep && st == TEXOPT_OK) {
         curve->showcase_triangle_error = tri_err;
         curve->showcase_evaluation = ev;
@@ -228,15 +226,13 @@ static texopt_status fatal(const texopt_compare_point *pt, char *err, size_t err
 /* Every cost through the pipeline's per-budget part: the job computes the method's targets
  * (stage 1 for perceptual) once, then writes one output per cost. A job that cannot be
  * created marks every point failed with its message. */
-static texopt_status run_curve_full(const run_ctx *x, texopt_compare_curve *curve, char *err,
-                                    size_t err_len)
+static texopt_status run_curve_full(const run_ctx *x, texopt_compare_curve *curve, char *err, size_t err_len)
 {
     texopt_params p = run_params(x->opt, curve->method);
     texopt_job *job = NULL;
     texopt_compare_point *first = &curve->points[0];
     double t0 = now_seconds();
-    first->status = texopt_job_create(&job, x->input_path, &p, x->opt->monitor, first->message,
-                                      sizeof first->message);
+    first->status = texopt_job_create(&job, x->input_path, &p, x->opt->monitor, first->message, sizeof first->message);
     double seconds_prepare = now_seconds() - t0;
     if (first->status != TEXOPT_OK) {
         for (int c = 1; c < curve->point_count; c++) {
@@ -267,8 +263,7 @@ static texopt_status run_curve_full(const run_ctx *x, texopt_compare_curve *curv
  * (method "input" applied to that output): filtered twice, chart gutters scaled rather than
  * re-padded, and the layout allocated for the largest budget rather than each one (which
  * measurably raises q: see compare.h). */
-static texopt_status run_curve_reusing_layout(const run_ctx *x, texopt_compare_curve *curve,
-                                              char *err, size_t err_len)
+static texopt_status run_curve_reusing_layout(const run_ctx *x, texopt_compare_curve *curve, char *err, size_t err_len)
 {
     int top = 0;
     for (int c = 1; c < curve->point_count; c++)
@@ -291,8 +286,8 @@ static texopt_status run_curve_reusing_layout(const run_ctx *x, texopt_compare_c
         if (c == top) {
             st = measure_point(x, curve, c, x->layout_glb, err, err_len);
         } else {
-            if (optimise(x->layout_glb, x->tmp_glb, x->opt, TEXOPT_METHOD_INPUT, pt->cost_requested / top_cost,
-                         pt) == TEXOPT_OK)
+            if (optimise(x->layout_glb, x->tmp_glb, x->opt, TEXOPT_METHOD_INPUT, pt->cost_requested / top_cost, pt) ==
+                TEXOPT_OK)
                 st = measure_point(x, curve, c, x->tmp_glb, err, err_len);
             unlink(x->tmp_glb);
         }
@@ -322,8 +317,7 @@ static void mark_measured_textures(const texopt_model *input, const texopt_compa
         headline_measure(opt) == TEXOPT_COMPARE_LIT || (opt->every_texture && texopt_lit_has_maps(input));
 }
 
-static texopt_status make_work_dir(const texopt_compare_options *opt, char *dir, size_t len,
-                                   char *err, size_t err_len)
+static texopt_status make_work_dir(const texopt_compare_options *opt, char *dir, size_t len, char *err, size_t err_len)
 {
     const char *base = opt->work_dir ? opt->work_dir : getenv("TMPDIR");
     if (!base || !base[0])
@@ -335,8 +329,8 @@ static texopt_status make_work_dir(const texopt_compare_options *opt, char *dir,
     return TEXOPT_OK;
 }
 
-texopt_status texopt_compare(const char *input_path, const texopt_compare_options *opt,
-                             texopt_compare_result *out, char *err, size_t err_len)
+texopt_status texopt_compare(const char *input_path, const texopt_compare_options *opt, texopt_compare_result *out,
+                             char *err, size_t err_len)
 {
     if (!input_path || !out)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "compare: missing input or result");
@@ -438,8 +432,7 @@ static cJSON *point_json(const texopt_compare_point *pt, const int *measures)
     return o;
 }
 
-texopt_status texopt_compare_write_json(const texopt_compare_result *r, const char *path,
-                                        char *err, size_t err_len)
+texopt_status texopt_compare_write_json(const texopt_compare_result *r, const char *path, char *err, size_t err_len)
 {
     if (!r || !path)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "compare json: missing argument");

@@ -108,15 +108,14 @@ static void sb_base64(sbuf *s, const unsigned char *bytes, size_t n)
             v |= (unsigned)bytes[i + 1] << 8;
         if (i + 2 < n)
             v |= bytes[i + 2];
-        char q[4] = {alphabet[(v >> 18) & 63], alphabet[(v >> 12) & 63],
-                     i + 1 < n ? alphabet[(v >> 6) & 63] : '=', i + 2 < n ? alphabet[v & 63] : '='};
+        char q[4] = {alphabet[(v >> 18) & 63], alphabet[(v >> 12) & 63], i + 1 < n ? alphabet[(v >> 6) & 63] : '=',
+                     i + 2 < n ? alphabet[v & 63] : '='};
         sb_append(s, q, 4);
     }
 }
 
 /* <img> with img inlined as a PNG data URI. */
-static texopt_status sb_png_img(sbuf *s, const texopt_image *img, const char *alt, char *err,
-                                size_t err_len)
+static texopt_status sb_png_img(sbuf *s, const texopt_image *img, const char *alt, char *err, size_t err_len)
 {
     unsigned char *png = NULL;
     size_t len = 0;
@@ -180,35 +179,42 @@ static void plot_svg(sbuf *s, const texopt_compare_result *r)
 #define PX(x) (L + (x) / xmax * pw)
 #define PY(y) (T + ph - (y) / ymax * ph)
     sb_printf(s, "<svg class=\"plot\" width=\"%.0f\" height=\"%.0f\" viewBox=\"0 0 %.0f %.0f\">\n", W, H, W, H);
-    sb_printf(s, "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"#fff\" stroke=\"#333\"/>\n",
-              L, T, pw, ph);
+    sb_printf(s, "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"#fff\" stroke=\"#333\"/>\n", L, T,
+              pw, ph);
     for (int k = 0; k <= 5; k++) {
         double x = xmax * k / 5, y = ymax * k / 5;
-        sb_printf(s, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>"
-                     "<text x=\"%.1f\" y=\"%.1f\" font-size=\"11\" text-anchor=\"middle\">%.2f</text>\n",
+        sb_printf(s,
+                  "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>"
+                  "<text x=\"%.1f\" y=\"%.1f\" font-size=\"11\" text-anchor=\"middle\">%.2f</text>\n",
                   PX(x), T, PX(x), T + ph, PX(x), T + ph + 15, x);
-        sb_printf(s, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>"
-                     "<text x=\"%.1f\" y=\"%.1f\" font-size=\"11\" text-anchor=\"end\">%.3f</text>\n",
+        sb_printf(s,
+                  "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>"
+                  "<text x=\"%.1f\" y=\"%.1f\" font-size=\"11\" text-anchor=\"end\">%.3f</text>\n",
                   L, PY(y), L + pw, PY(y), L - 5, PY(y) + 4, y);
     }
-    sb_printf(s, "<text x=\"%.1f\" y=\"%.1f\" font-size=\"12\" text-anchor=\"middle\">relative cost c_r "
-                 "(covered texels / input)</text>\n", L + pw / 2, H - 10);
-    sb_printf(s, "<text x=\"14\" y=\"%.1f\" font-size=\"12\" text-anchor=\"middle\" transform=\"rotate(-90 14 %.1f)\">"
-                 "whole-mesh loss q (GMSD)</text>\n", T + ph / 2, T + ph / 2);
+    sb_printf(s,
+              "<text x=\"%.1f\" y=\"%.1f\" font-size=\"12\" text-anchor=\"middle\">relative cost c_r "
+              "(covered texels / input)</text>\n",
+              L + pw / 2, H - 10);
+    sb_printf(s,
+              "<text x=\"14\" y=\"%.1f\" font-size=\"12\" text-anchor=\"middle\" transform=\"rotate(-90 14 %.1f)\">"
+              "whole-mesh loss q (GMSD)</text>\n",
+              T + ph / 2, T + ph / 2);
     for (int c = 0; c < r->curve_count; c++) {
         const texopt_compare_curve *curve = &r->curves[c];
         const char *name = texopt_method_name(curve->method), *colour = method_colour(curve->method);
         int idx[TEXOPT_COMPARE_MAX_COSTS];
         int n = ordered_points(curve, idx);
         double ly = T + 10 + 20 * c;
-        sb_printf(s, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\" stroke-width=\"2\"/>"
-                     "<text x=\"%.1f\" y=\"%.1f\" font-size=\"12\">%s%s</text>\n",
-                  L + pw + 10, ly, L + pw + 30, ly, colour, L + pw + 35, ly + 4, name,
-                  n == 0 ? " (no points)" : "");
+        sb_printf(s,
+                  "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\" stroke-width=\"2\"/>"
+                  "<text x=\"%.1f\" y=\"%.1f\" font-size=\"12\">%s%s</text>\n",
+                  L + pw + 10, ly, L + pw + 30, ly, colour, L + pw + 35, ly + 4, name, n == 0 ? " (no points)" : "");
         if (n == 0)
             continue;
-        sb_printf(s, "<polyline class=\"curve\" data-method=\"%s\" fill=\"none\" stroke=\"%s\" stroke-width=\"2\" points=\"",
-                  name, colour);
+        sb_printf(
+            s, "<polyline class=\"curve\" data-method=\"%s\" fill=\"none\" stroke=\"%s\" stroke-width=\"2\" points=\"",
+            name, colour);
         for (int k = 0; k < n; k++) {
             const texopt_compare_point *p = &curve->points[idx[k]];
             sb_printf(s, "%s%.1f,%.1f", k ? " " : "", PX(p->cost_achieved), PY(p->q));
@@ -216,8 +222,9 @@ static void plot_svg(sbuf *s, const texopt_compare_result *r)
         sb_puts(s, "\"/>\n");
         for (int k = 0; k < n; k++) {
             const texopt_compare_point *p = &curve->points[idx[k]];
-            sb_printf(s, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3\" fill=\"%s\"><title>%s: c_r %.3f, q %.4f</title></circle>\n",
-                      PX(p->cost_achieved), PY(p->q), colour, name, p->cost_achieved, p->q);
+            sb_printf(
+                s, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3\" fill=\"%s\"><title>%s: c_r %.3f, q %.4f</title></circle>\n",
+                PX(p->cost_achieved), PY(p->q), colour, name, p->cost_achieved, p->q);
         }
     }
 #undef PX
@@ -232,12 +239,11 @@ static void results_table(sbuf *s, const texopt_compare_result *r)
     for (int c = 0; c < r->curve_count; c++)
         for (int i = 0; i < r->curves[c].point_count; i++) {
             const texopt_compare_point *p = &r->curves[c].points[i];
-            sb_printf(s, "<tr><td>%s</td><td>%.3f</td>", texopt_method_name(r->curves[c].method),
-                      p->cost_requested);
+            sb_printf(s, "<tr><td>%s</td><td>%.3f</td>", texopt_method_name(r->curves[c].method), p->cost_requested);
             if (p->status == TEXOPT_OK)
                 sb_printf(s, "<td>%.3f</td><td>%.5f</td><td>%llu</td><td>%.3f</td><td>%.1f</td></tr>\n",
-                          p->cost_achieved, p->q, (unsigned long long)p->texture_pixels,
-                          p->packing_efficiency, p->seconds_optimize + p->seconds_evaluate);
+                          p->cost_achieved, p->q, (unsigned long long)p->texture_pixels, p->packing_efficiency,
+                          p->seconds_optimize + p->seconds_evaluate);
             else {
                 sb_printf(s, "<td colspan=\"5\" class=\"failed\">%s: ", texopt_strerror(p->status));
                 sb_escaped(s, p->message);
@@ -256,8 +262,8 @@ static int shown_texture(int measure)
 }
 
 /* One view of model (the input or a showcase) as q's measure shows it (evaluate.h). */
-static texopt_status render_view(const texopt_compare_result *r, const texopt_model *model,
-                                 const texopt_raster *raster, sbuf *s, const char *alt, char *err, size_t err_len)
+static texopt_status render_view(const texopt_compare_result *r, const texopt_model *model, const texopt_raster *raster,
+                                 sbuf *s, const char *alt, char *err, size_t err_len)
 {
     texopt_evaluate_options measure = {0};
     measure.lit = r->measure == TEXOPT_COMPARE_LIT;
@@ -309,8 +315,7 @@ static int chosen_views(const texopt_compare_result *r, int *views)
     return 1;
 }
 
-static texopt_status renders_section(sbuf *s, const texopt_compare_result *r, int side, char *err,
-                                     size_t err_len)
+static texopt_status renders_section(sbuf *s, const texopt_compare_result *r, int side, char *err, size_t err_len)
 {
     int views[REPORT_VIEWS];
     int by_loss = chosen_views(r, views);
@@ -339,8 +344,8 @@ static texopt_status renders_section(sbuf *s, const texopt_compare_result *r, in
         for (int c = 0; c < r->curve_count && st == TEXOPT_OK; c++) {
             sb_puts(s, "<td>");
             if (r->curves[c].showcase) {
-                st = render_view(r, r->curves[c].showcase, &raster, s, texopt_method_name(r->curves[c].method),
-                                 err, err_len);
+                st = render_view(r, r->curves[c].showcase, &raster, s, texopt_method_name(r->curves[c].method), err,
+                                 err_len);
                 if (has_view_losses(&r->curves[c]))
                     sb_printf(s, "<br>GMSD %.5f", r->curves[c].showcase_evaluation.view_gmsd[views[v]]);
             } else
@@ -368,8 +373,8 @@ static int measured_image(const texopt_model *m, int d, int measure)
 }
 
 /* The measured texture's image (measured_image), resized to fit side x side. */
-static texopt_status texture_thumbnail(sbuf *s, const texopt_model *m, int d, int measure, int side,
-                                       const char *alt, char *err, size_t err_len)
+static texopt_status texture_thumbnail(sbuf *s, const texopt_model *m, int d, int measure, int side, const char *alt,
+                                       char *err, size_t err_len)
 {
     int image = measured_image(m, d, measure);
     if (image < 0 || !m->images[image].pixels) {
@@ -392,7 +397,8 @@ static texopt_status texture_thumbnail(sbuf *s, const texopt_model *m, int d, in
 static void ramp(double t, float *rgb)
 {
     /* Black -> purple -> orange -> light yellow, a perceptually ordered heat ramp. */
-    static const float stops[4][3] = {{0, 0, 0.02f}, {0.47f, 0.11f, 0.43f}, {0.96f, 0.49f, 0.09f}, {0.99f, 1.0f, 0.64f}};
+    static const float stops[4][3] = {
+        {0, 0, 0.02f}, {0.47f, 0.11f, 0.43f}, {0.96f, 0.49f, 0.09f}, {0.99f, 1.0f, 0.64f}};
     t = fmin(1, fmax(0, t)) * 3;
     int i = (int)fmin(2, floor(t));
     double f = t - i;
@@ -461,14 +467,14 @@ static int *triangle_domains(const texopt_model *m)
 
 /* Two UV maps of the showcase layout of domain d: per-triangle error (scaled by err_max)
  * and log2 of the triangle's texel area ratio over the mean ratio c_r. */
-static texopt_status uv_maps(sbuf *s, const texopt_compare_result *r, const texopt_compare_curve *c, int d,
-                             int side, double err_max, char *err, size_t err_len)
+static texopt_status uv_maps(sbuf *s, const texopt_compare_result *r, const texopt_compare_curve *c, int d, int side,
+                             double err_max, char *err, size_t err_len)
 {
     const texopt_model *m = c->showcase;
     int *dom_in = triangle_domains(r->input), *dom_out = triangle_domains(m);
     texopt_image maps[2] = {{0}, {0}};
-    texopt_status st = (dom_in && dom_out) ? TEXOPT_OK
-                                           : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for UV maps");
+    texopt_status st =
+        (dom_in && dom_out) ? TEXOPT_OK : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for UV maps");
     for (int k = 0; k < 2 && st == TEXOPT_OK; k++) {
         st = texopt_image_create(&maps[k], side, side, 3, err, err_len);
         for (size_t i = 0; st == TEXOPT_OK && i < (size_t)side * side * 3; i++)
@@ -539,8 +545,7 @@ static texopt_status layout_row(sbuf *s, const texopt_compare_result *r, const t
     return st;
 }
 
-static texopt_status layouts_section(sbuf *s, const texopt_compare_result *r, int side, char *err,
-                                     size_t err_len)
+static texopt_status layouts_section(sbuf *s, const texopt_compare_result *r, int side, char *err, size_t err_len)
 {
     double err_max = 0;
     for (int c = 0; c < r->curve_count; c++)
@@ -548,17 +553,18 @@ static texopt_status layouts_section(sbuf *s, const texopt_compare_result *r, in
             for (size_t t = 0; t < r->curves[c].showcase->triangle_count; t++)
                 err_max = fmax(err_max, r->curves[c].showcase_triangle_error[t]);
     int domains = r->input->domain_count, shown = domains < REPORT_DOMAINS ? domains : REPORT_DOMAINS;
-    sb_printf(s, "<h2>Layouts at c_r = %.2f</h2>\n<p>Per-triangle loss: mean absolute luma error over "
-                 "the 20 views, black 0 to light yellow %.3f (common scale). &lambda;<sub>1</sub>&lambda;<sub>2</sub>: "
-                 "texel area of the triangle over its input texel area, relative to the whole layout's "
-                 "ratio: blue 8x smaller, white equal, red 8x larger.",
+    sb_printf(s,
+              "<h2>Layouts at c_r = %.2f</h2>\n<p>Per-triangle loss: mean absolute luma error over "
+              "the 20 views, black 0 to light yellow %.3f (common scale). &lambda;<sub>1</sub>&lambda;<sub>2</sub>: "
+              "texel area of the triangle over its input texel area, relative to the whole layout's "
+              "ratio: blue 8x smaller, white equal, red 8x larger.",
               r->showcase_cost, err_max);
     if (shown < domains)
         sb_printf(s, " The first %d of the model's %d texture domains.", shown, domains);
-    sb_printf(s, "</p>\n<table class=\"layouts\"><tr><th>method</th>%s<th>new %s texture</th><th>per-triangle loss</th>"
-                 "<th>&lambda;<sub>1</sub>&lambda;<sub>2</sub></th></tr>\n",
-              domains > 1 ? "<th>domain</th>" : "",
-              texopt_compare_measure_name(shown_texture(r->measure)));
+    sb_printf(s,
+              "</p>\n<table class=\"layouts\"><tr><th>method</th>%s<th>new %s texture</th><th>per-triangle loss</th>"
+              "<th>&lambda;<sub>1</sub>&lambda;<sub>2</sub></th></tr>\n",
+              domains > 1 ? "<th>domain</th>" : "", texopt_compare_measure_name(shown_texture(r->measure)));
     texopt_status st = TEXOPT_OK;
     for (int c = 0; c < r->curve_count && st == TEXOPT_OK; c++)
         for (int d = 0; d < (r->curves[c].showcase ? shown : 1) && st == TEXOPT_OK; d++)
@@ -567,8 +573,8 @@ static texopt_status layouts_section(sbuf *s, const texopt_compare_result *r, in
     return st;
 }
 
-texopt_status texopt_report_html(const texopt_compare_result *r, const texopt_report_options *opt,
-                                 char **html, char *err, size_t err_len)
+texopt_status texopt_report_html(const texopt_compare_result *r, const texopt_report_options *opt, char **html,
+                                 char *err, size_t err_len)
 {
     if (!r || !html || !r->input)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "report: missing comparison");
@@ -582,8 +588,7 @@ texopt_status texopt_report_html(const texopt_compare_result *r, const texopt_re
     if (o.thumbnail_side <= 0)
         o.thumbnail_side = 256;
     if (o.render_side < 8 || o.render_side > 4096 || o.thumbnail_side < 8 || o.thumbnail_side > 4096)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "report: image sides must be in [8, 4096]");
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "report: image sides must be in [8, 4096]");
     sbuf s = {0};
     sb_puts(&s, "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>");
     sb_escaped(&s, o.title);
@@ -591,12 +596,12 @@ texopt_status texopt_report_html(const texopt_compare_result *r, const texopt_re
                 "td,th{border:1px solid #ccc;padding:4px;text-align:center}.failed{color:#a00;text-align:left}"
                 "img{image-rendering:pixelated}</style></head><body>\n<h1>");
     sb_escaped(&s, o.title);
-    sb_printf(&s, "</h1>\n<p>Whole-mesh loss q of the %s%s (GMSD over 20 views at %d px, %s lookups, Sun et "
-                  "al. 2022 section 5.1) of every method's layout re-baked at each relative cost. Input: %llu covered "
-                  "texels, %llu texture pixels, packing efficiency %.3f.</p>\n<h2>Loss against cost</h2>\n",
+    sb_printf(&s,
+              "</h1>\n<p>Whole-mesh loss q of the %s%s (GMSD over 20 views at %d px, %s lookups, Sun et "
+              "al. 2022 section 5.1) of every method's layout re-baked at each relative cost. Input: %llu covered "
+              "texels, %llu texture pixels, packing efficiency %.3f.</p>\n<h2>Loss against cost</h2>\n",
               texopt_compare_measure_name(r->measure), r->measure == TEXOPT_COMPARE_LIT ? " render" : " texture",
-              r->resolution, r->mipmapped ? "mip-mapped" : "bilinear",
-              (unsigned long long)r->input_cost.covered_texels,
+              r->resolution, r->mipmapped ? "mip-mapped" : "bilinear", (unsigned long long)r->input_cost.covered_texels,
               (unsigned long long)r->input_cost.texture_pixels, r->input_cost.packing_efficiency);
     plot_svg(&s, r);
     results_table(&s, r);
@@ -614,9 +619,8 @@ texopt_status texopt_report_html(const texopt_compare_result *r, const texopt_re
     return TEXOPT_OK;
 }
 
-texopt_status texopt_report_write_html(const texopt_compare_result *r,
-                                       const texopt_report_options *opt, const char *path,
-                                       char *err, size_t err_len)
+texopt_status texopt_report_write_html(const texopt_compare_result *r, const texopt_report_options *opt,
+                                       const char *path, char *err, size_t err_len)
 {
     if (!path)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "report: missing path");

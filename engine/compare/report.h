@@ -33,12 +33,11 @@ typedef struct texopt_report_options {
 } texopt_report_options;
 
 /* Writes the HTML report of r to path (temp + fsync + rename). opt may be NULL. */
-texopt_status texopt_report_write_html(const texopt_compare_result *r,
-                                       const texopt_report_options *opt, const char *path,
-                                       char *err, size_t err_len);
+texopt_status texopt_report_write_html(const texopt_compare_result *r, const texopt_report_options *opt,
+                                       const char *path, char *err, size_t err_len);
 
 /* The HTML as a malloc'ed NUL-terminated string (*html, freed with free()). */
-texopt_status texopt_report_html(const texopt_compare_result *r, const texopt_report_options *opt,
-                                 char **html, char *err, size_t err_len);
+texopt_status texopt_report_html(const texopt_compare_result *r, const texopt_report_options *opt, char **html,
+                                 char *err, size_t err_len);
 
 #endif

@@ -5,13 +5,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-texopt_status texopt_image_create(texopt_image *img, int width, int height, int channels,
-                                  char *err, size_t err_len)
+texopt_status texopt_image_create(texopt_image *img, int width, int height, int channels, char *err, size_t err_len)
 {
     memset(img, 0, sizeof *img);
     if (width <= 0 || height <= 0 || channels < 1 || channels > 4)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "image size %dx%d with %d channels is not valid", width, height, channels);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "image size %dx%d with %d channels is not valid",
+                           width, height, channels);
     size_t count = (size_t)width * (size_t)height;
     if (count > SIZE_MAX / sizeof(float) / (size_t)channels)
         return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "image %dx%d is too large", width, height);

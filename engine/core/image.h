@@ -17,8 +17,7 @@ typedef struct texopt_image {
 } texopt_image;
 
 /* Allocates a zero-filled image into *img. On failure *img is left empty. */
-texopt_status texopt_image_create(texopt_image *img, int width, int height, int channels,
-                                  char *err, size_t err_len);
+texopt_status texopt_image_create(texopt_image *img, int width, int height, int channels, char *err, size_t err_len);
 
 /* Frees the pixels and empties *img. Accepts NULL and empty images. */
 void texopt_image_destroy(texopt_image *img);

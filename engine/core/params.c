@@ -5,11 +5,8 @@
 #include <string.h>
 
 static const char *const method_names[TEXOPT_METHOD_COUNT] = {
-    [TEXOPT_METHOD_PERCEPTUAL] = "perceptual",
-    [TEXOPT_METHOD_INPUT] = "input",
-    [TEXOPT_METHOD_SSP] = "ssp",
-    [TEXOPT_METHOD_TEWARI] = "tewari",
-    [TEXOPT_METHOD_ARAP] = "arap",
+    [TEXOPT_METHOD_PERCEPTUAL] = "perceptual", [TEXOPT_METHOD_INPUT] = "input", [TEXOPT_METHOD_SSP] = "ssp",
+    [TEXOPT_METHOD_TEWARI] = "tewari",         [TEXOPT_METHOD_ARAP] = "arap",
 };
 
 const char *texopt_method_name(texopt_method method)
@@ -93,45 +90,42 @@ texopt_status texopt_params_validate(const texopt_params *p, char *err, size_t e
     if ((unsigned)p->budget >= TEXOPT_BUDGET_COUNT)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "budget: unknown value %d", (int)p->budget);
     if (!(p->relative_cost > 0 && p->relative_cost <= 4))
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "relative_cost: %g is outside (0, 4]", p->relative_cost);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "relative_cost: %g is outside (0, 4]",
+                           p->relative_cost);
     if (p->budget == TEXOPT_BUDGET_TEXTURE_SIZE &&
-        (p->texture_width < 1 || p->texture_height < 1 || p->texture_width > 16384 ||
-         p->texture_height > 16384))
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "texture_size: %dx%d is outside 1x1 .. 16384x16384", p->texture_width,
-                           p->texture_height);
+        (p->texture_width < 1 || p->texture_height < 1 || p->texture_width > 16384 || p->texture_height > 16384))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "texture_size: %dx%d is outside 1x1 .. 16384x16384",
+                           p->texture_width, p->texture_height);
     if (p->budget == TEXOPT_BUDGET_TARGET_LOSS && !(p->target_loss > 0 && p->target_loss < 1))
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "target_loss: %g is outside (0, 1)", p->target_loss);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "target_loss: %g is outside (0, 1)",
+                           p->target_loss);
     if (!(p->epsilon > 0 && p->epsilon < 1))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "epsilon: %g is outside (0, 1)", p->epsilon);
     if (p->iterations < 1 || p->iterations > 10000)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "iterations: %d is outside 1 .. 10000", p->iterations);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "iterations: %d is outside 1 .. 10000",
+                           p->iterations);
     if (!(p->lambda_min > 0 && p->lambda_min < 1))
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "lambda_min: %g is outside (0, 1)", p->lambda_min);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "lambda_min: %g is outside (0, 1)", p->lambda_min);
     if (p->threads < 0 || p->threads > 1024)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "threads: %d is outside 0 .. 1024", p->threads);
     if (p->eval_resolution < 0 || p->eval_resolution > 8192)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "eval_resolution: %d is outside 0 .. 8192", p->eval_resolution);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "eval_resolution: %d is outside 0 .. 8192",
+                           p->eval_resolution);
     if (p->refinements < -1 || p->refinements > 20)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "refinements: %d is outside -1 .. 20", p->refinements);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "refinements: %d is outside -1 .. 20",
+                           p->refinements);
     if (!(p->packing_efficiency >= 0 && p->packing_efficiency < 1))
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "packing_efficiency: %g is outside [0, 1)", p->packing_efficiency);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "packing_efficiency: %g is outside [0, 1)",
+                           p->packing_efficiency);
     if (!(p->hessian_floor == -1 || (p->hessian_floor > 0 && p->hessian_floor <= 1)))
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "hessian_floor: %g is neither -1 nor in (0, 1]", p->hessian_floor);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "hessian_floor: %g is neither -1 nor in (0, 1]",
+                           p->hessian_floor);
     if (p->metric_candidates != -1 && p->metric_candidates != 1)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "metric_candidates: %d is neither -1 nor 1", p->metric_candidates);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "metric_candidates: %d is neither -1 nor 1",
+                           p->metric_candidates);
     if (p->resize_check != -1 && p->resize_check != 1)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "resize_check: %d is neither -1 nor 1", p->resize_check);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "resize_check: %d is neither -1 nor 1",
+                           p->resize_check);
     if (!isfinite(p->relative_cost) || !isfinite(p->epsilon))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "parameters must be finite");
     return TEXOPT_OK;

@@ -57,26 +57,26 @@ typedef enum texopt_budget {
 typedef struct texopt_params {
     texopt_method method;
     texopt_budget budget;
-    double relative_cost;   /* (0, 4]; 0 -> 1.0 */
-    int texture_width;      /* with TEXOPT_BUDGET_TEXTURE_SIZE */
+    double relative_cost; /* (0, 4]; 0 -> 1.0 */
+    int texture_width;    /* with TEXOPT_BUDGET_TEXTURE_SIZE */
     int texture_height;
-    double target_loss;     /* with TEXOPT_BUDGET_TARGET_LOSS */
-    double epsilon;         /* loss threshold of stage 1; 0 -> TEXOPT_DEFAULT_EPSILON */
-    int iterations;         /* most Bayesian-optimisation polish iterations per triangle (the
+    double target_loss; /* with TEXOPT_BUDGET_TARGET_LOSS */
+    double epsilon;     /* loss threshold of stage 1; 0 -> TEXOPT_DEFAULT_EPSILON */
+    int iterations;     /* most Bayesian-optimisation polish iterations per triangle (the
                                polish stops earlier once it stops paying); 0 -> 100 */
-    double lambda_min;      /* smallest singular value stage 1 may choose; 0 -> 0.1 */
-    int threads;            /* 0 -> every core */
+    double lambda_min;  /* smallest singular value stage 1 may choose; 0 -> 0.1 */
+    int threads;        /* 0 -> every core */
     uint64_t seed;
-    int evaluate;           /* non-zero: run the whole-mesh evaluation after the bake */
-    int eval_resolution;    /* evaluation screen side in pixels; 0 -> automatic */
-    int refinements;        /* perceptual: most rounds of the closed-loop refinement of the
+    int evaluate;              /* non-zero: run the whole-mesh evaluation after the bake */
+    int eval_resolution;       /* evaluation screen side in pixels; 0 -> automatic */
+    int refinements;           /* perceptual: most rounds of the closed-loop refinement of the
                                kept layout by its on-screen error (job_refine.c);
                                0 -> TEXOPT_DEFAULT_REFINEMENTS, -1 -> none */
-    int refine_lit;         /* perceptual: non-zero: the refinement's screen is the lit render
+    int refine_lit;            /* perceptual: non-zero: the refinement's screen is the lit render
                                (evaluate.h `lit`, every image baked each round) when the
                                material has a map a light reads besides base colour; 0: base
                                colour's (job_refine.c) */
-    int mipmapped;          /* non-zero: the texture lookups the layout is tuned for and its q
+    int mipmapped;             /* non-zero: the texture lookups the layout is tuned for and its q
                                is measured with (the perceptual candidates' choice, the
                                refinement's screens, `evaluate`, the target_loss search) are
                                prefiltered (mip-mapped, anisotropic; evaluate.h), as real-time
@@ -84,19 +84,19 @@ typedef struct texopt_params {
     double packing_efficiency; /* [0, 1): when a packing's efficiency falls short of it, the
                                charts filling little of their box are reshaped toward it and
                                packed again (budget.h reshape_efficiency); 0 -> never */
-    double hessian_floor;   /* perceptual: (0, 1], the floor's factor under stage 1's targets
+    double hessian_floor;      /* perceptual: (0, 1], the floor's factor under stage 1's targets
                                (TEXOPT_DEFAULT_HESSIAN_FLOOR); 0 -> that default, -1 -> none */
-    int metric_candidates;  /* perceptual: 1: the signal metrics' targets (tewari.h, ssp.h),
+    int metric_candidates;     /* perceptual: 1: the signal metrics' targets (tewari.h, ssp.h),
                                solved as they are, are candidate layouts beside stage 1's
                                (job_candidates.c); 0 -> 1, -1 -> not made */
-    int resize_check;       /* perceptual: 1: a domain whose new layout's q is not below its
+    int resize_check;          /* perceptual: 1: a domain whose new layout's q is not below its
                                input layout resized to the same pixels keeps the resize
                                (resize_check.c); 0 -> 1, -1 -> never */
-    int lossless_textures;  /* non-zero: replaced textures are written as PNG even where the
+    int lossless_textures;     /* non-zero: replaced textures are written as PNG even where the
                                input's were JPEG (texopt_model_edit.lossless), so that a q
                                measured from the file is the layout's and not the encoding's
                                (compare.h sets it); 0: a JPEG stays a JPEG */
-    int bijective;          /* non-zero: stage 2 solves with scaffold triangles around each
+    int bijective;             /* non-zero: stage 2 solves with scaffold triangles around each
                                chart (layout/scaffold.h), so no chart overlaps itself */
 } texopt_params;
 

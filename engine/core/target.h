@@ -11,11 +11,11 @@
 #include <stddef.h>
 
 typedef struct texopt_triangle_target {
-    double alpha;    /* rotation, [0, pi/2) */
-    double lambda1;  /* singular values, (lambda_min, 1] for the perceptual stage */
+    double alpha;   /* rotation, [0, pi/2) */
+    double lambda1; /* singular values, (lambda_min, 1] for the perceptual stage */
     double lambda2;
-    double beta;     /* orientation of the stretch axes, [0, pi/2) */
-    double loss;     /* perceptual loss E at the optimum (0 where not computed) */
+    double beta; /* orientation of the stretch axes, [0, pi/2) */
+    double loss; /* perceptual loss E at the optimum (0 where not computed) */
     double w_rotation;
     double w_stretch;
     int evaluations; /* loss evaluations spent on this triangle */

@@ -40,8 +40,7 @@ static double now_seconds(void)
 }
 
 /* Distortion of every domain, weighted by its counted triangles. */
-static texopt_status domains_distortion(const texopt_model *model, double *out, char *err,
-                                        size_t err_len)
+static texopt_status domains_distortion(const texopt_model *model, double *out, char *err, size_t err_len)
 {
     double sum = 0;
     size_t counted = 0;
@@ -69,8 +68,8 @@ int texopt_evaluate_texture_from_name(const char *name)
     static const struct {
         const char *name;
         texopt_slot slot;
-    } short_names[] = {{"base", TEXOPT_SLOT_BASE_COLOR}, {"mr", TEXOPT_SLOT_METALLIC_ROUGHNESS},
-                       {"ao", TEXOPT_SLOT_OCCLUSION}};
+    } short_names[] = {
+        {"base", TEXOPT_SLOT_BASE_COLOR}, {"mr", TEXOPT_SLOT_METALLIC_ROUGHNESS}, {"ao", TEXOPT_SLOT_OCCLUSION}};
     for (size_t i = 0; name && i < sizeof short_names / sizeof short_names[0]; i++)
         if (!strcasecmp(name, short_names[i].name))
             return short_names[i].slot;
@@ -113,8 +112,7 @@ texopt_status texopt_evaluate_check_lit(const texopt_model *reference, char *err
     return TEXOPT_OK;
 }
 
-texopt_status texopt_evaluate_cost(const texopt_model *model, texopt_cost *out, char *err,
-                                   size_t err_len)
+texopt_status texopt_evaluate_cost(const texopt_model *model, texopt_cost *out, char *err, size_t err_len)
 {
     if (!model || !out)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "missing model");
@@ -141,8 +139,7 @@ texopt_status texopt_evaluate_cost(const texopt_model *model, texopt_cost *out, 
     return TEXOPT_OK;
 }
 
-texopt_status texopt_evaluate_default_resolution(const texopt_model *model, int *side, char *err,
-                                                 size_t err_len)
+texopt_status texopt_evaluate_default_resolution(const texopt_model *model, int *side, char *err, size_t err_len)
 {
     uint64_t texels = 0;
     texopt_status st = texopt_coverage_model_texels(model, &texels, err, err_len);
@@ -161,7 +158,7 @@ typedef struct eval_job {
     int view_count;
     int side;
     int threads;
-    int texture; /* texture_keys.h */
+    int texture;            /* texture_keys.h */
     texopt_lit_frames *lit; /* the reference's tangent frames when lit, NULL otherwise */
     atomic_int next_view;
     atomic_int failed;
@@ -178,9 +175,9 @@ typedef struct eval_job {
     const texopt_monitor *monitor;
     texopt_texture_filter **ref_filters;   /* per image; NULL: bilinear */
     texopt_texture_filter ***cand_filters; /* per candidate, per image; NULL: bilinear */
-    double **cand_turns; /* per candidate: normal-map turns (meshrender.h), NULL: none */
-    const float *cached_luma; /* per view side x side: the reference's, read instead of shaded */
-    float *stored_luma;       /* per view side x side: where the reference's shading is kept */
+    double **cand_turns;                   /* per candidate: normal-map turns (meshrender.h), NULL: none */
+    const float *cached_luma;              /* per view side x side: the reference's, read instead of shaded */
+    float *stored_luma;                    /* per view side x side: where the reference's shading is kept */
 } eval_job;
 
 struct texopt_evaluate_reference {
@@ -193,8 +190,8 @@ struct texopt_evaluate_reference {
 
 /* Mip pyramids of every image the evaluated texture's bindings use (every slot lighting reads
  * when lit), with their wrap modes. */
-static texopt_status build_filters(const texopt_model *m, int texture, int lit, texopt_texture_filter ***out,
-                                   char *err, size_t err_len)
+static texopt_status build_filters(const texopt_model *m, int texture, int lit, texopt_texture_filter ***out, char *err,
+                                   size_t err_len)
 {
     texopt_texture_filter **f = calloc(m->image_count > 0 ? (size_t)m->image_count : 1, sizeof *f);
     if (!f)
@@ -207,8 +204,8 @@ static texopt_status build_filters(const texopt_model *m, int texture, int lit, 
             const texopt_texture_ref *r = texopt_meshrender_binding(m, p, k);
             if (!r || f[r->image])
                 continue;
-            texopt_status st = texopt_texture_filter_create(&f[r->image], &m->images[r->image], r->wrap_s,
-                                                            r->wrap_t, err, err_len);
+            texopt_status st =
+                texopt_texture_filter_create(&f[r->image], &m->images[r->image], r->wrap_s, r->wrap_t, err, err_len);
             if (st != TEXOPT_OK)
                 return st;
         }
@@ -241,7 +238,7 @@ typedef struct view_buffers {
     texopt_gmsd_workspace *ws;
     texopt_gmsd_reference *prepared;
     float *luma_ref, *luma_cand;
-    float *scratch; /* TEXOPT_LIT_SCRATCH_FLOATS per pixel when lit, NULL otherwise */
+    float *scratch;    /* TEXOPT_LIT_SCRATCH_FLOATS per pixel when lit, NULL otherwise */
     float *similarity; /* per pixel, with triangle_error_edges; NULL otherwise */
     unsigned char *mask;
 } view_buffers;
@@ -276,8 +273,8 @@ static void account_triangle_error(eval_job *job, int v, const texopt_raster *ra
 
 /* One model's luma of a raster: the evaluated texture, or lit. */
 static texopt_status shade_luma(const eval_job *job, const texopt_model *model, const texopt_raster *raster,
-                                texopt_texture_filter *const *filters, const double *turn, view_buffers *b,
-                                float *luma, char *msg, size_t msg_len)
+                                texopt_texture_filter *const *filters, const double *turn, view_buffers *b, float *luma,
+                                char *msg, size_t msg_len)
 {
     if (job->lit)
         return texopt_lit_shade(model, raster, job->lit, filters, turn, b->scratch, luma, msg, msg_len);
@@ -292,8 +289,7 @@ static texopt_status evaluate_view(eval_job *job, int v, view_buffers *b, char *
     texopt_raster raster;
     size_t n = (size_t)job->side * (size_t)job->side;
     const float *luma_ref = job->cached_luma ? job->cached_luma + (size_t)v * n : b->luma_ref;
-    texopt_status st = texopt_meshrender_rasterize(job->reference, &job->views[v], job->side,
-                                                   &raster, msg, msg_len);
+    texopt_status st = texopt_meshrender_rasterize(job->reference, &job->views[v], job->side, &raster, msg, msg_len);
     if (st == TEXOPT_OK && !job->cached_luma)
         st = shade_luma(job, job->reference, &raster, job->ref_filters, NULL, b, b->luma_ref, msg, msg_len);
     if (st == TEXOPT_OK && job->stored_luma)
@@ -397,8 +393,8 @@ static texopt_status build_all_filters(eval_job *job, int reference_too, char *e
     texopt_status st =
         reference_too ? build_filters(job->reference, job->texture, lit, &job->ref_filters, err, err_len) : TEXOPT_OK;
     if (st == TEXOPT_OK) {
-        job->cand_filters = calloc((size_t)(job->candidate_count > 0 ? job->candidate_count : 1),
-                                   sizeof *job->cand_filters);
+        job->cand_filters =
+            calloc((size_t)(job->candidate_count > 0 ? job->candidate_count : 1), sizeof *job->cand_filters);
         if (!job->cand_filters)
             st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for texture filters");
     }
@@ -494,12 +490,12 @@ static void destroy_turns(double **turns, int count)
 
 /* Checks the candidates against the reference; the views and screen side to use. */
 static texopt_status prepare_views(const texopt_model *reference, const texopt_model *const *candidates, int count,
-                                   const texopt_evaluate_options *opt, texopt_view *views, int *view_count,
-                                   int *side, char *err, size_t err_len)
+                                   const texopt_evaluate_options *opt, texopt_view *views, int *view_count, int *side,
+                                   char *err, size_t err_len)
 {
     if (opt->resolution < 0 || opt->resolution > 16384 || (opt->resolution > 0 && opt->resolution < 8))
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "resolution %d is outside [8, 16384]", opt->resolution);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "resolution %d is outside [8, 16384]",
+                           opt->resolution);
     texopt_status st = opt->lit ? texopt_evaluate_check_lit(reference, err, err_len)
                                 : texopt_evaluate_check_texture(reference, opt->texture, err, err_len);
     if (st != TEXOPT_OK)
@@ -567,8 +563,7 @@ static int same_reference_views(const texopt_evaluate_reference *kept, const tex
  * into `store`, which then receives view_count x side x side floats), into out. */
 static texopt_status run_evaluation(const texopt_model *reference, const texopt_model *const *candidates,
                                     int candidate_count, const texopt_evaluate_options *opt,
-                                    texopt_evaluate_reference *store, texopt_evaluation *out, char *err,
-                                    size_t err_len)
+                                    texopt_evaluate_reference *store, texopt_evaluation *out, char *err, size_t err_len)
 {
     double t0 = now_seconds();
     texopt_view views[TEXOPT_VIEW_COUNT];
@@ -585,8 +580,8 @@ static texopt_status run_evaluation(const texopt_model *reference, const texopt_
         size_t n = (size_t)side * (size_t)side * (size_t)view_count;
         store->luma = n <= SIZE_MAX / sizeof *store->luma ? malloc(n * sizeof *store->luma) : NULL;
         if (!store->luma)
-            return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory to keep %d views of %d x %d pixels",
-                               view_count, side, side);
+            return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory to keep %d views of %d x %d pixels", view_count,
+                               side, side);
         store->side = side;
         store->view_count = view_count;
     }
@@ -708,8 +703,8 @@ static texopt_status render_lit(const texopt_model *reference, const texopt_mode
 }
 
 texopt_status texopt_evaluate_render(const texopt_model *reference, const texopt_model *model,
-                                     const texopt_evaluate_options *opt, const texopt_raster *raster,
-                                     texopt_image *out, char *err, size_t err_len)
+                                     const texopt_evaluate_options *opt, const texopt_raster *raster, texopt_image *out,
+                                     char *err, size_t err_len)
 {
     if (!reference || !model || !opt || !raster || !out)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "render: missing model, options or raster");
@@ -733,8 +728,7 @@ texopt_status texopt_evaluate_render(const texopt_model *reference, const texopt
 }
 
 texopt_status texopt_evaluate(const texopt_model *reference, const texopt_model *candidate,
-                              const texopt_evaluate_options *opt, texopt_evaluation *out,
-                              char *err, size_t err_len)
+                              const texopt_evaluate_options *opt, texopt_evaluation *out, char *err, size_t err_len)
 {
     if (!candidate)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "missing model or output");

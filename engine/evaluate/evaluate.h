@@ -100,22 +100,22 @@ typedef struct texopt_evaluate_options {
 } texopt_evaluate_options;
 
 typedef struct texopt_evaluation {
-    double q;                                /* mean of view_gmsd[0..view_count) */
-    int view_count;                          /* 20, or 12 with the icosahedron's cameras */
+    double q;       /* mean of view_gmsd[0..view_count) */
+    int view_count; /* 20, or 12 with the icosahedron's cameras */
     double view_gmsd[TEXOPT_VIEW_COUNT];
-    size_t view_pixels[TEXOPT_VIEW_COUNT];   /* covered pixels per view */
-    int resolution;                          /* screen side used */
-    double seconds;                          /* wall clock */
+    size_t view_pixels[TEXOPT_VIEW_COUNT]; /* covered pixels per view */
+    int resolution;                        /* screen side used */
+    double seconds;                        /* wall clock */
 } texopt_evaluation;
 
 /* What a layout costs (DESIGN.md 3.4): cost c = unique covered texels summed over the
  * texture domains (coverage.h), the texture memory it sits in, and its distortion. */
 typedef struct texopt_cost {
-    uint64_t covered_texels;     /* c: unique covered texels, all domains */
-    uint64_t frame_texels;       /* sum of the domains' frame sizes (width x height) */
-    uint64_t texture_pixels;     /* sum of width x height of every image the domains use */
-    double packing_efficiency;   /* covered_texels / frame_texels */
-    double symmetric_dirichlet;  /* eq. 24 (distortion.h), mean over domains weighted by
+    uint64_t covered_texels;    /* c: unique covered texels, all domains */
+    uint64_t frame_texels;      /* sum of the domains' frame sizes (width x height) */
+    uint64_t texture_pixels;    /* sum of width x height of every image the domains use */
+    double packing_efficiency;  /* covered_texels / frame_texels */
+    double symmetric_dirichlet; /* eq. 24 (distortion.h), mean over domains weighted by
                                     counted triangles; +inf with a flipped triangle */
 } texopt_cost;
 
@@ -141,12 +141,10 @@ texopt_status texopt_evaluate_check_texture(const texopt_model *reference, int t
 texopt_status texopt_evaluate_check_lit(const texopt_model *reference, char *err, size_t err_len);
 
 /* Measures model's layout cost. */
-texopt_status texopt_evaluate_cost(const texopt_model *model, texopt_cost *out, char *err,
-                                   size_t err_len);
+texopt_status texopt_evaluate_cost(const texopt_model *model, texopt_cost *out, char *err, size_t err_len);
 
 /* 1.25 sqrt(covered texels) rounded, clamped to [64, 4096]. */
-texopt_status texopt_evaluate_default_resolution(const texopt_model *model, int *side, char *err,
-                                                 size_t err_len);
+texopt_status texopt_evaluate_default_resolution(const texopt_model *model, int *side, char *err, size_t err_len);
 
 /* Shades every view of the reference once as opt says (its triangle_error and
  * reference_views are not read), for evaluations of candidates that come one after another
@@ -160,8 +158,7 @@ void texopt_evaluate_reference_destroy(texopt_evaluate_reference *views);
 /* Whole-mesh loss of candidate against reference (same triangles: checked with
  * texopt_meshrender_same_geometry). opt may be NULL. *out is written only on success. */
 texopt_status texopt_evaluate(const texopt_model *reference, const texopt_model *candidate,
-                              const texopt_evaluate_options *opt, texopt_evaluation *out,
-                              char *err, size_t err_len);
+                              const texopt_evaluate_options *opt, texopt_evaluation *out, char *err, size_t err_len);
 
 /* One view of `model` (the reference or a candidate) as the measure of opt (`texture` or
  * `lit`) shows it, for a person to look at (compare's report): *out becomes a side x side RGB
@@ -170,8 +167,8 @@ texopt_status texopt_evaluate(const texopt_model *reference, const texopt_model 
  * reference's tangent frame as q compares it, or the lit luma in grey. Bilinear lookups;
  * raster: texopt_meshrender_rasterize of the reference; the other options are not read. */
 texopt_status texopt_evaluate_render(const texopt_model *reference, const texopt_model *model,
-                                     const texopt_evaluate_options *opt, const texopt_raster *raster,
-                                     texopt_image *out, char *err, size_t err_len);
+                                     const texopt_evaluate_options *opt, const texopt_raster *raster, texopt_image *out,
+                                     char *err, size_t err_len);
 
 /* Whole-mesh loss of several candidates (candidate_count >= 1, all with the reference's
  * triangles) against one reference, into out[0..candidate_count): each view of the reference
@@ -180,7 +177,7 @@ texopt_status texopt_evaluate_render(const texopt_model *reference, const texopt
  * texopt_evaluate returns for candidate c (seconds: the whole call's). opt->triangle_error
  * needs candidate_count == 1. */
 texopt_status texopt_evaluate_many(const texopt_model *reference, const texopt_model *const *candidates,
-                                   int candidate_count, const texopt_evaluate_options *opt,
-                                   texopt_evaluation *out, char *err, size_t err_len);
+                                   int candidate_count, const texopt_evaluate_options *opt, texopt_evaluation *out,
+                                   char *err, size_t err_len);
 
 #endif

@@ -15,7 +15,7 @@ struct texopt_gmsd_workspace {
     int max_width, max_height;
     double *down_ref, *down_dist; /* ceil(w/2) x ceil(h/2) inside a one-pixel zero frame */
     unsigned char *down_covered;
-    double *gms;                  /* counted GMS values */
+    double *gms; /* counted GMS values */
 };
 
 texopt_gmsd_workspace *texopt_gmsd_workspace_create(int max_width, int max_height)
@@ -55,8 +55,7 @@ void texopt_gmsd_workspace_destroy(texopt_gmsd_workspace *ws)
  * missing row/column (odd sizes) counts as zero, still divided by 4. Written inside a frame
  * of zeros one pixel wide (row stride dw + 2): the Prewitt filter's zero padding, so the
  * gradient needs no bounds checks. */
-static void average_downsample_rows(const float *src, int width, int height, double *dst,
-                                    int row_lo, int row_hi)
+static void average_downsample_rows(const float *src, int width, int height, double *dst, int row_lo, int row_hi)
 {
     int dw = (width + 1) / 2, dh = (height + 1) / 2, stride = dw + 2;
     memset(dst, 0, (size_t)stride * sizeof *dst);
@@ -181,7 +180,7 @@ double texopt_gmsd_ws(texopt_gmsd_workspace *ws, const float *reference, const f
 
 struct texopt_gmsd_reference {
     int max_width, max_height, width, height;
-    double *down;       /* framed downsampled reference */
+    double *down; /* framed downsampled reference */
     unsigned char *down_covered;
     int *counted;       /* downsampled pixels entering the deviation, row-major, as offsets
                          * of their upper-left Prewitt neighbour in the framed image */
@@ -223,11 +222,10 @@ void texopt_gmsd_reference_destroy(texopt_gmsd_reference *r)
     free(r);
 }
 
-int texopt_gmsd_reference_set(texopt_gmsd_reference *r, const float *reference,
-                              const unsigned char *mask, int width, int height)
+int texopt_gmsd_reference_set(texopt_gmsd_reference *r, const float *reference, const unsigned char *mask, int width,
+                              int height)
 {
-    if (!r || !reference || width <= 0 || height <= 0 || width > r->max_width ||
-        height > r->max_height)
+    if (!r || !reference || width <= 0 || height <= 0 || width > r->max_width || height > r->max_height)
         return 0;
     int dw = (width + 1) / 2, dh = (height + 1) / 2;
     r->width = width;
@@ -249,11 +247,9 @@ int texopt_gmsd_reference_set(texopt_gmsd_reference *r, const float *reference,
     return 1;
 }
 
-double texopt_gmsd_against(texopt_gmsd_workspace *ws, const texopt_gmsd_reference *r,
-                           const float *distorted)
+double texopt_gmsd_against(texopt_gmsd_workspace *ws, const texopt_gmsd_reference *r, const float *distorted)
 {
-    if (!ws || !r || !distorted || r->width <= 0 || r->width > ws->max_width ||
-        r->height > ws->max_height)
+    if (!ws || !r || !distorted || r->width <= 0 || r->width > ws->max_width || r->height > ws->max_height)
         return NAN;
     int dw = (r->width + 1) / 2;
     if (r->count == 0)
@@ -285,8 +281,7 @@ void texopt_gmsd_similarity_map(const texopt_gmsd_workspace *ws, const texopt_gm
     }
 }
 
-double texopt_gmsd(const float *reference, const float *distorted, const unsigned char *mask,
-                   int width, int height)
+double texopt_gmsd(const float *reference, const float *distorted, const unsigned char *mask, int width, int height)
 {
     if (width <= 0 || height <= 0)
         return NAN;

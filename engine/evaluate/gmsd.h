@@ -52,13 +52,12 @@ void texopt_gmsd_reference_destroy(texopt_gmsd_reference *ref);
 
 /* Prepares `reference` (width x height, mask as in texopt_gmsd_ws, NULL = every pixel).
  * Returns 0 on bad arguments, 1 otherwise. */
-int texopt_gmsd_reference_set(texopt_gmsd_reference *ref, const float *reference,
-                              const unsigned char *mask, int width, int height);
+int texopt_gmsd_reference_set(texopt_gmsd_reference *ref, const float *reference, const unsigned char *mask, int width,
+                              int height);
 
 /* GMSD of the prepared reference and `distorted` (same size); ws must hold that size.
  * NaN on bad arguments. */
-double texopt_gmsd_against(texopt_gmsd_workspace *ws, const texopt_gmsd_reference *ref,
-                           const float *distorted);
+double texopt_gmsd_against(texopt_gmsd_workspace *ws, const texopt_gmsd_reference *ref, const float *distorted);
 
 /* Where the last texopt_gmsd_against(ws, ref, ...) found the gradients alike: per source
  * pixel (ref's width x height, row-major) the GMS value of the downsampled pixel it falls
@@ -67,7 +66,6 @@ double texopt_gmsd_against(texopt_gmsd_workspace *ws, const texopt_gmsd_referenc
 void texopt_gmsd_similarity_map(const texopt_gmsd_workspace *ws, const texopt_gmsd_reference *ref, float *map);
 
 /* The same with a temporary workspace (allocates; NaN also when out of memory). */
-double texopt_gmsd(const float *reference, const float *distorted, const unsigned char *mask,
-                   int width, int height);
+double texopt_gmsd(const float *reference, const float *distorted, const unsigned char *mask, int width, int height);
 
 #endif

@@ -41,9 +41,9 @@
 #include <string.h>
 
 #include "sample.h"
-#include "texture_keys.h"
 #include "texel_map.h"
 #include "texture_filter.h"
+#include "texture_keys.h"
 #include "vec3.h"
 
 /* Unit vectors to the 20 vertices of a regular dodecahedron: (±1,±1,±1), (0,±1/φ,±φ),
@@ -105,8 +105,7 @@ static void view_axes(texopt_view *view)
     texopt_normalize3(view->up);
 }
 
-texopt_status texopt_meshrender_views(const texopt_model *model, texopt_view *views, char *err,
-                                      size_t err_len)
+texopt_status texopt_meshrender_views(const texopt_model *model, texopt_view *views, char *err, size_t err_len)
 {
     int count;
     return texopt_meshrender_camera_set(model, TEXOPT_CAMERAS_DODECAHEDRON, views, &count, err, err_len);
@@ -124,8 +123,7 @@ texopt_status texopt_meshrender_camera_set(const texopt_model *model, texopt_cam
         for (int k = 0; k < 3; k++) {
             double x = model->positions[3 * v + k];
             if (!isfinite(x))
-                return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                                   "vertex %zu has a non-finite position", v);
+                return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "vertex %zu has a non-finite position", v);
             lo[k] = fmin(lo[k], x);
             hi[k] = fmax(hi[k], x);
         }
@@ -212,14 +210,12 @@ static void rasterize_triangle(texopt_raster *r, float *depth, int32_t tri, cons
     }
 }
 
-texopt_status texopt_meshrender_rasterize(const texopt_model *model, const texopt_view *view,
-                                          int side, texopt_raster *out, char *err,
-                                          size_t err_len)
+texopt_status texopt_meshrender_rasterize(const texopt_model *model, const texopt_view *view, int side,
+                                          texopt_raster *out, char *err, size_t err_len)
 {
     memset(out, 0, sizeof *out);
     if (!model || !view || side < 8 || side > 16384)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "render side %d is outside [8, 16384]", side);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "render side %d is outside [8, 16384]", side);
     if (model->triangle_count > INT32_MAX)
         return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "too many triangles to render");
     size_t n = (size_t)side * (size_t)side;
@@ -250,8 +246,7 @@ texopt_status texopt_meshrender_rasterize(const texopt_model *model, const texop
             free(depth);
             texopt_raster_destroy(out);
             return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                               "triangle %zu names a vertex past the vertex count %zu", t,
-                               model->vertex_count);
+                               "triangle %zu names a vertex past the vertex count %zu", t, model->vertex_count);
         }
         rasterize_triangle(out, depth, (int32_t)t, s);
     }
@@ -281,7 +276,7 @@ int texopt_meshrender_has_texture(const texopt_model *model, int texture)
 }
 
 texopt_status texopt_meshrender_triangle_bindings(const texopt_model *model, int texture,
-                                                 const texopt_texture_ref ***out, char *err, size_t err_len)
+                                                  const texopt_texture_ref ***out, char *err, size_t err_len)
 {
     const texopt_texture_ref **ref = calloc(model->triangle_count ? model->triangle_count : 1, sizeof *ref);
     if (!ref)
@@ -300,8 +295,8 @@ texopt_status texopt_meshrender_triangle_bindings(const texopt_model *model, int
 }
 
 /* Texel position of a pixel of triangle tri in image img. */
-static void pixel_texel(const texopt_model *model, const texopt_image *img, size_t tri, float b1,
-                        float b2, double *x, double *y)
+static void pixel_texel(const texopt_model *model, const texopt_image *img, size_t tri, float b1, float b2, double *x,
+                        double *y)
 {
     const uint32_t *c = model->triangles + 3 * tri;
     const float *uv0 = model->uvs + 2 * (size_t)c[0], *uv1 = model->uvs + 2 * (size_t)c[1],
@@ -313,8 +308,8 @@ static void pixel_texel(const texopt_model *model, const texopt_image *img, size
 
 /* Image texels per screen pixel of triangle tri: {dx/dsx, dx/dsy, dy/dsx, dy/dsy}. Returns
  * -1 when the triangle is edge-on (it then covers no pixel centre anyway). */
-static int triangle_footprint(const texopt_model *model, const texopt_raster *r, const texopt_image *img,
-                              size_t tri, double jac[4])
+static int triangle_footprint(const texopt_model *model, const texopt_raster *r, const texopt_image *img, size_t tri,
+                              double jac[4])
 {
     double s[3][3], t[3][2];
     for (int k = 0; k < 3; k++) {
@@ -449,8 +444,7 @@ static texopt_status shade_pixels(const texopt_model *model, const texopt_raster
             free(ref);
             free(cut_out);
             return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                               "raster names triangle %d but the model has %zu", (int)tri,
-                               model->triangle_count);
+                               "raster names triangle %d but the model has %zu", (int)tri, model->triangle_count);
         }
         const texopt_texture_ref *r = tri >= 0 ? ref[tri] : NULL;
         if (!r) {
@@ -488,8 +482,7 @@ static texopt_status shade_pixels(const texopt_model *model, const texopt_raster
 }
 
 static texopt_status shade(const texopt_model *model, const texopt_raster *raster,
-                           struct texopt_texture_filter *const *filters, texopt_image *out, char *err,
-                           size_t err_len)
+                           struct texopt_texture_filter *const *filters, texopt_image *out, char *err, size_t err_len)
 {
     memset(out, 0, sizeof *out);
     if (!raster || raster->side <= 0)
@@ -502,15 +495,15 @@ static texopt_status shade(const texopt_model *model, const texopt_raster *raste
     return st;
 }
 
-texopt_status texopt_meshrender_shade(const texopt_model *model, const texopt_raster *raster,
-                                      texopt_image *out, char *err, size_t err_len)
+texopt_status texopt_meshrender_shade(const texopt_model *model, const texopt_raster *raster, texopt_image *out,
+                                      char *err, size_t err_len)
 {
     return shade(model, raster, NULL, out, err, err_len);
 }
 
 texopt_status texopt_meshrender_shade_filtered(const texopt_model *model, const texopt_raster *raster,
-                                               struct texopt_texture_filter *const *filters,
-                                               texopt_image *out, char *err, size_t err_len)
+                                               struct texopt_texture_filter *const *filters, texopt_image *out,
+                                               char *err, size_t err_len)
 {
     return shade(model, raster, filters, out, err, err_len);
 }
@@ -529,15 +522,13 @@ texopt_status texopt_meshrender_shade_rgb(const texopt_model *model, const texop
     return shade_pixels(model, raster, texture, filters, normal_turn, 0, rgb, err, err_len);
 }
 
-texopt_status texopt_meshrender_same_geometry(const texopt_model *reference,
-                                              const texopt_model *candidate, char *err,
+texopt_status texopt_meshrender_same_geometry(const texopt_model *reference, const texopt_model *candidate, char *err,
                                               size_t err_len)
 {
     if (!reference || !candidate)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "missing model");
     if (reference->triangle_count != candidate->triangle_count)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "the models differ in triangle count (%zu vs %zu)",
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "the models differ in triangle count (%zu vs %zu)",
                            reference->triangle_count, candidate->triangle_count);
     double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
     for (size_t v = 0; v < reference->vertex_count; v++)
@@ -558,8 +549,7 @@ texopt_status texopt_meshrender_same_geometry(const texopt_model *reference,
             for (int k = 0; k < 3; k++)
                 if (!(fabs(reference->positions[3 * (size_t)a + k] - candidate->positions[3 * (size_t)b + k]) <= tol))
                     return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                                       "triangle %zu corner %d is not at the same position in both models",
-                                       t, c);
+                                       "triangle %zu corner %d is not at the same position in both models", t, c);
         }
     return TEXOPT_OK;
 }

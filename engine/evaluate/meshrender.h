@@ -46,17 +46,13 @@ typedef struct texopt_raster {
  * sphere of the model's vertices (centre = bounding-box centre). Fails on a model with no
  * triangles, or (TEXOPT_E_UNSUPPORTED, valid input with nothing to see) every vertex at one
  * point. */
-texopt_status texopt_meshrender_views(const texopt_model *model, texopt_view *views, char *err,
-                                      size_t err_len);
+texopt_status texopt_meshrender_views(const texopt_model *model, texopt_view *views, char *err, size_t err_len);
 
 /* Camera sets. The dodecahedron's 20 are the evaluation's (the paper's, what q and the
  * benchmark report). The icosahedron's 12 look from the dodecahedron's face centres, between
  * those 20: a layout tuned on what one set sees (the pipeline's closed-loop refinement) is
  * then graded on views it was not tuned on. */
-typedef enum texopt_camera_set {
-    TEXOPT_CAMERAS_DODECAHEDRON = 0,
-    TEXOPT_CAMERAS_ICOSAHEDRON
-} texopt_camera_set;
+typedef enum texopt_camera_set { TEXOPT_CAMERAS_DODECAHEDRON = 0, TEXOPT_CAMERAS_ICOSAHEDRON } texopt_camera_set;
 
 /* As texopt_meshrender_views for any set: views[0..*count) (room for TEXOPT_VIEW_COUNT). */
 texopt_status texopt_meshrender_camera_set(const texopt_model *model, texopt_camera_set set, texopt_view *views,
@@ -64,9 +60,8 @@ texopt_status texopt_meshrender_camera_set(const texopt_model *model, texopt_cam
 
 /* Rasterises every triangle of the model into *out (allocated here; free with
  * texopt_raster_destroy), depth-tested, pixel centres sampled. side in [8, 16384]. */
-texopt_status texopt_meshrender_rasterize(const texopt_model *model, const texopt_view *view,
-                                          int side, texopt_raster *out, char *err,
-                                          size_t err_len);
+texopt_status texopt_meshrender_rasterize(const texopt_model *model, const texopt_view *view, int side,
+                                          texopt_raster *out, char *err, size_t err_len);
 
 void texopt_raster_destroy(texopt_raster *raster);
 
@@ -76,8 +71,8 @@ void texopt_raster_destroy(texopt_raster *raster);
  * background pixels are 0. *out becomes a side x side RGB image (allocated here).
  * Fails when the model's triangle count is not the raster's model's (checked by the caller
  * through texopt_meshrender_same_geometry) or it has no UVs. */
-texopt_status texopt_meshrender_shade(const texopt_model *model, const texopt_raster *raster,
-                                      texopt_image *out, char *err, size_t err_len);
+texopt_status texopt_meshrender_shade(const texopt_model *model, const texopt_raster *raster, texopt_image *out,
+                                      char *err, size_t err_len);
 
 struct texopt_texture_filter;
 
@@ -87,8 +82,8 @@ struct texopt_texture_filter;
  * filters[i] is the texture_filter.h pyramid of model->images[i] (NULL entries fall back to
  * bilinear); the raster must come from texopt_meshrender_rasterize of the same geometry. */
 texopt_status texopt_meshrender_shade_filtered(const texopt_model *model, const texopt_raster *raster,
-                                               struct texopt_texture_filter *const *filters,
-                                               texopt_image *out, char *err, size_t err_len);
+                                               struct texopt_texture_filter *const *filters, texopt_image *out,
+                                               char *err, size_t err_len);
 
 /* As texopt_meshrender_shade_filtered (filters may be NULL: bilinear), writing only each
  * pixel's grey into the caller's side x side floats: what the evaluation compares, without
@@ -124,7 +119,7 @@ const texopt_texture_ref *texopt_meshrender_binding(const texopt_model *model, i
  * its primitive; NULL: mid grey), in *out (triangle_count entries, allocated here; the caller
  * frees it). */
 texopt_status texopt_meshrender_triangle_bindings(const texopt_model *model, int texture,
-                                                 const texopt_texture_ref ***out, char *err, size_t err_len);
+                                                  const texopt_texture_ref ***out, char *err, size_t err_len);
 
 /* Nonzero when some primitive of the model is shaded from its material's `texture`. */
 int texopt_meshrender_has_texture(const texopt_model *model, int texture);
@@ -132,8 +127,7 @@ int texopt_meshrender_has_texture(const texopt_model *model, int texture);
 /* Succeeds when candidate has the same triangles as reference: equal triangle count and every
  * corner at the same position (within 1e-5 of the bounding-box diagonal). The message names
  * the first triangle that differs. */
-texopt_status texopt_meshrender_same_geometry(const texopt_model *reference,
-                                              const texopt_model *candidate, char *err,
+texopt_status texopt_meshrender_same_geometry(const texopt_model *reference, const texopt_model *candidate, char *err,
                                               size_t err_len);
 
 #endif

@@ -75,8 +75,8 @@ static texopt_status solve_layout(texopt_job *job, const layout_run *run, int d,
         texopt_meshwise_report mrep;
         texopt_scaffold_report srep = {0};
         if (params->bijective)
-            st = texopt_scaffold_solve(mesh, targets, NULL, &mopt, NULL, texel_new, &srep, &job->jm.inner, err,
-                                       err_len);
+            st =
+                texopt_scaffold_solve(mesh, targets, NULL, &mopt, NULL, texel_new, &srep, &job->jm.inner, err, err_len);
         else
             st = texopt_meshwise_solve(mesh, targets, NULL, &mopt, texel_new, &mrep, &job->jm.inner, err, err_len);
         if (st == TEXOPT_OK)

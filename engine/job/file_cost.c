@@ -18,8 +18,7 @@ void texopt_file_cost_of_model(const texopt_model *model, texopt_file_cost *out)
 }
 
 /* Domain d of the file measured as info.c does: its mesh, coverage.h on its own layout. */
-static texopt_status record_domain(const texopt_model *model, int d, texopt_domain_stats *ds, char *err,
-                                   size_t err_len)
+static texopt_status record_domain(const texopt_model *model, int d, texopt_domain_stats *ds, char *err, size_t err_len)
 {
     texopt_mesh *mesh = NULL;
     texopt_coverage cov;

@@ -21,12 +21,9 @@
 const char *texopt_wrap_name(texopt_wrap wrap)
 {
     switch (wrap) {
-    case TEXOPT_WRAP_REPEAT:
-        return "repeat";
-    case TEXOPT_WRAP_CLAMP:
-        return "clamp";
-    case TEXOPT_WRAP_MIRROR:
-        return "mirror";
+    case TEXOPT_WRAP_REPEAT: return "repeat";
+    case TEXOPT_WRAP_CLAMP: return "clamp";
+    case TEXOPT_WRAP_MIRROR: return "mirror";
     }
     return "unknown";
 }
@@ -67,8 +64,7 @@ static cJSON *find_texture(const cJSON *list, const char *slot, int image)
     {
         const cJSON *s = cJSON_GetObjectItemCaseSensitive(t, "slot");
         const cJSON *i = cJSON_GetObjectItemCaseSensitive(t, "image");
-        if (cJSON_IsString(s) && strcmp(s->valuestring, slot) == 0 && cJSON_IsNumber(i) &&
-            i->valueint == image)
+        if (cJSON_IsString(s) && strcmp(s->valuestring, slot) == 0 && cJSON_IsNumber(i) && i->valueint == image)
             return t;
     }
     return NULL;
@@ -222,8 +218,7 @@ static void add_distortion(cJSON *o, const texopt_mesh *mesh)
         cJSON_AddNullToObject(o, "distortion");
 }
 
-static texopt_status domain_json(const texopt_model *model, int d, cJSON **out, char *err,
-                                 size_t err_len)
+static texopt_status domain_json(const texopt_model *model, int d, cJSON **out, char *err, size_t err_len)
 {
     const texopt_domain *dom = &model->domains[d];
     texopt_mesh *mesh = NULL;
@@ -335,8 +330,7 @@ texopt_status texopt_info_json(const texopt_model *model, cJSON **out, char *err
     return TEXOPT_OK;
 }
 
-texopt_status texopt_info_string(const texopt_model *model, int pretty, char **out, char *err,
-                                 size_t err_len)
+texopt_status texopt_info_string(const texopt_model *model, int pretty, char **out, char *err, size_t err_len)
 {
     if (!out)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "info: no output pointer");

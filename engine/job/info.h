@@ -55,8 +55,7 @@
 texopt_status texopt_info_json(const texopt_model *model, cJSON **out, char *err, size_t err_len);
 
 /* The document as text (pretty: indented; else one line), malloc'd, caller frees with free(). */
-texopt_status texopt_info_string(const texopt_model *model, int pretty, char **out, char *err,
-                                 size_t err_len);
+texopt_status texopt_info_string(const texopt_model *model, int pretty, char **out, char *err, size_t err_len);
 
 /* The glTF name of a wrap mode ("repeat", "clamp", "mirror"). */
 const char *texopt_wrap_name(texopt_wrap wrap);

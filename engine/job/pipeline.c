@@ -76,8 +76,8 @@ static texopt_status check_params(const texopt_params *in, texopt_params *p, cha
 static texopt_status weigh_signals(texopt_job *job, char *err, size_t err_len)
 {
     const texopt_model *m = job->model;
-    job->signal_weights = malloc((m->image_count ? (size_t)m->image_count : 1) * TEXOPT_LIT_WEIGHT_STRIDE *
-                                 sizeof *job->signal_weights);
+    job->signal_weights =
+        malloc((m->image_count ? (size_t)m->image_count : 1) * TEXOPT_LIT_WEIGHT_STRIDE * sizeof *job->signal_weights);
     if (!job->signal_weights)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for %d images' signal weights", m->image_count);
     return texopt_lit_signal_weights(m, job->signal_weights, err, err_len);
@@ -161,8 +161,8 @@ void texopt_job_destroy(texopt_job *job)
 }
 
 /* The job's parameters with the budget of b. */
-static texopt_status budget_params(const texopt_job *job, const texopt_job_budget *b, texopt_params *p,
-                                   char *err, size_t err_len)
+static texopt_status budget_params(const texopt_job *job, const texopt_job_budget *b, texopt_params *p, char *err,
+                                   size_t err_len)
 {
     if (!b)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "job: budget missing");
@@ -243,9 +243,9 @@ texopt_status texopt_job_write(texopt_job *job, const texopt_job_budget *budget,
     return st;
 }
 
-texopt_status texopt_optimize_file(const char *input_path, const char *output_glb,
-                                   const char *stats_json, const texopt_params *params,
-                                   const texopt_monitor *monitor, char *err, size_t err_len)
+texopt_status texopt_optimize_file(const char *input_path, const char *output_glb, const char *stats_json,
+                                   const texopt_params *params, const texopt_monitor *monitor, char *err,
+                                   size_t err_len)
 {
     if (!input_path || !output_glb)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "input and output paths are required");

@@ -15,9 +15,9 @@
  * leaves a partial file under the final name. With budget target_loss the output is the
  * smallest relative cost (searched in [0.01, 1], to 5%) whose whole-mesh loss q is at most
  * params->target_loss; the statistics report the search (target_search) and q. */
-texopt_status texopt_optimize_file(const char *input_path, const char *output_glb,
-                                   const char *stats_json, const texopt_params *params,
-                                   const texopt_monitor *monitor, char *err, size_t err_len);
+texopt_status texopt_optimize_file(const char *input_path, const char *output_glb, const char *stats_json,
+                                   const texopt_params *params, const texopt_monitor *monitor, char *err,
+                                   size_t err_len);
 
 /* The same job in two parts, for callers that need several budgets of one model (compare.h,
  * the target_loss search): texopt_job_create loads the model and computes everything that
@@ -28,10 +28,10 @@ texopt_status texopt_optimize_file(const char *input_path, const char *output_gl
 typedef struct texopt_job texopt_job;
 
 typedef struct texopt_job_budget {
-    texopt_budget kind;        /* RELATIVE_COST, TEXTURE_SIZE or TARGET_LOSS */
-    double relative_cost;      /* with RELATIVE_COST */
+    texopt_budget kind;                /* RELATIVE_COST, TEXTURE_SIZE or TARGET_LOSS */
+    double relative_cost;              /* with RELATIVE_COST */
     int texture_width, texture_height; /* with TEXTURE_SIZE */
-    double target_loss;        /* with TARGET_LOSS */
+    double target_loss;                /* with TARGET_LOSS */
 } texopt_job_budget;
 
 texopt_status texopt_job_create(texopt_job **job, const char *input_path, const texopt_params *params,

@@ -237,8 +237,7 @@ static cJSON *job_json(const texopt_job_stats *s)
     return root;
 }
 
-texopt_status texopt_stats_to_json(const texopt_job_stats *stats, char **json, char *err,
-                                   size_t err_len)
+texopt_status texopt_stats_to_json(const texopt_job_stats *stats, char **json, char *err, size_t err_len)
 {
     *json = NULL;
     cJSON *root = job_json(stats);
@@ -250,8 +249,7 @@ texopt_status texopt_stats_to_json(const texopt_job_stats *stats, char **json, c
     return TEXOPT_OK;
 }
 
-texopt_status texopt_stats_write(const texopt_job_stats *stats, const char *path, char *err,
-                                 size_t err_len)
+texopt_status texopt_stats_write(const texopt_job_stats *stats, const char *path, char *err, size_t err_len)
 {
     char *text;
     texopt_status st = texopt_stats_to_json(stats, &text, err, err_len);

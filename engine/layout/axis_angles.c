@@ -13,7 +13,7 @@
 #define PI 3.14159265358979323846
 #define SIGMA_FRACTION 0.004 /* of the boundary length (paper) */
 #define SMOOTHING_PASSES 5
-#define SMOOTHING_STOP 1e-4  /* largest interior-angle change that ends smoothing */
+#define SMOOTHING_STOP 1e-4 /* largest interior-angle change that ends smoothing */
 #define ROTATION_SAMPLES 720
 
 /* Signed angle from direction a to direction b, in (-pi, pi]. */
@@ -149,8 +149,7 @@ static texopt_status check_loop(const double *xy, size_t n, double *s, double *l
     return TEXOPT_OK;
 }
 
-texopt_status texopt_axis_angles_compute(const double *xy, size_t n, texopt_axis_angles *out, char *err,
-                                         size_t err_len)
+texopt_status texopt_axis_angles_compute(const double *xy, size_t n, texopt_axis_angles *out, char *err, size_t err_len)
 {
     if (!xy || !out)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "axis angles: NULL argument");

@@ -13,9 +13,9 @@
 #include <string.h>
 
 #define PI 3.14159265358979323846
-#define GAMMA 0.3        /* angle vs length in E_edge (paper) */
-#define ANGLE_DONE 0.1   /* epsilon_a (paper) */
-#define MAX_ROUNDS 10    /* n_max (paper) */
+#define GAMMA 0.3         /* angle vs length in E_edge (paper) */
+#define ANGLE_DONE 0.1    /* epsilon_a (paper) */
+#define MAX_ROUNDS 10     /* n_max (paper) */
 #define LAMBDA_GROWTH 6.0 /* beta (paper) */
 #define INNER_ITERATIONS 200
 #define HISTORY 5

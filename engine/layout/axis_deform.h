@@ -23,9 +23,9 @@
 #include "status.h"
 
 typedef struct texopt_axis_deform_report {
-    int rounds;               /* lambda rounds run */
-    double max_angle_error;   /* radians, largest |theta_i - (pi/2) Theta_i| at the end */
-    double distortion;        /* E_d at the end (1 = the rest layout's shape everywhere) */
+    int rounds;             /* lambda rounds run */
+    double max_angle_error; /* radians, largest |theta_i - (pi/2) Theta_i| at the end */
+    double distortion;      /* E_d at the end (1 = the rest layout's shape everywhere) */
 } texopt_axis_deform_report;
 
 /* rest: 2 per vertex, the given layout (every triangle counter-clockwise in it); loop: the

@@ -16,10 +16,10 @@
 #define COST_ROUNDS 6
 #define BISECTION_STEPS 14
 #define SMALL_ATLAS_CHARTS 64 /* up to this many charts, more widths and orders are tried */
-#define ORDER_SEARCH_STEPS 20  /* local-search moves over the placement order per rule (small atlases) */
-#define RULES 3                /* texopt_pack_rule values */
+#define ORDER_SEARCH_STEPS 20 /* local-search moves over the placement order per rule (small atlases) */
+#define RULES 3               /* texopt_pack_rule values */
 #define START_ORDERS 3
-#define WIDTH_LO 0.75          /* strip widths tried, relative to the estimate */
+#define WIDTH_LO 0.75 /* strip widths tried, relative to the estimate */
 #define WIDTH_HI 1.35
 /* Box fill a reshape lifts the charts below it to. Measured on the perceptual layouts of
  * spot, Fox and Duck (BENCHMARKS.md@9f788a8 "Packing efficiency"): asking each chart for what the
@@ -53,8 +53,8 @@ static void scale_layout(const double *in, double s, double *out, size_t vertice
         out[i] = in[i] * s;
 }
 
-static texopt_status measure_cost(const texopt_mesh *mesh, const double *texel, int w, int h,
-                                  double *cost, char *err, size_t err_len)
+static texopt_status measure_cost(const texopt_mesh *mesh, const double *texel, int w, int h, double *cost, char *err,
+                                  size_t err_len)
 {
     texopt_coverage_options o = {0};
     o.texel = texel;
@@ -78,8 +78,8 @@ typedef struct work {
     const uint32_t *sequence; /* placement order of the next pack; NULL = req->pack.order */
     int rule;                 /* texopt_pack_rule of the next pack */
     const texopt_monitor *monitor;
-    int cell, side;           /* grid cell of every packer (0: from side), texture side hint */
-    int threads;              /* for the packing search's units; >= 1 */
+    int cell, side; /* grid cell of every packer (0: from side), texture side hint */
+    int threads;    /* for the packing search's units; >= 1 */
 } work;
 
 /* The packer of the layout scaled by s (into w->scaled, which it then reads). */
@@ -250,14 +250,14 @@ static void perturb(const uint32_t *from, uint32_t *to, size_t n, uint64_t *rng)
  * the order one thread would run the units (keep_first_smallest), they keep what that thread
  * would: the search gives the same packing whatever the thread count. */
 typedef struct search_unit {
-    work w;               /* its own: packed positions, sequence, rule, packings spent */
+    work w; /* its own: packed positions, sequence, rule, packings spent */
     const texopt_packer *packer;
-    double base;          /* start units: the estimated strip width the widths scale */
-    int tries;            /* start units: widths tried */
-    best_packing found;   /* the first smallest of its packings */
-    double *found_texel;  /* their positions */
-    best_packing cur;     /* local units: the rule's best start, then the search's best */
-    uint32_t *trial;      /* local units: the order tried next */
+    double base;         /* start units: the estimated strip width the widths scale */
+    int tries;           /* start units: widths tried */
+    best_packing found;  /* the first smallest of its packings */
+    double *found_texel; /* their positions */
+    best_packing cur;    /* local units: the rule's best start, then the search's best */
+    uint32_t *trial;     /* local units: the order tried next */
     texopt_status st;
     char err[256];
 } search_unit;
@@ -377,8 +377,8 @@ static search_unit *make_units(const work *w, const texopt_packer *packer, int c
  * then, for small atlases, a seeded local search over the order (one chart moved at a time)
  * at the best widths. Its positions go to texel_out. Deterministic: a fixed seed and a fixed
  * number of packings; the units run on w->threads threads (search_unit). */
-static texopt_status search_packing(work *w, double s, double area, double aspect, int min_strip,
-                                    double *texel_out, best_packing *best, char *err, size_t err_len)
+static texopt_status search_packing(work *w, double s, double area, double aspect, int min_strip, double *texel_out,
+                                    best_packing *best, char *err, size_t err_len)
 {
     size_t n = w->mesh->chart_count ? w->mesh->chart_count : 1;
     int small = w->mesh->chart_count <= SMALL_ATLAS_CHARTS;
@@ -433,8 +433,8 @@ static texopt_status search_packing(work *w, double s, double area, double aspec
  * change only through the quarter turns: so the scale found here holds, nearly, for every
  * packing the search then tries, and the search's winner is not repacked at another scale
  * (which would give another, usually worse, packing). */
-static texopt_status calibrate_scale(work *w, double target, double area, double aspect, double *s,
-                                     int *min_strip, char *err, size_t err_len)
+static texopt_status calibrate_scale(work *w, double target, double area, double aspect, double *s, int *min_strip,
+                                     char *err, size_t err_len)
 {
     texopt_status st = TEXOPT_OK;
     double best_miss = INFINITY, best_s = *s;
@@ -455,8 +455,8 @@ static texopt_status calibrate_scale(work *w, double target, double area, double
         if (strip > round_up4(sqrt(area * *s * *s / 0.7 * aspect)))
             *min_strip = strip; /* widened: the search must not try narrower strips */
         if (st == TEXOPT_OK && !fits)
-            st = texopt_fail(err, err_len, TEXOPT_E_LIMIT, "budget: the layout needs a texture larger than %d texels a side",
-                             MAX_SIDE);
+            st = texopt_fail(err, err_len, TEXOPT_E_LIMIT,
+                             "budget: the layout needs a texture larger than %d texels a side", MAX_SIDE);
         if (st == TEXOPT_OK)
             st = measure_cost(w->mesh, w->packed, pw, ph, &cost, err, err_len);
         if (st != TEXOPT_OK || !(cost > 0))
@@ -474,9 +474,8 @@ static texopt_status calibrate_scale(work *w, double target, double area, double
 /* Calibrates the scale, searches the packing at it, then (rarely: when the winner's
  * quarter turns put its cost off the target) repacks the winner at corrected scales; the
  * round closest to the target wins. */
-static texopt_status fit_relative_cost(work *w, const texopt_budget_request *req, double area,
-                                       double *texel_out, texopt_budget_result *res, char *err,
-                                       size_t err_len)
+static texopt_status fit_relative_cost(work *w, const texopt_budget_request *req, double area, double *texel_out,
+                                       texopt_budget_result *res, char *err, size_t err_len)
 {
     double target = req->relative_cost * req->input_cost;
     double s = sqrt(target / area);
@@ -535,9 +534,8 @@ static texopt_status fit_relative_cost(work *w, const texopt_budget_request *req
     return st;
 }
 
-static texopt_status fit_texture_size(work *w, const texopt_budget_request *req, double area,
-                                      double *texel_out, texopt_budget_result *res, char *err,
-                                      size_t err_len)
+static texopt_status fit_texture_size(work *w, const texopt_budget_request *req, double area, double *texel_out,
+                                      texopt_budget_result *res, char *err, size_t err_len)
 {
     int width = req->texture_width, height = req->texture_height;
     double hi = sqrt((double)width * height / area), lo = 0, s = hi * sqrt(0.75);
@@ -568,8 +566,8 @@ static texopt_status fit_texture_size(work *w, const texopt_budget_request *req,
         return st;
     if (!(lo > 0)) {
         res->no_fit = 1;
-        return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "budget: the charts do not fit in %dx%d at any scale",
-                           width, height);
+        return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "budget: the charts do not fit in %dx%d at any scale", width,
+                           height);
     }
     res->width = width;
     res->height = height;
@@ -582,12 +580,12 @@ static texopt_status check_request(const texopt_budget_request *req, double area
     if (!(area > 0) || !isfinite(area))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "budget: the layout has no area");
     if (!(req->input_cost > 0) || req->input_width < 1 || req->input_height < 1)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "budget: the input cost and frame must be positive");
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
+                           "budget: the input cost and frame must be positive");
     if (req->kind == TEXOPT_BUDGET_RELATIVE_COST && !(req->relative_cost > 0))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "budget: relative cost must be > 0");
-    if (req->kind == TEXOPT_BUDGET_TEXTURE_SIZE &&
-        (req->texture_width < 1 || req->texture_height < 1 || req->texture_width > MAX_SIDE ||
-         req->texture_height > MAX_SIDE))
+    if (req->kind == TEXOPT_BUDGET_TEXTURE_SIZE && (req->texture_width < 1 || req->texture_height < 1 ||
+                                                    req->texture_width > MAX_SIDE || req->texture_height > MAX_SIDE))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "budget: texture size %dx%d is out of range",
                            req->texture_width, req->texture_height);
     if (!(req->reshape_efficiency >= 0 && req->reshape_efficiency <= 1) || req->threads < 0)
@@ -595,7 +593,8 @@ static texopt_status check_request(const texopt_budget_request *req, double area
                            "budget: reshape efficiency %g is not in [0, 1] or threads are negative",
                            req->reshape_efficiency);
     if (req->kind != TEXOPT_BUDGET_RELATIVE_COST && req->kind != TEXOPT_BUDGET_TEXTURE_SIZE)
-        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "budget: only relative cost and texture size are supported");
+        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                           "budget: only relative cost and texture size are supported");
     return TEXOPT_OK;
 }
 
@@ -639,8 +638,8 @@ static texopt_status reshape_when_short(work *w, const texopt_budget_request *re
         return TEXOPT_OK;
     size_t n = 2 * (w->mesh->vertex_count ? w->mesh->vertex_count : 1);
     double *reshaped = malloc(n * sizeof(double)), *packed = malloc(n * sizeof(double));
-    texopt_status st = reshaped && packed ? TEXOPT_OK
-                                          : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the chart reshape");
+    texopt_status st =
+        reshaped && packed ? TEXOPT_OK : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the chart reshape");
     texopt_reshape_options o = {.box_fill = RESHAPE_BOX_FILL, .threads = req->threads, .keep = req->keep_shape};
     if (st == TEXOPT_OK)
         st = texopt_chart_reshape(w->mesh, w->texel, req->targets, &o, reshaped, NULL, err, err_len);
@@ -658,16 +657,25 @@ static texopt_status reshape_when_short(work *w, const texopt_budget_request *re
     return st;
 }
 
-texopt_status texopt_budget_fit(const texopt_mesh *mesh, const double *texel,
-                                const texopt_budget_request *req, double *texel_out,
-                                texopt_budget_result *res, char *err, size_t err_len)
+texopt_status texopt_budget_fit(const texopt_mesh *mesh, const double *texel, const texopt_budget_request *req,
+                                double *texel_out, texopt_budget_result *res, char *err, size_t err_len)
 {
     memset(res, 0, sizeof *res);
     double area = layout_area(mesh, texel);
     texopt_status st = check_request(req, area, err, err_len);
     if (st != TEXOPT_OK)
         return st;
-    work w = {mesh, texel, &req->pack, NULL, NULL, 0, req->pack.sequence, req->pack.rule, req->monitor, req->pack.cell, 0,
+    work w = {mesh,
+              texel,
+              &req->pack,
+              NULL,
+              NULL,
+              0,
+              req->pack.sequence,
+              req->pack.rule,
+              req->monitor,
+              req->pack.cell,
+              0,
               req->threads > 0 ? req->threads : 1};
     size_t n = 2 * (mesh->vertex_count ? mesh->vertex_count : 1);
     w.scaled = malloc(n * sizeof(double));

@@ -31,12 +31,12 @@
 #include "target.h"
 
 typedef struct texopt_budget_request {
-    texopt_budget kind;                  /* RELATIVE_COST or TEXTURE_SIZE */
-    double relative_cost;                /* with RELATIVE_COST, > 0 */
-    int texture_width, texture_height;   /* with TEXTURE_SIZE */
-    double input_cost;                   /* covered texels of the input layout, > 0 */
-    int input_width, input_height;       /* input frame, for the aspect */
-    texopt_pack_options pack;            /* gutter, cell; zero = defaults */
+    texopt_budget kind;                    /* RELATIVE_COST or TEXTURE_SIZE */
+    double relative_cost;                  /* with RELATIVE_COST, > 0 */
+    int texture_width, texture_height;     /* with TEXTURE_SIZE */
+    double input_cost;                     /* covered texels of the input layout, > 0 */
+    int input_width, input_height;         /* input frame, for the aspect */
+    texopt_pack_options pack;              /* gutter, cell; zero = defaults */
     const texopt_triangle_target *targets; /* may be NULL: the per-triangle targets the
                                             layout was solved for. A chart none of whose
                                             triangles cares about rotation (w_rotation 0: every
@@ -45,30 +45,30 @@ typedef struct texopt_budget_request {
                                             smallest bounding rectangle (chart_orient.h);
                                             the others, and all with NULL, keep their angle
                                             up to the packer's quarter turns */
-    double reshape_efficiency;           /* 0 = off: charts keep their shape. In (0, 1]: when
+    double reshape_efficiency;             /* 0 = off: charts keep their shape. In (0, 1]: when
                                             the packing's efficiency falls short of it, the
                                             charts filling little of their axis-aligned box
                                             are pulled toward it (chart_reshape.h, with the
                                             targets' weights; after any turn) and packed
                                             again; the tighter packing is kept */
-    const uint8_t *keep_shape;           /* may be NULL: per chart, nonzero = never reshaped
+    const uint8_t *keep_shape;             /* may be NULL: per chart, nonzero = never reshaped
                                             (a sharing group, texel_share.h: its charts must
                                             stay on each other) */
-    int threads;                         /* for the packing search and the reshape's
+    int threads;                           /* for the packing search and the reshape's
                                             solves; 0 -> 1. The result does not depend
                                             on it */
-    const texopt_monitor *monitor;       /* may be NULL; checked for cancellation between
+    const texopt_monitor *monitor;         /* may be NULL; checked for cancellation between
                                             packings (TEXOPT_E_CANCELED) */
 } texopt_budget_request;
 
 typedef struct texopt_budget_result {
-    int width, height;          /* output texture */
-    double scale;               /* applied to the layout before packing */
-    double cost;                /* covered texels of the packed layout */
-    double relative_cost;       /* cost / input_cost */
-    double packing_efficiency;  /* cost / (width * height) */
-    int packings;               /* pack runs spent */
-    int no_fit;                 /* texture size: the charts fit it at no scale (with
+    int width, height;         /* output texture */
+    double scale;              /* applied to the layout before packing */
+    double cost;               /* covered texels of the packed layout */
+    double relative_cost;      /* cost / input_cost */
+    double packing_efficiency; /* cost / (width * height) */
+    int packings;              /* pack runs spent */
+    int no_fit;                /* texture size: the charts fit it at no scale (with
                                    TEXOPT_E_LIMIT; the other fields are then 0) */
 } texopt_budget_result;
 
@@ -76,8 +76,7 @@ typedef struct texopt_budget_result {
  * packs it and writes the packed positions (output texels, 2 per vertex) to texel_out.
  * TEXOPT_E_LIMIT when the budget needs a texture past 16384 a side (relative cost) or the
  * charts cannot fit at any useful scale (texture size). */
-texopt_status texopt_budget_fit(const texopt_mesh *mesh, const double *texel,
-                                const texopt_budget_request *req, double *texel_out,
-                                texopt_budget_result *res, char *err, size_t err_len);
+texopt_status texopt_budget_fit(const texopt_mesh *mesh, const double *texel, const texopt_budget_request *req,
+                                double *texel_out, texopt_budget_result *res, char *err, size_t err_len);
 
 #endif

@@ -31,7 +31,7 @@
 #define OVERLAP_SLACK 1e-3
 
 typedef struct chart_shape {
-    double area;        /* texel area of its triangles */
+    double area;         /* texel area of its triangles */
     double lo[2], hi[2]; /* axis-aligned box */
 } chart_shape;
 
@@ -49,13 +49,13 @@ typedef struct reshape {
     uint8_t *folded;           /* per chart: holds both input orientations */
     chart_shape *shape;        /* per chart, of the layout being measured */
     texopt_triangle_target *targets;
-    tri_edge *edges;           /* the boundary edges, directed as their triangle lists them */
+    tri_edge *edges; /* the boundary edges, directed as their triangle lists them */
     size_t edge_count;
-    double *normal;            /* per vertex: outward boundary normal (2) */
+    double *normal; /* per vertex: outward boundary normal (2) */
     double *anchor, *weight, *solved;
-    double *pull;              /* per chart: weight of the current solve */
+    double *pull;                       /* per chart: weight of the current solve */
     uint32_t *tri_start, *tri_of_chart; /* the triangles of each chart (CSR) */
-    uint16_t *hits;            /* OVERLAP_SAMPLES sample counters */
+    uint16_t *hits;                     /* OVERLAP_SAMPLES sample counters */
 } reshape;
 
 static void reshape_free(reshape *r)
@@ -212,8 +212,8 @@ static texopt_status mark_outer_boundary(reshape *r, const double *x, char *err,
     }
     for (size_t v = 0; v < m->vertex_count; v++) {
         uint32_t c = r->chart_of_vertex[v];
-        r->outer[v] = on_boundary[v] && c != UINT32_MAX &&
-                      find_root(parent, (uint32_t)v) == find_root(parent, leftmost[c]);
+        r->outer[v] =
+            on_boundary[v] && c != UINT32_MAX && find_root(parent, (uint32_t)v) == find_root(parent, leftmost[c]);
     }
     free(parent);
     free(leftmost);
@@ -457,8 +457,7 @@ static texopt_status reshape_init(reshape *r, const texopt_mesh *m, const double
     for (size_t t = 0; t < m->triangle_count; t++)
         if (m->chart_of[t] >= r->charts)
             return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                               "reshape: triangle %zu in chart %u past chart count %zu", t, m->chart_of[t],
-                               r->charts);
+                               "reshape: triangle %zu in chart %u past chart count %zu", t, m->chart_of[t], r->charts);
     if (!index_chart_triangles(r))
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "reshape: no memory for %zu charts", r->charts);
     classify_charts(r);
@@ -481,9 +480,9 @@ static void copy_chart(const reshape *r, uint32_t c, const double *from, double 
  * weight known to fall short and the weakest known to reach the goal (0: none yet). */
 typedef struct rung_state {
     double pull, short_of, reaching;
-    double overlap;     /* its self-overlap share before the reshape */
-    chart_shape best;   /* of the result kept so far */
-    int bisections;     /* done since the goal was first reached */
+    double overlap;   /* its self-overlap share before the reshape */
+    chart_shape best; /* of the result kept so far */
+    int bisections;   /* done since the goal was first reached */
 } rung_state;
 
 /* After a solve: keeps chart c's result in texel_out when it is the best so far (the
@@ -491,8 +490,7 @@ typedef struct rung_state {
  * ladder until the goal is reached, then BISECTIONS geometric bisections between the last
  * weight short of it and the first reaching it. A pull that folds the chart over itself
  * ends the chart's climb at the result kept. Returns 1 when the chart goes on. */
-static int next_rung(reshape *r, uint32_t c, rung_state *g, double goal, double *texel_out,
-                     texopt_reshape_report *rep)
+static int next_rung(reshape *r, uint32_t c, rung_state *g, double goal, double *texel_out, texopt_reshape_report *rep)
 {
     if (overlap_share(r, c, r->solved) > g->overlap + OVERLAP_SLACK) {
         rep->charts_overlapping++;
@@ -550,8 +548,11 @@ static texopt_status climb(reshape *r, const double *texel, double goal, int thr
             r->pull[c] = g[c].pull;
         measure_charts(r, texel); /* anchors are set on the starting boxes */
         set_anchors(r, texel, r->pull, goal);
-        texopt_meshwise_options o = {.max_iterations = SOLVE_ITERATIONS, .threads = threads,
-                                     .fit_weight = FIT_WEIGHT, .anchor = r->anchor, .anchor_weight = r->weight};
+        texopt_meshwise_options o = {.max_iterations = SOLVE_ITERATIONS,
+                                     .threads = threads,
+                                     .fit_weight = FIT_WEIGHT,
+                                     .anchor = r->anchor,
+                                     .anchor_weight = r->weight};
         st = texopt_meshwise_solve(r->mesh, r->targets, texel, &o, r->solved, NULL, NULL, err, err_len);
         if (st != TEXOPT_OK)
             break;
@@ -566,10 +567,9 @@ static texopt_status climb(reshape *r, const double *texel, double goal, int thr
     return st;
 }
 
-texopt_status texopt_chart_reshape(const texopt_mesh *mesh, const double *texel,
-                                   const texopt_triangle_target *targets,
-                                   const texopt_reshape_options *opt, double *texel_out,
-                                   texopt_reshape_report *report, char *err, size_t err_len)
+texopt_status texopt_chart_reshape(const texopt_mesh *mesh, const double *texel, const texopt_triangle_target *targets,
+                                   const texopt_reshape_options *opt, double *texel_out, texopt_reshape_report *report,
+                                   char *err, size_t err_len)
 {
     if (!mesh || !texel || !opt || !texel_out || texel == texel_out)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,

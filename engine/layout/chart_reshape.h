@@ -30,20 +30,20 @@
 #include "target.h"
 
 typedef struct texopt_reshape_options {
-    double box_fill; /* goal box fill in (0, 1]: charts below it are reshaped */
-    int threads;     /* for the solves; 0 -> 1 */
+    double box_fill;     /* goal box fill in (0, 1]: charts below it are reshaped */
+    int threads;         /* for the solves; 0 -> 1 */
     const uint8_t *keep; /* may be NULL: per chart, nonzero = not reshaped, like a folded
                             chart (a sharing group, texel_share.h: the solve here does not
                             hold its charts on each other) */
 } texopt_reshape_options;
 
 typedef struct texopt_reshape_report {
-    int charts_below;   /* charts below the goal before (folded ones included) */
+    int charts_below; /* charts below the goal before (folded ones included) */
     int charts_reshaped;
-    int charts_reaching; /* reshaped charts that reached the goal */
+    int charts_reaching;    /* reshaped charts that reached the goal */
     int charts_overlapping; /* reshaped charts held back at a weaker pull because a stronger
                                one made them overlap themselves */
-    double fill_before; /* sum of chart areas / sum of their box areas */
+    double fill_before;     /* sum of chart areas / sum of their box areas */
     double fill_after;
     int solves;
 } texopt_reshape_report;
@@ -53,9 +53,8 @@ typedef struct texopt_reshape_report {
  * to texel_out (must not alias texel). targets (may be NULL: weights 1) gives each
  * triangle's w_rotation and w_stretch, how much its rotation and stretch may give. report
  * may be NULL. */
-texopt_status texopt_chart_reshape(const texopt_mesh *mesh, const double *texel,
-                                   const texopt_triangle_target *targets,
-                                   const texopt_reshape_options *opt, double *texel_out,
-                                   texopt_reshape_report *report, char *err, size_t err_len);
+texopt_status texopt_chart_reshape(const texopt_mesh *mesh, const double *texel, const texopt_triangle_target *targets,
+                                   const texopt_reshape_options *opt, double *texel_out, texopt_reshape_report *report,
+                                   char *err, size_t err_len);
 
 #endif

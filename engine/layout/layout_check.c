@@ -10,14 +10,10 @@
 const char *texopt_layout_failure_name(texopt_layout_failure failure)
 {
     switch (failure) {
-    case TEXOPT_LAYOUT_OVERLAP:
-        return "overlap";
-    case TEXOPT_LAYOUT_FOLDOVER:
-        return "foldover";
-    case TEXOPT_LAYOUT_AREA:
-        return "area";
-    default:
-        return NULL;
+    case TEXOPT_LAYOUT_OVERLAP: return "overlap";
+    case TEXOPT_LAYOUT_FOLDOVER: return "foldover";
+    case TEXOPT_LAYOUT_AREA: return "area";
+    default: return NULL;
     }
 }
 
@@ -88,8 +84,7 @@ static int claim_texels(const texopt_mesh *m, const double *texel, int width, in
 
 /* Triangles covering a texel of another sharing group (group_of_chart) in the new layout. */
 static texopt_status check_overlaps(const texopt_mesh *m, const double *texel, int width, int height,
-                                    const uint32_t *group_of_chart, texopt_layout_check *out, char *err,
-                                    size_t err_len)
+                                    const uint32_t *group_of_chart, texopt_layout_check *out, char *err, size_t err_len)
 {
     if ((uint64_t)width * (uint64_t)height > OWNER_MAX_TEXELS || width <= 0 || height <= 0)
         return TEXOPT_OK;

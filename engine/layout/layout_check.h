@@ -42,9 +42,9 @@ typedef enum texopt_layout_failure {
 
 typedef struct texopt_layout_check {
     texopt_layout_failure failed;
-    size_t overlapping;  /* triangles on texels of another sharing group */
-    size_t folded;       /* new fold-overs */
-    size_t oversized;    /* triangles far above their target area */
+    size_t overlapping; /* triangles on texels of another sharing group */
+    size_t folded;      /* new fold-overs */
+    size_t oversized;   /* triangles far above their target area */
     size_t listed;
     uint32_t triangles[TEXOPT_LAYOUT_CHECK_LISTED]; /* model triangles of the failed check */
 } texopt_layout_check;

@@ -15,39 +15,51 @@
 #include <string.h>
 
 typedef struct footprint {
-    int w, h;        /* cells */
-    int *lo, *hi;    /* per row: hull span, lo > hi for an empty row */
-    uint8_t *bits;   /* w * h exact footprint */
-    int *run_start;  /* h + 1 offsets into runs */
-    int *runs;       /* pairs (first, last) of the footprint's runs of cells, row by row */
-    int *need;       /* per row: occupied cells */
-    int min_need;    /* smallest need of a row */
-    int *longest;    /* per row: its longest run of cells */
-    int min_longest; /* smallest longest run of a row */
+    int w, h;         /* cells */
+    int *lo, *hi;     /* per row: hull span, lo > hi for an empty row */
+    uint8_t *bits;    /* w * h exact footprint */
+    int *run_start;   /* h + 1 offsets into runs */
+    int *runs;        /* pairs (first, last) of the footprint's runs of cells, row by row */
+    int *need;        /* per row: occupied cells */
+    int min_need;     /* smallest need of a row */
+    int *longest;     /* per row: its longest run of cells */
+    int min_longest;  /* smallest longest run of a row */
     double origin[2]; /* texel position (after rotation) of cell (0, 0) */
 } footprint;
 
 typedef struct chart_set {
     size_t count;
-    uint32_t *start;    /* count + 1 offsets into tris */
-    uint32_t *tris;     /* triangles grouped by chart */
-    double *area;       /* per chart, sum of |texel area| */
+    uint32_t *start; /* count + 1 offsets into tris */
+    uint32_t *tris;  /* triangles grouped by chart */
+    double *area;    /* per chart, sum of |texel area| */
 } chart_set;
 
 typedef struct occupancy {
     int w, h, words;
-    uint64_t *bits;     /* h rows of `words` words */
-    int *free_cells;    /* per row */
-    int *free_run;      /* per row: its longest run of free cells */
+    uint64_t *bits;  /* h rows of `words` words */
+    int *free_cells; /* per row */
+    int *free_run;   /* per row: its longest run of free cells */
 } occupancy;
 
 static void rotate(int k, double x, double y, double *ox, double *oy)
 {
     switch (k & 3) {
-    case 0: *ox = x; *oy = y; break;
-    case 1: *ox = -y; *oy = x; break;
-    case 2: *ox = -x; *oy = -y; break;
-    default: *ox = y; *oy = -x; break;
+    case 0:
+        *ox = x;
+        *oy = y;
+        break;
+    case 1:
+        *ox = -y;
+        *oy = x;
+        break;
+    case 2:
+        *ox = -x;
+        *oy = -y;
+        break;
+    default:
+        *ox = y;
+        *oy = -x;
+        break;
     }
 }
 
@@ -58,8 +70,8 @@ static void chart_set_destroy(chart_set *cs)
     free(cs->area);
 }
 
-static texopt_status group_charts(const texopt_mesh *mesh, const double *texel, chart_set *cs,
-                                  char *err, size_t err_len)
+static texopt_status group_charts(const texopt_mesh *mesh, const double *texel, chart_set *cs, char *err,
+                                  size_t err_len)
 {
     memset(cs, 0, sizeof *cs);
     cs->count = mesh->chart_count;
@@ -204,8 +216,8 @@ static int build_runs(footprint *f)
 }
 
 /* The footprint of chart c in rotation k. */
-static int build_footprint(const texopt_mesh *mesh, const double *texel, const chart_set *cs,
-                           size_t c, int k, double pad, double cell, footprint *f)
+static int build_footprint(const texopt_mesh *mesh, const double *texel, const chart_set *cs, size_t c, int k,
+                           double pad, double cell, footprint *f)
 {
     memset(f, 0, sizeof *f);
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
@@ -417,9 +429,8 @@ static int choose_cell(int width, int height, const texopt_pack_options *opt)
     return side <= 1024 ? 1 : (side + 1023) / 1024;
 }
 
-static void move_chart(const texopt_mesh *mesh, const double *texel, const chart_set *cs, size_t c,
-                       int k, const footprint *f, double dx, double dy, double *texel_out,
-                       uint8_t *moved)
+static void move_chart(const texopt_mesh *mesh, const double *texel, const chart_set *cs, size_t c, int k,
+                       const footprint *f, double dx, double dy, double *texel_out, uint8_t *moved)
 {
     for (uint32_t i = cs->start[c]; i < cs->start[c + 1]; i++)
         for (int j = 0; j < 3; j++) {
@@ -438,10 +449,10 @@ struct texopt_packer {
     const texopt_mesh *mesh;
     const double *texel;
     chart_set cs;
-    footprint *fp;          /* 4 per chart: the chart in each quarter turn */
-    uint32_t *order[2];     /* charts by triangle area, by bounding-box area */
+    footprint *fp;      /* 4 per chart: the chart in each quarter turn */
+    uint32_t *order[2]; /* charts by triangle area, by bounding-box area */
     double pad, cell;
-    int unbounded_rows;     /* grid rows of the "as tall as needed" mode */
+    int unbounded_rows; /* grid rows of the "as tall as needed" mode */
 };
 
 typedef struct pack_state {
@@ -521,8 +532,8 @@ static texopt_status check_inputs(const texopt_mesh *mesh, const double *texel, 
 static texopt_status check_size(int width, int height, char *err, size_t err_len)
 {
     if (width < 1 || width > 65536 || height < 0 || height > 65536)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "pack: texture size %dx%d is out of range",
-                           width, height);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "pack: texture size %dx%d is out of range", width,
+                           height);
     return TEXOPT_OK;
 }
 
@@ -549,8 +560,7 @@ static texopt_status check_sequence(const uint32_t *sequence, size_t count, char
 }
 
 /* Rows enough to stack every chart by its longer side (the "as tall as needed" mode). */
-static int unbounded_rows(const chart_set *cs, const texopt_mesh *mesh, const double *texel,
-                          double pad, double cell)
+static int unbounded_rows(const chart_set *cs, const texopt_mesh *mesh, const double *texel, double pad, double cell)
 {
     double rows = 1;
     for (size_t c = 0; c < cs->count; c++) {
@@ -678,8 +688,7 @@ static void finish_result(const pack_state *s, int width, int height, texopt_pac
 }
 
 texopt_status texopt_packer_run(const texopt_packer *p, int width, int height, const texopt_pack_options *opt,
-                                double *texel_out, texopt_pack_result *result, int *fits, char *err,
-                                size_t err_len)
+                                double *texel_out, texopt_pack_result *result, int *fits, char *err, size_t err_len)
 {
     const uint32_t *sequence = opt ? opt->sequence : NULL;
     int order = opt ? opt->order : 0;
@@ -727,8 +736,8 @@ texopt_status texopt_packer_run(const texopt_packer *p, int width, int height, c
 }
 
 texopt_status texopt_pack_charts(const texopt_mesh *mesh, const double *texel, int width, int height,
-                                 const texopt_pack_options *opt, double *texel_out,
-                                 texopt_pack_result *result, int *fits, char *err, size_t err_len)
+                                 const texopt_pack_options *opt, double *texel_out, texopt_pack_result *result,
+                                 int *fits, char *err, size_t err_len)
 {
     memset(result, 0, sizeof *result);
     *fits = 0;

@@ -36,25 +36,25 @@ typedef enum texopt_pack_rule {
 } texopt_pack_rule;
 
 typedef struct texopt_pack_options {
-    int gutter;    /* texels between charts; 0 -> 4 (bilinear plus two mip levels) */
-    int cell;      /* placement grid cell in texels; 0 -> chosen from the texture size
+    int gutter;               /* texels between charts; 0 -> 4 (bilinear plus two mip levels) */
+    int cell;                 /* placement grid cell in texels; 0 -> chosen from the texture size
                       (1 up to 1024, then so the grid stays <= 1024 cells a side) */
-    int order;     /* placement order: 0 largest triangle area first, 1 largest bounding
+    int order;                /* placement order: 0 largest triangle area first, 1 largest bounding
                       box first (better for elongated charts; budget.h tries both) */
     const uint32_t *sequence; /* optional: the placement order itself, every chart index
                                  0..chart_count-1 once (budget.h searches orders this way);
                                  NULL = by `order` */
-    int rule;      /* texopt_pack_rule; 0 = lowest top */
+    int rule;                 /* texopt_pack_rule; 0 = lowest top */
 } texopt_pack_options;
 
 typedef struct texopt_pack_result {
-    int width, height;     /* texture size the charts were packed into */
-    int used_height;       /* rows actually used (the top of the highest chart + gutter/2) */
-    int used_width;        /* columns actually used (the right of the rightmost chart +
+    int width, height;      /* texture size the charts were packed into */
+    int used_height;        /* rows actually used (the top of the highest chart + gutter/2) */
+    int used_width;         /* columns actually used (the right of the rightmost chart +
                               gutter/2): the texture may be cut to it, rounded up to 4 */
     double area_efficiency; /* sum of |texel area| of the triangles / (width * height) */
     size_t chart_count;
-    uint8_t *rotation;     /* per chart: quarter turns 0..3 (counter-clockwise in (x, y)) */
+    uint8_t *rotation; /* per chart: quarter turns 0..3 (counter-clockwise in (x, y)) */
 } texopt_pack_result;
 
 /* Packs the charts of mesh (mesh->chart_of, mesh->triangle) laid out at `texel` (2 per mesh
@@ -65,8 +65,8 @@ typedef struct texopt_pack_result {
  * *fits is 0 and TEXOPT_OK is returned (texel_out is then undefined). result->rotation is
  * allocated by the call; free it with texopt_pack_result_destroy. opt may be NULL. */
 texopt_status texopt_pack_charts(const texopt_mesh *mesh, const double *texel, int width, int height,
-                                 const texopt_pack_options *opt, double *texel_out,
-                                 texopt_pack_result *result, int *fits, char *err, size_t err_len);
+                                 const texopt_pack_options *opt, double *texel_out, texopt_pack_result *result,
+                                 int *fits, char *err, size_t err_len);
 
 void texopt_pack_result_destroy(texopt_pack_result *result);
 
@@ -82,8 +82,7 @@ texopt_status texopt_packer_create(texopt_packer **out, const texopt_mesh *mesh,
 /* As texopt_pack_charts with the packer's layout, gutter and cell; of opt (may be NULL)
  * only order, sequence and rule are read. */
 texopt_status texopt_packer_run(const texopt_packer *packer, int width, int height, const texopt_pack_options *opt,
-                                double *texel_out, texopt_pack_result *result, int *fits, char *err,
-                                size_t err_len);
+                                double *texel_out, texopt_pack_result *result, int *fits, char *err, size_t err_len);
 
 void texopt_packer_destroy(texopt_packer *packer);
 

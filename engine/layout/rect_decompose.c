@@ -114,7 +114,8 @@ static texopt_status grid_build(grid *g, const double *xy, size_t n, char *err, 
         const double *a = xy + 2 * i, *b = xy + 2 * ((i + 1) % n);
         size_t ia = index_of(g->xs, g->nx, a[0]), ib = index_of(g->xs, g->nx, b[0]);
         size_t ja = index_of(g->ys, g->ny, a[1]), jb = index_of(g->ys, g->ny, b[1]);
-        size_t lo = ia == ib ? (ja < jb ? ja : jb) : (ia < ib ? ia : ib), hi = ia == ib ? (ja < jb ? jb : ja) : (ia < ib ? ib : ia);
+        size_t lo = ia == ib ? (ja < jb ? ja : jb) : (ia < ib ? ia : ib),
+               hi = ia == ib ? (ja < jb ? jb : ja) : (ia < ib ? ib : ia);
         for (size_t k = lo; k <= hi; k++) {
             g->visited[ia == ib ? k * g->nx + ia : ja * g->nx + k] = 1;
             if (k < hi) {
@@ -281,8 +282,7 @@ typedef struct skyline_seg {
 
 /* Bottom-left skyline packing into a strip of width W; returns the height, or INFINITY when
  * a rectangle is wider than the strip or memory runs out. */
-static double skyline(const double *w, const double *h, const size_t *order, size_t n, double W, double *x,
-                      double *y)
+static double skyline(const double *w, const double *h, const size_t *order, size_t n, double W, double *x, double *y)
 {
     skyline_seg *s = malloc((2 * n + 2) * sizeof *s), *t = malloc((2 * n + 2) * sizeof *t);
     if (!s || !t) {
@@ -345,8 +345,8 @@ static int by_key_desc(const void *pa, const void *pb)
     return a > b ? -1 : a < b;
 }
 
-double texopt_rect_pack(const double *w, const double *h, size_t n, double padding, double *x, double *y,
-                        double *width, double *height)
+double texopt_rect_pack(const double *w, const double *h, size_t n, double padding, double *x, double *y, double *width,
+                        double *height)
 {
     double *pw = malloc((n + 1) * sizeof *pw), *ph = malloc((n + 1) * sizeof *ph);
     double *tx = malloc((n + 1) * sizeof *tx), *ty = malloc((n + 1) * sizeof *ty);

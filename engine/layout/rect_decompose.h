@@ -43,13 +43,13 @@ texopt_status texopt_rect_decompose(const double *xy, size_t n, const uint8_t *c
 /* Packs n rectangles (w[i] x h[i], each padded by `padding` on its right and top) into a
  * strip; x, y get the lower left corners, *width x *height the bounding box. Returns the
  * packing efficiency sum(w h) / (width height). */
-double texopt_rect_pack(const double *w, const double *h, size_t n, double padding, double *x, double *y,
-                        double *width, double *height);
+double texopt_rect_pack(const double *w, const double *h, size_t n, double padding, double *x, double *y, double *width,
+                        double *height);
 
 typedef struct texopt_rect_choice {
     double score, efficiency, boundary_ratio; /* eq. 11 and its parts, BL1 / BL0 */
     size_t rect_count;
-    int candidates_kept;                      /* of those drawn, passing both filters */
+    int candidates_kept; /* of those drawn, passing both filters */
 } texopt_rect_choice;
 
 /* Draws `candidates` random motorcycle choices for the polygon (seeded), scores each by

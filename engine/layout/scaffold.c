@@ -20,12 +20,12 @@
 
 #define DEFAULT_WEIGHT 0.01
 #define DEFAULT_REMESH 10
-#define BOX_MARGIN 1.0       /* box side = (1 + 2 margin) x the charts' extent */
+#define BOX_MARGIN 1.0        /* box side = (1 + 2 margin) x the charts' extent */
 #define TILING_TOLERANCE 1e-7 /* relative area mismatch that means overlap */
 
 typedef struct scaffold_build {
-    size_t base;       /* first extra vertex index: the mesh's vertex count */
-    double *position;  /* box corners, 2 each */
+    size_t base;      /* first extra vertex index: the mesh's vertex count */
+    double *position; /* box corners, 2 each */
     size_t vertex_count, vertex_cap;
     uint32_t *triangle;
     double *rest;
@@ -310,7 +310,8 @@ texopt_status texopt_scaffold_solve(const texopt_mesh *mesh, const texopt_triang
                                     texopt_scaffold_report *report, const texopt_monitor *monitor, char *err,
                                     size_t err_len)
 {
-    if (!mesh || !targets || !texel_out || !mesh->texel || (mesh->triangle_count && (!mesh->triangle || !mesh->chart_of)))
+    if (!mesh || !targets || !texel_out || !mesh->texel ||
+        (mesh->triangle_count && (!mesh->triangle || !mesh->chart_of)))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "scaffold: NULL mesh, targets or output");
     if (sopt && (sopt->weight < 0.0 || !isfinite(sopt->weight) || sopt->remesh_iterations < 0))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "scaffold: negative weight or re-mesh interval");
@@ -336,8 +337,9 @@ texopt_status texopt_scaffold_solve(const texopt_mesh *mesh, const texopt_triang
         scaffold_build sb = {0};
         sb.base = mesh->vertex_count;
         st = build_scaffold(mesh, x, sopt && sopt->one_box, &sb, err, err_len);
-        texopt_meshwise_scaffold sc = {sb.vertex_count, sb.position, sb.triangle_count, sb.triangle, sb.rest,
-                                       sopt && sopt->weight > 0.0 ? sopt->weight : DEFAULT_WEIGHT};
+        texopt_meshwise_scaffold sc = {sb.vertex_count,   sb.position,
+                                       sb.triangle_count, sb.triangle,
+                                       sb.rest,           sopt && sopt->weight > 0.0 ? sopt->weight : DEFAULT_WEIGHT};
         mopt.scaffold = sb.triangle_count ? &sc : NULL;
         mopt.max_iterations = max_iterations - done < round ? max_iterations - done : round;
         texopt_meshwise_report r;

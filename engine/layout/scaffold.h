@@ -38,10 +38,10 @@ typedef struct texopt_scaffold_options {
 } texopt_scaffold_options;
 
 typedef struct texopt_scaffold_report {
-    int rounds;              /* scaffolds built: re-meshes + 1 */
+    int rounds; /* scaffolds built: re-meshes + 1 */
     size_t charts_scaffolded;
-    size_t charts_skipped;   /* overlapping at the start: solved without a scaffold */
-    size_t triangles;        /* scaffold triangles of the last round */
+    size_t charts_skipped;           /* overlapping at the start: solved without a scaffold */
+    size_t triangles;                /* scaffold triangles of the last round */
     texopt_meshwise_report meshwise; /* of the last round, iterations and seconds of all */
 } texopt_scaffold_report;
 

@@ -70,8 +70,8 @@ static double area_at(const texopt_mesh *mesh, const texopt_triangle_target *in,
     return sum;
 }
 
-static texopt_status check_targets(const texopt_mesh *mesh, const texopt_triangle_target *in,
-                                   double *lambda_min, char *err, size_t err_len)
+static texopt_status check_targets(const texopt_mesh *mesh, const texopt_triangle_target *in, double *lambda_min,
+                                   char *err, size_t err_len)
 {
     *lambda_min = 1;
     for (size_t t = 0; t < mesh->triangle_count; t++) {
@@ -86,8 +86,7 @@ static texopt_status check_targets(const texopt_mesh *mesh, const texopt_triangl
     return TEXOPT_OK;
 }
 
-static texopt_status check_paid(const texopt_mesh *mesh, const texopt_allocate_options *opt, char *err,
-                                size_t err_len)
+static texopt_status check_paid(const texopt_mesh *mesh, const texopt_allocate_options *opt, char *err, size_t err_len)
 {
     for (size_t t = 0; opt && opt->paid && t < mesh->triangle_count; t++)
         if (!(opt->paid[t] >= 0 && opt->paid[t] <= 1))
@@ -97,8 +96,8 @@ static texopt_status check_paid(const texopt_mesh *mesh, const texopt_allocate_o
 }
 
 /* The factor s in [lo, hi] whose area is the request (bisection on log s). */
-static double solve_scale(const texopt_mesh *mesh, const texopt_triangle_target *in, double request,
-                          double lo, double hi, const texopt_allocate_options *opt)
+static double solve_scale(const texopt_mesh *mesh, const texopt_triangle_target *in, double request, double lo,
+                          double hi, const texopt_allocate_options *opt)
 {
     if (area_at(mesh, in, hi, opt) <= request)
         return hi;
@@ -114,10 +113,9 @@ static double solve_scale(const texopt_mesh *mesh, const texopt_triangle_target 
     return sqrt(lo * hi);
 }
 
-texopt_status texopt_allocate_targets(const texopt_mesh *mesh, const texopt_triangle_target *in,
-                                      double area_requested, const texopt_allocate_options *opt,
-                                      texopt_triangle_target *out, texopt_allocation *report,
-                                      char *err, size_t err_len)
+texopt_status texopt_allocate_targets(const texopt_mesh *mesh, const texopt_triangle_target *in, double area_requested,
+                                      const texopt_allocate_options *opt, texopt_triangle_target *out,
+                                      texopt_allocation *report, char *err, size_t err_len)
 {
     if (!mesh || !in || !out)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "allocate: missing mesh or targets");
@@ -188,10 +186,10 @@ static texopt_status check_reallocate(const texopt_mesh *mesh, const double *err
     return TEXOPT_OK;
 }
 
-texopt_status texopt_reallocate_by_error(const texopt_mesh *mesh, const texopt_triangle_target *in,
-                                         const double *error, double area_requested,
-                                         const texopt_reallocate_options *opt, texopt_triangle_target *out,
-                                         texopt_allocation *report, char *err, size_t err_len)
+texopt_status texopt_reallocate_by_error(const texopt_mesh *mesh, const texopt_triangle_target *in, const double *error,
+                                         double area_requested, const texopt_reallocate_options *opt,
+                                         texopt_triangle_target *out, texopt_allocation *report, char *err,
+                                         size_t err_len)
 {
     if (!mesh || !in || !error || !out)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "reallocate: missing mesh, targets or errors");

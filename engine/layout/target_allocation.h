@@ -58,10 +58,9 @@ typedef struct texopt_allocation {
 /* Writes to out (mesh->triangle_count entries; may equal in) the targets in rescaled to a
  * total texel area of area_requested (> 0). a_i is |mesh->area_texel| (times opt->paid[i]
  * when given); degenerate triangles are copied unchanged. opt and report may be NULL. */
-texopt_status texopt_allocate_targets(const texopt_mesh *mesh, const texopt_triangle_target *in,
-                                      double area_requested, const texopt_allocate_options *opt,
-                                      texopt_triangle_target *out, texopt_allocation *report,
-                                      char *err, size_t err_len);
+texopt_status texopt_allocate_targets(const texopt_mesh *mesh, const texopt_triangle_target *in, double area_requested,
+                                      const texopt_allocate_options *opt, texopt_triangle_target *out,
+                                      texopt_allocation *report, char *err, size_t err_len);
 
 /* The targets' total texel area as allocated above: sum a_i lambda1 lambda2 over the counted
  * triangles, a_i times paid[i] when paid is not NULL. */
@@ -86,9 +85,9 @@ typedef struct texopt_reallocate_options {
     const double *paid;        /* as texopt_allocate_options.paid; may be NULL */
 } texopt_reallocate_options;
 
-texopt_status texopt_reallocate_by_error(const texopt_mesh *mesh, const texopt_triangle_target *in,
-                                         const double *error, double area_requested,
-                                         const texopt_reallocate_options *opt, texopt_triangle_target *out,
-                                         texopt_allocation *report, char *err, size_t err_len);
+texopt_status texopt_reallocate_by_error(const texopt_mesh *mesh, const texopt_triangle_target *in, const double *error,
+                                         double area_requested, const texopt_reallocate_options *opt,
+                                         texopt_triangle_target *out, texopt_allocation *report, char *err,
+                                         size_t err_len);
 
 #endif

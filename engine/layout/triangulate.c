@@ -58,8 +58,7 @@ static int32_t new_tri(builder *b)
     return (int32_t)b->count++;
 }
 
-static void set_tri(builder *b, int32_t t, uint32_t v0, uint32_t v1, uint32_t v2, int32_t n0, int32_t n1,
-                    int32_t n2)
+static void set_tri(builder *b, int32_t t, uint32_t v0, uint32_t v1, uint32_t v2, int32_t n0, int32_t n1, int32_t n2)
 {
     tri *x = &b->t[t];
     x->v[0] = v0;
@@ -228,8 +227,8 @@ static texopt_status insert_points(builder *b, char *err, size_t err_len)
         for (int k = 0; k < 3; k++) {
             const double *q = pt(b, b->t[t].v[k]);
             if (q[0] == pt(b, (uint32_t)v)[0] && q[1] == pt(b, (uint32_t)v)[1])
-                st = texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                                 "triangulate: points %zu and %u coincide", v, b->t[t].v[k]);
+                st = texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "triangulate: points %zu and %u coincide", v,
+                                 b->t[t].v[k]);
         }
         if (st != TEXOPT_OK)
             break;
@@ -375,8 +374,8 @@ static texopt_status recover_segment(builder *b, uint32_t a, uint32_t c, const u
 
 /* Depth by levels: flood each level through non-segment edges, then step across the
  * segments on its border into the next. */
-static texopt_status compute_depths(const builder *b, const uint64_t *keys, size_t segment_count, int *depth,
-                                    char *err, size_t err_len)
+static texopt_status compute_depths(const builder *b, const uint64_t *keys, size_t segment_count, int *depth, char *err,
+                                    size_t err_len)
 {
     int32_t *level = malloc((b->count + 1) * sizeof *level); /* triangles of the level, in order */
     if (!level)
@@ -392,7 +391,8 @@ static texopt_status compute_depths(const builder *b, const uint64_t *keys, size
         for (size_t k = 0; k < n; k++) /* n grows while the level floods */
             for (int i = 0; i < 3; i++) {
                 int32_t t = level[k], u = b->t[t].nb[i];
-                if (u >= 0 && depth[u] < 0 && !is_segment(keys, segment_count, b->t[t].v[(i + 1) % 3], b->t[t].v[(i + 2) % 3])) {
+                if (u >= 0 && depth[u] < 0 &&
+                    !is_segment(keys, segment_count, b->t[t].v[(i + 1) % 3], b->t[t].v[(i + 2) % 3])) {
                     depth[u] = d;
                     level[n++] = u;
                 }
@@ -440,8 +440,7 @@ static texopt_status enclose(builder *b, const double *xy, char *err, size_t err
     return TEXOPT_OK;
 }
 
-static texopt_status collect(const builder *b, const int *depth, texopt_triangulation *out, char *err,
-                             size_t err_len)
+static texopt_status collect(const builder *b, const int *depth, texopt_triangulation *out, char *err, size_t err_len)
 {
     size_t n = 0;
     out->triangle = malloc((3 * b->count + 1) * sizeof *out->triangle);
@@ -461,8 +460,8 @@ static texopt_status collect(const builder *b, const int *depth, texopt_triangul
     return TEXOPT_OK;
 }
 
-texopt_status texopt_triangulate(const double *xy, size_t point_count, const uint32_t *segment,
-                                 size_t segment_count, texopt_triangulation *out, char *err, size_t err_len)
+texopt_status texopt_triangulate(const double *xy, size_t point_count, const uint32_t *segment, size_t segment_count,
+                                 texopt_triangulation *out, char *err, size_t err_len)
 {
     if (!out || (!xy && point_count) || (!segment && segment_count))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "triangulate: NULL argument");

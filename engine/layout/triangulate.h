@@ -28,8 +28,8 @@ typedef struct texopt_triangulation {
  * Fails with TEXOPT_E_INVALID_ARGUMENT on coincident points, fewer than 3 non-collinear
  * points, a segment through another point, or segments that cross. out is zeroed first
  * and owned by the caller (texopt_triangulation_destroy) on success. */
-texopt_status texopt_triangulate(const double *xy, size_t point_count, const uint32_t *segment,
-                                 size_t segment_count, texopt_triangulation *out, char *err, size_t err_len);
+texopt_status texopt_triangulate(const double *xy, size_t point_count, const uint32_t *segment, size_t segment_count,
+                                 texopt_triangulation *out, char *err, size_t err_len);
 
 void texopt_triangulation_destroy(texopt_triangulation *t);
 

@@ -121,23 +121,21 @@ static void uf_union(uint32_t *parent, uint32_t a, uint32_t b)
 
 /* The domain's model vertices in primitive order, each as 5 floats (x, y, z, u, v) so the
  * UV weld and the point weld read one array. Checks ranges and finiteness on the way. */
-static texopt_status gather_vertices(const texopt_model *model, const texopt_domain *dom,
-                                     float **keys_out, size_t *count_out, char *err, size_t err_len)
+static texopt_status gather_vertices(const texopt_model *model, const texopt_domain *dom, float **keys_out,
+                                     size_t *count_out, char *err, size_t err_len)
 {
     size_t count = 0;
     for (int k = 0; k < dom->primitive_count; k++) {
         const texopt_primitive *prim = &model->primitives[dom->primitives[k]];
-        if (prim->first_vertex > model->vertex_count ||
-            prim->vertex_count > model->vertex_count - prim->first_vertex)
+        if (prim->first_vertex > model->vertex_count || prim->vertex_count > model->vertex_count - prim->first_vertex)
             return texopt_fail(err, err_len, TEXOPT_E_MALFORMED,
-                               "primitive %d: vertices [%zu, +%zu) past the model's %zu",
-                               dom->primitives[k], prim->first_vertex, prim->vertex_count,
-                               model->vertex_count);
+                               "primitive %d: vertices [%zu, +%zu) past the model's %zu", dom->primitives[k],
+                               prim->first_vertex, prim->vertex_count, model->vertex_count);
         count += prim->vertex_count;
     }
     if (count >= UINT32_MAX)
-        return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "domain has %zu vertices (limit %u)",
-                           count, (unsigned)UINT32_MAX - 1);
+        return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "domain has %zu vertices (limit %u)", count,
+                           (unsigned)UINT32_MAX - 1);
     float *keys = malloc(sizeof(float) * 5 * (count > 0 ? count : 1));
     if (!keys)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for %zu vertices", count);
@@ -152,8 +150,7 @@ static texopt_status gather_vertices(const texopt_model *model, const texopt_dom
             for (int c = 0; c < 5; c++)
                 if (!isfinite(key[c])) {
                     free(keys);
-                    return texopt_fail(err, err_len, TEXOPT_E_MALFORMED,
-                                       "primitive %d: vertex %zu has a non-finite %s",
+                    return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "primitive %d: vertex %zu has a non-finite %s",
                                        dom->primitives[k], i, c < 3 ? "position" : "UV");
                 }
         }
@@ -164,9 +161,8 @@ static texopt_status gather_vertices(const texopt_model *model, const texopt_dom
 }
 
 /* UV vertices: local model vertices with equal (position, uv). */
-static texopt_status weld_uv_vertices(texopt_mesh *mesh, const float *keys, size_t count,
-                                      const texopt_model *model, const texopt_domain *dom,
-                                      char *err, size_t err_len)
+static texopt_status weld_uv_vertices(texopt_mesh *mesh, const float *keys, size_t count, const texopt_model *model,
+                                      const texopt_domain *dom, char *err, size_t err_len)
 {
     weld_map map;
     uint32_t *first_of = malloc(sizeof(uint32_t) * (count > 0 ? count : 1));
@@ -260,8 +256,8 @@ static texopt_status weld_points(texopt_mesh *mesh, const float *keys, char *err
     return TEXOPT_OK;
 }
 
-static texopt_status collect_triangles(texopt_mesh *mesh, const texopt_model *model,
-                                       const texopt_domain *dom, char *err, size_t err_len)
+static texopt_status collect_triangles(texopt_mesh *mesh, const texopt_model *model, const texopt_domain *dom,
+                                       char *err, size_t err_len)
 {
     size_t nt = 0;
     for (int k = 0; k < dom->primitive_count; k++) {
@@ -269,9 +265,8 @@ static texopt_status collect_triangles(texopt_mesh *mesh, const texopt_model *mo
         if (prim->first_triangle > model->triangle_count ||
             prim->triangle_count > model->triangle_count - prim->first_triangle)
             return texopt_fail(err, err_len, TEXOPT_E_MALFORMED,
-                               "primitive %d: triangles [%zu, +%zu) past the model's %zu",
-                               dom->primitives[k], prim->first_triangle, prim->triangle_count,
-                               model->triangle_count);
+                               "primitive %d: triangles [%zu, +%zu) past the model's %zu", dom->primitives[k],
+                               prim->first_triangle, prim->triangle_count, model->triangle_count);
         nt += prim->triangle_count;
     }
     if (nt >= UINT32_MAX)
@@ -284,8 +279,8 @@ static texopt_status collect_triangles(texopt_mesh *mesh, const texopt_model *mo
     mesh->area_texel = malloc(sizeof(double) * alloc);
     mesh->flags = calloc(alloc, 1);
     mesh->chart_of = malloc(sizeof(uint32_t) * alloc);
-    if (!mesh->triangle || !mesh->model_triangle || !mesh->area_3d || !mesh->area_texel ||
-        !mesh->flags || !mesh->chart_of)
+    if (!mesh->triangle || !mesh->model_triangle || !mesh->area_3d || !mesh->area_texel || !mesh->flags ||
+        !mesh->chart_of)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for %zu triangles", nt);
     size_t t = 0, local = 0;
     for (int k = 0; k < dom->primitive_count; k++) {
@@ -301,8 +296,7 @@ static texopt_status collect_triangles(texopt_mesh *mesh, const texopt_model *mo
                                        "primitive's vertices [%zu, %zu)",
                                        dom->primitives[k], i, mv, prim->first_vertex,
                                        prim->first_vertex + prim->vertex_count);
-                mesh->triangle[3 * t + (size_t)c] =
-                    mesh->vertex_of_model_vertex[local + (mv - prim->first_vertex)];
+                mesh->triangle[3 * t + (size_t)c] = mesh->vertex_of_model_vertex[local + (mv - prim->first_vertex)];
             }
         }
         local += prim->vertex_count;
@@ -310,7 +304,10 @@ static texopt_status collect_triangles(texopt_mesh *mesh, const texopt_model *mo
     return TEXOPT_OK;
 }
 
-static double squared(double x) { return x * x; }
+static double squared(double x)
+{
+    return x * x;
+}
 
 static int is_degenerate(double doubled_area, double longest_edge_sq)
 {
@@ -345,8 +342,7 @@ static void measure_triangle(texopt_mesh *mesh, size_t t)
         e2[c] = p2[c] - p0[c];
         e3[c] = p2[c] - p1[c];
     }
-    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                   e1[0] * e2[1] - e1[1] * e2[0]};
+    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
     double doubled = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     double l1 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2];
     double l2 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
@@ -513,8 +509,7 @@ static tri_edge *sorted_edges(const texopt_mesh *mesh, size_t *count)
 }
 
 /* Vertices on an edge that only one triangle uses. */
-static texopt_status find_boundary(texopt_mesh *mesh, const tri_edge *edges, size_t ne, char *err,
-                                   size_t err_len)
+static texopt_status find_boundary(texopt_mesh *mesh, const tri_edge *edges, size_t ne, char *err, size_t err_len)
 {
     mesh->vertex_on_boundary = calloc(mesh->vertex_count > 0 ? mesh->vertex_count : 1, 1);
     if (!mesh->vertex_on_boundary)
@@ -543,8 +538,7 @@ static int orientation(const texopt_mesh *mesh, uint32_t t)
  * with equal orientation; a patch against its chart's orientation holding less than
  * FOLD_PATCH_FRACTION of the chart's area is a fold-over, and its triangles are FLIPPED. A
  * larger one is a deliberately mirrored part (halves welded at their mirror line). */
-static texopt_status mark_flipped(texopt_mesh *mesh, const tri_edge *edges, size_t ne, char *err,
-                                  size_t err_len)
+static texopt_status mark_flipped(texopt_mesh *mesh, const tri_edge *edges, size_t ne, char *err, size_t err_len)
 {
     size_t nt = mesh->triangle_count, nc = mesh->chart_count;
     uint32_t *parent = malloc(sizeof(uint32_t) * (nt > 0 ? nt : 1));
@@ -591,8 +585,7 @@ static texopt_status analyse_edges(texopt_mesh *mesh, char *err, size_t err_len)
     size_t ne = 0;
     tri_edge *edges = sorted_edges(mesh, &ne);
     if (!edges)
-        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for %zu edges",
-                           3 * mesh->triangle_count);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for %zu edges", 3 * mesh->triangle_count);
     texopt_status st = find_boundary(mesh, edges, ne, err, err_len);
     if (st == TEXOPT_OK)
         st = mark_flipped(mesh, edges, ne, err, err_len);
@@ -600,8 +593,7 @@ static texopt_status analyse_edges(texopt_mesh *mesh, char *err, size_t err_len)
     return st;
 }
 
-texopt_status texopt_mesh_create(texopt_mesh **out, const texopt_model *model, int domain,
-                                 char *err, size_t err_len)
+texopt_status texopt_mesh_create(texopt_mesh **out, const texopt_model *model, int domain, char *err, size_t err_len)
 {
     if (!out)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "mesh: no output pointer");
@@ -611,17 +603,16 @@ texopt_status texopt_mesh_create(texopt_mesh **out, const texopt_model *model, i
                            "mesh: texture domain %d does not exist (model has %d)", domain,
                            model ? model->domain_count : 0);
     if (!model->uvs || !model->positions || !model->triangles)
-        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
-                           "mesh: the model has no %s", !model->uvs ? "TEXCOORD_0" : "geometry");
+        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "mesh: the model has no %s",
+                           !model->uvs ? "TEXCOORD_0" : "geometry");
     const texopt_domain *dom = &model->domains[domain];
     if (dom->width <= 0 || dom->height <= 0)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "mesh: domain %d has texel frame %dx%d", domain, dom->width, dom->height);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "mesh: domain %d has texel frame %dx%d", domain,
+                           dom->width, dom->height);
     for (int k = 0; k < dom->primitive_count; k++)
         if (dom->primitives[k] < 0 || dom->primitives[k] >= model->primitive_count)
-            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                               "mesh: domain %d lists primitive %d of %d", domain,
-                               dom->primitives[k], model->primitive_count);
+            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "mesh: domain %d lists primitive %d of %d",
+                               domain, dom->primitives[k], model->primitive_count);
     texopt_mesh *mesh = calloc(1, sizeof *mesh);
     if (!mesh)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a mesh");
@@ -705,8 +696,7 @@ size_t texopt_mesh_one_ring(const texopt_mesh *mesh, uint32_t triangle, uint32_t
         /* A triangle around an earlier corner point was listed already. */
         for (uint32_t i = mesh->point_triangle_start[p[c]]; i < mesh->point_triangle_start[p[c] + 1]; i++) {
             uint32_t t = mesh->point_triangle[i];
-            if (t == triangle || (c > 0 && touches_point(mesh, t, p[0])) ||
-                (c > 1 && touches_point(mesh, t, p[1])))
+            if (t == triangle || (c > 0 && touches_point(mesh, t, p[0])) || (c > 1 && touches_point(mesh, t, p[1])))
                 continue;
             if (n < cap)
                 out[n] = t;

@@ -52,20 +52,20 @@ enum texopt_triangle_flag {
 };
 
 typedef struct texopt_mesh {
-    int domain;        /* index into the model's domains */
-    int width, height; /* texel frame of the domain */
+    int domain;                 /* index into the model's domains */
+    int width, height;          /* texel frame of the domain */
     texopt_wrap wrap_s, wrap_t; /* the domain's wrap modes (how UVs outside [0,1] read) */
 
     size_t vertex_count;
-    double *texel;          /* 2 per vertex: (width * u, height * v) */
-    uint32_t *point_of;     /* per vertex: its welded 3D point */
+    double *texel;      /* 2 per vertex: (width * u, height * v) */
+    uint32_t *point_of; /* per vertex: its welded 3D point */
     size_t model_vertex_count;
-    uint32_t *model_vertex; /* per vertex: one model vertex it came from */
+    uint32_t *model_vertex;           /* per vertex: one model vertex it came from */
     uint32_t *vertex_of_model_vertex; /* per model vertex of the domain (in the order of the
                                          domain's primitives): its mesh vertex */
 
     size_t point_count;
-    double *position;       /* 3 per point, world space */
+    double *position; /* 3 per point, world space */
 
     size_t triangle_count;
     uint32_t *triangle;       /* 3 per triangle, vertex indices */
@@ -75,8 +75,8 @@ typedef struct texopt_mesh {
     uint8_t *flags;           /* per triangle, texopt_triangle_flag bits */
 
     size_t chart_count;
-    uint32_t *chart_of;       /* per triangle; charts numbered in order of first triangle */
-    int8_t *chart_sign;       /* per chart: +1 or -1, its dominant orientation (see above) */
+    uint32_t *chart_of;          /* per triangle; charts numbered in order of first triangle */
+    int8_t *chart_sign;          /* per chart: +1 or -1, its dominant orientation (see above) */
     uint8_t *vertex_on_boundary; /* per vertex: 1 when on an edge used by one triangle only
                                     (a chart boundary, which includes both sides of a seam) */
 
@@ -101,8 +101,7 @@ int texopt_mesh_plane_edges(const texopt_mesh *mesh, size_t t, double P[2][2]);
 
 /* Builds the mesh of domain `domain` of `model`. On success the caller owns *out and frees it
  * with texopt_mesh_destroy. */
-texopt_status texopt_mesh_create(texopt_mesh **out, const texopt_model *model, int domain,
-                                 char *err, size_t err_len);
+texopt_status texopt_mesh_create(texopt_mesh **out, const texopt_model *model, int domain, char *err, size_t err_len);
 
 void texopt_mesh_destroy(texopt_mesh *mesh);
 

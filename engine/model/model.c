@@ -57,8 +57,8 @@ unsigned texopt_material_binding_channels(const texopt_material *mat, int i)
 
 const char *texopt_slot_name(texopt_slot slot)
 {
-    static const char *const names[TEXOPT_SLOT_COUNT] = {"baseColor", "normal", "metallicRoughness",
-                                                         "occlusion", "emissive"};
+    static const char *const names[TEXOPT_SLOT_COUNT] = {"baseColor", "normal", "metallicRoughness", "occlusion",
+                                                         "emissive"};
     return (int)slot >= 0 && slot < TEXOPT_SLOT_COUNT ? names[slot] : "unknown";
 }
 

@@ -60,11 +60,7 @@ typedef enum texopt_texture_kind {
 #define TEXOPT_CHANNELS_RGB 7u
 
 /* How base colour's alpha shows on a material's surface (glTF alphaMode). */
-typedef enum texopt_alpha_mode {
-    TEXOPT_ALPHA_OPAQUE = 0,
-    TEXOPT_ALPHA_MASK,
-    TEXOPT_ALPHA_BLEND
-} texopt_alpha_mode;
+typedef enum texopt_alpha_mode { TEXOPT_ALPHA_OPAQUE = 0, TEXOPT_ALPHA_MASK, TEXOPT_ALPHA_BLEND } texopt_alpha_mode;
 
 /* Most extension textures one material may bind through TEXCOORD_0 (the loader knows 14). */
 #define TEXOPT_EXTRA_TEXTURES_MAX 16
@@ -77,7 +73,7 @@ typedef struct texopt_extra_texture {
     texopt_texture_ref ref;
     texopt_texture_kind kind;
     unsigned channels; /* TEXOPT_CHANNEL_* its extension reads (specularTexture: A only) */
-    const char *name; /* the binding's key, e.g. "clearcoatNormalTexture"; static storage */
+    const char *name;  /* the binding's key, e.g. "clearcoatNormalTexture"; static storage */
 } texopt_extra_texture;
 
 typedef struct texopt_material {
@@ -114,10 +110,10 @@ typedef struct texopt_domain {
     int primitive_count;
     int *primitives; /* indices into texopt_model.primitives */
     int image_count;
-    int *images;     /* indices into texopt_model.images used through TEXCOORD_0 */
-    int width, height; /* texel frame: the largest of its images */
+    int *images;                /* indices into texopt_model.images used through TEXCOORD_0 */
+    int width, height;          /* texel frame: the largest of its images */
     texopt_wrap wrap_s, wrap_t; /* of the base colour texture, else of the first texture */
-    int nearest_image; /* an image a TEXCOORD_0 binding magnifies NEAREST (magnify_nearest), -1 if none */
+    int nearest_image;          /* an image a TEXCOORD_0 binding magnifies NEAREST (magnify_nearest), -1 if none */
 } texopt_domain;
 
 typedef struct texopt_model {
@@ -133,14 +129,14 @@ typedef struct texopt_model {
     int material_count;
     texopt_material *materials;
     int image_count;
-    texopt_image *images;  /* decoded; an image no texture reads as its source (an alternate
+    texopt_image *images; /* decoded; an image no texture reads as its source (an alternate
                               beside a fallback, an orphan) is not: NULL pixels, size 0 */
-    char **image_names;    /* per image: its URI or name, for messages; may hold NULLs */
+    char **image_names;   /* per image: its URI or name, for messages; may hold NULLs */
     int domain_count;
     texopt_domain *domains;
     int *variant_materials; /* the primitives' variant materials (texopt_primitive); may be NULL */
 
-    struct texopt_gltf_document *document; /* the parsed file, kept for saving (io/gltf_io) */
+    struct texopt_gltf_document *document;                           /* the parsed file, kept for saving (io/gltf_io) */
     void (*destroy_document)(struct texopt_gltf_document *document); /* set by whoever set document */
 } texopt_model;
 

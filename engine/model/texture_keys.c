@@ -77,9 +77,7 @@ const texopt_texture_ref *texopt_material_texture(const texopt_material *mat, in
 {
     if (key >= 0 && key < TEXOPT_SLOT_COUNT)
         return &mat->slot[key];
-    const char *name = texopt_known_extension_texture_at(key - TEXOPT_SLOT_COUNT)
-                           ? texopt_texture_key_name(key)
-                           : NULL;
+    const char *name = texopt_known_extension_texture_at(key - TEXOPT_SLOT_COUNT) ? texopt_texture_key_name(key) : NULL;
     for (int i = TEXOPT_SLOT_COUNT; name && i < texopt_material_binding_count(mat); i++)
         if (!strcmp(texopt_material_binding_name(mat, i), name))
             return texopt_material_binding(mat, i);

@@ -18,7 +18,7 @@ typedef struct texopt_known_extension_texture {
     const char *extension; /* "KHR_materials_clearcoat" */
     const char *key;       /* its property in the extension's object: "clearcoatTexture" */
     texopt_texture_kind kind;
-    unsigned channels;     /* TEXOPT_CHANNEL_* its extension reads */
+    unsigned channels; /* TEXOPT_CHANNEL_* its extension reads */
 } texopt_known_extension_texture;
 
 #define TEXOPT_KNOWN_EXTENSION_TEXTURES 14

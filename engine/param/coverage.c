@@ -168,8 +168,7 @@ static uint64_t popcount_all(const uint64_t *words, size_t count)
     return n;
 }
 
-static texopt_status check_triangle(const double *p[3], int width, int height, size_t t,
-                                    char *err, size_t err_len)
+static texopt_status check_triangle(const double *p[3], int width, int height, size_t t, char *err, size_t err_len)
 {
     double xmin = p[0][0], xmax = p[0][0], ymin = p[0][1], ymax = p[0][1];
     for (int k = 0; k < 3; k++) {
@@ -177,8 +176,7 @@ static texopt_status check_triangle(const double *p[3], int width, int height, s
             return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                                "coverage: triangle %zu has a non-finite texel position", t);
         if (fabs(p[k][0]) > MAX_COORDINATE || fabs(p[k][1]) > MAX_COORDINATE)
-            return texopt_fail(err, err_len, TEXOPT_E_LIMIT,
-                               "coverage: triangle %zu has a texel position beyond %g", t,
+            return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "coverage: triangle %zu has a texel position beyond %g", t,
                                MAX_COORDINATE);
         xmin = fmin(xmin, p[k][0]);
         xmax = fmax(xmax, p[k][0]);
@@ -187,8 +185,8 @@ static texopt_status check_triangle(const double *p[3], int width, int height, s
     }
     if (xmax - xmin > MAX_REPEATS * width || ymax - ymin > MAX_REPEATS * height)
         return texopt_fail(err, err_len, TEXOPT_E_LIMIT,
-                           "coverage: triangle %zu spans more than %g repeats of the %dx%d texture",
-                           t, MAX_REPEATS, width, height);
+                           "coverage: triangle %zu spans more than %g repeats of the %dx%d texture", t, MAX_REPEATS,
+                           width, height);
     return TEXOPT_OK;
 }
 
@@ -212,8 +210,8 @@ static double signed_area(const double *p[3])
     return 0.5 * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]));
 }
 
-texopt_status texopt_coverage_measure(const texopt_mesh *mesh, const texopt_coverage_options *opt,
-                                      texopt_coverage *out, char *err, size_t err_len)
+texopt_status texopt_coverage_measure(const texopt_mesh *mesh, const texopt_coverage_options *opt, texopt_coverage *out,
+                                      char *err, size_t err_len)
 {
     texopt_coverage_options o = {0};
     if (opt)
@@ -226,11 +224,11 @@ texopt_status texopt_coverage_measure(const texopt_mesh *mesh, const texopt_cove
                .wrap_t = o.use_wraps ? o.wrap_t : mesh->wrap_t};
     const double *texel = o.texel ? o.texel : mesh->texel;
     if (o.width < 0 || o.height < 0 || m.width <= 0 || m.height <= 0)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "coverage: frame %dx%d is not valid",
-                           m.width, m.height);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "coverage: frame %dx%d is not valid", m.width,
+                           m.height);
     if ((uint64_t)m.width * (uint64_t)m.height > TEXOPT_COVERAGE_MAX_TEXELS)
-        return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "coverage: frame %dx%d exceeds %llu texels",
-                           m.width, m.height, (unsigned long long)TEXOPT_COVERAGE_MAX_TEXELS);
+        return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "coverage: frame %dx%d exceeds %llu texels", m.width, m.height,
+                           (unsigned long long)TEXOPT_COVERAGE_MAX_TEXELS);
     double total_area = 0;
     for (size_t t = 0; t < mesh->triangle_count; t++) {
         const double *p[3];
@@ -257,8 +255,7 @@ texopt_status texopt_coverage_measure(const texopt_mesh *mesh, const texopt_cove
         free(m.covered);
         free(m.multi);
         free(m.clamped);
-        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "coverage: no memory for a %dx%d mask",
-                           m.width, m.height);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "coverage: no memory for a %dx%d mask", m.width, m.height);
     }
     texopt_coverage res = {.width = m.width, .height = m.height};
     for (size_t t = 0; t < mesh->triangle_count; t++) {
@@ -294,8 +291,7 @@ texopt_status texopt_coverage_measure(const texopt_mesh *mesh, const texopt_cove
     return TEXOPT_OK;
 }
 
-texopt_status texopt_coverage_model_texels(const texopt_model *model, uint64_t *texels, char *err,
-                                           size_t err_len)
+texopt_status texopt_coverage_model_texels(const texopt_model *model, uint64_t *texels, char *err, size_t err_len)
 {
     if (!model || !texels)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "coverage: no model or output");

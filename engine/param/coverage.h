@@ -36,23 +36,23 @@
 /* What to measure. A zero-initialised struct (or NULL) measures the mesh's own layout
  * (mesh->texel) in its own frame with its own wrap modes. */
 typedef struct texopt_coverage_options {
-    const double *texel;      /* 2 per mesh vertex, texel units of the frame below;
+    const double *texel; /* 2 per mesh vertex, texel units of the frame below;
                                  NULL = mesh->texel */
-    int width, height;        /* frame; 0 = the mesh's */
-    int use_wraps;            /* nonzero: wrap_s/wrap_t below; 0: the mesh's */
+    int width, height;   /* frame; 0 = the mesh's */
+    int use_wraps;       /* nonzero: wrap_s/wrap_t below; 0: the mesh's */
     texopt_wrap wrap_s, wrap_t;
-    uint8_t *triangle_flags;  /* when not NULL (mesh->triangle_count entries, e.g. mesh->flags):
+    uint8_t *triangle_flags; /* when not NULL (mesh->triangle_count entries, e.g. mesh->flags):
                                  TEXOPT_TRI_OVERLAPS is set on overlapping triangles and cleared
                                  on the others; other bits untouched */
 } texopt_coverage_options;
 
 typedef struct texopt_coverage {
-    int width, height;              /* the frame measured */
-    uint64_t covered_texels;        /* unique texels with a triangle over their centre */
-    uint64_t overlap_texels;        /* covered texels read by two surface places */
-    size_t overlapping_triangles;   /* triangles covering an overlap texel */
-    double packing_efficiency;      /* covered_texels / (width * height) */
-    double texel_area;              /* sum of |signed texel area| of non-degenerate triangles */
+    int width, height;            /* the frame measured */
+    uint64_t covered_texels;      /* unique texels with a triangle over their centre */
+    uint64_t overlap_texels;      /* covered texels read by two surface places */
+    size_t overlapping_triangles; /* triangles covering an overlap texel */
+    double packing_efficiency;    /* covered_texels / (width * height) */
+    double texel_area;            /* sum of |signed texel area| of non-degenerate triangles */
 } texopt_coverage;
 
 /* Measures the layout. Triangles degenerate in the layout measured (mesh.h's relative test:
@@ -62,13 +62,12 @@ typedef struct texopt_coverage {
  * frame past TEXOPT_COVERAGE_MAX_TEXELS, a triangle spanning more than 4096 repeats of it or
  * triangles covering more than 2^36 texels together (a layout that repeats its texture that
  * often takes minutes to fill), TEXOPT_E_NOMEM. *out is written only on success. */
-texopt_status texopt_coverage_measure(const texopt_mesh *mesh, const texopt_coverage_options *opt,
-                                      texopt_coverage *out, char *err, size_t err_len);
+texopt_status texopt_coverage_measure(const texopt_mesh *mesh, const texopt_coverage_options *opt, texopt_coverage *out,
+                                      char *err, size_t err_len);
 
 /* Covered texels summed over every texture domain of the model (each domain in its own frame,
  * each texel of a domain counted once), for the relative cost c_r and the evaluation's
  * default resolution. */
-texopt_status texopt_coverage_model_texels(const texopt_model *model, uint64_t *texels, char *err,
-                                           size_t err_len);
+texopt_status texopt_coverage_model_texels(const texopt_model *model, uint64_t *texels, char *err, size_t err_len);
 
 #endif

@@ -94,17 +94,18 @@ enum { METRICS = 8 };
 
 static void metric_values(const texopt_triangle_distortion *d, double v[METRICS])
 {
-    double all[METRICS] = {d->symmetric_dirichlet, d->conformal, d->mips, d->isometric,
-                           d->max_isometric, d->area, d->l2_stretch * d->l2_stretch, d->linf_stretch};
+    double all[METRICS] = {
+        d->symmetric_dirichlet,        d->conformal,   d->mips, d->isometric, d->max_isometric, d->area,
+        d->l2_stretch * d->l2_stretch, d->linf_stretch};
     for (int k = 0; k < METRICS; k++)
         v[k] = all[k];
 }
 
 static void store_metrics(texopt_distortion *out, const double mean[METRICS], const double max[METRICS])
 {
-    texopt_distortion_stat *stat[METRICS] = {NULL, &out->conformal, &out->mips, &out->isometric,
-                                             &out->max_isometric, &out->area, &out->l2_stretch,
-                                             &out->linf_stretch};
+    texopt_distortion_stat *stat[METRICS] = {
+        NULL,       &out->conformal,  &out->mips,        &out->isometric, &out->max_isometric,
+        &out->area, &out->l2_stretch, &out->linf_stretch};
     out->symmetric_dirichlet = mean[0];
     out->max_symmetric_dirichlet = max[0];
     for (int k = 1; k < METRICS; k++)
@@ -114,8 +115,8 @@ static void store_metrics(texopt_distortion *out, const double mean[METRICS], co
     out->l2_stretch.max = sqrt(max[6]);
 }
 
-texopt_status texopt_distortion_measure(const texopt_mesh *mesh, const double *texel,
-                                        texopt_distortion *out, char *err, size_t err_len)
+texopt_status texopt_distortion_measure(const texopt_mesh *mesh, const double *texel, texopt_distortion *out, char *err,
+                                        size_t err_len)
 {
     if (!mesh || !out)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "distortion: NULL mesh or output");
@@ -139,8 +140,7 @@ texopt_status texopt_distortion_measure(const texopt_mesh *mesh, const double *t
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "distortion: the mesh has no non-degenerate triangle");
     if (!(area_texel > 0.0))
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "distortion: the layout has zero texel area");
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "distortion: the layout has zero texel area");
 
     /* Uniform scale making total texel area equal total 3D area: resolution is not distortion. */
     double scale = sqrt(area_3d / area_texel);

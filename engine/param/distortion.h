@@ -46,12 +46,12 @@ typedef struct texopt_distortion_stat {
 } texopt_distortion_stat;
 
 typedef struct texopt_distortion {
-    double symmetric_dirichlet; /* area-weighted mean, >= 4; 4 = isometric up to scale */
+    double symmetric_dirichlet;     /* area-weighted mean, >= 4; 4 = isometric up to scale */
     double max_symmetric_dirichlet; /* worst triangle */
     texopt_distortion_stat conformal, mips, isometric, max_isometric, area;
     texopt_distortion_stat l2_stretch, linf_stretch;
-    size_t counted;             /* triangles that entered the measure */
-    size_t flipped;             /* det grad_phi <= 0 relative to the input orientation */
+    size_t counted; /* triangles that entered the measure */
+    size_t flipped; /* det grad_phi <= 0 relative to the input orientation */
 } texopt_distortion;
 
 /* Measures the layout `texel` (2 per mesh vertex; NULL = mesh->texel). Fails with
@@ -60,8 +60,8 @@ typedef struct texopt_distortion {
  * infinite energy; then symmetric_dirichlet and every other metric is +inf (and `flipped`
  * says why). The frame of the 3D plane has no orientation relative to texel space, so the
  * metrics use |det J|; orientation is what `flipped` judges. */
-texopt_status texopt_distortion_measure(const texopt_mesh *mesh, const double *texel,
-                                        texopt_distortion *out, char *err, size_t err_len);
+texopt_status texopt_distortion_measure(const texopt_mesh *mesh, const double *texel, texopt_distortion *out, char *err,
+                                        size_t err_len);
 
 /* The columns of T are the layout edges of triangle tri (2 per vertex in `layout`). */
 void texopt_layout_edges(const double *layout, const uint32_t tri[3], double T[2][2]);

@@ -12,10 +12,10 @@
 typedef struct abf_problem {
     const texopt_param_chart *chart;
     const texopt_param_boundary *boundary;
-    size_t interior;       /* interior vertex count */
-    int64_t *interior_of;  /* per vertex: its interior index or -1 */
-    double *beta;          /* 3 per triangle, target angles */
-    double *theta;         /* 3 per triangle, planar angles */
+    size_t interior;      /* interior vertex count */
+    int64_t *interior_of; /* per vertex: its interior index or -1 */
+    double *beta;         /* 3 per triangle, target angles */
+    double *theta;        /* 3 per triangle, planar angles */
 } abf_problem;
 
 static texopt_status target_angles(abf_problem *p)

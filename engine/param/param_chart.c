@@ -23,8 +23,7 @@ void texopt_param_corner_angles(const texopt_param_chart *chart, size_t t, doubl
 {
     const uint32_t *v = chart->triangle + 3 * t;
     for (int k = 0; k < 3; k++) {
-        const double *a = point(chart, v[k]), *b = point(chart, v[(k + 1) % 3]),
-                     *c = point(chart, v[(k + 2) % 3]);
+        const double *a = point(chart, v[k]), *b = point(chart, v[(k + 1) % 3]), *c = point(chart, v[(k + 2) % 3]);
         double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
         double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
         double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
@@ -58,15 +57,15 @@ void texopt_param_boundary_destroy(texopt_param_boundary *boundary)
 
 static texopt_status check_triangles(const texopt_param_chart *chart, char *err, size_t err_len)
 {
-    if (!chart || !chart->position || !chart->triangle || chart->triangle_count == 0 ||
-        chart->vertex_count < 3 || chart->vertex_count > UINT32_MAX)
+    if (!chart || !chart->position || !chart->triangle || chart->triangle_count == 0 || chart->vertex_count < 3 ||
+        chart->vertex_count > UINT32_MAX)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "chart: empty or NULL");
     for (size_t t = 0; t < chart->triangle_count; t++) {
         const uint32_t *v = chart->triangle + 3 * t;
         for (int k = 0; k < 3; k++)
             if (v[k] >= chart->vertex_count)
-                return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                                   "chart: triangle %zu uses vertex %u of %zu", t, v[k], chart->vertex_count);
+                return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "chart: triangle %zu uses vertex %u of %zu",
+                                   t, v[k], chart->vertex_count);
         double angle[3];
         texopt_param_corner_angles(chart, t, angle);
         if (!(angle[0] > 0 && angle[1] > 0 && angle[2] > 0))
@@ -77,8 +76,8 @@ static texopt_status check_triangles(const texopt_param_chart *chart, char *err,
 }
 
 /* Orders the boundary half-edges (those without a twin) into one loop through next[]. */
-static texopt_status walk_loop(texopt_param_boundary *b, const uint32_t *next, size_t boundary_edges,
-                               uint32_t start, size_t vertex_count, char *err, size_t err_len)
+static texopt_status walk_loop(texopt_param_boundary *b, const uint32_t *next, size_t boundary_edges, uint32_t start,
+                               size_t vertex_count, char *err, size_t err_len)
 {
     b->vertex = malloc((boundary_edges ? boundary_edges : 1) * sizeof *b->vertex);
     if (!b->vertex)
@@ -98,8 +97,8 @@ static texopt_status walk_loop(texopt_param_boundary *b, const uint32_t *next, s
     return TEXOPT_OK;
 }
 
-static texopt_status find_boundary(texopt_param_boundary *b, const texopt_param_chart *chart,
-                                   const uint64_t *half, size_t nh, char *err, size_t err_len)
+static texopt_status find_boundary(texopt_param_boundary *b, const texopt_param_chart *chart, const uint64_t *half,
+                                   size_t nh, char *err, size_t err_len)
 {
     size_t nv = chart->vertex_count;
     uint32_t *next = malloc(nv * sizeof *next);
@@ -142,15 +141,15 @@ static texopt_status find_boundary(texopt_param_boundary *b, const texopt_param_
     return st;
 }
 
-static texopt_status measure_arcs(texopt_param_boundary *b, const texopt_param_chart *chart, char *err,
-                                  size_t err_len)
+static texopt_status measure_arcs(texopt_param_boundary *b, const texopt_param_chart *chart, char *err, size_t err_len)
 {
     b->arc = malloc((b->count + 1) * sizeof *b->arc);
     if (!b->arc)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "chart: out of memory");
     b->arc[0] = 0.0;
     for (size_t i = 0; i < b->count; i++)
-        b->arc[i + 1] = b->arc[i] + texopt_distance3(point(chart, b->vertex[i]), point(chart, b->vertex[(i + 1) % b->count]));
+        b->arc[i + 1] =
+            b->arc[i] + texopt_distance3(point(chart, b->vertex[i]), point(chart, b->vertex[(i + 1) % b->count]));
     return TEXOPT_OK;
 }
 
@@ -171,8 +170,8 @@ static texopt_status check_used(const texopt_param_chart *chart, char *err, size
     return TEXOPT_OK;
 }
 
-texopt_status texopt_param_boundary_create(texopt_param_boundary **out, const texopt_param_chart *chart,
-                                           char *err, size_t err_len)
+texopt_status texopt_param_boundary_create(texopt_param_boundary **out, const texopt_param_chart *chart, char *err,
+                                           size_t err_len)
 {
     *out = NULL;
     texopt_status st = check_triangles(chart, err, err_len);
@@ -271,8 +270,8 @@ int texopt_param_stretch(const texopt_param_chart *chart, const double *uv, doub
     return 0;
 }
 
-texopt_status texopt_param_add_layout_row(texopt_spd *spd, const int64_t *var, const double *uv,
-                                          const uint32_t *vertex, const int *axis, const double *coef, int n)
+texopt_status texopt_param_add_layout_row(texopt_spd *spd, const int64_t *var, const double *uv, const uint32_t *vertex,
+                                          const int *axis, const double *coef, int n)
 {
     uint32_t cols[8];
     double a[8], rhs = 0.0;
@@ -288,8 +287,9 @@ texopt_status texopt_param_add_layout_row(texopt_spd *spd, const int64_t *var, c
     return count > 0 ? texopt_spd_add_row(spd, cols, a, count, &rhs, 1.0) : TEXOPT_OK;
 }
 
-texopt_status texopt_param_solve_pinned(const texopt_param_chart *chart, const uint32_t pin[2], texopt_param_rows_fn add_rows,
-                                        const void *context, double *uv, char *err, size_t err_len)
+texopt_status texopt_param_solve_pinned(const texopt_param_chart *chart, const uint32_t pin[2],
+                                        texopt_param_rows_fn add_rows, const void *context, double *uv, char *err,
+                                        size_t err_len)
 {
     size_t nv = chart->vertex_count, free_count = 0;
     int64_t *var = malloc(nv * sizeof *var);

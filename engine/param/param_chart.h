@@ -38,8 +38,8 @@ typedef struct texopt_param_boundary {
  * with texopt_param_boundary_destroy. Fails with TEXOPT_E_INVALID_ARGUMENT naming what is
  * wrong (index out of range, unused vertex, non-manifold edge, holes, closed surface, zero
  * area triangle). */
-texopt_status texopt_param_boundary_create(texopt_param_boundary **out, const texopt_param_chart *chart,
-                                           char *err, size_t err_len);
+texopt_status texopt_param_boundary_create(texopt_param_boundary **out, const texopt_param_chart *chart, char *err,
+                                           size_t err_len);
 void texopt_param_boundary_destroy(texopt_param_boundary *boundary);
 
 /* Triangles with all three vertices on the boundary ("ears"): a boundary mapped onto
@@ -65,8 +65,8 @@ int texopt_param_stretch(const texopt_param_chart *chart, const double *uv, doub
 /* Adds the least-squares row sum_n coef[n] * uv[vertex[n]][axis[n]] = 0 (n < 8) over the
  * layout's unknowns: var[v] >= 0 numbers the free vertices (unknowns 2 var + axis), var[v] < 0
  * marks v pinned at its entries of uv (moved to the right side). */
-texopt_status texopt_param_add_layout_row(texopt_spd *spd, const int64_t *var, const double *uv,
-                                          const uint32_t *vertex, const int *axis, const double *coef, int n);
+texopt_status texopt_param_add_layout_row(texopt_spd *spd, const int64_t *var, const double *uv, const uint32_t *vertex,
+                                          const int *axis, const double *coef, int n);
 
 /* The rows triangle t adds to a layout system (see texopt_param_solve_pinned). */
 typedef texopt_status (*texopt_param_rows_fn)(texopt_spd *spd, const void *context, size_t t, const int64_t *var,
@@ -75,7 +75,8 @@ typedef texopt_status (*texopt_param_rows_fn)(texopt_spd *spd, const void *conte
 /* Least-squares layout with vertex pin[0] held at (0, 0) and pin[1] at (d, 0), d their 3D
  * distance; every triangle adds its rows through add_rows (texopt_param_add_layout_row).
  * Writes 2 doubles per vertex into uv. */
-texopt_status texopt_param_solve_pinned(const texopt_param_chart *chart, const uint32_t pin[2], texopt_param_rows_fn add_rows,
-                                        const void *context, double *uv, char *err, size_t err_len);
+texopt_status texopt_param_solve_pinned(const texopt_param_chart *chart, const uint32_t pin[2],
+                                        texopt_param_rows_fn add_rows, const void *context, double *uv, char *err,
+                                        size_t err_len);
 
 #endif

@@ -31,7 +31,7 @@ typedef struct square_search {
     const texopt_param_boundary *b;
     const texopt_square_params *params;
     size_t m;
-    double *stretch;    /* per candidate; NAN = not evaluated */
+    double *stretch; /* per candidate; NAN = not evaluated */
     double *uv, *trial, *divisor, *vertex_stretch;
     double best;
     size_t best_corner, evaluations;
@@ -192,7 +192,8 @@ static texopt_status particle_swarm(square_search *s, double *keep, char *err, s
         double global = s->b->arc[s->best_corner];
         for (size_t i = 0; i < n; i++) {
             double r1 = texopt_rng_uniform(&rng), r2 = texopt_rng_uniform(&rng);
-            vel[i] = p->inertia * vel[i] + p->local_pull * r1 * (local[i] - x[i]) + p->global_pull * r2 * (global - x[i]);
+            vel[i] =
+                p->inertia * vel[i] + p->local_pull * r1 * (local[i] - x[i]) + p->global_pull * r2 * (global - x[i]);
             x[i] = fmin(range, fmax(0.0, x[i] + vel[i]));
         }
         stall = s->best < before ? 0 : stall + 1;
@@ -213,12 +214,9 @@ static texopt_status check_params(const texopt_square_params *p, char *err, size
 static texopt_status run_search(square_search *s, double *uv, char *err, size_t err_len)
 {
     switch (s->params->search) {
-    case TEXOPT_SQUARE_BRUTE_FORCE:
-        return brute_force(s, uv, err, err_len);
-    case TEXOPT_SQUARE_STEP_SAMPLING:
-        return step_sampling(s, uv, err, err_len);
-    case TEXOPT_SQUARE_PSO:
-        return particle_swarm(s, uv, err, err_len);
+    case TEXOPT_SQUARE_BRUTE_FORCE: return brute_force(s, uv, err, err_len);
+    case TEXOPT_SQUARE_STEP_SAMPLING: return step_sampling(s, uv, err, err_len);
+    case TEXOPT_SQUARE_PSO: return particle_swarm(s, uv, err, err_len);
     }
     return TEXOPT_E_INTERNAL;
 }

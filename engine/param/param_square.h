@@ -29,21 +29,21 @@ typedef enum texopt_square_search {
 
 typedef struct texopt_square_params {
     texopt_square_search search;
-    int step;                 /* step sampling; 0 = the paper's sqrt(vertices * m / faces) */
-    int particles;            /* PSO swarm size */
-    int max_iterations;       /* PSO */
-    int stall_iterations;     /* PSO stops when its global best holds this many iterations */
+    int step;                                /* step sampling; 0 = the paper's sqrt(vertices * m / faces) */
+    int particles;                           /* PSO swarm size */
+    int max_iterations;                      /* PSO */
+    int stall_iterations;                    /* PSO stops when its global best holds this many iterations */
     double inertia, local_pull, global_pull; /* PSO a, b_l, b_g of the paper's eq. 1 */
-    uint64_t seed;            /* PSO */
-    int stretch_rounds;       /* Yoshizawa reweightings of each candidate's interior map */
+    uint64_t seed;                           /* PSO */
+    int stretch_rounds;                      /* Yoshizawa reweightings of each candidate's interior map */
 } texopt_square_params;
 
 void texopt_square_params_default(texopt_square_params *params);
 
 typedef struct texopt_square_report {
-    size_t candidates;   /* m */
-    size_t evaluations;  /* stretch-minimising parameterizations run (distinct candidates) */
-    size_t corner;       /* boundary loop index of the vertex at P00 */
+    size_t candidates;               /* m */
+    size_t evaluations;              /* stretch-minimising parameterizations run (distinct candidates) */
+    size_t corner;                   /* boundary loop index of the vertex at P00 */
     double l2_stretch, linf_stretch; /* of the layout returned */
 } texopt_square_report;
 

@@ -52,7 +52,8 @@ static int mean_value_weights(const texopt_param_chart *chart, const double *div
                 uint32_t j = tri[(k + s) % 3];
                 uint32_t slot = n->start[i] + fill[i]++;
                 n->vertex[slot] = j;
-                n->weight[slot] = half_tan / texopt_distance3(chart->position + 3 * (size_t)i, chart->position + 3 * (size_t)j) /
+                n->weight[slot] = half_tan /
+                                  texopt_distance3(chart->position + 3 * (size_t)i, chart->position + 3 * (size_t)j) /
                                   (divisor ? divisor[j] : 1.0);
             }
         }

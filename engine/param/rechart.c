@@ -42,13 +42,13 @@ typedef struct context {
     const texopt_mesh *mesh;
     texopt_rechart_options opt;
     texopt_rechart *out;
-    uint32_t *across;    /* 3 per triangle: the triangle across edge k, UINT32_MAX when none */
-    double *normal;      /* 3 per triangle */
-    uint32_t *local_of;  /* per point: its chart-local vertex, UINT32_MAX outside the chart */
-    double *position;    /* scratch: 3 per local vertex */
-    uint32_t *triangle;  /* scratch: 3 per chart triangle */
+    uint32_t *across;   /* 3 per triangle: the triangle across edge k, UINT32_MAX when none */
+    double *normal;     /* 3 per triangle */
+    uint32_t *local_of; /* per point: its chart-local vertex, UINT32_MAX outside the chart */
+    double *position;   /* scratch: 3 per local vertex */
+    uint32_t *triangle; /* scratch: 3 per chart triangle */
     uint32_t *point_of_local;
-    double *uv;          /* scratch: 2 per local vertex */
+    double *uv; /* scratch: 2 per local vertex */
 } context;
 
 static int compare_u64(const void *a, const void *b)
@@ -121,12 +121,9 @@ static texopt_status run_method(texopt_parameterizer method, const texopt_param_
 {
     char err[256];
     switch (method) {
-    case TEXOPT_PARAMETERIZER_LSCM:
-        return texopt_param_lscm(chart, uv, err, sizeof err);
-    case TEXOPT_PARAMETERIZER_ABF:
-        return texopt_param_abf(chart, uv, NULL, err, sizeof err);
-    case TEXOPT_PARAMETERIZER_TUTTE:
-        return texopt_param_tutte(chart, uv, err, sizeof err);
+    case TEXOPT_PARAMETERIZER_LSCM: return texopt_param_lscm(chart, uv, err, sizeof err);
+    case TEXOPT_PARAMETERIZER_ABF: return texopt_param_abf(chart, uv, NULL, err, sizeof err);
+    case TEXOPT_PARAMETERIZER_TUTTE: return texopt_param_tutte(chart, uv, err, sizeof err);
     case TEXOPT_PARAMETERIZER_SQUARE: {
         texopt_square_params p;
         texopt_square_params_default(&p);
@@ -210,8 +207,8 @@ static texopt_status layout_region(context *c, const uint32_t *tris, size_t n)
 /* The region bookkeeping of one growth: which triangles and how many of its triangles use
  * each point (both reset after the region). */
 typedef struct region {
-    uint32_t *region_of;   /* per triangle: the serial of the region holding it, 0 = none */
-    uint32_t *point_uses;  /* per point: triangles of the current region using it */
+    uint32_t *region_of;  /* per triangle: the serial of the region holding it, 0 = none */
+    uint32_t *point_uses; /* per point: triangles of the current region using it */
     uint32_t serial;
 } region;
 
@@ -341,8 +338,8 @@ static texopt_status make_charts(context *c, char *err, size_t err_len)
     return st;
 }
 
-texopt_status texopt_rechart_create(texopt_rechart **out, const texopt_mesh *mesh, const texopt_rechart_options *options,
-                                    char *err, size_t err_len)
+texopt_status texopt_rechart_create(texopt_rechart **out, const texopt_mesh *mesh,
+                                    const texopt_rechart_options *options, char *err, size_t err_len)
 {
     if (!out || !mesh || !options)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "rechart: NULL argument");

@@ -42,15 +42,15 @@ typedef struct texopt_rechart_options {
 
 typedef struct texopt_rechart {
     size_t triangle_count, chart_count;
-    uint32_t *chart_of;  /* per mesh triangle */
-    double *corner_uv;   /* 6 per mesh triangle: its corners' layout, world units, each
+    uint32_t *chart_of;     /* per mesh triangle */
+    double *corner_uv;      /* 6 per mesh triangle: its corners' layout, world units, each
                             chart's box starting at (0, 0) */
     size_t fallback_charts; /* charts laid out by Tutte because the method failed or flipped */
 } texopt_rechart;
 
 /* On success the caller owns *out and frees it with texopt_rechart_destroy. */
-texopt_status texopt_rechart_create(texopt_rechart **out, const texopt_mesh *mesh, const texopt_rechart_options *options,
-                                    char *err, size_t err_len);
+texopt_status texopt_rechart_create(texopt_rechart **out, const texopt_mesh *mesh,
+                                    const texopt_rechart_options *options, char *err, size_t err_len);
 void texopt_rechart_destroy(texopt_rechart *rechart);
 
 #endif

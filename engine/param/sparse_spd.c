@@ -82,8 +82,8 @@ void texopt_spd_add_rhs(texopt_spd *spd, uint32_t r, int k, double value)
     spd->rhs[(size_t)k * spd->n + r] += value;
 }
 
-texopt_status texopt_spd_add_row(texopt_spd *spd, const uint32_t *cols, const double *a, int n,
-                                 const double *rhs, double weight)
+texopt_status texopt_spd_add_row(texopt_spd *spd, const uint32_t *cols, const double *a, int n, const double *rhs,
+                                 double weight)
 {
     for (int i = 0; i < n; i++) {
         for (int j = i; j < n; j++) {
@@ -102,8 +102,7 @@ texopt_status texopt_spd_add_row(texopt_spd *spd, const uint32_t *cols, const do
     return TEXOPT_OK;
 }
 
-static texopt_status factor_and_solve(texopt_spd *s, cholmod_common *cm, double *x, char *err,
-                                      size_t err_len)
+static texopt_status factor_and_solve(texopt_spd *s, cholmod_common *cm, double *x, char *err, size_t err_len)
 {
     cholmod_triplet *t = cholmod_allocate_triplet(s->n, s->n, s->count, 1, CHOLMOD_REAL, cm);
     if (!t)
@@ -120,8 +119,8 @@ static texopt_status factor_and_solve(texopt_spd *s, cholmod_common *cm, double 
     texopt_status st = TEXOPT_OK;
     if (!L || !cholmod_factorize(A, L, cm) || cm->status != CHOLMOD_OK) {
         st = texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
-                         "sparse solve: the %zu x %zu system is not positive definite (CHOLMOD status %d)",
-                         s->n, s->n, cm->status);
+                         "sparse solve: the %zu x %zu system is not positive definite (CHOLMOD status %d)", s->n, s->n,
+                         cm->status);
     } else {
         cholmod_dense *b = cholmod_allocate_dense(s->n, (size_t)s->rhs_count, s->n, CHOLMOD_REAL, cm);
         cholmod_dense *sol = NULL;
@@ -135,8 +134,7 @@ static texopt_status factor_and_solve(texopt_spd *s, cholmod_common *cm, double 
             const double *sx = sol->x;
             for (size_t i = 0; i < s->n * (size_t)s->rhs_count; i++) {
                 if (!isfinite(sx[i])) {
-                    st = texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
-                                     "sparse solve: the solution is not finite");
+                    st = texopt_fail(err, err_len, TEXOPT_E_NUMERIC, "sparse solve: the solution is not finite");
                     break;
                 }
                 x[i] = sx[i];

@@ -27,8 +27,8 @@ void texopt_spd_add_rhs(texopt_spd *spd, uint32_t r, int k, double value);
 /* Adds weight * (a.x - rhs_k)^2 to the least-squares energy for every right-hand side k: the
  * normal equations get weight * a a^T and weight * a * rhs_k. a has n entries at cols[];
  * rhs has rhs_count entries. */
-texopt_status texopt_spd_add_row(texopt_spd *spd, const uint32_t *cols, const double *a, int n,
-                                 const double *rhs, double weight);
+texopt_status texopt_spd_add_row(texopt_spd *spd, const uint32_t *cols, const double *a, int n, const double *rhs,
+                                 double weight);
 
 /* Solves A x_k = b_k; x holds rhs_count consecutive blocks of n. Fails with
  * TEXOPT_E_NUMERIC when A is not positive definite or the solution is not finite. */

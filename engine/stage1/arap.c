@@ -13,8 +13,7 @@ static int counted(const texopt_mesh *mesh, size_t t)
     return !(mesh->flags[t] & (TEXOPT_TRI_DEGENERATE_3D | TEXOPT_TRI_DEGENERATE_UV));
 }
 
-static void isometric_target(const texopt_mesh *mesh, size_t t, double scale,
-                             texopt_triangle_target *g)
+static void isometric_target(const texopt_mesh *mesh, size_t t, double scale, texopt_triangle_target *g)
 {
     const uint32_t *v = mesh->triangle + 3 * t;
     const double *p0 = mesh->texel + 2 * (size_t)v[0], *p1 = mesh->texel + 2 * (size_t)v[1],
@@ -39,8 +38,7 @@ static void isometric_target(const texopt_mesh *mesh, size_t t, double scale,
     g->w_stretch = 1;
 }
 
-texopt_status texopt_arap_targets(const texopt_mesh *mesh, texopt_triangle_target *targets,
-                                  char *err, size_t err_len)
+texopt_status texopt_arap_targets(const texopt_mesh *mesh, texopt_triangle_target *targets, char *err, size_t err_len)
 {
     if (!mesh || !targets)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "arap: missing argument");
@@ -51,8 +49,8 @@ texopt_status texopt_arap_targets(const texopt_mesh *mesh, texopt_triangle_targe
             area_3d += mesh->area_3d[t];
         }
     if (!(texel_area > 0 && area_3d > 0) || !isfinite(texel_area) || !isfinite(area_3d))
-        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
-                           "domain %d has no triangle with both 3D and texel area", mesh->domain);
+        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "domain %d has no triangle with both 3D and texel area",
+                           mesh->domain);
     double scale = sqrt(texel_area / area_3d);
     for (size_t t = 0; t < mesh->triangle_count; t++) {
         texopt_triangle_target *g = &targets[t];

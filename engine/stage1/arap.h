@@ -24,7 +24,6 @@
 /* Isometric targets for every triangle of mesh (alpha = 0, w_rotation = 0, w_stretch = 1;
  * degenerate triangles J = I with zero weights). lambda1, lambda2 are not clamped: a region
  * the input squeezed gets lambda > 1. Fails when no triangle has both 3D and texel area. */
-texopt_status texopt_arap_targets(const texopt_mesh *mesh, texopt_triangle_target *targets,
-                                  char *err, size_t err_len);
+texopt_status texopt_arap_targets(const texopt_mesh *mesh, texopt_triangle_target *targets, char *err, size_t err_len);
 
 #endif

@@ -22,11 +22,11 @@ struct texopt_bo {
     int dim, max_evaluations;
     texopt_gp *gp;
     nlopt_opt polish;
-    double *x;        /* max_evaluations * dim: evaluated points */
-    double *f;        /* true values (+INFINITY when infeasible) */
+    double *x; /* max_evaluations * dim: evaluated points */
+    double *f; /* true values (+INFINITY when infeasible) */
     int count;
     double *candidates, *mean, *var; /* BO_MAX_CANDIDATES */
-    double *design;   /* Latin hypercube scratch */
+    double *design;                  /* Latin hypercube scratch */
 };
 
 /* What the acquisition's polish needs to evaluate one point. */
@@ -53,8 +53,7 @@ texopt_bo *texopt_bo_create(int dim, int max_evaluations)
     bo->mean = malloc(BO_MAX_CANDIDATES * sizeof *bo->mean);
     bo->var = malloc(BO_MAX_CANDIDATES * sizeof *bo->var);
     bo->design = malloc((size_t)max_evaluations * dim * sizeof *bo->design);
-    if (!bo->gp || !bo->polish || !bo->x || !bo->f || !bo->candidates || !bo->mean || !bo->var ||
-        !bo->design) {
+    if (!bo->gp || !bo->polish || !bo->x || !bo->f || !bo->candidates || !bo->mean || !bo->var || !bo->design) {
         texopt_bo_destroy(bo);
         return NULL;
     }
@@ -101,29 +100,24 @@ typedef struct resolved_options {
     texopt_acquisition kind;
 } resolved_options;
 
-static texopt_status resolve_options(const texopt_bo *bo, const texopt_bo_options *opt,
-                                     resolved_options *r, char *err, size_t err_len)
+static texopt_status resolve_options(const texopt_bo *bo, const texopt_bo_options *opt, resolved_options *r, char *err,
+                                     size_t err_len)
 {
     static const texopt_bo_options zero;
     if (!opt)
         opt = &zero;
-    if (opt->iterations < 0 || opt->candidates < 0 || opt->candidates > BO_MAX_CANDIDATES ||
-        opt->refit_every < 0 || opt->early_stop_patience < 0 || opt->initial_point_count < 0 ||
-        opt->stall_patience < 0 || !(opt->stall_tolerance >= 0.0) ||
-        (opt->initial_point_count > 0 && !opt->initial_points) || opt->lcb_beta < 0.0 ||
-        (opt->acquisition != TEXOPT_ACQ_EI && opt->acquisition != TEXOPT_ACQ_LCB))
+    if (opt->iterations < 0 || opt->candidates < 0 || opt->candidates > BO_MAX_CANDIDATES || opt->refit_every < 0 ||
+        opt->early_stop_patience < 0 || opt->initial_point_count < 0 || opt->stall_patience < 0 ||
+        !(opt->stall_tolerance >= 0.0) || (opt->initial_point_count > 0 && !opt->initial_points) ||
+        opt->lcb_beta < 0.0 || (opt->acquisition != TEXOPT_ACQ_EI && opt->acquisition != TEXOPT_ACQ_LCB))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "bayesopt: invalid options (iterations %d, candidates %d of at most "
                            "%d, initial points %d)",
-                           opt->iterations, opt->candidates, BO_MAX_CANDIDATES,
-                           opt->initial_point_count);
+                           opt->iterations, opt->candidates, BO_MAX_CANDIDATES, opt->initial_point_count);
     r->iterations = opt->iterations ? opt->iterations : 100;
-    r->design = opt->initial_design == 0 ? 2 * bo->dim + 2
-                                         : (opt->initial_design < 0 ? 0 : opt->initial_design);
+    r->design = opt->initial_design == 0 ? 2 * bo->dim + 2 : (opt->initial_design < 0 ? 0 : opt->initial_design);
     r->candidates = opt->candidates ? opt->candidates : 128;
-    r->polish = opt->polish_evaluations == 0 ? 10
-                                             : (opt->polish_evaluations < 0 ? 0
-                                                                             : opt->polish_evaluations);
+    r->polish = opt->polish_evaluations == 0 ? 10 : (opt->polish_evaluations < 0 ? 0 : opt->polish_evaluations);
     r->refit_every = opt->refit_every ? opt->refit_every : 5;
     r->patience = opt->early_stop_patience;
     r->early_stop_ei = opt->early_stop_ei;
@@ -199,8 +193,7 @@ static texopt_status add_to_surrogate(texopt_bo *bo, int i, double penalty)
 
 /* Evaluates x (or takes its known value when `known` is not NULL), records it in the history
  * and in the surrogate. */
-static texopt_status evaluate(texopt_bo *bo, texopt_objective f, void *user, const double *x,
-                              const double *known)
+static texopt_status evaluate(texopt_bo *bo, texopt_objective f, void *user, const double *x, const double *known)
 {
     int i = bo->count;
     double *xi = bo->x + (size_t)i * bo->dim;
@@ -288,8 +281,7 @@ static double next_point(texopt_bo *bo, const resolved_options *r, texopt_rng *r
 {
     double penalty = infeasible_penalty(feasible_values(bo));
     int best = best_surrogate_index(bo, penalty);
-    acquisition_context ctx = {bo->gp, r->kind,
-                               isfinite(bo->f[best]) ? bo->f[best] : penalty, r->beta};
+    acquisition_context ctx = {bo->gp, r->kind, isfinite(bo->f[best]) ? bo->f[best] : penalty, r->beta};
     generate_candidates(bo, rng, r->candidates, best);
     texopt_gp_predict(bo->gp, r->candidates, bo->candidates, bo->mean, bo->var);
     int arg = 0;
@@ -332,8 +324,7 @@ static void latin_hypercube(texopt_bo *bo, texopt_rng *rng, int m)
             bo->design[(size_t)s * dim + k] = t;
         }
         for (int j = 0; j < m; j++)
-            bo->design[(size_t)j * dim + k] =
-                (bo->design[(size_t)j * dim + k] + texopt_rng_uniform(rng)) / m;
+            bo->design[(size_t)j * dim + k] = (bo->design[(size_t)j * dim + k] + texopt_rng_uniform(rng)) / m;
     }
 }
 
@@ -344,8 +335,7 @@ static int reached_target(const texopt_bo *bo, const resolved_options *r)
 
 static texopt_status numeric_failure(char *err, size_t err_len, int count)
 {
-    return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
-                       "bayesopt: surrogate factorisation failed at sample %d", count);
+    return texopt_fail(err, err_len, TEXOPT_E_NUMERIC, "bayesopt: surrogate factorisation failed at sample %d", count);
 }
 
 static double best_value(const texopt_bo *bo)
@@ -374,13 +364,11 @@ static void report_best(const texopt_bo *bo, double *best_x, double *best_f, int
         *evaluations = bo->count;
 }
 
-texopt_status texopt_bo_minimize(texopt_bo *bo, const texopt_bo_options *opt, texopt_objective f,
-                                 void *user, double *best_x, double *best_f, int *evaluations,
-                                 char *err, size_t err_len)
+texopt_status texopt_bo_minimize(texopt_bo *bo, const texopt_bo_options *opt, texopt_objective f, void *user,
+                                 double *best_x, double *best_f, int *evaluations, char *err, size_t err_len)
 {
     if (!bo || !f)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "bayesopt: no workspace or objective");
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "bayesopt: no workspace or objective");
     resolved_options r = {0};
     texopt_status s = resolve_options(bo, opt, &r, err, err_len);
     if (s != TEXOPT_OK)

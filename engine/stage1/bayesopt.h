@@ -43,16 +43,16 @@ typedef enum texopt_acquisition {
 
 /* Zero-initialised = defaults. */
 typedef struct texopt_bo_options {
-    int iterations;          /* model-guided evaluations after the design; 0 -> 100 */
-    int initial_design;      /* Latin-hypercube points; 0 -> 2 * dim + 2, < 0 -> none */
+    int iterations;               /* model-guided evaluations after the design; 0 -> 100 */
+    int initial_design;           /* Latin-hypercube points; 0 -> 2 * dim + 2, < 0 -> none */
     const double *initial_points; /* initial_point_count * dim, evaluated first; may be NULL */
     const double *initial_values; /* their objective values (+INFINITY: infeasible) when
                                      already known: they enter the surrogate without calling
                                      the objective; NULL: evaluate them */
     int initial_point_count;
-    int candidates;          /* acquisition batch size; 0 -> 128 */
-    int polish_evaluations;  /* NLopt BOBYQA steps on the acquisition; 0 -> 10, < 0 -> off */
-    int refit_every;         /* refit the length scales every max(k, n/8) samples; 0 -> 5 */
+    int candidates;         /* acquisition batch size; 0 -> 128 */
+    int polish_evaluations; /* NLopt BOBYQA steps on the acquisition; 0 -> 10, < 0 -> off */
+    int refit_every;        /* refit the length scales every max(k, n/8) samples; 0 -> 5 */
     texopt_acquisition acquisition;
     int isotropic;           /* non-zero: one length scale; 0 -> per-dimension (ARD) fit */
     double lcb_beta;         /* 0 -> 2.0 */
@@ -63,7 +63,7 @@ typedef struct texopt_bo_options {
                                 lower the best value by less than stall_tolerance |best|;
                                 0 -> never */
     double stall_tolerance;
-    double target;           /* stop as soon as a value <= target is found (when
+    double target; /* stop as soon as a value <= target is found (when
                                 has_target is non-zero) */
     int has_target;
     uint64_t seed;
@@ -84,9 +84,8 @@ void texopt_bo_destroy(texopt_bo *bo);
  * is feasible, best_f is +INFINITY and best_x the first point evaluated. Initial points
  * outside the box are clamped into it. Errors: TEXOPT_E_INVALID_ARGUMENT (bad options),
  * TEXOPT_E_NUMERIC (the surrogate failed even with raised jitter). */
-texopt_status texopt_bo_minimize(texopt_bo *bo, const texopt_bo_options *opt, texopt_objective f,
-                                 void *user, double *best_x, double *best_f, int *evaluations,
-                                 char *err, size_t err_len);
+texopt_status texopt_bo_minimize(texopt_bo *bo, const texopt_bo_options *opt, texopt_objective f, void *user,
+                                 double *best_x, double *best_f, int *evaluations, char *err, size_t err_len);
 
 /* The points and true objective values (+INFINITY for infeasible) of the last
  * minimisation, in evaluation order; returns their count. The pointers stay valid until

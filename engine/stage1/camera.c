@@ -31,10 +31,14 @@ static void include_point(const texopt_camera *camera, const double p[3], double
     double xy[2];
     frame_point(camera, p, xy);
     double x = xy[0], y = xy[1];
-    if (x < box[0]) box[0] = x;
-    if (y < box[1]) box[1] = y;
-    if (x > box[2]) box[2] = x;
-    if (y > box[3]) box[3] = y;
+    if (x < box[0])
+        box[0] = x;
+    if (y < box[1])
+        box[1] = y;
+    if (x > box[2])
+        box[2] = x;
+    if (y > box[3])
+        box[3] = y;
 }
 
 /* Pads the bounding box on its short side, symmetrically, so the window is square: the
@@ -49,15 +53,13 @@ static void fit_square_window(texopt_camera *camera, const double box[4])
     camera->window_y0 = 0.5 * (box[1] + box[3]) - 0.5 * side;
 }
 
-texopt_status texopt_camera_create(texopt_camera *camera, const double a[3], const double b[3],
-                                   const double c[3], const double *ring_points,
-                                   size_t point_count, int size, char *err, size_t err_len)
+texopt_status texopt_camera_create(texopt_camera *camera, const double a[3], const double b[3], const double c[3],
+                                   const double *ring_points, size_t point_count, int size, char *err, size_t err_len)
 {
     if (!camera || !a || !b || !c || (point_count > 0 && !ring_points))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "camera: NULL argument");
     if (size < 2)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "camera: viewport size %d is below 2", size);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "camera: viewport size %d is below 2", size);
     for (int k = 0; k < 3; k++)
         camera->center[k] = (a[k] + b[k] + c[k]) / 3.0;
     double ab[3], ac[3];
@@ -66,8 +68,7 @@ texopt_status texopt_camera_create(texopt_camera *camera, const double a[3], con
     texopt_cross3(ab, ac, camera->normal);
     sub3(a, camera->center, camera->right);
     if (!texopt_normalize3(camera->normal) || !texopt_normalize3(camera->right))
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "camera: degenerate triangle has no normal");
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "camera: degenerate triangle has no normal");
     texopt_cross3(camera->normal, camera->right, camera->up);
     camera->size = size;
 
@@ -78,8 +79,7 @@ texopt_status texopt_camera_create(texopt_camera *camera, const double a[3], con
     for (size_t i = 0; i < point_count; i++)
         include_point(camera, ring_points + 3 * i, box);
     if (!(box[2] - box[0] > 0.0) || !isfinite(box[2] - box[0] + box[3] - box[1]))
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "camera: one-ring has no extent on screen");
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "camera: one-ring has no extent on screen");
     fit_square_window(camera, box);
     return TEXOPT_OK;
 }
@@ -99,8 +99,8 @@ static double narrowed_edge(double side, double t0, double t1, double w0, double
     return fmin(fmax(-0.5 * side, lo), hi);
 }
 
-void texopt_camera_limit_zoom(texopt_camera *camera, const double a[3], const double b[3],
-                              const double c[3], double texels_per_unit, double max_zoom)
+void texopt_camera_limit_zoom(texopt_camera *camera, const double a[3], const double b[3], const double c[3],
+                              double texels_per_unit, double max_zoom)
 {
     if (!(max_zoom > 0.0) || !(texels_per_unit > 0.0) || !isfinite(texels_per_unit))
         return;
@@ -112,15 +112,12 @@ void texopt_camera_limit_zoom(texopt_camera *camera, const double a[3], const do
     side = fmax(side, fmax(tri[2] - tri[0], tri[3] - tri[1]) * (1.0 + 1e-6));
     if (!(side < camera->window_side))
         return;
-    camera->window_x0 =
-        narrowed_edge(side, tri[0], tri[2], camera->window_x0, camera->window_side);
-    camera->window_y0 =
-        narrowed_edge(side, tri[1], tri[3], camera->window_y0, camera->window_side);
+    camera->window_x0 = narrowed_edge(side, tri[0], tri[2], camera->window_x0, camera->window_side);
+    camera->window_y0 = narrowed_edge(side, tri[1], tri[3], camera->window_y0, camera->window_side);
     camera->window_side = side;
 }
 
-void texopt_camera_project(const texopt_camera *camera, const double point[3], double screen[2],
-                           double *depth)
+void texopt_camera_project(const texopt_camera *camera, const double point[3], double screen[2], double *depth)
 {
     double d[3];
     sub3(point, camera->center, d);
@@ -145,8 +142,7 @@ static int in_triangle(const double t[3][2], double x, double y)
 }
 
 size_t texopt_camera_close_up_centres(const texopt_camera *camera, const double a[3], const double b[3],
-                                      const double c[3], double side, size_t max_centres,
-                                      double *centres)
+                                      const double c[3], double side, size_t max_centres, double *centres)
 {
     if (!(side > 0.0) || max_centres == 0)
         return 0;

@@ -38,9 +38,8 @@ typedef struct texopt_camera {
  * each, point_count of them; the triangle's own corners may or may not be among them, they
  * are always included). Fails with TEXOPT_E_INVALID_ARGUMENT on a degenerate triangle (no
  * normal or a corner at the centroid) or size < 2. */
-texopt_status texopt_camera_create(texopt_camera *camera, const double a[3], const double b[3],
-                                   const double c[3], const double *ring_points,
-                                   size_t point_count, int size, char *err, size_t err_len);
+texopt_status texopt_camera_create(texopt_camera *camera, const double a[3], const double b[3], const double c[3],
+                                   const double *ring_points, size_t point_count, int size, char *err, size_t err_len);
 
 /* The input texels per pixel the camera shows where the surface has texels_per_unit texels
  * per world unit (square root of texel area over 3D area). */
@@ -52,14 +51,13 @@ double texopt_camera_zoom(const texopt_camera *camera, double texels_per_unit);
  * to stay inside the paper's window, and never narrower than the triangle, which is
  * always seen whole. A window already at or under max_zoom, max_zoom <= 0 or a
  * texels_per_unit that is not positive and finite leave the camera as it is. */
-void texopt_camera_limit_zoom(texopt_camera *camera, const double a[3], const double b[3],
-                              const double c[3], double texels_per_unit, double max_zoom);
+void texopt_camera_limit_zoom(texopt_camera *camera, const double a[3], const double b[3], const double c[3],
+                              double texels_per_unit, double max_zoom);
 
 /* Projects a world point to continuous viewport coordinates: screen[0] grows to the right in
  * pixels (pixel i covers [i, i + 1)), screen[1] grows downwards (row j covers [j, j + 1)),
  * *depth is the signed distance along N (larger = closer to the camera). */
-void texopt_camera_project(const texopt_camera *camera, const double point[3], double screen[2],
-                           double *depth);
+void texopt_camera_project(const texopt_camera *camera, const double point[3], double screen[2], double *depth);
 
 /* Where to look closer at a triangle larger than one window of side `side` (world units):
  * the centres of a grid of about side x side cells over the triangle's bounding box in the
@@ -67,7 +65,6 @@ void texopt_camera_project(const texopt_camera *camera, const double point[3], d
  * the triangle, written as (x, y) pairs to centres; returns how many. The cells grow by 1.25
  * until the grid has at most max_centres cells, so at most that many are written. */
 size_t texopt_camera_close_up_centres(const texopt_camera *camera, const double a[3], const double b[3],
-                                      const double c[3], double side, size_t max_centres,
-                                      double *centres);
+                                      const double c[3], double side, size_t max_centres, double *centres);
 
 #endif

@@ -14,22 +14,21 @@
 struct texopt_gp {
     int dim, capacity, max_batch, n;
     double length_scale, jitter;
-    double *weight;    /* dim: 1 / (length_scale * multiplier_k), the ARD metric */
+    double *weight;     /* dim: 1 / (length_scale * multiplier_k), the ARD metric */
     double *multiplier; /* dim: per-dimension length-scale factors (1 = isotropic) */
-    double *x;         /* capacity * dim */
-    double *y;         /* capacity: targets as given */
-    double *L;         /* capacity x capacity, column-major lower Cholesky factor */
-    double *alpha;     /* K^-1 (standardised y) */
-    double *scratch;   /* capacity */
-    double *kstar;     /* capacity x max_batch, column-major: one column per point */
+    double *x;          /* capacity * dim */
+    double *y;          /* capacity: targets as given */
+    double *L;          /* capacity x capacity, column-major lower Cholesky factor */
+    double *alpha;      /* K^-1 (standardised y) */
+    double *scratch;    /* capacity */
+    double *kstar;      /* capacity x max_batch, column-major: one column per point */
     double y_mean, y_scale;
     int alpha_valid;
 };
 
 texopt_gp *texopt_gp_create(int dim, int max_samples, int max_batch)
 {
-    if (dim < 1 || dim > 64 || max_samples < 1 || max_samples > 20000 || max_batch < 1 ||
-        max_batch > 1 << 20)
+    if (dim < 1 || dim > 64 || max_samples < 1 || max_samples > 20000 || max_batch < 1 || max_batch > 1 << 20)
         return NULL;
     texopt_gp *gp = calloc(1, sizeof *gp);
     if (!gp)
@@ -48,8 +47,7 @@ texopt_gp *texopt_gp_create(int dim, int max_samples, int max_batch)
     gp->weight = malloc((size_t)dim * sizeof *gp->weight);
     gp->multiplier = malloc((size_t)dim * sizeof *gp->multiplier);
     gp->kstar = malloc(cap * (size_t)max_batch * sizeof *gp->kstar);
-    if (!gp->x || !gp->y || !gp->L || !gp->alpha || !gp->scratch || !gp->kstar || !gp->weight ||
-        !gp->multiplier) {
+    if (!gp->x || !gp->y || !gp->L || !gp->alpha || !gp->scratch || !gp->kstar || !gp->weight || !gp->multiplier) {
         texopt_gp_destroy(gp);
         return NULL;
     }
@@ -81,9 +79,15 @@ void texopt_gp_clear(texopt_gp *gp)
     gp->alpha_valid = 0;
 }
 
-int texopt_gp_count(const texopt_gp *gp) { return gp->n; }
+int texopt_gp_count(const texopt_gp *gp)
+{
+    return gp->n;
+}
 
-double texopt_gp_length_scale(const texopt_gp *gp) { return gp->length_scale; }
+double texopt_gp_length_scale(const texopt_gp *gp)
+{
+    return gp->length_scale;
+}
 
 const double *texopt_gp_cholesky(const texopt_gp *gp, int *leading_dimension)
 {
@@ -240,10 +244,8 @@ static void update_alpha(texopt_gp *gp)
     for (int i = 0; i < n; i++)
         gp->alpha[i] = (gp->y[i] - mean) / gp->y_scale;
     if (n > 0) {
-        cblas_dtrsv(CblasColMajor, CblasLower, CblasNoTrans, CblasNonUnit, n, gp->L,
-                    gp->capacity, gp->alpha, 1);
-        cblas_dtrsv(CblasColMajor, CblasLower, CblasTrans, CblasNonUnit, n, gp->L, gp->capacity,
-                    gp->alpha, 1);
+        cblas_dtrsv(CblasColMajor, CblasLower, CblasNoTrans, CblasNonUnit, n, gp->L, gp->capacity, gp->alpha, 1);
+        cblas_dtrsv(CblasColMajor, CblasLower, CblasTrans, CblasNonUnit, n, gp->L, gp->capacity, gp->alpha, 1);
     }
     gp->alpha_valid = 1;
 }
@@ -293,8 +295,7 @@ static void predict_batch(texopt_gp *gp, int m, const double *x, double *mean, d
     if (!var)
         return;
     /* V = L^-1 K*: the explained part of the prior variance is the column norm of V. */
-    cblas_dtrsm(CblasColMajor, CblasLeft, CblasLower, CblasNoTrans, CblasNonUnit, n, m, 1.0,
-                gp->L, ld, ks, ld);
+    cblas_dtrsm(CblasColMajor, CblasLeft, CblasLower, CblasNoTrans, CblasNonUnit, n, m, 1.0, gp->L, ld, ks, ld);
     double s2 = gp->y_scale * gp->y_scale;
     for (int j = 0; j < m; j++) {
         const double *col = ks + (size_t)j * ld;
@@ -317,7 +318,6 @@ void texopt_gp_predict(texopt_gp *gp, int m, const double *x, double *mean, doub
     update_alpha(gp);
     for (int start = 0; start < m; start += gp->max_batch) {
         int count = m - start < gp->max_batch ? m - start : gp->max_batch;
-        predict_batch(gp, count, x + (size_t)start * gp->dim, mean + start,
-                      var ? var + start : NULL);
+        predict_batch(gp, count, x + (size_t)start * gp->dim, mean + start, var ? var + start : NULL);
     }
 }

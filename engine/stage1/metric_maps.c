@@ -81,8 +81,8 @@ texopt_status texopt_metric_targets_every_map(const texopt_model *model, const t
     int count = dom->image_count, decoded = 0;
     map_metric *maps = calloc(count > 0 ? (size_t)count : 1, sizeof *maps);
     double *sum = calloc(3 * n, sizeof *sum);
-    texopt_status st = maps && sum ? TEXOPT_OK
-                                   : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the maps' metrics");
+    texopt_status st =
+        maps && sum ? TEXOPT_OK : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the maps' metrics");
     for (int k = 0; st == TEXOPT_OK && k < count; k++) {
         const texopt_image *img = &model->images[dom->images[k]];
         maps[k].img = img->pixels ? img : NULL;
@@ -98,8 +98,13 @@ texopt_status texopt_metric_targets_every_map(const texopt_model *model, const t
         workers = workers < decoded ? workers : decoded;
         map_worker w[MAX_THREADS];
         for (int k = 0; k < workers; k++)
-            w[k] = (map_worker){.model = model, .mesh = mesh, .probe = probe, .maps = maps, .map_count = count,
-                                .first = k, .step = workers};
+            w[k] = (map_worker){.model = model,
+                                .mesh = mesh,
+                                .probe = probe,
+                                .maps = maps,
+                                .map_count = count,
+                                .first = k,
+                                .step = workers};
         texopt_parallel_run(measure_maps, w, sizeof *w, workers);
         /* The metrics are squared signal derivatives: a signal scaled by w scales its metric
          * by w^2, and the maps add as the channels of one map do. */

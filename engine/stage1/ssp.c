@@ -38,8 +38,8 @@ static int signal_channels(const texopt_image *img)
     return img->channels >= 3 ? 3 : 1;
 }
 
-static void probe_gradient(const texopt_image *img, texopt_wrap ws, texopt_wrap wt, double x,
-                           double y, double sx, double sy, double m[3])
+static void probe_gradient(const texopt_image *img, texopt_wrap ws, texopt_wrap wt, double x, double y, double sx,
+                           double sy, double m[3])
 {
     float l[4], r[4], u[4], d[4];
     texopt_sample_bilinear(img, ws, wt, x - 1, y, l);
@@ -55,16 +55,15 @@ static void probe_gradient(const texopt_image *img, texopt_wrap ws, texopt_wrap 
     }
 }
 
-texopt_status texopt_signal_metric(const texopt_model *model, const texopt_mesh *mesh,
-                                   texopt_signal_probe probe, double *metric, char *err,
-                                   size_t err_len)
+texopt_status texopt_signal_metric(const texopt_model *model, const texopt_mesh *mesh, texopt_signal_probe probe,
+                                   double *metric, char *err, size_t err_len)
 {
     if (!model || !mesh || !probe || !metric)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "signal metric: missing argument");
     const texopt_image *img = texopt_domain_signal_image(model, mesh);
     if (!img)
-        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
-                           "domain %d has no decoded base colour image to measure", mesh->domain);
+        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "domain %d has no decoded base colour image to measure",
+                           mesh->domain);
     return texopt_signal_metric_of(model, mesh, img, probe, metric);
 }
 
@@ -106,8 +105,8 @@ texopt_status texopt_signal_metric_of(const texopt_model *model, const texopt_me
     return TEXOPT_OK;
 }
 
-texopt_status texopt_ssp_metric(const texopt_model *model, const texopt_mesh *mesh, double *metric,
-                                char *err, size_t err_len)
+texopt_status texopt_ssp_metric(const texopt_model *model, const texopt_mesh *mesh, double *metric, char *err,
+                                size_t err_len)
 {
     return texopt_signal_metric(model, mesh, probe_gradient, metric, err, err_len);
 }
@@ -124,8 +123,8 @@ static int counted(const texopt_mesh *mesh, size_t t)
 }
 
 /* The scale mapped to lambda = 1: the 98th percentile of the larger per-direction scale. */
-static texopt_status reference_scale(const texopt_mesh *mesh, const double *metric, double exponent,
-                                     double *out, char *err, size_t err_len)
+static texopt_status reference_scale(const texopt_mesh *mesh, const double *metric, double exponent, double *out,
+                                     char *err, size_t err_len)
 {
     double *s = malloc((mesh->triangle_count ? mesh->triangle_count : 1) * sizeof *s);
     if (!s)
@@ -152,10 +151,8 @@ static double clamp(double x, double lo, double hi)
     return x < lo ? lo : (x > hi ? hi : x);
 }
 
-texopt_status texopt_targets_from_metric(const texopt_mesh *mesh, const double *metric,
-                                         double exponent, double lambda_min,
-                                         texopt_triangle_target *targets, char *err,
-                                         size_t err_len)
+texopt_status texopt_targets_from_metric(const texopt_mesh *mesh, const double *metric, double exponent,
+                                         double lambda_min, texopt_triangle_target *targets, char *err, size_t err_len)
 {
     if (!mesh || !metric || !targets)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "metric targets: missing argument");
@@ -190,9 +187,8 @@ texopt_status texopt_targets_from_metric(const texopt_mesh *mesh, const double *
     return TEXOPT_OK;
 }
 
-texopt_status texopt_ssp_targets(const texopt_model *model, const texopt_mesh *mesh,
-                                 double lambda_min, texopt_triangle_target *targets, char *err,
-                                 size_t err_len)
+texopt_status texopt_ssp_targets(const texopt_model *model, const texopt_mesh *mesh, double lambda_min,
+                                 texopt_triangle_target *targets, char *err, size_t err_len)
 {
     if (!mesh)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "ssp: missing mesh");
@@ -207,8 +203,8 @@ texopt_status texopt_ssp_targets(const texopt_model *model, const texopt_mesh *m
 }
 
 texopt_status texopt_ssp_targets_every_map(const texopt_model *model, const texopt_mesh *mesh, double lambda_min,
-                                           const double *signal_weights, int threads,
-                                           texopt_triangle_target *targets, char *err, size_t err_len)
+                                           const double *signal_weights, int threads, texopt_triangle_target *targets,
+                                           char *err, size_t err_len)
 {
     return texopt_metric_targets_every_map(model, mesh, probe_gradient, STRETCH_EXPONENT, lambda_min, signal_weights,
                                            threads, targets, err, err_len);

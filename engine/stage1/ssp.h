@@ -29,10 +29,8 @@
 /* Per-triangle symmetric 2x2 tensors, 3 doubles per triangle (m_xx, m_xy, m_yy), in domain
  * texel units, to targets: lambda_k = (eigenvalue_k)^exponent, normalised as above.
  * lambda_min in (0, 1] (0 -> 0.1). targets has mesh->triangle_count entries. */
-texopt_status texopt_targets_from_metric(const texopt_mesh *mesh, const double *metric,
-                                         double exponent, double lambda_min,
-                                         texopt_triangle_target *targets, char *err,
-                                         size_t err_len);
+texopt_status texopt_targets_from_metric(const texopt_mesh *mesh, const double *metric, double exponent,
+                                         double lambda_min, texopt_triangle_target *targets, char *err, size_t err_len);
 
 /* The base colour image of the mesh's domain (the first image of the domain, which is the
  * base colour binding when there is one), or NULL when it was not decoded. */
@@ -40,15 +38,14 @@ const texopt_image *texopt_domain_signal_image(const texopt_model *model, const 
 
 /* Adds to m[3] the tensor of the signal at image position (x, y) (image texels);
  * (sx, sy) convert image texels to domain texels (domain = sx * image along x). */
-typedef void (*texopt_signal_probe)(const texopt_image *img, texopt_wrap wrap_s, texopt_wrap wrap_t,
-                                    double x, double y, double sx, double sy, double m[3]);
+typedef void (*texopt_signal_probe)(const texopt_image *img, texopt_wrap wrap_s, texopt_wrap wrap_t, double x, double y,
+                                    double sx, double sy, double m[3]);
 
 /* Mean of probe over each triangle of the mesh (the centroids of its regular subdivision
  * into about one-texel pieces, at most 32 x 32) into metric (3 doubles per triangle; zeros
  * for degenerate triangles). Fails when the domain's base colour image was not decoded. */
-texopt_status texopt_signal_metric(const texopt_model *model, const texopt_mesh *mesh,
-                                   texopt_signal_probe probe, double *metric, char *err,
-                                   size_t err_len);
+texopt_status texopt_signal_metric(const texopt_model *model, const texopt_mesh *mesh, texopt_signal_probe probe,
+                                   double *metric, char *err, size_t err_len);
 
 /* texopt_signal_metric of image img (any decoded image of the mesh's domain) instead of the
  * base colour's. Cannot fail. */
@@ -56,19 +53,18 @@ texopt_status texopt_signal_metric_of(const texopt_model *model, const texopt_me
                                       texopt_signal_probe probe, double *metric);
 
 /* Signal-stretch metric per triangle into metric (3 doubles per triangle). */
-texopt_status texopt_ssp_metric(const texopt_model *model, const texopt_mesh *mesh, double *metric,
-                                char *err, size_t err_len);
+texopt_status texopt_ssp_metric(const texopt_model *model, const texopt_mesh *mesh, double *metric, char *err,
+                                size_t err_len);
 
 /* SSP targets (exponent 1/2 of the signal-stretch metric). */
-texopt_status texopt_ssp_targets(const texopt_model *model, const texopt_mesh *mesh,
-                                 double lambda_min, texopt_triangle_target *targets, char *err,
-                                 size_t err_len);
+texopt_status texopt_ssp_targets(const texopt_model *model, const texopt_mesh *mesh, double lambda_min,
+                                 texopt_triangle_target *targets, char *err, size_t err_len);
 
 /* SSP targets from every map of the domain
  * (metric_maps.h: weighted by signal_weights, measured on up to `threads` workers): the
  * candidate perceptual uses. */
 texopt_status texopt_ssp_targets_every_map(const texopt_model *model, const texopt_mesh *mesh, double lambda_min,
-                                           const double *signal_weights, int threads,
-                                           texopt_triangle_target *targets, char *err, size_t err_len);
+                                           const double *signal_weights, int threads, texopt_triangle_target *targets,
+                                           char *err, size_t err_len);
 
 #endif

@@ -15,8 +15,8 @@
 /* lambda ~ eig(M)^(1/4) (tewari.h). */
 #define HESSIAN_EXPONENT 0.25
 
-static void probe_hessian(const texopt_image *img, texopt_wrap ws, texopt_wrap wt, double x,
-                          double y, double sx, double sy, double m[3])
+static void probe_hessian(const texopt_image *img, texopt_wrap ws, texopt_wrap wt, double x, double y, double sx,
+                          double sy, double m[3])
 {
     /* s[dy + 1][dx + 1] = the texture at (x + dx, y + dy). */
     float s[3][3][4];
@@ -35,15 +35,14 @@ static void probe_hessian(const texopt_image *img, texopt_wrap ws, texopt_wrap w
     }
 }
 
-texopt_status texopt_tewari_metric(const texopt_model *model, const texopt_mesh *mesh,
-                                   double *metric, char *err, size_t err_len)
+texopt_status texopt_tewari_metric(const texopt_model *model, const texopt_mesh *mesh, double *metric, char *err,
+                                   size_t err_len)
 {
     return texopt_signal_metric(model, mesh, probe_hessian, metric, err, err_len);
 }
 
-texopt_status texopt_tewari_targets(const texopt_model *model, const texopt_mesh *mesh,
-                                    double lambda_min, texopt_triangle_target *targets, char *err,
-                                    size_t err_len)
+texopt_status texopt_tewari_targets(const texopt_model *model, const texopt_mesh *mesh, double lambda_min,
+                                    texopt_triangle_target *targets, char *err, size_t err_len)
 {
     if (!mesh)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "tewari: missing mesh");

@@ -21,13 +21,12 @@
 #include "target.h"
 
 /* Hessian metric per triangle into metric (3 doubles per triangle: m_xx, m_xy, m_yy). */
-texopt_status texopt_tewari_metric(const texopt_model *model, const texopt_mesh *mesh,
-                                   double *metric, char *err, size_t err_len);
+texopt_status texopt_tewari_metric(const texopt_model *model, const texopt_mesh *mesh, double *metric, char *err,
+                                   size_t err_len);
 
 /* Tewari targets; lambda_min in (0, 1] (0 -> 0.1); targets has mesh->triangle_count entries. */
-texopt_status texopt_tewari_targets(const texopt_model *model, const texopt_mesh *mesh,
-                                    double lambda_min, texopt_triangle_target *targets, char *err,
-                                    size_t err_len);
+texopt_status texopt_tewari_targets(const texopt_model *model, const texopt_mesh *mesh, double lambda_min,
+                                    texopt_triangle_target *targets, char *err, size_t err_len);
 
 /* Tewari targets from every map of the domain
  * (metric_maps.h: weighted by signal_weights, measured on up to `threads` workers): the

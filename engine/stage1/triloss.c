@@ -9,10 +9,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "window_bake.h"
 #include "gmsd.h"
 #include "lit_weight.h"
 #include "sample.h"
+#include "window_bake.h"
 
 #define TRILOSS_RIDGE 1e-6
 /* Close-ups (triloss.h) are taken where the one-ring's window shows the triangle at more than
@@ -25,18 +25,18 @@
 #define TRILOSS_BATCH_MAX TEXOPT_BAKE_MAX_CHANNELS
 
 typedef struct loss_signal {
-    int image;   /* model image index */
-    int channel; /* -1: luma, else the channel compared */
+    int image;    /* model image index */
+    int channel;  /* -1: luma, else the channel compared */
     float weight; /* the signal's scale (texopt_triloss_weigh_signals), 1 unless weighed */
 } loss_signal;
 
 /* Signals of textures of one size, baked together. */
 typedef struct loss_batch {
     int first_signal, signal_count;
-    int active_count;  /* of the prepared triangle: signals that need their own bake */
-    int lead;          /* the active signal with the largest E at the last full evaluation */
-    int tex_w, tex_h;  /* the texture grid */
-    double sx, sy;     /* domain texel frame -> this texture's texels */
+    int active_count; /* of the prepared triangle: signals that need their own bake */
+    int lead;         /* the active signal with the largest E at the last full evaluation */
+    int tex_w, tex_h; /* the texture grid */
+    double sx, sy;    /* domain texel frame -> this texture's texels */
 } loss_batch;
 
 struct texopt_triloss {
@@ -51,20 +51,20 @@ struct texopt_triloss {
     loss_batch *batches;
 
     /* the prepared triangle */
-    size_t n;            /* covered pixels */
-    int32_t *pixel;      /* per covered pixel: its index in the viewport */
-    double *phat;        /* 2 per covered pixel, domain texels */
-    double centroid[2];  /* pivot of J: the texel centre nearest the triangle's centroid */
-    double radius;       /* max |p_hat - c| over covered pixels (infinity norm) */
-    float *reference;    /* per batch: n x active_count values, at n * first_signal */
-    int *active;         /* per batch: its active signals' indices, at first_signal */
-    unsigned char *deciding; /* per signal: it gave E in an evaluation since the prepare */
-    float *ref_img;      /* per signal: size x size image, 0 where uncovered */
-    unsigned char *mask; /* size x size */
+    size_t n;                         /* covered pixels */
+    int32_t *pixel;                   /* per covered pixel: its index in the viewport */
+    double *phat;                     /* 2 per covered pixel, domain texels */
+    double centroid[2];               /* pivot of J: the texel centre nearest the triangle's centroid */
+    double radius;                    /* max |p_hat - c| over covered pixels (infinity norm) */
+    float *reference;                 /* per batch: n x active_count values, at n * first_signal */
+    int *active;                      /* per batch: its active signals' indices, at first_signal */
+    unsigned char *deciding;          /* per signal: it gave E in an evaluation since the prepare */
+    float *ref_img;                   /* per signal: size x size image, 0 where uncovered */
+    unsigned char *mask;              /* size x size */
     texopt_gmsd_reference **gmsd_ref; /* per signal: its GMSD side prepared once */
 
     /* per-candidate scratch */
-    float *split;        /* n x (TRILOSS_BATCH_MAX - 1): references of the signals after the lead */
+    float *split; /* n x (TRILOSS_BATCH_MAX - 1): references of the signals after the lead */
     double *pos;
     float *recon;
     float *dist_img;
@@ -77,8 +77,7 @@ struct texopt_triloss {
     int close_up_count;
 };
 
-void texopt_jacobian_from_params(double alpha, double lambda1, double lambda2, double beta,
-                                 double jacobian[4])
+void texopt_jacobian_from_params(double alpha, double lambda1, double lambda2, double beta, double jacobian[4])
 {
     double ca = cos(alpha), sa = sin(alpha), cb = cos(beta), sb = sin(beta);
     /* S = V diag(l1, l2) V^T is symmetric. */
@@ -162,8 +161,7 @@ static int domain_signal_count(const texopt_model *model, const texopt_domain *d
 {
     int count = 0, channel[5];
     for (int i = 0; i < used; i++)
-        count += image_signal_channels(&model->images[order[i]], image_use_in_domain(model, dom, order[i]), 0,
-                                       channel);
+        count += image_signal_channels(&model->images[order[i]], image_use_in_domain(model, dom, order[i]), 0, channel);
     return count;
 }
 
@@ -188,8 +186,8 @@ static texopt_status build_signals(texopt_triloss *tl, char *err, size_t err_len
         if (model->images[dom->images[i]].pixels)
             count += 5;
     if (count == 0)
-        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
-                           "triloss: domain %d has no decoded texture", tl->mesh->domain);
+        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED, "triloss: domain %d has no decoded texture",
+                           tl->mesh->domain);
     tl->signals = calloc((size_t)count, sizeof *tl->signals);
     tl->batches = calloc((size_t)count, sizeof *tl->batches);
     if (!tl->signals || !tl->batches)
@@ -237,16 +235,15 @@ static texopt_status build_signals(texopt_triloss *tl, char *err, size_t err_len
 }
 
 /* An evaluator without close-ups. */
-static texopt_status create_evaluator(texopt_triloss **out, const texopt_model *model,
-                                      const texopt_mesh *mesh, int viewport, char *err, size_t err_len)
+static texopt_status create_evaluator(texopt_triloss **out, const texopt_model *model, const texopt_mesh *mesh,
+                                      int viewport, char *err, size_t err_len)
 {
     if (!out)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "triloss: NULL output");
     *out = NULL;
     if (!model || !mesh)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "triloss: NULL model or mesh");
-    if (mesh->domain < 0 || mesh->domain >= model->domain_count || mesh->width <= 0 ||
-        mesh->height <= 0)
+    if (mesh->domain < 0 || mesh->domain >= model->domain_count || mesh->width <= 0 || mesh->height <= 0)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "triloss: mesh domain %d is not a domain of the model", mesh->domain);
     texopt_triloss *tl = calloc(1, sizeof *tl);
@@ -279,11 +276,10 @@ static texopt_status create_evaluator(texopt_triloss **out, const texopt_model *
         int refs_ok = tl->gmsd_ref != NULL;
         for (int s = 0; refs_ok && s < tl->signal_count; s++)
             refs_ok = (tl->gmsd_ref[s] = texopt_gmsd_reference_create(viewport, viewport)) != NULL;
-        if (!tl->pixel || !tl->phat || !tl->reference || !tl->active || !tl->deciding ||
-            !tl->split || !tl->ref_img || !tl->mask ||
-            !tl->pos || !tl->recon || !tl->dist_img || !tl->bake || !tl->gmsd || !refs_ok)
-            st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "triloss: out of memory for a %dx%d view",
-                             viewport, viewport);
+        if (!tl->pixel || !tl->phat || !tl->reference || !tl->active || !tl->deciding || !tl->split || !tl->ref_img ||
+            !tl->mask || !tl->pos || !tl->recon || !tl->dist_img || !tl->bake || !tl->gmsd || !refs_ok)
+            st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "triloss: out of memory for a %dx%d view", viewport,
+                             viewport);
     }
     if (st != TEXOPT_OK) {
         texopt_triloss_destroy(tl);
@@ -293,9 +289,8 @@ static texopt_status create_evaluator(texopt_triloss **out, const texopt_model *
     return TEXOPT_OK;
 }
 
-texopt_status texopt_triloss_create(texopt_triloss **out, const texopt_model *model,
-                                    const texopt_mesh *mesh, int viewport, char *err,
-                                    size_t err_len)
+texopt_status texopt_triloss_create(texopt_triloss **out, const texopt_model *model, const texopt_mesh *mesh,
+                                    int viewport, char *err, size_t err_len)
 {
     texopt_status st = create_evaluator(out, model, mesh, viewport, err, err_len);
     for (int k = 0; k < TEXOPT_TRILOSS_CLOSE_UPS && st == TEXOPT_OK; k++)
@@ -311,7 +306,8 @@ void texopt_triloss_weigh_signals(texopt_triloss *tl, const double *weights)
 {
     for (int s = 0; tl && weights && s < tl->signal_count; s++) {
         const loss_signal *sig = &tl->signals[s];
-        tl->signals[s].weight = (float)weights[TEXOPT_LIT_WEIGHT_STRIDE * (size_t)sig->image + (size_t)(sig->channel + 1)];
+        tl->signals[s].weight =
+            (float)weights[TEXOPT_LIT_WEIGHT_STRIDE * (size_t)sig->image + (size_t)(sig->channel + 1)];
     }
     for (int k = 0; tl && k < TEXOPT_TRILOSS_CLOSE_UPS; k++)
         texopt_triloss_weigh_signals(tl->close_up[k], weights);
@@ -359,8 +355,8 @@ static void collect_covered(texopt_triloss *tl)
         tl->pixel[n] = (int32_t)q;
         tl->phat[2 * n] = r->texel[2 * q];
         tl->phat[2 * n + 1] = r->texel[2 * q + 1];
-        radius = fmax(radius, fmax(fabs(tl->phat[2 * n] - tl->centroid[0]),
-                                   fabs(tl->phat[2 * n + 1] - tl->centroid[1])));
+        radius =
+            fmax(radius, fmax(fabs(tl->phat[2 * n] - tl->centroid[0]), fabs(tl->phat[2 * n + 1] - tl->centroid[1])));
         n++;
     }
     tl->n = n;
@@ -456,8 +452,7 @@ static void sample_references(texopt_triloss *tl)
          * the viewport the references were created for. */
         for (int j = 0; j < batch->active_count; j++) {
             int s = batch->first_signal + tl->active[batch->first_signal + j];
-            texopt_gmsd_reference_set(tl->gmsd_ref[s], tl->ref_img + px * (size_t)s, tl->mask,
-                                      tl->size, tl->size);
+            texopt_gmsd_reference_set(tl->gmsd_ref[s], tl->ref_img + px * (size_t)s, tl->mask, tl->size, tl->size);
         }
     }
 }
@@ -473,9 +468,9 @@ static void sample_prepared(texopt_triloss *tl, uint32_t triangle)
      * the pixel grid (paper Fig. 7) instead of charging a sub-texel phase shift to every
      * rotation. Close-ups pivot about the same centre: one J deforms the whole triangle. */
     for (int d = 0; d < 2; d++) {
-        double c = (tl->mesh->texel[2 * (size_t)tri[0] + d] +
-                    tl->mesh->texel[2 * (size_t)tri[1] + d] +
-                    tl->mesh->texel[2 * (size_t)tri[2] + d]) / 3.0;
+        double c = (tl->mesh->texel[2 * (size_t)tri[0] + d] + tl->mesh->texel[2 * (size_t)tri[1] + d] +
+                    tl->mesh->texel[2 * (size_t)tri[2] + d]) /
+                   3.0;
         tl->centroid[d] = floor(c) + 0.5;
     }
     collect_covered(tl);
@@ -483,8 +478,8 @@ static void sample_prepared(texopt_triloss *tl, uint32_t triangle)
 }
 
 /* Prepares close-up evaluator `view` on the window of side `side` centred at (x, y). */
-static texopt_status prepare_close_up(texopt_triloss *view, uint32_t triangle, double x, double y,
-                                      double side, char *err, size_t err_len)
+static texopt_status prepare_close_up(texopt_triloss *view, uint32_t triangle, double x, double y, double side,
+                                      char *err, size_t err_len)
 {
     double window[3] = {x - 0.5 * side, y - 0.5 * side, side};
     texopt_status st = texopt_uvraster_render_window(view->raster, view->mesh, triangle, window, err, err_len);
@@ -516,10 +511,9 @@ static texopt_status prepare_close_ups(texopt_triloss *tl, uint32_t triangle, ch
         return TEXOPT_OK;
     double side = r->max_zoom * r->size / density, centres[2 * CLOSE_UP_CANDIDATES], score[CLOSE_UP_CANDIDATES];
     const uint32_t *tri = mesh->triangle + 3 * (size_t)triangle;
-    int n = (int)texopt_camera_close_up_centres(&r->camera, texopt_mesh_vertex_point(mesh, tri[0]),
-                                                texopt_mesh_vertex_point(mesh, tri[1]),
-                                                texopt_mesh_vertex_point(mesh, tri[2]), side,
-                                                CLOSE_UP_CANDIDATES, centres);
+    int n = (int)texopt_camera_close_up_centres(
+        &r->camera, texopt_mesh_vertex_point(mesh, tri[0]), texopt_mesh_vertex_point(mesh, tri[1]),
+        texopt_mesh_vertex_point(mesh, tri[2]), side, CLOSE_UP_CANDIDATES, centres);
     const double probe[4] = {CLOSE_UP_PROBE, 0.0, 0.0, CLOSE_UP_PROBE};
     texopt_status st = TEXOPT_OK;
     for (int i = 0; i < n && st == TEXOPT_OK; i++) {
@@ -566,8 +560,7 @@ static texopt_status check_grids(const texopt_triloss *tl, char *err, size_t err
     return TEXOPT_OK;
 }
 
-texopt_status texopt_triloss_prepare(texopt_triloss *tl, uint32_t triangle, char *err,
-                                     size_t err_len)
+texopt_status texopt_triloss_prepare(texopt_triloss *tl, uint32_t triangle, char *err, size_t err_len)
 {
     if (!tl)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "triloss: NULL evaluator");
@@ -580,8 +573,7 @@ texopt_status texopt_triloss_prepare(texopt_triloss *tl, uint32_t triangle, char
 }
 
 /* p(q) = c + J (p_hat - c) in the batch's texels, shifted by whole texels to the grid centre. */
-static void candidate_positions(texopt_triloss *tl, const loss_batch *batch, const double J[4],
-                                int grid_w, int grid_h)
+static void candidate_positions(texopt_triloss *tl, const loss_batch *batch, const double J[4], int grid_w, int grid_h)
 {
     double cx = tl->centroid[0], cy = tl->centroid[1];
     double ox = floor(0.5 * grid_w) - floor(cx * batch->sx);
@@ -594,16 +586,15 @@ static void candidate_positions(texopt_triloss *tl, const loss_batch *batch, con
 }
 
 /* GMSD of active signal j of the batch against the reconstruction column c of `columns`. */
-static texopt_status signal_loss(texopt_triloss *tl, const loss_batch *batch, int j, int c,
-                                 int columns, double *e, char *err, size_t err_len)
+static texopt_status signal_loss(texopt_triloss *tl, const loss_batch *batch, int j, int c, int columns, double *e,
+                                 char *err, size_t err_len)
 {
     int signal = batch->first_signal + tl->active[batch->first_signal + j];
     for (size_t k = 0; k < tl->n; k++)
         tl->dist_img[tl->pixel[k]] = tl->recon[k * (size_t)columns + (size_t)c];
     *e = texopt_gmsd_against(tl->gmsd, tl->gmsd_ref[signal], tl->dist_img);
     if (!isfinite(*e))
-        return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
-                           "triloss: GMSD is not finite for signal %d", signal);
+        return texopt_fail(err, err_len, TEXOPT_E_NUMERIC, "triloss: GMSD is not finite for signal %d", signal);
     return TEXOPT_OK;
 }
 
@@ -613,8 +604,7 @@ typedef struct loss_max {
     int signal; /* -1 while every E so far is 0 */
 } loss_max;
 
-static void raise_max(loss_max *m, const texopt_triloss *tl, const loss_batch *batch, int j,
-                      double e)
+static void raise_max(loss_max *m, const texopt_triloss *tl, const loss_batch *batch, int j, double e)
 {
     if (e > m->value) {
         m->value = e;
@@ -623,14 +613,12 @@ static void raise_max(loss_max *m, const texopt_triloss *tl, const loss_batch *b
 }
 
 /* The batch's largest E over its active signals, all baked in one fit. */
-static texopt_status batch_loss_together(texopt_triloss *tl, loss_batch *batch, const float *block,
-                                         int grid_w, int grid_h, loss_max *worst, char *err,
-                                         size_t err_len)
+static texopt_status batch_loss_together(texopt_triloss *tl, loss_batch *batch, const float *block, int grid_w,
+                                         int grid_h, loss_max *worst, char *err, size_t err_len)
 {
     int count = batch->active_count;
-    texopt_status st = texopt_bake_fit(tl->bake, (int)tl->n, tl->pos, block, count, grid_w,
-                                       grid_h, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT,
-                                       TRILOSS_RIDGE, tl->recon, err, err_len);
+    texopt_status st = texopt_bake_fit(tl->bake, (int)tl->n, tl->pos, block, count, grid_w, grid_h, TEXOPT_WRAP_REPEAT,
+                                       TEXOPT_WRAP_REPEAT, TRILOSS_RIDGE, tl->recon, err, err_len);
     double top = -1.0;
     for (int j = 0; j < count && st == TEXOPT_OK; j++) {
         double e;
@@ -649,17 +637,14 @@ static texopt_status batch_loss_together(texopt_triloss *tl, loss_batch *batch, 
 /* The same with an early exit: the lead signal (the largest E last time) is baked and
  * compared first, and when it alone reaches stop_above the other signals are not solved;
  * otherwise they are, reusing the lead's factorisation. */
-static texopt_status batch_loss_lead_first(texopt_triloss *tl, loss_batch *batch,
-                                           const float *block, int grid_w, int grid_h,
-                                           double stop_above, loss_max *worst, char *err,
-                                           size_t err_len)
+static texopt_status batch_loss_lead_first(texopt_triloss *tl, loss_batch *batch, const float *block, int grid_w,
+                                           int grid_h, double stop_above, loss_max *worst, char *err, size_t err_len)
 {
     int count = batch->active_count, lead = batch->lead;
     for (size_t k = 0; k < tl->n; k++)
         tl->split[k] = block[k * (size_t)count + (size_t)lead];
-    texopt_status st = texopt_bake_fit(tl->bake, (int)tl->n, tl->pos, tl->split, 1, grid_w,
-                                       grid_h, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT,
-                                       TRILOSS_RIDGE, tl->recon, err, err_len);
+    texopt_status st = texopt_bake_fit(tl->bake, (int)tl->n, tl->pos, tl->split, 1, grid_w, grid_h, TEXOPT_WRAP_REPEAT,
+                                       TEXOPT_WRAP_REPEAT, TRILOSS_RIDGE, tl->recon, err, err_len);
     double top;
     if (st == TEXOPT_OK)
         st = signal_loss(tl, batch, lead, 0, 1, &top, err, err_len);
@@ -688,9 +673,8 @@ static texopt_status batch_loss_lead_first(texopt_triloss *tl, loss_batch *batch
     return st;
 }
 
-texopt_status texopt_triloss_eval(texopt_triloss *tl, const double jacobian[4],
-                                  double stop_above, double *out_loss, char *err,
-                                  size_t err_len)
+texopt_status texopt_triloss_eval(texopt_triloss *tl, const double jacobian[4], double stop_above, double *out_loss,
+                                  char *err, size_t err_len)
 {
     if (!tl || !jacobian || !out_loss)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "triloss: NULL argument");
@@ -706,8 +690,7 @@ texopt_status texopt_triloss_eval(texopt_triloss *tl, const double jacobian[4],
         const float *block = tl->reference + tl->n * (size_t)batch->first_signal;
         texopt_status st =
             batch->active_count > 1 && isfinite(stop_above)
-                ? batch_loss_lead_first(tl, batch, block, grid_w, grid_h, stop_above, &worst,
-                                        err, err_len)
+                ? batch_loss_lead_first(tl, batch, block, grid_w, grid_h, stop_above, &worst, err, err_len)
                 : batch_loss_together(tl, batch, block, grid_w, grid_h, &worst, err, err_len);
         if (st != TEXOPT_OK)
             return st;
@@ -742,8 +725,7 @@ void texopt_triloss_keep_deciding(texopt_triloss *tl)
         for (int j = 0; j < batch->active_count; j++)
             if (tl->deciding[batch->first_signal + active[j]])
                 keep[kept++] = j;
-        keep_columns(tl->reference + tl->n * (size_t)batch->first_signal, tl->n,
-                     batch->active_count, keep, kept);
+        keep_columns(tl->reference + tl->n * (size_t)batch->first_signal, tl->n, batch->active_count, keep, kept);
         for (int j = 0; j < kept; j++)
             active[j] = active[keep[j]];
         batch->active_count = kept;

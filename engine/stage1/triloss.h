@@ -63,9 +63,8 @@ typedef struct texopt_triloss texopt_triloss;
  * viewport x viewport pixels (paper: 64), with TEXOPT_TRILOSS_CLOSE_UPS evaluators of the same
  * size inside for the close-ups. model and mesh must outlive it. Fails with
  * TEXOPT_E_UNSUPPORTED when the domain has no decoded image. */
-texopt_status texopt_triloss_create(texopt_triloss **out, const texopt_model *model,
-                                    const texopt_mesh *mesh, int viewport, char *err,
-                                    size_t err_len);
+texopt_status texopt_triloss_create(texopt_triloss **out, const texopt_model *model, const texopt_mesh *mesh,
+                                    int viewport, char *err, size_t err_len);
 
 /* Scales each signal by its weight before it is compared: weights as texopt_lit_signal_weights
  * fills them (lit_weight.h; per image, luma then channels 0..3), NULL for none. Call before
@@ -77,8 +76,7 @@ void texopt_triloss_destroy(texopt_triloss *loss);
 
 /* Rasterises the one-ring of `triangle` and samples the reference signals. Fails with
  * TEXOPT_E_INVALID_ARGUMENT for an index out of range or a triangle degenerate in 3D. */
-texopt_status texopt_triloss_prepare(texopt_triloss *loss, uint32_t triangle, char *err,
-                                     size_t err_len);
+texopt_status texopt_triloss_prepare(texopt_triloss *loss, uint32_t triangle, char *err, size_t err_len);
 
 /* E for the 2x2 Jacobian J (row-major: J[0] J[1] / J[2] J[3]) of the prepared triangle.
  * Stops early and returns a value >= stop_above as soon as one signal reaches stop_above
@@ -87,9 +85,8 @@ texopt_status texopt_triloss_prepare(texopt_triloss *loss, uint32_t triangle, ch
  * alone (the others, when needed, reuse its factorisation: texopt_bake_refit), so a
  * candidate that fails on that signal costs one solve; E then equals the INFINITY value to
  * rounding. Same triangle, same sequence of calls: same E, bit for bit. */
-texopt_status texopt_triloss_eval(texopt_triloss *loss, const double jacobian[4],
-                                  double stop_above, double *out_loss, char *err,
-                                  size_t err_len);
+texopt_status texopt_triloss_eval(texopt_triloss *loss, const double jacobian[4], double stop_above, double *out_loss,
+                                  char *err, size_t err_len);
 
 /* Until the next texopt_triloss_prepare, compares only the deciding signals: those that gave
  * the returned E of some evaluation since the prepare (the maximum, or the signal that
@@ -110,7 +107,6 @@ int texopt_triloss_close_up_count(const texopt_triloss *loss);
 int texopt_triloss_signal_count(const texopt_triloss *loss);
 
 /* J = R(alpha) V(beta) diag(lambda1, lambda2) V(beta)^T, R and V rotations (paper eq. 13). */
-void texopt_jacobian_from_params(double alpha, double lambda1, double lambda2, double beta,
-                                 double jacobian[4]);
+void texopt_jacobian_from_params(double alpha, double lambda1, double lambda2, double beta, double jacobian[4]);
 
 #endif

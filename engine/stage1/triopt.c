@@ -72,7 +72,7 @@ typedef struct stage_shared {
     pthread_mutex_t lock; /* guards everything below */
     size_t done;
     double sum_loss, sum_area_scale;
-    double cpu_seconds; /* summed thread CPU time of the workers */
+    double cpu_seconds;        /* summed thread CPU time of the workers */
     size_t close_up_triangles; /* summed over the workers when they end */
     size_t report_every;
     texopt_status status;
@@ -188,8 +188,7 @@ static double search_objective_below(triangle_search *s, const double *x, double
      * must_beat strictly, as the exact one would. */
     double cut = s->epsilon - exp(floor_f + log(s->epsilon) - must_beat);
     for (double step = fmax(cut * 1e-15, 1e-18);
-         cut < s->epsilon && !(objective_value(p[1] * p[2], s->area, cut, s->epsilon) > must_beat);
-         step *= 2.0)
+         cut < s->epsilon && !(objective_value(p[1] * p[2], s->area, cut, s->epsilon) > must_beat); step *= 2.0)
         cut += step;
     s->cut_loss = cut < s->epsilon ? cut : s->epsilon;
     double f = search_objective(s, x);
@@ -225,8 +224,7 @@ static void shuffle(texopt_rng *rng, int *perm, int n)
  * stretch samples form a Latin hypercube: each of lambda1, lambda2, beta uniform and
  * stratified into n strata, which ranks the triangles' w_stretch closer to a dense
  * estimate than independent draws at the same cost (BENCHMARKS.md@9f788a8, "Stage 1"). */
-static texopt_status sensitivity_weights(worker *w, uint32_t t, texopt_triangle_target *o,
-                                         char *err, size_t err_len)
+static texopt_status sensitivity_weights(worker *w, uint32_t t, texopt_triangle_target *o, char *err, size_t err_len)
 {
     const resolved_options *opt = &w->sh->opt;
     int n = opt->weight_samples;
@@ -335,8 +333,7 @@ typedef struct squeeze {
  * it lowers f. An orientation outside [0, 1) is the same J with beta wrapped by a quarter
  * turn and lambda1, lambda2 exchanged: V(b + pi/2) diag(l2, l1) V(b + pi/2)^T =
  * V(b) diag(l1, l2) V(b)^T, so the probe neighbours its orientation on either side. */
-static void probe_squeeze(triangle_search *s, const double start[TRIOPT_DIM], int axis,
-                          double beta, squeeze *best)
+static void probe_squeeze(triangle_search *s, const double start[TRIOPT_DIM], int axis, double beta, squeeze *best)
 {
     double from[TRIOPT_DIM];
     memcpy(from, start, sizeof from);
@@ -360,8 +357,7 @@ static void probe_squeeze(triangle_search *s, const double start[TRIOPT_DIM], in
 }
 
 /* Both axes at orientation beta. */
-static void probe_both_axes(triangle_search *s, const double start[TRIOPT_DIM], double beta,
-                            squeeze *best)
+static void probe_both_axes(triangle_search *s, const double start[TRIOPT_DIM], double beta, squeeze *best)
 {
     for (int axis = 1; axis <= 2 && s->status == TEXOPT_OK; axis++)
         probe_squeeze(s, start, axis, beta, best);
@@ -370,8 +366,7 @@ static void probe_both_axes(triangle_search *s, const double start[TRIOPT_DIM], 
 /* Where to squeeze an isotropic start (lambda1 = lambda2): both axes at every other of the
  * `directions` orientations, then the two orientations next to the best probe (coarse to
  * fine: directions + 2 probes for the resolution of 2 x directions). */
-static void probe_every_orientation(triangle_search *s, const double start[TRIOPT_DIM],
-                                    int directions, squeeze *best)
+static void probe_every_orientation(triangle_search *s, const double start[TRIOPT_DIM], int directions, squeeze *best)
 {
     int step = directions >= 4 && directions % 2 == 0 ? 2 : 1;
     for (int k = 0; k < directions && s->status == TEXOPT_OK; k += step)
@@ -415,8 +410,7 @@ static void anisotropic_search(triangle_search *s, int directions, int golden_st
 
 /* The paper's plan: J = I (E = 0, always feasible), the Latin-hypercube design, then
  * `iterations` model-guided evaluations. */
-static texopt_status plain_bayesian_optimisation(worker *w, triangle_search *s, uint32_t t,
-                                                 char *err, size_t err_len)
+static texopt_status plain_bayesian_optimisation(worker *w, triangle_search *s, uint32_t t, char *err, size_t err_len)
 {
     const resolved_options *opt = &w->sh->opt;
     static const double identity[TRIOPT_DIM] = {0, 1, 1, 0};
@@ -433,8 +427,7 @@ static texopt_status plain_bayesian_optimisation(worker *w, triangle_search *s, 
  * polish_patience evaluations in a row lower the best f by less than polish_stop of it, so
  * `iterations` is a budget spent only while it pays. Also stops at the objective's lower
  * bound. */
-static texopt_status polish(worker *w, triangle_search *s, uint32_t t, double lower_bound,
-                            char *err, size_t err_len)
+static texopt_status polish(worker *w, triangle_search *s, uint32_t t, double lower_bound, char *err, size_t err_len)
 {
     const resolved_options *opt = &w->sh->opt;
     int known = s->history_count;
@@ -467,8 +460,7 @@ static void store_optimum(const triangle_search *s, double lambda_min, texopt_tr
     o->evaluations = s->evaluations;
 }
 
-static texopt_status optimise_triangle(worker *w, uint32_t t, texopt_triangle_target *o,
-                                       char *err, size_t err_len)
+static texopt_status optimise_triangle(worker *w, uint32_t t, texopt_triangle_target *o, char *err, size_t err_len)
 {
     const stage_shared *sh = w->sh;
     const resolved_options *opt = &sh->opt;
@@ -476,9 +468,13 @@ static texopt_status optimise_triangle(worker *w, uint32_t t, texopt_triangle_ta
     if (st != TEXOPT_OK)
         return st;
     w->close_up_triangles += texopt_triloss_close_up_count(w->loss) > 0;
-    triangle_search s = {.loss = w->loss, .epsilon = opt->epsilon, .cut_loss = opt->epsilon,
-                         .lambda_min = opt->lambda_min, .area = fabs(sh->mesh->area_texel[t]),
-                         .best_f = INFINITY, .status = TEXOPT_OK};
+    triangle_search s = {.loss = w->loss,
+                         .epsilon = opt->epsilon,
+                         .cut_loss = opt->epsilon,
+                         .lambda_min = opt->lambda_min,
+                         .area = fabs(sh->mesh->area_texel[t]),
+                         .best_f = INFINITY,
+                         .status = TEXOPT_OK};
     double lm = opt->lambda_min;
     double lower_bound = objective_value(lm * lm, s.area, 0.0, opt->epsilon) + TRIOPT_BOUND_TOLERANCE;
     int flat = 0;
@@ -492,11 +488,9 @@ static texopt_status optimise_triangle(worker *w, uint32_t t, texopt_triangle_ta
             static const double identity[TRIOPT_DIM] = {0, 1, 1, 0};
             search_objective(&s, identity);
         }
-        for (int pass = 0; !flat && pass < opt->anisotropic_passes && s.status == TEXOPT_OK;
-             pass++) {
+        for (int pass = 0; !flat && pass < opt->anisotropic_passes && s.status == TEXOPT_OK; pass++) {
             double before = s.best_f;
-            anisotropic_search(&s, opt->anisotropic_directions, opt->anisotropic_steps,
-                               pass == 0);
+            anisotropic_search(&s, opt->anisotropic_directions, opt->anisotropic_steps, pass == 0);
             if (!(s.best_f < before))
                 break;
         }
@@ -610,8 +604,8 @@ static void *worker_main(void *arg)
     return NULL;
 }
 
-static texopt_status resolve_options(const texopt_triopt_options *in, const texopt_mesh *mesh,
-                                     resolved_options *o, char *err, size_t err_len)
+static texopt_status resolve_options(const texopt_triopt_options *in, const texopt_mesh *mesh, resolved_options *o,
+                                     char *err, size_t err_len)
 {
     texopt_triopt_options d = {0};
     if (!in)
@@ -642,21 +636,19 @@ static texopt_status resolve_options(const texopt_triopt_options *in, const texo
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
     o->threads = in->threads > 0 ? in->threads : (cores > 0 ? (int)cores : 1);
     if (!(o->epsilon > 0.0 && o->epsilon <= 1.0))
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "triopt: epsilon %g outside (0, 1]", o->epsilon);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "triopt: epsilon %g outside (0, 1]", o->epsilon);
     if (o->iterations < -1 || o->iterations > 10000 || (o->iterations < 0 && o->plain))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "triopt: iterations %d outside [-1, 10000] (-1 only without plain)",
-                           o->iterations);
+                           "triopt: iterations %d outside [-1, 10000] (-1 only without plain)", o->iterations);
     if (!(o->lambda_min > 0.0 && o->lambda_min < 1.0))
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "triopt: lambda_min %g outside (0, 1)", o->lambda_min);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "triopt: lambda_min %g outside (0, 1)",
+                           o->lambda_min);
     if (o->viewport < 8 || o->viewport > 1024)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "triopt: viewport %d outside [8, 1024]", o->viewport);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "triopt: viewport %d outside [8, 1024]",
+                           o->viewport);
     if (o->weight_samples > 64)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "triopt: weight_samples %d above 64", o->weight_samples);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "triopt: weight_samples %d above 64",
+                           o->weight_samples);
     if (o->threads > 256)
         o->threads = 256;
     if ((size_t)o->threads > mesh->triangle_count)
@@ -685,8 +677,7 @@ static texopt_status create_workers(stage_shared *sh, worker **out, char *err, s
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "triopt: no memory for %d workers", n);
     for (int i = 0; i < n; i++) {
         workers[i].sh = sh;
-        texopt_status st = texopt_triloss_create(&workers[i].loss, sh->model, sh->mesh,
-                                                 sh->opt.viewport, err, err_len);
+        texopt_status st = texopt_triloss_create(&workers[i].loss, sh->model, sh->mesh, sh->opt.viewport, err, err_len);
         if (st == TEXOPT_OK) {
             texopt_triloss_weigh_signals(workers[i].loss, sh->opt.signal_weights);
             workers[i].bo = texopt_bo_create(TRIOPT_DIM, sh->opt.max_evaluations);
@@ -716,9 +707,8 @@ static void fill_report(const stage_shared *sh, texopt_triopt_report *report)
         report->evaluations += o->evaluations;
         report->mean_loss += o->loss;
         report->mean_area_scale += o->lambda1 * o->lambda2;
-        report->mean_objective += objective_value(o->lambda1 * o->lambda2,
-                                                  fabs(sh->mesh->area_texel[t]), o->loss,
-                                                  sh->opt.epsilon);
+        report->mean_objective +=
+            objective_value(o->lambda1 * o->lambda2, fabs(sh->mesh->area_texel[t]), o->loss, sh->opt.epsilon);
     }
     if (report->optimised > 0) {
         report->mean_loss /= (double)report->optimised;
@@ -738,14 +728,12 @@ static size_t count_selected(const stage_shared *sh)
     return n;
 }
 
-texopt_status texopt_triopt_run(const texopt_model *model, const texopt_mesh *mesh,
-                                const texopt_triopt_options *opt, texopt_triangle_target *out,
-                                texopt_triopt_report *report, const texopt_monitor *monitor,
-                                char *err, size_t err_len)
+texopt_status texopt_triopt_run(const texopt_model *model, const texopt_mesh *mesh, const texopt_triopt_options *opt,
+                                texopt_triangle_target *out, texopt_triopt_report *report,
+                                const texopt_monitor *monitor, char *err, size_t err_len)
 {
     if (!model || !mesh || !out)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "triopt: NULL model, mesh or output");
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "triopt: NULL model, mesh or output");
     stage_shared *sh = calloc(1, sizeof *sh);
     if (!sh)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "triopt: out of memory");

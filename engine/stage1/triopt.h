@@ -60,49 +60,49 @@
 
 /* Zero-initialised = defaults. */
 typedef struct texopt_triopt_options {
-    double epsilon;      /* loss threshold; 0 -> 0.01 */
-    int iterations;      /* most BO iterations of the polish (plain: after the design);
+    double epsilon;    /* loss threshold; 0 -> 0.01 */
+    int iterations;    /* most BO iterations of the polish (plain: after the design);
                             0 -> 100, -1 -> no BO at all */
-    double lambda_min;   /* 0 -> 0.1; must be in (0, 1) */
-    int threads;         /* 0 -> every online core */
+    double lambda_min; /* 0 -> 0.1; must be in (0, 1) */
+    int threads;       /* 0 -> every online core */
     uint64_t seed;
-    int viewport;        /* 0 -> 64 */
-    int weight_samples;  /* per weight; 0 -> 4, < 0 -> weights not computed (left 0) */
-    int initial_design;  /* BO Latin-hypercube points; 0 -> none in the polish, bayesopt's
+    int viewport;                 /* 0 -> 64 */
+    int weight_samples;           /* per weight; 0 -> 4, < 0 -> weights not computed (left 0) */
+    int initial_design;           /* BO Latin-hypercube points; 0 -> none in the polish, bayesopt's
                             default in the plain plan; < 0 -> none */
-    int no_lower_bound_stop; /* non-zero: run every iteration (for benchmarks) */
-    int plain;           /* non-zero: the paper's plan for benchmarks: only J = I before the
+    int no_lower_bound_stop;      /* non-zero: run every iteration (for benchmarks) */
+    int plain;                    /* non-zero: the paper's plan for benchmarks: only J = I before the
                             design, no flat test, no isotropic search, no lower-bound stop */
-    int isotropic_steps; /* evaluations of the isotropic golden-section search; 0 -> 8,
+    int isotropic_steps;          /* evaluations of the isotropic golden-section search; 0 -> 8,
                             < 0 -> none */
-    int anisotropic_steps; /* golden-section evaluations of one anisotropic refinement (after
+    int anisotropic_steps;        /* golden-section evaluations of one anisotropic refinement (after
                               its 2 x anisotropic_directions probes); 0 -> 8, < 0 -> none */
-    int anisotropic_directions; /* squeeze orientations probed in [0, pi/2); 0 -> 8
+    int anisotropic_directions;   /* squeeze orientations probed in [0, pi/2); 0 -> 8
                                    (every 11.25 degrees) */
-    int anisotropic_passes; /* refinements repeated from the last result while they improve
+    int anisotropic_passes;       /* refinements repeated from the last result while they improve
                                f; 0 -> 3, < 0 -> none */
-    double polish_stop;  /* the polish ends after polish_patience evaluations in a row that
+    double polish_stop;           /* the polish ends after polish_patience evaluations in a row that
                             lower the best f by less than this share of it; 0 -> 0.001,
                             < 0 -> never (all `iterations`) */
-    int polish_patience; /* 0 -> 1 */
-    uint32_t stride;     /* optimise triangles 0, stride, 2 stride, ...; 0 or 1 -> all.
+    int polish_patience;          /* 0 -> 1 */
+    uint32_t stride;              /* optimise triangles 0, stride, 2 stride, ...; 0 or 1 -> all.
                             Others are left as J = I, zero weights, 0 evaluations. */
     const double *signal_weights; /* the loss's signal scales (triloss.h
                                      texopt_triloss_weigh_signals), NULL -> 1 */
 } texopt_triopt_options;
 
 typedef struct texopt_triopt_report {
-    size_t optimised;         /* triangles searched */
-    size_t skipped;           /* degenerate or outside the stride */
-    long long evaluations;    /* loss evaluations, searches and weights */
+    size_t optimised;          /* triangles searched */
+    size_t skipped;            /* degenerate or outside the stride */
+    long long evaluations;     /* loss evaluations, searches and weights */
     size_t close_up_triangles; /* optimised triangles whose loss also took close-ups
                                   (triloss.h: seen at over 1.5 x the zoom limit, and a
                                   probe shrink shows a loss in some window inside) */
-    double seconds;           /* wall clock */
-    double cpu_seconds;       /* CPU time summed over the worker threads (load-independent) */
-    double mean_loss;         /* mean E at the optimum over optimised triangles */
-    double mean_area_scale;   /* mean lambda1 lambda2 */
-    double mean_objective;    /* mean f at the optimum */
+    double seconds;            /* wall clock */
+    double cpu_seconds;        /* CPU time summed over the worker threads (load-independent) */
+    double mean_loss;          /* mean E at the optimum over optimised triangles */
+    double mean_area_scale;    /* mean lambda1 lambda2 */
+    double mean_objective;     /* mean f at the optimum */
 } texopt_triopt_report;
 
 /* Runs the stage on every triangle of `mesh` (a domain mesh of `model`) and writes
@@ -110,9 +110,8 @@ typedef struct texopt_triopt_report {
  * stage "stage1", stage_fraction = fraction of triangles done; the callback is serialised by
  * a mutex). A raised cancel flag stops at the next triangle with TEXOPT_E_CANCELED (out is
  * then incomplete). */
-texopt_status texopt_triopt_run(const texopt_model *model, const texopt_mesh *mesh,
-                                const texopt_triopt_options *opt, texopt_triangle_target *out,
-                                texopt_triopt_report *report, const texopt_monitor *monitor,
-                                char *err, size_t err_len);
+texopt_status texopt_triopt_run(const texopt_model *model, const texopt_mesh *mesh, const texopt_triopt_options *opt,
+                                texopt_triangle_target *out, texopt_triopt_report *report,
+                                const texopt_monitor *monitor, char *err, size_t err_len);
 
 #endif

@@ -14,8 +14,8 @@ texopt_status texopt_uvraster_create(texopt_uvraster **out, int size, char *err,
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "uvraster: NULL output");
     *out = NULL;
     if (size < 2 || size > 4096)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "uvraster: viewport size %d outside [2, 4096]", size);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "uvraster: viewport size %d outside [2, 4096]",
+                           size);
     texopt_uvraster *r = calloc(1, sizeof *r);
     size_t n = (size_t)size * (size_t)size;
     if (r) {
@@ -29,8 +29,7 @@ texopt_status texopt_uvraster_create(texopt_uvraster **out, int size, char *err,
     }
     if (!r || !r->texel || !r->face || !r->depth || !r->nearest) {
         texopt_uvraster_destroy(r);
-        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "uvraster: out of memory for %dx%d",
-                           size, size);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "uvraster: out of memory for %dx%d", size, size);
     }
     *out = r;
     return TEXOPT_OK;
@@ -50,9 +49,8 @@ void texopt_uvraster_destroy(texopt_uvraster *raster)
 }
 
 /* Fetches the one-ring into raster->ring, growing the scratch when a larger ring appears. */
-static texopt_status gather_one_ring(texopt_uvraster *r, const texopt_mesh *mesh,
-                                     uint32_t triangle, size_t *count, char *err,
-                                     size_t err_len)
+static texopt_status gather_one_ring(texopt_uvraster *r, const texopt_mesh *mesh, uint32_t triangle, size_t *count,
+                                     char *err, size_t err_len)
 {
     size_t n = texopt_mesh_one_ring(mesh, triangle, r->ring, r->ring_cap);
     if (n > r->ring_cap) {
@@ -95,8 +93,7 @@ static size_t rasterise_face(texopt_uvraster *r, const texopt_mesh *mesh, uint32
         t[k][0] = mesh->texel[2 * (size_t)v];
         t[k][1] = mesh->texel[2 * (size_t)v + 1];
     }
-    double area = (s[1][0] - s[0][0]) * (s[2][1] - s[0][1]) -
-                  (s[2][0] - s[0][0]) * (s[1][1] - s[0][1]);
+    double area = (s[1][0] - s[0][0]) * (s[2][1] - s[0][1]) - (s[2][0] - s[0][0]) * (s[1][1] - s[0][1]);
     /* Seen edge-on it covers no pixel centre in a stable way; its neighbours cover the area. */
     if (!(fabs(area) > 1e-12))
         return 0;
@@ -253,30 +250,27 @@ static void keep_nearest_pixels(texopt_uvraster *r, const texopt_mesh *mesh, uin
 
 /* Gathers the one-ring of `triangle`, with its corners' 3D points, and builds the paper's
  * camera on it (before any narrowing); *n receives the ring's face count. */
-static texopt_status ring_camera(texopt_uvraster *raster, const texopt_mesh *mesh, uint32_t triangle,
-                                 size_t *n, char *err, size_t err_len)
+static texopt_status ring_camera(texopt_uvraster *raster, const texopt_mesh *mesh, uint32_t triangle, size_t *n,
+                                 char *err, size_t err_len)
 {
     if (!raster || !mesh)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "uvraster: NULL argument");
     if (triangle >= mesh->triangle_count)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "uvraster: triangle %u past triangle count %zu", triangle,
-                           mesh->triangle_count);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "uvraster: triangle %u past triangle count %zu",
+                           triangle, mesh->triangle_count);
     texopt_status st = gather_one_ring(raster, mesh, triangle, n, err, err_len);
     if (st != TEXOPT_OK)
         return st;
     for (size_t f = 0; f < *n; f++)
         for (int k = 0; k < 3; k++)
             memcpy(raster->ring_points + 9 * f + 3 * k,
-                   texopt_mesh_vertex_point(mesh, mesh->triangle[3 * (size_t)raster->ring[f] + k]),
-                   3 * sizeof(double));
+                   texopt_mesh_vertex_point(mesh, mesh->triangle[3 * (size_t)raster->ring[f] + k]), 3 * sizeof(double));
     const uint32_t *tri = mesh->triangle + 3 * (size_t)triangle;
     st = texopt_camera_create(&raster->camera, texopt_mesh_vertex_point(mesh, tri[0]),
                               texopt_mesh_vertex_point(mesh, tri[1]), texopt_mesh_vertex_point(mesh, tri[2]),
                               raster->ring_points, 3 * *n, raster->size, err, err_len);
     if (st != TEXOPT_OK)
-        return texopt_fail(err, err_len, st, "uvraster: triangle %u is degenerate in 3D",
-                           triangle);
+        return texopt_fail(err, err_len, st, "uvraster: triangle %u is degenerate in 3D", triangle);
     return TEXOPT_OK;
 }
 
@@ -305,8 +299,8 @@ static void rasterise_ring(texopt_uvraster *raster, const texopt_mesh *mesh, siz
         rasterise_face(raster, mesh, triangle, 1);
 }
 
-texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh *mesh,
-                                     uint32_t triangle, char *err, size_t err_len)
+texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh *mesh, uint32_t triangle, char *err,
+                                     size_t err_len)
 {
     size_t n = 0;
     texopt_status st = ring_camera(raster, mesh, triangle, &n, err, err_len);
@@ -323,9 +317,8 @@ texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh 
     return TEXOPT_OK;
 }
 
-texopt_status texopt_uvraster_render_window(texopt_uvraster *raster, const texopt_mesh *mesh,
-                                            uint32_t triangle, const double window[3], char *err,
-                                            size_t err_len)
+texopt_status texopt_uvraster_render_window(texopt_uvraster *raster, const texopt_mesh *mesh, uint32_t triangle,
+                                            const double window[3], char *err, size_t err_len)
 {
     if (!window || !(window[2] > 0.0) || !isfinite(window[0] + window[1] + window[2]))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "uvraster: bad window");

@@ -44,12 +44,12 @@ typedef struct texopt_uvraster {
     size_t max_covered; /* pixels a narrowed window keeps, those nearest the triangle;
                            TEXOPT_UVRASTER_MAX_COVERED from create, 0 keeps every pixel */
     texopt_camera camera;
-    size_t covered;     /* pixels covered by the one-ring */
-    double *texel;      /* 2 per pixel, row-major from the top: p_hat(q); 0 where uncovered */
-    int32_t *face;      /* per pixel: covering mesh triangle, -1 where uncovered */
+    size_t covered; /* pixels covered by the one-ring */
+    double *texel;  /* 2 per pixel, row-major from the top: p_hat(q); 0 where uncovered */
+    int32_t *face;  /* per pixel: covering mesh triangle, -1 where uncovered */
     /* scratch, reused across triangles */
     double *depth;
-    double *nearest;    /* squared distances of the covered pixels, for the selection */
+    double *nearest; /* squared distances of the covered pixels, for the selection */
     uint32_t *ring;
     size_t ring_cap;
     double *ring_points;
@@ -65,16 +65,15 @@ void texopt_uvraster_destroy(texopt_uvraster *raster);
  * the buffer, trimmed to max_covered pixels where the camera's zoom was limited. Fails with
  * TEXOPT_E_INVALID_ARGUMENT for a triangle index out of range or a degenerate triangle;
  * allocates only when a one-ring is larger than any seen before. */
-texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh *mesh,
-                                     uint32_t triangle, char *err, size_t err_len);
+texopt_status texopt_uvraster_render(texopt_uvraster *raster, const texopt_mesh *mesh, uint32_t triangle, char *err,
+                                     size_t err_len);
 
 /* The same one-ring through a given window of the triangle's camera instead of the
  * zoom-limited one: window = {x0, y0, side} in the camera's (R, U) frame relative to the
  * centroid (texopt_camera.window_x0, window_y0, window_side). A close-up of part of a large
  * triangle (triloss.h): covered pixels beyond max_covered are uncovered from the viewport's
  * rim inwards. Fails as texopt_uvraster_render, and for a side that is not positive. */
-texopt_status texopt_uvraster_render_window(texopt_uvraster *raster, const texopt_mesh *mesh,
-                                            uint32_t triangle, const double window[3], char *err,
-                                            size_t err_len);
+texopt_status texopt_uvraster_render_window(texopt_uvraster *raster, const texopt_mesh *mesh, uint32_t triangle,
+                                            const double window[3], char *err, size_t err_len);
 
 #endif

@@ -53,18 +53,18 @@ struct texopt_bake_workspace {
     int *hash_key, *hash_value;
     size_t hash_mask;
     /* normal equations */
-    double *band;      /* (kd + 1) x n, LAPACK upper band storage */
+    double *band; /* (kd + 1) x n, LAPACK upper band storage */
     size_t band_capacity;
-    double *rhs;       /* n x channels, row-major: a texel's channels side by side */
-    double *column;    /* two columns of the factor below their diagonal (2 (kd + 1) doubles) */
+    double *rhs;    /* n x channels, row-major: a texel's channels side by side */
+    double *column; /* two columns of the factor below their diagonal (2 (kd + 1) doubles) */
     int column_capacity;
     /* the pixel-side system (see solve_pixel_side) */
     texopt_bake_side side;
-    int last_side;       /* TEXOPT_BAKE_SIDE_TEXEL or _PIXEL of the last fit */
-    int *unknown_start;  /* per unknown + 1: its footprint entries in unknown_entry */
-    int *unknown_entry;  /* footprint entries grouped by unknown */
+    int last_side;                 /* TEXOPT_BAKE_SIDE_TEXEL or _PIXEL of the last fit */
+    int *unknown_start;            /* per unknown + 1: its footprint entries in unknown_entry */
+    int *unknown_entry;            /* footprint entries grouped by unknown */
     int *pixel_first, *pixel_last; /* envelope of A A^T */
-    double *pixel_rhs;   /* max_pixels x channels, row-major */
+    double *pixel_rhs;             /* max_pixels x channels, row-major */
 };
 
 texopt_bake_workspace *texopt_bake_workspace_create(int max_pixels, int max_channels)
@@ -99,11 +99,10 @@ texopt_bake_workspace *texopt_bake_workspace_create(int max_pixels, int max_chan
     ws->unknown_entry = malloc(entries * sizeof *ws->unknown_entry);
     ws->pixel_first = malloc((size_t)max_pixels * sizeof *ws->pixel_first);
     ws->pixel_last = malloc((size_t)max_pixels * sizeof *ws->pixel_last);
-    ws->pixel_rhs = calloc((size_t)max_pixels * (size_t)max_channels + BAKE_LANE_SLACK,
-                           sizeof *ws->pixel_rhs);
-    if (!ws->rc || !ws->cell || !ws->weight || !ws->texel || !ws->first || !ws->last ||
-        !ws->box || !ws->box_marks || !ws->hash_key || !ws->hash_value || !ws->rhs || !ws->unknown_start ||
-        !ws->unknown_entry || !ws->pixel_first || !ws->pixel_last || !ws->pixel_rhs) {
+    ws->pixel_rhs = calloc((size_t)max_pixels * (size_t)max_channels + BAKE_LANE_SLACK, sizeof *ws->pixel_rhs);
+    if (!ws->rc || !ws->cell || !ws->weight || !ws->texel || !ws->first || !ws->last || !ws->box || !ws->box_marks ||
+        !ws->hash_key || !ws->hash_value || !ws->rhs || !ws->unknown_start || !ws->unknown_entry || !ws->pixel_first ||
+        !ws->pixel_last || !ws->pixel_rhs) {
         texopt_bake_workspace_destroy(ws);
         return NULL;
     }
@@ -165,8 +164,7 @@ typedef struct cell_box {
  * case: the caller centres the patch), inlined, with the same arithmetic and so the same
  * weights; returns 0 (and writes nothing) otherwise. Saves a call and four wrap tests per
  * pixel. */
-static inline int footprint_inside(int width, int height, double x, double y, int rc[4],
-                                   double w[4])
+static inline int footprint_inside(int width, int height, double x, double y, int rc[4], double w[4])
 {
     /* Also false for NaN: such positions take the general path. */
     if (!(x >= 0.5 && y >= 0.5 && x < width - 0.5 && y < height - 0.5))
@@ -187,17 +185,15 @@ static inline int footprint_inside(int width, int height, double x, double y, in
 
 /* Footprints of every pixel as wrapped columns and rows (ws->rc: c0, c1, r0, r1 per pixel);
  * returns the bounding box of their cells. No division anywhere in the per-pixel work. */
-static cell_box gather_footprints(texopt_bake_workspace *ws, int pixel_count,
-                                  const double *texel_pos, int width, int height,
-                                  texopt_wrap wrap_s, texopt_wrap wrap_t)
+static cell_box gather_footprints(texopt_bake_workspace *ws, int pixel_count, const double *texel_pos, int width,
+                                  int height, texopt_wrap wrap_s, texopt_wrap wrap_t)
 {
     int cmin = width, cmax = -1, rmin = height, rmax = -1;
     for (int q = 0; q < pixel_count; q++) {
         int *rc = ws->rc + 4 * (size_t)q;
         double *w = ws->weight + 4 * (size_t)q;
         if (!footprint_inside(width, height, texel_pos[2 * q], texel_pos[2 * q + 1], rc, w))
-            texopt_bilinear_cells(width, height, wrap_s, wrap_t, texel_pos[2 * q],
-                                  texel_pos[2 * q + 1], rc, rc + 2, w);
+            texopt_bilinear_cells(width, height, wrap_s, wrap_t, texel_pos[2 * q], texel_pos[2 * q + 1], rc, rc + 2, w);
         for (int k = 0; k < 2; k++) {
             cmin = rc[k] < cmin ? rc[k] : cmin;
             cmax = rc[k] > cmax ? rc[k] : cmax;
@@ -371,8 +367,7 @@ static int reserve_band(texopt_bake_workspace *ws, size_t needed, int kd)
 
 /* row[u] -= f * column[u] for u in [0, count): two lanes at a time (SSE2, baseline x86-64;
  * GCC and Clang vector extensions elsewhere), unaligned through memcpy. */
-static inline void subtract_scaled(double *restrict row, const double *restrict column,
-                                   double f, int count)
+static inline void subtract_scaled(double *restrict row, const double *restrict column, double f, int count)
 {
     bake_v2 fv = {f, f};
     int u = 0;
@@ -394,8 +389,8 @@ static inline void subtract_scaled(double *restrict row, const double *restrict 
 /* A^T ref + ridge mean as right-hand sides (ws->rhs, n x channels). A pixel's reference is
  * widened to doubles once for its four texels (the per-texel float conversions and the
  * scalar channel loop were 8% of the DamagedHelmet stage-1 bench's samples). */
-static void assemble_texel_rhs(texopt_bake_workspace *ws, int pixel_count, int n,
-                               const float *reference, int channels, double ridge)
+static void assemble_texel_rhs(texopt_bake_workspace *ws, int pixel_count, int n, const float *reference, int channels,
+                               double ridge)
 {
     double *rhs = ws->rhs;
     memset(rhs, 0, (size_t)n * (size_t)channels * sizeof *rhs);
@@ -420,8 +415,7 @@ static void assemble_texel_rhs(texopt_bake_workspace *ws, int pixel_count, int n
 }
 
 /* A^T A + ridge I in upper band storage. */
-static void assemble_normal_equations(texopt_bake_workspace *ws, int pixel_count, int n, int kd,
-                                      double ridge)
+static void assemble_normal_equations(texopt_bake_workspace *ws, int pixel_count, int n, int kd, double ridge)
 {
     int ld = kd + 1;
     double *band = ws->band;
@@ -492,8 +486,8 @@ static int band_cholesky_sse2(double *band, int n, int kd, const int *last, doub
 typedef double bake_v4 __attribute__((vector_size(32)));
 
 /* subtract_scaled with four lanes: row[u] -= f * column[u] for u in [0, count). */
-__attribute__((target("avx2,fma"), always_inline)) static inline void
-subtract_scaled_avx2(double *restrict row, const double *restrict column, double f, int count)
+__attribute__((target("avx2,fma"), always_inline)) static inline void subtract_scaled_avx2(
+    double *restrict row, const double *restrict column, double f, int count)
 {
     bake_v4 fv = {f, f, f, f};
     int u = 0;
@@ -509,9 +503,8 @@ subtract_scaled_avx2(double *restrict row, const double *restrict column, double
 }
 
 /* row[u] -= f0 * c0[u] + f1 * c1[u] for u in [0, count). */
-__attribute__((target("avx2,fma"), always_inline)) static inline void
-subtract_scaled2_avx2(double *restrict row, const double *restrict c0, double f0,
-                      const double *restrict c1, double f1, int count)
+__attribute__((target("avx2,fma"), always_inline)) static inline void subtract_scaled2_avx2(
+    double *restrict row, const double *restrict c0, double f0, const double *restrict c1, double f1, int count)
 {
     bake_v4 f0v = {f0, f0, f0, f0}, f1v = {f1, f1, f1, f1};
     int u = 0;
@@ -534,8 +527,7 @@ subtract_scaled2_avx2(double *restrict row, const double *restrict c0, double f0
  * column j+1 only, column j+1 is scaled, then both update the rows below (8-20% less
  * Cholesky time on the stage-1 bench; `column` holds 2 (kd + 1) doubles). Rows past
  * last[j] have L(i, j) = 0 and take column j+1 alone. */
-__attribute__((target("avx2,fma"))) static int band_cholesky_avx2(double *band, int n, int kd,
-                                                                  const int *last,
+__attribute__((target("avx2,fma"))) static int band_cholesky_avx2(double *band, int n, int kd, const int *last,
                                                                   double *column)
 {
     int ld = kd + 1, j = 0;
@@ -584,8 +576,7 @@ static int cpu_has_avx2_fma(void)
 #endif
 }
 
-static int band_cholesky(texopt_bake_solver solver, double *band, int n, int kd,
-                         const int *last, double *column)
+static int band_cholesky(texopt_bake_solver solver, double *band, int n, int kd, const int *last, double *column)
 {
     int avx2 = cpu_has_avx2_fma();
     if (solver == TEXOPT_BAKE_SOLVER_AUTO)
@@ -629,8 +620,7 @@ static double dot2(const double *a, const double *b, int count)
 
 /* Several channels: every row of L is read once per triangular solve for all of them (the
  * channels of a texel are the vector lanes), instead of once per channel. */
-static void band_solve_channels(const double *band, int n, int kd, const int *envelope_first,
-                                double *rhs, int channels)
+static void band_solve_channels(const double *band, int n, int kd, const int *envelope_first, double *rhs, int channels)
 {
     int ld = kd + 1;
     for (int i = 0; i < n; i++) {
@@ -654,10 +644,8 @@ static void band_solve_channels(const double *band, int n, int kd, const int *en
 #ifdef BAKE_HAVE_AVX2
 /* One right-hand side with four lanes and fused multiply-adds (the two-lane loops below were
  * 16% of a DamagedHelmet triangle, most search evaluations bake one signal). */
-__attribute__((target("avx2,fma"))) static void band_solve_one_avx2(const double *band, int n,
-                                                                    int kd,
-                                                                    const int *envelope_first,
-                                                                    double *x)
+__attribute__((target("avx2,fma"))) static void band_solve_one_avx2(const double *band, int n, int kd,
+                                                                    const int *envelope_first, double *x)
 {
     int ld = kd + 1;
     for (int i = 0; i < n; i++) {
@@ -688,8 +676,8 @@ __attribute__((target("avx2,fma"))) static void band_solve_one_avx2(const double
 #ifdef BAKE_HAVE_AVX2
 /* acc[0..vecs) += f * the row at x, four channels a vector (lanes past the row's channels
  * read the next row and are discarded by finish_row). */
-__attribute__((target("avx2,fma"), always_inline)) static inline void
-accumulate_row(bake_v4 acc[4], double f, const double *x, const int vecs)
+__attribute__((target("avx2,fma"), always_inline)) static inline void accumulate_row(bake_v4 acc[4], double f,
+                                                                                     const double *x, const int vecs)
 {
     bake_v4 fv = {f, f, f, f}, v;
     memcpy(&v, x, sizeof v);
@@ -718,9 +706,8 @@ static inline void finish_row(double *x, const bake_v4 acc[4], double pivot, int
  * depends on stays in registers and row i is written once (the scatter loop of
  * band_solve_channels rewrote it per coupled row: 14% of a DamagedHelmet triangle). The
  * backward solve reads column i of L, rows i+1 .. last[i], L(k, i) at a stride of kd. */
-__attribute__((target("avx2,fma"), always_inline)) static inline void
-solve_channels_avx2_vecs(const double *band, int n, int kd, const int *first, const int *last,
-                         double *rhs, int channels, const int vecs)
+__attribute__((target("avx2,fma"), always_inline)) static inline void solve_channels_avx2_vecs(
+    const double *band, int n, int kd, const int *first, const int *last, double *rhs, int channels, const int vecs)
 {
     int ld = kd + 1;
     for (int i = 0; i < n; i++) {
@@ -733,36 +720,27 @@ solve_channels_avx2_vecs(const double *band, int n, int kd, const int *first, co
     for (int i = n - 1; i >= 0; i--) {
         bake_v4 acc[4] = {{0.0, 0.0, 0.0, 0.0}};
         for (int k = i + 1; k <= last[i]; k++)
-            accumulate_row(acc, band[(size_t)k * kd + (size_t)kd + (size_t)i],
-                           rhs + (size_t)k * channels, vecs);
+            accumulate_row(acc, band[(size_t)k * kd + (size_t)kd + (size_t)i], rhs + (size_t)k * channels, vecs);
         finish_row(rhs + (size_t)i * channels, acc, band[(size_t)i * ld + kd], channels);
     }
 }
 
-__attribute__((target("avx2,fma"))) static void
-band_solve_channels_avx2(const double *band, int n, int kd, const int *first, const int *last,
-                         double *rhs, int channels)
+__attribute__((target("avx2,fma"))) static void band_solve_channels_avx2(const double *band, int n, int kd,
+                                                                         const int *first, const int *last, double *rhs,
+                                                                         int channels)
 {
     switch ((channels + 3) / 4) {
-    case 1:
-        solve_channels_avx2_vecs(band, n, kd, first, last, rhs, channels, 1);
-        break;
-    case 2:
-        solve_channels_avx2_vecs(band, n, kd, first, last, rhs, channels, 2);
-        break;
-    case 3:
-        solve_channels_avx2_vecs(band, n, kd, first, last, rhs, channels, 3);
-        break;
-    default:
-        solve_channels_avx2_vecs(band, n, kd, first, last, rhs, channels, 4);
-        break;
+    case 1: solve_channels_avx2_vecs(band, n, kd, first, last, rhs, channels, 1); break;
+    case 2: solve_channels_avx2_vecs(band, n, kd, first, last, rhs, channels, 2); break;
+    case 3: solve_channels_avx2_vecs(band, n, kd, first, last, rhs, channels, 3); break;
+    default: solve_channels_avx2_vecs(band, n, kd, first, last, rhs, channels, 4); break;
     }
 }
 #endif
 
 /* Solves L L^T X = B in place, B row-major n x channels; first/last: the envelope. */
-static void band_solve(const double *band, int n, int kd, const int *envelope_first,
-                       const int *envelope_last, double *rhs, int channels)
+static void band_solve(const double *band, int n, int kd, const int *envelope_first, const int *envelope_last,
+                       double *rhs, int channels)
 {
 #ifdef BAKE_HAVE_AVX2
     if (channels > 1 && cpu_has_avx2_fma()) {
@@ -806,8 +784,7 @@ static void reconstruct(const texopt_bake_workspace *ws, int pixel_count, int ch
         const double *x2 = ws->rhs + (size_t)c[2] * channels;
         const double *x3 = ws->rhs + (size_t)c[3] * channels;
         for (int ch = 0; ch < channels; ch++)
-            out[(size_t)q * channels + ch] =
-                (float)(w[0] * x0[ch] + w[1] * x1[ch] + w[2] * x2[ch] + w[3] * x3[ch]);
+            out[(size_t)q * channels + ch] = (float)(w[0] * x0[ch] + w[1] * x1[ch] + w[2] * x2[ch] + w[3] * x3[ch]);
     }
 }
 
@@ -855,8 +832,8 @@ static int pixel_envelope(texopt_bake_workspace *ws, int pixel_count)
 }
 
 /* b - m (A 1) as right-hand sides (pixel_rhs, pixels x channels). */
-static void assemble_pixel_rhs(texopt_bake_workspace *ws, int pixel_count, const float *reference,
-                               int channels, const double *mean)
+static void assemble_pixel_rhs(texopt_bake_workspace *ws, int pixel_count, const float *reference, int channels,
+                               const double *mean)
 {
     for (int q = 0; q < pixel_count; q++) {
         const double *w = ws->weight + 4 * (size_t)q;
@@ -868,8 +845,7 @@ static void assemble_pixel_rhs(texopt_bake_workspace *ws, int pixel_count, const
 }
 
 /* A A^T + r I in upper band storage. */
-static void assemble_pixel_system(texopt_bake_workspace *ws, int pixel_count, int n, int kd,
-                                  double ridge)
+static void assemble_pixel_system(texopt_bake_workspace *ws, int pixel_count, int n, int kd, double ridge)
 {
     int ld = kd + 1;
     double *band = ws->band;
@@ -893,8 +869,8 @@ static void assemble_pixel_system(texopt_bake_workspace *ws, int pixel_count, in
 }
 
 /* x = m + A^T z, per channel, into ws->rhs (n x channels) for reconstruct(). */
-static void texels_from_pixel_solution(texopt_bake_workspace *ws, int pixel_count, int n,
-                                       int channels, const double *mean)
+static void texels_from_pixel_solution(texopt_bake_workspace *ws, int pixel_count, int n, int channels,
+                                       const double *mean)
 {
     for (int i = 0; i < n; i++)
         for (int ch = 0; ch < channels; ch++)
@@ -909,8 +885,7 @@ static void texels_from_pixel_solution(texopt_bake_workspace *ws, int pixel_coun
 
 /* Whether to solve on the pixel side: forced, or when it has more unknowns than pixels and
  * the banded factorisation (n kd^2) of the pixel system is cheaper. */
-static int choose_pixel_side(const texopt_bake_workspace *ws, int pixel_count, int n, int kd,
-                             int pixel_kd)
+static int choose_pixel_side(const texopt_bake_workspace *ws, int pixel_count, int n, int kd, int pixel_kd)
 {
     if (ws->side == TEXOPT_BAKE_SIDE_PIXEL)
         return 1;
@@ -930,24 +905,20 @@ static void reference_mean(const float *reference, int pixel_count, int channels
         mean[ch] /= pixel_count;
 }
 
-static texopt_status fit_pixel_side(texopt_bake_workspace *ws, int pixel_count, int n,
-                                    int pixel_kd, const float *reference, int channels,
-                                    double ridge, float *reconstruction, char *err,
-                                    size_t err_len)
+static texopt_status fit_pixel_side(texopt_bake_workspace *ws, int pixel_count, int n, int pixel_kd,
+                                    const float *reference, int channels, double ridge, float *reconstruction,
+                                    char *err, size_t err_len)
 {
     if (!reserve_band(ws, (size_t)(pixel_kd + 1) * (size_t)pixel_count, pixel_kd))
-        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "bake: band of %d x %d", pixel_kd + 1,
-                           pixel_count);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "bake: band of %d x %d", pixel_kd + 1, pixel_count);
     double mean[TEXOPT_BAKE_MAX_CHANNELS];
     reference_mean(reference, pixel_count, channels, mean);
     assemble_pixel_system(ws, pixel_count, n, pixel_kd, ridge);
     assemble_pixel_rhs(ws, pixel_count, reference, channels, mean);
     if (!band_cholesky(ws->solver, ws->band, pixel_count, pixel_kd, ws->pixel_last, ws->column))
-        return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
-                           "bake: pixel system of %d pixels is not positive definite",
+        return texopt_fail(err, err_len, TEXOPT_E_NUMERIC, "bake: pixel system of %d pixels is not positive definite",
                            pixel_count);
-    band_solve(ws->band, pixel_count, pixel_kd, ws->pixel_first, ws->pixel_last, ws->pixel_rhs,
-               channels);
+    band_solve(ws->band, pixel_count, pixel_kd, ws->pixel_first, ws->pixel_last, ws->pixel_rhs, channels);
     texels_from_pixel_solution(ws, pixel_count, n, channels, mean);
     reconstruct(ws, pixel_count, channels, reconstruction);
     ws->last_unknowns = n;
@@ -959,24 +930,21 @@ static texopt_status fit_pixel_side(texopt_bake_workspace *ws, int pixel_count, 
 }
 
 texopt_status texopt_bake_fit(texopt_bake_workspace *ws, int pixel_count, const double *texel_pos,
-                              const float *reference, int channels, int width, int height,
-                              texopt_wrap wrap_s, texopt_wrap wrap_t, double ridge,
-                              float *reconstruction, char *err, size_t err_len)
+                              const float *reference, int channels, int width, int height, texopt_wrap wrap_s,
+                              texopt_wrap wrap_t, double ridge, float *reconstruction, char *err, size_t err_len)
 {
     if (!ws)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "bake: no workspace");
     if (pixel_count < 0 || pixel_count > ws->max_pixels)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "bake: %d pixels, workspace holds %d", pixel_count, ws->max_pixels);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "bake: %d pixels, workspace holds %d", pixel_count,
+                           ws->max_pixels);
     if (channels < 1 || channels > ws->max_channels)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "bake: %d channels, workspace holds 1..%d", channels, ws->max_channels);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "bake: %d channels, workspace holds 1..%d",
+                           channels, ws->max_channels);
     if (width <= 0 || height <= 0 || (long long)width * height > 0x7fffffffLL)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "bake: texture %dx%d",
-                           width, height);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "bake: texture %dx%d", width, height);
     if (!(ridge > 0.0) || !isfinite(ridge))
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "bake: ridge %g must be positive", ridge);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "bake: ridge %g must be positive", ridge);
     ws->last_unknowns = 0;
     if (pixel_count == 0)
         return TEXOPT_OK;
@@ -984,17 +952,15 @@ texopt_status texopt_bake_fit(texopt_bake_workspace *ws, int pixel_count, const 
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "bake: NULL buffer");
 
     cell_box box = gather_footprints(ws, pixel_count, texel_pos, width, height, wrap_s, wrap_t);
-    int n = (size_t)box.rows * (size_t)box.cols <= ws->box_capacity
-                ? number_through_box(ws, pixel_count, box)
-                : number_through_hash(ws, pixel_count, width);
+    int n = (size_t)box.rows * (size_t)box.cols <= ws->box_capacity ? number_through_box(ws, pixel_count, box)
+                                                                    : number_through_hash(ws, pixel_count, width);
     int kd = envelope(ws, pixel_count, n);
-    if (ws->side != TEXOPT_BAKE_SIDE_TEXEL &&
-        (ws->side == TEXOPT_BAKE_SIDE_PIXEL || n > pixel_count)) {
+    if (ws->side != TEXOPT_BAKE_SIDE_TEXEL && (ws->side == TEXOPT_BAKE_SIDE_PIXEL || n > pixel_count)) {
         group_entries_by_unknown(ws, pixel_count, n);
         int pixel_kd = pixel_envelope(ws, pixel_count);
         if (choose_pixel_side(ws, pixel_count, n, kd, pixel_kd))
-            return fit_pixel_side(ws, pixel_count, n, pixel_kd, reference, channels, ridge,
-                                  reconstruction, err, err_len);
+            return fit_pixel_side(ws, pixel_count, n, pixel_kd, reference, channels, ridge, reconstruction, err,
+                                  err_len);
     }
     if (!reserve_band(ws, (size_t)(kd + 1) * (size_t)n, kd))
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "bake: band of %d x %d", kd + 1, n);
@@ -1013,15 +979,15 @@ texopt_status texopt_bake_fit(texopt_bake_workspace *ws, int pixel_count, const 
     return TEXOPT_OK;
 }
 
-texopt_status texopt_bake_refit(texopt_bake_workspace *ws, const float *reference, int channels,
-                                float *reconstruction, char *err, size_t err_len)
+texopt_status texopt_bake_refit(texopt_bake_workspace *ws, const float *reference, int channels, float *reconstruction,
+                                char *err, size_t err_len)
 {
     if (!ws || ws->last_unknowns == 0)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "bake: no successful fit with pixels to solve again");
     if (channels < 1 || channels > ws->max_channels)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "bake: %d channels, workspace holds 1..%d", channels, ws->max_channels);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "bake: %d channels, workspace holds 1..%d",
+                           channels, ws->max_channels);
     if (!reference || !reconstruction)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "bake: NULL buffer");
     int pixel_count = ws->last_pixel_count, n = ws->last_unknowns;
@@ -1029,8 +995,7 @@ texopt_status texopt_bake_refit(texopt_bake_workspace *ws, const float *referenc
         double mean[TEXOPT_BAKE_MAX_CHANNELS];
         reference_mean(reference, pixel_count, channels, mean);
         assemble_pixel_rhs(ws, pixel_count, reference, channels, mean);
-        band_solve(ws->band, pixel_count, ws->last_kd, ws->pixel_first, ws->pixel_last,
-                   ws->pixel_rhs, channels);
+        band_solve(ws->band, pixel_count, ws->last_kd, ws->pixel_first, ws->pixel_last, ws->pixel_rhs, channels);
         texels_from_pixel_solution(ws, pixel_count, n, channels, mean);
     } else {
         assemble_texel_rhs(ws, pixel_count, n, reference, channels, ws->last_ridge);

@@ -80,16 +80,15 @@ void texopt_bake_workspace_set_side(texopt_bake_workspace *ws, texopt_bake_side 
  *   reconstruction channels floats per pixel (A x); may not alias reference
  * err/err_len: optional message buffer. TEXOPT_E_NUMERIC when the solve fails. */
 texopt_status texopt_bake_fit(texopt_bake_workspace *ws, int pixel_count, const double *texel_pos,
-                              const float *reference, int channels, int width, int height,
-                              texopt_wrap wrap_s, texopt_wrap wrap_t, double ridge,
-                              float *reconstruction, char *err, size_t err_len);
+                              const float *reference, int channels, int width, int height, texopt_wrap wrap_s,
+                              texopt_wrap wrap_t, double ridge, float *reconstruction, char *err, size_t err_len);
 
 /* The last successful fit (with pixels) again for other right-hand sides: same pixels,
  * positions, grid and ridge, new reference (channels floats per pixel). Reuses its
  * factorisation, so it costs only the solves; a channel gets the same values as in a fit
  * with the same channel count. Fails with TEXOPT_E_INVALID_ARGUMENT before any such fit. */
-texopt_status texopt_bake_refit(texopt_bake_workspace *ws, const float *reference, int channels,
-                                float *reconstruction, char *err, size_t err_len);
+texopt_status texopt_bake_refit(texopt_bake_workspace *ws, const float *reference, int channels, float *reconstruction,
+                                char *err, size_t err_len);
 
 /* Number of unknown texels of the last successful fit (for benchmarks and tests). */
 int texopt_bake_last_texel_count(const texopt_bake_workspace *ws);

@@ -71,8 +71,8 @@
 #define ARMIJO 1e-4
 #define MAX_HALVINGS 40
 #define STRETCH_WEIGHT_FLOOR 1.0 /* relative to the mean w_S, see normalise_weights */
-#define STEP_SAFETY 0.8 /* fraction of the largest step that keeps every det > 0 */
-#define TIE_STIFFNESS 100.0 /* fold ties, relative to the mean fitting curvature */
+#define STEP_SAFETY 0.8          /* fraction of the largest step that keeps every det > 0 */
+#define TIE_STIFFNESS 100.0      /* fold ties, relative to the mean fitting curvature */
 
 typedef struct mat2 {
     double a, b, c, d; /* [[a b] [c d]] */
@@ -99,15 +99,15 @@ typedef struct fold_tie {
 /* Per triangle data fixed for the whole solve. */
 typedef struct tri_frame {
     uint32_t v[3];
-    double grad[3][2];  /* gradients of the barycentric functions in input texel space */
-    double area;        /* input texel area, > 0 */
-    int orientation;    /* sign of the input signed texel area */
-    double threshold;   /* barrier threshold s_i */
-    double w_r, w_s;    /* normalised weights */
+    double grad[3][2]; /* gradients of the barycentric functions in input texel space */
+    double area;       /* input texel area, > 0 */
+    int orientation;   /* sign of the input signed texel area */
+    double threshold;  /* barrier threshold s_i */
+    double w_r, w_s;   /* normalised weights */
     mat2 rbar, sbar;
-    int fitted;         /* contributes the fitting, rotation and stretch terms */
-    int barrier;        /* carries the barrier */
-    int collapsed;      /* no input texel area but a 3D one: held on a line (collapse ties) */
+    int fitted;    /* contributes the fitting, rotation and stretch terms */
+    int barrier;   /* carries the barrier */
+    int collapsed; /* no input texel area but a 3D one: held on a line (collapse ties) */
 } tri_frame;
 
 typedef struct tri_state {
@@ -124,27 +124,27 @@ typedef struct solver {
     tri_state *st;
     double w_rs, w_b;
 
-    int *var;         /* per vertex: its unknown (same index on both axes), or -1 when fixed */
-    size_t unknowns;  /* free vertices: the size of each axis' system */
-    int32_t *slot;    /* 9 per triangle: value index of (row, col) in the upper CSC, or -1 */
-    int32_t *diag;    /* per unknown: value index of its diagonal entry */
-    double *fit_values; /* constant part of the Hessian (fitting term + damping) */
+    int *var;               /* per vertex: its unknown (same index on both axes), or -1 when fixed */
+    size_t unknowns;        /* free vertices: the size of each axis' system */
+    int32_t *slot;          /* 9 per triangle: value index of (row, col) in the upper CSC, or -1 */
+    int32_t *diag;          /* per unknown: value index of its diagonal entry */
+    double *fit_values;     /* constant part of the Hessian (fitting term + damping) */
     double *axis_values[2]; /* fit + barrier block of the u and the v system */
 
-    axis_system ax[2];  /* u and v; the fitting-only factor lives in ax[0] */
-    int factor_is_fit;  /* ax[0].L holds the factor of the fitting matrix alone */
-    int threads;        /* 2 or more: the two axes factorise in parallel */
+    axis_system ax[2]; /* u and v; the fitting-only factor lives in ax[0] */
+    int factor_is_fit; /* ax[0].L holds the factor of the fitting matrix alone */
+    int threads;       /* 2 or more: the two axes factorise in parallel */
 
     fold_tie *ties;
     size_t tie_count;
-    double tie_weight; /* kappa of kappa |r|^2 per tie and axis */
+    double tie_weight;                    /* kappa of kappa |r|^2 per tie and axis */
     const double *anchor, *anchor_weight; /* optional positional term (meshwise.h) */
-    double anchor_stiffness;   /* h of that term: the mean fitting diagonal */
-    uint32_t *rep_of;          /* per vertex: the vertex whose unknown it shares */
-    uint32_t *chart_of_vertex; /* per used vertex: its chart's sharing group */
-    const texopt_texel_share *share; /* may be NULL: every chart is its own group */
-    size_t collapse_ties;      /* after the fold ties: collapsed triangles held on a line */
-    size_t shared_ties;        /* the last ties: secondaries held on their primaries */
+    double anchor_stiffness;              /* h of that term: the mean fitting diagonal */
+    uint32_t *rep_of;                     /* per vertex: the vertex whose unknown it shares */
+    uint32_t *chart_of_vertex;            /* per used vertex: its chart's sharing group */
+    const texopt_texel_share *share;      /* may be NULL: every chart is its own group */
+    size_t collapse_ties;                 /* after the fold ties: collapsed triangles held on a line */
+    size_t shared_ties;                   /* the last ties: secondaries held on their primaries */
 
     double *x, *trial, *grad, *step;
 } solver;
@@ -159,8 +159,7 @@ static mat2 rotation(double angle)
 
 static mat2 mul(mat2 p, mat2 q)
 {
-    mat2 m = {p.a * q.a + p.b * q.c, p.a * q.b + p.b * q.d, p.c * q.a + p.d * q.c,
-              p.c * q.b + p.d * q.d};
+    mat2 m = {p.a * q.a + p.b * q.c, p.a * q.b + p.b * q.d, p.c * q.a + p.d * q.c, p.c * q.b + p.d * q.d};
     return m;
 }
 
@@ -265,8 +264,7 @@ static mat2 target_fit(const tri_state *s)
 static double fit_energy(const solver *sv, const tri_frame *f, const tri_state *s, mat2 g)
 {
     mat2 rk = mul(f->rbar, rotation(s->k * PI / 2));
-    return sv->w_rs * frob2(sub(g, target_fit(s))) + f->w_r * frob2(sub(s->r, rk)) +
-           f->w_s * frob2(sub(s->s, f->sbar));
+    return sv->w_rs * frob2(sub(g, target_fit(s))) + f->w_r * frob2(sub(s->r, rk)) + f->w_s * frob2(sub(s->s, f->sbar));
 }
 
 /* Residual of a fold tie on one axis. */
@@ -349,15 +347,13 @@ static void local_step(solver *sv, const double *x)
         s->k = closest_symmetry(f, s);
         mat2 rk = mul(f->rbar, rotation(s->k * PI / 2));
         mat2 gs = mul(g, s->s);
-        mat2 A = {f->w_r * rk.a + sv->w_rs * gs.a, f->w_r * rk.b + sv->w_rs * gs.b,
-                  f->w_r * rk.c + sv->w_rs * gs.c, f->w_r * rk.d + sv->w_rs * gs.d};
+        mat2 A = {f->w_r * rk.a + sv->w_rs * gs.a, f->w_r * rk.b + sv->w_rs * gs.b, f->w_r * rk.c + sv->w_rs * gs.c,
+                  f->w_r * rk.d + sv->w_rs * gs.d};
         s->r = closest_rotation(A);
         mat2 fitted = sym(mul(transpose(s->r), g));
         double w = f->w_s + sv->w_rs;
-        mat2 S = {(f->w_s * f->sbar.a + sv->w_rs * fitted.a) / w,
-                  (f->w_s * f->sbar.b + sv->w_rs * fitted.b) / w,
-                  (f->w_s * f->sbar.c + sv->w_rs * fitted.c) / w,
-                  (f->w_s * f->sbar.d + sv->w_rs * fitted.d) / w};
+        mat2 S = {(f->w_s * f->sbar.a + sv->w_rs * fitted.a) / w, (f->w_s * f->sbar.b + sv->w_rs * fitted.b) / w,
+                  (f->w_s * f->sbar.c + sv->w_rs * fitted.c) / w, (f->w_s * f->sbar.d + sv->w_rs * fitted.d) / w};
         s->s = S;
     }
 }
@@ -376,20 +372,17 @@ static void initial_state(solver *sv, const double *x)
 
 /* ---- setup ----------------------------------------------------------------------------- */
 
-static texopt_status check_target(const texopt_triangle_target *tg, size_t t, char *err,
-                                  size_t err_len)
+static texopt_status check_target(const texopt_triangle_target *tg, size_t t, char *err, size_t err_len)
 {
-    if (!isfinite(tg->alpha) || !isfinite(tg->beta) || !(tg->lambda1 > 0.0) ||
-        !(tg->lambda2 > 0.0) || !isfinite(tg->lambda1) || !isfinite(tg->lambda2))
+    if (!isfinite(tg->alpha) || !isfinite(tg->beta) || !(tg->lambda1 > 0.0) || !(tg->lambda2 > 0.0) ||
+        !isfinite(tg->lambda1) || !isfinite(tg->lambda2))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "meshwise: target of triangle %zu has a non-finite angle or a "
                            "non-positive singular value (%g, %g)",
                            t, tg->lambda1, tg->lambda2);
-    if (!(tg->w_rotation >= 0.0) || !(tg->w_stretch >= 0.0) || !isfinite(tg->w_rotation) ||
-        !isfinite(tg->w_stretch))
+    if (!(tg->w_rotation >= 0.0) || !(tg->w_stretch >= 0.0) || !isfinite(tg->w_rotation) || !isfinite(tg->w_stretch))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "meshwise: target of triangle %zu has a negative or non-finite weight",
-                           t);
+                           "meshwise: target of triangle %zu has a negative or non-finite weight", t);
     return TEXOPT_OK;
 }
 
@@ -449,8 +442,7 @@ static texopt_status build_scaffold_frames(solver *sv, char *err, size_t err_len
     return TEXOPT_OK;
 }
 
-static texopt_status build_frames(solver *sv, const texopt_triangle_target *targets, char *err,
-                                  size_t err_len)
+static texopt_status build_frames(solver *sv, const texopt_triangle_target *targets, char *err, size_t err_len)
 {
     const texopt_mesh *m = sv->mesh;
     for (size_t t = 0; t < sv->mesh_tris; t++) {
@@ -462,13 +454,12 @@ static texopt_status build_frames(solver *sv, const texopt_triangle_target *targ
             f->v[j] = m->triangle[3 * t + j];
             if (f->v[j] >= m->vertex_count)
                 return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                                   "meshwise: triangle %zu uses vertex %u past vertex count %zu",
-                                   t, f->v[j], m->vertex_count);
+                                   "meshwise: triangle %zu uses vertex %u past vertex count %zu", t, f->v[j],
+                                   m->vertex_count);
         }
         double det = set_rest_shape(f, m->texel + 2 * (size_t)f->v[0], m->texel + 2 * (size_t)f->v[1],
                                     m->texel + 2 * (size_t)f->v[2]);
-        int degenerate_uv = (m->flags[t] & TEXOPT_TRI_DEGENERATE_UV) || !(fabs(det) > 0.0) ||
-                            !isfinite(det);
+        int degenerate_uv = (m->flags[t] & TEXOPT_TRI_DEGENERATE_UV) || !(fabs(det) > 0.0) || !isfinite(det);
         f->barrier = !degenerate_uv;
         f->fitted = f->barrier && !(m->flags[t] & TEXOPT_TRI_DEGENERATE_3D);
         f->collapsed = degenerate_uv && !(m->flags[t] & TEXOPT_TRI_DEGENERATE_3D);
@@ -515,8 +506,8 @@ static void normalise_weights(solver *sv)
 /* A used vertex with the keys that decide whether it coincides with another. */
 typedef struct vertex_key {
     uint32_t chart;
-    double x, y;       /* input texel position */
-    double sx, sy;     /* starting position */
+    double x, y;   /* input texel position */
+    double sx, sy; /* starting position */
     uint32_t vertex;
 } vertex_key;
 
@@ -537,8 +528,8 @@ static int compare_vertex_keys(const void *pa, const void *pb)
  * a folded chart (mirrored halves joined along their fold line, as in Duck and
  * DamagedHelmet) keep sharing their texels exactly instead of drifting apart and giving one
  * texel two different contents. Different charts are never tied. */
-static texopt_status merge_coincident(solver *sv, const uint32_t *chart_of_vertex,
-                                      uint32_t *rep, char *err, size_t err_len)
+static texopt_status merge_coincident(solver *sv, const uint32_t *chart_of_vertex, uint32_t *rep, char *err,
+                                      size_t err_len)
 {
     size_t n = 0;
     vertex_key *keys = malloc((sv->vertex_count ? sv->vertex_count : 1) * sizeof *keys);
@@ -549,14 +540,13 @@ static texopt_status merge_coincident(solver *sv, const uint32_t *chart_of_verte
         if (sv->var[v] == -2)
             continue;
         vertex_key k = {chart_of_vertex[v], sv->mesh->texel[2 * v], sv->mesh->texel[2 * v + 1],
-                        sv->x[2 * v], sv->x[2 * v + 1], (uint32_t)v};
+                        sv->x[2 * v],       sv->x[2 * v + 1],       (uint32_t)v};
         keys[n++] = k;
     }
     qsort(keys, n, sizeof *keys, compare_vertex_keys);
     for (size_t i = 1; i < n; i++) {
         const vertex_key *a = &keys[i - 1], *b = &keys[i];
-        if (a->chart == b->chart && a->x == b->x && a->y == b->y && a->sx == b->sx &&
-            a->sy == b->sy)
+        if (a->chart == b->chart && a->x == b->x && a->y == b->y && a->sx == b->sx && a->sy == b->sy)
             rep[b->vertex] = rep[a->vertex];
     }
     free(keys);
@@ -719,8 +709,7 @@ static texopt_status find_fold_ties(solver *sv, char *err, size_t err_len)
     for (size_t v = 0; v < sv->vertex_count; v++) /* a merged group counts as one vertex */
         side[sv->rep_of[v]] |= side[v];
     for (size_t t = 0; t < sv->mesh_tris; t++)
-        majority[t] = sv->tri[t].barrier && folded[m->chart_of[t]] &&
-                      sv->tri[t].orientation == sign[m->chart_of[t]];
+        majority[t] = sv->tri[t].barrier && folded[m->chart_of[t]] && sv->tri[t].orientation == sign[m->chart_of[t]];
     if ((st = texopt_tri_bins_build(&grid, m, majority, err, err_len)) != TEXOPT_OK)
         goto done;
     size_t cap = 0;
@@ -841,8 +830,7 @@ static texopt_status add_shared_ties(solver *sv, char *err, size_t err_len)
         return TEXOPT_OK;
     fold_tie *grown = realloc(sv->ties, (sv->tie_count + share->tie_count) * sizeof *grown);
     if (!grown)
-        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory for %zu ties",
-                           share->tie_count);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory for %zu ties", share->tie_count);
     sv->ties = grown;
     for (size_t k = 0; k < share->tie_count; k++) {
         const texopt_texel_tie *t = &share->ties[k];
@@ -879,8 +867,8 @@ static texopt_status analyse(solver *sv, char *err, size_t err_len)
     axis_system *u = &sv->ax[0], *v = &sv->ax[1];
     u->L = cholmod_analyze(u->A, &u->cm);
     if (!u->L || u->cm.status < CHOLMOD_OK)
-        return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
-                           "meshwise: CHOLMOD analysis failed (status %d)", u->cm.status);
+        return texopt_fail(err, err_len, TEXOPT_E_NUMERIC, "meshwise: CHOLMOD analysis failed (status %d)",
+                           u->cm.status);
     v->A = cholmod_copy_sparse(u->A, &v->cm);
     v->L = cholmod_copy_factor(u->L, &v->cm);
     if (!v->A || !v->L)
@@ -927,13 +915,13 @@ static texopt_status build_pattern(solver *sv, char *err, size_t err_len)
         if (unique == 0 || keys[unique - 1] != keys[k])
             keys[unique++] = keys[k];
 
-    cholmod_sparse *A = cholmod_allocate_sparse(sv->unknowns, sv->unknowns, unique, 1, 1, 1,
-                                                CHOLMOD_REAL, &sv->ax[0].cm);
+    cholmod_sparse *A =
+        cholmod_allocate_sparse(sv->unknowns, sv->unknowns, unique, 1, 1, 1, CHOLMOD_REAL, &sv->ax[0].cm);
     sv->ax[0].A = A;
     if (!A) {
         free(keys);
-        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: cannot allocate the %zu x %zu matrix",
-                           sv->unknowns, sv->unknowns);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: cannot allocate the %zu x %zu matrix", sv->unknowns,
+                           sv->unknowns);
     }
     int *p = A->p, *i = A->i;
     size_t col = 0;
@@ -982,8 +970,7 @@ static void build_fit_hessian(solver *sv)
             for (int k = 0; k < 3; k++) {
                 int32_t s = sv->slot[9 * t + 3 * j + k];
                 if (s >= 0)
-                    sv->fit_values[s] +=
-                        w * (f->grad[j][0] * f->grad[k][0] + f->grad[j][1] * f->grad[k][1]);
+                    sv->fit_values[s] += w * (f->grad[j][0] * f->grad[k][0] + f->grad[j][1] * f->grad[k][1]);
             }
     }
     double mean_diag = 0.0;
@@ -1127,8 +1114,7 @@ static double max_feasible_step(const solver *sv, const double *dx)
 }
 
 /* Loads `values` into the axis' matrix and refactorises it numerically. */
-static texopt_status factorize(solver *sv, int axis, const double *values, char *err,
-                               size_t err_len)
+static texopt_status factorize(solver *sv, int axis, const double *values, char *err, size_t err_len)
 {
     axis_system *sys = &sv->ax[axis];
     memcpy(sys->A->x, values, pattern_nnz(sv) * sizeof *values);
@@ -1176,8 +1162,7 @@ typedef struct axis_job {
 static void *run_axis_job(void *arg)
 {
     axis_job *job = arg;
-    job->status = factorize(job->sv, job->axis, job->sv->axis_values[job->axis], job->err,
-                            sizeof job->err);
+    job->status = factorize(job->sv, job->axis, job->sv->axis_values[job->axis], job->err, sizeof job->err);
     if (job->status == TEXOPT_OK)
         job->status = solve_axis(job->sv, job->axis, job->axis, job->err, sizeof job->err);
     return NULL;
@@ -1283,8 +1268,7 @@ static texopt_status check_start(const solver *sv, const double *x, char *err, s
     for (size_t i = 0; i < 2 * sv->vertex_count; i++)
         if (!isfinite(x[i]))
             return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                               "meshwise: starting texel position of vertex %zu is not finite",
-                               i / 2);
+                               "meshwise: starting texel position of vertex %zu is not finite", i / 2);
     for (size_t t = 0; t < sv->tri_count; t++)
         if (sv->tri[t].barrier && !(det2(jacobian(&sv->tri[t], x)) > 0.0))
             return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
@@ -1294,9 +1278,8 @@ static texopt_status check_start(const solver *sv, const double *x, char *err, s
     return TEXOPT_OK;
 }
 
-static texopt_status solver_init(solver *sv, const texopt_mesh *mesh,
-                                 const texopt_triangle_target *targets, const double *start,
-                                 const texopt_meshwise_options *opt, char *err, size_t err_len)
+static texopt_status solver_init(solver *sv, const texopt_mesh *mesh, const texopt_triangle_target *targets,
+                                 const double *start, const texopt_meshwise_options *opt, char *err, size_t err_len)
 {
     memset(sv, 0, sizeof *sv);
     for (int axis = 0; axis < 2; axis++) {
@@ -1327,18 +1310,15 @@ static texopt_status solver_init(solver *sv, const texopt_mesh *mesh,
     sv->trial = calloc(2 * nv, sizeof *sv->trial);
     sv->grad = calloc(2 * nv, sizeof *sv->grad);
     sv->step = calloc(2 * nv, sizeof *sv->step);
-    if (!sv->tri || !sv->st || !sv->var || !sv->slot || !sv->diag || !sv->x || !sv->trial ||
-        !sv->grad || !sv->step)
-        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory for %zu triangles",
-                           sv->tri_count);
+    if (!sv->tri || !sv->st || !sv->var || !sv->slot || !sv->diag || !sv->x || !sv->trial || !sv->grad || !sv->step)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "meshwise: out of memory for %zu triangles", sv->tri_count);
     texopt_status st = build_frames(sv, targets, err, err_len);
     if (st != TEXOPT_OK)
         return st;
     normalise_weights(sv);
     memcpy(sv->x, start, 2 * sv->mesh_vertices * sizeof *sv->x);
     if (sv->scaffold && sv->scaffold->vertex_count)
-        memcpy(sv->x + 2 * sv->mesh_vertices, sv->scaffold->position,
-               2 * sv->scaffold->vertex_count * sizeof *sv->x);
+        memcpy(sv->x + 2 * sv->mesh_vertices, sv->scaffold->position, 2 * sv->scaffold->vertex_count * sizeof *sv->x);
     if ((st = check_start(sv, sv->x, err, err_len)) != TEXOPT_OK)
         return st;
     if ((st = number_unknowns(sv, err, err_len)) != TEXOPT_OK)
@@ -1389,9 +1369,8 @@ static int is_finite_layout(const double *x, size_t n)
 }
 
 /* The local-global loop; fills the report's energy trace. */
-static texopt_status iterate(solver *sv, int max_iterations, double tolerance,
-                             texopt_meshwise_report *rep, const texopt_monitor *monitor,
-                             char *err, size_t err_len)
+static texopt_status iterate(solver *sv, int max_iterations, double tolerance, texopt_meshwise_report *rep,
+                             const texopt_monitor *monitor, char *err, size_t err_len)
 {
     double fit, bar;
     initial_state(sv, sv->x);
@@ -1414,8 +1393,8 @@ static texopt_status iterate(solver *sv, int max_iterations, double tolerance,
             line_search(sv, before);
         }
         if (!is_finite_layout(sv->x, 2 * sv->vertex_count))
-            return texopt_fail(err, err_len, TEXOPT_E_NUMERIC,
-                               "meshwise: non-finite texel position at iteration %d", it);
+            return texopt_fail(err, err_len, TEXOPT_E_NUMERIC, "meshwise: non-finite texel position at iteration %d",
+                               it);
         total_energy(sv, sv->x, &fit, &bar);
         if (fit < bar) { /* eq. 28 */
             bar /= BARRIER_REDUCTION;
@@ -1452,19 +1431,17 @@ static texopt_status check_anchors(const texopt_mesh *mesh, const texopt_meshwis
 }
 
 texopt_status texopt_meshwise_solve(const texopt_mesh *mesh, const texopt_triangle_target *targets,
-                                    const double *initial_texel,
-                                    const texopt_meshwise_options *opt, double *texel_out,
-                                    texopt_meshwise_report *report,
-                                    const texopt_monitor *monitor, char *err, size_t err_len)
+                                    const double *initial_texel, const texopt_meshwise_options *opt, double *texel_out,
+                                    texopt_meshwise_report *report, const texopt_monitor *monitor, char *err,
+                                    size_t err_len)
 {
     if (!mesh || !targets || !texel_out)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "meshwise: NULL mesh, targets or output");
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "meshwise: NULL mesh, targets or output");
     if (!mesh->texel || (mesh->triangle_count && (!mesh->triangle || !mesh->flags || !mesh->chart_of)))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "meshwise: the mesh lacks texels, triangles, flags or charts");
-    if (opt && (opt->max_iterations < 0 || opt->tolerance < 0.0 || opt->barrier_weight < 0.0 ||
-                opt->fit_weight < 0.0 || opt->threads < 0))
+    if (opt && (opt->max_iterations < 0 || opt->tolerance < 0.0 || opt->barrier_weight < 0.0 || opt->fit_weight < 0.0 ||
+                opt->threads < 0))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "meshwise: negative option (iterations, tolerance, weights or threads)");
     if (opt && opt->share && opt->share->chart_count != mesh->chart_count)
@@ -1488,15 +1465,14 @@ texopt_status texopt_meshwise_solve(const texopt_mesh *mesh, const texopt_triang
     memset(&rep, 0, sizeof rep);
 
     solver sv;
-    texopt_status st = solver_init(&sv, mesh, targets, initial_texel ? initial_texel : mesh->texel,
-                                   opt, err, err_len);
+    texopt_status st = solver_init(&sv, mesh, targets, initial_texel ? initial_texel : mesh->texel, opt, err, err_len);
     if (st == TEXOPT_OK)
         st = iterate(&sv, max_iterations, tolerance, &rep, monitor, err, err_len);
     if (st == TEXOPT_OK) {
         rep.flipped = (int)texopt_count_flipped(mesh, sv.x);
         if (rep.flipped > 0)
-            st = texopt_fail(err, err_len, TEXOPT_E_INTERNAL,
-                             "meshwise: %d triangles flipped despite the barrier", rep.flipped);
+            st = texopt_fail(err, err_len, TEXOPT_E_INTERNAL, "meshwise: %d triangles flipped despite the barrier",
+                             rep.flipped);
     }
     if (st == TEXOPT_OK) {
         memcpy(texel_out, sv.x, 2 * mesh->vertex_count * sizeof *texel_out);

@@ -123,17 +123,17 @@ typedef struct texopt_meshwise_report {
     int iterations;        /* local-global iterations run */
     double energy_initial; /* E after the first local step on the initial layout */
     double energy_final;
-    double seconds;        /* wall clock of the whole solve */
-    int flipped;           /* triangles with det G <= 0 after the solve: always 0 on success */
+    double seconds;                              /* wall clock of the whole solve */
+    int flipped;                                 /* triangles with det G <= 0 after the solve: always 0 on success */
     double energy[TEXOPT_MESHWISE_MAX_REPORTED]; /* E after iteration i + 1 (non-increasing),
                                                     the first 256 iterations */
     int energy_count;
     double barrier_weight_final; /* w_b after the eq. 28 reductions */
-    int factorizations;    /* numeric CHOLMOD factorisations done */
-    int merged_vertices;   /* vertices sharing the unknown of a coincident one (folds) */
-    int fold_ties;         /* minority-side fold vertices tied to the majority side */
-    int shared_ties;       /* secondary vertices tied to their primary (opt->share) */
-    int collapse_ties;     /* ties holding collapsed triangles on a line (see above) */
+    int factorizations;          /* numeric CHOLMOD factorisations done */
+    int merged_vertices;         /* vertices sharing the unknown of a coincident one (folds) */
+    int fold_ties;               /* minority-side fold vertices tied to the majority side */
+    int shared_ties;             /* secondary vertices tied to their primary (opt->share) */
+    int collapse_ties;           /* ties holding collapsed triangles on a line (see above) */
 } texopt_meshwise_report;
 
 /* Computes new texel positions of every mesh vertex (2 per vertex, texel units of the input
@@ -144,9 +144,8 @@ typedef struct texopt_meshwise_report {
  * checked for cancellation between iterations. Returns TEXOPT_E_NUMERIC when CHOLMOD fails
  * or values become non-finite. texel_out is written only on success. */
 texopt_status texopt_meshwise_solve(const texopt_mesh *mesh, const texopt_triangle_target *targets,
-                                    const double *initial_texel,
-                                    const texopt_meshwise_options *opt, double *texel_out,
-                                    texopt_meshwise_report *report,
-                                    const texopt_monitor *monitor, char *err, size_t err_len);
+                                    const double *initial_texel, const texopt_meshwise_options *opt, double *texel_out,
+                                    texopt_meshwise_report *report, const texopt_monitor *monitor, char *err,
+                                    size_t err_len);
 
 #endif

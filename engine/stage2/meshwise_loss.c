@@ -8,8 +8,8 @@
 
 #include <math.h>
 #include <pthread.h>
-#include <stdio.h>
 #include <stdatomic.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -88,8 +88,7 @@ static void report_progress(shared *sh, size_t done)
     pthread_mutex_unlock(&sh->lock);
 }
 
-static texopt_status evaluate_triangle(shared *sh, texopt_triloss *loss, size_t t, char *err,
-                                       size_t err_len)
+static texopt_status evaluate_triangle(shared *sh, texopt_triloss *loss, size_t t, char *err, size_t err_len)
 {
     sh->loss[t] = NAN;
     if (!is_evaluated(sh->mesh, t))
@@ -146,8 +145,7 @@ static int thread_count(int requested, size_t triangles)
     return (int)n;
 }
 
-static void summarise(const texopt_mesh *mesh, const double *loss, double epsilon,
-                      texopt_loss_share *out)
+static void summarise(const texopt_mesh *mesh, const double *loss, double epsilon, texopt_loss_share *out)
 {
     memset(out, 0, sizeof *out);
     double sum = 0.0;
@@ -165,16 +163,13 @@ static void summarise(const texopt_mesh *mesh, const double *loss, double epsilo
     }
 }
 
-texopt_status texopt_meshwise_loss_share(const texopt_model *model, const texopt_mesh *mesh,
-                                         const double *texel, const double *signal_weights,
-                                         double epsilon, int threads,
-                                         int viewport, double *loss_out, texopt_loss_share *out,
-                                         const texopt_monitor *monitor, char *err,
-                                         size_t err_len)
+texopt_status texopt_meshwise_loss_share(const texopt_model *model, const texopt_mesh *mesh, const double *texel,
+                                         const double *signal_weights, double epsilon, int threads, int viewport,
+                                         double *loss_out, texopt_loss_share *out, const texopt_monitor *monitor,
+                                         char *err, size_t err_len)
 {
     if (!model || !mesh || !texel || !out)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "loss share: NULL model, mesh, layout or output");
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "loss share: NULL model, mesh, layout or output");
     if (!(epsilon > 0.0) || threads < 0 || viewport < 0)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "loss share: epsilon must be > 0 and threads, viewport >= 0 "

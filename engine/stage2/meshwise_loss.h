@@ -20,10 +20,10 @@
 #include "status.h"
 
 typedef struct texopt_loss_share {
-    size_t evaluated;  /* triangles with a loss (not flagged degenerate) */
-    size_t within;     /* of those, E <= epsilon */
-    double share;      /* within / evaluated; 0 when nothing was evaluated */
-    double mean_loss;  /* mean E over the evaluated triangles */
+    size_t evaluated; /* triangles with a loss (not flagged degenerate) */
+    size_t within;    /* of those, E <= epsilon */
+    double share;     /* within / evaluated; 0 when nothing was evaluated */
+    double mean_loss; /* mean E over the evaluated triangles */
     double max_loss;
 } texopt_loss_share;
 
@@ -35,10 +35,9 @@ typedef struct texopt_loss_share {
  * loss_out (may be NULL) receives mesh->triangle_count values, NaN for degenerate
  * triangles. The result does not depend on the thread count. The monitor gets stage
  * "stage2" progress and is checked between triangles. */
-texopt_status texopt_meshwise_loss_share(const texopt_model *model, const texopt_mesh *mesh,
-                                         const double *texel, const double *signal_weights,
-                                         double epsilon, int threads, int viewport, double *loss_out,
-                                         texopt_loss_share *out, const texopt_monitor *monitor, char *err,
-                                         size_t err_len);
+texopt_status texopt_meshwise_loss_share(const texopt_model *model, const texopt_mesh *mesh, const double *texel,
+                                         const double *signal_weights, double epsilon, int threads, int viewport,
+                                         double *loss_out, texopt_loss_share *out, const texopt_monitor *monitor,
+                                         char *err, size_t err_len);
 
 #endif

@@ -22,11 +22,11 @@ typedef struct work {
     const texopt_mesh *m;
     texel_grid g;
     uint32_t *tri_start, *tri_of_chart; /* usable triangles of each chart (CSR) */
-    uint32_t *stamp;   /* per cell: the last visit that counted it */
-    uint32_t *owner;   /* per cell: the primary that claimed it, or NONE */
-    uint32_t *texels;  /* per chart: its covered texels, each counted once */
-    uint32_t *hits;    /* per chart: texels of the chart being placed that it owns */
-    uint32_t *touched; /* charts with hits, to reset them */
+    uint32_t *stamp;                    /* per cell: the last visit that counted it */
+    uint32_t *owner;                    /* per cell: the primary that claimed it, or NONE */
+    uint32_t *texels;                   /* per chart: its covered texels, each counted once */
+    uint32_t *hits;                     /* per chart: texels of the chart being placed that it owns */
+    uint32_t *touched;                  /* charts with hits, to reset them */
     size_t touched_count;
 } work;
 
@@ -83,8 +83,7 @@ static int grid_over(const texopt_mesh *m, texel_grid *g)
 
 /* Columns [*first, *last] of the cell centres of row j inside triangle t (convex: one
  * span). Returns 0 when the row has none. */
-static int row_span(const texopt_mesh *m, const texel_grid *g, uint32_t t, size_t j, size_t *first,
-                    size_t *last)
+static int row_span(const texopt_mesh *m, const texel_grid *g, uint32_t t, size_t j, size_t *first, size_t *last)
 {
     double y = g->y0 + (double)j + 0.5, lo = INFINITY, hi = -INFINITY;
     for (int e = 0; e < 3; e++) {
@@ -393,8 +392,7 @@ static texopt_status build_view(const texopt_mesh *m, texopt_texel_share *s, cha
     return TEXOPT_OK;
 }
 
-texopt_status texopt_texel_share_create(texopt_texel_share **out, const texopt_mesh *mesh, char *err,
-                                        size_t err_len)
+texopt_status texopt_texel_share_create(texopt_texel_share **out, const texopt_mesh *mesh, char *err, size_t err_len)
 {
     if (!out || !mesh)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "texel share: NULL output or mesh");

@@ -51,22 +51,21 @@ typedef struct texopt_texel_tie {
 
 typedef struct texopt_texel_share {
     size_t chart_count;
-    uint32_t *primary_of;    /* per chart of the mesh: the chart whose texels it shares,
+    uint32_t *primary_of;   /* per chart of the mesh: the chart whose texels it shares,
                                 itself for a primary (a chart sharing none is one) */
-    size_t secondary_count;  /* charts with primary_of[c] != c */
+    size_t secondary_count; /* charts with primary_of[c] != c */
     texopt_texel_tie *ties;
     size_t tie_count;
     /* The mesh with every group as one chart, numbered in order of first triangle, its
      * sign the primary's: chart_count, chart_of and chart_sign are its own, every other
      * field is the mesh's (the view must not outlive the mesh). */
     texopt_mesh view;
-    uint8_t *grouped;        /* per chart of the view: 1 when it holds secondaries */
+    uint8_t *grouped; /* per chart of the view: 1 when it holds secondaries */
 } texopt_texel_share;
 
 /* Finds the sharing groups of `mesh` and the ties. The caller frees *out with
  * texopt_texel_share_destroy. */
-texopt_status texopt_texel_share_create(texopt_texel_share **out, const texopt_mesh *mesh, char *err,
-                                        size_t err_len);
+texopt_status texopt_texel_share_create(texopt_texel_share **out, const texopt_mesh *mesh, char *err, size_t err_len);
 
 void texopt_texel_share_destroy(texopt_texel_share *share);
 

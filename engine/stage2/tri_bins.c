@@ -59,8 +59,8 @@ static int frame(texopt_tri_bins *b, const texopt_mesh *m, const unsigned char *
     return 1;
 }
 
-texopt_status texopt_tri_bins_build(texopt_tri_bins *b, const texopt_mesh *m, const unsigned char *keep,
-                                    char *err, size_t err_len)
+texopt_status texopt_tri_bins_build(texopt_tri_bins *b, const texopt_mesh *m, const unsigned char *keep, char *err,
+                                    size_t err_len)
 {
     memset(b, 0, sizeof *b);
     if (!frame(b, m, keep))
@@ -88,8 +88,7 @@ texopt_status texopt_tri_bins_build(texopt_tri_bins *b, const texopt_mesh *m, co
                 b->start[k + 1] += b->start[k];
             b->tri = malloc((b->start[bins] ? b->start[bins] : 1) * sizeof *b->tri);
             if (!b->tri)
-                return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for %u binned triangles",
-                                   b->start[bins]);
+                return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for %u binned triangles", b->start[bins]);
         }
     }
     for (size_t k = bins; k > 0; k--) /* the fill advanced each start to the next bin's */

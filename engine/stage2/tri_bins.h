@@ -18,7 +18,7 @@
 typedef struct texopt_tri_bins {
     double x0, y0, cell; /* lower corner of bin (0, 0), bin side in texels */
     size_t nx, ny;
-    uint32_t *start;     /* nx * ny + 1 offsets into tri; NULL when no triangle was kept */
+    uint32_t *start; /* nx * ny + 1 offsets into tri; NULL when no triangle was kept */
     uint32_t *tri;
 } texopt_tri_bins;
 

@@ -25,11 +25,11 @@
 
 /* What one request left in its upload. */
 typedef struct upload_outcome {
-    int began;             /* 0: libmicrohttpd refused the request before the handler ran */
-    int status;            /* api_upload_error's status, 0 when the upload finished */
+    int began;  /* 0: libmicrohttpd refused the request before the handler ran */
+    int status; /* api_upload_error's status, 0 when the upload finished */
     char slug[64], detail[300];
     char model_rel[300];
-    char *params;          /* the params part, or NULL */
+    char *params; /* the params part, or NULL */
     uint64_t bytes, digest;
 } upload_outcome;
 
@@ -50,9 +50,8 @@ static inline void upload_outcome_free(upload_outcome *out)
 }
 
 static inline enum MHD_Result upload_driver_answer(void *cls, struct MHD_Connection *c, const char *url,
-                                                   const char *method, const char *version,
-                                                   const char *upload_data, size_t *upload_data_size,
-                                                   void **req_cls)
+                                                   const char *method, const char *version, const char *upload_data,
+                                                   size_t *upload_data_size, void **req_cls)
 {
     (void)cls;
     (void)url;
@@ -97,8 +96,8 @@ static inline struct MHD_Daemon *upload_driver_daemon(void)
     static struct MHD_Daemon *d;
     if (!d)
         d = MHD_start_daemon(MHD_USE_NO_LISTEN_SOCKET, 0, NULL, NULL, upload_driver_answer, NULL,
-                             MHD_OPTION_URI_LOG_CALLBACK, upload_driver_request, NULL,
-                             MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)10, MHD_OPTION_END);
+                             MHD_OPTION_URI_LOG_CALLBACK, upload_driver_request, NULL, MHD_OPTION_CONNECTION_TIMEOUT,
+                             (unsigned)10, MHD_OPTION_END);
     return d;
 }
 

@@ -37,8 +37,8 @@ int fixture_glyph_ink(int x, int y)
         h |= 1u;
     if (lx == 7 || ly == 7)
         return 0;
-    return ((h & 1u) && ly == 1) || ((h & 2u) && lx == 1) || ((h & 4u) && lx == ly) ||
-           ((h & 8u) && lx == 5) || ((h & 16u) && ly == 4) || ((h & 32u) && lx + ly == 6);
+    return ((h & 1u) && ly == 1) || ((h & 2u) && lx == 1) || ((h & 4u) && lx == ly) || ((h & 8u) && lx == 5) ||
+           ((h & 16u) && ly == 4) || ((h & 32u) && lx + ly == 6);
 }
 
 static int pattern_texel(const char *pattern, int x, int y, int w, int h, float rgb[3])
@@ -190,13 +190,12 @@ int fixture_rebake(const texopt_model *ref, texopt_model *cand, int image, int n
     return ok ? 0 : -1;
 }
 
-texopt_model *fixture_model_from_arrays(const float *positions, const float *uvs,
-                                        size_t vertex_count, const uint32_t *triangles,
-                                        size_t triangle_count, int tex_w, int tex_h,
+texopt_model *fixture_model_from_arrays(const float *positions, const float *uvs, size_t vertex_count,
+                                        const uint32_t *triangles, size_t triangle_count, int tex_w, int tex_h,
                                         const char *pattern)
 {
-    if (!positions || !uvs || !triangles || !pattern || vertex_count == 0 || triangle_count == 0 ||
-        tex_w <= 0 || tex_h <= 0)
+    if (!positions || !uvs || !triangles || !pattern || vertex_count == 0 || triangle_count == 0 || tex_w <= 0 ||
+        tex_h <= 0)
         return NULL;
     texopt_model *m = calloc(1, sizeof *m);
     if (!m)
@@ -207,8 +206,7 @@ texopt_model *fixture_model_from_arrays(const float *positions, const float *uvs
     m->uvs = malloc(sizeof(float) * 2 * vertex_count);
     m->triangles = malloc(sizeof(uint32_t) * 3 * triangle_count);
     m->primitives = calloc(1, sizeof *m->primitives);
-    if (!m->positions || !m->uvs || !m->triangles || !m->primitives ||
-        add_texture(m, tex_w, tex_h, pattern) != 0) {
+    if (!m->positions || !m->uvs || !m->triangles || !m->primitives || add_texture(m, tex_w, tex_h, pattern) != 0) {
         texopt_model_destroy(m);
         return NULL;
     }
@@ -216,9 +214,13 @@ texopt_model *fixture_model_from_arrays(const float *positions, const float *uvs
     memcpy(m->uvs, uvs, sizeof(float) * 2 * vertex_count);
     memcpy(m->triangles, triangles, sizeof(uint32_t) * 3 * triangle_count);
     m->primitive_count = 1;
-    m->primitives[0] = (texopt_primitive){.gltf_mesh = 0, .gltf_primitive = 0, .material = 0,
-                                          .domain = -1, .first_vertex = 0,
-                                          .vertex_count = vertex_count, .first_triangle = 0,
+    m->primitives[0] = (texopt_primitive){.gltf_mesh = 0,
+                                          .gltf_primitive = 0,
+                                          .material = 0,
+                                          .domain = -1,
+                                          .first_vertex = 0,
+                                          .vertex_count = vertex_count,
+                                          .first_triangle = 0,
                                           .triangle_count = triangle_count};
     if (texopt_model_build_domains(m, NULL, 0) != TEXOPT_OK) {
         texopt_model_destroy(m);
@@ -277,12 +279,12 @@ typedef struct cube_face {
 } cube_face;
 
 static const cube_face cube_faces[6] = {
-    {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}, 0.0f, 0.375f},     /* front +Z */
-    {{1, 0, 1}, {0, 0, -1}, {0, 1, 0}, 0.25f, 0.375f},   /* right +X */
-    {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, 0.5f, 0.375f},    /* back -Z */
-    {{0, 0, 0}, {0, 0, 1}, {0, 1, 0}, 0.75f, 0.375f},    /* left -X */
-    {{0, 1, 1}, {1, 0, 0}, {0, 0, -1}, 0.125f, 0.75f},   /* top +Y */
-    {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}, 0.625f, 0.0f},     /* bottom -Y */
+    {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}, 0.0f, 0.375f},   /* front +Z */
+    {{1, 0, 1}, {0, 0, -1}, {0, 1, 0}, 0.25f, 0.375f}, /* right +X */
+    {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, 0.5f, 0.375f},  /* back -Z */
+    {{0, 0, 0}, {0, 0, 1}, {0, 1, 0}, 0.75f, 0.375f},  /* left -X */
+    {{0, 1, 1}, {1, 0, 0}, {0, 0, -1}, 0.125f, 0.75f}, /* top +Y */
+    {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}, 0.625f, 0.0f},   /* bottom -Y */
 };
 
 texopt_model *fixture_cube_with_seams(int tex_size)
@@ -357,8 +359,7 @@ texopt_model *fixture_uv_sphere(int segments, int rings, int tex_size)
         }
         for (size_t r = 1; r + 1 < R; r++)
             for (size_t s = 0; s < S; s++) {
-                uint32_t a = (uint32_t)(ring0 + (r - 1) * (S + 1) + s), b = a + 1,
-                         d = a + (uint32_t)(S + 1), c = d + 1;
+                uint32_t a = (uint32_t)(ring0 + (r - 1) * (S + 1) + s), b = a + 1, d = a + (uint32_t)(S + 1), c = d + 1;
                 t[0] = a, t[1] = b, t[2] = c;
                 t[3] = a, t[4] = c, t[5] = d;
                 t += 6;

@@ -64,9 +64,8 @@ int fixture_rebake(const texopt_model *ref, texopt_model *cand, int image, int n
  * block of the other fixtures, and the way a test builds an odd layout (mirrored, flipped,
  * wrapped, degenerate). Indices are not checked against vertex_count: tests of bad input
  * can build bad models. */
-texopt_model *fixture_model_from_arrays(const float *positions, const float *uvs,
-                                        size_t vertex_count, const uint32_t *triangles,
-                                        size_t triangle_count, int tex_w, int tex_h,
+texopt_model *fixture_model_from_arrays(const float *positions, const float *uvs, size_t vertex_count,
+                                        const uint32_t *triangles, size_t triangle_count, int tex_w, int tex_h,
                                         const char *pattern);
 
 /* The unit square z = 0, positions (x, y, 0) with UV = (x, y): 4 vertices (0,0), (1,0),

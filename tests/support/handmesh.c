@@ -21,8 +21,8 @@ texopt_mesh *handmesh_alloc(size_t nv, size_t nt)
     m->area_texel = calloc(nt, sizeof(double));
     m->flags = calloc(nt, 1);
     m->chart_of = calloc(nt, sizeof(uint32_t));
-    if (!m->texel || !m->point_of || !m->position || !m->triangle || !m->area_3d || !m->area_texel ||
-        !m->flags || !m->chart_of) {
+    if (!m->texel || !m->point_of || !m->position || !m->triangle || !m->area_3d || !m->area_texel || !m->flags ||
+        !m->chart_of) {
         texopt_mesh_destroy(m);
         return NULL;
     }
@@ -54,8 +54,7 @@ void handmesh_finish(texopt_mesh *m)
         m->area_3d[t] = a3;
         m->area_texel[t] = at;
         m->flags[t] = (uint8_t)((a3 < 1e-14 ? TEXOPT_TRI_DEGENERATE_3D : 0) |
-                                (fabs(at) < 1e-12 ? TEXOPT_TRI_DEGENERATE_UV : 0) |
-                                (at < 0 ? TEXOPT_TRI_FLIPPED : 0));
+                                (fabs(at) < 1e-12 ? TEXOPT_TRI_DEGENERATE_UV : 0) | (at < 0 ? TEXOPT_TRI_FLIPPED : 0));
     }
 }
 

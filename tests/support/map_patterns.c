@@ -112,8 +112,8 @@ static void play_texel(int x, int y, int w, int h, float rgb[3])
     double du = u - 0.5, dv = v - 0.4;
     if (du * du + dv * dv <= 0.04) {
         static const double tri[3][2] = {{0.44, 0.31}, {0.6, 0.4}, {0.44, 0.49}};
-        int inside = edge_side(tri[0], tri[1], p) >= 0 && edge_side(tri[1], tri[2], p) >= 0 &&
-                     edge_side(tri[2], tri[0], p) >= 0;
+        int inside =
+            edge_side(tri[0], tri[1], p) >= 0 && edge_side(tri[1], tri[2], p) >= 0 && edge_side(tri[2], tri[0], p) >= 0;
         if (inside)
             set3(rgb, 1, 1, 1);
         else

@@ -19,7 +19,7 @@ typedef struct param_grid {
     texopt_param_chart chart;
     double *position;
     uint32_t *triangle;
-    double *plane;      /* 2 per vertex: the grid point (x, y) in the unit square */
+    double *plane;                 /* 2 per vertex: the grid point (x, y) in the unit square */
     uint32_t vertex_of_grid_start; /* the vertex numbering is rotated by this (see below) */
 } param_grid;
 

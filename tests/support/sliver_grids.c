@@ -31,8 +31,8 @@ static void make_copy(sliver_grid *g, int n, double strip_height, int copy)
         }
     for (int j = 0; j < n; j++)
         for (int i = 0; i < n; i++) {
-            uint32_t a = (uint32_t)(base_v + (size_t)j * (n + 1) + (size_t)i), b = a + 1,
-                     c = a + (uint32_t)(n + 1) + 1, d = a + (uint32_t)(n + 1);
+            uint32_t a = (uint32_t)(base_v + (size_t)j * (n + 1) + (size_t)i), b = a + 1, c = a + (uint32_t)(n + 1) + 1,
+                     d = a + (uint32_t)(n + 1);
             uint32_t *t = g->triangles + 3 * (base_t + 2 * ((size_t)j * n + (size_t)i));
             uint32_t quad[6] = {a, b, c, a, c, d};
             memcpy(t, quad, sizeof quad);

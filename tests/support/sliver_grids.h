@@ -19,9 +19,9 @@
 #include <stdint.h>
 
 typedef struct sliver_grid {
-    float *positions;     /* 3 per vertex */
-    float *uvs;           /* 2 per vertex */
-    uint32_t *triangles;  /* 3 per triangle */
+    float *positions;    /* 3 per vertex */
+    float *uvs;          /* 2 per vertex */
+    uint32_t *triangles; /* 3 per triangle */
     size_t vertex_count, triangle_count;
     size_t strip_first, strip_count; /* the first copy's strip triangles */
     size_t copy_triangles;           /* triangles per copy (2 n^2) */

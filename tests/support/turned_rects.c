@@ -12,8 +12,7 @@ static double unit_random(uint32_t *s)
     return (double)((*s >> 8) & 0xffffff) / 16777216.0;
 }
 
-texopt_mesh *turned_rects(size_t charts, const double *turn, double aspect, double size, double *sides,
-                          uint32_t seed)
+texopt_mesh *turned_rects(size_t charts, const double *turn, double aspect, double size, double *sides, uint32_t seed)
 {
     texopt_mesh *m = handmesh_alloc(charts * 4, charts * 2);
     if (!m)

@@ -16,7 +16,6 @@
 /* turn: `charts` angles (radians, counter-clockwise); sides: 2 per chart, written (width,
  * height before the turn); aspect > 0 fixes height = width / aspect, 0 draws both sides.
  * NULL when memory runs out. */
-texopt_mesh *turned_rects(size_t charts, const double *turn, double aspect, double size, double *sides,
-                          uint32_t seed);
+texopt_mesh *turned_rects(size_t charts, const double *turn, double aspect, double size, double *sides, uint32_t seed);
 
 #endif

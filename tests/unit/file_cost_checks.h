@@ -34,8 +34,7 @@ static inline double number_at(const cJSON *o, const char *key)
 
 /* Optimises `in` with method at c_r and compares the statistics with info on the output and
  * the input. Returns 0 when they agree, else -1 with the first difference in why. */
-static inline int stats_match_file(const char *in, const char *method, double relative_cost, char *why,
-                                   size_t why_len)
+static inline int stats_match_file(const char *in, const char *method, double relative_cost, char *why, size_t why_len)
 {
     scratch s;
     if (scratch_init(&s, 0, 0, NULL) != 0) {

@@ -17,10 +17,10 @@
 
 /* Layout of the quad's binary buffer. */
 enum {
-    QUAD_POS_OFFSET = 0,   /* 4 x VEC3 float */
-    QUAD_UV_OFFSET = 48,   /* 4 x VEC2 float */
-    QUAD_IDX_OFFSET = 80,  /* 6 x u16 */
-    QUAD_PNG_OFFSET = 92   /* the PNG bytes */
+    QUAD_POS_OFFSET = 0,  /* 4 x VEC3 float */
+    QUAD_UV_OFFSET = 48,  /* 4 x VEC2 float */
+    QUAD_IDX_OFFSET = 80, /* 6 x u16 */
+    QUAD_PNG_OFFSET = 92  /* the PNG bytes */
 };
 
 static const float quad_positions[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
@@ -131,8 +131,9 @@ static inline int quad_doc_add_view(quad_doc *doc, const void *bytes, size_t len
     doc->bin = bin;
     char old_tail[64], new_tail[160];
     snprintf(old_tail, sizeof old_tail, "],\"buffers\":[{\"byteLength\":%zu}]}", doc->bin_len);
-    snprintf(new_tail, sizeof new_tail, ",{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}],\"buffers\":[{\"byteLength\":%zu}]}",
-             at, len, new_len);
+    snprintf(new_tail, sizeof new_tail,
+             ",{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}],\"buffers\":[{\"byteLength\":%zu}]}", at, len,
+             new_len);
     if (!builder_replace(&doc->json, old_tail, new_tail))
         return -1;
     doc->bin_len = new_len;

@@ -62,7 +62,8 @@ static inline int write_mesh_glb_primitives(const char *path, const float *posit
     unsigned char *bin = ok ? calloc(1, bin_len) : NULL;
     char json[8192], textures[256] = "", images[512] = "", views[1024] = "", second[256] = "", second_indices[160] = "";
     if (split < nt) {
-        snprintf(second, sizeof second, ",{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1},\"indices\":3,\"material\":1}");
+        snprintf(second, sizeof second,
+                 ",{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1},\"indices\":3,\"material\":1}");
         snprintf(second_indices, sizeof second_indices,
                  ",{\"bufferView\":2,\"byteOffset\":%zu,\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"}",
                  split * 12, (nt - split) * 3);
@@ -87,14 +88,18 @@ static inline int write_mesh_glb_primitives(const char *path, const float *posit
                 lo[k] = positions[3 * v + k] < lo[k] ? positions[3 * v + k] : lo[k];
                 hi[k] = positions[3 * v + k] > hi[k] ? positions[3 * v + k] : hi[k];
             }
-        jl = snprintf(json, sizeof json,
+        jl = snprintf(
+            json, sizeof json,
             "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
-            "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1},\"indices\":2,\"material\":0}%s]}],"
+            "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1},\"indices\":2,\"material\":"
+            "0}%s]}],"
             "\"materials\":[%s],\"textures\":[%s],\"images\":[%s],"
-            "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\",\"min\":[%.9g,%.9g,%.9g],\"max\":[%.9g,%.9g,%.9g]},"
+            "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\",\"min\":[%.9g,%."
+            "9g,%.9g],\"max\":[%.9g,%.9g,%.9g]},"
             "{\"bufferView\":1,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC2\"},"
             "{\"bufferView\":2,\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"}%s],"
-            "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},"
+            "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,"
+            "\"byteLength\":%zu},"
             "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}%s],"
             "\"buffers\":[{\"byteLength\":%zu}]}",
             second, materials, textures, images, nv, (double)lo[0], (double)lo[1], (double)lo[2], (double)hi[0],
@@ -130,11 +135,10 @@ static inline int write_mesh_glb_primitives(const char *path, const float *posit
 
 /* The mesh as one primitive of one material (write_mesh_glb_primitives). */
 static inline int write_mesh_glb_material(const char *path, const float *positions, const float *uvs, size_t nv,
-                                          const uint32_t *triangles, size_t nt, int tex,
-                                          const char *const *patterns, int image_count, const char *material)
+                                          const uint32_t *triangles, size_t nt, int tex, const char *const *patterns,
+                                          int image_count, const char *material)
 {
-    return write_mesh_glb_primitives(path, positions, uvs, nv, triangles, nt, nt, tex, patterns, image_count,
-                                     material);
+    return write_mesh_glb_primitives(path, positions, uvs, nv, triangles, nt, nt, tex, patterns, image_count, material);
 }
 
 /* The same with a base-colour texture of `pattern` and, with mr_pattern (NULL: none), image 1

@@ -77,8 +77,7 @@ static inline void drop_seconds(cJSON *j)
 {
     cJSON_DeleteItemFromObject(j, "seconds");
     cJSON *child;
-    cJSON_ArrayForEach(child, j)
-        drop_seconds(child);
+    cJSON_ArrayForEach(child, j) drop_seconds(child);
 }
 
 /* Whether x and y are the same, numbers within relative tolerance rel (members in order). */

@@ -28,8 +28,15 @@ TEST(slow_client_and_memory_settings_are_read)
     service_config c;
     char err[256] = "";
     config_defaults(&c);
-    char *argv[] = {"texoptd", "--max-connections-per-ip", "8", "--header-timeout=3", "--idle-timeout", "7",
-                    "--memory-budget", "1000000", NULL};
+    char *argv[] = {"texoptd",
+                    "--max-connections-per-ip",
+                    "8",
+                    "--header-timeout=3",
+                    "--idle-timeout",
+                    "7",
+                    "--memory-budget",
+                    "1000000",
+                    NULL};
     CHECK(config_apply_args(&c, 8, argv, err, sizeof err) == 0);
     CHECK_EQ_INT(c.max_connections_per_ip, 8);
     CHECK_EQ_INT(c.header_timeout_seconds, 3);
@@ -55,8 +62,8 @@ TEST(flags_override_the_environment)
     CHECK_EQ_INT(c.port, 9000);
     CHECK_EQ_INT(c.workers, 3);
     CHECK(strcmp(c.api_token, "s3cret") == 0);
-    char *argv[] = {"texoptd", "--port", "0", "--workers=2", "--max-upload-bytes", "1000",
-                    "--data-dir", "/tmp/x", "--cors-origin", "*", NULL};
+    char *argv[] = {"texoptd", "--port",        "0", "--workers=2", "--max-upload-bytes", "1000", "--data-dir",
+                    "/tmp/x",  "--cors-origin", "*", NULL};
     CHECK(config_apply_args(&c, 10, argv, err, sizeof err) == 0);
     CHECK_EQ_INT(c.port, 0);
     CHECK_EQ_INT(c.workers, 2);

@@ -59,9 +59,9 @@ static void mutate(char *buf, size_t *len, size_t cap, uint64_t *rng)
 /* A refusal points at what to fix: the params object or one of its keys. */
 static int names_a_key(const char *err)
 {
-    static const char *const keys[] = {"params", "method", "budget", "relative_cost", "texture_size",
-                                       "target_loss", "epsilon", "iterations", "lambda_min", "threads",
-                                       "eval_resolution", "parameters must be finite"};
+    static const char *const keys[] = {"params",       "method",      "budget",          "relative_cost",
+                                       "texture_size", "target_loss", "epsilon",         "iterations",
+                                       "lambda_min",   "threads",     "eval_resolution", "parameters must be finite"};
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++)
         if (strstr(err, keys[i]))
             return 1;

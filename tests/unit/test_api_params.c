@@ -39,7 +39,8 @@ TEST(every_key_is_read)
                    "\"lambda_min\":0.3,\"threads\":3,\"seed\":123456789012,\"evaluate\":true,"
                    "\"eval_resolution\":256,\"refinements\":5,\"refine_by\":\"lit\",\"lookup\":\"mipmapped\","
                    "\"packing_efficiency\":0.75,\"bijective\":true}",
-                   &p, err), err);
+                   &p, err),
+             err);
     CHECK_EQ_INT(p.method, TEXOPT_METHOD_ARAP);
     CHECK_NEAR(p.relative_cost, 0.25, 0);
     CHECK_NEAR(p.epsilon, 0.02, 0);
@@ -160,7 +161,9 @@ TEST(params_survive_a_json_round_trip)
     texopt_params p, q;
     char err[256] = "";
     CHECK_OK(parse("{\"method\":\"tewari\",\"texture_width\":300,\"texture_height\":200,\"epsilon\":0.03,"
-                   "\"iterations\":9,\"seed\":77,\"evaluate\":true,\"packing_efficiency\":0.8}", &p, err), err);
+                   "\"iterations\":9,\"seed\":77,\"evaluate\":true,\"packing_efficiency\":0.8}",
+                   &p, err),
+             err);
     for (int refinements = -1; refinements <= 3; refinements += 4) {
         p.refinements = refinements; /* none, and some */
         p.refine_lit = refinements > 0;

@@ -5,12 +5,12 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "cors.h"
 #include "problem.h"
 #include "routes.h"
 #include "test.h"
 #include "upload.h"
 #include "web.h"
-#include "cors.h"
 
 #define ID "0123456789abcdef0123456789abcdef"
 

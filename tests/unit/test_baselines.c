@@ -9,8 +9,8 @@
 #include "test.h"
 #include "tewari.h"
 
-typedef texopt_status (*signal_targets_fn)(const texopt_model *, const texopt_mesh *, double,
-                                           texopt_triangle_target *, char *, size_t);
+typedef texopt_status (*signal_targets_fn)(const texopt_model *, const texopt_mesh *, double, texopt_triangle_target *,
+                                           char *, size_t);
 
 static double centroid_u(const texopt_mesh *mesh, size_t t)
 {

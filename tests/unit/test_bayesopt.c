@@ -47,10 +47,8 @@ static double constrained_branin(void *user, const double *u)
 static double hartmann6(void *user, const double *x)
 {
     static const double alpha[4] = {1.0, 1.2, 3.0, 3.2};
-    static const double a[4][6] = {{10, 3, 17, 3.5, 1.7, 8},
-                                   {0.05, 10, 17, 0.1, 8, 14},
-                                   {3, 3.5, 1.7, 10, 17, 8},
-                                   {17, 8, 0.05, 10, 0.1, 14}};
+    static const double a[4][6] = {
+        {10, 3, 17, 3.5, 1.7, 8}, {0.05, 10, 17, 0.1, 8, 14}, {3, 3.5, 1.7, 10, 17, 8}, {17, 8, 0.05, 10, 0.1, 14}};
     static const double p[4][6] = {{0.1312, 0.1696, 0.5569, 0.0124, 0.8283, 0.5886},
                                    {0.2329, 0.4135, 0.8307, 0.3736, 0.1004, 0.9991},
                                    {0.2348, 0.1451, 0.3522, 0.2883, 0.3047, 0.6650},
@@ -81,9 +79,7 @@ TEST(branin_reaches_its_minimum_within_60_evaluations)
         double x[2], fbest;
         int evaluations = 0;
         char err[256] = "";
-        CHECK_OK(texopt_bo_minimize(bo, &opt, branin, &c, x, &fbest, &evaluations, err,
-                                    sizeof err),
-                 err);
+        CHECK_OK(texopt_bo_minimize(bo, &opt, branin, &c, x, &fbest, &evaluations, err, sizeof err), err);
         CHECK_EQ_INT(evaluations, 60);
         CHECK_EQ_INT(c.calls, 60);
         CHECK_NEAR(branin_unit(x), fbest, 1e-12);
@@ -104,8 +100,7 @@ TEST(hartmann6_reaches_its_minimum_within_150_evaluations)
         counter c = {0, 0};
         double x[6], fbest;
         char err[256] = "";
-        CHECK_OK(texopt_bo_minimize(bo, &opt, hartmann6, &c, x, &fbest, NULL, err, sizeof err),
-                 err);
+        CHECK_OK(texopt_bo_minimize(bo, &opt, hartmann6, &c, x, &fbest, NULL, err, sizeof err), err);
         CHECK(c.calls <= 150);
         successes += fabs(fbest - HARTMANN6_MIN) <= 0.05;
     }
@@ -146,9 +141,7 @@ TEST(infeasible_region_is_avoided_and_history_keeps_infinity)
     counter c = {0, 0};
     double x[2], fbest;
     char err[256] = "";
-    CHECK_OK(texopt_bo_minimize(bo, &opt, constrained_branin, &c, x, &fbest, NULL, err,
-                                sizeof err),
-             err);
+    CHECK_OK(texopt_bo_minimize(bo, &opt, constrained_branin, &c, x, &fbest, NULL, err, sizeof err), err);
     CHECK(x[0] >= 0.7);
     CHECK_NEAR(fbest, BRANIN_MIN, 1e-2);
     CHECK_NEAR(x[0], 0.9617, 0.01);
@@ -183,9 +176,7 @@ TEST(all_infeasible_reports_infinity_and_the_first_point)
     double x[3], fbest = 0.0;
     int evaluations = 0;
     char err[256] = "";
-    CHECK_OK(texopt_bo_minimize(bo, &opt, always_infeasible, NULL, x, &fbest, &evaluations, err,
-                                sizeof err),
-             err);
+    CHECK_OK(texopt_bo_minimize(bo, &opt, always_infeasible, NULL, x, &fbest, &evaluations, err, sizeof err), err);
     CHECK(fbest == INFINITY);
     CHECK_EQ_INT(evaluations, 12);
     const double *hf;
@@ -200,14 +191,12 @@ TEST(initial_points_come_first_and_target_stops_early)
 {
     texopt_bo *bo = texopt_bo_create(2, 50);
     const double pts[4] = {0.5428, 0.1517, 0.1, 0.1}; /* the first is near a minimum */
-    texopt_bo_options opt = {.initial_points = pts, .initial_point_count = 2, .has_target = 1,
-                             .target = 0.5};
+    texopt_bo_options opt = {.initial_points = pts, .initial_point_count = 2, .has_target = 1, .target = 0.5};
     counter c = {0, 0};
     double fbest;
     int evaluations = 0;
     char err[256] = "";
-    CHECK_OK(texopt_bo_minimize(bo, &opt, branin, &c, NULL, &fbest, &evaluations, err, sizeof err),
-             err);
+    CHECK_OK(texopt_bo_minimize(bo, &opt, branin, &c, NULL, &fbest, &evaluations, err, sizeof err), err);
     CHECK_EQ_INT(evaluations, 1);
     CHECK(fbest <= 0.5);
     const double *hx;
@@ -249,19 +238,22 @@ TEST(known_initial_values_are_not_evaluated_and_steer_the_search)
     for (int i = 0; i < KNOWN; i++)
         best_known = f[i] < best_known ? f[i] : best_known;
     texopt_bo *bo = texopt_bo_create(DIM, KNOWN + 20);
-    texopt_bo_options opt = {.iterations = 20, .initial_points = x, .initial_values = f,
-                             .initial_point_count = KNOWN, .initial_design = -1, .seed = 5};
+    texopt_bo_options opt = {.iterations = 20,
+                             .initial_points = x,
+                             .initial_values = f,
+                             .initial_point_count = KNOWN,
+                             .initial_design = -1,
+                             .seed = 5};
     counter c = {0, 0};
     double best_f = 0.0;
     int evaluations = 0;
     char err[256] = "";
-    CHECK_OK(texopt_bo_minimize(bo, &opt, branin, &c, NULL, &best_f, &evaluations, err, sizeof err),
-             err);
+    CHECK_OK(texopt_bo_minimize(bo, &opt, branin, &c, NULL, &best_f, &evaluations, err, sizeof err), err);
     CHECK_EQ_INT(c.calls, 20);
     CHECK_EQ_INT(evaluations, KNOWN + 20);
     /* the best given value is 2.50; a minimum (0.398) is reached closely */
-    CHECK_MSG(best_f < 0.3 * best_known && best_f < BRANIN_MIN + 0.5,
-              "best %g after 20 guided evaluations, %g given", best_f, best_known);
+    CHECK_MSG(best_f < 0.3 * best_known && best_f < BRANIN_MIN + 0.5, "best %g after 20 guided evaluations, %g given",
+              best_f, best_known);
     const double *hx, *hf;
     CHECK_EQ_INT(texopt_bo_history(bo, &hx, &hf), KNOWN + 20);
     CHECK(isinf(hf[7]) && hf[3] == f[3] && hx[2 * 3] == x[2 * 3]);
@@ -284,8 +276,7 @@ TEST(stall_stop_ends_when_evaluations_stop_improving)
     CHECK_OK(texopt_bo_minimize(bo, &opt, branin, &b, NULL, NULL, NULL, err, sizeof err), err);
     CHECK(b.calls > 2 * 2 + 2 + 4);
     opt.stall_tolerance = -1.0;
-    CHECK(texopt_bo_minimize(bo, &opt, branin, &b, NULL, NULL, NULL, err, sizeof err) ==
-          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_bo_minimize(bo, &opt, branin, &b, NULL, NULL, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     texopt_bo_destroy(bo);
 }
 
@@ -295,14 +286,11 @@ TEST(bayesopt_rejects_bad_options)
     counter c = {0, 0};
     char err[256] = "";
     texopt_bo_options opt = {.candidates = -1};
-    CHECK(texopt_bo_minimize(bo, &opt, branin, &c, NULL, NULL, NULL, err, sizeof err) ==
-          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_bo_minimize(bo, &opt, branin, &c, NULL, NULL, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     CHECK(strstr(err, "candidates") != NULL);
     texopt_bo_options opt2 = {.initial_point_count = 2};
-    CHECK(texopt_bo_minimize(bo, &opt2, branin, &c, NULL, NULL, NULL, err, sizeof err) ==
-          TEXOPT_E_INVALID_ARGUMENT);
-    CHECK(texopt_bo_minimize(bo, NULL, NULL, &c, NULL, NULL, NULL, err, sizeof err) ==
-          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_bo_minimize(bo, &opt2, branin, &c, NULL, NULL, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_bo_minimize(bo, NULL, NULL, &c, NULL, NULL, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     CHECK_EQ_INT(c.calls, 0);
     CHECK(texopt_bo_create(0, 10) == NULL);
     CHECK(texopt_bo_create(17, 10) == NULL);

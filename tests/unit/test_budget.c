@@ -58,8 +58,8 @@ static void check_relative_cost(const char *what, texopt_model *model, double cr
     texopt_budget_result res;
     CHECK_OK(texopt_budget_fit(mesh, mesh->texel, &req, out, &res, err, sizeof err), err);
     double cost = packed_cost(mesh, out, res.width, res.height);
-    CHECK_MSG(fabs(cost / (cr * (double)in.covered_texels) - 1) <= 0.02, "%s: cost %.0f for target %.0f",
-              what, cost, cr * (double)in.covered_texels);
+    CHECK_MSG(fabs(cost / (cr * (double)in.covered_texels) - 1) <= 0.02, "%s: cost %.0f for target %.0f", what, cost,
+              cr * (double)in.covered_texels);
     CHECK_NEAR(res.cost, cost, 0.5);
     CHECK_NEAR(res.relative_cost, cost / (double)in.covered_texels, 1e-12);
     CHECK(res.width % 4 == 0 && res.height % 4 == 0);
@@ -250,10 +250,9 @@ TEST(generated_charts_pack_densely_and_deterministically)
     CHECK_EQ_INT(ra.packings, rb.packings);
     double cost = packed_cost(mesh, a, ra.width, ra.height);
     CHECK_MSG(fabs(cost / in.texel_area - 1) <= 0.02, "cost %.0f for %.0f", cost, in.texel_area);
-    CHECK_MSG(ra.packing_efficiency > 0.645, "efficiency %.3f in %dx%d", ra.packing_efficiency, ra.width,
-              ra.height);
-    printf("generated charts: efficiency %.3f in %dx%d after %d packings\n", ra.packing_efficiency, ra.width,
-           ra.height, ra.packings);
+    CHECK_MSG(ra.packing_efficiency > 0.645, "efficiency %.3f in %dx%d", ra.packing_efficiency, ra.width, ra.height);
+    printf("generated charts: efficiency %.3f in %dx%d after %d packings\n", ra.packing_efficiency, ra.width, ra.height,
+           ra.packings);
     free(a);
     free(b);
     texopt_mesh_destroy(mesh);
@@ -351,7 +350,8 @@ TEST(charts_free_to_turn_are_turned_to_their_smallest_box_before_packing)
     char err[256] = "";
     CHECK_OK(texopt_coverage_measure(mesh, NULL, &in, err, sizeof err), err);
     texopt_budget_request req = relative_cost_request(mesh, (double)in.covered_texels, 1);
-    double *as_is = malloc(sizeof(double) * 2 * mesh->vertex_count), *turned = malloc(sizeof(double) * 2 * mesh->vertex_count);
+    double *as_is = malloc(sizeof(double) * 2 * mesh->vertex_count),
+           *turned = malloc(sizeof(double) * 2 * mesh->vertex_count);
     texopt_budget_result r_as_is, r_turned;
     CHECK_OK(texopt_budget_fit(mesh, mesh->texel, &req, as_is, &r_as_is, err, sizeof err), err);
     req.targets = targets;
@@ -412,7 +412,8 @@ TEST(round_charts_reshaped_toward_their_boxes_pack_tighter_at_the_same_cost_only
     CHECK_OK(texopt_budget_fit(mesh, mesh->texel, &req, squared, &r_squared, err, sizeof err), err);
     CHECK(memcmp(squared, round, sizeof(double) * n) == 0);
     req.reshape_efficiency = 1.5;
-    CHECK(texopt_budget_fit(mesh, mesh->texel, &req, squared, &r_squared, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_budget_fit(mesh, mesh->texel, &req, squared, &r_squared, err, sizeof err) ==
+          TEXOPT_E_INVALID_ARGUMENT);
     CHECK(strstr(err, "reshape") != NULL);
     free(round);
     free(squared);

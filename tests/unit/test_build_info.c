@@ -29,8 +29,8 @@ TEST(version_is_the_project_version_and_the_revision_a_commit)
     CHECK_MSG(sscanf(v, "%d.%d.%d%c", &major, &minor, &patch, &rest) == 3, "version '%s'", v);
     CHECK_MSG(looks_like_revision(texopt_build_revision()), "revision '%s'", texopt_build_revision());
     CHECK(looks_like_revision("0123456789ab") && looks_like_revision("0123456789ab-dirty") &&
-          looks_like_revision("v1.0-3-g0123456789ab") && !looks_like_revision("") &&
-          !looks_like_revision("0123") && !looks_like_revision("0123456789ab-old"));
+          looks_like_revision("v1.0-3-g0123456789ab") && !looks_like_revision("") && !looks_like_revision("0123") &&
+          !looks_like_revision("0123456789ab-old"));
 }
 
 TEST(json_member_names_version_and_revision)

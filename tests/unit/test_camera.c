@@ -91,12 +91,10 @@ TEST(camera_rejects_degenerate_input)
     double a[3] = {0, 0, 0}, b[3] = {1, 1, 1}, c[3] = {2, 2, 2};
     texopt_camera cam;
     char err[256] = "";
-    CHECK(texopt_camera_create(&cam, a, b, c, NULL, 0, 64, err, sizeof err) ==
-          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_camera_create(&cam, a, b, c, NULL, 0, 64, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     CHECK(err[0] != '\0');
     double d[3] = {0, 1, 0};
-    CHECK(texopt_camera_create(&cam, a, b, d, NULL, 0, 1, err, sizeof err) ==
-          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_camera_create(&cam, a, b, d, NULL, 0, 1, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
 }
 
 /* Projects the corners and checks each lies inside the viewport. */

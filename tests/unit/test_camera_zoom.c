@@ -26,11 +26,11 @@ static double ring_density(const texopt_mesh *mesh, uint32_t t)
 static int same_camera(const texopt_camera *x, const texopt_camera *y)
 {
     for (int k = 0; k < 3; k++)
-        if (x->center[k] != y->center[k] || x->right[k] != y->right[k] ||
-            x->up[k] != y->up[k] || x->normal[k] != y->normal[k])
+        if (x->center[k] != y->center[k] || x->right[k] != y->right[k] || x->up[k] != y->up[k] ||
+            x->normal[k] != y->normal[k])
             return 0;
-    return x->window_x0 == y->window_x0 && x->window_y0 == y->window_y0 &&
-           x->window_side == y->window_side && x->size == y->size;
+    return x->window_x0 == y->window_x0 && x->window_y0 == y->window_y0 && x->window_side == y->window_side &&
+           x->size == y->size;
 }
 
 /* E of the isotropic Jacobian lambda I on triangle t. */
@@ -98,8 +98,8 @@ TEST(a_ring_seen_at_no_more_than_the_limit_keeps_the_papers_camera)
         const uint32_t *tri = mesh->triangle + 3 * (size_t)t;
         CHECK_OK(texopt_camera_create(&paper, mesh->position + 3 * (size_t)mesh->point_of[tri[0]],
                                       mesh->position + 3 * (size_t)mesh->point_of[tri[1]],
-                                      mesh->position + 3 * (size_t)mesh->point_of[tri[2]], points,
-                                      3 * n, 64, err, sizeof err),
+                                      mesh->position + 3 * (size_t)mesh->point_of[tri[2]], points, 3 * n, 64, err,
+                                      sizeof err),
                  err);
         CHECK(texopt_camera_zoom(&paper, ring_density(mesh, t)) <= TEXOPT_CAMERA_MAX_ZOOM);
         CHECK(same_camera(&paper, &raster->camera));
@@ -108,4 +108,3 @@ TEST(a_ring_seen_at_no_more_than_the_limit_keeps_the_papers_camera)
     texopt_mesh_destroy(mesh);
     texopt_model_destroy(model);
 }
-

@@ -116,8 +116,8 @@ static int chart_unchanged(const texopt_mesh *m, const double *a, const double *
 }
 
 /* The mesh's own layout reshaped to `goal` into a new array (*out). */
-static texopt_status reshape_to(const texopt_mesh *m, double goal, double **out, texopt_reshape_report *rep,
-                                char *err, size_t err_len)
+static texopt_status reshape_to(const texopt_mesh *m, double goal, double **out, texopt_reshape_report *rep, char *err,
+                                size_t err_len)
 {
     *out = malloc(2 * m->vertex_count * sizeof **out);
     texopt_reshape_options o = {.box_fill = goal, .threads = 1};
@@ -294,4 +294,3 @@ TEST(bad_requests_are_refused)
     free(out);
     texopt_mesh_destroy(m);
 }
-

@@ -53,9 +53,9 @@ static int write_quad_with_flat_normal_map(const char *dir, char *path, size_t l
     int view = ok ? quad_doc_add_view(&doc, png, png_len) : -1;
     free(png);
     char image[96];
-    snprintf(image, sizeof image, "{\"bufferView\":3,\"mimeType\":\"image/png\"},{\"bufferView\":%d,\"mimeType\":\"image/png\"}", view);
-    ok = view > 0 &&
-         builder_replace(&doc.json, "{\"bufferView\":3,\"mimeType\":\"image/png\"}", image) &&
+    snprintf(image, sizeof image,
+             "{\"bufferView\":3,\"mimeType\":\"image/png\"},{\"bufferView\":%d,\"mimeType\":\"image/png\"}", view);
+    ok = view > 0 && builder_replace(&doc.json, "{\"bufferView\":3,\"mimeType\":\"image/png\"}", image) &&
          builder_replace(&doc.json, "\"textures\":[{\"source\":0,\"sampler\":0}]",
                          "\"textures\":[{\"source\":0,\"sampler\":0},{\"source\":1,\"sampler\":0}]") &&
          builder_replace(&doc.json, "\"baseColorTexture\":{\"index\":0}}",
@@ -262,8 +262,7 @@ TEST(a_jpeg_input_is_measured_as_re_baked_not_as_re_encoded)
     CHECK_OK(compare_input_method(path, 0, "baseColor", &r, err, sizeof err), err);
     const texopt_compare_point *pt = &r.curves[0].points[0];
     CHECK_MSG(pt->status == TEXOPT_OK, "%s", pt->message);
-    CHECK_MSG(pt->q == q_png, "compare's q %.9f, the lossless output's %.9f, the JPEG's %.9f", pt->q, q_png,
-              q_jpeg);
+    CHECK_MSG(pt->q == q_png, "compare's q %.9f, the lossless output's %.9f, the JPEG's %.9f", pt->q, q_png, q_jpeg);
     texopt_compare_result_destroy(&r);
     builder_rmdir(dir);
 }

@@ -11,8 +11,8 @@
 #include "test.h"
 
 /* Builds the mesh of domain 0 and measures its own layout, marking mesh->flags. */
-static texopt_status measure_model(texopt_model *model, texopt_mesh **mesh, texopt_coverage *cov,
-                                   char *err, size_t err_len)
+static texopt_status measure_model(texopt_model *model, texopt_mesh **mesh, texopt_coverage *cov, char *err,
+                                   size_t err_len)
 {
     texopt_status st = texopt_mesh_create(mesh, model, 0, err, err_len);
     if (st != TEXOPT_OK)
@@ -61,8 +61,8 @@ TEST(shared_edges_never_double_count)
         char err[256] = "";
         CHECK_OK(measure_model(model, &m, &cov, err, sizeof err), err);
         CHECK_EQ_INT(cov.covered_texels, sizes[i][1] * sizes[i][1]);
-        CHECK_MSG(cov.overlap_texels == 0, "grid %d on %d: %llu overlap texels", sizes[i][0],
-                  sizes[i][1], (unsigned long long)cov.overlap_texels);
+        CHECK_MSG(cov.overlap_texels == 0, "grid %d on %d: %llu overlap texels", sizes[i][0], sizes[i][1],
+                  (unsigned long long)cov.overlap_texels);
         CHECK_EQ_INT(count_flag(m, TEXOPT_TRI_OVERLAPS), 0);
         texopt_mesh_destroy(m);
         texopt_model_destroy(model);
@@ -111,10 +111,8 @@ TEST(sphere_coverage_tracks_texel_area)
 static texopt_model *mirrored_pair(float w, float x0, int tex)
 {
     const float x1 = x0 + 1;
-    const float pos[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0,
-                         x0, 0, 0, x1, 0, 0, x1, 1, 0, x0, 1, 0};
-    const float uv[] = {0, 0, 1, 0, 1, 1, 0, 1,
-                        w, 0, 0, 0, 0, 1, w, 1};
+    const float pos[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, x0, 0, 0, x1, 0, 0, x1, 1, 0, x0, 1, 0};
+    const float uv[] = {0, 0, 1, 0, 1, 1, 0, 1, w, 0, 0, 0, 0, 1, w, 1};
     const uint32_t tri[] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
     return fixture_model_from_arrays(pos, uv, 8, tri, 4, tex, tex, "flat");
 }
@@ -189,8 +187,8 @@ TEST(fold_over_overlaps_its_neighbours)
 }
 
 /* Shifts every UV of the model by (du, dv) and measures with the given wraps. */
-static texopt_status measure_shifted(int tex, float du, float dv, float su, texopt_wrap wrap,
-                                     texopt_coverage *cov, char *err, size_t err_len)
+static texopt_status measure_shifted(int tex, float du, float dv, float su, texopt_wrap wrap, texopt_coverage *cov,
+                                     char *err, size_t err_len)
 {
     texopt_model *model = fixture_textured_quad(tex, "flat");
     if (!model)
@@ -267,8 +265,8 @@ static int64_t wrap_index(int64_t x, int64_t n, texopt_wrap wrap, int *clamped)
     return r < n ? r : 2 * n - 1 - r;
 }
 
-static void brute_force(const double *t, size_t count, int w, int h, texopt_wrap wrap,
-                        uint8_t *hits, uint8_t *clamped_hits)
+static void brute_force(const double *t, size_t count, int w, int h, texopt_wrap wrap, uint8_t *hits,
+                        uint8_t *clamped_hits)
 {
     for (size_t k = 0; k < count; k++) {
         const double *a = t + 6 * k, *b = a + 2, *c = a + 4;

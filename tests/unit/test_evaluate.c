@@ -317,8 +317,8 @@ TEST(several_candidates_score_exactly_as_each_alone)
         CHECK_OK(texopt_evaluate_many(ref, cands, 3, &many, all, err, sizeof err), err);
         for (int c = 0; c < 3; c++) {
             CHECK_OK(texopt_evaluate(ref, cands[c], &alone, &one, err, sizeof err), err);
-            CHECK_MSG(same_evaluation(&all[c], &one), "mipmapped %d candidate %d: q %.6g alone %.6g", mip, c,
-                      all[c].q, one.q);
+            CHECK_MSG(same_evaluation(&all[c], &one), "mipmapped %d candidate %d: q %.6g alone %.6g", mip, c, all[c].q,
+                      one.q);
         }
         CHECK(all[0].q > 0.01 && all[1].q > all[0].q && all[2].q == 0.0);
     }
@@ -430,8 +430,8 @@ static texopt_model *sphere_with_sheen_map(void)
     texopt_model *m = sphere_with_normal_map("checker");
     if (m) {
         texopt_material *mat = &m->materials[0];
-        mat->extra[0] = (texopt_extra_texture){mat->slot[TEXOPT_SLOT_NORMAL], TEXOPT_TEXTURE_COLOR,
-                                               TEXOPT_CHANNELS_RGB, "sheenColorTexture"};
+        mat->extra[0] = (texopt_extra_texture){mat->slot[TEXOPT_SLOT_NORMAL], TEXOPT_TEXTURE_COLOR, TEXOPT_CHANNELS_RGB,
+                                               "sheenColorTexture"};
         mat->extra_count = 1;
         mat->slot[TEXOPT_SLOT_NORMAL].image = -1;
     }

@@ -141,7 +141,7 @@ TEST(lit_q_sees_the_metallic_roughness_map)
     for (size_t i = 0; i < (size_t)TEX * TEX; i++)
         mr->pixels[3 * i + 1] = 0.2f;
     check_only_lit_sees("metallic instead of dielectric", ref, metal, 0.01); /* measured 0.073 */
-    check_only_lit_sees("roughness stripes smoothed", ref, smooth, 0.0005); /* measured 0.00107 */
+    check_only_lit_sees("roughness stripes smoothed", ref, smooth, 0.0005);  /* measured 0.00107 */
     /* metallicFactor 0 (the reference's: both renders use its materials) makes the texture's
      * B count for nothing, as in a glTF viewer. */
     ref->materials[0].metallic_factor = 0;
@@ -187,8 +187,11 @@ TEST(quarter_turned_layout_shades_like_the_reference_when_its_normal_map_was_tur
 static texopt_status evaluate_with(const texopt_model *ref, const texopt_model *cand, int lit,
                                    const texopt_evaluate_reference *views, double *tri_error, texopt_evaluation *ev)
 {
-    texopt_evaluate_options opt = {.resolution = 128, .threads = 2, .lit = lit,
-                                   .cameras = TEXOPT_CAMERAS_ICOSAHEDRON, .triangle_error = tri_error,
+    texopt_evaluate_options opt = {.resolution = 128,
+                                   .threads = 2,
+                                   .lit = lit,
+                                   .cameras = TEXOPT_CAMERAS_ICOSAHEDRON,
+                                   .triangle_error = tri_error,
                                    .reference_views = views};
     char err[256] = "";
     texopt_status st = texopt_evaluate(ref, cand, &opt, ev, err, sizeof err);
@@ -209,8 +212,8 @@ TEST(kept_reference_views_evaluate_as_shading_anew)
         /* A candidate darker in base colour as well, so that both measures see it. */
         for (size_t i = 0; i < 3 * (size_t)TEX * TEX; i++)
             cand->images[0].pixels[i] *= 0.8f;
-        texopt_evaluate_options opt = {.resolution = 128, .threads = 2, .lit = lit,
-                                       .cameras = TEXOPT_CAMERAS_ICOSAHEDRON};
+        texopt_evaluate_options opt = {
+            .resolution = 128, .threads = 2, .lit = lit, .cameras = TEXOPT_CAMERAS_ICOSAHEDRON};
         texopt_evaluate_reference *views = NULL;
         char err[256] = "";
         CHECK_OK(texopt_evaluate_reference_create(ref, &opt, &views, err, sizeof err), err);
@@ -224,8 +227,8 @@ TEST(kept_reference_views_evaluate_as_shading_anew)
         /* Per-triangle sums add the workers' views in whichever order they took them: equal
          * to rounding. */
         for (int t = 0; t < 2; t++)
-            CHECK_MSG(anew[t] > 0 && fabs(anew[t] - kept[t]) <= 1e-12 * anew[t], "triangle %d: %.17g against %.17g",
-                      t, anew[t], kept[t]);
+            CHECK_MSG(anew[t] > 0 && fabs(anew[t] - kept[t]) <= 1e-12 * anew[t], "triangle %d: %.17g against %.17g", t,
+                      anew[t], kept[t]);
         /* Kept for the other measure, another screen, another reference: refused. */
         CHECK(evaluate_with(ref, cand, !lit, views, NULL, &k) == TEXOPT_E_INVALID_ARGUMENT);
         CHECK(evaluate_with(other, cand, lit, views, NULL, &k) == TEXOPT_E_INVALID_ARGUMENT);
@@ -341,8 +344,8 @@ TEST(normal_map_tilted_towards_the_light_brightens_the_face)
         CHECK_OK(head_on_shade(&h, m, lit[k], err, sizeof err), err);
     }
     size_t centre = 8 * HEAD_ON_SIDE + 8;
-    printf("  flat %.4f, tilted to +X %.4f, to -X %.4f, to +Y %.4f\n", lit[0][centre], lit[1][centre],
-           lit[2][centre], lit[3][centre]);
+    printf("  flat %.4f, tilted to +X %.4f, to -X %.4f, to +Y %.4f\n", lit[0][centre], lit[1][centre], lit[2][centre],
+           lit[3][centre]);
     CHECK(h.raster.triangle[centre] >= 0);
     CHECK(lit[1][centre] > lit[0][centre] && lit[0][centre] > lit[2][centre]);
     CHECK(lit[3][centre] < lit[0][centre]);
@@ -376,8 +379,11 @@ TEST(highlight_follows_roughness_and_metallic)
     char err[256] = "";
     float lit[6][HEAD_ON_SIDE * HEAD_ON_SIDE];
     /* normal, roughness, metallic per case */
-    const struct { const float *normal; float roughness, metallic; } cases[6] = {
-        {towards_h, 0.2f, 0}, {towards_h, 1.0f, 0}, {flat, 0.2f, 0}, {flat, 1.0f, 0}, {flat, 1.0f, 1}, {flat, 0.2f, 1}};
+    const struct {
+        const float *normal;
+        float roughness, metallic;
+    } cases[6] = {{towards_h, 0.2f, 0}, {towards_h, 1.0f, 0}, {flat, 0.2f, 0},
+                  {flat, 1.0f, 0},      {flat, 1.0f, 1},      {flat, 0.2f, 1}};
     for (int k = 0; k < 6; k++) {
         for (size_t i = 0; i < (size_t)TEX * TEX; i++) {
             memcpy(m->images[1].pixels + 3 * i, cases[k].normal, 3 * sizeof(float));

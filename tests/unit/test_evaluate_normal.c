@@ -91,8 +91,8 @@ static void check_turned_layout(double degrees, int side)
     CHECK(ref && turned && unturned);
     double fixed = slot_q(ref, turned, TEXOPT_SLOT_NORMAL), as_image = slot_q(ref, turned, TEXOPT_SLOT_BASE_COLOR);
     double wrong_bake = slot_q(ref, unturned, TEXOPT_SLOT_NORMAL);
-    printf("  %.0f degrees: normal q %.5f, read unturned %.5f, bake without the turn %.5f\n", degrees, fixed,
-           as_image, wrong_bake);
+    printf("  %.0f degrees: normal q %.5f, read unturned %.5f, bake without the turn %.5f\n", degrees, fixed, as_image,
+           wrong_bake);
     /* Measured: 0 / 0.054 / 0.054 at 90 degrees, 0.0007 / 0.074 / 0.049 at 37. */
     CHECK_MSG(fixed < 0.005, "%.0f degrees: normal q %.5f", degrees, fixed);
     CHECK_MSG(as_image > 10 * fixed && as_image > 0.03, "%.0f degrees: unturned %.5f", degrees, as_image);
@@ -144,22 +144,23 @@ static char *write_quad_gltf(const char *dir, const texopt_image *normal, int ta
         return NULL;
     char *json = malloc(4096);
     if (json)
-        snprintf(json, 4096,
-                 "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
-                 "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1%s},"
-                 "\"indices\":2,\"material\":0}]}],"
-                 "\"materials\":[{\"normalTexture\":{\"index\":0}}],"
-                 "\"textures\":[{\"source\":0}],\"images\":[{\"uri\":\"normal.png\"}],"
-                 "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\","
-                 "\"min\":[0,0,0],\"max\":[1,1,0]},"
-                 "{\"bufferView\":1,\"componentType\":5126,\"count\":4,\"type\":\"VEC2\"},"
-                 "{\"bufferView\":2,\"componentType\":5125,\"count\":6,\"type\":\"SCALAR\"},"
-                 "{\"bufferView\":3,\"componentType\":5126,\"count\":4,\"type\":\"VEC4\"}],"
-                 "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":48},"
-                 "{\"buffer\":0,\"byteOffset\":48,\"byteLength\":32},{\"buffer\":0,\"byteOffset\":80,\"byteLength\":24},"
-                 "{\"buffer\":0,\"byteOffset\":104,\"byteLength\":64}],"
-                 "\"buffers\":[{\"uri\":\"quad.bin\",\"byteLength\":168}]}",
-                 tangents ? ",\"TANGENT\":3" : "");
+        snprintf(
+            json, 4096,
+            "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
+            "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1%s},"
+            "\"indices\":2,\"material\":0}]}],"
+            "\"materials\":[{\"normalTexture\":{\"index\":0}}],"
+            "\"textures\":[{\"source\":0}],\"images\":[{\"uri\":\"normal.png\"}],"
+            "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\","
+            "\"min\":[0,0,0],\"max\":[1,1,0]},"
+            "{\"bufferView\":1,\"componentType\":5126,\"count\":4,\"type\":\"VEC2\"},"
+            "{\"bufferView\":2,\"componentType\":5125,\"count\":6,\"type\":\"SCALAR\"},"
+            "{\"bufferView\":3,\"componentType\":5126,\"count\":4,\"type\":\"VEC4\"}],"
+            "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":48},"
+            "{\"buffer\":0,\"byteOffset\":48,\"byteLength\":32},{\"buffer\":0,\"byteOffset\":80,\"byteLength\":24},"
+            "{\"buffer\":0,\"byteOffset\":104,\"byteLength\":64}],"
+            "\"buffers\":[{\"uri\":\"quad.bin\",\"byteLength\":168}]}",
+            tangents ? ",\"TANGENT\":3" : "");
     return json;
 }
 

@@ -5,7 +5,10 @@
 #include "fixtures.h"
 #include "test.h"
 
-static const float *px(const texopt_image *img, int x, int y) { return texopt_image_at(img, x, y); }
+static const float *px(const texopt_image *img, int x, int y)
+{
+    return texopt_image_at(img, x, y);
+}
 
 TEST(patterns_have_their_documented_values)
 {
@@ -21,11 +24,11 @@ TEST(patterns_have_their_documented_values)
     CHECK_NEAR(px(&img, 8, 30)[1], 0, 0); /* period 8, constant along y */
 
     CHECK_EQ_INT(fixture_fill_pattern(&img, "stripes45"), 0);
-    CHECK_NEAR(px(&img, 2, 1)[0], 0, 0);  /* (x + y) / 4 = 0 */
-    CHECK_NEAR(px(&img, 2, 2)[0], 1, 0);  /* (x + y) / 4 = 1 */
+    CHECK_NEAR(px(&img, 2, 1)[0], 0, 0); /* (x + y) / 4 = 0 */
+    CHECK_NEAR(px(&img, 2, 2)[0], 1, 0); /* (x + y) / 4 = 1 */
 
     CHECK_EQ_INT(fixture_fill_pattern(&img, "checker"), 0);
-    CHECK_NEAR(px(&img, 0, 0)[0], 0, 0);  /* squares 8 x 4 texels */
+    CHECK_NEAR(px(&img, 0, 0)[0], 0, 0); /* squares 8 x 4 texels */
     CHECK_NEAR(px(&img, 8, 0)[0], 1, 0);
     CHECK_NEAR(px(&img, 0, 4)[0], 1, 0);
     CHECK_NEAR(px(&img, 8, 4)[0], 0, 0);

@@ -15,8 +15,7 @@
 #include "image_io.h"
 #include "test.h"
 
-static texopt_model *load_quad_json(const quad_doc *doc, const char *json, char *err, size_t err_len,
-                                    texopt_status *st)
+static texopt_model *load_quad_json(const quad_doc *doc, const char *json, char *err, size_t err_len, texopt_status *st)
 {
     size_t len = 0;
     unsigned char *glb = builder_glb(json, doc->bin, doc->bin_len, &len);
@@ -108,7 +107,9 @@ TEST(glb_quad_loads_completely)
         m = load_quad_json(&doc, edited, err, sizeof err, &st);
         free(edited);
         CHECK_OK(st, err);
-        CHECK_EQ_INT(m->materials[0].alpha_mode, i == 0 ? TEXOPT_ALPHA_MASK : i == 1 ? TEXOPT_ALPHA_BLEND : TEXOPT_ALPHA_OPAQUE);
+        CHECK_EQ_INT(m->materials[0].alpha_mode, i == 0   ? TEXOPT_ALPHA_MASK
+                                                 : i == 1 ? TEXOPT_ALPHA_BLEND
+                                                          : TEXOPT_ALPHA_OPAQUE);
         CHECK_NEAR(m->materials[0].alpha_cutoff, i == 0 ? 0.3 : 0.5, 0);
         CHECK_EQ_INT(texopt_material_binding_channels(&m->materials[0], TEXOPT_SLOT_BASE_COLOR),
                      TEXOPT_CHANNELS_RGB | (i < 2 ? TEXOPT_CHANNEL_A : 0u));
@@ -223,7 +224,8 @@ TEST(index_encodings_u8_u32_and_non_indexed)
     int view = quad_doc_add_view(&doc, idx32, sizeof idx32);
     CHECK_EQ_INT(view, 4);
     json = strdup(doc.json);
-    CHECK(builder_replace(&json, "{\"bufferView\":2,\"componentType\":5123", "{\"bufferView\":4,\"componentType\":5125"));
+    CHECK(
+        builder_replace(&json, "{\"bufferView\":2,\"componentType\":5123", "{\"bufferView\":4,\"componentType\":5125"));
     m = load_quad_json(&doc, json, err, sizeof err, &st);
     CHECK_OK(st, err);
     for (int i = 0; i < 6; i++)
@@ -460,14 +462,13 @@ static double max_difference(const texopt_image *a, const texopt_image *b)
 
 /* Saves m with edit as out and loads it back: how far its image 0 is from want; 1 when it
  * cannot be saved or read, or the file does not hold `mime` or holds `other`. */
-static double saved_image_error(const texopt_model *m, const texopt_model_edit *edit, const char *out,
-                                const char *mime, const char *other, const texopt_image *want)
+static double saved_image_error(const texopt_model *m, const texopt_model_edit *edit, const char *out, const char *mime,
+                                const char *other, const texopt_image *want)
 {
     char err[512] = "";
     texopt_model *back = NULL;
-    if (texopt_model_save_glb(m, edit, out, err, sizeof err) != TEXOPT_OK ||
-        file_contains(out, mime) != 1 || file_contains(out, other) != 0 ||
-        texopt_model_load(&back, out, NULL, err, sizeof err) != TEXOPT_OK)
+    if (texopt_model_save_glb(m, edit, out, err, sizeof err) != TEXOPT_OK || file_contains(out, mime) != 1 ||
+        file_contains(out, other) != 0 || texopt_model_load(&back, out, NULL, err, sizeof err) != TEXOPT_OK)
         return 1;
     double d = max_difference(&back->images[0], want);
     texopt_model_destroy(back);
@@ -508,7 +509,7 @@ TEST(jpeg_texture_keeps_its_bytes_unless_replaced_and_unused_views_are_dropped)
     CHECK(builder_contains(buf, len, jpg, jpg_len));
     CHECK(builder_contains(buf, len, "image/jpeg", 10));
     CHECK(!builder_contains(buf, len, doc.bin + QUAD_PNG_OFFSET, doc.png_len)); /* dropped */
-    CHECK(!builder_contains(buf, len, quad_uvs, sizeof quad_uvs));             /* old UVs dropped */
+    CHECK(!builder_contains(buf, len, quad_uvs, sizeof quad_uvs));              /* old UVs dropped */
     CHECK_OK(texopt_model_load(&back, out, NULL, err, sizeof err), err);
     CHECK(memcmp(back->uvs, uvs, sizeof uvs) == 0);
     CHECK(memcmp(back->images[0].pixels, m->images[0].pixels, sizeof(float) * 16 * 8 * 3) == 0);
@@ -711,10 +712,11 @@ TEST(extension_textures_carry_the_channels_their_extension_reads)
     quad_doc doc;
     CHECK(quad_doc_init(&doc, 4, 4));
     char *json = strdup(doc.json);
-    CHECK(json && builder_replace(&json, "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}]",
-                                  "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}},"
-                                  "\"extensions\":{\"KHR_materials_specular\":{\"specularTexture\":{\"index\":0}},"
-                                  "\"KHR_materials_clearcoat\":{\"clearcoatRoughnessTexture\":{\"index\":0}}}}]"));
+    CHECK(json &&
+          builder_replace(&json, "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}]",
+                          "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}},"
+                          "\"extensions\":{\"KHR_materials_specular\":{\"specularTexture\":{\"index\":0}},"
+                          "\"KHR_materials_clearcoat\":{\"clearcoatRoughnessTexture\":{\"index\":0}}}}]"));
     texopt_status st;
     texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
     CHECK_OK(st, err);
@@ -1109,15 +1111,15 @@ TEST(an_undecodable_alternate_loads_and_leaves_with_its_texture)
                        "\"mimeType\":\"image/ktx2\"}";
     for (int unknown = 0; unknown < 2; unknown++) {
         char *json = strdup(doc.json), images[512], used[160];
-        snprintf(images, sizeof images, "\"images\":[{\"bufferView\":3,\"mimeType\":\"image/png\"},%s,%s]", ktx2,
-                 ktx2);
+        snprintf(images, sizeof images, "\"images\":[{\"bufferView\":3,\"mimeType\":\"image/png\"},%s,%s]", ktx2, ktx2);
         snprintf(used, sizeof used, "\"extensionsUsed\":[\"KHR_texture_basisu\"%s]",
                  unknown ? ",\"EXT_lights_image_based\"" : "");
         CHECK(json && builder_replace(&json, "\"images\":[{\"bufferView\":3,\"mimeType\":\"image/png\"}]", images));
         char textures[256];
-        snprintf(textures, sizeof textures,
-                 "\"textures\":[{\"source\":0,\"sampler\":0,\"extensions\":{\"KHR_texture_basisu\":{\"source\":1}}}],%s",
-                 used);
+        snprintf(
+            textures, sizeof textures,
+            "\"textures\":[{\"source\":0,\"sampler\":0,\"extensions\":{\"KHR_texture_basisu\":{\"source\":1}}}],%s",
+            used);
         CHECK(builder_replace(&json, "\"textures\":[{\"source\":0,\"sampler\":0}]", textures));
         texopt_status st;
         texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
@@ -1135,9 +1137,10 @@ TEST(an_undecodable_alternate_loads_and_leaves_with_its_texture)
     char *json = strdup(doc.json), images[256];
     snprintf(images, sizeof images, "\"images\":[{\"bufferView\":3,\"mimeType\":\"image/png\"},%s]", ktx2);
     CHECK(json && builder_replace(&json, "\"images\":[{\"bufferView\":3,\"mimeType\":\"image/png\"}]", images));
-    CHECK(builder_replace(&json, "\"textures\":[{\"source\":0,\"sampler\":0}]",
-                          "\"textures\":[{\"sampler\":0,\"extensions\":{\"KHR_texture_basisu\":{\"source\":1}}}],"
-                          "\"extensionsUsed\":[\"KHR_texture_basisu\"],\"extensionsRequired\":[\"KHR_texture_basisu\"]"));
+    CHECK(
+        builder_replace(&json, "\"textures\":[{\"source\":0,\"sampler\":0}]",
+                        "\"textures\":[{\"sampler\":0,\"extensions\":{\"KHR_texture_basisu\":{\"source\":1}}}],"
+                        "\"extensionsUsed\":[\"KHR_texture_basisu\"],\"extensionsRequired\":[\"KHR_texture_basisu\"]"));
     texopt_status st;
     texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
     CHECK_MSG(m == NULL && st == TEXOPT_E_UNSUPPORTED && strstr(err, "image 1 (image 1) is KTX2"), "%d: %s", (int)st,
@@ -1155,12 +1158,13 @@ TEST(animation_pointer_models_are_refused)
     quad_doc doc;
     CHECK(quad_doc_init(&doc, 4, 4));
     char *json = strdup(doc.json);
-    CHECK(json && builder_replace(&json, "\"asset\":{\"version\":\"2.0\"},",
-                                  "\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_animation_pointer\","
-                                  "\"KHR_texture_transform\"],\"animations\":[{\"samplers\":[{\"input\":2,\"output\":1}],"
-                                  "\"channels\":[{\"sampler\":0,\"target\":{\"path\":\"pointer\",\"extensions\":"
-                                  "{\"KHR_animation_pointer\":{\"pointer\":\"/materials/0/pbrMetallicRoughness/"
-                                  "baseColorTexture/extensions/KHR_texture_transform/offset\"}}}}]}],"));
+    CHECK(json &&
+          builder_replace(&json, "\"asset\":{\"version\":\"2.0\"},",
+                          "\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_animation_pointer\","
+                          "\"KHR_texture_transform\"],\"animations\":[{\"samplers\":[{\"input\":2,\"output\":1}],"
+                          "\"channels\":[{\"sampler\":0,\"target\":{\"path\":\"pointer\",\"extensions\":"
+                          "{\"KHR_animation_pointer\":{\"pointer\":\"/materials/0/pbrMetallicRoughness/"
+                          "baseColorTexture/extensions/KHR_texture_transform/offset\"}}}}]}],"));
     texopt_status st;
     texopt_model *m = load_quad_json(&doc, json, err, sizeof err, &st);
     CHECK_MSG(st == TEXOPT_E_UNSUPPORTED && strstr(err, "KHR_animation_pointer is not supported"), "%d: %s", (int)st,

@@ -7,10 +7,12 @@
 #include "rng.h"
 #include "test.h"
 
-static double smooth(const double *x) { return sin(3.0 * x[0]) + 0.5 * cos(5.0 * x[1]) + x[0] * x[1]; }
+static double smooth(const double *x)
+{
+    return sin(3.0 * x[0]) + 0.5 * cos(5.0 * x[1]) + x[0] * x[1];
+}
 
-static texopt_gp *gp_with_samples(int n, double length_scale, double jitter, double *xs,
-                                  double *ys, unsigned seed)
+static texopt_gp *gp_with_samples(int n, double length_scale, double jitter, double *xs, double *ys, unsigned seed)
 {
     texopt_gp *gp = texopt_gp_create(2, 64, 16);
     if (!gp || texopt_gp_set_hyper(gp, length_scale, jitter) != TEXOPT_OK)

@@ -36,16 +36,16 @@ static texopt_status try_glb(const quad_doc *doc, const char *json, const texopt
 
 /* The quad with `from` replaced by `to` must be refused with `want` and a message holding
  * `word`. */
-#define CHECK_REFUSED_JSON(from, to, want, word)                                                \
-    do {                                                                                        \
-        quad_doc d_;                                                                            \
-        char e_[512];                                                                           \
-        CHECK(quad_doc_init(&d_, 4, 4));                                                        \
-        CHECK_MSG(builder_replace(&d_.json, (from), (to)), "fragment %s not in the quad", (from)); \
-        texopt_status s_ = try_glb(&d_, d_.json, NULL, e_, sizeof e_);                          \
-        quad_doc_free(&d_);                                                                     \
-        CHECK_MSG(s_ == (want), "status %d, want %d: %s", (int)s_, (int)(want), e_);            \
-        CHECK_MSG(strstr(e_, (word)) != NULL, "message \"%s\" lacks \"%s\"", e_, (word));       \
+#define CHECK_REFUSED_JSON(from, to, want, word)                                                                       \
+    do {                                                                                                               \
+        quad_doc d_;                                                                                                   \
+        char e_[512];                                                                                                  \
+        CHECK(quad_doc_init(&d_, 4, 4));                                                                               \
+        CHECK_MSG(builder_replace(&d_.json, (from), (to)), "fragment %s not in the quad", (from));                     \
+        texopt_status s_ = try_glb(&d_, d_.json, NULL, e_, sizeof e_);                                                 \
+        quad_doc_free(&d_);                                                                                            \
+        CHECK_MSG(s_ == (want), "status %d, want %d: %s", (int)s_, (int)(want), e_);                                   \
+        CHECK_MSG(strstr(e_, (word)) != NULL, "message \"%s\" lacks \"%s\"", e_, (word));                              \
     } while (0)
 
 TEST(the_unbroken_quad_loads)
@@ -113,7 +113,8 @@ TEST(not_gltf_and_bad_json_are_malformed)
     CHECK_EQ_INT(texopt_model_load_memory(&m, text, strlen(text), NULL, NULL, err, sizeof err), TEXOPT_E_MALFORMED);
     CHECK(m == NULL);
     CHECK_EQ_INT(texopt_model_load_memory(&m, "", 0, NULL, NULL, err, sizeof err), TEXOPT_E_MALFORMED);
-    CHECK_REFUSED_JSON("\"asset\":{\"version\":\"2.0\"},", "\"asset\":{\"version\":\"2.0\"}", TEXOPT_E_MALFORMED, "glb");
+    CHECK_REFUSED_JSON("\"asset\":{\"version\":\"2.0\"},", "\"asset\":{\"version\":\"2.0\"}", TEXOPT_E_MALFORMED,
+                       "glb");
     CHECK_EQ_INT(texopt_model_load(&m, "/nonexistent/model.glb", NULL, err, sizeof err), TEXOPT_E_IO);
     CHECK(strstr(err, "/nonexistent/model.glb") != NULL);
 }
@@ -122,8 +123,8 @@ TEST(out_of_bounds_accessors_and_views)
 {
     CHECK_REFUSED_JSON("\"componentType\":5126,\"count\":4,\"type\":\"VEC3\"",
                        "\"componentType\":5126,\"count\":40,\"type\":\"VEC3\"", TEXOPT_E_MALFORMED, "accessor 0");
-    CHECK_REFUSED_JSON("\"byteOffset\":0,\"byteLength\":48", "\"byteOffset\":0,\"byteLength\":4800",
-                       TEXOPT_E_MALFORMED, "buffer view 0");
+    CHECK_REFUSED_JSON("\"byteOffset\":0,\"byteLength\":48", "\"byteOffset\":0,\"byteLength\":4800", TEXOPT_E_MALFORMED,
+                       "buffer view 0");
     CHECK_REFUSED_JSON("\"byteOffset\":80,\"byteLength\":12", "\"byteOffset\":4000000000,\"byteLength\":12",
                        TEXOPT_E_MALFORMED, "buffer view 2");
     CHECK_REFUSED_JSON("{\"bufferView\":1,\"componentType\":5126,\"count\":4",
@@ -159,10 +160,10 @@ TEST(index_past_vertex_count_is_refused)
     CHECK_EQ_INT(try_glb(&d, d.json, NULL, err, sizeof err), TEXOPT_E_MALFORMED);
     CHECK_MSG(strstr(err, "accessor 2: index 812 past vertex count 4") != NULL, "%s", err);
     quad_doc_free(&d);
-    CHECK_REFUSED_JSON("\"componentType\":5123,\"count\":6", "\"componentType\":5123,\"count\":5",
-                       TEXOPT_E_MALFORMED, "whole triangles");
-    CHECK_REFUSED_JSON("\"componentType\":5123,\"count\":6", "\"componentType\":5126,\"count\":3",
-                       TEXOPT_E_MALFORMED, "u8/u16/u32");
+    CHECK_REFUSED_JSON("\"componentType\":5123,\"count\":6", "\"componentType\":5123,\"count\":5", TEXOPT_E_MALFORMED,
+                       "whole triangles");
+    CHECK_REFUSED_JSON("\"componentType\":5123,\"count\":6", "\"componentType\":5126,\"count\":3", TEXOPT_E_MALFORMED,
+                       "u8/u16/u32");
 }
 
 TEST(nan_and_inf_positions_and_uvs_are_refused)
@@ -343,10 +344,11 @@ TEST(valid_but_unusable_models_are_unsupported)
 TEST(texture_transforms_texopt_cannot_apply_are_refused)
 {
     /* Two bindings on TEXCOORD_0 that would need two layouts. */
-    CHECK_REFUSED_JSON(QUAD_MATERIALS,
-                       "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0," TRANSFORM(
-                           "\"offset\":[0.5,0]") "}},\"emissiveTexture\":{\"index\":0," TRANSFORM("\"offset\":[0,0.5]") "}}]",
-                       TEXOPT_E_UNSUPPORTED, "different KHR_texture_transform");
+    CHECK_REFUSED_JSON(
+        QUAD_MATERIALS,
+        "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0," TRANSFORM(
+            "\"offset\":[0.5,0]") "}},\"emissiveTexture\":{\"index\":0," TRANSFORM("\"offset\":[0,0.5]") "}}]",
+        TEXOPT_E_UNSUPPORTED, "different KHR_texture_transform");
     CHECK_REFUSED_JSON(QUAD_MATERIALS,
                        "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0," TRANSFORM(
                            "\"scale\":[2,2]") "}},\"emissiveTexture\":{\"index\":0}}]",
@@ -372,17 +374,20 @@ TEST(texture_transforms_texopt_cannot_apply_are_refused)
     quad_doc d;
     char err[512];
     CHECK(quad_doc_init(&d, 4, 4));
-    CHECK(builder_replace(&d.json, QUAD_MATERIALS,
-                          "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0," TRANSFORM(
-                              "\"offset\":[0.5,0],\"scale\":[2,3]") "}},\"normalTexture\":{\"index\":0," TRANSFORM(
-                              "\"offset\":[0.5,0],\"scale\":[2,3]") "}}]"));
+    CHECK(builder_replace(
+        &d.json, QUAD_MATERIALS,
+        "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0," TRANSFORM(
+            "\"offset\":[0.5,0],\"scale\":[2,3]") "}},\"normalTexture\":{\"index\":0," TRANSFORM("\"offset\":[0.5,"
+                                                                                                 "0],\"scale\":[2,"
+                                                                                                 "3]") "}}]"));
     CHECK_OK(try_glb(&d, d.json, NULL, err, sizeof err), err);
     quad_doc_free(&d);
     /* An identity written out equals none. */
     CHECK(quad_doc_init(&d, 4, 4));
-    CHECK(builder_replace(&d.json, QUAD_MATERIALS,
-                          "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0," TRANSFORM(
-                              "\"offset\":[0,0],\"scale\":[1,1],\"rotation\":0") "}},\"emissiveTexture\":{\"index\":0}}]"));
+    CHECK(builder_replace(
+        &d.json, QUAD_MATERIALS,
+        "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0," TRANSFORM(
+            "\"offset\":[0,0],\"scale\":[1,1],\"rotation\":0") "}},\"emissiveTexture\":{\"index\":0}}]"));
     CHECK_OK(try_glb(&d, d.json, NULL, err, sizeof err), err);
     quad_doc_free(&d);
 }
@@ -419,8 +424,7 @@ TEST(textures_of_unknown_material_extensions_on_texcoord0_are_refused)
  * TANGENT attribute when `tangents` (an accessor over the image's bytes: the load only asks
  * whether it is there). Loads it; the status, and the material's extension texture count in
  * *extra. */
-static texopt_status load_anisotropic_quad(const char *anisotropy, int tangents, int *extra, char *err,
-                                           size_t err_len)
+static texopt_status load_anisotropic_quad(const char *anisotropy, int tangents, int *extra, char *err, size_t err_len)
 {
     quad_doc d;
     char ext[256];
@@ -428,11 +432,10 @@ static texopt_status load_anisotropic_quad(const char *anisotropy, int tangents,
     if (!quad_doc_init(&d, 4, 4))
         return TEXOPT_E_NOMEM;
     int ok = builder_replace(&d.json, "}}}],\"textures\"", ext) &&
-             (!tangents ||
-              (builder_replace(&d.json, "\"TEXCOORD_0\":1}", "\"TEXCOORD_0\":1,\"TANGENT\":3}") &&
-               builder_replace(&d.json, "\"type\":\"SCALAR\"}]",
-                               "\"type\":\"SCALAR\"},{\"bufferView\":3,\"componentType\":5126,\"count\":4,"
-                               "\"type\":\"VEC4\"}]")));
+             (!tangents || (builder_replace(&d.json, "\"TEXCOORD_0\":1}", "\"TEXCOORD_0\":1,\"TANGENT\":3}") &&
+                            builder_replace(&d.json, "\"type\":\"SCALAR\"}]",
+                                            "\"type\":\"SCALAR\"},{\"bufferView\":3,\"componentType\":5126,\"count\":4,"
+                                            "\"type\":\"VEC4\"}]")));
     size_t len = 0;
     unsigned char *glb = ok ? builder_glb(d.json, d.bin, d.bin_len, &len) : NULL;
     texopt_model *m = NULL;
@@ -451,13 +454,13 @@ TEST(an_anisotropy_direction_the_layout_would_turn_is_refused)
 {
     char err[512] = "";
     int extra = 0;
-    CHECK(load_anisotropic_quad("{\"anisotropyStrength\":0.6,\"anisotropyRotation\":1}", 0, &extra, err,
-                                sizeof err) == TEXOPT_E_UNSUPPORTED);
+    CHECK(load_anisotropic_quad("{\"anisotropyStrength\":0.6,\"anisotropyRotation\":1}", 0, &extra, err, sizeof err) ==
+          TEXOPT_E_UNSUPPORTED);
     CHECK_MSG(strstr(err, "KHR_materials_anisotropy") && strstr(err, "TANGENT"), "%s", err);
-    CHECK(load_anisotropic_quad("{\"anisotropyStrength\":0.6,\"anisotropyTexture\":{\"index\":0,\"texCoord\":1}}",
-                                0, &extra, err, sizeof err) == TEXOPT_E_UNSUPPORTED);
-    CHECK_OK(load_anisotropic_quad("{\"anisotropyStrength\":0.6,\"anisotropyTexture\":{\"index\":0}}", 0, &extra,
-                                   err, sizeof err),
+    CHECK(load_anisotropic_quad("{\"anisotropyStrength\":0.6,\"anisotropyTexture\":{\"index\":0,\"texCoord\":1}}", 0,
+                                &extra, err, sizeof err) == TEXOPT_E_UNSUPPORTED);
+    CHECK_OK(load_anisotropic_quad("{\"anisotropyStrength\":0.6,\"anisotropyTexture\":{\"index\":0}}", 0, &extra, err,
+                                   sizeof err),
              err);
     CHECK_EQ_INT(extra, 1);
     CHECK_OK(load_anisotropic_quad("{\"anisotropyStrength\":0.6}", 1, &extra, err, sizeof err), err);
@@ -478,11 +481,12 @@ TEST(known_extension_textures_are_checked_like_the_slots)
                        WITH_EXTENSIONS("\"KHR_materials_sheen\":{\"sheenColorTexture\":{\"index\":0," TRANSFORM(
                            "\"offset\":\"far\"") "}}"),
                        TEXOPT_E_UNSUPPORTED, "sheenColorTexture");
-    CHECK_REFUSED_JSON(QUAD_MATERIALS,
-                       "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0," TRANSFORM(
-                           "\"scale\":[-1,1]") "}},\"extensions\":{\"KHR_materials_clearcoat\":{"
-                           "\"clearcoatNormalTexture\":{\"index\":0," TRANSFORM("\"scale\":[-1,1]") "}}}}]",
-                       TEXOPT_E_UNSUPPORTED, "clearcoatNormalTexture");
+    CHECK_REFUSED_JSON(
+        QUAD_MATERIALS,
+        "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0," TRANSFORM(
+            "\"scale\":[-1,1]") "}},\"extensions\":{\"KHR_materials_clearcoat\":{"
+                                "\"clearcoatNormalTexture\":{\"index\":0," TRANSFORM("\"scale\":[-1,1]") "}}}}]",
+        TEXOPT_E_UNSUPPORTED, "clearcoatNormalTexture");
 }
 
 TEST(broken_references_are_malformed)
@@ -492,8 +496,10 @@ TEST(broken_references_are_malformed)
     CHECK_REFUSED_JSON("{\"source\":0,\"sampler\":0}", "{\"source\":3,\"sampler\":0}", TEXOPT_E_MALFORMED, "image 3");
     CHECK_REFUSED_JSON("{\"source\":0,\"sampler\":0}", "{\"source\":0,\"sampler\":9}", TEXOPT_E_MALFORMED, "sampler 9");
     CHECK_REFUSED_JSON("\"material\":0,", "\"material\":4,", TEXOPT_E_MALFORMED, "material 4");
-    CHECK_REFUSED_JSON("\"nodes\":[{\"mesh\":0,", "\"nodes\":[{\"children\":[0],\"mesh\":0,", TEXOPT_E_MALFORMED, "node 0");
-    CHECK_REFUSED_JSON("\"nodes\":[{\"mesh\":0,", "\"nodes\":[{\"children\":[3],\"mesh\":0,", TEXOPT_E_MALFORMED, "child 3");
+    CHECK_REFUSED_JSON("\"nodes\":[{\"mesh\":0,", "\"nodes\":[{\"children\":[0],\"mesh\":0,", TEXOPT_E_MALFORMED,
+                       "node 0");
+    CHECK_REFUSED_JSON("\"nodes\":[{\"mesh\":0,", "\"nodes\":[{\"children\":[3],\"mesh\":0,", TEXOPT_E_MALFORMED,
+                       "child 3");
     CHECK_REFUSED_JSON("\"nodes\":[{\"mesh\":0,", "\"nodes\":[{\"mesh\":2,", TEXOPT_E_MALFORMED, "mesh 2");
     CHECK_REFUSED_JSON("\"count\":4,\"type\":\"VEC2\"", "\"count\":3,\"type\":\"VEC2\"", TEXOPT_E_MALFORMED,
                        "TEXCOORD_0 has 3");

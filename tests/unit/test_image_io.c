@@ -56,8 +56,7 @@ TEST(half_transparent_pixel_keeps_its_colour)
     char err[256] = "";
     texopt_image img, back;
     CHECK_OK(texopt_image_create(&img, 2, 1, 4, err, sizeof err), err);
-    float px[8] = {200 / 255.0f, 100 / 255.0f, 40 / 255.0f, 128 / 255.0f,
-                   1.0f, 1.0f, 1.0f, 0.0f};
+    float px[8] = {200 / 255.0f, 100 / 255.0f, 40 / 255.0f, 128 / 255.0f, 1.0f, 1.0f, 1.0f, 0.0f};
     memcpy(img.pixels, px, sizeof px);
     unsigned char *png = NULL;
     size_t len = 0;

@@ -163,7 +163,8 @@ TEST(a_variant_material_s_texture_belongs_to_the_domain)
     if (mats)
         model->materials = mats;
     CHECK(images && names && mats && (model->variant_materials = malloc(sizeof(int))) != NULL);
-    CHECK(texopt_image_create(&images[1], 8, 8, 3, NULL, 0) == TEXOPT_OK && fixture_fill_pattern(&images[1], "flat") == 0);
+    CHECK(texopt_image_create(&images[1], 8, 8, 3, NULL, 0) == TEXOPT_OK &&
+          fixture_fill_pattern(&images[1], "flat") == 0);
     names[1] = NULL;
     model->image_count = 2;
     mats[1] = mats[0];
@@ -189,10 +190,8 @@ TEST(mirrored_and_wrapped_layout_is_reported)
 {
     /* Quad A on the UV square; quad B elsewhere in 3D, mirrored onto the same square and
      * shifted by one period (u in [1, 2]): REPEAT reads the same texels. */
-    const float pos[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0,
-                         3, 0, 0, 4, 0, 0, 4, 1, 0, 3, 1, 0};
-    const float uv[] = {0, 0, 1, 0, 1, 1, 0, 1,
-                        2, 0, 1, 0, 1, 1, 2, 1};
+    const float pos[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 3, 0, 0, 4, 0, 0, 4, 1, 0, 3, 1, 0};
+    const float uv[] = {0, 0, 1, 0, 1, 1, 0, 1, 2, 0, 1, 0, 1, 1, 2, 1};
     const uint32_t tri[] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
     texopt_model *model = fixture_model_from_arrays(pos, uv, 8, tri, 4, 16, 16, "half");
     CHECK(model != NULL);

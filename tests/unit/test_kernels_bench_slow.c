@@ -8,12 +8,12 @@
 #include <string.h>
 #include <time.h>
 
-#include "window_bake.h"
 #include "bayesopt.h"
 #include "gmsd.h"
 #include "rng.h"
 #include "sample.h"
 #include "test.h"
+#include "window_bake.h"
 
 enum { SIDE = 64, TEX = 512 };
 
@@ -101,8 +101,8 @@ static void scatter_luma(const window *w, const float *rgb, float *luma)
 static double loss_once(window *w, texopt_bake_workspace *bake, texopt_gmsd_workspace *gmsd)
 {
     char err[256];
-    if (texopt_bake_fit(bake, w->covered, w->pos, w->ref, 3, TEX, TEX, TEXOPT_WRAP_REPEAT,
-                        TEXOPT_WRAP_REPEAT, 1e-6, w->rec, err, sizeof err) != TEXOPT_OK)
+    if (texopt_bake_fit(bake, w->covered, w->pos, w->ref, 3, TEX, TEX, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 1e-6,
+                        w->rec, err, sizeof err) != TEXOPT_OK)
         return NAN;
     scatter_luma(w, w->ref, w->luma_ref);
     scatter_luma(w, w->rec, w->luma_rec);
@@ -120,8 +120,8 @@ TEST(bench_bake_and_gmsd_of_a_64x64_window)
     const double spans[] = {16.0, 32.0, 64.0};
     const double scales[] = {1.0, 0.6, 0.3};
     printf("bake+GMSD, 64x64 window, %s\n", "3 channels, disk mask");
-    printf("%8s %6s %8s %10s %10s %8s %8s %8s %10s %9s\n", "texels", "scale", "pixels",
-           "unknowns", "bake_us", "vec2", "vec4", "lapack", "gmsd_us", "loss");
+    printf("%8s %6s %8s %10s %10s %8s %8s %8s %10s %9s\n", "texels", "scale", "pixels", "unknowns", "bake_us", "vec2",
+           "vec4", "lapack", "gmsd_us", "loss");
     for (int si = 0; si < 3; si++) {
         make_window(&w, &tex, spans[si]);
         /* J = I: the input texels reproduce the reference exactly, so the loss vanishes. */
@@ -140,9 +140,8 @@ TEST(bench_bake_and_gmsd_of_a_64x64_window)
                 for (int batch = 0; batch < 5; batch++) {
                     double t0 = now_seconds();
                     for (int r = 0; r < 10; r++)
-                        CHECK_OK(texopt_bake_fit(bake, w.covered, w.pos, w.ref, 3, TEX, TEX,
-                                                 TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 1e-6,
-                                                 w.rec, err, sizeof err),
+                        CHECK_OK(texopt_bake_fit(bake, w.covered, w.pos, w.ref, 3, TEX, TEX, TEXOPT_WRAP_REPEAT,
+                                                 TEXOPT_WRAP_REPEAT, 1e-6, w.rec, err, sizeof err),
                                  err);
                     bake_s[solver] = fmin(bake_s[solver], (now_seconds() - t0) / 10);
                 }
@@ -151,14 +150,12 @@ TEST(bench_bake_and_gmsd_of_a_64x64_window)
             for (int batch = 0; batch < 5; batch++) {
                 double t1 = now_seconds();
                 for (int r = 0; r < 10; r++)
-                    CHECK(isfinite(
-                        texopt_gmsd_ws(gmsd, w.luma_ref, w.luma_rec, w.mask, SIDE, SIDE)));
+                    CHECK(isfinite(texopt_gmsd_ws(gmsd, w.luma_ref, w.luma_rec, w.mask, SIDE, SIDE)));
                 gmsd_s = fmin(gmsd_s, (now_seconds() - t1) / 10);
             }
-            printf("%8.0f %6.2f %8d %10d %10.1f %8.1f %8.1f %8.1f %10.1f %9.5f\n",
-                   spans[si] * spans[si], scales[li], w.covered, texopt_bake_last_texel_count(bake),
-                   1e6 * bake_s[0], 1e6 * bake_s[1], 1e6 * bake_s[2], 1e6 * bake_s[3],
-                   1e6 * gmsd_s, loss);
+            printf("%8.0f %6.2f %8d %10d %10.1f %8.1f %8.1f %8.1f %10.1f %9.5f\n", spans[si] * spans[si], scales[li],
+                   w.covered, texopt_bake_last_texel_count(bake), 1e6 * bake_s[0], 1e6 * bake_s[1], 1e6 * bake_s[2],
+                   1e6 * bake_s[3], 1e6 * gmsd_s, loss);
         }
     }
     texopt_bake_workspace_destroy(bake);
@@ -192,8 +189,7 @@ static void bench_bo(const char *label, texopt_bo_options opt)
     double f;
     opt.iterations = 110;
     double t0 = now_seconds();
-    texopt_status s = texopt_bo_minimize(bo, &opt, timed_objective, &t, NULL, &f, NULL, err,
-                                         sizeof err);
+    texopt_status s = texopt_bo_minimize(bo, &opt, timed_objective, &t, NULL, &f, NULL, err, sizeof err);
     double total = now_seconds() - t0;
     texopt_bo_destroy(bo);
     if (s != TEXOPT_OK || t.calls != 110) {
@@ -214,14 +210,11 @@ static void bench_bo(const char *label, texopt_bo_options opt)
 TEST(bench_bayesopt_iteration_cost_in_4d)
 {
     printf("BO iteration cost, 4-D, microseconds per iteration at n samples\n");
-    printf("%-34s %9s %9s %9s %9s %10s\n", "options", "n=20", "n=50", "n=100", "total_ms",
-           "best");
+    printf("%-34s %9s %9s %9s %9s %10s\n", "options", "n=20", "n=50", "n=100", "total_ms", "best");
     bench_bo("default (128 cand, polish 10, ARD)", (texopt_bo_options){.seed = 1});
-    bench_bo("512 cand, polish 40", (texopt_bo_options){.seed = 1, .candidates = 512,
-                                                        .polish_evaluations = 40});
+    bench_bo("512 cand, polish 40", (texopt_bo_options){.seed = 1, .candidates = 512, .polish_evaluations = 40});
     bench_bo("isotropic", (texopt_bo_options){.seed = 1, .isotropic = 1});
-    bench_bo("128 cand, no polish", (texopt_bo_options){.seed = 1, .candidates = 128,
-                                                        .polish_evaluations = -1});
+    bench_bo("128 cand, no polish", (texopt_bo_options){.seed = 1, .candidates = 128, .polish_evaluations = -1});
     bench_bo("LCB", (texopt_bo_options){.seed = 1, .acquisition = TEXOPT_ACQ_LCB});
     /* The same objective must be minimised well by the default: the smallest area that keeps
      * e < 0.01 is close to 0.1 * 0.1 * 50 = 0.5 plus the barrier -log(0.01 - e) ~ 5.3. */
@@ -230,9 +223,9 @@ TEST(bench_bayesopt_iteration_cost_in_4d)
     memset(&t, 0, sizeof t);
     double f;
     char err[256] = "";
-    CHECK_OK(texopt_bo_minimize(bo, &(texopt_bo_options){.seed = 2}, timed_objective, &t, NULL,
-                                &f, NULL, err, sizeof err),
-             err);
+    CHECK_OK(
+        texopt_bo_minimize(bo, &(texopt_bo_options){.seed = 2}, timed_objective, &t, NULL, &f, NULL, err, sizeof err),
+        err);
     CHECK(isfinite(f));
     CHECK(f < 9.0);
     texopt_bo_destroy(bo);
@@ -268,13 +261,11 @@ static double family_mean(int evaluations, texopt_bo_options opt, double *ms_per
     enum { RUNS = 40 };
     double sum = 0.0, t0 = now_seconds();
     for (int s = 0; s < RUNS; s++) {
-        family p = {0.5 + 0.15 * ((s * 7) % 10), 0.5 + 0.15 * ((s * 3) % 10), 0.37 * s,
-                    5.0 + 20.0 * (s % 5)};
+        family p = {0.5 + 0.15 * ((s * 7) % 10), 0.5 + 0.15 * ((s * 3) % 10), 0.37 * s, 5.0 + 20.0 * (s % 5)};
         opt.seed = (uint64_t)s;
         double f = NAN;
         char err[256];
-        if (texopt_bo_minimize(bo, &opt, family_objective, &p, NULL, &f, NULL, err, sizeof err) !=
-            TEXOPT_OK)
+        if (texopt_bo_minimize(bo, &opt, family_objective, &p, NULL, &f, NULL, err, sizeof err) != TEXOPT_OK)
             f = NAN;
         sum += f / p.area;
     }
@@ -296,8 +287,7 @@ TEST(bench_bayesopt_quality_against_evaluations)
         CHECK(isfinite(means[k]));
     }
     double ms;
-    double wide = family_mean(100, (texopt_bo_options){.candidates = 512, .polish_evaluations = 40},
-                              &ms);
+    double wide = family_mean(100, (texopt_bo_options){.candidates = 512, .polish_evaluations = 40}, &ms);
     printf("%-34s %6d %10.5f %12.2f\n", "512 candidates, 40 polish", 100, wide, ms);
     double iso = family_mean(30, (texopt_bo_options){.isotropic = 1}, &ms);
     printf("%-34s %6d %10.5f %12.2f\n", "isotropic", 30, iso, ms);

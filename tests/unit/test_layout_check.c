@@ -20,8 +20,8 @@ static texopt_mesh *grid_mesh(sliver_grid *g, int twins, int n)
     texopt_mesh *mesh = NULL;
     if (sliver_grid_make(g, n, 0.0, twins) != 0)
         return NULL;
-    texopt_model *m = fixture_model_from_arrays(g->positions, g->uvs, g->vertex_count, g->triangles,
-                                                g->triangle_count, 64, 64, "checker");
+    texopt_model *m = fixture_model_from_arrays(g->positions, g->uvs, g->vertex_count, g->triangles, g->triangle_count,
+                                                64, 64, "checker");
     if (m)
         texopt_mesh_create(&mesh, m, 0, NULL, 0);
     texopt_model_destroy(m);

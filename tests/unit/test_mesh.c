@@ -196,7 +196,7 @@ TEST(sphere_counts_follow_the_construction)
     for (uint32_t t = 0; t < (uint32_t)S; t++)
         CHECK(contains(ring, n, t));
     CHECK(one_ring_matches(m, 0));
-    CHECK(one_ring_matches(m, (uint32_t)S));     /* touches the u = 0/1 seam */
+    CHECK(one_ring_matches(m, (uint32_t)S)); /* touches the u = 0/1 seam */
     CHECK(one_ring_matches(m, (uint32_t)(2 * S - 1)));
     texopt_mesh_destroy(m);
     texopt_model_destroy(model);
@@ -206,14 +206,10 @@ TEST(degenerate_triangles_are_flagged_relative_to_their_size)
 {
     /* t0: collinear in 3D; t1: all three UVs equal; t2: a well-shaped triangle 1e-6 across;
      * t3: a sliver whose 3D height is 1e-12 of its length. */
-    const float pos[] = {0, 0, 0, 1, 0, 0, 2, 0, 0,
-                         0, 0, 1, 1, 0, 1, 0, 1, 1,
-                         5, 5, 5, 5.000001f, 5, 5, 5, 5.000001f, 5,
-                         0, 0, 3, 1, 0, 3, 0.5f, 1e-12f, 3};
-    const float uv[] = {0, 0, 0.5f, 0, 0.5f, 0.5f,
-                        0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f,
-                        0.6f, 0.6f, 0.9f, 0.6f, 0.6f, 0.9f,
-                        0.1f, 0.9f, 0.2f, 0.9f, 0.1f, 1.0f};
+    const float pos[] = {0, 0, 0, 1,         0, 0, 2, 0,         0, 0, 0, 1, 1, 0, 1, 0,    1,      1,
+                         5, 5, 5, 5.000001f, 5, 5, 5, 5.000001f, 5, 0, 0, 3, 1, 0, 3, 0.5f, 1e-12f, 3};
+    const float uv[] = {0,    0,    0.5f, 0,    0.5f, 0.5f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f,
+                        0.6f, 0.6f, 0.9f, 0.6f, 0.6f, 0.9f, 0.1f,  0.9f,  0.2f,  0.9f,  0.1f,  1.0f};
     const uint32_t tri[] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11};
     texopt_model *model = fixture_model_from_arrays(pos, uv, 12, tri, 4, 32, 32, "flat");
     CHECK(model != NULL);
@@ -233,8 +229,7 @@ TEST(plane_edges_are_the_triangle_in_a_frame_of_its_plane)
 {
     /* t0: b - a = (0, 0, 3), c - a = (0, 4, 1): along the first edge 3 then 1, across it 4.
      * t1: collinear, no frame. */
-    const float pos[] = {2, 2, 2, 2, 2, 5, 2, 6, 3,
-                         0, 0, 0, 1, 1, 1, 2, 2, 2};
+    const float pos[] = {2, 2, 2, 2, 2, 5, 2, 6, 3, 0, 0, 0, 1, 1, 1, 2, 2, 2};
     const float uv[] = {0, 0, 0.5f, 0, 0, 0.5f, 0.6f, 0.6f, 0.9f, 0.6f, 0.6f, 0.9f};
     const uint32_t tri[] = {0, 1, 2, 3, 4, 5};
     texopt_model *model = fixture_model_from_arrays(pos, uv, 6, tri, 2, 16, 16, "flat");
@@ -263,8 +258,8 @@ TEST(fold_over_inside_a_chart_is_flipped_mirrored_chart_is_not)
     CHECK_OK(texopt_mesh_create(&m, model, 0, err, sizeof err), err);
     CHECK_EQ_INT(m->chart_sign[0], 1);
     for (size_t t = 0; t < 8; t++)
-        CHECK_MSG(((m->flags[t] & TEXOPT_TRI_FLIPPED) != 0) == (t == 3 || t == 6),
-                  "triangle %zu flags %u", t, m->flags[t]);
+        CHECK_MSG(((m->flags[t] & TEXOPT_TRI_FLIPPED) != 0) == (t == 3 || t == 6), "triangle %zu flags %u", t,
+                  m->flags[t]);
     CHECK(m->area_texel[3] < 0);
     /* The fold pushed UVs past u = 1: those triangles rely on the wrap mode. */
     CHECK(m->flags[3] & TEXOPT_TRI_WRAPPED);
@@ -305,10 +300,8 @@ TEST(duplicates_and_signed_zeros_weld_across_primitives)
 {
     /* Two primitives of one material, each with its own copy of the shared diagonal; the
      * second writes -0 where the first writes +0. One chart, 4 UV vertices, 4 points. */
-    const float pos[] = {0, 0, 0, 1, 0, 0, 1, 1, 0,
-                         -0.0f, 0, 0, 1, 1, 0, 0, 1, 0};
-    const float uv[] = {0, 0, 1, 0, 1, 1,
-                        0, -0.0f, 1, 1, 0, 1};
+    const float pos[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, -0.0f, 0, 0, 1, 1, 0, 0, 1, 0};
+    const float uv[] = {0, 0, 1, 0, 1, 1, 0, -0.0f, 1, 1, 0, 1};
     const uint32_t tri[] = {0, 1, 2, 3, 4, 5};
     texopt_model *model = fixture_model_from_arrays(pos, uv, 6, tri, 2, 16, 16, "flat");
     CHECK(model != NULL);

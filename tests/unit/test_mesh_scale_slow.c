@@ -33,8 +33,8 @@ TEST(million_triangles_on_a_4096_frame)
     texopt_coverage_options opt = {.triangle_flags = m->flags};
     CHECK_OK(texopt_coverage_measure(m, &opt, &cov, err, sizeof err), err);
     double cover = seconds_since(&t0);
-    printf("mesh %zu triangles %zu vertices: mesh_create %.3f s, coverage 4096^2 %.3f s\n",
-           m->triangle_count, m->vertex_count, build, cover);
+    printf("mesh %zu triangles %zu vertices: mesh_create %.3f s, coverage 4096^2 %.3f s\n", m->triangle_count,
+           m->vertex_count, build, cover);
     CHECK_EQ_INT(m->triangle_count, 1002528);
     CHECK_EQ_INT(m->chart_count, 1);
     CHECK_EQ_INT(cov.covered_texels, 4096ull * 4096ull);

@@ -87,16 +87,15 @@ TEST(icosahedron_views_look_between_the_dodecahedron_views)
         CHECK(best < 0.8);
         CHECK_EQ_INT(closest, 5);
     }
-    CHECK(texopt_meshrender_camera_set(m, (texopt_camera_set)7, ico, &n, err, sizeof err) ==
-          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_meshrender_camera_set(m, (texopt_camera_set)7, ico, &n, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     texopt_model_destroy(m);
 }
 
 /* A view looking down -z at the unit quad [0,1]^2, the window exactly [0,1]^2 (no margin). */
 static texopt_view quad_view(void)
 {
-    texopt_view v = {.centre = {0.5, 0.5, 0}, .direction = {0, 0, 1}, .right = {1, 0, 0},
-                     .up = {0, 1, 0}, .half_extent = 0.5};
+    texopt_view v = {
+        .centre = {0.5, 0.5, 0}, .direction = {0, 0, 1}, .right = {1, 0, 0}, .up = {0, 1, 0}, .half_extent = 0.5};
     return v;
 }
 
@@ -169,8 +168,9 @@ TEST(mipmapped_shading_averages_minified_stripes)
     char err[256] = "";
     CHECK_OK(texopt_meshrender_rasterize(m, &v, 8, &r, err, sizeof err), err);
     texopt_texture_filter *filters[1] = {NULL};
-    CHECK_OK(texopt_texture_filter_create(&filters[0], &m->images[0], TEXOPT_WRAP_REPEAT,
-                                          TEXOPT_WRAP_REPEAT, err, sizeof err), err);
+    CHECK_OK(texopt_texture_filter_create(&filters[0], &m->images[0], TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, err,
+                                          sizeof err),
+             err);
     texopt_image plain, filtered;
     CHECK_OK(texopt_meshrender_shade(m, &r, &plain, err, sizeof err), err);
     CHECK_OK(texopt_meshrender_shade_filtered(m, &r, filters, &filtered, err, sizeof err), err);

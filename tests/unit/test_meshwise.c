@@ -7,8 +7,8 @@
 #include <string.h>
 
 #include "distortion.h"
-#include "meshwise.h"
 #include "handmesh.h"
+#include "meshwise.h"
 #include "test.h"
 
 #define PI 3.14159265358979323846
@@ -49,8 +49,8 @@ static texopt_mesh *grid_mesh(int n, double cell, double jitter, int charts)
     return m;
 }
 
-static texopt_triangle_target *uniform_targets(size_t n, double l1, double l2, double alpha,
-                                               double beta, double w_r, double w_s)
+static texopt_triangle_target *uniform_targets(size_t n, double l1, double l2, double alpha, double beta, double w_r,
+                                               double w_s)
 {
     texopt_triangle_target *t = calloc(n, sizeof *t);
     for (size_t i = 0; i < n; i++) {
@@ -328,7 +328,7 @@ TEST(degenerate_triangles_are_carried_through)
     memcpy(m->triangle + 3 * (T + 1), g->triangle + 3 * 28, 3 * sizeof(uint32_t));
     handmesh_finish(m);
     m->flags[T + 1] |= TEXOPT_TRI_DEGENERATE_3D; /* as mesh.c flags a 3D-degenerate face */
-    m->flags[28] |= TEXOPT_TRI_DEGENERATE_3D; /* interior: its vertices have fitted neighbours */
+    m->flags[28] |= TEXOPT_TRI_DEGENERATE_3D;    /* interior: its vertices have fitted neighbours */
     CHECK(m->flags[T] & TEXOPT_TRI_DEGENERATE_UV);
     texopt_triangle_target *tg = uniform_targets(m->triangle_count, 0.5, 0.5, 0, 0, 1, 1);
     double *out = calloc(2 * m->vertex_count, sizeof *out);
@@ -356,13 +356,11 @@ TEST(bad_input_is_refused_with_a_message)
     double *out = calloc(2 * m->vertex_count, sizeof *out);
     char err[256] = "";
     tg[4].lambda1 = NAN;
-    CHECK_EQ_INT(texopt_meshwise_solve(m, tg, NULL, NULL, out, NULL, NULL, err, sizeof err),
-                 TEXOPT_E_INVALID_ARGUMENT);
+    CHECK_EQ_INT(texopt_meshwise_solve(m, tg, NULL, NULL, out, NULL, NULL, err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
     CHECK(strstr(err, "triangle 4") != NULL);
     tg[4].lambda1 = 1.0;
     tg[2].w_stretch = -1.0;
-    CHECK_EQ_INT(texopt_meshwise_solve(m, tg, NULL, NULL, out, NULL, NULL, err, sizeof err),
-                 TEXOPT_E_INVALID_ARGUMENT);
+    CHECK_EQ_INT(texopt_meshwise_solve(m, tg, NULL, NULL, out, NULL, NULL, err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
     tg[2].w_stretch = 1.0;
     /* A starting layout with a flipped triangle. */
     double *start = malloc(2 * m->vertex_count * sizeof *start);
@@ -378,8 +376,7 @@ TEST(bad_input_is_refused_with_a_message)
                  TEXOPT_E_INVALID_ARGUMENT);
     /* A triangle naming a vertex past the count. */
     m->triangle[7] = (uint32_t)m->vertex_count;
-    CHECK_EQ_INT(texopt_meshwise_solve(m, tg, NULL, NULL, out, NULL, NULL, err, sizeof err),
-                 TEXOPT_E_INVALID_ARGUMENT);
+    CHECK_EQ_INT(texopt_meshwise_solve(m, tg, NULL, NULL, out, NULL, NULL, err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
     CHECK(strstr(err, "past vertex count") != NULL);
     free(start);
     free(out);
@@ -407,8 +404,7 @@ TEST(progress_is_reported_and_cancel_stops)
     CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, out, &rep, &mon, err, sizeof err), err);
     CHECK_EQ_INT(calls, rep.iterations);
     atomic_store(&cancel, 1);
-    CHECK_EQ_INT(texopt_meshwise_solve(m, tg, NULL, NULL, out, NULL, &mon, err, sizeof err),
-                 TEXOPT_E_CANCELED);
+    CHECK_EQ_INT(texopt_meshwise_solve(m, tg, NULL, NULL, out, NULL, &mon, err, sizeof err), TEXOPT_E_CANCELED);
     free(out);
     free(tg);
     texopt_mesh_destroy(m);
@@ -516,8 +512,7 @@ TEST(folded_chart_keeps_its_halves_on_the_same_texels)
 
 /* Output position of input point p through the layout, by the triangle of the left half of
  * a folded mesh containing p (brute force); 0 when none does. */
-static int map_through_left_half(const texopt_mesh *m, const double *out, int n, const double p[2],
-                                 double q[2])
+static int map_through_left_half(const texopt_mesh *m, const double *out, int n, const double p[2], double q[2])
 {
     size_t per_row = 2 * (size_t)n + 1;
     for (size_t t = 0; t < m->triangle_count; t++) {
@@ -617,8 +612,8 @@ TEST(fit_weight_sets_how_fast_targets_pull)
 
 /* Anchors on a 6 x 6 grid held to its own shape: corner vertex c (not the chart's pinned
  * vertex 0) pulled `shift` texels along x with weight w. */
-static texopt_status solve_with_anchor(const texopt_mesh *m, const texopt_triangle_target *tg, size_t c,
-                                       double shift, double w, double *out, char *err, size_t err_len)
+static texopt_status solve_with_anchor(const texopt_mesh *m, const texopt_triangle_target *tg, size_t c, double shift,
+                                       double w, double *out, char *err, size_t err_len)
 {
     size_t n = 2 * m->vertex_count;
     double *anchor = malloc(n * sizeof *anchor), *weight = calloc(n, sizeof *weight);
@@ -657,7 +652,8 @@ TEST(zero_anchor_weights_change_nothing)
 {
     texopt_mesh *m = grid_mesh(6, 8.0, 0.3, 1);
     texopt_triangle_target *tg = uniform_targets(m->triangle_count, 0.7, 0.5, 0.2, 0.3, 1, 1);
-    double *plain = calloc(2 * m->vertex_count, sizeof *plain), *anchored = calloc(2 * m->vertex_count, sizeof *anchored);
+    double *plain = calloc(2 * m->vertex_count, sizeof *plain),
+           *anchored = calloc(2 * m->vertex_count, sizeof *anchored);
     char err[256] = "";
     CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, plain, NULL, NULL, err, sizeof err), err);
     CHECK_OK(solve_with_anchor(m, tg, 9, 50.0, 0.0, anchored, err, sizeof err), err);

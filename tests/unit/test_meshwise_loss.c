@@ -47,8 +47,9 @@ TEST(unchanged_layout_loses_nothing)
     scaled_layout(&f, 1.0);
     texopt_loss_share share;
     char err[256] = "";
-    CHECK_OK(texopt_meshwise_loss_share(f.model, f.mesh, f.layout, NULL, 0.01, 1, 0, NULL, &share, NULL,
-                                        err, sizeof err), err);
+    CHECK_OK(
+        texopt_meshwise_loss_share(f.model, f.mesh, f.layout, NULL, 0.01, 1, 0, NULL, &share, NULL, err, sizeof err),
+        err);
     CHECK_EQ_INT(share.evaluated, f.mesh->triangle_count);
     CHECK_EQ_INT(share.within, share.evaluated);
     CHECK_NEAR(share.share, 1.0, 0.0);
@@ -67,8 +68,9 @@ TEST(shrinking_detail_fails_where_the_texture_is_detailed)
     double *loss = malloc(n * sizeof *loss);
     texopt_loss_share share;
     char err[256] = "";
-    CHECK_OK(texopt_meshwise_loss_share(f.model, f.mesh, f.layout, NULL, 0.01, 2, 0, loss, &share, NULL,
-                                        err, sizeof err), err);
+    CHECK_OK(
+        texopt_meshwise_loss_share(f.model, f.mesh, f.layout, NULL, 0.01, 2, 0, loss, &share, NULL, err, sizeof err),
+        err);
     size_t flat_ok = 0, flat = 0, detail_bad = 0, detail = 0;
     for (size_t t = 0; t < n; t++) {
         const uint32_t *tri = f.mesh->triangle + 3 * t;
@@ -94,8 +96,9 @@ TEST(shrinking_detail_fails_where_the_texture_is_detailed)
     /* The same losses with one thread: the thread count decides nothing. */
     double *again = malloc(n * sizeof *again);
     texopt_loss_share share1;
-    CHECK_OK(texopt_meshwise_loss_share(f.model, f.mesh, f.layout, NULL, 0.01, 1, 0, again, &share1, NULL,
-                                        err, sizeof err), err);
+    CHECK_OK(
+        texopt_meshwise_loss_share(f.model, f.mesh, f.layout, NULL, 0.01, 1, 0, again, &share1, NULL, err, sizeof err),
+        err);
     CHECK(memcmp(loss, again, n * sizeof *loss) == 0);
     CHECK_EQ_INT(share1.within, share.within);
     free(again);
@@ -110,13 +113,16 @@ TEST(loss_share_refuses_bad_arguments)
     scaled_layout(&f, 1.0);
     texopt_loss_share share;
     char err[256] = "";
-    CHECK_EQ_INT(texopt_meshwise_loss_share(f.model, f.mesh, f.layout, NULL, 0.0, 1, 0, NULL, &share, NULL,
-                                            err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
-    CHECK_EQ_INT(texopt_meshwise_loss_share(f.model, f.mesh, NULL, NULL, 0.01, 1, 0, NULL, &share, NULL,
-                                            err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
+    CHECK_EQ_INT(
+        texopt_meshwise_loss_share(f.model, f.mesh, f.layout, NULL, 0.0, 1, 0, NULL, &share, NULL, err, sizeof err),
+        TEXOPT_E_INVALID_ARGUMENT);
+    CHECK_EQ_INT(
+        texopt_meshwise_loss_share(f.model, f.mesh, NULL, NULL, 0.01, 1, 0, NULL, &share, NULL, err, sizeof err),
+        TEXOPT_E_INVALID_ARGUMENT);
     f.layout[0] = NAN;
-    CHECK_EQ_INT(texopt_meshwise_loss_share(f.model, f.mesh, f.layout, NULL, 0.01, 1, 0, NULL, &share, NULL,
-                                            err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
+    CHECK_EQ_INT(
+        texopt_meshwise_loss_share(f.model, f.mesh, f.layout, NULL, 0.01, 1, 0, NULL, &share, NULL, err, sizeof err),
+        TEXOPT_E_INVALID_ARGUMENT);
     CHECK(strstr(err, "triangle") != NULL);
     grid_close(&f);
 }

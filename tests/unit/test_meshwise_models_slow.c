@@ -19,8 +19,8 @@
 #include "mesh.h"
 #include "meshwise.h"
 #include "random_targets.h"
-#include "triopt.h"
 #include "test.h"
+#include "triopt.h"
 
 static void solve_domain(const char *path, const texopt_model *model, int domain, int threads)
 {
@@ -42,25 +42,23 @@ static void solve_domain(const char *path, const texopt_model *model, int domain
     CHECK_EQ_INT(rep.flipped, 0);
     CHECK_EQ_INT(texopt_count_flipped(mesh, out), 0);
     for (int i = 1; i < rep.energy_count; i++)
-        CHECK_MSG(rep.energy[i] <= rep.energy[i - 1] * (1 + 1e-12),
-                  "%s: energy rose at iteration %d: %.9g -> %.9g", path, i, rep.energy[i - 1],
-                  rep.energy[i]);
+        CHECK_MSG(rep.energy[i] <= rep.energy[i - 1] * (1 + 1e-12), "%s: energy rose at iteration %d: %.9g -> %.9g",
+                  path, i, rep.energy[i - 1], rep.energy[i]);
     CHECK(rep.energy_final < 0.9 * rep.energy_initial);
     texopt_distortion before, after;
     CHECK_OK(texopt_distortion_measure(mesh, NULL, &before, err, sizeof err), err);
     CHECK_OK(texopt_distortion_measure(mesh, out, &after, err, sizeof err), err);
     const char *name = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
-    printf("meshwise %s domain %d, %d thread%s: %zu faces %zu vertices %zu charts: %.3f s wall, %.3f s cpu, %d iterations, "
+    printf("meshwise %s domain %d, %d thread%s: %zu faces %zu vertices %zu charts: %.3f s wall, %.3f s cpu, %d "
+           "iterations, "
            "%d factorisations, %d merged, %d fold ties, E %.4g -> %.4g, symmetric Dirichlet %.4f -> %.4f\n",
            name, domain, threads, threads > 1 ? "s" : "", mesh->triangle_count, mesh->vertex_count, mesh->chart_count,
-           rep.seconds, cpu, rep.iterations, rep.factorizations, rep.merged_vertices,
-           rep.fold_ties, rep.energy_initial, rep.energy_final, before.symmetric_dirichlet,
-           after.symmetric_dirichlet);
+           rep.seconds, cpu, rep.iterations, rep.factorizations, rep.merged_vertices, rep.fold_ties, rep.energy_initial,
+           rep.energy_final, before.symmetric_dirichlet, after.symmetric_dirichlet);
     fflush(stdout);
     free(out);
     free(tg);
     texopt_mesh_destroy(mesh);
-
 }
 
 static void solve_model(const char *path)
@@ -134,8 +132,8 @@ TEST(half_flat_grid_flat_half_shrinks_more)
         area_in[detailed] += fabs(mesh->area_texel[t]);
     }
     double flat_scale = area_out[0] / area_in[0], detail_scale = area_out[1] / area_in[1];
-    printf("half grid: flat half keeps %.3f of its texels, detailed half %.3f (%d iterations)\n",
-           flat_scale, detail_scale, rep.iterations);
+    printf("half grid: flat half keeps %.3f of its texels, detailed half %.3f (%d iterations)\n", flat_scale,
+           detail_scale, rep.iterations);
     CHECK(flat_scale < 0.5 * detail_scale);
     CHECK(detail_scale > 0.3);
     free(out);

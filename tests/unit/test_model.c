@@ -35,8 +35,7 @@ static texopt_model *bare_model(int n_img, const int *sizes, int n_mat, int n_pr
     return m;
 }
 
-static void bind(texopt_model *m, int material, texopt_slot slot, int image, int texcoord, texopt_wrap s,
-                 texopt_wrap t)
+static void bind(texopt_model *m, int material, texopt_slot slot, int image, int texcoord, texopt_wrap s, texopt_wrap t)
 {
     texopt_texture_ref *r = &m->materials[material].slot[slot];
     r->image = image;

@@ -128,8 +128,7 @@ static int check_separation(const texopt_mesh *m, const double *texel, int w, in
 }
 
 /* Every triangle's edges must be the input edges turned by the chart's quarter turns. */
-static int check_rigid_quarter_turns(const texopt_mesh *m, const double *in, const double *out,
-                                     const uint8_t *rotation)
+static int check_rigid_quarter_turns(const texopt_mesh *m, const double *in, const double *out, const uint8_t *rotation)
 {
     for (size_t t = 0; t < m->triangle_count; t++) {
         const uint32_t *v = m->triangle + 3 * t;

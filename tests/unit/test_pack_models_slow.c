@@ -189,8 +189,8 @@ static double pack_model(const char *path, double cr, int turn, int *failed)
             int cost_ok = fabs(res.relative_cost / cr - 1) <= 0.02;
             printf("pack %-28s domain %d charts %4zu %-7s c_r %.2f reached %.4f size %5dx%-5d efficiency %.3f "
                    "packings %3d cpu %.2f s%s%s%s\n",
-                   strrchr(path, '/') ? strrchr(path, '/') + 1 : path, d, mesh->chart_count, turn ? "turned" : "angles", cr,
-                   res.relative_cost, res.width, res.height, res.packing_efficiency, res.packings, cpu,
+                   strrchr(path, '/') ? strrchr(path, '/') + 1 : path, d, mesh->chart_count, turn ? "turned" : "angles",
+                   cr, res.relative_cost, res.width, res.height, res.packing_efficiency, res.packings, cpu,
                    gutter_ok ? "" : " GUTTER VIOLATED", turns_ok ? "" : " NOT RIGID", cost_ok ? "" : " COST MISSED");
             if (!gutter_ok || !turns_ok || !cost_ok)
                 *failed = 1;

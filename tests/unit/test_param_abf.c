@@ -43,7 +43,8 @@ static double mean_conformal(const texopt_param_chart *chart, const double *uv)
         texopt_param_corner_angles(chart, t, a3);
         const uint32_t *v = chart->triangle + 3 * t;
         for (int k = 0; k < 3; k++) {
-            const double *p = uv + 2 * (size_t)v[k], *q = uv + 2 * (size_t)v[(k + 1) % 3], *r = uv + 2 * (size_t)v[(k + 2) % 3];
+            const double *p = uv + 2 * (size_t)v[k], *q = uv + 2 * (size_t)v[(k + 1) % 3],
+                         *r = uv + 2 * (size_t)v[(k + 2) % 3];
             double e1[2] = {q[0] - p[0], q[1] - p[1]}, e2[2] = {r[0] - p[0], r[1] - p[1]};
             double a2 = atan2(e1[0] * e2[1] - e1[1] * e2[0], e1[0] * e2[0] + e1[1] * e2[1]);
             sum += fabs(a2 - a3[k]);

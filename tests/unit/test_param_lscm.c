@@ -38,7 +38,8 @@ TEST(curved_patch_is_nearly_conformal)
     for (size_t t = 0; t < g->chart.triangle_count; t++) {
         const uint32_t *v = g->chart.triangle + 3 * t;
         double P[2][2], T[2][2], J[2][2];
-        texopt_plane_edges(g->position + 3 * (size_t)v[0], g->position + 3 * (size_t)v[1], g->position + 3 * (size_t)v[2], P);
+        texopt_plane_edges(g->position + 3 * (size_t)v[0], g->position + 3 * (size_t)v[1],
+                           g->position + 3 * (size_t)v[2], P);
         texopt_layout_edges(uv, v, T);
         texopt_jacobian(T, P, 1.0, J);
         texopt_triangle_distortion d;

@@ -97,8 +97,8 @@ static void compare_searches(const char *name, const texopt_param_chart *chart)
     p.search = TEXOPT_SQUARE_STEP_SAMPLING;
     t0 = clock();
     CHECK_OK(texopt_param_square(chart, &p, uv, &step, err, sizeof err), err);
-    printf("square %s triangles %zu candidates %zu step_sampling l2 %.6f evaluations %zu cpu_s %.3f optimum %s\n",
-           name, chart->triangle_count, step.candidates, step.l2_stretch, step.evaluations, cpu_seconds(t0),
+    printf("square %s triangles %zu candidates %zu step_sampling l2 %.6f evaluations %zu cpu_s %.3f optimum %s\n", name,
+           chart->triangle_count, step.candidates, step.l2_stretch, step.evaluations, cpu_seconds(t0),
            step.corner == brute.corner ? "same" : "other");
     CHECK(step.l2_stretch >= brute.l2_stretch - 1e-12 && step.evaluations <= step.candidates);
     double l2 = 0.0, evaluations = 0.0, seconds = 0.0;
@@ -147,8 +147,7 @@ static void compare_on_model(const char *path)
     texopt_model_destroy(model);
     const char *name = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
     if (best.chart.triangle_count == 0)
-        printf("square %s: no disk chart without ears of %d to %d triangles\n", name, MIN_TRIANGLES,
-               MAX_TRIANGLES);
+        printf("square %s: no disk chart without ears of %d to %d triangles\n", name, MIN_TRIANGLES, MAX_TRIANGLES);
     else
         compare_searches(name, &best.chart);
     chart_copy_free(&best);

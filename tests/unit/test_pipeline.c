@@ -378,8 +378,7 @@ TEST(a_domain_covering_no_texel_centre_is_kept_beside_those_laid_out)
                                     "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":1}}}") == 0);
     unlink(s.out);
     texopt_status refused = texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err);
-    CHECK_MSG(refused == TEXOPT_E_UNSUPPORTED && strstr(err, "no domain can be laid out"), "%d: %s",
-              (int)refused, err);
+    CHECK_MSG(refused == TEXOPT_E_UNSUPPORTED && strstr(err, "no domain can be laid out"), "%d: %s", (int)refused, err);
     CHECK(access(s.out, F_OK) != 0);
     texopt_model_destroy(in);
     scratch_free(&s);
@@ -549,8 +548,8 @@ TEST(a_tiling_texture_keeps_its_input_layout)
                 CHECK_EQ_INT(out->images[0].width, 45); /* 64 sqrt(0.5) */
                 CHECK(memcmp(out->uvs, uv, sizeof uv) == 0);
             } else
-                CHECK_MSG(*why == '\0' && cJSON_IsTrue(domain_item(st, "repacked")),
-                          "%s: '%s'", texopt_method_name(p.method), why);
+                CHECK_MSG(*why == '\0' && cJSON_IsTrue(domain_item(st, "repacked")), "%s: '%s'",
+                          texopt_method_name(p.method), why);
             cJSON_Delete(st);
             texopt_model_destroy(out);
         }
@@ -733,8 +732,7 @@ TEST(evaluation_is_zero_for_the_identity_and_positive_after_a_reduction)
 static double file_q(const char *in, const char *out, int resolution, int mipmapped, texopt_camera_set cameras)
 {
     texopt_model *a = load(in), *b = load(out);
-    texopt_evaluate_options opt = {.resolution = resolution, .threads = 2, .mipmapped = mipmapped,
-                                   .cameras = cameras};
+    texopt_evaluate_options opt = {.resolution = resolution, .threads = 2, .mipmapped = mipmapped, .cameras = cameras};
     texopt_evaluation ev;
     char err[256];
     double q = a && b && texopt_evaluate(a, b, &opt, &ev, err, sizeof err) == TEXOPT_OK ? ev.q : NAN;
@@ -913,8 +911,10 @@ static double texel_mismatch(const texopt_model *a, const texopt_model *b, int i
                     ub[d] += bary[k][c] * b->uvs[2 * b->triangles[3 * t + c] + d];
                 }
             float va[4], vb[4];
-            texopt_sample_bilinear(ia, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, ua[0] * ia->width, ua[1] * ia->height, va);
-            texopt_sample_bilinear(ib, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, ub[0] * ib->width, ub[1] * ib->height, vb);
+            texopt_sample_bilinear(ia, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, ua[0] * ia->width, ua[1] * ia->height,
+                                   va);
+            texopt_sample_bilinear(ib, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, ub[0] * ib->width, ub[1] * ib->height,
+                                   vb);
             for (int c = 0; c < ia->channels && c < 3; c++, count++)
                 sum += fabs((double)va[c] - vb[c]);
         }
@@ -980,14 +980,15 @@ TEST(material_extension_textures_are_rebaked_like_the_slots)
     /* The statistics name each image by the binding that reads it. */
     cJSON *st = read_json(s.stats);
     cJSON *images = domain_item(st, "images");
-    const char *want[6] = {"baseColor",        "normal",           "clearcoatNormalTexture",
-                           "clearcoatTexture", "sheenColorTexture", "anisotropyTexture"};
+    const char *want[6] = {"baseColor",         "normal",           "clearcoatNormalTexture", "clearcoatTexture",
+                           "sheenColorTexture", "anisotropyTexture"};
     CHECK_EQ_INT(cJSON_GetArraySize(images), 6);
     for (int i = 0; i < cJSON_GetArraySize(images); i++) {
         cJSON *im = cJSON_GetArrayItem(images, i);
         int k = (int)cJSON_GetObjectItem(im, "image")->valuedouble;
         const char *slot = cJSON_GetStringValue(cJSON_GetObjectItem(im, "slot"));
-        CHECK_MSG(k >= 0 && k < 6 && slot && strcmp(slot, want[k]) == 0, "image %d named %s", k, slot ? slot : "nothing");
+        CHECK_MSG(k >= 0 && k < 6 && slot && strcmp(slot, want[k]) == 0, "image %d named %s", k,
+                  slot ? slot : "nothing");
     }
     cJSON_Delete(st);
     texopt_model_destroy(in);

@@ -45,7 +45,8 @@ TEST(the_statistics_report_the_scaffold_and_it_leaves_an_isometry_alone)
     CHECK(cJSON_GetObjectItem(sc, "triangles")->valuedouble > 0);
     CHECK(cJSON_GetObjectItem(cJSON_GetObjectItem(d_off, "stage2"), "scaffold") == NULL);
     CHECK(cJSON_IsTrue(cJSON_GetObjectItem(cJSON_GetObjectItem(on, "params"), "bijective")));
-    double sd_on = cJSON_GetObjectItem(cJSON_GetObjectItem(d_on, "distortion"), "symmetric_dirichlet_output")->valuedouble;
+    double sd_on =
+        cJSON_GetObjectItem(cJSON_GetObjectItem(d_on, "distortion"), "symmetric_dirichlet_output")->valuedouble;
     CHECK_NEAR(sd_on, 4.0, 1e-3);
     cJSON_Delete(on);
     cJSON_Delete(off);

@@ -89,7 +89,8 @@ static void check_choice_views(const scratch *s, cJSON *st)
     char key[64];
     snprintf(key, sizeof key, "q_%s", name);
     double chosen = candidate_q(choice, key), reported = number_at(st, "evaluation", "q");
-    double choice_views = file_q(s, TEXOPT_CAMERAS_ICOSAHEDRON), reported_views = file_q(s, TEXOPT_CAMERAS_DODECAHEDRON);
+    double choice_views = file_q(s, TEXOPT_CAMERAS_ICOSAHEDRON),
+           reported_views = file_q(s, TEXOPT_CAMERAS_DODECAHEDRON);
     CHECK_MSG(fabs(choice_views - chosen) < 0.02 * chosen, "chosen at q %g, the file's on its views %g", chosen,
               choice_views);
     CHECK_MSG(fabs(reported_views - reported) < 0.02 * reported, "reported q %g, the file's %g", reported,
@@ -188,8 +189,8 @@ TEST(the_metric_candidates_are_the_signal_metric_baselines_layouts)
         cJSON_Delete(st);
     }
     printf("  perceptual q %.5f; hessian candidate %.5f, tewari %.5f (%.5f on the choice's views); signal_stretch "
-           "%.5f, ssp %.5f (%.5f)\n", q, q_hessian, baseline[0], choice_views[0], q_stretch, baseline[1],
-           choice_views[1]);
+           "%.5f, ssp %.5f (%.5f)\n",
+           q, q_hessian, baseline[0], choice_views[0], q_stretch, baseline[1], choice_views[1]);
     CHECK_NEAR(q_hessian, choice_views[0], 0.005 * choice_views[0]);
     CHECK_NEAR(q_stretch, choice_views[1], 0.005 * choice_views[1]);
     CHECK(isfinite(q) && q <= baseline[0] && q <= baseline[1]);
@@ -348,8 +349,10 @@ static double cut_out_detailed_share(const char *mode)
     scratch s;
     char material[160], err[512] = "";
     const char *patterns[1] = {"flat|half"};
-    snprintf(material, sizeof material, "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}},"
-             "\"alphaMode\":\"%s\"}", mode);
+    snprintf(material, sizeof material,
+             "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}},"
+             "\"alphaMode\":\"%s\"}",
+             mode);
     double share = -1;
     if (scratch_init(&s, 8, 64, NULL) != 0)
         return -1;

@@ -7,8 +7,8 @@
 #include <math.h>
 #include <string.h>
 
-#include "pipeline_scratch.h"
 #include "pipeline.h"
+#include "pipeline_scratch.h"
 #include "test.h"
 
 /* One job at a texture size; its statistics (NULL on failure). */
@@ -202,7 +202,8 @@ TEST(over_a_flat_base_colour_the_emissive_map_decides)
     double el = map_q(st, "emissive", "q_layout"), er = map_q(st, "emissive", "q_resize");
     CHECK(map_q(st, "baseColor", "q_layout") == map_q(st, "baseColor", "q_resize"));
     CHECK(strcmp(by, "emissive") == 0 && el != er);
-    CHECK(strcmp(kept, el < er && map_q(st, "lit", "q_layout") <= map_q(st, "lit", "q_resize") ? "layout" : "resize") == 0);
+    CHECK(strcmp(kept, el < er && map_q(st, "lit", "q_layout") <= map_q(st, "lit", "q_resize") ? "layout" : "resize") ==
+          0);
     cJSON_Delete(st);
     scratch_free(&s);
 }

@@ -55,8 +55,9 @@ TEST(identity_layout_reproduces_texture_exactly)
     texopt_rebake_layout layout = {2, quad_tris, unit_quad, unit_quad, 1};
     char err[256] = "";
     size_t covered = 0;
-    CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 0, &layout, &out,
-                                 &covered, NULL, err, sizeof err), err);
+    CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 0, &layout, &out, &covered, NULL, err,
+                                 sizeof err),
+             err);
     CHECK_EQ_INT(covered, 37 * 29);
     double max_err = 0;
     for (size_t i = 0; i < (size_t)37 * 29 * 3; i++)
@@ -75,8 +76,9 @@ TEST(half_size_bake_of_texel_checker_is_prefiltered_grey)
     CHECK(texopt_image_create(&out, 32, 32, 1, NULL, 0) == TEXOPT_OK);
     texopt_rebake_layout layout = {2, quad_tris, unit_quad, unit_quad, 1};
     char err[256] = "";
-    CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 0, &layout, &out,
-                                 NULL, NULL, err, sizeof err), err);
+    CHECK_OK(
+        texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 0, &layout, &out, NULL, NULL, err, sizeof err),
+        err);
     double lo = 1, hi = 0;
     for (int i = 0; i < 32 * 32; i++) {
         lo = fmin(lo, out.pixels[i]);
@@ -156,9 +158,10 @@ TEST(even_sided_mip_level_is_the_exact_two_by_two_mean)
             float v[2];
             texopt_texture_filter_sample(f, 2 * x + 1, 2 * y + 1, j, v);
             for (int c = 0; c < 2; c++) {
-                float want = 0.25f * (texopt_image_at(&img, 2 * x, 2 * y)[c] + texopt_image_at(&img, 2 * x + 1, 2 * y)[c] +
-                                      texopt_image_at(&img, 2 * x, 2 * y + 1)[c] +
-                                      texopt_image_at(&img, 2 * x + 1, 2 * y + 1)[c]);
+                float want =
+                    0.25f *
+                    (texopt_image_at(&img, 2 * x, 2 * y)[c] + texopt_image_at(&img, 2 * x + 1, 2 * y)[c] +
+                     texopt_image_at(&img, 2 * x, 2 * y + 1)[c] + texopt_image_at(&img, 2 * x + 1, 2 * y + 1)[c]);
                 CHECK_MSG(v[c] == want, "texel %d,%d channel %d: %.9g, want %.9g", x, y, c, v[c], want);
             }
         }
@@ -219,12 +222,14 @@ TEST(wrap_modes_decide_lookups_outside_the_texture)
     const double shifted[8] = {1, 0, 2, 0, 2, 1, 1, 1};
     texopt_rebake_layout layout = {2, quad_tris, shifted, unit_quad, 1};
     char err[256] = "";
-    CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_CLAMP, 0, &layout, &out,
-                                 NULL, NULL, err, sizeof err), err);
+    CHECK_OK(
+        texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_CLAMP, 0, &layout, &out, NULL, NULL, err, sizeof err),
+        err);
     for (int x = 0; x < 4; x++)
         CHECK_NEAR(out.pixels[x], in.pixels[x], 1e-6);
-    CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 0, &layout, &out,
-                                 NULL, NULL, err, sizeof err), err);
+    CHECK_OK(
+        texopt_rebake_image(&in, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 0, &layout, &out, NULL, NULL, err, sizeof err),
+        err);
     for (int x = 0; x < 4; x++)
         CHECK_NEAR(out.pixels[x], in.pixels[3], 1e-6);
     texopt_image_destroy(&in);
@@ -239,7 +244,7 @@ TEST(quarter_turn_rotates_normal_map_xy)
     texopt_image in, out;
     CHECK(texopt_image_create(&in, 8, 8, 3, NULL, 0) == TEXOPT_OK);
     for (int i = 0; i < 64; i++) {
-        in.pixels[3 * i] = 1.0f;   /* X = +1 */
+        in.pixels[3 * i] = 1.0f;     /* X = +1 */
         in.pixels[3 * i + 1] = 0.5f; /* Y = 0 */
         in.pixels[3 * i + 2] = 0.5f;
     }
@@ -247,15 +252,17 @@ TEST(quarter_turn_rotates_normal_map_xy)
     const double turned[8] = {1, 0, 1, 1, 0, 1, 0, 0};
     texopt_rebake_layout layout = {2, quad_tris, unit_quad, turned, 1};
     char err[256] = "";
-    CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 1, &layout, &out,
-                                 NULL, NULL, err, sizeof err), err);
+    CHECK_OK(
+        texopt_rebake_image(&in, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 1, &layout, &out, NULL, NULL, err, sizeof err),
+        err);
     const float *p = texopt_image_at(&out, 3, 4);
     CHECK_NEAR(p[0], 0.5, 1e-6);
     CHECK_NEAR(p[1], 0.0, 1e-6);
     CHECK_NEAR(p[2], 0.5, 1e-6);
     /* The same bake without the normal flag copies the values. */
-    CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 0, &layout, &out,
-                                 NULL, NULL, err, sizeof err), err);
+    CHECK_OK(
+        texopt_rebake_image(&in, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 0, &layout, &out, NULL, NULL, err, sizeof err),
+        err);
     CHECK_NEAR(texopt_image_at(&out, 3, 4)[0], 1.0, 1e-6);
     texopt_image_destroy(&in);
     texopt_image_destroy(&out);
@@ -270,16 +277,15 @@ TEST(gutter_takes_the_colour_of_the_nearest_chart)
     for (int y = 0; y < 16; y++)
         for (int x = 0; x < 16; x++)
             texopt_image_at(&in, x, y)[0] = x < 8 ? 0.2f : 0.9f;
-    const double uv_in[16] = {0.1, 0.1, 0.4, 0.1, 0.4, 0.9, 0.1, 0.9,
-                              0.6, 0.1, 0.9, 0.1, 0.9, 0.9, 0.6, 0.9};
-    const double uv_out[16] = {0.1, 0.1, 0.3, 0.1, 0.3, 0.4, 0.1, 0.4,
-                               0.6, 0.6, 0.9, 0.6, 0.9, 0.9, 0.6, 0.9};
+    const double uv_in[16] = {0.1, 0.1, 0.4, 0.1, 0.4, 0.9, 0.1, 0.9, 0.6, 0.1, 0.9, 0.1, 0.9, 0.9, 0.6, 0.9};
+    const double uv_out[16] = {0.1, 0.1, 0.3, 0.1, 0.3, 0.4, 0.1, 0.4, 0.6, 0.6, 0.9, 0.6, 0.9, 0.9, 0.6, 0.9};
     const uint32_t tris[12] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
     texopt_rebake_layout layout = {4, tris, uv_in, uv_out, 1};
     CHECK(texopt_image_create(&out, 32, 32, 1, NULL, 0) == TEXOPT_OK);
     char err[256] = "";
-    CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 0, &layout, &out,
-                                 NULL, NULL, err, sizeof err), err);
+    CHECK_OK(
+        texopt_rebake_image(&in, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 0, &layout, &out, NULL, NULL, err, sizeof err),
+        err);
     CHECK_NEAR(texopt_image_at(&out, 1, 1)[0], 0.2, 1e-6);   /* outside chart 1, near it */
     CHECK_NEAR(texopt_image_at(&out, 10, 14)[0], 0.2, 1e-6); /* just past chart 1's corner */
     CHECK_NEAR(texopt_image_at(&out, 30, 30)[0], 0.9, 1e-6); /* near chart 2 */
@@ -313,8 +319,7 @@ TEST(rebake_refuses_mismatched_channels)
     CHECK(texopt_image_create(&out, 4, 4, 4, NULL, 0) == TEXOPT_OK);
     texopt_rebake_layout layout = {2, quad_tris, unit_quad, unit_quad, 1};
     char err[256] = "";
-    CHECK(texopt_rebake_image(&in, 0, 0, 0, &layout, &out, NULL, NULL, err, sizeof err) ==
-          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_rebake_image(&in, 0, 0, 0, &layout, &out, NULL, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     CHECK(strstr(err, "channels") != NULL);
     texopt_image_destroy(&in);
     texopt_image_destroy(&out);
@@ -329,14 +334,16 @@ TEST(threaded_bake_equals_single_threaded_bake)
     CHECK(texopt_image_create(&a, 40, 33, 4, NULL, 0) == TEXOPT_OK);
     CHECK(texopt_image_create(&b, 40, 33, 4, NULL, 0) == TEXOPT_OK);
     const double uv_in[16] = {0, 0, 0.5, 0, 0.5, 1, 0, 1, 0.5, 0, 1, 0, 1, 1, 0.5, 1};
-    const double uv_out[16] = {0.05, 0.05, 0.45, 0.05, 0.45, 0.9, 0.05, 0.9,
-                               0.9, 0.1, 0.9, 0.5, 0.55, 0.5, 0.55, 0.1};
+    const double uv_out[16] = {0.05, 0.05, 0.45, 0.05, 0.45, 0.9, 0.05, 0.9, 0.9, 0.1, 0.9, 0.5, 0.55, 0.5, 0.55, 0.1};
     const uint32_t tris[12] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
     texopt_rebake_layout one = {4, tris, uv_in, uv_out, 1}, three = {4, tris, uv_in, uv_out, 3};
     char err[256] = "";
     size_t ca = 0, cb = 0;
-    CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 1, &one, &a, &ca, NULL, err, sizeof err), err);
-    CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 1, &three, &b, &cb, NULL, err, sizeof err), err);
+    CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 1, &one, &a, &ca, NULL, err, sizeof err),
+             err);
+    CHECK_OK(
+        texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 1, &three, &b, &cb, NULL, err, sizeof err),
+        err);
     CHECK_EQ_INT(ca, cb);
     CHECK(ca > 500);
     CHECK(memcmp(a.pixels, b.pixels, sizeof(float) * 40 * 33 * 4) == 0);
@@ -389,9 +396,11 @@ TEST(least_squares_bake_undoes_the_second_bilinear_blur)
         texopt_rebake_layout layout = {2, quad_tris, unit_quad, uv_out, 2};
         char err[256] = "";
         CHECK_OK(texopt_rebake_image_fit(&in, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 0, &layout,
-                                         TEXOPT_REBAKE_FIT_PREFILTER, &pre, NULL, NULL, err, sizeof err), err);
+                                         TEXOPT_REBAKE_FIT_PREFILTER, &pre, NULL, NULL, err, sizeof err),
+                 err);
         CHECK_OK(texopt_rebake_image_fit(&in, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 0, &layout,
-                                         TEXOPT_REBAKE_FIT_LEAST_SQUARES, &fit, NULL, NULL, err, sizeof err), err);
+                                         TEXOPT_REBAKE_FIT_LEAST_SQUARES, &fit, NULL, NULL, err, sizeof err),
+                 err);
         double e_pre = render_error(&in, &pre, scale[k], shift), e_fit = render_error(&in, &fit, scale[k], shift);
         /* Measured 0.110 vs 0.122 at 1:1 (white noise at the input's texel scale cannot be
          * held by a grid half a texel off) and 0.042 vs 0.061 at 1.5x. */
@@ -413,15 +422,18 @@ TEST(magnified_fit_leaves_shrunk_triangles_prefiltered)
     CHECK(texopt_image_create(&pre, 64, 48, 1, NULL, 0) == TEXOPT_OK);
     CHECK(texopt_image_create(&mag, 64, 48, 1, NULL, 0) == TEXOPT_OK);
     const double uv_in[16] = {0, 0, 0.5, 0, 0.5, 1, 0, 1, 0.5, 0, 1, 0, 1, 1, 0.5, 1};
-    const double uv_out[16] = {4 / 64., 4 / 48., 12 / 64., 4 / 48., 12 / 64., 20 / 48., 4 / 64., 20 / 48.,
-                               20.5 / 64., 4.5 / 48., 44.5 / 64., 4.5 / 48., 44.5 / 64., 44.5 / 48., 20.5 / 64., 44.5 / 48.};
+    const double uv_out[16] = {4 / 64.,    4 / 48.,    12 / 64.,   4 / 48.,   12 / 64.,   20 / 48.,
+                               4 / 64.,    20 / 48.,   20.5 / 64., 4.5 / 48., 44.5 / 64., 4.5 / 48.,
+                               44.5 / 64., 44.5 / 48., 20.5 / 64., 44.5 / 48.};
     const uint32_t tris[12] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
     texopt_rebake_layout layout = {4, tris, uv_in, uv_out, 1};
     char err[256] = "";
-    CHECK_OK(texopt_rebake_image_fit(&in, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 0, &layout,
-                                     TEXOPT_REBAKE_FIT_PREFILTER, &pre, NULL, NULL, err, sizeof err), err);
-    CHECK_OK(texopt_rebake_image_fit(&in, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 0, &layout,
-                                     TEXOPT_REBAKE_FIT_MAGNIFIED, &mag, NULL, NULL, err, sizeof err), err);
+    CHECK_OK(texopt_rebake_image_fit(&in, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 0, &layout, TEXOPT_REBAKE_FIT_PREFILTER,
+                                     &pre, NULL, NULL, err, sizeof err),
+             err);
+    CHECK_OK(texopt_rebake_image_fit(&in, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 0, &layout, TEXOPT_REBAKE_FIT_MAGNIFIED,
+                                     &mag, NULL, NULL, err, sizeof err),
+             err);
     int same_left = 1, differs_right = 0;
     for (int y = 4; y < 20; y++)
         for (int x = 4; x < 12; x++)
@@ -476,9 +488,11 @@ TEST(least_squares_bake_of_tiny_outputs_stays_defined)
         texopt_rebake_layout layout = {2, quad_tris, unit_quad, unit_quad, 2};
         char err[256] = "";
         CHECK_OK(texopt_rebake_image_fit(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 0, &layout,
-                                         TEXOPT_REBAKE_FIT_PREFILTER, &pre, NULL, NULL, err, sizeof err), err);
-        CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 0, &layout, &fit, NULL,
-                                     NULL, err, sizeof err), err);
+                                         TEXOPT_REBAKE_FIT_PREFILTER, &pre, NULL, NULL, err, sizeof err),
+                 err);
+        CHECK_OK(texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 0, &layout, &fit, NULL, NULL, err,
+                                     sizeof err),
+                 err);
         if (side == 1)
             CHECK(memcmp(pre.pixels, fit.pixels, sizeof(float) * 3) == 0);
         for (int i = 0; i < 3 * side * side; i++)

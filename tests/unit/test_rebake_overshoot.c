@@ -65,8 +65,8 @@ static int measure(const char *pattern, int warped, overshoot *bake, overshoot *
              fixture_fill_pattern(&src, pattern) == 0 &&
              texopt_image_create(&out, OUT, OUT, 3, err, sizeof err) == TEXOPT_OK &&
              texopt_image_create(&small, OUT, OUT, 3, err, sizeof err) == TEXOPT_OK;
-    texopt_rebake_layout layout = {.triangle_count = g.nt, .triangles = g.tris, .uv_in = g.uv_in_d,
-                                   .uv_out = g.uv_out_d, .threads = 2};
+    texopt_rebake_layout layout = {
+        .triangle_count = g.nt, .triangles = g.tris, .uv_in = g.uv_in_d, .uv_out = g.uv_out_d, .threads = 2};
     ok = ok && texopt_rebake_image(&src, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 0, &layout, &out, NULL, NULL, err,
                                    sizeof err) == TEXOPT_OK;
     ok = ok && texopt_lanczos_resize(&src, &small, 2, err, sizeof err) == TEXOPT_OK;
@@ -86,15 +86,15 @@ static void check_no_more_ringing_than_resize(const char *pattern, int warped)
     CHECK(measure(pattern, warped, &bake, &resize));
     printf("  %s %s: re-bake above %.1f below %.1f (%.2f%% of channels), resize above %.1f below %.1f "
            "(%.2f%%)\n",
-           pattern, warped ? "warped" : "uniform", bake.above, bake.below, 100 * bake.share, resize.above,
-           resize.below, 100 * resize.share);
+           pattern, warped ? "warped" : "uniform", bake.above, bake.below, 100 * bake.share, resize.above, resize.below,
+           100 * resize.share);
     /* The resize rings (its negative lobes): a sharp edge gives it some code values. */
     CHECK(resize.above + resize.below > 2);
     /* Half the resize's either way: the least-squares fit alone (no bounds) rang as much as
      * the resize on these edges, or more. */
     CHECK_MSG(bake.above <= 0.5 * resize.above && bake.below <= 0.5 * resize.below,
-              "%s: re-bake overshoots %.1f / %.1f, resize %.1f / %.1f", pattern, bake.above, bake.below,
-              resize.above, resize.below);
+              "%s: re-bake overshoots %.1f / %.1f, resize %.1f / %.1f", pattern, bake.above, bake.below, resize.above,
+              resize.below);
     CHECK(bake.texels > (size_t)(OUT * OUT) * 9 / 10);
 }
 

@@ -19,7 +19,7 @@ static texopt_mesh *cube(void)
         m->position[3 * v] = (v & 1) ? 2.0 : 0.0;
         m->position[3 * v + 1] = (v & 2) ? 2.0 : 0.0;
         m->position[3 * v + 2] = (v & 4) ? 2.0 : 0.0;
-        m->texel[2 * v] = v;       /* the input layout does not matter here */
+        m->texel[2 * v] = v; /* the input layout does not matter here */
         m->texel[2 * v + 1] = v * v;
     }
     /* Outward, counter-clockwise faces: -z, +z, -y, +y, -x, +x. */

@@ -69,12 +69,15 @@ static void measure_layout(const texopt_mesh *m, const texopt_rechart *r, int mi
 /* The input layout, measured the same way (each input chart scaled to its 3D area). */
 static void print_input(const char *name, int d, const texopt_mesh *m)
 {
-    texopt_rechart input = {.triangle_count = m->triangle_count, .chart_count = m->chart_count,
-                            .chart_of = m->chart_of, .corner_uv = malloc(6 * m->triangle_count * sizeof(double))};
+    texopt_rechart input = {.triangle_count = m->triangle_count,
+                            .chart_count = m->chart_count,
+                            .chart_of = m->chart_of,
+                            .corner_uv = malloc(6 * m->triangle_count * sizeof(double))};
     for (size_t t = 0; t < m->triangle_count; t++)
         for (int k = 0; k < 3; k++)
             for (int a = 0; a < 2; a++)
-                input.corner_uv[6 * t + 2 * (size_t)k + (size_t)a] = m->texel[2 * (size_t)m->triangle[3 * t + (size_t)k] + (size_t)a];
+                input.corner_uv[6 * t + 2 * (size_t)k + (size_t)a] =
+                    m->texel[2 * (size_t)m->triangle[3 * t + (size_t)k] + (size_t)a];
     layout_measure lm;
     measure_layout(m, &input, 1, &lm);
     printf("rechart %s domain %d triangles %zu input_charts %zu method input charts %zu conformal %.4f l2_stretch %.4f "

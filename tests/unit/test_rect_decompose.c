@@ -78,7 +78,8 @@ TEST(packing_four_squares_fills_a_square)
     CHECK_NEAR(pe, 1.0, 1e-12);
     for (int a = 0; a < 3; a++)
         for (int b = a + 1; b < 3; b++) {
-            texopt_rect ra = {x2[a], y2[a], x2[a] + w2[a], y2[a] + h2[a]}, rb = {x2[b], y2[b], x2[b] + w2[b], y2[b] + h2[b]};
+            texopt_rect ra = {x2[a], y2[a], x2[a] + w2[a], y2[a] + h2[a]},
+                        rb = {x2[b], y2[b], x2[b] + w2[b], y2[b] + h2[b]};
             CHECK_NEAR(overlap(&ra, &rb), 0.0, 0.0);
         }
 }

@@ -48,8 +48,7 @@ TEST(bilinear_at_texel_centre_returns_that_texel)
 }
 
 /* The lookup written out from texopt_bilinear_footprint, the general (wrapping) path. */
-static void lookup_through_footprint(const texopt_image *img, texopt_wrap wrap, double x,
-                                     double y, float *out)
+static void lookup_through_footprint(const texopt_image *img, texopt_wrap wrap, double x, double y, float *out)
 {
     int idx[4];
     double w[4];
@@ -87,8 +86,7 @@ TEST(whole_periods_and_the_in_grid_path_give_the_same_bits)
             double fx = x + px * (1 + k % 3), fy = y + py * (3 - k % 3);
             texopt_sample_bilinear(&img, wraps[m], wraps[m], fx, fy, far);
             CHECK_MSG(base[0] == general[0] && base[1] == general[1], "(%g, %g)", x, y);
-            CHECK_MSG(far[0] == base[0] && far[1] == base[1], "(%g, %g) vs (%g, %g)", fx, fy,
-                      x, y);
+            CHECK_MSG(far[0] == base[0] && far[1] == base[1], "(%g, %g) vs (%g, %g)", fx, fy, x, y);
         }
     }
     texopt_image_destroy(&img);
@@ -150,8 +148,7 @@ TEST(footprints_stay_in_range_for_any_coordinate)
         for (size_t i = 0; i < sizeof xs / sizeof xs[0]; i++) {
             int idx[4];
             double w[4];
-            texopt_bilinear_footprint(7, 5, (texopt_wrap)wrap, (texopt_wrap)wrap, xs[i],
-                                      xs[(i + 3) % 11], idx, w);
+            texopt_bilinear_footprint(7, 5, (texopt_wrap)wrap, (texopt_wrap)wrap, xs[i], xs[(i + 3) % 11], idx, w);
             double sum = 0.0;
             for (int k = 0; k < 4; k++) {
                 CHECK(idx[k] >= 0 && idx[k] < 35);

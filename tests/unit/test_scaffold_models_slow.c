@@ -21,7 +21,6 @@
 #include "scaffold.h"
 #include "test.h"
 
-
 static double seconds_now(void)
 {
     struct timespec ts;
@@ -60,9 +59,8 @@ static void solve_domain(const char *path, const texopt_model *model, int domain
     printf("scaffold %s domain %d: %zu faces %zu charts (%zu scaffolded, %zu skipped), %d rounds: "
            "texel centres twice within a chart input %zu / plain %zu / bijective %zu; "
            "seconds plain %.2f / bijective %.2f; symmetric Dirichlet plain %.4f / bijective %.4f\n",
-           base_name(path), domain, mesh->triangle_count, mesh->chart_count, rep.charts_scaffolded,
-           rep.charts_skipped, rep.rounds, w_in, w_plain, w_bij, t1 - t0, t2 - t1, d_plain.symmetric_dirichlet,
-           d_bij.symmetric_dirichlet);
+           base_name(path), domain, mesh->triangle_count, mesh->chart_count, rep.charts_scaffolded, rep.charts_skipped,
+           rep.rounds, w_in, w_plain, w_bij, t1 - t0, t2 - t1, d_plain.symmetric_dirichlet, d_bij.symmetric_dirichlet);
     fflush(stdout);
     if (rep.charts_skipped == 0)
         CHECK_EQ_INT(w_bij, 0);

@@ -23,10 +23,10 @@
 #define TEX 128
 
 typedef struct strip_areas {
-    double strip;      /* |texel area| of the strip triangles in the output, summed */
-    double other_min;  /* the smallest |texel area| of the other triangles */
+    double strip;     /* |texel area| of the strip triangles in the output, summed */
+    double other_min; /* the smallest |texel area| of the other triangles */
     double strip_input;
-    int check_passed;  /* the layout check passed (else the input layout was kept) */
+    int check_passed; /* the layout check passed (else the input layout was kept) */
 } strip_areas;
 
 /* Optimises the grid with `method` at c_r 0.5 and measures the strip in the output. */
@@ -34,9 +34,8 @@ static int optimise_and_measure(const sliver_grid *g, const char *method, strip_
 {
     scratch s;
     memset(a, 0, sizeof *a);
-    if (scratch_init(&s, 0, 0, NULL) != 0 ||
-        write_mesh_glb(s.in, g->positions, g->uvs, g->vertex_count, g->triangles, g->triangle_count, TEX, "half",
-                       NULL) != 0)
+    if (scratch_init(&s, 0, 0, NULL) != 0 || write_mesh_glb(s.in, g->positions, g->uvs, g->vertex_count, g->triangles,
+                                                            g->triangle_count, TEX, "half", NULL) != 0)
         return -1;
     texopt_params p;
     memset(&p, 0, sizeof p);
@@ -47,7 +46,8 @@ static int optimise_and_measure(const sliver_grid *g, const char *method, strip_
     char err[512] = "";
     texopt_status st = texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err);
     cJSON *stats = st == TEXOPT_OK ? read_json(s.stats) : NULL;
-    const cJSON *check = cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(stats, "domains"), 0), "layout_check");
+    const cJSON *check =
+        cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(stats, "domains"), 0), "layout_check");
     a->check_passed = cJSON_IsTrue(cJSON_GetObjectItem(check, "passed"));
     cJSON_Delete(stats);
     texopt_model *in = st == TEXOPT_OK ? load(s.in) : NULL, *out = in ? load(s.out) : NULL;
@@ -87,8 +87,8 @@ static void check_strip_stays_thin(double strip_height, int twins, double max_st
         strip_areas a;
         int r = optimise_and_measure(&g, methods[m], &a);
         CHECK_MSG(r == 0, "%s failed", methods[m]);
-        printf("%s h %g twins %d: strip %.4g texels (input %.4g), other triangles >= %.3g\n", methods[m],
-               strip_height, twins, a.strip, a.strip_input, a.other_min);
+        printf("%s h %g twins %d: strip %.4g texels (input %.4g), other triangles >= %.3g\n", methods[m], strip_height,
+               twins, a.strip, a.strip_input, a.other_min);
         CHECK_MSG(a.check_passed, "%s: the layout check failed", methods[m]);
         int isometric_sliver = strip_height > 0 && strcmp(methods[m], "arap") == 0;
         CHECK_MSG(isometric_sliver || a.strip <= max_strip, "%s: the strip covers %.4g texels", methods[m], a.strip);

@@ -55,8 +55,8 @@ static void osmesa_render(const texopt_uvraster *r, const texopt_mesh *mesh, siz
     glViewport(0, 0, cam->size, cam->size);
     glMatrixMode(GL_PROJECTION);
     glLoadIdentity();
-    glOrtho(cam->window_x0, cam->window_x0 + cam->window_side, cam->window_y0,
-            cam->window_y0 + cam->window_side, -zr, zr);
+    glOrtho(cam->window_x0, cam->window_x0 + cam->window_side, cam->window_y0, cam->window_y0 + cam->window_side, -zr,
+            zr);
     glMatrixMode(GL_MODELVIEW);
     glLoadIdentity();
     glClearColor(0, 0, 0, 0);
@@ -68,8 +68,7 @@ static void osmesa_render(const texopt_uvraster *r, const texopt_mesh *mesh, siz
             double c[3];
             camera_coords(cam, mesh->position + 3 * (size_t)mesh->point_of[v], c);
             glColor4f((float)(mesh->texel[2 * (size_t)v] / mesh->width),
-                      (float)(mesh->texel[2 * (size_t)v + 1] / mesh->height),
-                      (float)(f + 1) / 256.0f, 1.0f);
+                      (float)(mesh->texel[2 * (size_t)v + 1] / mesh->height), (float)(f + 1) / 256.0f, 1.0f);
             glVertex3d(c[0], c[1], c[2]);
         }
     glEnd();
@@ -134,16 +133,14 @@ TEST(osmesa_and_c_rasteriser_agree_and_are_timed)
     }
     printf("one-ring buffer %dx%d on spot, %zu triangles: C %.4f ms, OSMesa %.4f ms per triangle; "
            "coverage agreement %.4f, same face %.4f, texel difference max %.2e mean %.2e, %zu pixels over 0.01\n",
-           size, size, triangles, 1e3 * c_seconds / triangles, 1e3 * gl_seconds / triangles,
-           (double)both / mine, (double)same_face / both, worst, sum_diff / same_face, far);
+           size, size, triangles, 1e3 * c_seconds / triangles, 1e3 * gl_seconds / triangles, (double)both / mine,
+           (double)same_face / both, worst, sum_diff / same_face, far);
     CHECK(both > 0.98 * mine);
     CHECK(same_face > 0.97 * both);
     /* Float interpolation on both sides: the mean difference is ~1e-3 texel; a handful of
      * pixels (colours clamped at UVs just outside [0, 1]) may differ more. */
-    CHECK_MSG(sum_diff / same_face < 0.005, "texel positions differ by %g on average",
-              sum_diff / same_face);
-    CHECK_MSG(far < same_face / 200, "%zu of %zu pixels differ by more than 0.01 texel", far,
-              same_face);
+    CHECK_MSG(sum_diff / same_face < 0.005, "texel positions differ by %g on average", sum_diff / same_face);
+    CHECK_MSG(far < same_face / 200, "%zu of %zu pixels differ by more than 0.01 texel", far, same_face);
     OSMesaDestroyContext(ctx);
     free(rgba);
     texopt_uvraster_destroy(r);
@@ -161,8 +158,7 @@ static const bench_variant full_variants[] = {
     {"plain BO, 50 iterations", {.iterations = 50, .plain = 1}},
     {"plain BO, 20 iterations", {.iterations = 20, .plain = 1}},
     {"plain BO, 10 iterations", {.iterations = 10, .plain = 1}},
-    {"ours (flat test, iso 8, aniso 8 dirs x 3) + polish of 100 BO iterations",
-     {.iterations = 100, .polish_stop = -1}},
+    {"ours (flat test, iso 8, aniso 8 dirs x 3) + polish of 100 BO iterations", {.iterations = 100, .polish_stop = -1}},
     {"ours + polish <= 100, stop after 3 without 0.1% gain, 4+4",
      {.iterations = 100, .polish_stop = 0.001, .polish_patience = 3, .weight_samples = 4}},
     {"ours + polish <= 100, stop after 2 without 0.1% gain, 4+4 (the defaults)",
@@ -170,21 +166,21 @@ static const bench_variant full_variants[] = {
     {"ours, no BO, 4+4 weight samples", {.iterations = -1, .weight_samples = 4}},
     {"ours, no BO, aniso on 2 dirs (axes, diagonals), 4+4",
      {.iterations = -1, .anisotropic_directions = 2, .weight_samples = 4}},
-    {"ours, no BO, no anisotropic step, 4+4",
-     {.iterations = -1, .anisotropic_steps = -1, .weight_samples = 4}},
+    {"ours, no BO, no anisotropic step, 4+4", {.iterations = -1, .anisotropic_steps = -1, .weight_samples = 4}},
     {"default options (zero-initialised, what the pipeline runs)", {.iterations = 0}},
-    {"ours, no BO, 4+4, 1 anisotropic pass",
-     {.iterations = -1, .weight_samples = 4, .anisotropic_passes = 1}},
-    {"ours, no BO, 4+4, 2 anisotropic passes",
-     {.iterations = -1, .weight_samples = 4, .anisotropic_passes = 2}},
-    {"ours, no BO, 4+4, 4 directions",
-     {.iterations = -1, .weight_samples = 4, .anisotropic_directions = 4}},
+    {"ours, no BO, 4+4, 1 anisotropic pass", {.iterations = -1, .weight_samples = 4, .anisotropic_passes = 1}},
+    {"ours, no BO, 4+4, 2 anisotropic passes", {.iterations = -1, .weight_samples = 4, .anisotropic_passes = 2}},
+    {"ours, no BO, 4+4, 4 directions", {.iterations = -1, .weight_samples = 4, .anisotropic_directions = 4}},
     {"ours, no BO, 2+2 weight samples", {.iterations = -1, .weight_samples = 2}},
     {"ours, no BO, 4+4, iso 6, aniso 6",
      {.iterations = -1, .weight_samples = 4, .isotropic_steps = 6, .anisotropic_steps = 6}},
     {"ours, no BO, 4+4, iso 6, aniso 5, 4 directions, 2 passes",
-     {.iterations = -1, .weight_samples = 4, .isotropic_steps = 6, .anisotropic_steps = 5,
-      .anisotropic_directions = 4, .anisotropic_passes = 2}},
+     {.iterations = -1,
+      .weight_samples = 4,
+      .isotropic_steps = 6,
+      .anisotropic_steps = 5,
+      .anisotropic_directions = 4,
+      .anisotropic_passes = 2}},
     {"defaults, aniso 6", {.anisotropic_steps = 6}},
     {"defaults, iso 6", {.isotropic_steps = 6}},
     {"defaults, 2 anisotropic passes", {.anisotropic_passes = 2}},
@@ -217,8 +213,8 @@ static int variant_wanted(size_t v)
 /* Runs the variants on about `subset` triangles of every domain of the model at `path`,
  * prints a markdown row each and stores the mean objective of the first domain in
  * mean_f[variant] (when not NULL). */
-static void bench_model(const char *path, int subset, const bench_variant *variants, size_t nv,
-                        int selectable, double *mean_f)
+static void bench_model(const char *path, int subset, const bench_variant *variants, size_t nv, int selectable,
+                        double *mean_f)
 {
     char err[256] = "";
     texopt_model *model = NULL;
@@ -245,12 +241,10 @@ static void bench_model(const char *path, int subset, const bench_variant *varia
             if (mean_f && d == 0)
                 mean_f[v] = rep.mean_objective;
             printf("| %s | %d | %zu | %dx%d | %s | %.1f | %.1f | %.2f | %.1f | %.4f | %+.2f%% | %.5f | %.3f |\n",
-                   strrchr(path, '/') ? strrchr(path, '/') + 1 : path, d, rep.optimised,
-                   mesh->width, mesh->height, variants[v].name, 1e3 * rep.cpu_seconds / rep.optimised,
-                   2.0 * rep.optimised / rep.cpu_seconds, rep.seconds,
-                   (double)rep.evaluations / (double)rep.optimised, rep.mean_objective,
-                   100.0 * (rep.mean_objective - reference) / fabs(reference), rep.mean_loss,
-                   rep.mean_area_scale);
+                   strrchr(path, '/') ? strrchr(path, '/') + 1 : path, d, rep.optimised, mesh->width, mesh->height,
+                   variants[v].name, 1e3 * rep.cpu_seconds / rep.optimised, 2.0 * rep.optimised / rep.cpu_seconds,
+                   rep.seconds, (double)rep.evaluations / (double)rep.optimised, rep.mean_objective,
+                   100.0 * (rep.mean_objective - reference) / fabs(reference), rep.mean_loss, rep.mean_area_scale);
             fflush(stdout);
         }
         free(out);
@@ -295,7 +289,6 @@ TEST(stage1_benchmark_on_models)
     char *list = strdup(paths);
     CHECK(list);
     for (char *save = NULL, *p = strtok_r(list, ":", &save); p; p = strtok_r(NULL, ":", &save))
-        bench_model(p, subset, full_variants, sizeof full_variants / sizeof full_variants[0], 1,
-                    NULL);
+        bench_model(p, subset, full_variants, sizeof full_variants / sizeof full_variants[0], 1, NULL);
     free(list);
 }

@@ -114,7 +114,7 @@ TEST(interrupted_jobs_come_back_queued_and_finished_ones_stay)
     CHECK_EQ_INT(store_get(after, b.id, &got), STORE_OK);
     CHECK_EQ_INT(got.state, JOB_SUCCEEDED);
     CHECK_NEAR(got.progress, 1.0, 0);
-    char (*ids)[JOB_ID_LEN + 1];
+    char(*ids)[JOB_ID_LEN + 1];
     CHECK_EQ_INT(store_queued_ids(after, &ids), 1);
     CHECK(strcmp(ids[0], a.id) == 0);
     free(ids);
@@ -168,8 +168,8 @@ TEST(cancel_and_delete_follow_the_state)
     store_job *jr = store_begin(s, r.id, &got, &cancel);
     CHECK(jr != NULL && atomic_load(cancel) == 0);
 
-    CHECK_EQ_INT(store_delete(s, r.id), STORE_CONFLICT);      /* running: not deletable */
-    CHECK_EQ_INT(store_cancel(s, q.id, &got), CANCEL_DONE);     /* queued: canceled now */
+    CHECK_EQ_INT(store_delete(s, r.id), STORE_CONFLICT);    /* running: not deletable */
+    CHECK_EQ_INT(store_cancel(s, q.id, &got), CANCEL_DONE); /* queued: canceled now */
     CHECK_EQ_INT(got.state, JOB_CANCELED);
     CHECK_EQ_INT(store_cancel(s, r.id, &got), CANCEL_REQUESTED); /* running: flag raised */
     CHECK_EQ_INT(got.state, JOB_RUNNING);

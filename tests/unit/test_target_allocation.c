@@ -8,9 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "target_allocation.h"
 #include "fixtures.h"
 #include "mesh.h"
+#include "target_allocation.h"
 #include "test.h"
 
 /* Targets with varied sizes: triangle t gets lambdas from a small table, anisotropic. */

@@ -4,8 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "texel_fit.h"
 #include "test.h"
+#include "texel_fit.h"
 
 static float noise(int x, int y, int c)
 {
@@ -87,8 +87,14 @@ TEST(fit_recovers_texels_from_their_bilinear_samples)
     float *ref = references_of(&truth, sampled);
     CHECK(ref != NULL);
     table tab = {ref, 24, 2};
-    texopt_texel_fit_problem pb = {.image = &x, .sampled = sampled, .reference = table_reference, .user = &tab,
-                                   .ridge = 1e-7, .tolerance = 1e-7, .max_iterations = 300, .threads = 2};
+    texopt_texel_fit_problem pb = {.image = &x,
+                                   .sampled = sampled,
+                                   .reference = table_reference,
+                                   .user = &tab,
+                                   .ridge = 1e-7,
+                                   .tolerance = 1e-7,
+                                   .max_iterations = 300,
+                                   .threads = 2};
     texopt_texel_fit_report rep;
     char err[256] = "";
     CHECK_OK(texopt_texel_fit(&pb, NULL, &rep, err, sizeof err), err);
@@ -115,13 +121,19 @@ TEST(fixed_texels_keep_their_values_and_threads_do_not_change_the_result)
     float *ref = references_of(&truth, sampled);
     CHECK(ref != NULL);
     for (int i = 0; i < 33 * 21; i++) {
-        fixed[i] = (i % 33) < 10; /* left columns fixed */
+        fixed[i] = (i % 33) < 10;   /* left columns fixed */
         sampled[i] = (i / 33) < 15; /* bottom rows have no samples */
     }
     memset(changed, 0, sizeof changed);
     table tab = {ref, 33, 3};
-    texopt_texel_fit_problem pb = {.image = &a, .sampled = sampled, .reference = table_reference, .user = &tab,
-                                   .fixed = fixed, .ridge = 1e-3, .tolerance = 1e-4, .max_iterations = 100,
+    texopt_texel_fit_problem pb = {.image = &a,
+                                   .sampled = sampled,
+                                   .reference = table_reference,
+                                   .user = &tab,
+                                   .fixed = fixed,
+                                   .ridge = 1e-3,
+                                   .tolerance = 1e-4,
+                                   .max_iterations = 100,
                                    .threads = 1};
     char err[256] = "";
     CHECK_OK(texopt_texel_fit(&pb, changed, NULL, err, sizeof err), err);
@@ -159,8 +171,14 @@ TEST(fit_clamps_to_the_unit_range)
     for (int i = 0; i < 64 * TEXOPT_TEXEL_FIT_SAMPLES; i++)
         ref[i] = 1.5f;
     table tab = {ref, 8, 1};
-    texopt_texel_fit_problem pb = {.image = &x, .sampled = sampled, .reference = table_reference, .user = &tab,
-                                   .ridge = 1e-3, .tolerance = 1e-6, .max_iterations = 100, .threads = 1};
+    texopt_texel_fit_problem pb = {.image = &x,
+                                   .sampled = sampled,
+                                   .reference = table_reference,
+                                   .user = &tab,
+                                   .ridge = 1e-3,
+                                   .tolerance = 1e-6,
+                                   .max_iterations = 100,
+                                   .threads = 1};
     char err[256] = "";
     CHECK_OK(texopt_texel_fit(&pb, NULL, NULL, err, sizeof err), err);
     for (int i = 0; i < 64; i++)
@@ -173,8 +191,13 @@ TEST(fit_refuses_bad_arguments)
     texopt_image x;
     CHECK(texopt_image_create(&x, 4, 4, 1, NULL, 0) == TEXOPT_OK);
     uint8_t sampled[16] = {0};
-    texopt_texel_fit_problem pb = {.image = &x, .sampled = sampled, .reference = table_reference, .ridge = 0,
-                                   .tolerance = 1e-3, .max_iterations = 10, .threads = 1};
+    texopt_texel_fit_problem pb = {.image = &x,
+                                   .sampled = sampled,
+                                   .reference = table_reference,
+                                   .ridge = 0,
+                                   .tolerance = 1e-3,
+                                   .max_iterations = 10,
+                                   .threads = 1};
     char err[256] = "";
     CHECK(texopt_texel_fit(&pb, NULL, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     CHECK(strstr(err, "ridge") != NULL);
@@ -199,8 +222,14 @@ TEST(fit_does_not_depend_on_what_freed_memory_held)
     float *ref = references_of(&truth, sampled);
     CHECK(ref != NULL);
     table tab = {ref, 20, 3};
-    texopt_texel_fit_problem pb = {.image = &a, .sampled = sampled, .reference = table_reference, .user = &tab,
-                                   .ridge = 1e-3, .tolerance = 1e-3, .max_iterations = 50, .threads = 1};
+    texopt_texel_fit_problem pb = {.image = &a,
+                                   .sampled = sampled,
+                                   .reference = table_reference,
+                                   .user = &tab,
+                                   .ridge = 1e-3,
+                                   .tolerance = 1e-3,
+                                   .max_iterations = 50,
+                                   .threads = 1};
     char err[256] = "";
     CHECK_OK(texopt_texel_fit(&pb, NULL, NULL, err, sizeof err), err);
     float *junk[8];
@@ -249,9 +278,14 @@ static void fit_step(int bounded, float *lowest, float *highest)
     CHECK(texopt_image_create(&x, 16, 8, 1, NULL, 0) == TEXOPT_OK);
     for (int i = 0; i < 16 * 8; i++)
         x.pixels[i] = 0.5f;
-    texopt_texel_fit_problem pb = {.image = &x, .sampled = sampled, .reference = step_reference,
-                                   .range = bounded ? step_range : NULL, .ridge = 1e-3, .tolerance = 1e-4,
-                                   .max_iterations = 100, .threads = 2};
+    texopt_texel_fit_problem pb = {.image = &x,
+                                   .sampled = sampled,
+                                   .reference = step_reference,
+                                   .range = bounded ? step_range : NULL,
+                                   .ridge = 1e-3,
+                                   .tolerance = 1e-4,
+                                   .max_iterations = 100,
+                                   .threads = 2};
     char err[256] = "";
     CHECK_OK(texopt_texel_fit(&pb, NULL, NULL, err, sizeof err), err);
     *lowest = 1, *highest = 0;

@@ -18,8 +18,8 @@
 #include "test.h"
 #include "texel_share.h"
 
-#define SIZE 40.0   /* texels a side of the primary's square */
-#define ORIGIN 8.0  /* its lower corner */
+#define SIZE 40.0  /* texels a side of the primary's square */
+#define ORIGIN 8.0 /* its lower corner */
 #define PRIMARY_N 5
 
 typedef enum second_kind { MIRRORED, REPEATED, RETRIANGULATED, MIRRORED_RETRIANGULATED, HALF_SHIFTED } second_kind;
@@ -27,8 +27,8 @@ typedef enum second_kind { MIRRORED, REPEATED, RETRIANGULATED, MIRRORED_RETRIANG
 /* An n x n grid of chart `chart` over the square at (x0, ORIGIN), starting at vertex *v and
  * triangle *t. reversed: the UV triangles wind the other way (a mirrored part); jitter
  * moves inner vertices by up to jitter cells; z places the surface in 3D. */
-static void add_grid(texopt_mesh *m, size_t *v, size_t *t, uint32_t chart, int n, double x0,
-                     int reversed, double jitter, double z)
+static void add_grid(texopt_mesh *m, size_t *v, size_t *t, uint32_t chart, int n, double x0, int reversed,
+                     double jitter, double z)
 {
     size_t v0 = *v;
     double cell = SIZE / n;
@@ -143,9 +143,12 @@ static void solve_and_pack(const texopt_mesh *m, const texopt_texel_share *share
     CHECK_EQ_INT(rep.flipped, 0);
     texopt_coverage in;
     CHECK_OK(texopt_coverage_measure(m, NULL, &in, err, sizeof err), err);
-    texopt_budget_request req = {.kind = TEXOPT_BUDGET_RELATIVE_COST, .relative_cost = 0.5,
-                                 .input_cost = (double)in.covered_texels, .input_width = m->width,
-                                 .input_height = m->height, .targets = tg,
+    texopt_budget_request req = {.kind = TEXOPT_BUDGET_RELATIVE_COST,
+                                 .relative_cost = 0.5,
+                                 .input_cost = (double)in.covered_texels,
+                                 .input_width = m->width,
+                                 .input_height = m->height,
+                                 .targets = tg,
                                  .keep_shape = sharing ? share->grouped : NULL};
     CHECK_OK(texopt_budget_fit(sharing ? &share->view : m, solved, &req, packed, br, err, sizeof err), err);
     CHECK_EQ_INT(texopt_count_flipped(m, packed), 0);

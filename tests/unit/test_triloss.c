@@ -1,7 +1,7 @@
 /* test_triloss.c - the one-ring perceptual loss of a candidate Jacobian. */
 #include <math.h>
-#include <string.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "fixtures.h"
 #include "lit_weight.h"
@@ -26,8 +26,7 @@ static int fixture_open_model(loss_fixture *f, texopt_model *model, int viewport
     f->loss = NULL;
     if (!f->model || texopt_mesh_create(&f->mesh, f->model, 0, err, sizeof err) != TEXOPT_OK)
         return 0;
-    return texopt_triloss_create(&f->loss, f->model, f->mesh, viewport, err, sizeof err) ==
-           TEXOPT_OK;
+    return texopt_triloss_create(&f->loss, f->model, f->mesh, viewport, err, sizeof err) == TEXOPT_OK;
 }
 
 static int fixture_open(loss_fixture *f, int n, int tex, const char *pattern, int viewport)
@@ -160,8 +159,8 @@ static texopt_status prepare_repeated_grid(double scale, char *err, size_t err_l
     for (size_t k = 0; k < 2 * m->vertex_count; k++)
         m->uvs[k] = (float)(m->uvs[k] * scale);
     loss_fixture f;
-    texopt_status st = fixture_open_model(&f, m, 64) ? texopt_triloss_prepare(f.loss, 10, err, err_len)
-                                                      : TEXOPT_E_INTERNAL;
+    texopt_status st =
+        fixture_open_model(&f, m, 64) ? texopt_triloss_prepare(f.loss, 10, err, err_len) : TEXOPT_E_INTERNAL;
     fixture_close(&f);
     return st;
 }
@@ -410,8 +409,7 @@ TEST(constant_and_repeated_signals_do_not_change_the_loss)
         double grey = middle_triangle_loss(with_occlusion(-1, -1), J, NULL, 4);
         double one = middle_triangle_loss(with_occlusion(0.3, 0.7), J, NULL, 4);
         double red_green = middle_triangle_loss(with_occlusion(-1, 0.7), J, NULL, 4);
-        CHECK_MSG(grey == one && one == red_green, "J %d: E %.17g %.17g %.17g", k, grey, one,
-                  red_green);
+        CHECK_MSG(grey == one && one == red_green, "J %d: E %.17g %.17g %.17g", k, grey, one, red_green);
         CHECK_MSG(k == 1 || grey > 0.05, "squeezed across the stripes: E = %g", grey);
     }
 }
@@ -433,8 +431,7 @@ TEST(early_stop_solves_the_leading_signal_first_and_agrees_with_the_full_loss)
         CHECK_OK(texopt_triloss_eval(loss, J, INFINITY, &full, err, sizeof err), err);
         CHECK(full > 0.02);
         CHECK_OK(texopt_triloss_eval(loss, J, 2.0 * full, &lead_first, err, sizeof err), err);
-        CHECK_MSG(fabs(lead_first - full) < 1e-9 * full, "J %d: %.17g vs %.17g", k,
-                  lead_first, full);
+        CHECK_MSG(fabs(lead_first - full) < 1e-9 * full, "J %d: %.17g vs %.17g", k, lead_first, full);
         CHECK_OK(texopt_triloss_eval(loss, J, 0.5 * full, &cut, err, sizeof err), err);
         CHECK(cut >= 0.5 * full && cut <= full * (1 + 1e-9));
     }
@@ -502,8 +499,7 @@ TEST(triloss_rejects_bad_input)
     char err[256] = "";
     CHECK(texopt_triloss_prepare(f.loss, 8, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     texopt_triloss *l = NULL;
-    CHECK(texopt_triloss_create(&l, f.model, f.mesh, 1, err, sizeof err) ==
-          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_triloss_create(&l, f.model, f.mesh, 1, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     CHECK(l == NULL);
     texopt_triloss_destroy(NULL);
     fixture_close(&f);

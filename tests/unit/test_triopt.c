@@ -61,8 +61,7 @@ typedef struct stage_run {
     char err[256];
 } stage_run;
 
-static int run_stage(stage_run *r, texopt_model *model, const texopt_triopt_options *opt,
-                     const texopt_monitor *monitor)
+static int run_stage(stage_run *r, texopt_model *model, const texopt_triopt_options *opt, const texopt_monitor *monitor)
 {
     memset(r, 0, sizeof *r);
     r->model = model;
@@ -71,8 +70,7 @@ static int run_stage(stage_run *r, texopt_model *model, const texopt_triopt_opti
     r->out = calloc(r->mesh->triangle_count, sizeof *r->out);
     if (!r->out)
         return 0;
-    r->status = texopt_triopt_run(model, r->mesh, opt, r->out, &r->report, monitor, r->err,
-                                  sizeof r->err);
+    r->status = texopt_triopt_run(model, r->mesh, opt, r->out, &r->report, monitor, r->err, sizeof r->err);
     return 1;
 }
 
@@ -273,8 +271,8 @@ TEST(sampled_weights_of_a_flat_texture_are_zero)
     CHECK_OK(r.status, r.err);
     for (size_t t = 4; t < 12; t++) {
         CHECK(r.out[t].evaluations > 16);
-        CHECK_MSG(r.out[t].w_rotation < 1e-12 && r.out[t].w_stretch < 1e-12,
-                  "triangle %zu: wR %g wS %g", t, r.out[t].w_rotation, r.out[t].w_stretch);
+        CHECK_MSG(r.out[t].w_rotation < 1e-12 && r.out[t].w_stretch < 1e-12, "triangle %zu: wR %g wS %g", t,
+                  r.out[t].w_rotation, r.out[t].w_stretch);
     }
     close_stage(&r);
     /* and the shortcut takes it after one evaluation */
@@ -330,8 +328,7 @@ TEST(stripes_squeeze_along_the_grid_with_the_quarter_turn_symmetry)
     CHECK_MSG(ha >= 0.75, "horizontal stripes: %.2f squeezed along x", ha);
     CHECK_MSG(varea < 0.3 && harea < 0.3, "areas %g %g", varea, harea);
     CHECK_MSG(fabs(varea - harea) < 0.05, "quarter turn changes the area: %g vs %g", varea, harea);
-    CHECK_MSG(darea > 1.5 * varea && darea > 1.5 * harea, "diagonal %g vs %g, %g", darea, varea,
-              harea);
+    CHECK_MSG(darea > 1.5 * varea && darea > 1.5 * harea, "diagonal %g vs %g, %g", darea, varea, harea);
     close_stage(&vertical);
     close_stage(&horizontal);
     close_stage(&diagonal);
@@ -382,9 +379,8 @@ TEST(few_weight_samples_agree_with_dense_sampling)
     for (int stretch = 0; stretch < 2; stretch++) {
         double ratio = weight_sum(&a, stretch) / weight_sum(&b, stretch);
         printf("%s weight, 4 vs 32 samples: sum ratio %.3f\n", stretch ? "stretch" : "rotation", ratio);
-        CHECK_MSG(weight_sum(&b, stretch) > 0.0 && ratio > 1.0 / 1.6 && ratio < 1.6,
-                  "%s: sums %g vs %g", stretch ? "stretch" : "rotation", weight_sum(&a, stretch),
-                  weight_sum(&b, stretch));
+        CHECK_MSG(weight_sum(&b, stretch) > 0.0 && ratio > 1.0 / 1.6 && ratio < 1.6, "%s: sums %g vs %g",
+                  stretch ? "stretch" : "rotation", weight_sum(&a, stretch), weight_sum(&b, stretch));
     }
     close_stage(&a);
     close_stage(&b);
@@ -468,8 +464,7 @@ TEST(degenerate_triangles_keep_the_identity)
     const uint32_t tris[] = {0, 1, 2, 3, 4, 5};
     texopt_triopt_options opt = {.iterations = 4, .threads = 1};
     stage_run r;
-    CHECK(run_stage(&r, fixture_model_from_arrays(pos, uv, 6, tris, 2, 32, 32, "checker"), &opt,
-                    NULL));
+    CHECK(run_stage(&r, fixture_model_from_arrays(pos, uv, 6, tris, 2, 32, 32, "checker"), &opt, NULL));
     CHECK_OK(r.status, r.err);
     CHECK(r.mesh->flags[1] & (TEXOPT_TRI_DEGENERATE_3D | TEXOPT_TRI_DEGENERATE_UV));
     CHECK_EQ_INT(r.out[1].evaluations, 0);
@@ -482,8 +477,9 @@ TEST(degenerate_triangles_keep_the_identity)
 
 TEST(triopt_rejects_bad_options)
 {
-    texopt_triopt_options bad[] = {{.epsilon = -0.5}, {.lambda_min = 1.5}, {.iterations = -3}, {.iterations = -1, .plain = 1},
-                                   {.viewport = 4}, {.weight_samples = 1000}};
+    texopt_triopt_options bad[] = {{.epsilon = -0.5},  {.lambda_min = 1.5},
+                                   {.iterations = -3}, {.iterations = -1, .plain = 1},
+                                   {.viewport = 4},    {.weight_samples = 1000}};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         stage_run r;
         CHECK(run_stage(&r, fixture_textured_quad(16, "flat"), &bad[i], NULL));
@@ -492,6 +488,5 @@ TEST(triopt_rejects_bad_options)
         close_stage(&r);
     }
     char err[64];
-    CHECK(texopt_triopt_run(NULL, NULL, NULL, NULL, NULL, NULL, err, sizeof err) ==
-          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_triopt_run(NULL, NULL, NULL, NULL, NULL, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
 }

@@ -25,9 +25,8 @@ static void check_model(const char *file, uint32_t stride, int iterations)
     size_t searched = 0;
     for (size_t t = 0; t < mesh->triangle_count; t++) {
         const texopt_triangle_target *o = &out[t];
-        CHECK_MSG(isfinite(o->alpha) && isfinite(o->beta) && isfinite(o->lambda1) &&
-                      isfinite(o->lambda2) && isfinite(o->loss) && isfinite(o->w_rotation) &&
-                      isfinite(o->w_stretch),
+        CHECK_MSG(isfinite(o->alpha) && isfinite(o->beta) && isfinite(o->lambda1) && isfinite(o->lambda2) &&
+                      isfinite(o->loss) && isfinite(o->w_rotation) && isfinite(o->w_stretch),
                   "%s triangle %zu has a non-finite field", file, t);
         CHECK(o->lambda1 >= 0.1 - 1e-12 && o->lambda1 <= 1.0 + 1e-12);
         CHECK(o->lambda2 >= 0.1 - 1e-12 && o->lambda2 <= 1.0 + 1e-12);
@@ -40,9 +39,8 @@ static void check_model(const char *file, uint32_t stride, int iterations)
     CHECK_EQ_INT(searched, rep.optimised);
     CHECK(rep.optimised >= mesh->triangle_count / stride - 2);
     CHECK(isfinite(rep.mean_objective) && rep.mean_area_scale > 0 && rep.mean_area_scale <= 1);
-    printf("%s: %zu triangles in %.2f s (%.1f/s), mean E %.5f, mean l1l2 %.3f, mean f %.3f\n",
-           file, rep.optimised, rep.seconds, rep.optimised / rep.seconds, rep.mean_loss,
-           rep.mean_area_scale, rep.mean_objective);
+    printf("%s: %zu triangles in %.2f s (%.1f/s), mean E %.5f, mean l1l2 %.3f, mean f %.3f\n", file, rep.optimised,
+           rep.seconds, rep.optimised / rep.seconds, rep.mean_loss, rep.mean_area_scale, rep.mean_objective);
     free(out);
     texopt_mesh_destroy(mesh);
     texopt_model_destroy(model);

@@ -19,8 +19,7 @@ static void pixel_to_world(const texopt_camera *cam, int i, int j, double out[3]
 }
 
 /* Barycentric coordinates of 2D point p in triangle (a, b, c). */
-static void barycentric2(const double *a, const double *b, const double *c, const double *p,
-                         double w[3])
+static void barycentric2(const double *a, const double *b, const double *c, const double *p, double w[3])
 {
     double d = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
     w[1] = ((p[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (p[1] - a[1])) / d;
@@ -91,8 +90,8 @@ TEST(uvraster_each_face_uses_its_own_uvs_across_a_seam)
                 const uint32_t *tri = mesh->triangle + 3 * (size_t)f;
                 double world[3], w[3];
                 pixel_to_world(&r->camera, i, j, world);
-                barycentric2(mesh->texel + 2 * tri[0], mesh->texel + 2 * tri[1],
-                             mesh->texel + 2 * tri[2], r->texel + 2 * q, w);
+                barycentric2(mesh->texel + 2 * tri[0], mesh->texel + 2 * tri[1], mesh->texel + 2 * tri[2],
+                             r->texel + 2 * q, w);
                 CHECK(w[0] > -1e-9 && w[1] > -1e-9 && w[2] > -1e-9);
                 double p[3] = {0, 0, 0};
                 for (int k = 0; k < 3; k++)
@@ -113,12 +112,10 @@ TEST(uvraster_each_face_uses_its_own_uvs_across_a_seam)
  * with its far corners at hover[0..3] (x, y), face 2 lies below it (z = -0.5). */
 static texopt_model *hover_model(const float hover[4])
 {
-    const float pos[] = {0, 0, 0,     1, 0, 0,       0, 1, 0,
-                         0, 0, 0,     hover[0], hover[1], 0.5f, hover[2], hover[3], 0.5f,
-                         0, 0, 0,     0.5f, 0.1f, -0.5f, 0.1f, 0.5f, -0.5f};
-    const float uv[] = {0.0f, 0.0f, 0.3f, 0.0f, 0.0f, 0.3f,
-                        0.5f, 0.5f, 0.8f, 0.5f, 0.5f, 0.8f,
-                        0.0f, 0.6f, 0.3f, 0.6f, 0.0f, 0.9f};
+    const float pos[] = {0,    0,        0,        1,    0, 0, 0, 1,    0,    0,     0,    0,    hover[0], hover[1],
+                         0.5f, hover[2], hover[3], 0.5f, 0, 0, 0, 0.5f, 0.1f, -0.5f, 0.1f, 0.5f, -0.5f};
+    const float uv[] = {0.0f, 0.0f, 0.3f, 0.0f, 0.0f, 0.3f, 0.5f, 0.5f, 0.8f,
+                        0.5f, 0.5f, 0.8f, 0.0f, 0.6f, 0.3f, 0.6f, 0.0f, 0.9f};
     const uint32_t tris[] = {0, 1, 2, 3, 4, 5, 6, 7, 8};
     return fixture_model_from_arrays(pos, uv, 9, tris, 3, 64, 64, "flat");
 }
@@ -215,8 +212,7 @@ TEST(uvraster_rejects_bad_arguments)
 
 /* Screen distance from the centre of pixel q to triangle t's projection: 0 inside (by its
  * barycentric coordinates), else to the nearest edge. */
-static double pixel_distance_to_triangle(const texopt_uvraster *r, const texopt_mesh *mesh,
-                                         uint32_t t, size_t q)
+static double pixel_distance_to_triangle(const texopt_uvraster *r, const texopt_mesh *mesh, uint32_t t, size_t q)
 {
     double s[3][2], z;
     for (int k = 0; k < 3; k++) {
@@ -232,8 +228,7 @@ static double pixel_distance_to_triangle(const texopt_uvraster *r, const texopt_
     for (int k = 0; k < 3; k++) {
         const double *a = s[k], *b = s[(k + 1) % 3];
         double e[2] = {b[0] - a[0], b[1] - a[1]};
-        double u = fmin(1, fmax(0, ((p[0] - a[0]) * e[0] + (p[1] - a[1]) * e[1]) /
-                                       (e[0] * e[0] + e[1] * e[1])));
+        double u = fmin(1, fmax(0, ((p[0] - a[0]) * e[0] + (p[1] - a[1]) * e[1]) / (e[0] * e[0] + e[1] * e[1])));
         best = fmin(best, hypot(p[0] - a[0] - u * e[0], p[1] - a[1] - u * e[1]));
     }
     return best;

@@ -4,9 +4,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "window_bake.h"
 #include "sample.h"
 #include "test.h"
+#include "window_bake.h"
 
 static double pattern(double x, double y, int channel)
 {
@@ -31,9 +31,9 @@ TEST(texture_sampled_at_its_own_texel_centres_is_reconstructed_exactly)
     texopt_bake_workspace *ws = texopt_bake_workspace_create(W * H, 4);
     CHECK(ws != NULL);
     char err[256] = "";
-    CHECK_OK(texopt_bake_fit(ws, W * H, pos, ref, C, W, H, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP,
-                             1e-9, out, err, sizeof err),
-             err);
+    CHECK_OK(
+        texopt_bake_fit(ws, W * H, pos, ref, C, W, H, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 1e-9, out, err, sizeof err),
+        err);
     CHECK_EQ_INT(texopt_bake_last_texel_count(ws), W * H);
     for (int k = 0; k < C * W * H; k++)
         CHECK_NEAR(out[k], ref[k], 1e-6);
@@ -41,9 +41,8 @@ TEST(texture_sampled_at_its_own_texel_centres_is_reconstructed_exactly)
 }
 
 /* Dense normal equations solved by textbook Cholesky: the independent check. */
-static int dense_reference_fit(int pixels, const double *pos, const float *ref, int channels,
-                               int w, int h, texopt_wrap ws_, texopt_wrap wt, double ridge,
-                               double *out)
+static int dense_reference_fit(int pixels, const double *pos, const float *ref, int channels, int w, int h,
+                               texopt_wrap ws_, texopt_wrap wt, double ridge, double *out)
 {
     int texels = w * h;
     double *m = calloc((size_t)texels * texels, sizeof *m);
@@ -129,8 +128,8 @@ static void reference_on_screen(int side, int channels, float *ref)
                 ref[(j * side + i) * channels + c] = (float)pattern(i + 0.5, j + 0.5, c);
 }
 
-static void check_against_dense(texopt_wrap wrap, const double jac[4], double tx, double ty,
-                                double ridge, int tex_w, int tex_h)
+static void check_against_dense(texopt_wrap wrap, const double jac[4], double tx, double ty, double ridge, int tex_w,
+                                int tex_h)
 {
     enum { S = 20, C = 2 };
     double pos[2 * S * S], expect[C * S * S];
@@ -140,9 +139,7 @@ static void check_against_dense(texopt_wrap wrap, const double jac[4], double tx
     texopt_bake_workspace *ws = texopt_bake_workspace_create(S * S, C);
     CHECK(ws != NULL);
     char err[256] = "";
-    CHECK_OK(texopt_bake_fit(ws, S * S, pos, ref, C, tex_w, tex_h, wrap, wrap, ridge, out, err,
-                             sizeof err),
-             err);
+    CHECK_OK(texopt_bake_fit(ws, S * S, pos, ref, C, tex_w, tex_h, wrap, wrap, ridge, out, err, sizeof err), err);
     CHECK(dense_reference_fit(S * S, pos, ref, C, tex_w, tex_h, wrap, wrap, ridge, expect));
     for (int k = 0; k < C * S * S; k++)
         CHECK_NEAR(out[k], expect[k], 2e-5);
@@ -175,8 +172,8 @@ static double bake_rms_error(double scale, int *texels)
     reference_on_screen(S, C, ref);
     texopt_bake_workspace *ws = texopt_bake_workspace_create(S * S, C);
     char err[256] = "";
-    if (!ws || texopt_bake_fit(ws, S * S, pos, ref, C, 256, 256, TEXOPT_WRAP_CLAMP,
-                               TEXOPT_WRAP_CLAMP, 1e-6, out, err, sizeof err) != TEXOPT_OK) {
+    if (!ws || texopt_bake_fit(ws, S * S, pos, ref, C, 256, 256, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 1e-6, out, err,
+                               sizeof err) != TEXOPT_OK) {
         texopt_bake_workspace_destroy(ws);
         return NAN;
     }
@@ -218,8 +215,8 @@ static texopt_status pattern_texture(texopt_image *tex, int w, int h, char *err,
 
 /* A reference in the range of A: the texture looked up at the side x side screen positions
  * p = J q + t, which are written to pos. */
-static void reference_through(const texopt_image *tex, texopt_wrap wrap, int side,
-                              const double jac[4], double tx, double ty, double *pos, float *ref)
+static void reference_through(const texopt_image *tex, texopt_wrap wrap, int side, const double jac[4], double tx,
+                              double ty, double *pos, float *ref)
 {
     screen_positions(side, jac, tx, ty, pos);
     for (int q = 0; q < side * side; q++)
@@ -239,8 +236,8 @@ TEST(bilinear_reference_in_the_range_of_a_is_reproduced)
     const double jac[4] = {0.3, 0.05, -0.04, 0.31};
     reference_through(&tex, TEXOPT_WRAP_REPEAT, S, jac, 2.0, 3.0, pos, ref);
     texopt_bake_workspace *ws = texopt_bake_workspace_create(S * S, 1);
-    CHECK_OK(texopt_bake_fit(ws, S * S, pos, ref, 1, W, H, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT,
-                             1e-9, out, err, sizeof err),
+    CHECK_OK(texopt_bake_fit(ws, S * S, pos, ref, 1, W, H, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 1e-9, out, err,
+                             sizeof err),
              err);
     for (int q = 0; q < S * S; q++)
         CHECK_NEAR(out[q], ref[q], 1e-5);
@@ -269,15 +266,13 @@ TEST(every_factorisation_path_reproduces_a_bilinear_reference)
         const double jac[4] = {scales[i], 0.02, -0.03, scales[i]};
         screen_positions(S, jac, 10.0, 12.0, pos);
         for (int q = 0; q < S * S; q++)
-            texopt_sample_bilinear(&tex, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, pos[2 * q],
-                                   pos[2 * q + 1], ref + 2 * q);
+            texopt_sample_bilinear(&tex, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, pos[2 * q], pos[2 * q + 1], ref + 2 * q);
         for (int solver = TEXOPT_BAKE_SOLVER_AUTO; solver <= TEXOPT_BAKE_SOLVER_LAPACK; solver++) {
             texopt_bake_workspace_set_solver(ws, (texopt_bake_solver)solver);
-            CHECK_OK(texopt_bake_fit(ws, S * S, pos, ref, 2, W, H, TEXOPT_WRAP_CLAMP,
-                                     TEXOPT_WRAP_CLAMP, 1e-9, out, err, sizeof err),
+            CHECK_OK(texopt_bake_fit(ws, S * S, pos, ref, 2, W, H, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 1e-9, out, err,
+                                     sizeof err),
                      err);
-            CHECK(texopt_bake_last_texel_count(ws) >
-                  (int)(0.9 * (S * scales[i]) * (S * scales[i])));
+            CHECK(texopt_bake_last_texel_count(ws) > (int)(0.9 * (S * scales[i]) * (S * scales[i])));
             for (int k = 0; k < 2 * S * S; k++) {
                 CHECK_NEAR(out[k], ref[k], 1e-5);
                 if (solver == TEXOPT_BAKE_SOLVER_AUTO)
@@ -307,13 +302,12 @@ TEST(wide_and_tall_patches_are_banded_along_their_short_side)
     const double shapes[2][4] = {{1.0, 0.0, 0.0, 0.125}, {0.125, 0.0, 0.0, 1.0}};
     for (int i = 0; i < 2; i++) {
         reference_through(&tex, TEXOPT_WRAP_CLAMP, S, shapes[i], 10.0, 12.0, pos, ref);
-        CHECK_OK(texopt_bake_fit(ws, S * S, pos, ref, 1, W, H, TEXOPT_WRAP_CLAMP,
-                                 TEXOPT_WRAP_CLAMP, 1e-9, out, err, sizeof err),
+        CHECK_OK(texopt_bake_fit(ws, S * S, pos, ref, 1, W, H, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 1e-9, out, err,
+                                 sizeof err),
                  err);
         CHECK(texopt_bake_last_side(ws) == TEXOPT_BAKE_SIDE_TEXEL);
         CHECK_EQ_INT(texopt_bake_last_texel_count(ws), 65 * 10);
-        CHECK_MSG(texopt_bake_last_bandwidth(ws) <= 11, "shape %d: bandwidth %d", i,
-                  texopt_bake_last_bandwidth(ws));
+        CHECK_MSG(texopt_bake_last_bandwidth(ws) <= 11, "shape %d: bandwidth %d", i, texopt_bake_last_bandwidth(ws));
         for (int q = 0; q < S * S; q++)
             CHECK_NEAR(out[q], ref[q], 1e-5);
     }
@@ -335,16 +329,16 @@ TEST(scattered_footprints_over_a_huge_texture_fit_each_pixel)
     }
     texopt_bake_workspace *ws = texopt_bake_workspace_create(P, 1);
     char err[256] = "";
-    CHECK_OK(texopt_bake_fit(ws, P, pos, ref, 1, 4096, 4096, TEXOPT_WRAP_REPEAT,
-                             TEXOPT_WRAP_REPEAT, 1e-9, out, err, sizeof err),
+    CHECK_OK(texopt_bake_fit(ws, P, pos, ref, 1, 4096, 4096, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 1e-9, out, err,
+                             sizeof err),
              err);
     CHECK_EQ_INT(texopt_bake_last_texel_count(ws), 4 * P);
     for (int q = 0; q < P; q++)
         CHECK_NEAR(out[q], ref[q], 1e-6);
     /* The workspace is reusable: a second, small fit after the scattered one. */
-    CHECK_OK(texopt_bake_fit(ws, 1, pos, ref, 1, 8, 8, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 1e-9,
-                             out, err, sizeof err),
-             err);
+    CHECK_OK(
+        texopt_bake_fit(ws, 1, pos, ref, 1, 8, 8, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 1e-9, out, err, sizeof err),
+        err);
     CHECK_NEAR(out[0], ref[0], 1e-6);
     texopt_bake_workspace_destroy(ws);
 }
@@ -365,8 +359,8 @@ static void multi_channel_fit_equals_single_fits(int channels)
     texopt_bake_workspace *single = texopt_bake_workspace_create(S * S, 1);
     CHECK(multi != NULL && single != NULL);
     char err[256] = "";
-    CHECK_OK(texopt_bake_fit(multi, S * S, pos, ref, C, 64, 64, TEXOPT_WRAP_REPEAT,
-                             TEXOPT_WRAP_REPEAT, 1e-6, out, err, sizeof err),
+    CHECK_OK(texopt_bake_fit(multi, S * S, pos, ref, C, 64, 64, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 1e-6, out, err,
+                             sizeof err),
              err);
     int texels = texopt_bake_last_texel_count(multi);
     CHECK(texels > 100);
@@ -374,8 +368,8 @@ static void multi_channel_fit_equals_single_fits(int channels)
     for (int c = 0; c < C; c++) {
         for (int q = 0; q < S * S; q++)
             one_ref[q] = ref[q * C + c];
-        CHECK_OK(texopt_bake_fit(single, S * S, pos, one_ref, 1, 64, 64, TEXOPT_WRAP_REPEAT,
-                                 TEXOPT_WRAP_REPEAT, 1e-6, one_out, err, sizeof err),
+        CHECK_OK(texopt_bake_fit(single, S * S, pos, one_ref, 1, 64, 64, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 1e-6,
+                                 one_out, err, sizeof err),
                  err);
         CHECK_EQ_INT(texopt_bake_last_texel_count(single), texels);
         for (int q = 0; q < S * S; q++) {
@@ -400,15 +394,15 @@ TEST(multi_channel_fits_equal_separate_single_channel_fits)
 /* A minified patch (2.7 texels a pixel) has ~4 unknowns per pixel: the pixel-side system
  * A A^T + r I must give the texel side's reconstruction (push-through identity), and both
  * the dense textbook solve's. */
-static void fit_on_side(texopt_bake_side side, const double *pos, const float *ref, int pixels,
-                        int channels, double ridge, float *out, texopt_bake_side *used)
+static void fit_on_side(texopt_bake_side side, const double *pos, const float *ref, int pixels, int channels,
+                        double ridge, float *out, texopt_bake_side *used)
 {
     texopt_bake_workspace *ws = texopt_bake_workspace_create(pixels, channels);
     CHECK(ws != NULL);
     texopt_bake_workspace_set_side(ws, side);
     char err[256] = "";
-    CHECK_OK(texopt_bake_fit(ws, pixels, pos, ref, channels, 96, 96, TEXOPT_WRAP_CLAMP,
-                             TEXOPT_WRAP_CLAMP, ridge, out, err, sizeof err),
+    CHECK_OK(texopt_bake_fit(ws, pixels, pos, ref, channels, 96, 96, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, ridge, out,
+                             err, sizeof err),
              err);
     CHECK(texopt_bake_last_texel_count(ws) > 2 * pixels);
     *used = texopt_bake_last_side(ws);
@@ -432,8 +426,7 @@ TEST(pixel_side_solve_equals_texel_side_on_a_minified_patch)
         CHECK(used_texel == TEXOPT_BAKE_SIDE_TEXEL);
         CHECK(used_pixel == TEXOPT_BAKE_SIDE_PIXEL);
         CHECK(used_auto == TEXOPT_BAKE_SIDE_PIXEL);
-        CHECK(dense_reference_fit(S * S, pos, ref, C, 96, 96, TEXOPT_WRAP_CLAMP,
-                                  TEXOPT_WRAP_CLAMP, ridges[r], expect));
+        CHECK(dense_reference_fit(S * S, pos, ref, C, 96, 96, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, ridges[r], expect));
         double worst = 0.0, residual = 0.0;
         for (int k = 0; k < C * S * S; k++) {
             worst = fmax(worst, fabs((double)pixel_out[k] - texel_out[k]));
@@ -458,8 +451,7 @@ TEST(refit_reuses_the_factorisation_and_equals_a_new_fit)
      * fit. Magnified (texel side) and minified (pixel side) patches. */
     enum { S = 20, C = 4 };
     double pos[2 * S * S];
-    float ref[C * S * S], first[2 * S * S], second[2 * S * S], out[2 * S * S],
-        expect[2 * S * S];
+    float ref[C * S * S], first[2 * S * S], second[2 * S * S], out[2 * S * S], expect[2 * S * S];
     const double jacs[2][4] = {{0.6, 0.2, -0.1, 0.7}, {2.6, 0.7, -0.6, 2.5}};
     const texopt_bake_side sides[2] = {TEXOPT_BAKE_SIDE_TEXEL, TEXOPT_BAKE_SIDE_PIXEL};
     reference_on_screen(S, C, ref);
@@ -475,12 +467,14 @@ TEST(refit_reuses_the_factorisation_and_equals_a_new_fit)
         texopt_bake_workspace *fresh = texopt_bake_workspace_create(S * S, C);
         CHECK(ws && fresh);
         CHECK(texopt_bake_refit(ws, second, 2, out, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
-        CHECK_OK(texopt_bake_fit(ws, S * S, pos, first, 2, 96, 96, TEXOPT_WRAP_CLAMP,
-                                 TEXOPT_WRAP_CLAMP, 1e-6, out, err, sizeof err), err);
+        CHECK_OK(texopt_bake_fit(ws, S * S, pos, first, 2, 96, 96, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 1e-6, out, err,
+                                 sizeof err),
+                 err);
         CHECK(texopt_bake_last_side(ws) == sides[v]);
         CHECK_OK(texopt_bake_refit(ws, second, 2, out, err, sizeof err), err);
-        CHECK_OK(texopt_bake_fit(fresh, S * S, pos, second, 2, 96, 96, TEXOPT_WRAP_CLAMP,
-                                 TEXOPT_WRAP_CLAMP, 1e-6, expect, err, sizeof err), err);
+        CHECK_OK(texopt_bake_fit(fresh, S * S, pos, second, 2, 96, 96, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 1e-6,
+                                 expect, err, sizeof err),
+                 err);
         CHECK(memcmp(out, expect, sizeof(float) * 2 * S * S) == 0);
         double moved = 0.0;
         for (int k = 0; k < 2 * S * S; k++)
@@ -490,11 +484,11 @@ TEST(refit_reuses_the_factorisation_and_equals_a_new_fit)
         for (int k = 0; k < S * S; k++)
             one[k] = ref[k * C + 3];
         CHECK_OK(texopt_bake_refit(ws, one, 1, one_out, err, sizeof err), err);
-        CHECK_OK(texopt_bake_fit(fresh, S * S, pos, one, 1, 96, 96, TEXOPT_WRAP_CLAMP,
-                                 TEXOPT_WRAP_CLAMP, 1e-6, one_expect, err, sizeof err), err);
+        CHECK_OK(texopt_bake_fit(fresh, S * S, pos, one, 1, 96, 96, TEXOPT_WRAP_CLAMP, TEXOPT_WRAP_CLAMP, 1e-6,
+                                 one_expect, err, sizeof err),
+                 err);
         CHECK(memcmp(one_out, one_expect, sizeof one_out) == 0);
-        CHECK(texopt_bake_refit(ws, one, C + 1, one_out, err, sizeof err) ==
-              TEXOPT_E_INVALID_ARGUMENT);
+        CHECK(texopt_bake_refit(ws, one, C + 1, one_out, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
         texopt_bake_workspace_destroy(ws);
         texopt_bake_workspace_destroy(fresh);
     }
@@ -506,19 +500,13 @@ TEST(bake_rejects_bad_arguments_with_messages)
     double pos[2] = {0.5, 0.5};
     float ref[3] = {0}, out[3];
     char err[256] = "";
-    CHECK(texopt_bake_fit(ws, 5, pos, ref, 1, 4, 4, 0, 0, 1e-6, out, err, sizeof err) ==
-          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_bake_fit(ws, 5, pos, ref, 1, 4, 4, 0, 0, 1e-6, out, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     CHECK(strstr(err, "5 pixels") != NULL);
-    CHECK(texopt_bake_fit(ws, 1, pos, ref, 4, 4, 4, 0, 0, 1e-6, out, err, sizeof err) ==
-          TEXOPT_E_INVALID_ARGUMENT);
-    CHECK(texopt_bake_fit(ws, 1, pos, ref, 1, 4, 4, 0, 0, 0.0, out, err, sizeof err) ==
-          TEXOPT_E_INVALID_ARGUMENT);
-    CHECK(texopt_bake_fit(ws, 1, pos, ref, 1, 0, 4, 0, 0, 1e-6, out, err, sizeof err) ==
-          TEXOPT_E_INVALID_ARGUMENT);
-    CHECK(texopt_bake_fit(ws, 1, NULL, ref, 1, 4, 4, 0, 0, 1e-6, out, err, sizeof err) ==
-          TEXOPT_E_INVALID_ARGUMENT);
-    CHECK(texopt_bake_fit(NULL, 1, pos, ref, 1, 4, 4, 0, 0, 1e-6, out, err, sizeof err) ==
-          TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_bake_fit(ws, 1, pos, ref, 4, 4, 4, 0, 0, 1e-6, out, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_bake_fit(ws, 1, pos, ref, 1, 4, 4, 0, 0, 0.0, out, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_bake_fit(ws, 1, pos, ref, 1, 0, 4, 0, 0, 1e-6, out, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_bake_fit(ws, 1, NULL, ref, 1, 4, 4, 0, 0, 1e-6, out, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(texopt_bake_fit(NULL, 1, pos, ref, 1, 4, 4, 0, 0, 1e-6, out, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     CHECK(texopt_bake_fit(ws, 0, pos, ref, 1, 4, 4, 0, 0, 1e-6, out, NULL, 0) == TEXOPT_OK);
     CHECK(texopt_bake_workspace_create(0, 1) == NULL);
     CHECK(texopt_bake_workspace_create(4, TEXOPT_BAKE_MAX_CHANNELS + 1) == NULL);

@@ -11,7 +11,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-namespace {
+namespace
+{
 
 std::string directory_of(const std::string &path)
 {
@@ -51,16 +52,16 @@ void sync_directory(const std::string &dir)
 
 } // namespace
 
-extern "C" texopt_status texopt_write_file_atomic(const char *path, const void *bytes, size_t len,
-                                                  char *err, size_t err_len)
+extern "C" texopt_status texopt_write_file_atomic(const char *path, const void *bytes, size_t len, char *err,
+                                                  size_t err_len)
 {
     if (!path || !*path || (!bytes && len > 0))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "no path or no bytes to write");
     std::string tmpl = std::string(path) + ".tmp.XXXXXX";
     int fd = mkstemp(&tmpl[0]);
     if (fd < 0)
-        return texopt_fail(err, err_len, TEXOPT_E_IO, "cannot create a temporary file for %s: %s",
-                           path, strerror(errno));
+        return texopt_fail(err, err_len, TEXOPT_E_IO, "cannot create a temporary file for %s: %s", path,
+                           strerror(errno));
     bool ok = write_all(fd, static_cast<const unsigned char *>(bytes), len);
     int saved = errno;
     if (ok && fsync(fd) != 0) {

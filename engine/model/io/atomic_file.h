@@ -19,8 +19,7 @@ extern "C" {
 
 /* Replaces the file at path with len bytes (bytes may be NULL when len is 0). On failure the
  * old file, if any, is untouched and no temporary file is left behind (TEXOPT_E_IO). */
-texopt_status texopt_write_file_atomic(const char *path, const void *bytes, size_t len, char *err,
-                                       size_t err_len);
+texopt_status texopt_write_file_atomic(const char *path, const void *bytes, size_t len, char *err, size_t err_len);
 
 #ifdef __cplusplus
 }

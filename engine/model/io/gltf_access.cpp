@@ -6,22 +6,19 @@
 #include <cmath>
 #include <cstring>
 
-namespace {
+namespace
+{
 
 size_t component_bytes(int component_type)
 {
     switch (component_type) {
     case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-        return 1;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
     case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-        return 2;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-    case TINYGLTF_COMPONENT_TYPE_FLOAT:
-        return 4;
-    default:
-        return 0;
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
+    default: return 0;
     }
 }
 
@@ -81,8 +78,7 @@ double component_value(const unsigned char *p, int component_type, bool normaliz
         memcpy(&f, p, 4);
         return f;
     }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-        return normalized ? p[0] / 255.0 : p[0];
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? p[0] / 255.0 : p[0];
     case TINYGLTF_COMPONENT_TYPE_BYTE: {
         double v = (int8_t)p[0];
         return normalized ? std::fmax(v / 127.0, -1.0) : v;
@@ -115,34 +111,34 @@ size_t gltf_accessor_count(const tinygltf::Model &m, int index)
 texopt_status gltf_check_buffer_view(const tinygltf::Model &m, int index, char *err, size_t err_len)
 {
     if (index < 0 || (size_t)index >= m.bufferViews.size())
-        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "buffer view %d does not exist (%zu views)",
-                           index, m.bufferViews.size());
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "buffer view %d does not exist (%zu views)", index,
+                           m.bufferViews.size());
     const tinygltf::BufferView &bv = m.bufferViews[(size_t)index];
     if (bv.buffer < 0 || (size_t)bv.buffer >= m.buffers.size())
-        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "buffer view %d: buffer %d does not exist",
-                           index, bv.buffer);
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "buffer view %d: buffer %d does not exist", index,
+                           bv.buffer);
     size_t size = m.buffers[(size_t)bv.buffer].data.size();
     if (!fits(bv.byteOffset, bv.byteLength, size))
         return texopt_fail(err, err_len, TEXOPT_E_MALFORMED,
-                           "buffer view %d: bytes %zu..%zu lie past the end of buffer %d (%zu bytes)",
-                           index, bv.byteOffset, bv.byteOffset + bv.byteLength, bv.buffer, size);
+                           "buffer view %d: bytes %zu..%zu lie past the end of buffer %d (%zu bytes)", index,
+                           bv.byteOffset, bv.byteOffset + bv.byteLength, bv.buffer, size);
     if (bv.byteStride != 0 && (bv.byteStride < 4 || bv.byteStride > 252 || bv.byteStride % 4 != 0))
-        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "buffer view %d: byteStride %zu is not valid",
-                           index, bv.byteStride);
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "buffer view %d: byteStride %zu is not valid", index,
+                           bv.byteStride);
     return TEXOPT_OK;
 }
 
 texopt_status gltf_check_accessor(const tinygltf::Model &m, int index, char *err, size_t err_len)
 {
     if (index < 0 || (size_t)index >= m.accessors.size())
-        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "accessor %d does not exist (%zu accessors)",
-                           index, m.accessors.size());
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "accessor %d does not exist (%zu accessors)", index,
+                           m.accessors.size());
     const tinygltf::Accessor &a = m.accessors[(size_t)index];
     size_t comp = component_bytes(a.componentType);
     size_t ncomp = type_components(a.type);
     if (comp == 0 || ncomp == 0)
-        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "accessor %d: unknown type %d or component type %d",
-                           index, a.type, a.componentType);
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "accessor %d: unknown type %d or component type %d", index,
+                           a.type, a.componentType);
     if (a.bufferView >= 0) {
         texopt_status st = gltf_check_buffer_view(m, a.bufferView, err, err_len);
         if (st != TEXOPT_OK)
@@ -162,10 +158,12 @@ texopt_status gltf_check_accessor(const tinygltf::Model &m, int index, char *err
     if (a.sparse.isSparse) {
         const auto &sp = a.sparse;
         if (sp.count < 0 || (size_t)sp.count > a.count)
-            return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "accessor %d: sparse count %d is not valid", index, sp.count);
+            return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "accessor %d: sparse count %d is not valid", index,
+                               sp.count);
         size_t icomp = component_bytes(sp.indices.componentType);
         if (icomp == 0 || sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT)
-            return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "accessor %d: sparse indices have a bad component type", index);
+            return texopt_fail(err, err_len, TEXOPT_E_MALFORMED,
+                               "accessor %d: sparse indices have a bad component type", index);
         for (int part = 0; part < 2; part++) {
             int view = part == 0 ? sp.indices.bufferView : sp.values.bufferView;
             uint64_t off = (uint64_t)(part == 0 ? sp.indices.byteOffset : sp.values.byteOffset);
@@ -182,8 +180,8 @@ texopt_status gltf_check_accessor(const tinygltf::Model &m, int index, char *err
 }
 
 /* Checks what gltf_read_* need beyond gltf_check_accessor: the type, data present, no sparse. */
-static texopt_status check_readable(const tinygltf::Model &m, int index, int type, const char *what,
-                                    char *err, size_t err_len)
+static texopt_status check_readable(const tinygltf::Model &m, int index, int type, const char *what, char *err,
+                                    size_t err_len)
 {
     texopt_status st = gltf_check_accessor(m, index, err, err_len);
     if (st != TEXOPT_OK)
@@ -200,15 +198,16 @@ static texopt_status check_readable(const tinygltf::Model &m, int index, int typ
     return TEXOPT_OK;
 }
 
-texopt_status gltf_read_floats(const tinygltf::Model &m, int index, int type, const char *what,
-                               std::vector<float> *out, char *err, size_t err_len)
+texopt_status gltf_read_floats(const tinygltf::Model &m, int index, int type, const char *what, std::vector<float> *out,
+                               char *err, size_t err_len)
 {
     texopt_status st = check_readable(m, index, type, what, err, err_len);
     if (st != TEXOPT_OK)
         return st;
     const tinygltf::Accessor &a = m.accessors[(size_t)index];
     if (a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
-        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "%s: accessor %d has unsigned int components", what, index);
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "%s: accessor %d has unsigned int components", what,
+                           index);
     size_t ncomp = type_components(type), comp = component_bytes(a.componentType);
     out->assign(a.count * ncomp, 0.0f);
     if (a.count == 0)
@@ -220,16 +219,16 @@ texopt_status gltf_read_floats(const tinygltf::Model &m, int index, int type, co
         for (size_t k = 0; k < ncomp; k++) {
             double v = component_value(base + i * stride + k * comp, a.componentType, a.normalized);
             if (!std::isfinite(v))
-                return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "%s: accessor %d element %zu is not a finite number",
-                                   what, index, i);
+                return texopt_fail(err, err_len, TEXOPT_E_MALFORMED,
+                                   "%s: accessor %d element %zu is not a finite number", what, index, i);
             (*out)[i * ncomp + k] = (float)v;
         }
     }
     return TEXOPT_OK;
 }
 
-texopt_status gltf_read_indices(const tinygltf::Model &m, int index, const char *what,
-                                std::vector<uint32_t> *out, char *err, size_t err_len)
+texopt_status gltf_read_indices(const tinygltf::Model &m, int index, const char *what, std::vector<uint32_t> *out,
+                                char *err, size_t err_len)
 {
     texopt_status st = check_readable(m, index, TINYGLTF_TYPE_SCALAR, what, err, err_len);
     if (st != TEXOPT_OK)
@@ -238,8 +237,8 @@ texopt_status gltf_read_indices(const tinygltf::Model &m, int index, const char 
     if (a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
         a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
         a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
-        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "%s: index accessor %d has component type %d, not u8/u16/u32",
-                           what, index, a.componentType);
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED,
+                           "%s: index accessor %d has component type %d, not u8/u16/u32", what, index, a.componentType);
     size_t comp = component_bytes(a.componentType);
     out->assign(a.count, 0);
     if (a.count == 0)

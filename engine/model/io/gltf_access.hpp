@@ -27,12 +27,12 @@ texopt_status gltf_check_accessor(const tinygltf::Model &m, int index, char *err
 /* Reads accessor `index` of the given tinygltf type (TINYGLTF_TYPE_VEC2, ...) into out as
  * floats (count * components), refusing NaN and infinities. what names the use in messages
  * ("mesh 0 primitive 1 POSITION"). */
-texopt_status gltf_read_floats(const tinygltf::Model &m, int index, int type, const char *what,
-                               std::vector<float> *out, char *err, size_t err_len);
+texopt_status gltf_read_floats(const tinygltf::Model &m, int index, int type, const char *what, std::vector<float> *out,
+                               char *err, size_t err_len);
 
 /* Reads a SCALAR unsigned-integer accessor (u8, u16, u32) into out. */
-texopt_status gltf_read_indices(const tinygltf::Model &m, int index, const char *what,
-                                std::vector<uint32_t> *out, char *err, size_t err_len);
+texopt_status gltf_read_indices(const tinygltf::Model &m, int index, const char *what, std::vector<uint32_t> *out,
+                                char *err, size_t err_len);
 
 /* The element count of accessor `index` (which must exist). */
 size_t gltf_accessor_count(const tinygltf::Model &m, int index);

@@ -12,8 +12,8 @@ bool gltf_is_texture_info(const std::string &key, const tinygltf::Value &v, int 
     return true;
 }
 
-bool gltf_known_extension_texture(const std::string &extension, const std::string &key,
-                                  texopt_texture_kind *kind, unsigned *channels, const char **name)
+bool gltf_known_extension_texture(const std::string &extension, const std::string &key, texopt_texture_kind *kind,
+                                  unsigned *channels, const char **name)
 {
     int k = texopt_texture_key_of_extension(extension.c_str(), key.c_str());
     if (k < 0)
@@ -24,7 +24,8 @@ bool gltf_known_extension_texture(const std::string &extension, const std::strin
     return true;
 }
 
-namespace {
+namespace
+{
 
 bool unknown_on_set0(const tinygltf::Value &v, const std::string *extension, std::string *name)
 {
@@ -51,8 +52,7 @@ bool unknown_on_set0(const tinygltf::Value &v, const std::string *extension, std
 
 } // namespace
 
-bool gltf_unknown_extension_texture_on_set0(const std::string &extension, const tinygltf::Value &v,
-                                            std::string *name)
+bool gltf_unknown_extension_texture_on_set0(const std::string &extension, const tinygltf::Value &v, std::string *name)
 {
     return unknown_on_set0(v, &extension, name);
 }

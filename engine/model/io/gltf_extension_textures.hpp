@@ -30,12 +30,11 @@ bool gltf_is_texture_info(const std::string &key, const tinygltf::Value &v, int 
 
 /* The kind, the channels read (model.h TEXOPT_CHANNEL_*) and the key's static copy of texture
  * `key` of material extension `extension`; false when texopt does not know that texture. */
-bool gltf_known_extension_texture(const std::string &extension, const std::string &key,
-                                  texopt_texture_kind *kind, unsigned *channels, const char **name);
+bool gltf_known_extension_texture(const std::string &extension, const std::string &key, texopt_texture_kind *kind,
+                                  unsigned *channels, const char **name);
 
 /* The first unknown texture on TEXCOORD_0 inside the extension object v (any depth); its key
  * in *name. Known ones at the top level are skipped. */
-bool gltf_unknown_extension_texture_on_set0(const std::string &extension, const tinygltf::Value &v,
-                                            std::string *name);
+bool gltf_unknown_extension_texture_on_set0(const std::string &extension, const tinygltf::Value &v, std::string *name);
 
 #endif

@@ -9,7 +9,8 @@
 
 #include <sys/stat.h>
 
-namespace {
+namespace
+{
 
 int hex_value(char c)
 {
@@ -83,8 +84,8 @@ bool resolve_inside(gltf_load_context *ctx, const std::string &joined, std::stri
     if (ctx->base_dir.empty() || joined.compare(0, prefix.size(), prefix) != 0) {
         if (ctx->base_dir.empty()) {
             std::string uri = joined.compare(0, 2, "./") == 0 ? joined.substr(2) : joined;
-            ctx->refuse(TEXOPT_E_MALFORMED, "external URI \"" + uri +
-                        "\" cannot be resolved: the model was given without a directory");
+            ctx->refuse(TEXOPT_E_MALFORMED,
+                        "external URI \"" + uri + "\" cannot be resolved: the model was given without a directory");
         }
         return false;
     }
@@ -135,7 +136,7 @@ std::string fs_expand_path(const std::string &path, void *)
 } // namespace
 
 texopt_status gltf_read_file_limited(const std::string &path, uint64_t max_bytes, std::vector<unsigned char> *out,
-                                std::string *why)
+                                     std::string *why)
 {
     FILE *f = fopen(path.c_str(), "rb");
     if (!f) {
@@ -170,7 +171,8 @@ texopt_status gltf_read_file_limited(const std::string &path, uint64_t max_bytes
     return TEXOPT_OK;
 }
 
-namespace {
+namespace
+{
 
 bool fs_read_whole_file(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *user)
 {

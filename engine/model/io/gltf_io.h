@@ -61,8 +61,8 @@ typedef struct texopt_load_options {
  * triangle primitive without TEXCOORD_0 is kept with UVs (0, 0). Under a mirroring node
  * transform (negative determinant) each triangle's last two vertices are swapped, so that
  * model triangles wind counter-clockwise in world space as glTF means them to. */
-texopt_status texopt_model_load(texopt_model **out, const char *path,
-                                const texopt_load_options *opt, char *err, size_t err_len);
+texopt_status texopt_model_load(texopt_model **out, const char *path, const texopt_load_options *opt, char *err,
+                                size_t err_len);
 
 /* The encoded size in bytes of model image `image` as its file holds it (PNG, JPEG, ...), 0
  * when the model was not loaded from a file or the index is out of range. */
@@ -71,9 +71,8 @@ uint64_t texopt_model_image_bytes(const texopt_model *model, int image);
 /* As texopt_model_load, from a .glb or .gltf held in memory (the caller keeps bytes).
  * base_dir is the directory external URIs resolve against; NULL refuses every external
  * URI (only buffer views and data URIs are then allowed). */
-texopt_status texopt_model_load_memory(texopt_model **out, const void *bytes, size_t len,
-                                       const char *base_dir, const texopt_load_options *opt,
-                                       char *err, size_t err_len);
+texopt_status texopt_model_load_memory(texopt_model **out, const void *bytes, size_t len, const char *base_dir,
+                                       const texopt_load_options *opt, char *err, size_t err_len);
 
 /* What to change when saving. A zero-initialised edit saves the model unchanged. */
 typedef struct texopt_model_edit {
@@ -98,8 +97,8 @@ typedef struct texopt_model_edit {
  * buffer merged into the one BIN chunk; every image stored in a buffer view (no data URIs,
  * no external files). The file is written to a temporary name next to path, fsynced and
  * renamed, so path is either the old file or the complete new one. edit may be NULL. */
-texopt_status texopt_model_save_glb(const texopt_model *model, const texopt_model_edit *edit,
-                                    const char *path, char *err, size_t err_len);
+texopt_status texopt_model_save_glb(const texopt_model *model, const texopt_model_edit *edit, const char *path,
+                                    char *err, size_t err_len);
 
 #ifdef __cplusplus
 }

@@ -33,16 +33,17 @@
 #include <unistd.h>
 
 #include "gltf_access.hpp"
-#include "gltf_files.hpp"
-#include "gltf_nodes.hpp"
 #include "gltf_document.hpp"
 #include "gltf_extension_textures.hpp"
+#include "gltf_files.hpp"
+#include "gltf_nodes.hpp"
 #include "gltf_texture_source.hpp"
 #include "image_io.h"
 #include "image_jobs.hpp"
 #include "json_depth.h"
 
-namespace {
+namespace
+{
 
 const uint64_t DEFAULT_MAX_FILE_BYTES = 1ull << 30;
 const uint64_t DEFAULT_MAX_TOTAL_PIXELS = 1ull << 28;
@@ -91,12 +92,12 @@ std::string first_line(const std::string &s)
     return nl == std::string::npos ? s : s.substr(0, nl);
 }
 
-texopt_status parse_document(tinygltf::Model *gltf, const unsigned char *bytes, size_t len,
-                             const std::string &base_dir, const load_limits &lim, char *err, size_t err_len)
+texopt_status parse_document(tinygltf::Model *gltf, const unsigned char *bytes, size_t len, const std::string &base_dir,
+                             const load_limits &lim, char *err, size_t err_len)
 {
     if (len > lim.max_file_bytes)
-        return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "model has %zu bytes, more than the limit of %llu",
-                           len, (unsigned long long)lim.max_file_bytes);
+        return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "model has %zu bytes, more than the limit of %llu", len,
+                           (unsigned long long)lim.max_file_bytes);
     if (len < 2)
         return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "file is empty or truncated (%zu bytes)", len);
     if (len > UINT_MAX)
@@ -179,8 +180,8 @@ texopt_wrap wrap_from_gl(int gl)
     }
 }
 
-texopt_status bind_texture(const tinygltf::Model &g, int material, const char *slot_name, int texture,
-                           int texcoord, texopt_texture_ref *ref, char *err, size_t err_len)
+texopt_status bind_texture(const tinygltf::Model &g, int material, const char *slot_name, int texture, int texcoord,
+                           texopt_texture_ref *ref, char *err, size_t err_len)
 {
     ref->image = -1;
     ref->texcoord = 0;
@@ -189,22 +190,25 @@ texopt_status bind_texture(const tinygltf::Model &g, int material, const char *s
     if (texture < 0)
         return TEXOPT_OK;
     if ((size_t)texture >= g.textures.size())
-        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "material %d: %s names texture %d of %zu",
-                           material, slot_name, texture, g.textures.size());
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "material %d: %s names texture %d of %zu", material,
+                           slot_name, texture, g.textures.size());
     const tinygltf::Texture &t = g.textures[(size_t)texture];
     int image = gltf_texture_source(t);
     if (image < 0 || (size_t)image >= g.images.size())
-        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "texture %d (used by material %d %s): image %d does not exist",
-                           texture, material, slot_name, image);
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED,
+                           "texture %d (used by material %d %s): image %d does not exist", texture, material, slot_name,
+                           image);
     if (t.sampler >= 0) {
         if ((size_t)t.sampler >= g.samplers.size())
-            return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "texture %d: sampler %d does not exist", texture, t.sampler);
+            return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "texture %d: sampler %d does not exist", texture,
+                               t.sampler);
         ref->wrap_s = wrap_from_gl(g.samplers[(size_t)t.sampler].wrapS);
         ref->wrap_t = wrap_from_gl(g.samplers[(size_t)t.sampler].wrapT);
         ref->magnify_nearest = g.samplers[(size_t)t.sampler].magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
     }
     if (texcoord < 0)
-        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "material %d: %s has texCoord %d", material, slot_name, texcoord);
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "material %d: %s has texCoord %d", material, slot_name,
+                           texcoord);
     ref->image = image;
     ref->texcoord = texcoord;
     return TEXOPT_OK;
@@ -266,14 +270,15 @@ bool read_texture_transform(const tinygltf::ExtensionMap &ext, int texcoord, dou
 }
 
 /* read_texture_transform for binding `name` of a material, refusing what it cannot apply. */
-texopt_status read_binding_transform(size_t material, const char *name, const tinygltf::ExtensionMap &ext,
-                                     int texcoord, double m[6], char *err, size_t err_len)
+texopt_status read_binding_transform(size_t material, const char *name, const tinygltf::ExtensionMap &ext, int texcoord,
+                                     double m[6], char *err, size_t err_len)
 {
     if (read_texture_transform(ext, texcoord, m))
         return TEXOPT_OK;
     return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
                        "material %zu: %s has a KHR_texture_transform texopt cannot apply (malformed, or moving the "
-                       "binding to another texCoord)", material, name);
+                       "binding to another texCoord)",
+                       material, name);
 }
 
 /* A normal map's XY live in a frame its UVs' directions define: a transform that turns or
@@ -297,7 +302,8 @@ texopt_status share_transform(size_t material, const char *binding, const double
         return TEXOPT_OK;
     return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
                        "material %zu: %s and %s have different KHR_texture_transform values; texopt lays out one "
-                       "TEXCOORD_0 per material", material, *transformed_by, binding);
+                       "TEXCOORD_0 per material",
+                       material, *transformed_by, binding);
 }
 
 /* The extensions object of a textureInfo inside a material extension, as tinygltf keeps a
@@ -340,7 +346,8 @@ texopt_status bind_extension_textures(const tinygltf::Model &g, size_t i, const 
                 return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
                                    "material %zu binds more than %d extension textures", i, TEXOPT_EXTRA_TEXTURES_MAX);
             texopt_extra_texture *x = &out->extra[out->extra_count];
-            texopt_status st = bind_texture(g, (int)i, name, info.Get("index").GetNumberAsInt(), 0, &x->ref, err, err_len);
+            texopt_status st =
+                bind_texture(g, (int)i, name, info.Get("index").GetNumberAsInt(), 0, &x->ref, err, err_len);
             if (st != TEXOPT_OK)
                 return st;
             double t[6];
@@ -370,8 +377,9 @@ texopt_status convert_materials(const tinygltf::Model &g, texopt_model *model, c
         texopt_material *out = &model->materials[i];
         out->metallic_factor = m.pbrMetallicRoughness.metallicFactor;
         out->roughness_factor = m.pbrMetallicRoughness.roughnessFactor;
-        out->alpha_mode = m.alphaMode == "MASK" ? TEXOPT_ALPHA_MASK : m.alphaMode == "BLEND" ? TEXOPT_ALPHA_BLEND
-                                                                                           : TEXOPT_ALPHA_OPAQUE;
+        out->alpha_mode = m.alphaMode == "MASK"    ? TEXOPT_ALPHA_MASK
+                          : m.alphaMode == "BLEND" ? TEXOPT_ALPHA_BLEND
+                                                   : TEXOPT_ALPHA_OPAQUE;
         out->alpha_cutoff = m.alphaCutoff;
         const tinygltf::TextureInfo &base = m.pbrMetallicRoughness.baseColorTexture;
         const tinygltf::TextureInfo &mr = m.pbrMetallicRoughness.metallicRoughnessTexture;
@@ -412,14 +420,16 @@ texopt_status convert_materials(const tinygltf::Model &g, texopt_model *model, c
         if (t[0] * t[4] - t[1] * t[3] == 0)
             return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
                                "material %zu: its KHR_texture_transform has a zero scale, which collapses TEXCOORD_0 "
-                               "onto a line or a point", i);
+                               "onto a line or a point",
+                               i);
         for (int b = 0; b < texopt_material_binding_count(out); b++) {
             const texopt_texture_ref *r = texopt_material_binding(out, b);
             if (r->image >= 0 && r->texcoord == 0 && texopt_material_binding_kind(out, b) == TEXOPT_TEXTURE_NORMAL &&
                 turns_or_mirrors(out->uv_transform))
                 return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
                                    "material %zu: its KHR_texture_transform turns or mirrors the UVs of a normal map "
-                                   "(%s), which texopt does not apply", i, texopt_material_binding_name(out, b));
+                                   "(%s), which texopt does not apply",
+                                   i, texopt_material_binding_name(out, b));
         }
     }
     return TEXOPT_OK;
@@ -545,9 +555,8 @@ texopt_status mapped_materials(const tinygltf::Model &g, const tinygltf::Primiti
  * TEXCOORD_0, which a new layout changes for all of them: it must have the primitive's
  * texture transform (the loader applies the primitive material's), and the primitive must
  * have TEXCOORD_0. */
-texopt_status variant_materials(const texopt_model *model, const tinygltf::Primitive &p,
-                                const std::vector<int> &mapped, int mesh, int prim_index, std::vector<int> *out,
-                                char *err, size_t err_len)
+texopt_status variant_materials(const texopt_model *model, const tinygltf::Primitive &p, const std::vector<int> &mapped,
+                                int mesh, int prim_index, std::vector<int> *out, char *err, size_t err_len)
 {
     out->clear();
     for (int material : mapped) {
@@ -557,12 +566,14 @@ texopt_status variant_materials(const texopt_model *model, const tinygltf::Primi
         if (attribute(p, "TEXCOORD_0") < 0)
             return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
                                "mesh %d primitive %d: its variant material %d is textured but the primitive has no "
-                               "TEXCOORD_0", mesh, prim_index, material);
+                               "TEXCOORD_0",
+                               mesh, prim_index, material);
         const double *own = p.material >= 0 ? model->materials[p.material].uv_transform : identity_transform;
         if (memcmp(model->materials[material].uv_transform, own, sizeof identity_transform) != 0)
             return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
                                "mesh %d primitive %d: its variant material %d has another KHR_texture_transform "
-                               "than its material; one layout cannot serve both", mesh, prim_index, material);
+                               "than its material; one layout cannot serve both",
+                               mesh, prim_index, material);
         out->push_back(material);
     }
     return TEXOPT_OK;
@@ -587,8 +598,8 @@ texopt_status check_anisotropy_frames(const tinygltf::Model &g, const tinygltf::
                                "mesh %d primitive %d: %s material %d's KHR_materials_anisotropy direction is set in "
                                "the tangent frame a renderer derives from TEXCOORD_0, which a new layout turns; give "
                                "the primitive TANGENT (kept as it is) or the direction as an anisotropyTexture on "
-                               "TEXCOORD_0 (turned with the layout)", mesh, prim_index,
-                               material == p.material ? "its" : "its variant", material);
+                               "TEXCOORD_0 (turned with the layout)",
+                               mesh, prim_index, material == p.material ? "its" : "its variant", material);
     return TEXOPT_OK;
 }
 
@@ -598,15 +609,16 @@ texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model,
     const tinygltf::Primitive &p = g.meshes[(size_t)mesh].primitives[(size_t)prim_index];
     char what[96];
     if (p.material >= 0 && (size_t)p.material >= g.materials.size())
-        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "mesh %d primitive %d: material %d does not exist",
-                           mesh, prim_index, p.material);
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "mesh %d primitive %d: material %d does not exist", mesh,
+                           prim_index, p.material);
     bool textured = material_is_textured(model, p.material);
     int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
     if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
         if (textured)
             return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
                                "mesh %d primitive %d: textured primitive has mode %d; only triangles (4), triangle "
-                               "strips (5) and fans (6) are supported", mesh, prim_index, mode);
+                               "strips (5) and fans (6) are supported",
+                               mesh, prim_index, mode);
         return TEXOPT_OK; /* untextured points and lines: nothing to optimise */
     }
     int pos_acc = attribute(p, "POSITION");
@@ -615,13 +627,14 @@ texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model,
         return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "mesh %d primitive %d has no POSITION", mesh, prim_index);
     if (uv_acc < 0 && material_uses_texcoord0(model, p.material))
         return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
-                           "mesh %d primitive %d: material %d is textured but the primitive has no TEXCOORD_0",
-                           mesh, prim_index, p.material);
+                           "mesh %d primitive %d: material %d is textured but the primitive has no TEXCOORD_0", mesh,
+                           prim_index, p.material);
     for (size_t t = 0; t < p.targets.size(); t++)
         if (p.targets[t].count("TEXCOORD_0") && material_uses_texcoord0(model, p.material))
             return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
                                "mesh %d primitive %d: morph target %zu moves TEXCOORD_0, by offsets that hold for "
-                               "its layout only", mesh, prim_index, t);
+                               "its layout only",
+                               mesh, prim_index, t);
     std::vector<int> mapped, variants;
     texopt_status st = mapped_materials(g, p, mesh, prim_index, &mapped, err, err_len);
     if (st == TEXOPT_OK)
@@ -643,13 +656,14 @@ texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model,
             return st;
         if (uv.size() / 2 != nv)
             return texopt_fail(err, err_len, TEXOPT_E_MALFORMED,
-                               "mesh %d primitive %d: TEXCOORD_0 has %zu elements but POSITION has %zu",
-                               mesh, prim_index, uv.size() / 2, nv);
+                               "mesh %d primitive %d: TEXCOORD_0 has %zu elements but POSITION has %zu", mesh,
+                               prim_index, uv.size() / 2, nv);
         geo->any_uvs = true;
         if (p.material >= 0 && !apply_uv_transform(model->materials[p.material].uv_transform, &uv))
             return texopt_fail(err, err_len, TEXOPT_E_MALFORMED,
                                "mesh %d primitive %d: material %d's KHR_texture_transform takes TEXCOORD_0 past "
-                               "float range", mesh, prim_index, p.material);
+                               "float range",
+                               mesh, prim_index, p.material);
     } else {
         uv.assign(nv * 2, 0.0f);
     }
@@ -671,8 +685,9 @@ texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model,
     if (mode != TINYGLTF_MODE_TRIANGLES)
         idx = triangles_of_strip_or_fan(mode, idx);
     else if (idx.size() % 3 != 0)
-        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "mesh %d primitive %d: %zu indices do not make whole triangles",
-                           mesh, prim_index, idx.size());
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED,
+                           "mesh %d primitive %d: %zu indices do not make whole triangles", mesh, prim_index,
+                           idx.size());
     size_t first_vertex = geo->positions.size() / 3;
     if (first_vertex + nv > UINT32_MAX)
         return texopt_fail(err, err_len, TEXOPT_E_LIMIT, "model has more than 2^32 vertices");
@@ -820,8 +835,8 @@ std::vector<char> images_textures_read(const tinygltf::Model &g)
     return read;
 }
 
-texopt_status convert_images(texopt_gltf_document *doc, texopt_model *model, const load_limits &lim,
-                             char *err, size_t err_len)
+texopt_status convert_images(texopt_gltf_document *doc, texopt_model *model, const load_limits &lim, char *err,
+                             size_t err_len)
 {
     const tinygltf::Model &g = doc->gltf;
     size_t n = g.images.size();
@@ -842,8 +857,8 @@ texopt_status convert_images(texopt_gltf_document *doc, texopt_model *model, con
         if (!model->image_names[i])
             return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for image names");
         if (im.image.empty())
-            return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "image %zu (%s): file not found or empty",
-                               i, label.c_str());
+            return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "image %zu (%s): file not found or empty", i,
+                               label.c_str());
         doc->image_mime[i] = sniff_mime(im.image, im.mimeType);
         if (!read[i])
             continue;
@@ -862,8 +877,8 @@ texopt_status convert_images(texopt_gltf_document *doc, texopt_model *model, con
         total += (uint64_t)info[i].width * (uint64_t)info[i].height;
         if (total > lim.max_total_pixels)
             return texopt_fail(err, err_len, TEXOPT_E_LIMIT,
-                               "image %zu (%s, %dx%d) brings the total to %llu pixels, more than the limit of %llu",
-                               i, label.c_str(), info[i].width, info[i].height, (unsigned long long)total,
+                               "image %zu (%s, %dx%d) brings the total to %llu pixels, more than the limit of %llu", i,
+                               label.c_str(), info[i].width, info[i].height, (unsigned long long)total,
                                (unsigned long long)lim.max_total_pixels);
     }
     if (lim.skip_images) {
@@ -945,12 +960,11 @@ texopt_status load_common(texopt_model **out, const unsigned char *bytes, size_t
     return TEXOPT_OK;
 }
 
-
 } // namespace
 
 extern "C" texopt_status texopt_model_load_memory(texopt_model **out, const void *bytes, size_t len,
-                                                  const char *base_dir, const texopt_load_options *opt,
-                                                  char *err, size_t err_len)
+                                                  const char *base_dir, const texopt_load_options *opt, char *err,
+                                                  size_t err_len)
 {
     if (!out)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "no place for the model");
@@ -982,7 +996,9 @@ extern "C" texopt_status texopt_model_load(texopt_model **out, const char *path,
         return texopt_fail(err, err_len, st, "%s", why.c_str());
     std::string p(path);
     size_t slash = p.find_last_of('/');
-    std::string dir = gltf_absolute_directory(slash == std::string::npos ? "." : slash == 0 ? "/" : p.substr(0, slash).c_str());
+    std::string dir = gltf_absolute_directory(slash == std::string::npos ? "."
+                                              : slash == 0               ? "/"
+                                                                         : p.substr(0, slash).c_str());
     return load_common(out, bytes.data(), bytes.size(), dir, opt, err, err_len);
 }
 

@@ -1,7 +1,8 @@
 /* gltf_nodes.cpp - world transforms of glTF nodes (see gltf_nodes.hpp). */
 #include "gltf_nodes.hpp"
 
-namespace {
+namespace
+{
 
 gltf_mat4 identity()
 {
@@ -59,8 +60,7 @@ gltf_mat4 local_transform(const tinygltf::Node &n)
 
 } // namespace
 
-texopt_status gltf_world_transforms(const tinygltf::Model &g, std::vector<gltf_mat4> *world, char *err,
-                                    size_t err_len)
+texopt_status gltf_world_transforms(const tinygltf::Model &g, std::vector<gltf_mat4> *world, char *err, size_t err_len)
 {
     size_t n = g.nodes.size();
     std::vector<int> parent(n, -1);

@@ -18,8 +18,7 @@ extern "C" {
 typedef std::array<double, 16> gltf_mat4; /* column-major, as glTF */
 
 /* World matrices of all nodes of g, in node order. */
-texopt_status gltf_world_transforms(const tinygltf::Model &g, std::vector<gltf_mat4> *world, char *err,
-                                    size_t err_len);
+texopt_status gltf_world_transforms(const tinygltf::Model &g, std::vector<gltf_mat4> *world, char *err, size_t err_len);
 
 /* Determinant of the upper-left 3x3 block: negative for a mirroring transform. */
 double gltf_determinant3(const gltf_mat4 &m);

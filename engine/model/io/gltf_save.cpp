@@ -34,7 +34,8 @@
 #include "image_io.h"
 #include "image_jobs.hpp"
 
-namespace {
+namespace
+{
 
 /* One growing BIN chunk. */
 struct bin_writer {
@@ -85,13 +86,14 @@ texopt_status check_edit(const texopt_model *model, const texopt_model_edit *edi
     if (edit->uvs)
         for (size_t i = 0; i < model->vertex_count * 2; i++)
             if (!std::isfinite(edit->uvs[i]))
-                return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "new UV of vertex %zu is not finite", i / 2);
+                return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "new UV of vertex %zu is not finite",
+                                   i / 2);
     if (edit->images)
         for (int i = 0; i < model->image_count; i++) {
             const texopt_image *img = edit->images[i];
             if (img && (!img->pixels || img->width <= 0 || img->height <= 0 || img->channels < 1 || img->channels > 4))
-                return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "replacement for image %d (%s) is empty",
-                                   i, model->image_names && model->image_names[i] ? model->image_names[i] : "?");
+                return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "replacement for image %d (%s) is empty", i,
+                                   model->image_names && model->image_names[i] ? model->image_names[i] : "?");
         }
     return TEXOPT_OK;
 }
@@ -270,10 +272,9 @@ texopt_status encode_replacements(const texopt_model *model, const texopt_model_
             unsigned char *bytes = nullptr;
             size_t len = 0;
             int bits = model->document->image_bits[i] > 8 ? 16 : 8;
-            texopt_status st =
-                replaced_as_jpeg(model, edit, i)
-                    ? texopt_image_encode_jpeg(img, JPEG_QUALITY, &bytes, &len, job_err, job_err_len)
-                    : texopt_image_encode_png_bits(img, bits, &bytes, &len, job_err, job_err_len);
+            texopt_status st = replaced_as_jpeg(model, edit, i)
+                                   ? texopt_image_encode_jpeg(img, JPEG_QUALITY, &bytes, &len, job_err, job_err_len)
+                                   : texopt_image_encode_png_bits(img, bits, &bytes, &len, job_err, job_err_len);
             if (st == TEXOPT_OK)
                 (*encoded)[i].assign(bytes, bytes + len);
             free(bytes);
@@ -291,7 +292,8 @@ bool is_replaced(const std::vector<std::vector<unsigned char>> &encoded, int ima
 /* Gives bindings through another set than TEXCOORD_0 that read a replaced image (encoded[i]
  * not empty) a texture of their own on an untouched copy of that image (its MIME type appended to
  * mime, an empty entry to encoded), each copy made once. */
-class other_set_bindings {
+class other_set_bindings
+{
   public:
     other_set_bindings(tinygltf::Model &g, std::vector<std::vector<unsigned char>> &encoded,
                        std::vector<std::string> &mime)
@@ -302,9 +304,8 @@ class other_set_bindings {
     void run()
     {
         for (tinygltf::Material &m : g_.materials) {
-            for_each_core_texture(m, [&](int &index, int texcoord, tinygltf::ExtensionMap &) {
-                retarget(&index, texcoord);
-            });
+            for_each_core_texture(
+                m, [&](int &index, int texcoord, tinygltf::ExtensionMap &) { retarget(&index, texcoord); });
             for (auto &e : m.extensions)
                 walk(e.second);
         }
@@ -398,8 +399,8 @@ void drop_images_made_unused(tinygltf::Model &g, const tinygltf::Model &src,
 }
 
 /* Builds the output document: new UVs, images in views, one buffer, unused views dropped. */
-texopt_status build_output(const texopt_model *model, const texopt_model_edit *edit, tinygltf::Model *out,
-                           char *err, size_t err_len)
+texopt_status build_output(const texopt_model *model, const texopt_model_edit *edit, tinygltf::Model *out, char *err,
+                           size_t err_len)
 {
     const texopt_gltf_document *doc = model->document;
     const tinygltf::Model &src = doc->gltf;

@@ -7,7 +7,8 @@
 #include <string>
 #include <vector>
 
-namespace {
+namespace
+{
 
 const char *const alternate_sources[] = {"EXT_texture_webp", "KHR_texture_basisu", "MSFT_texture_dds"};
 
@@ -28,8 +29,8 @@ std::vector<char> images_textures_name(const tinygltf::Model &g)
 bool names_images_only_through_textures(const std::string &ext)
 {
     static const char *const prefixes[] = {"KHR_materials_", "KHR_texture_"};
-    static const char *const names[] = {"EXT_texture_webp",        "MSFT_texture_dds",   "KHR_mesh_quantization",
-                                        "KHR_lights_punctual",     "EXT_mesh_gpu_instancing", "KHR_xmp_json_ld"};
+    static const char *const names[] = {"EXT_texture_webp",    "MSFT_texture_dds",        "KHR_mesh_quantization",
+                                        "KHR_lights_punctual", "EXT_mesh_gpu_instancing", "KHR_xmp_json_ld"};
     for (const char *p : prefixes)
         if (ext.compare(0, strlen(p), p) == 0)
             return true;

@@ -7,8 +7,8 @@
 #include "image_io.h"
 
 #include <cerrno>
-#include <cstdio>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
@@ -20,7 +20,8 @@
 
 #include "atomic_file.h"
 
-namespace {
+namespace
+{
 
 const char *display_name(const char *name)
 {
@@ -114,8 +115,8 @@ bool jpeg_header_size(const unsigned char *b, size_t len, header_size *hs)
     return false;
 }
 
-texopt_status check_header_cap(const unsigned char *b, size_t len, uint64_t max_pixels, const char *name,
-                               char *err, size_t err_len)
+texopt_status check_header_cap(const unsigned char *b, size_t len, uint64_t max_pixels, const char *name, char *err,
+                               size_t err_len)
 {
     header_size hs;
     if (max_pixels == 0 || !(png_header_size(b, len, &hs) || jpeg_header_size(b, len, &hs)))
@@ -139,8 +140,7 @@ struct opened_image {
     std::unique_ptr<OIIO::ImageInput> input;
 };
 
-texopt_status open_memory(opened_image *oi, const void *bytes, size_t len, const char *name,
-                          char *err, size_t err_len)
+texopt_status open_memory(opened_image *oi, const void *bytes, size_t len, const char *name, char *err, size_t err_len)
 {
     if (!bytes || len == 0)
         return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "%s: no image data", display_name(name));
@@ -153,8 +153,8 @@ texopt_status open_memory(opened_image *oi, const void *bytes, size_t len, const
     oi->input = OIIO::ImageInput::open(pseudo_filename(b, len, name), &config, oi->proxy.get());
     if (!oi->input) {
         std::string why = OIIO::geterror();
-        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "%s: cannot decode image: %s",
-                           display_name(name), why.empty() ? "unknown format" : why.c_str());
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "%s: cannot decode image: %s", display_name(name),
+                           why.empty() ? "unknown format" : why.c_str());
     }
     const OIIO::ImageSpec &spec = oi->input->spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1)
@@ -179,9 +179,8 @@ void fill_info(texopt_image_info *info, const OIIO::ImageInput &in)
 
 } // namespace
 
-extern "C" texopt_status texopt_image_probe_memory(texopt_image_info *info, const void *bytes,
-                                                   size_t len, const char *name, char *err,
-                                                   size_t err_len)
+extern "C" texopt_status texopt_image_probe_memory(texopt_image_info *info, const void *bytes, size_t len,
+                                                   const char *name, char *err, size_t err_len)
 {
     if (!info)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "no image info to fill");
@@ -205,14 +204,14 @@ extern "C" texopt_status texopt_image_probe_memory(texopt_image_info *info, cons
 }
 
 extern "C" texopt_status texopt_image_decode_memory(texopt_image *out, const void *bytes, size_t len,
-                                                    uint64_t max_pixels, const char *name, char *err,
-                                                    size_t err_len)
+                                                    uint64_t max_pixels, const char *name, char *err, size_t err_len)
 {
     if (!out)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "no image to fill");
     memset(out, 0, sizeof *out);
     if (bytes) {
-        texopt_status cap = check_header_cap(static_cast<const unsigned char *>(bytes), len, max_pixels, name, err, err_len);
+        texopt_status cap =
+            check_header_cap(static_cast<const unsigned char *>(bytes), len, max_pixels, name, err, err_len);
         if (cap != TEXOPT_OK)
             return cap;
     }
@@ -232,8 +231,8 @@ extern "C" texopt_status texopt_image_decode_memory(texopt_image *out, const voi
     if (!oi.input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, out->pixels)) {
         std::string why = oi.input->geterror();
         texopt_image_destroy(out);
-        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "%s: corrupt image data: %s",
-                           display_name(name), why.c_str());
+        return texopt_fail(err, err_len, TEXOPT_E_MALFORMED, "%s: corrupt image data: %s", display_name(name),
+                           why.c_str());
     }
     /* Floating-point formats may hold anything; the engine's contract is [0,1]. */
     size_t n = (size_t)out->width * (size_t)out->height * (size_t)channels;
@@ -264,18 +263,19 @@ extern "C" texopt_status texopt_image_read(texopt_image *out, const char *path, 
     return texopt_image_decode_memory(out, bytes.data(), bytes.size(), 0, path, err, err_len);
 }
 
-extern "C" texopt_status texopt_image_encode_png(const texopt_image *img, unsigned char **bytes,
-                                                 size_t *len, char *err, size_t err_len)
+extern "C" texopt_status texopt_image_encode_png(const texopt_image *img, unsigned char **bytes, size_t *len, char *err,
+                                                 size_t err_len)
 {
     return texopt_image_encode_png_bits(img, 8, bytes, len, err, err_len);
 }
 
-namespace {
+namespace
+{
 
 /* Encodes img with spec by OpenImageIO's writer for `file` ("image.png": its extension picks
  * the format) into a malloc'ed buffer; `format` names it in messages. */
-texopt_status encode_image(const texopt_image *img, const char *file, const OIIO::ImageSpec &spec,
-                           const char *format, unsigned char **bytes, size_t *len, char *err, size_t err_len)
+texopt_status encode_image(const texopt_image *img, const char *file, const OIIO::ImageSpec &spec, const char *format,
+                           unsigned char **bytes, size_t *len, char *err, size_t err_len)
 {
     std::vector<unsigned char> encoded;
     OIIO::Filesystem::IOVecOutput proxy(encoded);
@@ -284,8 +284,7 @@ texopt_status encode_image(const texopt_image *img, const char *file, const OIIO
         return texopt_fail(err, err_len, TEXOPT_E_INTERNAL, "OpenImageIO has no %s writer: %s", format,
                            OIIO::geterror().c_str());
     if (!out->open(file, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, img->pixels) || !out->close())
-        return texopt_fail(err, err_len, TEXOPT_E_INTERNAL, "%s encoding failed: %s", format,
-                           out->geterror().c_str());
+        return texopt_fail(err, err_len, TEXOPT_E_INTERNAL, "%s encoding failed: %s", format, out->geterror().c_str());
     unsigned char *copy = static_cast<unsigned char *>(malloc(encoded.size() ? encoded.size() : 1));
     if (!copy)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for a %zu-byte %s", encoded.size(), format);
@@ -306,8 +305,7 @@ extern "C" texopt_status texopt_image_encode_png_bits(const texopt_image *img, i
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "PNG depth %d is not 8 or 16", bits);
     *bytes = nullptr;
     *len = 0;
-    if (!img || !img->pixels || img->width <= 0 || img->height <= 0 || img->channels < 1 ||
-        img->channels > 4)
+    if (!img || !img->pixels || img->width <= 0 || img->height <= 0 || img->channels < 1 || img->channels > 4)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "cannot encode an empty or invalid image");
     OIIO::ImageSpec spec(img->width, img->height, img->channels,
                          bits == 16 ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8);
@@ -324,15 +322,14 @@ extern "C" texopt_status texopt_image_encode_jpeg(const texopt_image *img, int q
     *len = 0;
     if (!img || !img->pixels || img->width <= 0 || img->height <= 0 || (img->channels != 1 && img->channels != 3) ||
         quality < 1 || quality > 100)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "cannot encode a JPEG of %d channels at quality %d", img ? img->channels : 0, quality);
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "cannot encode a JPEG of %d channels at quality %d",
+                           img ? img->channels : 0, quality);
     OIIO::ImageSpec spec(img->width, img->height, img->channels, OIIO::TypeDesc::UINT8);
     spec.attribute("Compression", "jpeg:" + std::to_string(quality));
     return encode_image(img, "image.jpg", spec, "JPEG", bytes, len, err, err_len);
 }
 
-extern "C" texopt_status texopt_image_write_png(const texopt_image *img, const char *path, char *err,
-                                                size_t err_len)
+extern "C" texopt_status texopt_image_write_png(const texopt_image *img, const char *path, char *err, size_t err_len)
 {
     unsigned char *bytes = nullptr;
     size_t len = 0;

@@ -36,23 +36,22 @@ typedef struct texopt_image_info {
 
 /* Reads the header of an encoded image held in memory. name is used in messages only (may
  * be NULL). TEXOPT_E_MALFORMED when the bytes are not an image OpenImageIO can read. */
-texopt_status texopt_image_probe_memory(texopt_image_info *info, const void *bytes, size_t len,
-                                        const char *name, char *err, size_t err_len);
+texopt_status texopt_image_probe_memory(texopt_image_info *info, const void *bytes, size_t len, const char *name,
+                                        char *err, size_t err_len);
 
 /* Decodes an encoded image held in memory into *out (which the caller then owns and frees
  * with texopt_image_destroy). max_pixels caps width*height (0 = no cap): a larger header is
  * refused with TEXOPT_E_LIMIT before any pixel is decoded. On failure *out is empty. */
-texopt_status texopt_image_decode_memory(texopt_image *out, const void *bytes, size_t len,
-                                         uint64_t max_pixels, const char *name, char *err,
-                                         size_t err_len);
+texopt_status texopt_image_decode_memory(texopt_image *out, const void *bytes, size_t len, uint64_t max_pixels,
+                                         const char *name, char *err, size_t err_len);
 
 /* Reads the image file at path into *out, as texopt_image_decode_memory (no pixel cap). */
 texopt_status texopt_image_read(texopt_image *out, const char *path, char *err, size_t err_len);
 
 /* Encodes img as an 8-bit PNG (values clamped to [0,1] and rounded) with img->channels
  * channels, into a malloc'ed buffer (*bytes, *len) that the caller frees with free(). */
-texopt_status texopt_image_encode_png(const texopt_image *img, unsigned char **bytes, size_t *len,
-                                      char *err, size_t err_len);
+texopt_status texopt_image_encode_png(const texopt_image *img, unsigned char **bytes, size_t *len, char *err,
+                                      size_t err_len);
 
 /* The same with `bits` (8 or 16) bits per channel: a 16-bit input (a normal map exported
  * at 16 bits) keeps its depth when it is re-baked. */
@@ -66,8 +65,7 @@ texopt_status texopt_image_encode_jpeg(const texopt_image *img, int quality, uns
                                        char *err, size_t err_len);
 
 /* Writes img as an 8-bit PNG at path (temporary file, fsync, rename). */
-texopt_status texopt_image_write_png(const texopt_image *img, const char *path, char *err,
-                                     size_t err_len);
+texopt_status texopt_image_write_png(const texopt_image *img, const char *path, char *err, size_t err_len);
 
 #ifdef __cplusplus
 }

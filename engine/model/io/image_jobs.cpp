@@ -10,7 +10,8 @@
 
 #include <unistd.h>
 
-namespace {
+namespace
+{
 
 struct job_result {
     texopt_status status = TEXOPT_OK;
@@ -19,8 +20,7 @@ struct job_result {
 
 } // namespace
 
-texopt_status texopt_run_image_jobs(size_t count,
-                                    const std::function<texopt_status(size_t, char *, size_t)> &job,
+texopt_status texopt_run_image_jobs(size_t count, const std::function<texopt_status(size_t, char *, size_t)> &job,
                                     char *err, size_t err_len)
 {
     std::vector<job_result> results(count);

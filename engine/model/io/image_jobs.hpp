@@ -17,8 +17,7 @@ extern "C" {
 }
 
 /* job(i, err, err_len) for every i in [0, count); every job runs even after one fails. */
-texopt_status texopt_run_image_jobs(size_t count,
-                                    const std::function<texopt_status(size_t, char *, size_t)> &job,
+texopt_status texopt_run_image_jobs(size_t count, const std::function<texopt_status(size_t, char *, size_t)> &job,
                                     char *err, size_t err_len);
 
 #endif

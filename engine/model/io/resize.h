@@ -20,8 +20,8 @@ extern "C" {
 
 /* Resizes src into a new width x height image *dst (same channel count; the caller owns it
  * and frees it with texopt_image_destroy). On failure *dst is empty. */
-texopt_status texopt_image_resize(const texopt_image *src, int width, int height, texopt_image *dst,
-                                  char *err, size_t err_len);
+texopt_status texopt_image_resize(const texopt_image *src, int width, int height, texopt_image *dst, char *err,
+                                  size_t err_len);
 
 #ifdef __cplusplus
 }
