@@ -141,6 +141,7 @@ static const char *method_colour(texopt_method m)
     case TEXOPT_METHOD_SSP: return "#2ca02c";
     case TEXOPT_METHOD_TEWARI: return "#9467bd";
     case TEXOPT_METHOD_ARAP: return "#ff7f0e";
+    case TEXOPT_METHOD_PAPER: return "#8c564b";
     default: return "#555555";
     }
 }

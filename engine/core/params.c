@@ -6,7 +6,7 @@
 
 static const char *const method_names[TEXOPT_METHOD_COUNT] = {
     [TEXOPT_METHOD_PERCEPTUAL] = "perceptual", [TEXOPT_METHOD_INPUT] = "input", [TEXOPT_METHOD_SSP] = "ssp",
-    [TEXOPT_METHOD_TEWARI] = "tewari",         [TEXOPT_METHOD_ARAP] = "arap",
+    [TEXOPT_METHOD_TEWARI] = "tewari",         [TEXOPT_METHOD_ARAP] = "arap",   [TEXOPT_METHOD_PAPER] = "paper",
 };
 
 const char *texopt_method_name(texopt_method method)

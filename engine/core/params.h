@@ -44,6 +44,7 @@ typedef enum texopt_method {
     TEXOPT_METHOD_SSP,            /* Sander et al. 2002 signal-stretch targets */
     TEXOPT_METHOD_TEWARI,         /* Tewari et al. 2004 targets */
     TEXOPT_METHOD_ARAP,           /* isometric local-global layout */
+    TEXOPT_METHOD_PAPER,          /* Sun et al. 2022 as written (docs/method.md) */
     TEXOPT_METHOD_COUNT
 } texopt_method;
 

@@ -26,6 +26,25 @@ static texopt_status stage1_targets(const texopt_model *model, const texopt_mesh
     return texopt_triopt_run(model, mesh, &topt, targets, trep, monitor, err, err_len);
 }
 
+/* Sun et al. 2022 as written (docs/method.md "The paper's method as written"): the paper's
+ * epsilon, window and plain Bayesian optimisation, whatever --epsilon says. */
+static texopt_status paper_targets(const texopt_model *model, const texopt_mesh *mesh, const texopt_params *params,
+                                   const double *signal_weights, texopt_triangle_target *targets,
+                                   texopt_triopt_report *trep, const texopt_monitor *monitor, char *err, size_t err_len)
+{
+    texopt_triopt_options topt;
+    memset(&topt, 0, sizeof topt);
+    topt.epsilon = 0.01;
+    topt.iterations = 100;
+    topt.lambda_min = params->lambda_min;
+    topt.threads = params->threads;
+    topt.seed = params->seed;
+    topt.signal_weights = signal_weights;
+    topt.plain = 1;
+    topt.paper_window = 1;
+    return texopt_triopt_run(model, mesh, &topt, targets, trep, monitor, err, err_len);
+}
+
 static texopt_status ssp_targets(const texopt_model *model, const texopt_mesh *mesh, const texopt_params *params,
                                  const double *signal_weights, texopt_triangle_target *targets,
                                  texopt_triopt_report *trep, const texopt_monitor *monitor, char *err, size_t err_len)
@@ -57,6 +76,7 @@ static const job_method methods[TEXOPT_METHOD_COUNT] = {
     [TEXOPT_METHOD_SSP] = {&layout_weights, ssp_targets, 0},
     [TEXOPT_METHOD_TEWARI] = {&layout_weights, tewari_targets, 0},
     [TEXOPT_METHOD_ARAP] = {&layout_weights, arap_targets, 0},
+    [TEXOPT_METHOD_PAPER] = {&layout_weights, paper_targets, 0},
 };
 
 const job_method *job_method_of(texopt_method m)

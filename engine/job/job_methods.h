@@ -11,6 +11,9 @@
  *   "ssp", "tewari", "arap": the baselines of the paper's section 5 (ssp.h, tewari.h, arap.h
  *     targets in place of stage 1, rotation weight 0), solved as they are, then the same
  *     stage 2, budget (a uniform scale), packing and re-bake as "perceptual".
+ *   "paper": Sun et al. 2022 as written (triopt.h plain plan, the appendix A window,
+ *     epsilon 0.01, 100 iterations), then the same stage 2, budget, packing and re-bake
+ *     as "ssp": no candidates, no refinement, no Hessian floor, no resize check.
  * Does not: run any stage itself. */
 #ifndef TEXOPT_JOB_METHODS_H
 #define TEXOPT_JOB_METHODS_H

@@ -3,11 +3,12 @@
  * Sun et al. 2022, "Efficient Texture Parameterization Driven by Perceptual-Loss-on-Screen",
  * appendix A: the camera looks along the face normal N (from the side N points to), sits at
  * the triangle's centroid C, its right vector is R = (a - C)/|a - C| for the first corner a,
- * its up vector U = N x R. The window is the bounding box of the triangle's one-ring in
- * (R, U), padded on its short side to a square so that pixels are square, and it is mapped
- * onto a size x size viewport. Row 0 of the viewport is the top (largest U).
+ * its up vector U = N x R. The window is the bounding box in (R, U) of the triangle's corners
+ * and the points given (stage 1 gives its one-ring; appendix A frames the corners alone, the
+ * window of --method paper), padded on its short side to a square so that pixels are square,
+ * and it is mapped onto a size x size viewport. Row 0 of the viewport is the top (largest U).
  *
- * The paper's window makes the zoom depend on the ring's size: a ring spanning 180 texels
+ * The one-ring's window makes the zoom depend on the ring's size: a ring spanning 180 texels
  * is seen at 2.8 input texels per pixel, so a shrink to half is invisible there while the
  * evaluation (evaluate.h) shows about one texel per pixel. texopt_camera_limit_zoom narrows
  * such a window, at the same pixel count, to a given number of texels per pixel.

@@ -313,6 +313,15 @@ void texopt_triloss_weigh_signals(texopt_triloss *tl, const double *weights)
         texopt_triloss_weigh_signals(tl->close_up[k], weights);
 }
 
+void texopt_triloss_use_paper_window(texopt_triloss *tl)
+{
+    if (!tl)
+        return;
+    tl->raster->paper_window = 1;
+    tl->raster->max_zoom = 0.0;
+    tl->raster->max_covered = 0;
+}
+
 void texopt_triloss_destroy(texopt_triloss *tl)
 {
     if (!tl)

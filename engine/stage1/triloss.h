@@ -71,6 +71,11 @@ texopt_status texopt_triloss_create(texopt_triloss **out, const texopt_model *mo
  * texopt_triloss_prepare. A weight of 0 leaves the signal out (constant). */
 void texopt_triloss_weigh_signals(texopt_triloss *loss, const double *weights);
 
+/* Sun et al.'s window from now on (uvraster.h paper_window): the triangle's corners framed,
+ * no zoom limit, no pixel cap, no close-ups, no redraw of a hidden triangle. Call before
+ * texopt_triloss_prepare. */
+void texopt_triloss_use_paper_window(texopt_triloss *loss);
+
 /* Accepts NULL. */
 void texopt_triloss_destroy(texopt_triloss *loss);
 

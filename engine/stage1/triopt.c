@@ -46,6 +46,7 @@ typedef struct resolved_options {
     int iterations, threads, viewport, weight_samples, initial_design;
     int lower_bound_stop;
     int plain;
+    int paper_window;
     int isotropic_steps;
     int anisotropic_steps;
     int anisotropic_passes;
@@ -510,7 +511,8 @@ static texopt_status optimise_triangle(worker *w, uint32_t t, texopt_triangle_ta
     store_optimum(&s, lm, o);
     if (flat)
         return TEXOPT_OK;
-    texopt_triloss_keep_deciding(w->loss);
+    if (!opt->paper_window)
+        texopt_triloss_keep_deciding(w->loss);
     return sensitivity_weights(w, t, o, err, err_len);
 }
 
@@ -618,6 +620,7 @@ static texopt_status resolve_options(const texopt_triopt_options *in, const texo
     o->initial_design = in->initial_design;
     o->lower_bound_stop = !in->no_lower_bound_stop && !in->plain;
     o->plain = in->plain != 0;
+    o->paper_window = in->paper_window != 0;
     o->isotropic_steps = in->isotropic_steps != 0 ? in->isotropic_steps : 8;
     if (o->isotropic_steps == 1)
         o->isotropic_steps = 2;
@@ -680,6 +683,8 @@ static texopt_status create_workers(stage_shared *sh, worker **out, char *err, s
         texopt_status st = texopt_triloss_create(&workers[i].loss, sh->model, sh->mesh, sh->opt.viewport, err, err_len);
         if (st == TEXOPT_OK) {
             texopt_triloss_weigh_signals(workers[i].loss, sh->opt.signal_weights);
+            if (sh->opt.paper_window)
+                texopt_triloss_use_paper_window(workers[i].loss);
             workers[i].bo = texopt_bo_create(TRIOPT_DIM, sh->opt.max_evaluations);
             if (!workers[i].bo)
                 st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "triopt: no memory for the optimiser");

@@ -85,6 +85,9 @@ typedef struct texopt_triopt_options {
                             lower the best f by less than this share of it; 0 -> 0.001,
                             < 0 -> never (all `iterations`) */
     int polish_patience;          /* 0 -> 1 */
+    int paper_window;             /* non-zero: Sun et al.'s appendix A window (triloss.h
+                                     texopt_triloss_use_paper_window), and eq. 17's weights over
+                                     every signal, not only the deciding ones */
     uint32_t stride;              /* optimise triangles 0, stride, 2 stride, ...; 0 or 1 -> all.
                             Others are left as J = I, zero weights, 0 evaluations. */
     const double *signal_weights; /* the loss's signal scales (triloss.h

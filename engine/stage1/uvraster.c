@@ -268,7 +268,7 @@ static texopt_status ring_camera(texopt_uvraster *raster, const texopt_mesh *mes
     const uint32_t *tri = mesh->triangle + 3 * (size_t)triangle;
     st = texopt_camera_create(&raster->camera, texopt_mesh_vertex_point(mesh, tri[0]),
                               texopt_mesh_vertex_point(mesh, tri[1]), texopt_mesh_vertex_point(mesh, tri[2]),
-                              raster->ring_points, 3 * *n, raster->size, err, err_len);
+                              raster->ring_points, raster->paper_window ? 0 : 3 * *n, raster->size, err, err_len);
     if (st != TEXOPT_OK)
         return texopt_fail(err, err_len, st, "uvraster: triangle %u is degenerate in 3D", triangle);
     return TEXOPT_OK;
@@ -295,7 +295,8 @@ static void rasterise_ring(texopt_uvraster *raster, const texopt_mesh *mesh, siz
     size_t own = rasterise_face(raster, mesh, triangle, 0);
     for (size_t f = 1; f < n; f++)
         rasterise_face(raster, mesh, raster->ring[f], 0);
-    if ((double)pixels_of_face(raster, triangle) < (1.0 - TEXOPT_UVRASTER_HIDDEN_SHARE) * (double)own)
+    if (!raster->paper_window &&
+        (double)pixels_of_face(raster, triangle) < (1.0 - TEXOPT_UVRASTER_HIDDEN_SHARE) * (double)own)
         rasterise_face(raster, mesh, triangle, 1);
 }
 

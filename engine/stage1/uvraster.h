@@ -43,6 +43,9 @@ typedef struct texopt_uvraster {
                            TEXOPT_CAMERA_MAX_ZOOM from create, 0 keeps the paper's window */
     size_t max_covered; /* pixels a narrowed window keeps, those nearest the triangle;
                            TEXOPT_UVRASTER_MAX_COVERED from create, 0 keeps every pixel */
+    int paper_window;   /* non-zero: the camera frames the triangle's own corners (Sun et al.
+                           appendix A), not its one-ring, and the triangle is never redrawn
+                           over ring faces that hide it; set max_zoom and max_covered to 0 */
     texopt_camera camera;
     size_t covered; /* pixels covered by the one-ring */
     double *texel;  /* 2 per pixel, row-major from the top: p_hat(q); 0 where uncovered */

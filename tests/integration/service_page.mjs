@@ -64,7 +64,7 @@ try {
     costMax: document.querySelector('#param-relative_cost').max,
     cost: document.querySelector('#param-relative_cost').value,
   }));
-  check(form.methods.join() === 'perceptual,input,ssp,tewari,arap', `methods from openapi.yaml (${form.methods})`);
+  check(form.methods.join() === 'perceptual,input,ssp,tewari,arap,paper', `methods from openapi.yaml (${form.methods})`);
   check(form.method === 'perceptual' && form.cost === '1', 'defaults from /v1/params');
   check(form.costMax === '4', 'relative_cost range from openapi.yaml');
 

@@ -702,6 +702,34 @@ TEST(baseline_methods_run_through_the_same_stages)
     scratch_free(&s);
 }
 
+/* --method paper end to end on a detailed grid: a loadable file at the budget, evaluated, with
+ * no candidate choice and no resize check (the paper's plan makes one layout). */
+TEST(the_paper_method_writes_a_valid_file_at_the_budget)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 3, 64, "checker") == 0);
+    texopt_params p = {0};
+    p.method = TEXOPT_METHOD_PAPER;
+    p.relative_cost = 0.5;
+    p.evaluate = 1;
+    p.threads = 2;
+    char err[512] = "";
+    CHECK_OK(texopt_optimize_file(s.in, s.out, s.stats, &p, NULL, err, sizeof err), err);
+    texopt_model *out = load(s.out);
+    cJSON *st = read_json(s.stats);
+    CHECK(out && st);
+    CHECK(strcmp(cJSON_GetObjectItem(st, "method")->valuestring, "paper") == 0);
+    CHECK_NEAR(domain_number(st, "relative_cost"), 0.5, 0.05);
+    CHECK(cJSON_GetObjectItem(st, "allocation_choice") == NULL);
+    CHECK(cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(st, "domains"), 0), "resize_check") == NULL);
+    double q = cJSON_GetObjectItem(cJSON_GetObjectItem(st, "evaluation"), "q")->valuedouble;
+    CHECK(q > 0 && q < 1);
+    CHECK(out && out->image_count == 1 && out->images[0].width > 0 && out->images[0].height > 0);
+    texopt_model_destroy(out);
+    cJSON_Delete(st);
+    scratch_free(&s);
+}
+
 TEST(evaluation_is_zero_for_the_identity_and_positive_after_a_reduction)
 {
     scratch s;

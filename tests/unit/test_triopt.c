@@ -490,3 +490,23 @@ TEST(triopt_rejects_bad_options)
     char err[64];
     CHECK(texopt_triopt_run(NULL, NULL, NULL, NULL, NULL, NULL, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
 }
+
+/* The paper's plan with its window (job method "paper") searches the rotation: on 45-degree
+ * stripes some triangle ends rotated (alpha != 0), which the default plan's searches never
+ * try. */
+TEST(the_paper_plan_searches_the_rotation)
+{
+    texopt_triopt_options opt = {.iterations = 20, .threads = 2, .plain = 1, .paper_window = 1, .weight_samples = -1};
+    stage_run r;
+    CHECK(run_stage(&r, strip_model(8, 64, "stripes45", 0), &opt, NULL));
+    CHECK_OK(r.status, r.err);
+    int rotated = 0;
+    for (size_t t = 0; t < r.mesh->triangle_count; t++) {
+        CHECK(r.out[t].evaluations > 20);
+        CHECK(r.out[t].alpha >= 0 && r.out[t].alpha < PI / 2);
+        rotated += r.out[t].alpha > 1e-3;
+    }
+    printf("  paper plan: %d of %zu triangles rotated\n", rotated, r.mesh->triangle_count);
+    CHECK(rotated > 0);
+    close_stage(&r);
+}

@@ -376,3 +376,39 @@ TEST(a_close_up_window_shows_part_of_a_large_triangle)
     texopt_mesh_destroy(mesh);
     texopt_model_destroy(model);
 }
+
+/* Sun et al. appendix A: the window is the box of the triangle's own corners in (R, U), its
+ * short side padded on both sides to a square; the one-ring drawn into it spills over. */
+TEST(the_paper_window_frames_the_triangle_corners)
+{
+    char err[256] = "";
+    raster_pair pair;
+    CHECK(raster_pair_open(&pair, 64));
+    texopt_uvraster *paper = pair.whole, *ring = pair.other;
+    paper->paper_window = 1;
+    paper->max_zoom = 0.0;
+    ring->max_zoom = 0.0;
+    int wider = 0;
+    for (uint32_t t = 0; t < pair.mesh->triangle_count; t += 7) {
+        CHECK_OK(texopt_uvraster_render(paper, pair.mesh, t, err, sizeof err), err);
+        CHECK_OK(texopt_uvraster_render(ring, pair.mesh, t, err, sizeof err), err);
+        const texopt_camera *cam = &paper->camera;
+        double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+        for (int k = 0; k < 3; k++) {
+            const double *p = texopt_mesh_vertex_point(pair.mesh, pair.mesh->triangle[3 * (size_t)t + (size_t)k]);
+            double d[3] = {p[0] - cam->center[0], p[1] - cam->center[1], p[2] - cam->center[2]};
+            double xy[2] = {d[0] * cam->right[0] + d[1] * cam->right[1] + d[2] * cam->right[2],
+                            d[0] * cam->up[0] + d[1] * cam->up[1] + d[2] * cam->up[2]};
+            for (int i = 0; i < 2; i++)
+                lo[i] = fmin(lo[i], xy[i]), hi[i] = fmax(hi[i], xy[i]);
+        }
+        double w = hi[0] - lo[0], h = hi[1] - lo[1], side = fmax(w, h);
+        CHECK_NEAR(cam->window_side, side, 2e-6 * side);
+        CHECK_NEAR(cam->window_x0, lo[0] - 0.5 * (side - w), 2e-6 * side);
+        CHECK_NEAR(cam->window_y0, lo[1] - 0.5 * (side - h), 2e-6 * side);
+        CHECK(ring->camera.window_side >= cam->window_side);
+        wider += ring->camera.window_side > 1.5 * cam->window_side;
+    }
+    CHECK(wider > 0); /* the one-ring's window is the wider one */
+    raster_pair_close(&pair);
+}
