@@ -37,9 +37,9 @@ texopt_status texopt_map_evaluate(const texopt_model *reference, const texopt_mo
                                   const texopt_evaluate_options *base, const int *measured, texopt_map_q *out,
                                   char *err, size_t err_len)
 {
-    if (n < 1 || n > TEXOPT_MAP_MEASURES)
+    if (n < 1 || n > TEXOPT_MAP_MAX_CANDIDATES)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "map check: %d candidates", n);
-    texopt_evaluation ev[TEXOPT_MAP_MEASURES];
+    texopt_evaluation ev[TEXOPT_MAP_MAX_CANDIDATES];
     for (int c = 0; c < n; c++) {
         memset(&out[c], 0, sizeof out[c]);
         memcpy(out[c].measured, measured, sizeof out[c].measured);

@@ -24,6 +24,7 @@
 
 #define TEXOPT_MAP_LIT TEXOPT_TEXTURE_KEY_COUNT
 #define TEXOPT_MAP_MEASURES (TEXOPT_TEXTURE_KEY_COUNT + 1)
+#define TEXOPT_MAP_MAX_CANDIDATES 8 /* texopt_map_evaluate's n */
 
 /* q of one candidate per measure; q[m] is meaningful where measured[m] is nonzero. */
 typedef struct texopt_map_q {
@@ -41,7 +42,8 @@ const char *texopt_map_measure_name(int m);
  * measured (the paper's q, defined for any model). */
 void texopt_map_measures(const texopt_model *model, int domain, int *measured);
 
-/* q of each measure in `measured` for candidates[0..n) against reference, into out[0..n):
+/* q of each measure in `measured` for candidates[0..n), n <= TEXOPT_MAP_MAX_CANDIDATES,
+ * against reference, into out[0..n):
  * one texopt_evaluate_many pass per measure, with base's resolution, cameras, lookups,
  * threads and monitor (its texture, lit, triangle_error and reference_views are not read). */
 texopt_status texopt_map_evaluate(const texopt_model *reference, const texopt_model *const *candidates, int n,
