@@ -146,6 +146,17 @@ typedef struct domain_layout {
     texopt_budget_result br; /* the packing's frame and cost */
 } domain_layout;
 
+/* Per chart of `charts`, 1 when one of its triangles cares about its angle on the texel
+ * grid (w_rotation, as budget.h decides which charts it may turn); NULL targets: none. */
+static uint8_t *charts_keeping_angle(const texopt_mesh *charts, const texopt_triangle_target *targets)
+{
+    uint8_t *keep = calloc(charts->chart_count ? charts->chart_count : 1, 1);
+    for (size_t t = 0; keep && targets && t < charts->triangle_count; t++)
+        if (targets[t].w_rotation != 0)
+            keep[charts->chart_of[t]] = 1;
+    return keep;
+}
+
 /* Packing "refine": the charts of l->texel_new deformed toward axis-aligned shapes
  * (atlas_refine.h) and packed at the same budget; the tighter of the two packings (the
  * higher packing efficiency: fewer texture texels at a relative cost, more covered ones at
@@ -155,12 +166,14 @@ static texopt_status refine_if_tighter(const texopt_mesh *charts, const texopt_b
 {
     size_t n = 2 * (charts->vertex_count ? charts->vertex_count : 1);
     double *refined = malloc(n * sizeof *refined), *packed = malloc(n * sizeof *packed);
+    uint8_t *keep_angle = charts_keeping_angle(charts, req->targets);
     texopt_budget_result br = {0};
-    texopt_status st =
-        refined && packed ? TEXOPT_OK : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the refined layout");
+    texopt_status st = refined && packed && keep_angle
+                           ? TEXOPT_OK
+                           : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the refined layout");
     if (st == TEXOPT_OK)
-        st = texopt_atlas_refine(charts, l->texel_new, req->keep_shape, TEXOPT_ATLAS_REFINE_MAX_DISTORTION, refined,
-                                 &ds->atlas_refine, req->monitor, err, err_len);
+        st = texopt_atlas_refine(charts, l->texel_new, req->keep_shape, keep_angle, TEXOPT_ATLAS_REFINE_MAX_DISTORTION,
+                                 refined, &ds->atlas_refine, req->monitor, err, err_len);
     if (st == TEXOPT_OK) {
         st = texopt_budget_fit(charts, refined, req, packed, &br, err, err_len);
         if (st == TEXOPT_E_LIMIT) {
@@ -181,6 +194,7 @@ static texopt_status refine_if_tighter(const texopt_mesh *charts, const texopt_b
     }
     free(refined);
     free(packed);
+    free(keep_angle);
     return st;
 }
 

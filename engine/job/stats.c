@@ -118,6 +118,7 @@ static void add_atlas_refine(cJSON *o, const texopt_domain_stats *d)
     cJSON_AddNumberToObject(a, "charts", (double)r->charts_refined);
     cJSON_AddNumberToObject(a, "skipped_charts", (double)r->charts_skipped);
     cJSON_AddNumberToObject(a, "too_distorted_charts", (double)r->charts_too_distorted);
+    cJSON_AddNumberToObject(a, "kept_angle_charts", (double)r->charts_kept_angle);
     cJSON_AddNumberToObject(a, "packing_efficiency_before", d->packing_efficiency_unrefined);
     cJSON_AddNumberToObject(a, "packing_efficiency_after", d->packing_efficiency_refined);
     cJSON_AddNumberToObject(a, "boundary_length_before", r->boundary_before);

@@ -157,9 +157,13 @@ static size_t chart_loop(const chart_problem *p, uint32_t *next, uint32_t *loop)
     return len;
 }
 
-/* Deforms one chart; returns 1 when p->xy holds the refined chart, with its distortion and
- * angle error in rep. */
-static int chart_deform(chart_problem *p, uint32_t *scratch, uint32_t *loop, texopt_axis_deform_report *rep)
+enum { DEFORMED = 1, REFUSED = 0, TURNS_TOO_FAR = -1 };
+
+/* Deforms one chart; returns DEFORMED when p->xy holds the refined chart, with its
+ * distortion and angle error in rep, TURNS_TOO_FAR for a keep_angle chart whose turn is
+ * past TEXOPT_ATLAS_REFINE_MAX_TURN. */
+static int chart_deform(chart_problem *p, int keep_angle, uint32_t *scratch, uint32_t *loop,
+                        texopt_axis_deform_report *rep)
 {
     size_t nb = chart_loop(p, scratch, loop);
     if (nb < 4)
@@ -173,11 +177,14 @@ static int chart_deform(chart_problem *p, uint32_t *scratch, uint32_t *loop, tex
     texopt_axis_angles angles;
     memset(&angles, 0, sizeof angles);
     texopt_status st = texopt_axis_angles_compute(pts, nb, &angles, err, sizeof err);
-    if (st == TEXOPT_OK)
+    int turns_too_far = st == TEXOPT_OK && keep_angle && fabs(angles.rotation) > TEXOPT_ATLAS_REFINE_MAX_TURN;
+    if (st == TEXOPT_OK && !turns_too_far)
         st = texopt_axis_deform(p->nv, p->rest, p->nt, p->tri, loop, &angles, p->xy, rep, err, sizeof err);
     texopt_axis_angles_destroy(&angles);
     free(pts);
-    return st == TEXOPT_OK && isfinite(rep->distortion);
+    if (turns_too_far)
+        return TURNS_TOO_FAR;
+    return st == TEXOPT_OK && isfinite(rep->distortion) ? DEFORMED : REFUSED;
 }
 
 /* Triangles grouped by chart: order (triangle_count) and start (chart_count + 1). */
@@ -199,8 +206,9 @@ static int charts_of_triangles(const texopt_mesh *mesh, uint32_t *order, size_t 
 }
 
 texopt_status texopt_atlas_refine(const texopt_mesh *mesh, const double *texel, const uint8_t *keep_shape,
-                                  double max_distortion, double *texel_out, texopt_atlas_refine_report *report,
-                                  const texopt_monitor *monitor, char *err, size_t err_len)
+                                  const uint8_t *keep_angle, double max_distortion, double *texel_out,
+                                  texopt_atlas_refine_report *report, const texopt_monitor *monitor, char *err,
+                                  size_t err_len)
 {
     double t0 = now_seconds();
     texopt_atlas_refine_report rep = {0};
@@ -229,8 +237,12 @@ texopt_status texopt_atlas_refine(const texopt_mesh *mesh, const double *texel, 
         int built = chart_build(mesh, texel, order + start[c], start[c + 1] - start[c], local, &p);
         texopt_axis_deform_report dr = {0};
         area += p.area;
-        if (!built || (keep_shape && keep_shape[c]) || !chart_deform(&p, scratch, loop, &dr)) {
+        int deformed = built && !(keep_shape && keep_shape[c])
+                           ? chart_deform(&p, keep_angle && keep_angle[c], scratch, loop, &dr)
+                           : REFUSED;
+        if (deformed != DEFORMED) {
             rep.charts_skipped++;
+            rep.charts_kept_angle += deformed == TURNS_TOO_FAR;
             weighted += p.area;
             continue;
         }

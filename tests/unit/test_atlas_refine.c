@@ -5,7 +5,8 @@
  * layouts are), one marked keep_shape. The first two must come out with every boundary edge
  * within 0.15 rad of an axis, filling their axis-aligned box (the L's 0.75) far better
  * than turned (0.49), with no triangle reversed and their area kept within 10%; the
- * third is copied exactly. A distortion bound below what the deformation needs keeps all.  */
+ * third is copied exactly. A distortion bound below what the deformation needs keeps all;
+ * charts that keep their angle are refined only when turned by 2 degrees, not 30. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -36,7 +37,7 @@ static int grid_vertex(int i, int j)
     return used ? j * (N + 1) + i : -1;
 }
 
-static texopt_mesh *l_charts(void)
+static texopt_mesh *l_charts(double turn)
 {
     size_t per_v = (N + 1) * (N + 1), cells = 0;
     for (int j = 0; j < N; j++)
@@ -55,8 +56,8 @@ static texopt_mesh *l_charts(void)
             for (int i = 0; i <= N; i++) {
                 double x = i + 0.2 * (texopt_rng_uniform(&rng) - 0.5), y = j + 0.2 * (texopt_rng_uniform(&rng) - 0.5);
                 double *p = m->texel + 2 * (c * per_v + (size_t)(j * (N + 1) + i));
-                p[0] = ox + cos(TURN) * x - sin(TURN) * y;
-                p[1] = mirror * (sin(TURN) * x + cos(TURN) * y);
+                p[0] = ox + cos(turn) * x - sin(turn) * y;
+                p[1] = mirror * (sin(turn) * x + cos(turn) * y);
                 double *q = m->position + 3 * (c * per_v + (size_t)(j * (N + 1) + i));
                 q[0] = p[0];
                 q[1] = p[1];
@@ -134,13 +135,13 @@ static double worst_axis_angle(const double *xy, int c)
 
 TEST(l_charts_come_out_axis_aligned_filling_their_boxes)
 {
-    texopt_mesh *m = l_charts();
+    texopt_mesh *m = l_charts(TURN);
     CHECK(m != NULL);
     double *out = malloc(2 * m->vertex_count * sizeof *out);
     uint8_t keep[CHARTS] = {0, 0, 1};
     texopt_atlas_refine_report rep;
     char err[256];
-    CHECK(texopt_atlas_refine(m, m->texel, keep, 0, out, &rep, NULL, err, sizeof err) == TEXOPT_OK);
+    CHECK(texopt_atlas_refine(m, m->texel, keep, NULL, 0, out, &rep, NULL, err, sizeof err) == TEXOPT_OK);
     CHECK(rep.charts_refined == 2 && rep.charts_skipped == 1);
     for (uint32_t c = 0; c < 2; c++) {
         int reversed = 0;
@@ -184,7 +185,7 @@ TEST(a_chart_with_a_hole_is_left_as_it_is)
     handmesh_finish(m);
     double out[32];
     texopt_atlas_refine_report rep;
-    CHECK(texopt_atlas_refine(m, m->texel, NULL, 0, out, &rep, NULL, NULL, 0) == TEXOPT_OK);
+    CHECK(texopt_atlas_refine(m, m->texel, NULL, NULL, 0, out, &rep, NULL, NULL, 0) == TEXOPT_OK);
     CHECK(rep.charts_refined == 0 && rep.charts_skipped == 1);
     CHECK(memcmp(out, m->texel, sizeof out) == 0);
     texopt_mesh_destroy(m);
@@ -194,16 +195,36 @@ TEST(a_chart_with_a_hole_is_left_as_it_is)
  * it was. */
 TEST(charts_past_the_distortion_bound_are_left_as_they_are)
 {
-    texopt_mesh *m = l_charts();
+    texopt_mesh *m = l_charts(TURN);
     CHECK(m != NULL);
     double *out = malloc(2 * m->vertex_count * sizeof *out);
     texopt_atlas_refine_report rep;
-    CHECK(texopt_atlas_refine(m, m->texel, NULL, 1.0 + 1e-9, out, &rep, NULL, NULL, 0) == TEXOPT_OK);
+    CHECK(texopt_atlas_refine(m, m->texel, NULL, NULL, 1.0 + 1e-9, out, &rep, NULL, NULL, 0) == TEXOPT_OK);
     CHECK_MSG(rep.charts_refined == 0 && rep.charts_too_distorted == CHARTS, "refined %zu, too distorted %zu",
               rep.charts_refined, rep.charts_too_distorted);
     CHECK(memcmp(out, m->texel, 2 * m->vertex_count * sizeof *out) == 0);
-    CHECK(texopt_atlas_refine(m, m->texel, NULL, 1.5, out, &rep, NULL, NULL, 0) == TEXOPT_OK);
+    CHECK(texopt_atlas_refine(m, m->texel, NULL, NULL, 1.5, out, &rep, NULL, NULL, 0) == TEXOPT_OK);
     CHECK(rep.charts_refined == CHARTS);
     free(out);
     texopt_mesh_destroy(m);
+}
+
+/* A chart whose angle on the texel grid matters is refined only when the turn is small:
+ * the 30-degree L's are left as they are, the same L's turned by 2 degrees are refined. */
+TEST(charts_keeping_their_angle_turn_little_or_not_at_all)
+{
+    uint8_t all[CHARTS] = {1, 1, 1};
+    double turns[2] = {TURN, 2.0 * 3.14159265358979323846 / 180.0};
+    for (int k = 0; k < 2; k++) {
+        texopt_mesh *m = l_charts(turns[k]);
+        CHECK(m != NULL);
+        double *out = malloc(2 * m->vertex_count * sizeof *out);
+        texopt_atlas_refine_report rep;
+        CHECK(texopt_atlas_refine(m, m->texel, NULL, all, 0, out, &rep, NULL, NULL, 0) == TEXOPT_OK);
+        size_t want = k == 0 ? 0 : CHARTS;
+        CHECK_MSG(rep.charts_refined == want && rep.charts_kept_angle == CHARTS - want,
+                  "turn %.3f: refined %zu, kept angle %zu", turns[k], rep.charts_refined, rep.charts_kept_angle);
+        free(out);
+        texopt_mesh_destroy(m);
+    }
 }
