@@ -34,6 +34,7 @@ static const char *const known_keys[] = {
     "lookup",
     "packing_efficiency",
     "bijective",
+    "packing",
 };
 
 static int is_known_key(const char *key)
@@ -197,6 +198,8 @@ static texopt_status read_rest(const cJSON *obj, texopt_params *p, char *err, si
     if ((s = read_named(obj, "refine_by", texopt_refine_measure_from_name, "must be \"baseColor\" or \"lit\"",
                         &p->refine_lit, err, err_len)) != TEXOPT_OK ||
         (s = read_named(obj, "lookup", texopt_lookup_from_name, "must be \"bilinear\" or \"mipmapped\"", &p->mipmapped,
+                        err, err_len)) != TEXOPT_OK ||
+        (s = read_named(obj, "packing", texopt_packing_from_name, "must be \"plain\" or \"refine\"", &p->packing_refine,
                         err, err_len)) != TEXOPT_OK)
         return s;
     if ((s = get_number(obj, "packing_efficiency", &v, &present, err, err_len)) != TEXOPT_OK)
@@ -316,5 +319,6 @@ cJSON *api_params_to_json(const texopt_params *p)
     cJSON_AddStringToObject(o, "lookup", texopt_lookup_name(p->mipmapped));
     cJSON_AddNumberToObject(o, "packing_efficiency", p->packing_efficiency);
     cJSON_AddBoolToObject(o, "bijective", p->bijective != 0);
+    cJSON_AddStringToObject(o, "packing", texopt_packing_name(p->packing_refine));
     return o;
 }

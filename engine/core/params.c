@@ -53,6 +53,16 @@ int texopt_lookup_from_name(const char *name)
     return two_way_from_name(name, texopt_lookup_name);
 }
 
+const char *texopt_packing_name(int refine)
+{
+    return refine ? "refine" : "plain";
+}
+
+int texopt_packing_from_name(const char *name)
+{
+    return two_way_from_name(name, texopt_packing_name);
+}
+
 void texopt_params_resolve(texopt_params *p)
 {
     if (p->relative_cost == 0)

@@ -99,6 +99,10 @@ typedef struct texopt_params {
                                (compare.h sets it); 0: a JPEG stays a JPEG */
     int bijective;             /* non-zero: stage 2 solves with scaffold triangles around each
                                chart (layout/scaffold.h), so no chart overlaps itself */
+    int packing_refine;        /* non-zero ("refine"): each chart of the new layout is deformed
+                               toward an axis-aligned shape before packing (layout/
+                               atlas_refine.h), and the tighter of the two packings kept;
+                               0 ("plain"): packed as stage 2 left it */
 } texopt_params;
 
 const char *texopt_method_name(texopt_method method);
@@ -117,6 +121,11 @@ int texopt_refine_measure_from_name(const char *name);
  * back; -1 for an unknown name. */
 const char *texopt_lookup_name(int mipmapped);
 int texopt_lookup_from_name(const char *name);
+
+/* The packing as users name it: "plain" or "refine" (texopt_params.packing_refine), and
+ * back; -1 for an unknown name. */
+const char *texopt_packing_name(int refine);
+int texopt_packing_from_name(const char *name);
 
 /* Refinement rounds as users count them (0: none), from and into the field's encoding, where
  * 0 is the default and -1 none. The getter reads a resolved params struct. */

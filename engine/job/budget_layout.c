@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "atlas_refine.h"
 #include "bake_pool.h"
 #include "budget.h"
 #include "domain_keep.h"
@@ -145,6 +146,58 @@ typedef struct domain_layout {
     texopt_budget_result br; /* the packing's frame and cost */
 } domain_layout;
 
+/* Per chart of `charts`, 1 when one of its triangles cares about its angle on the texel
+ * grid (w_rotation, as budget.h decides which charts it may turn); NULL targets: none. */
+static uint8_t *charts_keeping_angle(const texopt_mesh *charts, const texopt_triangle_target *targets)
+{
+    uint8_t *keep = calloc(charts->chart_count ? charts->chart_count : 1, 1);
+    for (size_t t = 0; keep && targets && t < charts->triangle_count; t++)
+        if (targets[t].w_rotation != 0)
+            keep[charts->chart_of[t]] = 1;
+    return keep;
+}
+
+/* Packing "refine": the charts of l->texel_new deformed toward axis-aligned shapes
+ * (atlas_refine.h) and packed at the same budget; the tighter of the two packings (the
+ * higher packing efficiency: fewer texture texels at a relative cost, more covered ones at
+ * a texture size) replaces l's. A refined layout the budget cannot fit is not kept. */
+static texopt_status refine_if_tighter(const texopt_mesh *charts, const texopt_budget_request *req, domain_layout *l,
+                                       texopt_domain_stats *ds, char *err, size_t err_len)
+{
+    size_t n = 2 * (charts->vertex_count ? charts->vertex_count : 1);
+    double *refined = malloc(n * sizeof *refined), *packed = malloc(n * sizeof *packed);
+    uint8_t *keep_angle = charts_keeping_angle(charts, req->targets);
+    texopt_budget_result br = {0};
+    texopt_status st = refined && packed && keep_angle
+                           ? TEXOPT_OK
+                           : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the refined layout");
+    if (st == TEXOPT_OK)
+        st = texopt_atlas_refine(charts, l->texel_new, req->keep_shape, keep_angle, TEXOPT_ATLAS_REFINE_MAX_DISTORTION,
+                                 refined, &ds->atlas_refine, req->monitor, err, err_len);
+    if (st == TEXOPT_OK) {
+        st = texopt_budget_fit(charts, refined, req, packed, &br, err, err_len);
+        if (st == TEXOPT_E_LIMIT) {
+            st = TEXOPT_OK;
+            br.packing_efficiency = 0;
+        }
+    }
+    if (st == TEXOPT_OK) {
+        ds->has_atlas_refine = 1;
+        ds->packing_efficiency_unrefined = l->br.packing_efficiency;
+        ds->packing_efficiency_refined = br.packing_efficiency;
+        ds->atlas_refine_kept = br.packing_efficiency > l->br.packing_efficiency;
+    }
+    if (st == TEXOPT_OK && ds->atlas_refine_kept) {
+        memcpy(l->texel_new, refined, n * sizeof *refined);
+        memcpy(l->packed, packed, n * sizeof *packed);
+        l->br = br;
+    }
+    free(refined);
+    free(packed);
+    free(keep_angle);
+    return st;
+}
+
 /* Allocation, stage 2, budget + pack: the packed layout in output texels; progress of stage
  * 2 over [from, split], of the packing over [split, to]. */
 static texopt_status layout_for_budget(texopt_job *job, const layout_run *run, int d, domain_layout *l, double from,
@@ -173,6 +226,8 @@ static texopt_status layout_for_budget(texopt_job *job, const layout_run *run, i
         /* a sharing group packs as one chart, its secondaries on the primary's texels */
         const texopt_mesh *charts = job_sharing(jd) ? &jd->share->view : jd->mesh;
         st = texopt_budget_fit(charts, l->texel_new, &req, l->packed, &l->br, err, err_len);
+        if (st == TEXOPT_OK && p->packing_refine)
+            st = refine_if_tighter(charts, &req, l, ds, err, err_len);
         ds->seconds_pack = job_now_seconds() - t0;
         if (st != TEXOPT_OK || p->budget != TEXOPT_BUDGET_TEXTURE_SIZE || !run->allocating ||
             fabs(log(l->br.relative_cost / cost)) <= log(RESOLVE_RATIO) || !(l->br.relative_cost > 0))

@@ -110,6 +110,24 @@ static void add_stage_stats(cJSON *dom, const texopt_domain_stats *d)
     }
 }
 
+static void add_atlas_refine(cJSON *o, const texopt_domain_stats *d)
+{
+    const texopt_atlas_refine_report *r = &d->atlas_refine;
+    cJSON *a = cJSON_AddObjectToObject(o, "atlas_refine");
+    cJSON_AddStringToObject(a, "kept", d->atlas_refine_kept ? "refined" : "plain");
+    cJSON_AddNumberToObject(a, "charts", (double)r->charts_refined);
+    cJSON_AddNumberToObject(a, "skipped_charts", (double)r->charts_skipped);
+    cJSON_AddNumberToObject(a, "too_distorted_charts", (double)r->charts_too_distorted);
+    cJSON_AddNumberToObject(a, "kept_angle_charts", (double)r->charts_kept_angle);
+    cJSON_AddNumberToObject(a, "packing_efficiency_before", d->packing_efficiency_unrefined);
+    cJSON_AddNumberToObject(a, "packing_efficiency_after", d->packing_efficiency_refined);
+    cJSON_AddNumberToObject(a, "boundary_length_before", r->boundary_before);
+    cJSON_AddNumberToObject(a, "boundary_length_after", r->boundary_after);
+    cJSON_AddNumberToObject(a, "distortion", r->distortion);
+    cJSON_AddNumberToObject(a, "max_angle_error", r->max_angle_error);
+    cJSON_AddNumberToObject(a, "seconds", r->seconds);
+}
+
 static cJSON *domain_json(const texopt_domain_stats *d)
 {
     cJSON *o = cJSON_CreateObject();
@@ -134,6 +152,8 @@ static cJSON *domain_json(const texopt_domain_stats *d)
         add_resize_check(o, d);
     if (d->repacked)
         cJSON_AddNumberToObject(o, "budget_scale", d->budget_scale);
+    if (d->has_atlas_refine)
+        add_atlas_refine(o, d);
     add_stage_stats(o, d);
     cJSON *t = cJSON_AddObjectToObject(o, "seconds");
     cJSON_AddNumberToObject(t, "mesh", d->seconds_mesh);
@@ -172,6 +192,7 @@ static cJSON *job_json(const texopt_job_stats *s)
     cJSON_AddStringToObject(p, "lookup", texopt_lookup_name(s->mipmapped));
     cJSON_AddNumberToObject(p, "packing_efficiency", s->packing_efficiency);
     cJSON_AddBoolToObject(p, "bijective", s->bijective);
+    cJSON_AddStringToObject(p, "packing", texopt_packing_name(s->packing_refine));
     cJSON *t = cJSON_AddObjectToObject(root, "seconds");
     cJSON_AddNumberToObject(t, "load", s->seconds_load);
     cJSON_AddNumberToObject(t, "save", s->seconds_save);

@@ -16,6 +16,7 @@
 
 #include <stddef.h>
 
+#include "atlas_refine.h"
 #include "distortion.h"
 #include "layout_check.h"
 #include "map_check.h"
@@ -70,6 +71,10 @@ typedef struct texopt_domain_stats {
     int has_scaffold; /* params.bijective: stage 2 with scaffolds (scaffold.h) */
     int scaffold_rounds;
     size_t scaffold_charts, scaffold_skipped_charts, scaffold_triangles;
+    int has_atlas_refine;  /* params.packing_refine: charts deformed before packing (atlas_refine.h) */
+    int atlas_refine_kept; /* the refined layout packed tighter and was kept */
+    double packing_efficiency_unrefined, packing_efficiency_refined; /* of the two packings */
+    texopt_atlas_refine_report atlas_refine;
     int has_loss_share; /* loss of every triangle under the solved layout */
     double solved_within_epsilon_share, solved_loss_mean, solved_loss_max;
     int has_distortion;
@@ -103,6 +108,7 @@ typedef struct texopt_job_stats {
     int mipmapped;             /* the lookups tuned for and measured with were mip-mapped */
     double packing_efficiency; /* reshape goal asked for (0: none) */
     int bijective;             /* stage 2 with scaffolds was asked for */
+    int packing_refine;        /* packing "refine" was asked for */
     double seconds_load, seconds_save, seconds_total;
     int has_search;            /* budget target_loss: the search over the relative cost */
     double target_loss;        /* the q asked for */

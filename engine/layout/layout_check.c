@@ -59,46 +59,128 @@ static int clamp_to_frame(double v, int limit)
     return v <= 0 ? 0 : v >= limit ? limit : (int)v;
 }
 
-/* Marks the texels of triangle t with its group in owner; returns 1 when one of them was
- * another group's. */
-static int claim_texels(const texopt_mesh *m, const double *texel, int width, int height, size_t t, uint32_t group,
-                        uint32_t *owner)
+/* The rasterised ownership of texel centres: per texel the last triangle whose interior
+ * holds its centre. */
+typedef struct texel_owners {
+    const texopt_mesh *mesh;
+    const double *texel;
+    int width, height;
+    const uint32_t *group_of_chart; /* NULL: every chart its own group */
+    uint32_t *owner;
+} texel_owners;
+
+enum { CLASH_GROUPS = 1, CLASH_WITHIN = 2 };
+
+static uint32_t group_of(const texel_owners *o, uint32_t t)
 {
-    const uint32_t *v = m->triangle + 3 * t;
-    const double *a = texel + 2 * (size_t)v[0], *b = texel + 2 * (size_t)v[1], *c = texel + 2 * (size_t)v[2];
-    int x0 = clamp_to_frame(floor(fmin(a[0], fmin(b[0], c[0]))), width);
-    int x1 = clamp_to_frame(ceil(fmax(a[0], fmax(b[0], c[0]))), width);
-    int y0 = clamp_to_frame(floor(fmin(a[1], fmin(b[1], c[1]))), height);
-    int y1 = clamp_to_frame(ceil(fmax(a[1], fmax(b[1], c[1]))), height);
+    uint32_t chart = o->mesh->chart_of[t];
+    return o->group_of_chart ? o->group_of_chart[chart] : chart;
+}
+
+/* What a centre already owned by triangle `had` means for triangle t: another sharing
+ * group's texel, or a texel of its own chart under the same orientation (the chart over
+ * itself; the two sides of a fold have opposite orientations and may share). */
+static int clash_kind(const texel_owners *o, uint32_t t, uint32_t had, double area_t)
+{
+    if (group_of(o, t) != group_of(o, had))
+        return CLASH_GROUPS;
+    if (o->mesh->chart_of[t] == o->mesh->chart_of[had] && (texel_area(o->mesh, o->texel, had) > 0) == (area_t > 0))
+        return CLASH_WITHIN;
+    return 0;
+}
+
+/* Claims the texel centres inside triangle t; returns the CLASH_ bits of what it found
+ * there, and adds the centres its own chart already held to *within_texels. */
+static int claim_texels(const texel_owners *o, uint32_t t, size_t *within_texels)
+{
+    const uint32_t *v = o->mesh->triangle + 3 * (size_t)t;
+    const double *a = o->texel + 2 * (size_t)v[0], *b = o->texel + 2 * (size_t)v[1], *c = o->texel + 2 * (size_t)v[2];
+    double area = texel_area(o->mesh, o->texel, t);
+    int x0 = clamp_to_frame(floor(fmin(a[0], fmin(b[0], c[0]))), o->width);
+    int x1 = clamp_to_frame(ceil(fmax(a[0], fmax(b[0], c[0]))), o->width);
+    int y0 = clamp_to_frame(floor(fmin(a[1], fmin(b[1], c[1]))), o->height);
+    int y1 = clamp_to_frame(ceil(fmax(a[1], fmax(b[1], c[1]))), o->height);
     int clash = 0;
     for (int y = y0; y < y1; y++)
         for (int x = x0; x < x1; x++) {
             if (!centre_inside(a, b, c, x + 0.5, y + 0.5))
                 continue;
-            uint32_t *o = &owner[(size_t)y * (size_t)width + (size_t)x];
-            clash |= *o != NO_OWNER && *o != group;
-            *o = group;
+            uint32_t *had = &o->owner[(size_t)y * (size_t)o->width + (size_t)x];
+            int kind = *had == NO_OWNER ? 0 : clash_kind(o, t, *had, area);
+            *within_texels += kind == CLASH_WITHIN;
+            clash |= kind;
+            *had = t;
         }
     return clash;
 }
 
-/* Triangles covering a texel of another sharing group (group_of_chart) in the new layout. */
+/* Per chart, 1 when it covers a texel centre twice with one orientation in the layout
+ * texel, rastered over its whole extent (a file's UVs may leave the frame: a chart over
+ * itself through REPEAT counts); NULL on no memory or an extent too large to raster. */
+static uint8_t *charts_over_themselves(const texopt_mesh *m, const double *texel)
+{
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (size_t k = 0; k < 3 * m->triangle_count; k++)
+        for (int d = 0; d < 2; d++) {
+            lo[d] = fmin(lo[d], texel[2 * (size_t)m->triangle[k] + d]);
+            hi[d] = fmax(hi[d], texel[2 * (size_t)m->triangle[k] + d]);
+        }
+    double width = ceil(hi[0]) - floor(lo[0]), height = ceil(hi[1]) - floor(lo[1]);
+    if (!(width > 0 && height > 0 && width * height <= OWNER_MAX_TEXELS))
+        return NULL;
+    double *shifted = malloc(2 * (m->vertex_count ? m->vertex_count : 1) * sizeof *shifted);
+    texel_owners o = {m, shifted, (int)width, (int)height, NULL, malloc((size_t)(width * height) * sizeof(uint32_t))};
+    uint8_t *over = calloc(m->chart_count ? m->chart_count : 1, 1);
+    if (!shifted || !o.owner || !over) {
+        free(shifted);
+        free(o.owner);
+        free(over);
+        return NULL;
+    }
+    for (size_t v = 0; v < m->vertex_count; v++) { /* whole texels: the centres stay centres */
+        shifted[2 * v] = texel[2 * v] - floor(lo[0]);
+        shifted[2 * v + 1] = texel[2 * v + 1] - floor(lo[1]);
+    }
+    memset(o.owner, 0xff, (size_t)(width * height) * sizeof *o.owner);
+    size_t within = 0;
+    for (size_t t = 0; t < m->triangle_count; t++)
+        if (texel_area(m, shifted, t) != 0.0 && (claim_texels(&o, (uint32_t)t, &within) & CLASH_WITHIN))
+            over[m->chart_of[t]] = 1;
+    free(shifted);
+    free(o.owner);
+    return over;
+}
+
+/* Triangles covering a texel of another sharing group (group_of_chart) in the new layout,
+ * and those covering a texel of their own chart again where the input did not. */
 static texopt_status check_overlaps(const texopt_mesh *m, const double *texel, int width, int height,
                                     const uint32_t *group_of_chart, texopt_layout_check *out, char *err, size_t err_len)
 {
     if ((uint64_t)width * (uint64_t)height > OWNER_MAX_TEXELS || width <= 0 || height <= 0)
         return TEXOPT_OK;
-    uint32_t *owner = malloc((size_t)width * (size_t)height * sizeof *owner);
-    if (!owner)
+    uint8_t *over_in_input = charts_over_themselves(m, m->texel);
+    texel_owners o = {m,      texel,          width,
+                      height, group_of_chart, malloc((size_t)width * (size_t)height * sizeof(uint32_t))};
+    if (!o.owner) {
+        free(over_in_input);
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "layout check: no memory for a %dx%d frame", width, height);
-    memset(owner, 0xff, (size_t)width * (size_t)height * sizeof *owner);
-    for (size_t t = 0; t < m->triangle_count; t++) {
-        uint32_t chart = m->chart_of[t];
-        if (texel_area(m, texel, t) != 0.0 &&
-            claim_texels(m, texel, width, height, t, group_of_chart ? group_of_chart[chart] : chart, owner))
-            offend(out, TEXOPT_LAYOUT_OVERLAP, &out->overlapping, m->model_triangle[t]);
     }
-    free(owner);
+    memset(o.owner, 0xff, (size_t)width * (size_t)height * sizeof *o.owner);
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        if (texel_area(m, texel, t) == 0.0)
+            continue;
+        size_t within = 0;
+        int clash = claim_texels(&o, (uint32_t)t, &within);
+        if (clash & CLASH_GROUPS)
+            offend(out, TEXOPT_LAYOUT_OVERLAP, &out->overlapping, m->model_triangle[t]);
+        if ((clash & CLASH_WITHIN) && !(over_in_input && over_in_input[m->chart_of[t]])) {
+            if (out->overlapping_within++ == 0)
+                out->first_within = m->model_triangle[t];
+            out->overlap_within_texels += within;
+        }
+    }
+    free(over_in_input);
+    free(o.owner);
     return TEXOPT_OK;
 }
 
@@ -179,6 +261,8 @@ cJSON *texopt_layout_check_json(const texopt_layout_check *c)
     for (size_t i = 0; t && i < c->listed; i++)
         cJSON_AddItemToArray(t, cJSON_CreateNumber(c->triangles[i]));
     cJSON_AddNumberToObject(o, "overlapping_triangles", (double)c->overlapping);
+    cJSON_AddNumberToObject(o, "overlapping_within_chart_triangles", (double)c->overlapping_within);
+    cJSON_AddNumberToObject(o, "overlap_within_chart_texels", (double)c->overlap_within_texels);
     cJSON_AddNumberToObject(o, "foldover_triangles", (double)c->folded);
     cJSON_AddNumberToObject(o, "oversized_triangles", (double)c->oversized);
     return o;

@@ -6,6 +6,13 @@
  *    (texel_share.h: mirrored twins laid on one region, a chart with its folds) also covers
  *    in the new layout: what shared texels in the input may keep sharing them, nothing
  *    else (centres on an edge belong to neither side; frames past 2^26 texels unchecked);
+ *  - overlap within a chart, counted and not failed: a triangle on a texel centre that a
+ *    triangle of its own chart with the same orientation also covers (a chart over itself;
+ *    the two sides of a fold may share), in a chart that does not do so in the input (the
+ *    input rastered the same way over its whole extent, past the frame too; past 2^26
+ *    texels every chart counts). Stage 2's barrier does not prevent it, and `bijective`
+ *    prevents it only in the charts its scaffold covers (scaffold.h), so it is measured,
+ *    not failed;
  *  - fold-over: a triangle with an area in both layouts whose orientation the new one
  *    reverses, and that was not FLIPPED (mesh.h) in the input;
  *  - area: a triangle whose new texel area is above TEXOPT_LAYOUT_CHECK_AREA_FACTOR times
@@ -42,9 +49,12 @@ typedef enum texopt_layout_failure {
 
 typedef struct texopt_layout_check {
     texopt_layout_failure failed;
-    size_t overlapping; /* triangles on texels of another sharing group */
-    size_t folded;      /* new fold-overs */
-    size_t oversized;   /* triangles far above their target area */
+    size_t overlapping;           /* triangles on texels of another sharing group */
+    size_t overlapping_within;    /* triangles on texels of their own chart (below) */
+    size_t overlap_within_texels; /* texel centres they cover a second time */
+    uint32_t first_within;        /* the first of them (model triangle) */
+    size_t folded;                /* new fold-overs */
+    size_t oversized;             /* triangles far above their target area */
     size_t listed;
     uint32_t triangles[TEXOPT_LAYOUT_CHECK_LISTED]; /* model triangles of the failed check */
 } texopt_layout_check;
@@ -66,6 +76,7 @@ texopt_status texopt_layout_check_run(const texopt_mesh *input, const double *te
 texopt_status texopt_layout_check_own(const texopt_mesh *mesh, texopt_layout_check *out, char *err, size_t err_len);
 
 /* {"passed", "failed" (a name or null), "triangles": [...], "overlapping_triangles",
+ * "overlapping_within_chart_triangles", "overlap_within_chart_texels",
  * "foldover_triangles", "oversized_triangles"}, as the statistics and `texopt info` give it. */
 cJSON *texopt_layout_check_json(const texopt_layout_check *check);
 

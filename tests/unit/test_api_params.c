@@ -29,6 +29,7 @@ TEST(empty_object_gives_paper_defaults)
     CHECK_EQ_INT(p.mipmapped, 0);
     CHECK_NEAR(p.packing_efficiency, 0, 0);
     CHECK_EQ_INT(p.bijective, 0);
+    CHECK_EQ_INT(p.packing_refine, 0);
 }
 
 TEST(every_key_is_read)
@@ -38,7 +39,7 @@ TEST(every_key_is_read)
     CHECK_OK(parse("{\"method\":\"arap\",\"relative_cost\":0.25,\"epsilon\":0.02,\"iterations\":7,"
                    "\"lambda_min\":0.3,\"threads\":3,\"seed\":123456789012,\"evaluate\":true,"
                    "\"eval_resolution\":256,\"refinements\":5,\"refine_by\":\"lit\",\"lookup\":\"mipmapped\","
-                   "\"packing_efficiency\":0.75,\"bijective\":true}",
+                   "\"packing_efficiency\":0.75,\"bijective\":true,\"packing\":\"refine\"}",
                    &p, err),
              err);
     CHECK_EQ_INT(p.method, TEXOPT_METHOD_ARAP);
@@ -55,6 +56,7 @@ TEST(every_key_is_read)
     CHECK_EQ_INT(p.mipmapped, 1);
     CHECK_NEAR(p.packing_efficiency, 0.75, 0);
     CHECK_EQ_INT(p.bijective, 1);
+    CHECK_EQ_INT(p.packing_refine, 1);
     CHECK_OK(parse("{\"refinements\":0}", &p, err), err);
     CHECK_EQ_INT(p.refinements, -1); /* none, not the engine's default */
 }
@@ -108,6 +110,7 @@ TEST(bad_params_are_refused_by_name)
     check_refused("{\"refine_by\":1}", "params.refine_by");
     check_refused("{\"lookup\":\"trilinear\"}", "params.lookup");
     check_refused("{\"lookup\":true}", "params.lookup");
+    check_refused("{\"packing\":\"tight\"}", "params.packing");
     check_refused("{\"packing_efficiency\":1}", "packing_efficiency");
     check_refused("{\"packing_efficiency\":-0.1}", "packing_efficiency");
     check_refused("[1,2]", "must be a JSON object");

@@ -2,12 +2,15 @@
  * itself; a zero-area strip opened (each of its triangles then 20 times the mean) fails
  * "area" and lists strip triangles; mirrored twins on
  * one region fail "overlap" as separate groups and pass as one sharing group; a vertex
- * pushed across its neighbours fails "foldover". */
+ * pushed across its neighbours fails "foldover". Within one chart: a triangle moved onto
+ * another of its chart is counted (not failed) with the centres it covers twice, unless
+ * mirrored (a fold's sides) or already so in the input; in another chart it fails. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "fixtures.h"
+#include "handmesh.h"
 #include "layout_check.h"
 #include "mesh.h"
 #include "sliver_grids.h"
@@ -129,4 +132,69 @@ TEST(texel_positions_far_outside_the_frame_are_clamped_not_converted)
     free(t);
     texopt_mesh_destroy(mesh);
     sliver_grid_free(&g);
+}
+
+/* Two triangles 40 texels apart (legs of 20 texels), chart_of and orientation as given. */
+static texopt_mesh *two_triangles(uint32_t second_chart, int mirrored)
+{
+    texopt_mesh *m = handmesh_alloc(6, 2);
+    if (!m)
+        return NULL;
+    m->model_triangle = calloc(2, sizeof *m->model_triangle);
+    const double xy[12] = {10, 10, 30, 10, 10, 30, 50, 10, 70, 10, 50, 30};
+    memcpy(m->texel, xy, sizeof xy);
+    for (uint32_t k = 0; k < 6; k++)
+        m->triangle[k] = k;
+    if (mirrored) { /* the second one clockwise: a fold's other side */
+        m->triangle[4] = 5;
+        m->triangle[5] = 4;
+    }
+    m->model_triangle[1] = 1;
+    m->chart_of[1] = second_chart;
+    m->chart_count = second_chart + 1;
+    handmesh_finish(m);
+    return m;
+}
+
+/* texel with the second triangle moved onto the first (its corners onto theirs). */
+static void second_onto_first(const texopt_mesh *m, double *t)
+{
+    memcpy(t, m->texel, 12 * sizeof *t);
+    for (int k = 3; k < 6; k++)
+        t[2 * k] -= 40;
+}
+
+TEST(a_chart_over_itself_is_counted_and_another_chart_fails)
+{
+    double t[12];
+    texopt_layout_check c;
+    texopt_mesh *m = two_triangles(0, 0);
+    CHECK(m && m->model_triangle);
+    CHECK(texopt_layout_check_run(m, m->texel, 256, 256, NULL, NULL, &c, NULL, 0) == TEXOPT_OK);
+    CHECK(c.overlapping_within == 0 && c.failed == TEXOPT_LAYOUT_PASSED);
+    second_onto_first(m, t);
+    CHECK(texopt_layout_check_run(m, t, 256, 256, NULL, NULL, &c, NULL, 0) == TEXOPT_OK);
+    /* a right triangle of legs 20 on integer corners holds 190 centres strictly inside */
+    CHECK_MSG(c.overlapping_within == 1 && c.overlap_within_texels == 190 && c.first_within == 1,
+              "within %zu triangles, %zu texels", c.overlapping_within, c.overlap_within_texels);
+    CHECK(c.failed == TEXOPT_LAYOUT_PASSED && c.overlapping == 0);
+    /* already over itself in the input: nothing new */
+    memcpy(m->texel, t, sizeof t);
+    CHECK(texopt_layout_check_run(m, t, 256, 256, NULL, NULL, &c, NULL, 0) == TEXOPT_OK);
+    CHECK_EQ_INT(c.overlapping_within, 0);
+    texopt_mesh_destroy(m);
+
+    m = two_triangles(0, 1);
+    CHECK(m && m->model_triangle);
+    second_onto_first(m, t);
+    CHECK(texopt_layout_check_run(m, t, 256, 256, NULL, NULL, &c, NULL, 0) == TEXOPT_OK);
+    CHECK_EQ_INT(c.overlapping_within, 0);
+    texopt_mesh_destroy(m);
+
+    m = two_triangles(1, 0);
+    CHECK(m && m->model_triangle);
+    second_onto_first(m, t);
+    CHECK(texopt_layout_check_run(m, t, 256, 256, NULL, NULL, &c, NULL, 0) == TEXOPT_OK);
+    CHECK(c.failed == TEXOPT_LAYOUT_OVERLAP && c.overlapping == 1 && c.overlapping_within == 0);
+    texopt_mesh_destroy(m);
 }

@@ -1,0 +1,281 @@
+/* atlas_refine.c - charts deformed toward axis-aligned shapes; see atlas_refine.h. */
+#include "atlas_refine.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "axis_angles.h"
+#include "axis_deform.h"
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static uint64_t undirected_key(uint32_t a, uint32_t b)
+{
+    return a < b ? ((uint64_t)a << 32) | b : ((uint64_t)b << 32) | a;
+}
+
+static int compare_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* The edges of nt triangles used by one triangle only, each as (from, to) in its
+ * triangle's order: *from and *to (caller frees) get *count of them. Returns 0 on no memory. */
+static int boundary_edges(const uint32_t *tri, size_t nt, uint32_t **from, uint32_t **to, size_t *count)
+{
+    size_t ne = 3 * nt;
+    uint64_t *keys = malloc((ne ? ne : 1) * sizeof *keys);
+    *from = malloc((ne ? ne : 1) * sizeof **from);
+    *to = malloc((ne ? ne : 1) * sizeof **to);
+    if (!keys || !*from || !*to) {
+        free(keys);
+        return 0;
+    }
+    for (size_t e = 0; e < ne; e++)
+        keys[e] = undirected_key(tri[e], tri[e - e % 3 + (e % 3 + 1) % 3]);
+    qsort(keys, ne, sizeof *keys, compare_u64);
+    *count = 0;
+    for (size_t e = 0; e < ne; e++) {
+        uint32_t a = tri[e], b = tri[e - e % 3 + (e % 3 + 1) % 3];
+        uint64_t k = undirected_key(a, b);
+        const uint64_t *hit = bsearch(&k, keys, ne, sizeof *keys, compare_u64);
+        int shared = (hit > keys && hit[-1] == k) || (hit + 1 < keys + ne && hit[1] == k);
+        if (!shared) {
+            (*from)[*count] = a;
+            (*to)[(*count)++] = b;
+        }
+    }
+    free(keys);
+    return 1;
+}
+
+double texopt_atlas_boundary_length(const texopt_mesh *mesh, const double *texel)
+{
+    uint32_t *from, *to;
+    size_t n = 0;
+    double length = 0;
+    if (boundary_edges(mesh->triangle, mesh->triangle_count, &from, &to, &n))
+        for (size_t e = 0; e < n; e++)
+            length += hypot(texel[2 * (size_t)to[e]] - texel[2 * (size_t)from[e]],
+                            texel[2 * (size_t)to[e] + 1] - texel[2 * (size_t)from[e] + 1]);
+    free(from);
+    free(to);
+    return length;
+}
+
+/* One chart in local vertex numbers, mirrored when clockwise so that every triangle is
+ * counter-clockwise, as axis_deform.h wants it. */
+typedef struct chart_problem {
+    size_t nv, nt;
+    uint32_t *vertex; /* local -> mesh vertex */
+    uint32_t *tri;    /* 3 per triangle, local, counter-clockwise */
+    double *rest, *xy;
+    double mirror; /* +1, or -1 when y was negated */
+    double area;
+} chart_problem;
+
+static double signed_area(const double *a, const double *b, const double *c)
+{
+    return 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+}
+
+/* Fills p with the chart's triangles tris[0..nt); local (per mesh vertex, UINT32_MAX) is
+ * the scratch numbering, left as it was found. Returns 0 when the chart has a triangle
+ * without area or against its orientation. */
+static int chart_build(const texopt_mesh *mesh, const double *texel, const uint32_t *tris, size_t nt, uint32_t *local,
+                       chart_problem *p)
+{
+    double sum = 0;
+    int ok = 1;
+    for (size_t i = 0; i < nt; i++) {
+        const uint32_t *v = mesh->triangle + 3 * (size_t)tris[i];
+        sum += signed_area(texel + 2 * (size_t)v[0], texel + 2 * (size_t)v[1], texel + 2 * (size_t)v[2]);
+    }
+    p->mirror = sum < 0 ? -1.0 : 1.0;
+    p->area = fabs(sum);
+    p->nt = nt;
+    p->nv = 0;
+    for (size_t i = 0; i < nt; i++) {
+        const uint32_t *v = mesh->triangle + 3 * (size_t)tris[i];
+        const double *a = texel + 2 * (size_t)v[0], *b = texel + 2 * (size_t)v[1], *c = texel + 2 * (size_t)v[2];
+        if (texopt_texel_triangle_degenerate(a, b, c) || !(p->mirror * signed_area(a, b, c) > 0))
+            ok = 0;
+        for (int k = 0; k < 3; k++) {
+            if (local[v[k]] == UINT32_MAX) {
+                local[v[k]] = (uint32_t)p->nv;
+                p->vertex[p->nv++] = v[k];
+            }
+        }
+        for (int k = 0; k < 3; k++)
+            p->tri[3 * i + k] = local[v[k]];
+    }
+    for (size_t i = 0; i < p->nv; i++) {
+        local[p->vertex[i]] = UINT32_MAX;
+        p->rest[2 * i] = texel[2 * (size_t)p->vertex[i]];
+        p->rest[2 * i + 1] = p->mirror * texel[2 * (size_t)p->vertex[i] + 1];
+    }
+    return ok;
+}
+
+/* The chart's boundary as one loop (loop gets its local vertices, counter-clockwise);
+ * returns its length, 0 when the boundary is not one simple loop. next is scratch (nv). */
+static size_t chart_loop(const chart_problem *p, uint32_t *next, uint32_t *loop)
+{
+    uint32_t *from, *to;
+    size_t n = 0, len = 0;
+    if (!boundary_edges(p->tri, p->nt, &from, &to, &n)) {
+        free(from);
+        free(to);
+        return 0;
+    }
+    for (size_t i = 0; i < p->nv; i++)
+        next[i] = UINT32_MAX;
+    int simple = n > 0;
+    for (size_t e = 0; e < n && simple; e++) {
+        simple = next[from[e]] == UINT32_MAX;
+        next[from[e]] = to[e];
+    }
+    if (simple) {
+        uint32_t v = from[0];
+        do {
+            loop[len++] = v;
+            v = next[v];
+        } while (v != UINT32_MAX && v != from[0] && len < n);
+        if (v != from[0] || len != n)
+            len = 0;
+    }
+    free(from);
+    free(to);
+    return len;
+}
+
+enum { DEFORMED = 1, REFUSED = 0, TURNS_TOO_FAR = -1 };
+
+/* Deforms one chart; returns DEFORMED when p->xy holds the refined chart, with its
+ * distortion and angle error in rep, TURNS_TOO_FAR for a keep_angle chart whose turn is
+ * past TEXOPT_ATLAS_REFINE_MAX_TURN. */
+static int chart_deform(chart_problem *p, int keep_angle, uint32_t *scratch, uint32_t *loop,
+                        texopt_axis_deform_report *rep)
+{
+    size_t nb = chart_loop(p, scratch, loop);
+    if (nb < 4)
+        return 0;
+    double *pts = malloc(2 * nb * sizeof *pts);
+    if (!pts)
+        return 0;
+    for (size_t i = 0; i < nb; i++)
+        memcpy(pts + 2 * i, p->rest + 2 * (size_t)loop[i], 2 * sizeof *pts);
+    char err[256];
+    texopt_axis_angles angles;
+    memset(&angles, 0, sizeof angles);
+    texopt_status st = texopt_axis_angles_compute(pts, nb, &angles, err, sizeof err);
+    int turns_too_far = st == TEXOPT_OK && keep_angle && fabs(angles.rotation) > TEXOPT_ATLAS_REFINE_MAX_TURN;
+    if (st == TEXOPT_OK && !turns_too_far)
+        st = texopt_axis_deform(p->nv, p->rest, p->nt, p->tri, loop, &angles, p->xy, rep, err, sizeof err);
+    texopt_axis_angles_destroy(&angles);
+    free(pts);
+    if (turns_too_far)
+        return TURNS_TOO_FAR;
+    return st == TEXOPT_OK && isfinite(rep->distortion) ? DEFORMED : REFUSED;
+}
+
+/* Triangles grouped by chart: order (triangle_count) and start (chart_count + 1). */
+static int charts_of_triangles(const texopt_mesh *mesh, uint32_t *order, size_t *start)
+{
+    memset(start, 0, (mesh->chart_count + 1) * sizeof *start);
+    for (size_t t = 0; t < mesh->triangle_count; t++)
+        start[mesh->chart_of[t] + 1]++;
+    for (size_t c = 0; c < mesh->chart_count; c++)
+        start[c + 1] += start[c];
+    size_t *fill = malloc((mesh->chart_count ? mesh->chart_count : 1) * sizeof *fill);
+    if (!fill)
+        return 0;
+    memcpy(fill, start, mesh->chart_count * sizeof *fill);
+    for (size_t t = 0; t < mesh->triangle_count; t++)
+        order[fill[mesh->chart_of[t]]++] = (uint32_t)t;
+    free(fill);
+    return 1;
+}
+
+texopt_status texopt_atlas_refine(const texopt_mesh *mesh, const double *texel, const uint8_t *keep_shape,
+                                  const uint8_t *keep_angle, double max_distortion, double *texel_out,
+                                  texopt_atlas_refine_report *report, const texopt_monitor *monitor, char *err,
+                                  size_t err_len)
+{
+    double t0 = now_seconds();
+    texopt_atlas_refine_report rep = {0};
+    size_t nv = mesh->vertex_count ? mesh->vertex_count : 1, nt = mesh->triangle_count ? mesh->triangle_count : 1;
+    memcpy(texel_out, texel, 2 * mesh->vertex_count * sizeof *texel_out);
+    uint32_t *order = malloc(nt * sizeof *order), *local = malloc(nv * sizeof *local);
+    uint32_t *scratch = malloc(nv * sizeof *scratch), *loop = malloc(3 * nt * sizeof *loop);
+    size_t *start = malloc((mesh->chart_count + 1) * sizeof *start);
+    chart_problem p = {0};
+    p.vertex = malloc(nv * sizeof *p.vertex);
+    p.tri = malloc(3 * nt * sizeof *p.tri);
+    p.rest = malloc(2 * nv * sizeof *p.rest);
+    p.xy = malloc(2 * nv * sizeof *p.xy);
+    texopt_status st = TEXOPT_OK;
+    if (!order || !local || !scratch || !loop || !start || !p.vertex || !p.tri || !p.rest || !p.xy ||
+        !charts_of_triangles(mesh, order, start))
+        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "atlas refinement: no memory");
+    else
+        memset(local, 0xff, nv * sizeof *local);
+    double weighted = 0, area = 0;
+    for (size_t c = 0; st == TEXOPT_OK && c < mesh->chart_count; c++) {
+        if (texopt_monitor_canceled(monitor)) {
+            st = texopt_fail(err, err_len, TEXOPT_E_CANCELED, "canceled");
+            break;
+        }
+        int built = chart_build(mesh, texel, order + start[c], start[c + 1] - start[c], local, &p);
+        texopt_axis_deform_report dr = {0};
+        area += p.area;
+        int deformed = built && !(keep_shape && keep_shape[c])
+                           ? chart_deform(&p, keep_angle && keep_angle[c], scratch, loop, &dr)
+                           : REFUSED;
+        if (deformed != DEFORMED) {
+            rep.charts_skipped++;
+            rep.charts_kept_angle += deformed == TURNS_TOO_FAR;
+            weighted += p.area;
+            continue;
+        }
+        if (max_distortion > 0 && dr.distortion > max_distortion) {
+            rep.charts_skipped++;
+            rep.charts_too_distorted++;
+            weighted += p.area;
+            continue;
+        }
+        rep.charts_refined++;
+        weighted += p.area * dr.distortion;
+        rep.max_angle_error = fmax(rep.max_angle_error, dr.max_angle_error);
+        for (size_t i = 0; i < p.nv; i++) {
+            texel_out[2 * (size_t)p.vertex[i]] = p.xy[2 * i];
+            texel_out[2 * (size_t)p.vertex[i] + 1] = p.mirror * p.xy[2 * i + 1];
+        }
+    }
+    if (st == TEXOPT_OK) {
+        rep.distortion = area > 0 ? weighted / area : 1.0;
+        rep.boundary_before = texopt_atlas_boundary_length(mesh, texel);
+        rep.boundary_after = texopt_atlas_boundary_length(mesh, texel_out);
+        rep.seconds = now_seconds() - t0;
+        if (report)
+            *report = rep;
+    }
+    free(order);
+    free(local);
+    free(scratch);
+    free(loop);
+    free(start);
+    free(p.vertex);
+    free(p.tri);
+    free(p.rest);
+    free(p.xy);
+    return st;
+}
