@@ -16,6 +16,9 @@ struct texopt_lit_frames {
     size_t triangle_count;
     /* Per triangle T, B, N (unit); T = B = 0 where the UV map is degenerate (n = N). */
     double *tbn;
+    /* Per triangle its corners' vertex normals (9 floats), NULL when the model has none:
+     * the shading normal is theirs interpolated, as a viewer draws it. */
+    float *corner_normals;
     /* Per triangle its material's metallic and roughness factors (glTF's 1 and 1 without a
      * material). */
     float *factors;
@@ -84,6 +87,27 @@ static void material_factors(const texopt_model *m, float *factors)
     }
 }
 
+/* Copies the reference's vertex normals per triangle corner; a triangle with a corner
+ * without one (a primitive without NORMAL) gets zeros, so it is shaded flat. 0 on no memory. */
+static int corner_normals_of(const texopt_model *m, texopt_lit_frames *f)
+{
+    f->corner_normals = calloc(f->triangle_count ? f->triangle_count * 9 : 1, sizeof *f->corner_normals);
+    if (!f->corner_normals)
+        return 0;
+    for (size_t t = 0; t < f->triangle_count; t++) {
+        float *out = f->corner_normals + 9 * t;
+        int complete = 1;
+        for (int c = 0; c < 3; c++) {
+            const float *n = m->normals + 3 * (size_t)m->triangles[3 * t + (size_t)c];
+            memcpy(out + 3 * c, n, 3 * sizeof *n);
+            complete = complete && (n[0] != 0 || n[1] != 0 || n[2] != 0);
+        }
+        if (!complete)
+            memset(out, 0, 9 * sizeof *out);
+    }
+    return 1;
+}
+
 texopt_status texopt_lit_frames_create(const texopt_model *reference, texopt_lit_frames **out, char *err,
                                        size_t err_len)
 {
@@ -111,6 +135,10 @@ texopt_status texopt_lit_frames_create(const texopt_model *reference, texopt_lit
         triangle_frame(reference, t, f->tbn + 9 * t);
     }
     material_factors(reference, f->factors);
+    if (reference->normals && !corner_normals_of(reference, f)) {
+        texopt_lit_frames_destroy(f);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the vertex normals");
+    }
     *out = f;
     return TEXOPT_OK;
 }
@@ -121,6 +149,7 @@ void texopt_lit_frames_destroy(texopt_lit_frames *frames)
         return;
     free(frames->tbn);
     free(frames->factors);
+    free(frames->corner_normals);
     free(frames);
 }
 
@@ -139,11 +168,45 @@ void texopt_lit_light(const texopt_view *view, double l[3])
     texopt_normalize3(l);
 }
 
-/* The shading normal at a pixel of a face with frame tbn, from its normal-map texel (NULL:
- * the face normal). */
-static void shading_normal(const double *tbn, const float *texel, double n[3])
+/* The tangent frame at a pixel of a triangle with face frame tbn: N the corners' normals
+ * interpolated at barycentrics bary (corners NULL or zero: the face normal), T
+ * Gram-Schmidt against it and B = +-N x T with the face frame's handedness, as a renderer
+ * builds the frame from a vertex normal and the UVs' tangent. */
+static void pixel_frame(const double *tbn, const float *corners, const float *bary, double frame[9])
 {
-    const double *T = tbn, *B = tbn + 3, *N = tbn + 6;
+    memcpy(frame, tbn, 9 * sizeof *frame);
+    if (!corners || (corners[0] == 0 && corners[1] == 0 && corners[2] == 0))
+        return;
+    double *T = frame, *B = frame + 3, *N = frame + 6;
+    double b1 = bary[0], b2 = bary[1], b0 = 1.0 - b1 - b2;
+    for (int k = 0; k < 3; k++)
+        N[k] = b0 * corners[k] + b1 * corners[3 + k] + b2 * corners[6 + k];
+    if (!texopt_normalize3(N)) {
+        memcpy(frame, tbn, 9 * sizeof *frame);
+        return;
+    }
+    if (!(texopt_dot3(tbn, tbn) > 0))
+        return; /* degenerate UVs: no tangent, n = N */
+    double face_nxt[3], nxt[3];
+    texopt_cross3(tbn + 6, tbn, face_nxt);
+    double sign = texopt_dot3(face_nxt, tbn + 3) < 0 ? -1.0 : 1.0;
+    double tn = texopt_dot3(T, N);
+    for (int k = 0; k < 3; k++)
+        T[k] -= tn * N[k];
+    if (!texopt_normalize3(T)) {
+        memset(frame, 0, 6 * sizeof *frame);
+        return;
+    }
+    texopt_cross3(N, T, nxt);
+    for (int k = 0; k < 3; k++)
+        B[k] = sign * nxt[k];
+}
+
+/* The shading normal at a pixel with tangent frame `frame`, from its normal-map texel (NULL:
+ * the frame's N). */
+static void shading_normal(const double *frame, const float *texel, double n[3])
+{
+    const double *T = frame, *B = frame + 3, *N = frame + 6;
     memcpy(n, N, 3 * sizeof *n);
     if (texel && texopt_dot3(T, T) > 0) {
         double x = 2.0 * texel[0] - 1, y = 2.0 * texel[1] - 1, z = 2.0 * texel[2] - 1;
@@ -230,8 +293,11 @@ static texopt_status apply_term(const texopt_model *model, const texopt_raster *
             mr[2 * i] = factor[0] * (texel ? texel[2] : 1.0f);
             mr[2 * i + 1] = factor[1] * (texel ? texel[1] : 1.0f);
         } else if (term == LIT_SURFACE) {
-            double normal[3];
-            shading_normal(frames->tbn + 9 * (size_t)t, texel, normal);
+            double frame[9], normal[3];
+            pixel_frame(frames->tbn + 9 * (size_t)t,
+                        frames->corner_normals ? frames->corner_normals + 9 * (size_t)t : NULL, raster->bary + 2 * i,
+                        frame);
+            shading_normal(frame, texel, normal);
             luma[i] = (float)surface(luma[i], mr[2 * i], mr[2 * i + 1], normal, l, v);
         } else if (texel && term == LIT_OCCLUSION)
             luma[i] *= texel[0];

@@ -19,15 +19,18 @@
  * emissive texture is taken at factor 1 (model.h does not load emissiveFactor), as the
  * assets with an emissive map set it (DamagedHelmet, WaterBottle).
  * n is the normal map's tangent-space normal (2 rgb - 1, renormalised) in world space, or the
- * face normal N where the material has no normal map.
+ * surface normal N where the material has no normal map.
  *
- * Tangent frame: per triangle, from the REFERENCE's positions and UVs (T = dP/du, B = -dP/dv
- * as glTF's +Y is up in the image, T Gram-Schmidt against the flat face normal N, B = +-N x T
- * with the sign of the UV winding); where the UV map is degenerate n = N. Vertex normals and
- * stored TANGENT are not used: both renders shade the same geometry in the same frame (the
- * reference's), so smooth normals would change both alike, and the candidate's map is turned
- * back into that frame by the caller (normal_turn, exactly as the evaluation's normal slot,
- * evaluate.h), so an unchanged layout shades bit for bit the same.
+ * N is the REFERENCE's vertex normal (its file's NORMAL, model.h) interpolated across the
+ * triangle, as a viewer shades it; the flat face normal where the file has none (glTF's rule).
+ * Flat facets would put whole faces on a highlight's steep flank and weigh the texels
+ * under them far beyond what a viewer shows. Tangent frame: per triangle T = dP/du,
+ * B = -dP/dv (glTF's +Y is up in the image) from the reference's positions and UVs; per pixel
+ * T Gram-Schmidt against N and B = +-N x T with the triangle's UV winding; where the UV map
+ * is degenerate n = N. Stored TANGENT is not used: both renders shade the same geometry in
+ * the same frame (the reference's), and the candidate's map is turned back into that frame
+ * by the caller (normal_turn, exactly as the evaluation's normal slot, evaluate.h), so an
+ * unchanged layout shades bit for bit the same.
  *
  * Light: one directional light per view, fixed to that view's camera,
  * l = normalize(0.5 right + 0.5 up + 0.7 direction) (texopt_view; direction points at the

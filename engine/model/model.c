@@ -235,6 +235,7 @@ void texopt_model_destroy(texopt_model *model)
         return;
     free(model->positions);
     free(model->uvs);
+    free(model->normals);
     free(model->triangles);
     free(model->primitives);
     free(model->variant_materials);

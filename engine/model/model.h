@@ -121,6 +121,9 @@ typedef struct texopt_model {
     float *positions; /* 3 per vertex, world space */
     float *uvs;       /* 2 per vertex, TEXCOORD_0 as in the file after its material's
                          uv_transform (may leave [0,1]); NULL if none */
+    float *normals;   /* 3 per vertex, world space, unit: NORMAL as in the file; a zero vector
+                         where a primitive has none (shade it flat, as glTF asks); NULL if no
+                         primitive has one */
     size_t triangle_count;
     uint32_t *triangles; /* 3 per triangle, model vertex indices */
 

@@ -405,3 +405,45 @@ TEST(highlight_follows_roughness_and_metallic)
     head_on_free(&ho);
     texopt_model_destroy(m);
 }
+
+/* The shading normal is the vertex normals interpolated, as a viewer draws it: with the
+ * quad's left corners' normals tilted to -x and its right corners' to +x, a grey quad with a
+ * flat normal map is brighter on the right (the light comes from +x) and darker on the left
+ * than flat shading; vertex normals equal to the face normal shade exactly as none. */
+TEST(vertex_normals_are_interpolated_across_the_face)
+{
+    texopt_model *m = lit_quad(quad_uv);
+    CHECK(m);
+    for (size_t i = 0; i < 3 * (size_t)TEX * TEX; i++) {
+        m->images[0].pixels[i] = 0.5f;
+        m->images[2].pixels[i] = 1.0f;
+    }
+    fill_flat_normal(&m->images[1]);
+    const size_t left = 8 * HEAD_ON_SIDE + 5, right = 8 * HEAD_ON_SIDE + 10;
+    const float s = (float)(1.0 / sqrt(1.25));
+    const float face[12] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+    const float tilted[12] = {-0.5f * s, 0, s, 0.5f * s, 0, s, 0.5f * s, 0, s, -0.5f * s, 0, s};
+    const float *cases[3] = {NULL, face, tilted};
+    float lit[3][HEAD_ON_SIDE * HEAD_ON_SIDE];
+    char err[256] = "";
+    for (int k = 0; k < 3; k++) {
+        float normals[12];
+        if (cases[k])
+            memcpy(normals, cases[k], sizeof normals);
+        m->normals = cases[k] ? normals : NULL;
+        head_on h;
+        CHECK(head_on_init(&h, m));
+        CHECK(h.raster.triangle[left] >= 0 && h.raster.triangle[right] >= 0);
+        CHECK_OK(head_on_shade(&h, m, lit[k], err, sizeof err), err);
+        head_on_free(&h);
+        m->normals = NULL;
+    }
+    printf("  flat %.4f / %.4f, face normals %.4f / %.4f, tilted %.4f / %.4f (left / right)\n", lit[0][left],
+           lit[0][right], lit[1][left], lit[1][right], lit[2][left], lit[2][right]);
+    CHECK_NEAR(lit[0][left], lit[0][right], 1e-6);
+    for (size_t i = 0; i < (size_t)HEAD_ON_SIDE * HEAD_ON_SIDE; i++)
+        CHECK_NEAR(lit[1][i], lit[0][i], 1e-6);
+    CHECK(lit[2][right] > lit[0][right] + 0.02f);
+    CHECK(lit[2][left] < lit[0][left] - 0.02f);
+    texopt_model_destroy(m);
+}

@@ -377,6 +377,44 @@ TEST(node_hierarchy_instancing_and_mirroring)
     quad_doc_free(&doc);
 }
 
+/* NORMAL is read into world space by the inverse transpose of the node's matrix, so a mirror
+ * with a non-uniform scale keeps normals perpendicular to the placed surface and on the side
+ * its (swapped) winding faces; a file without NORMAL leaves normals NULL (shaded flat). */
+TEST(normals_turn_with_the_node_and_stay_on_the_front_side)
+{
+    char err[512] = "";
+    quad_doc doc;
+    CHECK(quad_doc_init(&doc, 4, 4));
+    texopt_status st;
+    texopt_model *m = load_quad_json(&doc, doc.json, err, sizeof err, &st);
+    CHECK_OK(st, err);
+    CHECK(m->normals == NULL);
+    texopt_model_destroy(m);
+
+    const float r = (float)(1.0 / sqrt(2.0));
+    const float normals[12] = {0, 0, 1, r, 0, r, 0, 0, 1, 0, 0, 1};
+    int view = quad_doc_add_view(&doc, normals, sizeof normals);
+    CHECK(view == 4);
+    char *json = strdup(doc.json);
+    CHECK(builder_replace(&json, "\"TEXCOORD_0\":1}", "\"TEXCOORD_0\":1,\"NORMAL\":3}"));
+    CHECK(builder_replace(&json, "\"type\":\"SCALAR\"}]",
+                          "\"type\":\"SCALAR\"},{\"bufferView\":4,\"componentType\":5126,\"count\":4,"
+                          "\"type\":\"VEC3\"}]"));
+    CHECK(builder_replace(&json, "\"translation\":[1,2,3]", "\"matrix\":[-2,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]"));
+    m = load_quad_json(&doc, json, err, sizeof err, &st);
+    CHECK_OK(st, err);
+    CHECK(m->normals != NULL);
+    /* (1, 0, 1) under diag(-2, 1, 1): the inverse transpose gives (-1/2, 0, 1), on +z where the
+     * swapped winding faces. */
+    CHECK_NEAR(m->normals[3 * 1 + 0], -1.0 / sqrt(5.0), 1e-6);
+    CHECK_NEAR(m->normals[3 * 1 + 1], 0.0, 1e-6);
+    CHECK_NEAR(m->normals[3 * 1 + 2], 2.0 / sqrt(5.0), 1e-6);
+    CHECK_NEAR(m->normals[3 * 0 + 2], 1.0, 1e-6);
+    texopt_model_destroy(m);
+    free(json);
+    quad_doc_free(&doc);
+}
+
 /* Loads path, saves it (with edit when uv_shift != 0: UVs shifted, image 0 replaced) and
  * reloads; checks what must be identical and what must have changed. */
 static void check_round_trip(const char *path, float uv_shift, const char *out)

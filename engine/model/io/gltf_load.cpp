@@ -462,17 +462,62 @@ bool material_is_textured(const texopt_model *model, int material)
 /* ---- geometry -------------------------------------------------------------------------- */
 
 struct flat_geometry {
-    std::vector<float> positions, uvs;
+    std::vector<float> positions, uvs, normals;
     std::vector<uint32_t> triangles;
     std::vector<texopt_primitive> primitives;
     std::vector<int> variant_materials; /* texopt_primitive.first_variant indexes it */
     bool any_uvs = false;
+    bool any_normals = false;
 };
 
 int attribute(const tinygltf::Primitive &p, const char *name)
 {
     auto it = p.attributes.find(name);
     return it == p.attributes.end() ? -1 : it->second;
+}
+
+/* The primitive's NORMAL in world space (unit), or zeros where it has none or one the
+ * evaluation cannot use (glTF then asks for flat normals, and texopt_model.normals marks
+ * them with zero vectors). Normals only shade the evaluation's lit render; a file whose
+ * NORMAL is unreadable loses nothing by being shaded flat, so it is not refused here. */
+std::vector<float> world_normals(const tinygltf::Model &g, const tinygltf::Primitive &p, size_t nv,
+                                 const gltf_mat4 *world)
+{
+    std::vector<float> n(nv * 3, 0.0f), read;
+    int acc = attribute(p, "NORMAL");
+    char ignored[64];
+    if (acc < 0 ||
+        gltf_read_floats(g, acc, TINYGLTF_TYPE_VEC3, "NORMAL", &read, ignored, sizeof ignored) != TEXOPT_OK ||
+        read.size() != nv * 3)
+        return n;
+    /* Normals turn by the inverse transpose of the placement's 3x3, whose columns are the
+     * cross products of the matrix's columns over its determinant. */
+    double cof[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, det = 1;
+    if (world) {
+        const gltf_mat4 &m = *world;
+        const double a[3] = {m[0], m[1], m[2]}, b[3] = {m[4], m[5], m[6]}, c[3] = {m[8], m[9], m[10]};
+        const double *cols[3][2] = {{b, c}, {c, a}, {a, b}};
+        for (int k = 0; k < 3; k++) {
+            const double *u = cols[k][0], *v = cols[k][1];
+            cof[3 * k] = u[1] * v[2] - u[2] * v[1];
+            cof[3 * k + 1] = u[2] * v[0] - u[0] * v[2];
+            cof[3 * k + 2] = u[0] * v[1] - u[1] * v[0];
+        }
+        det = gltf_determinant3(m);
+    }
+    for (size_t v = 0; v < nv; v++) {
+        double w[3] = {0, 0, 0};
+        for (int k = 0; k < 3; k++)
+            for (int r = 0; r < 3; r++)
+                w[r] += read[3 * v + (size_t)k] * cof[3 * k + r];
+        double len = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+        if (!(len > 0) || !std::isfinite(len))
+            continue;
+        double s = (det < 0 ? -1.0 : 1.0) / len;
+        for (int r = 0; r < 3; r++)
+            n[3 * v + (size_t)r] = (float)(w[r] * s);
+    }
+    return n;
 }
 
 /* TEXCOORD_0 through its material's uv_transform; false when a result is not finite. */
@@ -722,6 +767,9 @@ texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model,
     geo->variant_materials.insert(geo->variant_materials.end(), variants.begin(), variants.end());
     geo->positions.insert(geo->positions.end(), pos.begin(), pos.end());
     geo->uvs.insert(geo->uvs.end(), uv.begin(), uv.end());
+    std::vector<float> normals = world_normals(g, p, nv, world);
+    geo->any_normals = geo->any_normals || attribute(p, "NORMAL") >= 0;
+    geo->normals.insert(geo->normals.end(), normals.begin(), normals.end());
     for (size_t t = 0; t < idx.size(); t += 3) {
         uint32_t a = idx[t], b = idx[t + 1], c = idx[t + 2];
         if (flip)
@@ -788,11 +836,12 @@ texopt_status convert_geometry(const tinygltf::Model &g, texopt_model *model, ch
     model->primitive_count = (int)geo.primitives.size();
     model->positions = copy_out(geo.positions);
     model->uvs = geo.any_uvs ? copy_out(geo.uvs) : nullptr;
+    model->normals = geo.any_normals ? copy_out(geo.normals) : nullptr;
     model->triangles = copy_out(geo.triangles);
     model->primitives = copy_out(geo.primitives);
     model->variant_materials = copy_out(geo.variant_materials);
-    if (!model->positions || (geo.any_uvs && !model->uvs) || !model->triangles || !model->primitives ||
-        !model->variant_materials)
+    if (!model->positions || (geo.any_uvs && !model->uvs) || (geo.any_normals && !model->normals) ||
+        !model->triangles || !model->primitives || !model->variant_materials)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for %zu vertices", model->vertex_count);
     return TEXOPT_OK;
 }
