@@ -58,7 +58,7 @@ void texopt_params_resolve(texopt_params *p)
     if (p->relative_cost == 0)
         p->relative_cost = 1.0;
     if (p->epsilon == 0)
-        p->epsilon = TEXOPT_DEFAULT_EPSILON;
+        p->epsilon = p->method == TEXOPT_METHOD_PAPER ? TEXOPT_PAPER_EPSILON : TEXOPT_DEFAULT_EPSILON;
     if (p->iterations == 0)
         p->iterations = 100;
     if (p->lambda_min == 0)

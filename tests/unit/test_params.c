@@ -19,6 +19,12 @@ TEST(zero_params_resolve_to_paper_defaults)
     CHECK_EQ_INT(p.resize_check, 1);
     char err[128] = "";
     CHECK_OK(texopt_params_validate(&p, err, sizeof err), err);
+    texopt_params paper = {.method = TEXOPT_METHOD_PAPER};
+    texopt_params_resolve(&paper);
+    CHECK_NEAR(paper.epsilon, TEXOPT_PAPER_EPSILON, 0); /* the paper's own */
+    paper.epsilon = 0.05;
+    texopt_params_resolve(&paper);
+    CHECK_NEAR(paper.epsilon, 0.05, 0);
 }
 
 TEST(out_of_range_fields_are_named)
