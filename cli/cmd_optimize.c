@@ -57,6 +57,11 @@ static void usage(FILE *out)
                  "  --packing-efficiency E   reshape the charts that fill little of their box and\n"
                  "                           pack again when the packing falls short of E, [0, 1)\n"
                  "                           (default 0: never; changes q either way at equal cost)\n"
+                 "  --hessian-floor K        perceptual: raise stage 1's targets to K times the\n"
+                 "                           Hessian metric's singular values, [0, 1] (default\n"
+                 "                           0.5; 0: no floor)\n"
+                 "  --metric-candidates B    perceptual: yes (default) or no: the tewari and ssp\n"
+                 "                           layouts are candidates beside stage 1's\n"
                  "  --bijective              stage 2 with scaffold triangles: no chart overlaps itself\n"
                  "  --stats PATH             write the job statistics as JSON\n"
                  "  --evaluate               measure the whole-mesh perceptual loss q of the result\n"
@@ -175,6 +180,10 @@ static int parse_option(optimize_args *a, const char *opt, const char *val)
         a->params.refine_lit = texopt_refine_measure_from_name(val);
     else if (strcmp(opt, "--packing-efficiency") == 0 && parse_double(val, &d) && d >= 0 && d < 1)
         a->params.packing_efficiency = d;
+    else if (strcmp(opt, "--hessian-floor") == 0 && parse_double(val, &d) && d >= 0 && d <= 1)
+        texopt_params_set_hessian_floor(&a->params, d);
+    else if (strcmp(opt, "--metric-candidates") == 0 && (strcmp(val, "yes") == 0 || strcmp(val, "no") == 0))
+        a->params.metric_candidates = strcmp(val, "yes") == 0 ? 1 : -1;
     else {
         fprintf(stderr, "texopt optimize: bad option or value: %s %s\n", opt, val);
         return EXIT_USAGE;

@@ -83,6 +83,16 @@ void texopt_params_set_refinement_rounds(texopt_params *p, int rounds)
     p->refinements = rounds == 0 ? -1 : rounds;
 }
 
+double texopt_params_hessian_floor(const texopt_params *p)
+{
+    return p->hessian_floor > 0 ? p->hessian_floor : 0;
+}
+
+void texopt_params_set_hessian_floor(texopt_params *p, double factor)
+{
+    p->hessian_floor = factor == 0 ? -1 : factor;
+}
+
 texopt_status texopt_params_validate(const texopt_params *p, char *err, size_t err_len)
 {
     if ((unsigned)p->method >= TEXOPT_METHOD_COUNT)

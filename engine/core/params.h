@@ -127,6 +127,11 @@ int texopt_lookup_from_name(const char *name);
 int texopt_params_refinement_rounds(const texopt_params *params);
 void texopt_params_set_refinement_rounds(texopt_params *params, int rounds);
 
+/* The Hessian floor's factor as users give it, in [0, 1] (0: none), from and into the field's
+ * encoding; the getter reads a resolved params struct. */
+double texopt_params_hessian_floor(const texopt_params *params);
+void texopt_params_set_hessian_floor(texopt_params *params, double factor);
+
 /* Checks a resolved params struct; the message names the offending field. */
 texopt_status texopt_params_validate(const texopt_params *params, char *err, size_t err_len);
 
