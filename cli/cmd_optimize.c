@@ -32,16 +32,18 @@ static void usage(FILE *out)
                  "                           tools do); ssp, tewari, arap (the\n"
                  "                           paper's baselines: metric targets, same stage 2);\n"
                  "                           paper (Sun et al. 2022 as written: one layout,\n"
-                 "                           epsilon 0.01, --epsilon and --iterations unused)\n"
+                 "                           plain Bayesian optimisation, epsilon 0.01)\n"
                  "  --relative-cost C        covered texels of the output / of the input, (0, 4]\n"
                  "                           (default 1)\n"
                  "  --texture-size WxH       output texture size instead of a relative cost\n"
                  "  --target-loss Q          the smallest relative cost (searched in [0.01, 1]) whose\n"
                  "                           whole-mesh loss q against the input is at most Q, (0, 1);\n"
                  "                           q and the search are in the statistics\n"
-                 "  --epsilon E              perceptual loss threshold of stage 1 (default 0.03)\n"
+                 "  --epsilon E              perceptual loss threshold of stage 1 (default 0.03;\n"
+                 "                           paper: 0.01)\n"
                  "  --iterations N           most Bayesian-optimisation polish iterations per triangle\n"
-                 "                           (default 100; the polish stops once it stops paying)\n"
+                 "                           (default 100; the polish stops once it stops paying;\n"
+                 "                           paper: exactly N after its initial samples)\n"
                  "  --lambda-min L           smallest per-axis scale stage 1 may choose (default 0.1)\n"
                  "  --threads T              worker threads (default: every core)\n"
                  "  --seed S                 random seed, 0 to 2^53 (default 0)\n"
@@ -55,6 +57,11 @@ static void usage(FILE *out)
                  "  --packing-efficiency E   reshape the charts that fill little of their box and\n"
                  "                           pack again when the packing falls short of E, [0, 1)\n"
                  "                           (default 0: never; changes q either way at equal cost)\n"
+                 "  --hessian-floor K        perceptual: raise stage 1's targets to K times the\n"
+                 "                           Hessian metric's singular values, [0, 1] (default\n"
+                 "                           0.5; 0: no floor)\n"
+                 "  --metric-candidates B    perceptual: yes (default) or no: the tewari and ssp\n"
+                 "                           layouts are candidates beside stage 1's\n"
                  "  --bijective              stage 2 with scaffold triangles: no chart overlaps itself\n"
                  "  --packing P              plain (default) or refine: charts deformed toward\n"
                  "                           axis-aligned shapes before packing (Liu et al. 2019),\n"
@@ -178,6 +185,10 @@ static int parse_option(optimize_args *a, const char *opt, const char *val)
         a->params.packing_efficiency = d;
     else if (strcmp(opt, "--packing") == 0 && texopt_packing_from_name(val) >= 0)
         a->params.packing_refine = texopt_packing_from_name(val);
+    else if (strcmp(opt, "--hessian-floor") == 0 && parse_double(val, &d) && d >= 0 && d <= 1)
+        texopt_params_set_hessian_floor(&a->params, d);
+    else if (strcmp(opt, "--metric-candidates") == 0 && (strcmp(val, "yes") == 0 || strcmp(val, "no") == 0))
+        a->params.metric_candidates = strcmp(val, "yes") == 0 ? 1 : -1;
     else {
         fprintf(stderr, "texopt optimize: bad option or value: %s %s\n", opt, val);
         return EXIT_USAGE;

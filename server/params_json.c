@@ -35,6 +35,8 @@ static const char *const known_keys[] = {
     "packing_efficiency",
     "bijective",
     "packing",
+    "hessian_floor",
+    "metric_candidates",
 };
 
 static int is_known_key(const char *key)
@@ -214,6 +216,17 @@ static texopt_status read_rest(const cJSON *obj, texopt_params *p, char *err, si
     if (b && !cJSON_IsBool(b))
         return bad(err, err_len, "bijective", "must be true or false");
     p->bijective = b ? cJSON_IsTrue(b) : 0;
+    if ((s = get_number(obj, "hessian_floor", &v, &present, err, err_len)) != TEXOPT_OK)
+        return s;
+    if (present && !(v >= 0 && v <= 1))
+        return bad(err, err_len, "hessian_floor", "must be in [0, 1]");
+    if (present)
+        texopt_params_set_hessian_floor(p, v);
+    const cJSON *m = cJSON_GetObjectItemCaseSensitive(obj, "metric_candidates");
+    if (m && !cJSON_IsBool(m))
+        return bad(err, err_len, "metric_candidates", "must be true or false");
+    if (m)
+        p->metric_candidates = cJSON_IsTrue(m) ? 1 : -1;
     return TEXOPT_OK;
 }
 
@@ -320,5 +333,7 @@ cJSON *api_params_to_json(const texopt_params *p)
     cJSON_AddNumberToObject(o, "packing_efficiency", p->packing_efficiency);
     cJSON_AddBoolToObject(o, "bijective", p->bijective != 0);
     cJSON_AddStringToObject(o, "packing", texopt_packing_name(p->packing_refine));
+    cJSON_AddNumberToObject(o, "hessian_floor", texopt_params_hessian_floor(p));
+    cJSON_AddBoolToObject(o, "metric_candidates", p->metric_candidates > 0);
     return o;
 }

@@ -68,7 +68,7 @@ void texopt_params_resolve(texopt_params *p)
     if (p->relative_cost == 0)
         p->relative_cost = 1.0;
     if (p->epsilon == 0)
-        p->epsilon = TEXOPT_DEFAULT_EPSILON;
+        p->epsilon = p->method == TEXOPT_METHOD_PAPER ? TEXOPT_PAPER_EPSILON : TEXOPT_DEFAULT_EPSILON;
     if (p->iterations == 0)
         p->iterations = 100;
     if (p->lambda_min == 0)
@@ -91,6 +91,16 @@ int texopt_params_refinement_rounds(const texopt_params *p)
 void texopt_params_set_refinement_rounds(texopt_params *p, int rounds)
 {
     p->refinements = rounds == 0 ? -1 : rounds;
+}
+
+double texopt_params_hessian_floor(const texopt_params *p)
+{
+    return p->hessian_floor > 0 ? p->hessian_floor : 0;
+}
+
+void texopt_params_set_hessian_floor(texopt_params *p, double factor)
+{
+    p->hessian_floor = factor == 0 ? -1 : factor;
 }
 
 texopt_status texopt_params_validate(const texopt_params *p, char *err, size_t err_len)

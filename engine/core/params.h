@@ -22,6 +22,9 @@
  * threshold"). */
 #define TEXOPT_DEFAULT_EPSILON 0.03
 
+/* Method paper's loss threshold when the user gives none: the paper's own (its section 5). */
+#define TEXOPT_PAPER_EPSILON 0.01
+
 /* Rounds of the closed-loop refinement when the user gives none (job_refine.c). Two
  * were chosen on Fox, spot and Duck at epsilon 0.01; at 0.03 four are better at most points of
  * the small models and of WaterBottle, level on DamagedHelmet, whose whole job stays under
@@ -62,7 +65,8 @@ typedef struct texopt_params {
     int texture_width;    /* with TEXOPT_BUDGET_TEXTURE_SIZE */
     int texture_height;
     double target_loss; /* with TEXOPT_BUDGET_TARGET_LOSS */
-    double epsilon;     /* loss threshold of stage 1; 0 -> TEXOPT_DEFAULT_EPSILON */
+    double epsilon;     /* loss threshold of stage 1; 0 -> TEXOPT_DEFAULT_EPSILON
+                           (TEXOPT_PAPER_EPSILON for method paper) */
     int iterations;     /* most Bayesian-optimisation polish iterations per triangle (the
                                polish stops earlier once it stops paying); 0 -> 100 */
     double lambda_min;  /* smallest singular value stage 1 may choose; 0 -> 0.1 */
@@ -131,6 +135,11 @@ int texopt_packing_from_name(const char *name);
  * 0 is the default and -1 none. The getter reads a resolved params struct. */
 int texopt_params_refinement_rounds(const texopt_params *params);
 void texopt_params_set_refinement_rounds(texopt_params *params, int rounds);
+
+/* The Hessian floor's factor as users give it, in [0, 1] (0: none), from and into the field's
+ * encoding; the getter reads a resolved params struct. */
+double texopt_params_hessian_floor(const texopt_params *params);
+void texopt_params_set_hessian_floor(texopt_params *params, double factor);
 
 /* Checks a resolved params struct; the message names the offending field. */
 texopt_status texopt_params_validate(const texopt_params *params, char *err, size_t err_len);

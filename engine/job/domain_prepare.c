@@ -71,7 +71,7 @@ static texopt_status domain_targets(texopt_job *job, int d, double from, double 
         st = add_metric_targets(job->model, jd->mesh, params, job->signal_weights, jd, &ds->hessian_floor_triangles,
                                 err, err_len);
     ds->seconds_stage1 = job_now_seconds() - t0;
-    if (st == TEXOPT_OK && job->method->chooses)
+    if (st == TEXOPT_OK && (job->method->chooses || trep.optimised > 0))
         job_stats_record_stage1(jd->mesh, jd->targets, &trep, params->epsilon, ds);
     if (st == TEXOPT_OK)
         job_stage_done(&job->jm, "stage1");

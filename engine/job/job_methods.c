@@ -10,10 +10,8 @@
 static const stage_weights input_weights = {0.15, 0, 0, 0, 0.70, 0.15};
 static const stage_weights layout_weights = {0.02, 0.78, 0.08, 0.03, 0.06, 0.03};
 
-static texopt_status stage1_targets(const texopt_model *model, const texopt_mesh *mesh, const texopt_params *params,
-                                    const double *signal_weights, texopt_triangle_target *targets,
-                                    texopt_triopt_report *trep, const texopt_monitor *monitor, char *err,
-                                    size_t err_len)
+/* Stage 1's options from the job's parameters. */
+static texopt_triopt_options stage1_options(const texopt_params *params, const double *signal_weights)
 {
     texopt_triopt_options topt;
     memset(&topt, 0, sizeof topt);
@@ -23,23 +21,26 @@ static texopt_status stage1_targets(const texopt_model *model, const texopt_mesh
     topt.threads = params->threads;
     topt.seed = params->seed;
     topt.signal_weights = signal_weights;
+    return topt;
+}
+
+static texopt_status stage1_targets(const texopt_model *model, const texopt_mesh *mesh, const texopt_params *params,
+                                    const double *signal_weights, texopt_triangle_target *targets,
+                                    texopt_triopt_report *trep, const texopt_monitor *monitor, char *err,
+                                    size_t err_len)
+{
+    texopt_triopt_options topt = stage1_options(params, signal_weights);
     return texopt_triopt_run(model, mesh, &topt, targets, trep, monitor, err, err_len);
 }
 
 /* Sun et al. 2022 as written (docs/method.md "The paper's method as written"): the paper's
- * epsilon, window and plain Bayesian optimisation, whatever --epsilon says. */
+ * window and plain Bayesian optimisation, at the job's epsilon and iterations (the paper's
+ * 0.01 and 100 unless the user gives others: params.h). */
 static texopt_status paper_targets(const texopt_model *model, const texopt_mesh *mesh, const texopt_params *params,
                                    const double *signal_weights, texopt_triangle_target *targets,
                                    texopt_triopt_report *trep, const texopt_monitor *monitor, char *err, size_t err_len)
 {
-    texopt_triopt_options topt;
-    memset(&topt, 0, sizeof topt);
-    topt.epsilon = 0.01;
-    topt.iterations = 100;
-    topt.lambda_min = params->lambda_min;
-    topt.threads = params->threads;
-    topt.seed = params->seed;
-    topt.signal_weights = signal_weights;
+    texopt_triopt_options topt = stage1_options(params, signal_weights);
     topt.plain = 1;
     topt.paper_window = 1;
     return texopt_triopt_run(model, mesh, &topt, targets, trep, monitor, err, err_len);

@@ -12,8 +12,9 @@
  *     targets in place of stage 1, rotation weight 0), solved as they are, then the same
  *     stage 2, budget (a uniform scale), packing and re-bake as "perceptual".
  *   "paper": Sun et al. 2022 as written (triopt.h plain plan, the appendix A window,
- *     epsilon 0.01, 100 iterations), then the same stage 2, budget, packing and re-bake
- *     as "ssp": no candidates, no refinement, no Hessian floor, no resize check.
+ *     the job's epsilon and iterations, by default the paper's 0.01 and 100), then the
+ *     same stage 2, budget, packing and re-bake as "ssp": no candidates, no refinement, no
+ *     Hessian floor, no resize check.
  * Does not: run any stage itself. */
 #ifndef TEXOPT_JOB_METHODS_H
 #define TEXOPT_JOB_METHODS_H
@@ -44,7 +45,7 @@ typedef struct job_method {
     const stage_weights *weights;
     job_targets_fn targets; /* NULL: no new layout (method "input") */
     int chooses;            /* makes candidate layouts, refines and chooses them (perceptual);
-                               records stage 1's statistics and always the loss share */
+                               always records the loss share */
 } job_method;
 
 /* The row of method m (a valid method: params validated). */

@@ -193,6 +193,8 @@ static cJSON *job_json(const texopt_job_stats *s)
     cJSON_AddNumberToObject(p, "packing_efficiency", s->packing_efficiency);
     cJSON_AddBoolToObject(p, "bijective", s->bijective);
     cJSON_AddStringToObject(p, "packing", texopt_packing_name(s->packing_refine));
+    cJSON_AddNumberToObject(p, "hessian_floor", s->hessian_floor);
+    cJSON_AddBoolToObject(p, "metric_candidates", s->metric_candidates);
     cJSON *t = cJSON_AddObjectToObject(root, "seconds");
     cJSON_AddNumberToObject(t, "load", s->seconds_load);
     cJSON_AddNumberToObject(t, "save", s->seconds_save);

@@ -109,6 +109,8 @@ typedef struct texopt_job_stats {
     double packing_efficiency; /* reshape goal asked for (0: none) */
     int bijective;             /* stage 2 with scaffolds was asked for */
     int packing_refine;        /* packing "refine" was asked for */
+    double hessian_floor;      /* perceptual's floor factor (0: none) */
+    int metric_candidates;     /* perceptual makes the metric candidates */
     double seconds_load, seconds_save, seconds_total;
     int has_search;            /* budget target_loss: the search over the relative cost */
     double target_loss;        /* the q asked for */

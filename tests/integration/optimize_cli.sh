@@ -33,6 +33,12 @@ set +e
 "$bin" optimize "$spot" -o "$tmp/x.glb" --refine-by shininess 2>"$tmp/err"; rc=$?
 [ $rc -eq 2 ] || fail "unknown --refine-by: exit $rc, expected 2"
 grep -q "refine-by" "$tmp/err" || fail "a bad --refine-by is not named: $(cat "$tmp/err")"
+for bad in "--hessian-floor 1.5" "--hessian-floor -1" "--metric-candidates maybe"; do
+  # shellcheck disable=SC2086 # option and value split on purpose
+  "$bin" optimize "$spot" -o "$tmp/x.glb" $bad 2>"$tmp/err"; rc=$?
+  [ $rc -eq 2 ] || fail "$bad: exit $rc, expected 2"
+  grep -q -- "${bad%% *}" "$tmp/err" || fail "a bad ${bad%% *} is not named: $(cat "$tmp/err")"
+done
 for bad in 0 1 -0.5 abc; do
   "$bin" optimize "$spot" -o "$tmp/x.glb" --target-loss "$bad" 2>"$tmp/err"; rc=$?
   [ $rc -eq 2 ] || fail "--target-loss $bad: exit $rc, expected 2"
@@ -46,7 +52,8 @@ grep -q "missing.glb" "$tmp/err" || fail "the error does not name the file: $(ca
 set -e
 [ ! -e "$tmp/x.glb" ] || fail "a failed run left an output file"
 
-"$bin" optimize "$spot" -o "$tmp/half.glb" --method input --relative-cost 0.5 --stats "$tmp/half.json" 2>"$tmp/progress"
+"$bin" optimize "$spot" -o "$tmp/half.glb" --method input --relative-cost 0.5 --stats "$tmp/half.json" \
+  --hessian-floor 0 --metric-candidates no 2>"$tmp/progress"
 grep -q "save 100%" "$tmp/progress" || fail "no final progress line: $(cat "$tmp/progress")"
 /usr/bin/python3 - "$tmp/half.json" "$revision" <<'PY'
 import json, sys
@@ -58,6 +65,7 @@ assert abs(d["relative_cost"] - 0.5) <= 0.01, d["relative_cost"]
 assert d["output_size"] == [724, 724], d["output_size"]
 assert d["images"][0]["rewritten"] is True
 assert s["params"]["lookup"] == "bilinear", s["params"]
+assert s["params"]["hessian_floor"] == 0 and s["params"]["metric_candidates"] is False, s["params"]
 PY
 # --mipmap: the lookups the job tunes for and measures with (the engine's side is unit-tested).
 "$bin" optimize "$spot" -o "$tmp/mip.glb" --method input --relative-cost 0.5 --mipmap --evaluate --stats "$tmp/mip.json" --quiet

@@ -30,6 +30,8 @@ TEST(empty_object_gives_paper_defaults)
     CHECK_NEAR(p.packing_efficiency, 0, 0);
     CHECK_EQ_INT(p.bijective, 0);
     CHECK_EQ_INT(p.packing_refine, 0);
+    CHECK_NEAR(p.hessian_floor, TEXOPT_DEFAULT_HESSIAN_FLOOR, 0);
+    CHECK_EQ_INT(p.metric_candidates, 1);
 }
 
 TEST(every_key_is_read)
@@ -39,7 +41,8 @@ TEST(every_key_is_read)
     CHECK_OK(parse("{\"method\":\"arap\",\"relative_cost\":0.25,\"epsilon\":0.02,\"iterations\":7,"
                    "\"lambda_min\":0.3,\"threads\":3,\"seed\":123456789012,\"evaluate\":true,"
                    "\"eval_resolution\":256,\"refinements\":5,\"refine_by\":\"lit\",\"lookup\":\"mipmapped\","
-                   "\"packing_efficiency\":0.75,\"bijective\":true,\"packing\":\"refine\"}",
+                   "\"packing_efficiency\":0.75,\"bijective\":true,\"packing\":\"refine\",\"hessian_floor\":0.25,"
+                   "\"metric_candidates\":false}",
                    &p, err),
              err);
     CHECK_EQ_INT(p.method, TEXOPT_METHOD_ARAP);
@@ -57,8 +60,11 @@ TEST(every_key_is_read)
     CHECK_NEAR(p.packing_efficiency, 0.75, 0);
     CHECK_EQ_INT(p.bijective, 1);
     CHECK_EQ_INT(p.packing_refine, 1);
-    CHECK_OK(parse("{\"refinements\":0}", &p, err), err);
-    CHECK_EQ_INT(p.refinements, -1); /* none, not the engine's default */
+    CHECK_NEAR(p.hessian_floor, 0.25, 0);
+    CHECK_EQ_INT(p.metric_candidates, -1);
+    CHECK_OK(parse("{\"refinements\":0,\"hessian_floor\":0}", &p, err), err);
+    CHECK_EQ_INT(p.refinements, -1);    /* none, not the engine's default */
+    CHECK_NEAR(p.hessian_floor, -1, 0); /* none, likewise */
 }
 
 TEST(budget_is_inferred_from_its_value)
@@ -113,6 +119,9 @@ TEST(bad_params_are_refused_by_name)
     check_refused("{\"packing\":\"tight\"}", "params.packing");
     check_refused("{\"packing_efficiency\":1}", "packing_efficiency");
     check_refused("{\"packing_efficiency\":-0.1}", "packing_efficiency");
+    check_refused("{\"hessian_floor\":1.5}", "params.hessian_floor");
+    check_refused("{\"hessian_floor\":-1}", "params.hessian_floor");
+    check_refused("{\"metric_candidates\":\"no\"}", "params.metric_candidates");
     check_refused("[1,2]", "must be a JSON object");
     check_refused("{\"method\":\"input\",", "not valid JSON");
 }
@@ -171,6 +180,8 @@ TEST(params_survive_a_json_round_trip)
         p.refinements = refinements; /* none, and some */
         p.refine_lit = refinements > 0;
         p.mipmapped = refinements > 0;
+        p.hessian_floor = refinements > 0 ? 0.3 : -1;
+        p.metric_candidates = refinements > 0 ? 1 : -1;
         cJSON *o = api_params_to_json(&p);
         CHECK(o != NULL);
         texopt_status s = api_params_from_json(o, &q, err, sizeof err);

@@ -19,6 +19,29 @@ TEST(zero_params_resolve_to_paper_defaults)
     CHECK_EQ_INT(p.resize_check, 1);
     char err[128] = "";
     CHECK_OK(texopt_params_validate(&p, err, sizeof err), err);
+    texopt_params paper = {.method = TEXOPT_METHOD_PAPER};
+    texopt_params_resolve(&paper);
+    CHECK_NEAR(paper.epsilon, TEXOPT_PAPER_EPSILON, 0); /* the paper's own */
+    paper.epsilon = 0.05;
+    texopt_params_resolve(&paper);
+    CHECK_NEAR(paper.epsilon, 0.05, 0);
+}
+
+/* The Hessian floor as users give it: 0 is none, which the field encodes as -1. */
+TEST(the_hessian_floor_as_users_give_it)
+{
+    texopt_params p = {0};
+    texopt_params_resolve(&p);
+    CHECK_NEAR(texopt_params_hessian_floor(&p), TEXOPT_DEFAULT_HESSIAN_FLOOR, 0);
+    texopt_params_set_hessian_floor(&p, 0);
+    CHECK_NEAR(p.hessian_floor, -1, 0);
+    CHECK_NEAR(texopt_params_hessian_floor(&p), 0, 0);
+    texopt_params_resolve(&p); /* none stays none */
+    CHECK_NEAR(p.hessian_floor, -1, 0);
+    texopt_params_set_hessian_floor(&p, 0.75);
+    CHECK_NEAR(texopt_params_hessian_floor(&p), 0.75, 0);
+    char err[128] = "";
+    CHECK_OK(texopt_params_validate(&p, err, sizeof err), err);
 }
 
 TEST(out_of_range_fields_are_named)

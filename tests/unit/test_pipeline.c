@@ -730,6 +730,49 @@ TEST(the_paper_method_writes_a_valid_file_at_the_budget)
     scratch_free(&s);
 }
 
+/* Stage 1's statistics of a paper job on the checker grid: (area_scale_mean, evaluations,
+ * triangles); params.epsilon as the statistics report it in *epsilon. */
+static void paper_stage1(const scratch *s, double epsilon, int iterations, double out[3], double *reported_epsilon)
+{
+    texopt_params p = {0};
+    p.method = TEXOPT_METHOD_PAPER;
+    p.relative_cost = 0.5;
+    p.threads = 2;
+    p.epsilon = epsilon;
+    p.iterations = iterations;
+    char err[512] = "";
+    CHECK_OK(texopt_optimize_file(s->in, s->out, s->stats, &p, NULL, err, sizeof err), err);
+    cJSON *st = read_json(s->stats);
+    CHECK(st != NULL);
+    cJSON *stage1 = domain_item(st, "stage1");
+    CHECK(stage1 != NULL);
+    out[0] = cJSON_GetObjectItem(stage1, "area_scale_mean")->valuedouble;
+    out[1] = cJSON_GetObjectItem(stage1, "evaluations")->valuedouble;
+    out[2] = domain_number(st, "triangles");
+    *reported_epsilon = cJSON_GetObjectItem(cJSON_GetObjectItem(st, "params"), "epsilon")->valuedouble;
+    cJSON_Delete(st);
+}
+
+/* --epsilon and --iterations reach the paper's stage 1, the paper's 0.01 and 100 when not
+ * given: each of the plain plan's triangles evaluates exactly `iterations` model-guided
+ * points after its initial samples, and a looser threshold lets the checker shrink further. */
+TEST(the_paper_method_honours_epsilon_and_iterations)
+{
+    scratch s;
+    CHECK(scratch_init(&s, 3, 64, "checker") == 0);
+    double a[3], b[3], c[3], eps_a, eps_b, eps_c;
+    paper_stage1(&s, 0, 3, a, &eps_a);
+    paper_stage1(&s, 0, 6, b, &eps_b);
+    paper_stage1(&s, 0.2, 3, c, &eps_c);
+    CHECK_NEAR(eps_a, TEXOPT_PAPER_EPSILON, 0);
+    CHECK_NEAR(eps_c, 0.2, 0);
+    CHECK(a[2] > 0);
+    CHECK_NEAR(b[1] - a[1], 3 * a[2], 0);
+    printf("  paper area scale: %.4f at epsilon 0.01, %.4f at 0.2\n", a[0], c[0]);
+    CHECK(c[0] < a[0]);
+    scratch_free(&s);
+}
+
 TEST(evaluation_is_zero_for_the_identity_and_positive_after_a_reduction)
 {
     scratch s;
