@@ -56,6 +56,9 @@ static void usage(FILE *out)
                  "                           pack again when the packing falls short of E, [0, 1)\n"
                  "                           (default 0: never; changes q either way at equal cost)\n"
                  "  --bijective              stage 2 with scaffold triangles: no chart overlaps itself\n"
+                 "  --charts C               keep (default: the input's charts) or new (cut new disk\n"
+                 "                           charts and lay them out anew, re-baked from the input)\n"
+                 "  --parameterizer P        with --charts new: abf (default), lscm, tutte or square\n"
                  "  --stats PATH             write the job statistics as JSON\n"
                  "  --evaluate               measure the whole-mesh perceptual loss q of the result\n"
                  "                           against the input (into the statistics)\n"
@@ -173,6 +176,10 @@ static int parse_option(optimize_args *a, const char *opt, const char *val)
         a->params.refine_lit = texopt_refine_measure_from_name(val);
     else if (strcmp(opt, "--packing-efficiency") == 0 && parse_double(val, &d) && d >= 0 && d < 1)
         a->params.packing_efficiency = d;
+    else if (strcmp(opt, "--charts") == 0 && texopt_charts_from_name(val) >= 0)
+        a->params.charts = (texopt_charts)texopt_charts_from_name(val);
+    else if (strcmp(opt, "--parameterizer") == 0 && texopt_parameterizer_from_name(val) >= 0)
+        a->params.parameterizer = (texopt_parameterizer)texopt_parameterizer_from_name(val);
     else {
         fprintf(stderr, "texopt optimize: bad option or value: %s %s\n", opt, val);
         return EXIT_USAGE;

@@ -34,6 +34,8 @@ static const char *const known_keys[] = {
     "lookup",
     "packing_efficiency",
     "bijective",
+    "charts",
+    "parameterizer",
 };
 
 static int is_known_key(const char *key)
@@ -199,6 +201,15 @@ static texopt_status read_rest(const cJSON *obj, texopt_params *p, char *err, si
         (s = read_named(obj, "lookup", texopt_lookup_from_name, "must be \"bilinear\" or \"mipmapped\"", &p->mipmapped,
                         err, err_len)) != TEXOPT_OK)
         return s;
+    int charts = p->charts, parameterizer = p->parameterizer;
+    if ((s = read_named(obj, "charts", texopt_charts_from_name, "must be \"keep\" or \"new\"", &charts, err,
+                        err_len)) != TEXOPT_OK ||
+        (s = read_named(obj, "parameterizer", texopt_parameterizer_from_name,
+                        "must be \"abf\", \"lscm\", \"tutte\" or \"square\"", &parameterizer, err, err_len)) !=
+            TEXOPT_OK)
+        return s;
+    p->charts = (texopt_charts)charts;
+    p->parameterizer = (texopt_parameterizer)parameterizer;
     if ((s = get_number(obj, "packing_efficiency", &v, &present, err, err_len)) != TEXOPT_OK)
         return s;
     if (present)
@@ -316,5 +327,7 @@ cJSON *api_params_to_json(const texopt_params *p)
     cJSON_AddStringToObject(o, "lookup", texopt_lookup_name(p->mipmapped));
     cJSON_AddNumberToObject(o, "packing_efficiency", p->packing_efficiency);
     cJSON_AddBoolToObject(o, "bijective", p->bijective != 0);
+    cJSON_AddStringToObject(o, "charts", texopt_charts_name(p->charts));
+    cJSON_AddStringToObject(o, "parameterizer", texopt_parameterizer_name(p->parameterizer));
     return o;
 }

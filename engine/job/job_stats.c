@@ -26,6 +26,8 @@ void job_stats_fill_params(texopt_job_stats *js, const texopt_params *p)
     js->mipmapped = p->mipmapped != 0;
     js->packing_efficiency = p->packing_efficiency;
     js->bijective = p->bijective != 0;
+    js->charts = p->charts;
+    js->parameterizer = p->parameterizer;
 }
 
 /* The name of the first binding, in slot order then extension textures, that reads image

@@ -19,6 +19,7 @@
 #include "distortion.h"
 #include "layout_check.h"
 #include "map_check.h"
+#include "params.h"
 #include "status.h"
 
 typedef struct texopt_image_stats {
@@ -33,6 +34,8 @@ typedef struct texopt_image_stats {
 typedef struct texopt_domain_stats {
     int domain;
     size_t triangles, charts;
+    size_t new_charts;             /* params.charts new: the domain's new charts (0: the input's kept) ... */
+    size_t new_chart_fallbacks;    /* ... of which laid out by Tutte because the parameterizer failed */
     int input_width, input_height; /* texel frame */
     int output_width, output_height;
     double cost_input, cost_output;  /* unique covered texels; cost_output, relative_cost and
@@ -103,6 +106,9 @@ typedef struct texopt_job_stats {
     int mipmapped;             /* the lookups tuned for and measured with were mip-mapped */
     double packing_efficiency; /* reshape goal asked for (0: none) */
     int bijective;             /* stage 2 with scaffolds was asked for */
+    texopt_charts charts;      /* keep the input's or new (then parameterizer) */
+    texopt_parameterizer parameterizer;
+    size_t vertices_split; /* charts new: model vertices copied where a new chart boundary runs */
     double seconds_load, seconds_save, seconds_total;
     int has_search;            /* budget target_loss: the search over the relative cost */
     double target_loss;        /* the q asked for */

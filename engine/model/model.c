@@ -236,6 +236,7 @@ void texopt_model_destroy(texopt_model *model)
     free(model->positions);
     free(model->uvs);
     free(model->triangles);
+    free(model->file_vertex);
     free(model->primitives);
     free(model->variant_materials);
     free(model->materials);

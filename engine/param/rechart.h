@@ -8,7 +8,9 @@
  * region that is still no disk (param_chart.h: a non-manifold or inconsistently oriented
  * mesh) is split in two along its growth order until every part is one. Each chart is laid out by the chosen method at 3D scale (1 unit = 1 world unit);
  * when the method fails or flips a triangle (LSCM may fold; the square refuses ears) the
- * chart falls back to the mean-value Tutte map, which cannot flip. Degenerate (zero 3D area)
+ * chart falls back to the mean-value Tutte map, which cannot flip; when its layout overlaps
+ * itself (the boundary loop crosses itself: ABF and LSCM are only locally injective) the
+ * region is split in two along its growth order, as a region that is no disk. Degenerate (zero 3D area)
  * triangles get a chart of their own with all corners at (0, 0). It does not pack the charts
  * nor write them into the model. */
 #ifndef TEXOPT_RECHART_H
@@ -18,20 +20,8 @@
 #include <stdint.h>
 
 #include "mesh.h"
+#include "params.h"
 #include "status.h"
-
-typedef enum texopt_parameterizer {
-    TEXOPT_PARAMETERIZER_LSCM,
-    TEXOPT_PARAMETERIZER_ABF,
-    TEXOPT_PARAMETERIZER_TUTTE,
-    TEXOPT_PARAMETERIZER_SQUARE
-} texopt_parameterizer;
-
-/* "lscm", "abf", "tutte", "square"; NULL for an unknown value. */
-const char *texopt_parameterizer_name(texopt_parameterizer p);
-
-/* 0 and *out set when `name` is one of the names above, else -1. */
-int texopt_parameterizer_parse(const char *name, texopt_parameterizer *out);
 
 typedef struct texopt_rechart_options {
     texopt_parameterizer method;
@@ -46,6 +36,7 @@ typedef struct texopt_rechart {
     double *corner_uv;      /* 6 per mesh triangle: its corners' layout, world units, each
                             chart's box starting at (0, 0) */
     size_t fallback_charts; /* charts laid out by Tutte because the method failed or flipped */
+    size_t overlap_splits;  /* regions split in two because the method's layout overlapped itself */
 } texopt_rechart;
 
 /* On success the caller owns *out and frees it with texopt_rechart_destroy. */
