@@ -10,6 +10,7 @@
 #include "texel_map.h"
 
 #define QUARTER_TURN 1.57079632679489661923
+#define RECHART_DENSITY_RATIO 2.0
 
 const texopt_mesh *job_layout_mesh(const job_domain *jd)
 {
@@ -22,7 +23,10 @@ texopt_status job_rechart_model(texopt_job *job, char *err, size_t err_len)
     uint32_t *group = calloc(3 * model->triangle_count + 1, sizeof *group);
     if (!group)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the new charts' corners");
-    texopt_rechart_options opt = {.method = job->params.parameterizer};
+    /* Charts of even input density: a chart starts at its input's mean density, and the
+     * allocation caps targets there, so a detailed part (Duck's eyes: 35 times the mean)
+     * inside a plain chart would lose its texels. */
+    texopt_rechart_options opt = {.method = job->params.parameterizer, .density_ratio = RECHART_DENSITY_RATIO};
     texopt_status st = TEXOPT_OK;
     for (int d = 0; d < model->domain_count && st == TEXOPT_OK; d++) {
         texopt_mesh *mesh = NULL;
@@ -44,25 +48,34 @@ texopt_status job_rechart_model(texopt_job *job, char *err, size_t err_len)
     return st;
 }
 
-/* World units to the input's texels: the input layout's mean density (its texel area over
- * the 3D area), or half the frame over the surface when the input has no texel area. */
-static double input_density(const texopt_mesh *mesh)
+/* Per new chart, world units to the input's texels: the input layout's density over the
+ * chart's triangles (their texel area over their 3D area), so that a chart keeps the
+ * resolution the input gave its part of the surface (the allocation caps targets at the
+ * density it starts from); the whole input's density for a chart without texel area, half
+ * the frame over the surface for an input without any. */
+static void chart_densities(const texopt_mesh *mesh, const texopt_rechart *r, double *density)
 {
-    double texel = 0, world = 0;
-    for (size_t t = 0; t < mesh->triangle_count; t++)
+    size_t n = r->chart_count;
+    double *world = calloc(n ? n : 1, sizeof *world), texel = 0, surface = 0;
+    for (size_t c = 0; c < n; c++)
+        density[c] = 0;
+    for (size_t t = 0; world && t < mesh->triangle_count; t++)
         if (!(mesh->flags[t] & (TEXOPT_TRI_DEGENERATE_3D | TEXOPT_TRI_DEGENERATE_UV))) {
+            density[r->chart_of[t]] += fabs(mesh->area_texel[t]);
+            world[r->chart_of[t]] += mesh->area_3d[t];
             texel += fabs(mesh->area_texel[t]);
-            world += mesh->area_3d[t];
+            surface += mesh->area_3d[t];
         }
-    if (!(world > 0))
-        return 1.0;
-    return texel > 0 ? sqrt(texel / world) : sqrt(0.5 * mesh->width * mesh->height / world);
+    double whole = surface > 0 ? sqrt((texel > 0 ? texel : 0.5 * mesh->width * mesh->height) / surface) : 1.0;
+    for (size_t c = 0; c < n; c++)
+        density[c] = world && world[c] > 0 && density[c] > 0 ? sqrt(density[c] / world[c]) : whole;
+    free(world);
 }
 
-/* The charts' boxes (world units) placed on shelves in a strip about as wide as it ends up
- * tall, a gap of 2 units (of `unit`) between them: offset[2 c] per chart. Returns the strip's
+/* The charts' boxes (texels, each chart at its density) placed on shelves in a strip about
+ * as wide as it ends up tall, 2 texels apart: offset[2 c] per chart. Returns the strip's
  * extent in extent[2]. */
-static void place_charts(const texopt_rechart *r, double unit, double *box, double *offset, double extent[2])
+static void place_charts(const texopt_rechart *r, const double *density, double *box, double *offset, double extent[2])
 {
     size_t n = r->chart_count;
     for (size_t c = 0; c < 2 * n; c++)
@@ -71,9 +84,9 @@ static void place_charts(const texopt_rechart *r, double unit, double *box, doub
         for (int k = 0; k < 3; k++)
             for (int a = 0; a < 2; a++) {
                 double *b = &box[2 * r->chart_of[t] + (size_t)a];
-                *b = fmax(*b, r->corner_uv[6 * t + 2 * (size_t)k + (size_t)a]);
+                *b = fmax(*b, r->corner_uv[6 * t + 2 * (size_t)k + (size_t)a] * density[r->chart_of[t]]);
             }
-    double area = 0, gap = 2 * unit;
+    double area = 0, gap = 2;
     for (size_t c = 0; c < n; c++)
         area += (box[2 * c] + gap) * (box[2 * c + 1] + gap);
     double width = sqrt(area) * 1.1, x = 0, y = 0, shelf = 0;
@@ -103,36 +116,40 @@ static int input_mostly_negative(const texopt_mesh *mesh)
     return sum < 0;
 }
 
-/* Per model vertex, the new UV (u = x / width) of the charts placed at the input's density,
- * scaled down to fit the domain's frame. */
+/* Per model vertex, the new UV (u = x / width) of the charts placed at their input
+ * densities, scaled down together to fit the domain's frame. */
 static texopt_status new_uvs(const texopt_model *model, const texopt_mesh *mesh, const texopt_rechart *r, float *uvs,
                              char *err, size_t err_len)
 {
     size_t n = r->chart_count ? r->chart_count : 1;
-    double *box = malloc(2 * n * sizeof *box), *offset = malloc(2 * n * sizeof *offset), extent[2];
-    if (!box || !offset) {
+    double *box = malloc(2 * n * sizeof *box), *offset = malloc(2 * n * sizeof *offset);
+    double *density = malloc(n * sizeof *density), extent[2];
+    if (!box || !offset || !density) {
         free(box);
         free(offset);
+        free(density);
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory to place %zu charts", n);
     }
-    double s = input_density(mesh);
-    place_charts(r, 1.0 / s, box, offset, extent);
-    if (extent[0] * s > mesh->width || extent[1] * s > mesh->height)
-        s = fmin(mesh->width / extent[0], mesh->height / extent[1]);
+    chart_densities(mesh, r, density);
+    place_charts(r, density, box, offset, extent);
+    double fit = 1.0;
+    if (extent[0] > mesh->width || extent[1] > mesh->height)
+        fit = fmin(mesh->width / extent[0], mesh->height / extent[1]);
     int mirror = input_mostly_negative(mesh);
     for (size_t t = 0; t < mesh->triangle_count; t++) {
         uint32_t c = r->chart_of[t];
         for (int k = 0; k < 3; k++) {
             uint32_t v = model->triangles[3 * (size_t)mesh->model_triangle[t] + (size_t)k];
-            double x = offset[2 * c] + r->corner_uv[6 * t + 2 * (size_t)k];
-            double y = r->corner_uv[6 * t + 2 * (size_t)k + 1];
+            double x = offset[2 * c] + density[c] * r->corner_uv[6 * t + 2 * (size_t)k];
+            double y = density[c] * r->corner_uv[6 * t + 2 * (size_t)k + 1];
             y = offset[2 * c + 1] + (mirror ? box[2 * c + 1] - y : y);
-            uvs[2 * v] = (float)(x * s / mesh->width);
-            uvs[2 * v + 1] = (float)(y * s / mesh->height);
+            uvs[2 * v] = (float)(x * fit / mesh->width);
+            uvs[2 * v + 1] = (float)(y * fit / mesh->height);
         }
     }
     free(box);
     free(offset);
+    free(density);
     return TEXOPT_OK;
 }
 

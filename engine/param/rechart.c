@@ -312,12 +312,28 @@ static void add_to_region(const context *c, region *g, uint32_t t, uint32_t *ord
     order[(*n)++] = t;
 }
 
+/* The input layout's linear texel density of triangle t (texels per world unit), 0 when it
+ * has no texel area: new charts keep the input's resolution only where it is even. */
+static double input_density(const context *c, uint32_t t)
+{
+    const texopt_mesh *m = c->mesh;
+    return (m->flags[t] & TEXOPT_TRI_DEGENERATE_UV) ? 0 : sqrt(fabs(m->area_texel[t]) / m->area_3d[t]);
+}
+
+/* Whether u's input density is within the ratio of the seed's (either without one joins). */
+static int density_fits(const context *c, double seed_density, uint32_t u)
+{
+    double r = c->opt.density_ratio, d = input_density(c, u);
+    return !(r > 0) || !(d > 0) || !(seed_density > 0) || (d <= r * seed_density && seed_density <= r * d);
+}
+
 /* Grows one region from `seed` breadth first into order[]; returns its size. */
 static size_t grow(const context *c, region *g, uint32_t seed, uint32_t *order)
 {
     const double to_rad = 3.14159265358979323846 / 180.0;
     double cos_crease = cos(c->opt.crease_degrees * to_rad), cos_cone = cos(c->opt.cone_degrees * to_rad);
     const double *seed_normal = c->normal + 3 * (size_t)seed;
+    double seed_density = input_density(c, seed);
     size_t n = 0, head = 0;
     g->serial++;
     add_to_region(c, g, seed, order, &n);
@@ -327,7 +343,8 @@ static size_t grow(const context *c, region *g, uint32_t seed, uint32_t *order)
             uint32_t u = c->across[3 * (size_t)t + (size_t)k];
             if (u == UINT32_MAX || g->region_of[u] || is_degenerate(c, u) ||
                 texopt_dot3(c->normal + 3 * (size_t)t, c->normal + 3 * (size_t)u) < cos_crease ||
-                texopt_dot3(seed_normal, c->normal + 3 * (size_t)u) < cos_cone || !keeps_disk(c, g, u))
+                texopt_dot3(seed_normal, c->normal + 3 * (size_t)u) < cos_cone || !density_fits(c, seed_density, u) ||
+                !keeps_disk(c, g, u))
                 continue;
             add_to_region(c, g, u, order, &n);
         }
