@@ -8,6 +8,7 @@
 #include "model_split.h"
 #include "rechart.h"
 #include "texel_map.h"
+#include "triloss.h"
 
 #define QUARTER_TURN 1.57079632679489661923
 #define RECHART_DENSITY_RATIO 2.0
@@ -179,19 +180,6 @@ static void texel_triangle(const texopt_mesh *mesh, size_t t, double tri[3][2])
             tri[k][a] = mesh->texel[2 * (size_t)mesh->triangle[3 * t + (size_t)k] + (size_t)a];
 }
 
-/* J = R(alpha) V(beta) diag(lambda1, lambda2) V(beta)^T, row-major. */
-static void target_matrix(const texopt_triangle_target *g, double J[4])
-{
-    double cb = cos(g->beta), sb = sin(g->beta), ca = cos(g->alpha), sa = sin(g->alpha);
-    double S[4] = {g->lambda1 * cb * cb + g->lambda2 * sb * sb, (g->lambda1 - g->lambda2) * cb * sb, 0,
-                   g->lambda1 * sb * sb + g->lambda2 * cb * cb};
-    S[2] = S[1];
-    J[0] = ca * S[0] - sa * S[2];
-    J[1] = ca * S[1] - sa * S[3];
-    J[2] = sa * S[0] + ca * S[2];
-    J[3] = sa * S[1] + ca * S[3];
-}
-
 /* g's rotation and stretch from M = R S (polar; S = sqrt(M^T M) when M mirrors, rotation
  * weight dropped). */
 static void set_target(texopt_triangle_target *g, const double M[4])
@@ -234,7 +222,7 @@ void job_rechart_targets(const job_domain *jd, texopt_triangle_target *targets)
         texel_triangle(out, t, to);
         if (!texopt_texel_map(from, to, m, NULL))
             continue;
-        target_matrix(&targets[t], J);
+        texopt_jacobian_from_params(targets[t].alpha, targets[t].lambda1, targets[t].lambda2, targets[t].beta, J);
         M[0] = J[0] * m[0] + J[1] * m[2];
         M[1] = J[0] * m[1] + J[1] * m[3];
         M[2] = J[2] * m[0] + J[3] * m[2];
