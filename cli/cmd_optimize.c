@@ -66,6 +66,9 @@ static void usage(FILE *out)
                  "  --packing P              plain (default) or refine: charts deformed toward\n"
                  "                           axis-aligned shapes before packing (Liu et al. 2019),\n"
                  "                           the tighter packing kept\n"
+                 "  --charts C               keep (default: the input's charts) or new (cut new disk\n"
+                 "                           charts and lay them out anew, re-baked from the input)\n"
+                 "  --parameterizer P        with --charts new: abf (default), lscm, tutte or square\n"
                  "  --stats PATH             write the job statistics as JSON\n"
                  "  --evaluate               measure the whole-mesh perceptual loss q of the result\n"
                  "                           against the input (into the statistics)\n"
@@ -189,6 +192,10 @@ static int parse_option(optimize_args *a, const char *opt, const char *val)
         texopt_params_set_hessian_floor(&a->params, d);
     else if (strcmp(opt, "--metric-candidates") == 0 && (strcmp(val, "yes") == 0 || strcmp(val, "no") == 0))
         a->params.metric_candidates = strcmp(val, "yes") == 0 ? 1 : -1;
+    else if (strcmp(opt, "--charts") == 0 && texopt_charts_from_name(val) >= 0)
+        a->params.charts = (texopt_charts)texopt_charts_from_name(val);
+    else if (strcmp(opt, "--parameterizer") == 0 && texopt_parameterizer_from_name(val) >= 0)
+        a->params.parameterizer = (texopt_parameterizer)texopt_parameterizer_from_name(val);
     else {
         fprintf(stderr, "texopt optimize: bad option or value: %s %s\n", opt, val);
         return EXIT_USAGE;

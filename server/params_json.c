@@ -37,6 +37,8 @@ static const char *const known_keys[] = {
     "packing",
     "hessian_floor",
     "metric_candidates",
+    "charts",
+    "parameterizer",
 };
 
 static int is_known_key(const char *key)
@@ -204,6 +206,15 @@ static texopt_status read_rest(const cJSON *obj, texopt_params *p, char *err, si
         (s = read_named(obj, "packing", texopt_packing_from_name, "must be \"plain\" or \"refine\"", &p->packing_refine,
                         err, err_len)) != TEXOPT_OK)
         return s;
+    int charts = p->charts, parameterizer = p->parameterizer;
+    if ((s = read_named(obj, "charts", texopt_charts_from_name, "must be \"keep\" or \"new\"", &charts, err,
+                        err_len)) != TEXOPT_OK ||
+        (s = read_named(obj, "parameterizer", texopt_parameterizer_from_name,
+                        "must be \"abf\", \"lscm\", \"tutte\" or \"square\"", &parameterizer, err, err_len)) !=
+            TEXOPT_OK)
+        return s;
+    p->charts = (texopt_charts)charts;
+    p->parameterizer = (texopt_parameterizer)parameterizer;
     if ((s = get_number(obj, "packing_efficiency", &v, &present, err, err_len)) != TEXOPT_OK)
         return s;
     if (present)
@@ -335,5 +346,7 @@ cJSON *api_params_to_json(const texopt_params *p)
     cJSON_AddStringToObject(o, "packing", texopt_packing_name(p->packing_refine));
     cJSON_AddNumberToObject(o, "hessian_floor", texopt_params_hessian_floor(p));
     cJSON_AddBoolToObject(o, "metric_candidates", p->metric_candidates > 0);
+    cJSON_AddStringToObject(o, "charts", texopt_charts_name(p->charts));
+    cJSON_AddStringToObject(o, "parameterizer", texopt_parameterizer_name(p->parameterizer));
     return o;
 }

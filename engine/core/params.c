@@ -24,6 +24,37 @@ texopt_method texopt_method_from_name(const char *name)
     return TEXOPT_METHOD_COUNT;
 }
 
+const char *texopt_charts_name(texopt_charts charts)
+{
+    return charts == TEXOPT_CHARTS_NEW ? "new" : "keep";
+}
+
+int texopt_charts_from_name(const char *name)
+{
+    for (int c = 0; c < TEXOPT_CHARTS_COUNT; c++)
+        if (name && strcmp(name, texopt_charts_name((texopt_charts)c)) == 0)
+            return c;
+    return -1;
+}
+
+static const char *const parameterizer_names[TEXOPT_PARAMETERIZER_COUNT] = {[TEXOPT_PARAMETERIZER_ABF] = "abf",
+                                                                            [TEXOPT_PARAMETERIZER_LSCM] = "lscm",
+                                                                            [TEXOPT_PARAMETERIZER_TUTTE] = "tutte",
+                                                                            [TEXOPT_PARAMETERIZER_SQUARE] = "square"};
+
+const char *texopt_parameterizer_name(texopt_parameterizer p)
+{
+    return (unsigned)p < TEXOPT_PARAMETERIZER_COUNT ? parameterizer_names[p] : NULL;
+}
+
+int texopt_parameterizer_from_name(const char *name)
+{
+    for (int i = 0; name && i < TEXOPT_PARAMETERIZER_COUNT; i++)
+        if (strcmp(name, parameterizer_names[i]) == 0)
+            return i;
+    return -1;
+}
+
 const char *texopt_refine_measure_name(int refine_lit)
 {
     return refine_lit ? "lit" : "baseColor";
@@ -146,6 +177,11 @@ texopt_status texopt_params_validate(const texopt_params *p, char *err, size_t e
     if (p->resize_check != -1 && p->resize_check != 1)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "resize_check: %d is neither -1 nor 1",
                            p->resize_check);
+    if ((unsigned)p->charts >= TEXOPT_CHARTS_COUNT)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "charts: unknown value %d", (int)p->charts);
+    if ((unsigned)p->parameterizer >= TEXOPT_PARAMETERIZER_COUNT)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "parameterizer: unknown value %d",
+                           (int)p->parameterizer);
     if (!isfinite(p->relative_cost) || !isfinite(p->epsilon))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "parameters must be finite");
     return TEXOPT_OK;

@@ -58,6 +58,22 @@ typedef enum texopt_budget {
     TEXOPT_BUDGET_COUNT
 } texopt_budget;
 
+/* Which charts a job lays out (issue 41): the input's (keep) or new disk charts cut from the
+ * mesh and parameterized anew (param/rechart.h), re-baked from the input's texture through
+ * the input's UVs. */
+typedef enum texopt_charts { TEXOPT_CHARTS_KEEP = 0, TEXOPT_CHARTS_NEW, TEXOPT_CHARTS_COUNT } texopt_charts;
+
+/* How new charts are laid out (param/param_*.h); ABF, the zero value, kept L2 stretch
+ * nearest 1 on every sample model (docs/benchmarks.md "New charts with each
+ * parameterization method"). */
+typedef enum texopt_parameterizer {
+    TEXOPT_PARAMETERIZER_ABF = 0,
+    TEXOPT_PARAMETERIZER_LSCM,
+    TEXOPT_PARAMETERIZER_TUTTE,
+    TEXOPT_PARAMETERIZER_SQUARE,
+    TEXOPT_PARAMETERIZER_COUNT
+} texopt_parameterizer;
+
 typedef struct texopt_params {
     texopt_method method;
     texopt_budget budget;
@@ -72,44 +88,54 @@ typedef struct texopt_params {
     double lambda_min;  /* smallest singular value stage 1 may choose; 0 -> 0.1 */
     int threads;        /* 0 -> every core */
     uint64_t seed;
-    int evaluate;              /* non-zero: run the whole-mesh evaluation after the bake */
-    int eval_resolution;       /* evaluation screen side in pixels; 0 -> automatic */
-    int refinements;           /* perceptual: most rounds of the closed-loop refinement of the
+    int evaluate;                       /* non-zero: run the whole-mesh evaluation after the bake */
+    int eval_resolution;                /* evaluation screen side in pixels; 0 -> automatic */
+    int refinements;                    /* perceptual: most rounds of the closed-loop refinement of the
                                kept layout by its on-screen error (job_refine.c);
                                0 -> TEXOPT_DEFAULT_REFINEMENTS, -1 -> none */
-    int refine_lit;            /* perceptual: non-zero: the refinement's screen is the lit render
+    int refine_lit;                     /* perceptual: non-zero: the refinement's screen is the lit render
                                (evaluate.h `lit`, every image baked each round) when the
                                material has a map a light reads besides base colour; 0: base
                                colour's (job_refine.c) */
-    int mipmapped;             /* non-zero: the texture lookups the layout is tuned for and its q
+    int mipmapped;                      /* non-zero: the texture lookups the layout is tuned for and its q
                                is measured with (the perceptual candidates' choice, the
                                refinement's screens, `evaluate`, the target_loss search) are
                                prefiltered (mip-mapped, anisotropic; evaluate.h), as real-time
                                renderers draw; 0: bilinear, the paper's setting */
-    double packing_efficiency; /* [0, 1): when a packing's efficiency falls short of it, the
+    double packing_efficiency;          /* [0, 1): when a packing's efficiency falls short of it, the
                                charts filling little of their box are reshaped toward it and
                                packed again (budget.h reshape_efficiency); 0 -> never */
-    double hessian_floor;      /* perceptual: (0, 1], the floor's factor under stage 1's targets
+    double hessian_floor;               /* perceptual: (0, 1], the floor's factor under stage 1's targets
                                (TEXOPT_DEFAULT_HESSIAN_FLOOR); 0 -> that default, -1 -> none */
-    int metric_candidates;     /* perceptual: 1: the signal metrics' targets (tewari.h, ssp.h),
+    int metric_candidates;              /* perceptual: 1: the signal metrics' targets (tewari.h, ssp.h),
                                solved as they are, are candidate layouts beside stage 1's
                                (job_candidates.c); 0 -> 1, -1 -> not made */
-    int resize_check;          /* perceptual: 1: a domain whose new layout's q is not below its
+    int resize_check;                   /* perceptual: 1: a domain whose new layout's q is not below its
                                input layout resized to the same pixels keeps the resize
                                (resize_check.c); 0 -> 1, -1 -> never */
-    int lossless_textures;     /* non-zero: replaced textures are written as PNG even where the
+    int lossless_textures;              /* non-zero: replaced textures are written as PNG even where the
                                input's were JPEG (texopt_model_edit.lossless), so that a q
                                measured from the file is the layout's and not the encoding's
                                (compare.h sets it); 0: a JPEG stays a JPEG */
-    int bijective;             /* non-zero: stage 2 solves with scaffold triangles around each
+    int bijective;                      /* non-zero: stage 2 solves with scaffold triangles around each
                                chart (layout/scaffold.h), so no chart overlaps itself */
-    int packing_refine;        /* non-zero ("refine"): each chart of the new layout is deformed
+    int packing_refine;                 /* non-zero ("refine"): each chart of the new layout is deformed
                                toward an axis-aligned shape before packing (layout/
                                atlas_refine.h), and the tighter of the two packings kept;
                                0 ("plain"): packed as stage 2 left it */
+    texopt_charts charts;               /* keep the input's charts (default) or cut new ones */
+    texopt_parameterizer parameterizer; /* with TEXOPT_CHARTS_NEW: how each new chart is laid out */
 } texopt_params;
 
 const char *texopt_method_name(texopt_method method);
+
+/* "keep", "new"; and back (-1 for an unknown name). */
+const char *texopt_charts_name(texopt_charts charts);
+int texopt_charts_from_name(const char *name);
+
+/* "abf", "lscm", "tutte", "square" (NULL out of range); and back (-1 for an unknown name). */
+const char *texopt_parameterizer_name(texopt_parameterizer p);
+int texopt_parameterizer_from_name(const char *name);
 /* Returns TEXOPT_METHOD_COUNT for an unknown name. */
 texopt_method texopt_method_from_name(const char *name);
 

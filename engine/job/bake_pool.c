@@ -166,6 +166,46 @@ static texopt_status bake_images_side_by_side(bake_pool *bp, int workers, char *
     return TEXOPT_OK;
 }
 
+/* The input and output UVs of a domain's bake: per input vertex, or per triangle corner when
+ * the layout is on new charts (`charts`, whose vertices are not the input's; the triangles
+ * are the same, so each corner reads the input texture through its input UV). */
+typedef struct bake_layouts {
+    uint32_t *corners; /* per corner its index, when per corner; else NULL */
+    const uint32_t *triangles;
+    double *uv_in, *uv_out;
+} bake_layouts;
+
+static void bake_layouts_free(bake_layouts *bl)
+{
+    free(bl->corners);
+    free(bl->uv_in);
+    free(bl->uv_out);
+}
+
+static int bake_layouts_make(bake_layouts *bl, const texopt_mesh *mesh, const texopt_mesh *charts, const double *packed,
+                             int width, int height)
+{
+    size_t n = charts ? 3 * mesh->triangle_count : mesh->vertex_count;
+    bl->corners = charts ? malloc((n ? n : 1) * sizeof *bl->corners) : NULL;
+    bl->uv_in = malloc(2 * (n ? n : 1) * sizeof *bl->uv_in);
+    bl->uv_out = malloc(2 * (n ? n : 1) * sizeof *bl->uv_out);
+    if (!bl->uv_in || !bl->uv_out || (charts && !bl->corners)) {
+        bake_layouts_free(bl);
+        return -1;
+    }
+    bl->triangles = charts ? bl->corners : mesh->triangle;
+    for (size_t i = 0; i < n; i++) {
+        size_t in = charts ? mesh->triangle[i] : i, out = charts ? charts->triangle[i] : i;
+        if (charts)
+            bl->corners[i] = (uint32_t)i;
+        bl->uv_in[2 * i] = mesh->texel[2 * in] / mesh->width;
+        bl->uv_in[2 * i + 1] = mesh->texel[2 * in + 1] / mesh->height;
+        bl->uv_out[2 * i] = packed[2 * out] / width;
+        bl->uv_out[2 * i + 1] = packed[2 * out + 1] / height;
+    }
+    return 0;
+}
+
 texopt_status job_rebake_domain(texopt_job *job, const layout_run *run, int d, const double *packed, const int size[2],
                                 double from, double to, char *err, size_t err_len)
 {
@@ -191,21 +231,12 @@ texopt_status job_rebake_domain(texopt_job *job, const layout_run *run, int d, c
         if (plan_bakes(model, run->plan, run->out, im))
             todo[count++] = i;
     }
-    size_t n = 2 * (mesh->vertex_count ? mesh->vertex_count : 1);
-    double *uv_in = malloc(n * sizeof *uv_in), *uv_out = malloc(n * sizeof *uv_out);
-    if (!uv_in || !uv_out) {
-        free(uv_in);
-        free(uv_out);
+    bake_layouts bl;
+    if (bake_layouts_make(&bl, mesh, job->domains[d].layout, packed, width, height) != 0) {
         free(todo);
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the bake layouts");
     }
-    for (size_t v = 0; v < mesh->vertex_count; v++) {
-        uv_in[2 * v] = mesh->texel[2 * v] / mesh->width;
-        uv_in[2 * v + 1] = mesh->texel[2 * v + 1] / mesh->height;
-        uv_out[2 * v] = packed[2 * v] / width;
-        uv_out[2 * v + 1] = packed[2 * v + 1] / height;
-    }
-    texopt_rebake_layout layout = {mesh->triangle_count, mesh->triangle, uv_in, uv_out, threads};
+    texopt_rebake_layout layout = {mesh->triangle_count, bl.triangles, bl.uv_in, bl.uv_out, threads};
     domain_bake bake = {model, dom, &layout, run->plan, run->out, ds};
     texopt_status st = TEXOPT_OK;
     int workers = threads < count ? threads : count;
@@ -228,8 +259,7 @@ texopt_status job_rebake_domain(texopt_job *job, const layout_run *run, int d, c
         st = bake_image(&bake, todo[k], &jm->inner, err, err_len);
     }
     free(todo);
-    free(uv_in);
-    free(uv_out);
+    bake_layouts_free(&bl);
     return st;
 }
 

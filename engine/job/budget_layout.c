@@ -9,6 +9,7 @@
 #include "bake_pool.h"
 #include "budget.h"
 #include "domain_keep.h"
+#include "domain_rechart.h"
 #include "input_method.h"
 #include "job_stats.h"
 #include "meshwise.h"
@@ -42,7 +43,7 @@ static texopt_status solve_layout(texopt_job *job, const layout_run *run, int d,
                                   double *texel_new, char *err, size_t err_len)
 {
     const job_domain *jd = &job->domains[d];
-    const texopt_mesh *mesh = jd->mesh;
+    const texopt_mesh *mesh = job_layout_mesh(jd);
     const texopt_params *params = &job->params;
     texopt_domain_stats *ds = &run->domains[d];
     const texopt_triangle_target *targets = job_source_targets(jd, run->source);
@@ -97,7 +98,8 @@ texopt_status job_measure_loss_share(texopt_job *job, int d, const double *texel
                                      char *err, size_t err_len)
 {
     const texopt_params *params = &job->params;
-    if (!job->method->chooses && !params->evaluate)
+    /* It reads the texture through the layout's own input UVs, which new charts have not. */
+    if ((!job->method->chooses && !params->evaluate) || job->domains[d].layout)
         return TEXOPT_OK;
     texopt_loss_share share;
     double t0 = job_now_seconds();
@@ -224,7 +226,7 @@ static texopt_status layout_for_budget(texopt_job *job, const layout_run *run, i
         job_stage(jm, "pack", split, to);
         double t0 = job_now_seconds();
         /* a sharing group packs as one chart, its secondaries on the primary's texels */
-        const texopt_mesh *charts = job_sharing(jd) ? &jd->share->view : jd->mesh;
+        const texopt_mesh *charts = job_sharing(jd) ? &jd->share->view : job_layout_mesh(jd);
         st = texopt_budget_fit(charts, l->texel_new, &req, l->packed, &l->br, err, err_len);
         if (st == TEXOPT_OK && p->packing_refine)
             st = refine_if_tighter(charts, &req, l, ds, err, err_len);
@@ -247,7 +249,7 @@ static texopt_status run_layout_method(texopt_job *job, const layout_run *run, i
                                        size_t err_len)
 {
     const job_domain *jd = &job->domains[d];
-    const texopt_mesh *mesh = jd->mesh;
+    const texopt_mesh *mesh = job_layout_mesh(jd);
     texopt_domain_stats *ds = &run->domains[d];
     job_output *out = run->out;
     const stage_weights *w = job->method->weights;

@@ -1,6 +1,7 @@
 /* domain_keep.c - when a layout method keeps a domain's input layout, and why
  * (domain_keep.h). */
 #include "domain_keep.h"
+#include "domain_rechart.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -157,8 +158,8 @@ int job_layout_fails_check(const texopt_job *job, const layout_run *run, int d, 
     texopt_layout_check *c = &ds->layout_check;
     ds->has_layout_check = 1;
     double t0 = job_now_seconds();
-    *st = texopt_layout_check_run(jd->mesh, packed, br->width, br->height, jd->share ? jd->share->primary_of : NULL,
-                                  targets, c, err, err_len);
+    *st = texopt_layout_check_run(job_layout_mesh(jd), packed, br->width, br->height,
+                                  jd->share ? jd->share->primary_of : NULL, targets, c, err, err_len);
     ds->seconds_layout_check = job_now_seconds() - t0;
     if (*st != TEXOPT_OK || c->failed == TEXOPT_LAYOUT_PASSED)
         return 0;

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include "domain_keep.h"
+#include "domain_rechart.h"
 #include "job_stats.h"
 #include "ssp.h"
 #include "tewari.h"
@@ -52,6 +53,24 @@ static texopt_status find_paid_shares(job_domain *jd, char *err, size_t err_len)
     return TEXOPT_OK;
 }
 
+/* The domain's layout mesh on its new charts (domain_rechart.h); the input's sharing groups
+ * and paid shares, which the keep rules read, do not apply to new charts. */
+static texopt_status new_charts(texopt_job *job, int d, char *err, size_t err_len)
+{
+    job_domain *jd = &job->domains[d];
+    texopt_domain_stats *ds = &job->stats.domains[d];
+    texopt_status st = job_rechart_layout_mesh(job, d, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    texopt_texel_share_destroy(jd->share);
+    jd->share = NULL;
+    free(jd->paid);
+    jd->paid = NULL;
+    ds->new_charts = jd->rechart->chart_count;
+    ds->new_chart_fallbacks = jd->rechart->fallback_charts;
+    return TEXOPT_OK;
+}
+
 /* Stage 1 (or a baseline's targets) for the domain, with perceptual's metric targets. */
 static texopt_status domain_targets(texopt_job *job, int d, double from, double to, char *err, size_t err_len)
 {
@@ -73,6 +92,11 @@ static texopt_status domain_targets(texopt_job *job, int d, double from, double 
     ds->seconds_stage1 = job_now_seconds() - t0;
     if (st == TEXOPT_OK && (job->method->chooses || trep.optimised > 0))
         job_stats_record_stage1(jd->mesh, jd->targets, &trep, params->epsilon, ds);
+    if (st == TEXOPT_OK && jd->layout) {
+        job_rechart_targets(jd, jd->targets);
+        job_rechart_targets(jd, jd->hessian);
+        job_rechart_targets(jd, jd->stretch);
+    }
     if (st == TEXOPT_OK)
         job_stage_done(&job->jm, "stage1");
     return st;
@@ -107,7 +131,13 @@ texopt_status job_prepare_domain(texopt_job *job, int d, double from, double to,
     st = texopt_texel_share_create(&jd->share, jd->mesh, err, err_len);
     if (st == TEXOPT_OK)
         st = find_paid_shares(jd, err, err_len);
-    if (st != TEXOPT_OK || job_keep_if_tiling(dom, jd, ds))
+    /* New charts unroll a repeating (or overlapping) layout: the user asked for that. */
+    if (st != TEXOPT_OK || (!jd->rechart && job_keep_if_tiling(dom, jd, ds)))
         return st;
+    if (jd->rechart) {
+        st = new_charts(job, d, err, err_len);
+        if (st != TEXOPT_OK)
+            return st;
+    }
     return domain_targets(job, d, from, to, err, err_len);
 }

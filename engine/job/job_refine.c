@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "budget_layout.h"
+#include "domain_rechart.h"
 #include "job_evaluate.h"
 #include "job_stats.h"
 #include "lit_shade.h"
@@ -42,7 +43,7 @@ static texopt_status kept_targets(const texopt_job *job, const layout_run *made_
         double area = ds[d].relative_cost * (double)jd->input_coverage.covered_texels;
         texopt_allocate_options o = job_domain_allocation(jd, cap);
         if (cap > 0 && area > 0)
-            st = texopt_allocate_targets(jd->mesh, jd->targets, area, &o, out[d], NULL, err, err_len);
+            st = texopt_allocate_targets(job_layout_mesh(jd), jd->targets, area, &o, out[d], NULL, err, err_len);
         else
             memcpy(out[d], job_source_targets(jd, made_by->source), jd->mesh->triangle_count * sizeof *out[d]);
     }
@@ -67,7 +68,7 @@ static texopt_status reallocate_domains(const texopt_job *job, target_source sou
     texopt_status st = TEXOPT_OK;
     for (int d = 0; d < job->model->domain_count && st == TEXOPT_OK; d++) {
         const job_domain *jd = &job->domains[d];
-        const texopt_mesh *mesh = jd->mesh;
+        const texopt_mesh *mesh = job_layout_mesh(jd);
         if (jd->kept || mesh->triangle_count == 0)
             continue;
         /* A metric candidate's targets keep their own total area: its layout was solved at

@@ -15,6 +15,7 @@
 #include "model.h"
 #include "params.h"
 #include "pipeline.h"
+#include "rechart.h"
 #include "stats.h"
 #include "target.h"
 #include "texel_share.h"
@@ -43,6 +44,8 @@ typedef struct job_domain {
     double *paid;              /* per triangle, the share of its texels it pays for (target_allocation.h); NULL
                      when every triangle pays for all of its own */
     domain_keep kept;          /* laid out, or the input layout kept (and why: stats input_layout_kept) */
+    texopt_rechart *rechart;   /* params.charts new: the domain's new charts (domain_rechart.h); else NULL */
+    texopt_mesh *layout;       /* params.charts new: the mesh laid out (the new charts); NULL: mesh */
 } job_domain;
 
 struct texopt_job {

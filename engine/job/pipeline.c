@@ -24,6 +24,7 @@
 #include "budget_layout.h"
 #include "domain_keep.h"
 #include "domain_prepare.h"
+#include "domain_rechart.h"
 #include "file_cost.h"
 #include "gltf_io.h"
 #include "job_candidates.h"
@@ -122,6 +123,8 @@ texopt_status texopt_job_create(texopt_job **out, const char *input_path, const 
         if (!job->domains || !job->stats.domains)
             st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for %d domains", n);
     }
+    if (st == TEXOPT_OK && p->charts == TEXOPT_CHARTS_NEW)
+        st = job_rechart_model(job, err, err_len);
     double total = st == TEXOPT_OK ? job_total_domain_weight(job) : 0;
     double at = w->load;
     for (int d = 0; st == TEXOPT_OK && d < job->model->domain_count; d++) {
@@ -147,6 +150,8 @@ void texopt_job_destroy(texopt_job *job)
         return;
     for (int d = 0; job->domains && job->model && d < job->model->domain_count; d++) {
         texopt_mesh_destroy(job->domains[d].mesh);
+        texopt_mesh_destroy(job->domains[d].layout);
+        texopt_rechart_destroy(job->domains[d].rechart);
         texopt_texel_share_destroy(job->domains[d].share);
         free(job->domains[d].paid);
         free(job->domains[d].targets);

@@ -134,6 +134,11 @@ static cJSON *domain_json(const texopt_domain_stats *d)
     cJSON_AddNumberToObject(o, "domain", d->domain);
     cJSON_AddNumberToObject(o, "triangles", (double)d->triangles);
     cJSON_AddNumberToObject(o, "charts", (double)d->charts);
+    if (d->new_charts) {
+        cJSON *nc = cJSON_AddObjectToObject(o, "new_charts");
+        cJSON_AddNumberToObject(nc, "charts", (double)d->new_charts);
+        cJSON_AddNumberToObject(nc, "tutte_fallbacks", (double)d->new_chart_fallbacks);
+    }
     cJSON_AddItemToObject(o, "input_size", size_array(d->input_width, d->input_height));
     cJSON_AddItemToObject(o, "output_size", size_array(d->output_width, d->output_height));
     cJSON_AddNumberToObject(o, "cost_input", d->cost_input);
@@ -195,6 +200,11 @@ static cJSON *job_json(const texopt_job_stats *s)
     cJSON_AddStringToObject(p, "packing", texopt_packing_name(s->packing_refine));
     cJSON_AddNumberToObject(p, "hessian_floor", s->hessian_floor);
     cJSON_AddBoolToObject(p, "metric_candidates", s->metric_candidates);
+    cJSON_AddStringToObject(p, "charts", texopt_charts_name(s->charts));
+    if (s->charts == TEXOPT_CHARTS_NEW) {
+        cJSON_AddStringToObject(p, "parameterizer", texopt_parameterizer_name(s->parameterizer));
+        cJSON_AddNumberToObject(root, "vertices_split", (double)s->vertices_split);
+    }
     cJSON *t = cJSON_AddObjectToObject(root, "seconds");
     cJSON_AddNumberToObject(t, "load", s->seconds_load);
     cJSON_AddNumberToObject(t, "save", s->seconds_save);

@@ -20,6 +20,7 @@
 #include "distortion.h"
 #include "layout_check.h"
 #include "map_check.h"
+#include "params.h"
 #include "status.h"
 
 typedef struct texopt_image_stats {
@@ -34,6 +35,8 @@ typedef struct texopt_image_stats {
 typedef struct texopt_domain_stats {
     int domain;
     size_t triangles, charts;
+    size_t new_charts;             /* params.charts new: the domain's new charts (0: the input's kept) ... */
+    size_t new_chart_fallbacks;    /* ... of which laid out by Tutte because the parameterizer failed */
     int input_width, input_height; /* texel frame */
     int output_width, output_height;
     double cost_input, cost_output;  /* unique covered texels; cost_output, relative_cost and
@@ -111,6 +114,9 @@ typedef struct texopt_job_stats {
     int packing_refine;        /* packing "refine" was asked for */
     double hessian_floor;      /* perceptual's floor factor (0: none) */
     int metric_candidates;     /* perceptual makes the metric candidates */
+    texopt_charts charts;      /* keep the input's or new (then parameterizer) */
+    texopt_parameterizer parameterizer;
+    size_t vertices_split; /* charts new: model vertices copied where a new chart boundary runs */
     double seconds_load, seconds_save, seconds_total;
     int has_search;            /* budget target_loss: the search over the relative cost */
     double target_loss;        /* the q asked for */

@@ -237,6 +237,7 @@ void texopt_model_destroy(texopt_model *model)
     free(model->uvs);
     free(model->normals);
     free(model->triangles);
+    free(model->file_vertex);
     free(model->primitives);
     free(model->variant_materials);
     free(model->materials);

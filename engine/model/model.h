@@ -104,6 +104,8 @@ typedef struct texopt_primitive {
      * TEXCOORD_0 textures belong to its domain: re-baked into the layout it is given. */
     size_t first_variant;
     int variant_count;
+    int winding_flipped; /* a mirroring node transform: each triangle's last two vertices were
+                            swapped on load (saving new indices swaps them back) */
 } texopt_primitive;
 
 typedef struct texopt_domain {
@@ -125,7 +127,10 @@ typedef struct texopt_model {
                          where a primitive has none (shade it flat, as glTF asks); NULL if no
                          primitive has one */
     size_t triangle_count;
-    uint32_t *triangles; /* 3 per triangle, model vertex indices */
+    uint32_t *triangles;   /* 3 per triangle, model vertex indices */
+    uint32_t *file_vertex; /* per vertex: the vertex of its primitive in the file (0-based
+                              within the primitive) it copies, when model_split.h split
+                              vertices; NULL when every vertex is the file's own */
 
     int primitive_count;
     texopt_primitive *primitives;

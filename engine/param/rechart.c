@@ -12,23 +12,6 @@
 #include "param_tutte.h"
 #include "vec3.h"
 
-static const char *const names[] = {"lscm", "abf", "tutte", "square"};
-
-const char *texopt_parameterizer_name(texopt_parameterizer p)
-{
-    return (unsigned)p < sizeof names / sizeof names[0] ? names[p] : NULL;
-}
-
-int texopt_parameterizer_parse(const char *name, texopt_parameterizer *out)
-{
-    for (unsigned i = 0; name && i < sizeof names / sizeof names[0]; i++)
-        if (strcmp(name, names[i]) == 0) {
-            *out = (texopt_parameterizer)i;
-            return 0;
-        }
-    return -1;
-}
-
 void texopt_rechart_destroy(texopt_rechart *rechart)
 {
     if (!rechart)
@@ -48,7 +31,9 @@ typedef struct context {
     double *position;   /* scratch: 3 per local vertex */
     uint32_t *triangle; /* scratch: 3 per chart triangle */
     uint32_t *point_of_local;
-    double *uv; /* scratch: 2 per local vertex */
+    double *uv;     /* scratch: 2 per local vertex */
+    uint32_t *mark; /* per triangle: mark_serial while in the set being split (components) */
+    uint32_t mark_serial;
 } context;
 
 static int compare_u64(const void *a, const void *b)
@@ -129,6 +114,7 @@ static texopt_status run_method(texopt_parameterizer method, const texopt_param_
         texopt_square_params_default(&p);
         return texopt_param_square(chart, &p, uv, NULL, err, sizeof err);
     }
+    case TEXOPT_PARAMETERIZER_COUNT: break;
     }
     return TEXOPT_E_INVALID_ARGUMENT;
 }
@@ -175,28 +161,113 @@ static void store_chart(context *c, const uint32_t *tris, const texopt_param_cha
     }
 }
 
+/* Whether segments pq and rs cross (touching at an end point does not count). */
+static int segments_cross(const double *p, const double *q, const double *r, const double *s)
+{
+    double d1 = (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+    double d2 = (q[0] - p[0]) * (s[1] - p[1]) - (q[1] - p[1]) * (s[0] - p[0]);
+    double d3 = (s[0] - r[0]) * (p[1] - r[1]) - (s[1] - r[1]) * (p[0] - r[0]);
+    double d4 = (s[0] - r[0]) * (q[1] - r[1]) - (s[1] - r[1]) * (q[0] - r[0]);
+    return ((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0));
+}
+
+/* Whether the layout's boundary loop crosses itself: a disk laid out without flips then
+ * overlaps itself (ABF and LSCM are only locally injective; a long curved chart can wrap
+ * onto itself). Quadratic in the boundary's length, which max_triangles bounds. */
+static int boundary_crosses(const texopt_param_boundary *b, const double *uv)
+{
+    size_t n = b->count;
+    for (size_t i = 0; i < n; i++)
+        for (size_t j = i + 2; j < n; j++) {
+            if (i == 0 && j == n - 1)
+                continue; /* adjacent through the loop's start */
+            const double *p = uv + 2 * b->vertex[i], *q = uv + 2 * b->vertex[(i + 1) % n];
+            const double *r = uv + 2 * b->vertex[j], *s = uv + 2 * b->vertex[(j + 1) % n];
+            if (segments_cross(p, q, r, s))
+                return 1;
+        }
+    return 0;
+}
+
+/* The chart's layout by the method, by Tutte when the method fails or flips a triangle.
+ * *overlaps: the method's layout overlaps itself (not checked for Tutte's, a bijection). */
+static texopt_status layout_chart(context *c, const texopt_param_chart *chart, const texopt_param_boundary *b,
+                                  int *overlaps)
+{
+    char err[256];
+    *overlaps = 0;
+    texopt_status st = run_method(c->opt.method, chart, c->uv);
+    if (st == TEXOPT_E_NOMEM)
+        return st;
+    if (st != TEXOPT_OK || count_flips(chart, c->uv) > 0) {
+        c->out->fallback_charts++;
+        return texopt_param_tutte(chart, c->uv, err, sizeof err);
+    }
+    *overlaps = boundary_crosses(b, c->uv);
+    return TEXOPT_OK;
+}
+
+static texopt_status layout_region(context *c, uint32_t *tris, size_t n);
+
+/* Lays out tris[0..n) one connected component (through shared edges) at a time, each
+ * reordered breadth first, so that its halves stay connected if it must be split again. */
+static texopt_status layout_components(context *c, uint32_t *tris, size_t n)
+{
+    uint32_t *bfs = malloc(n * sizeof *bfs), serial = ++c->mark_serial;
+    size_t *end = malloc(n * sizeof *end), components = 0, m = 0;
+    if (!bfs || !end) {
+        free(bfs);
+        free(end);
+        return TEXOPT_E_NOMEM;
+    }
+    for (size_t i = 0; i < n; i++)
+        c->mark[tris[i]] = serial;
+    for (size_t i = 0; i < n; i++) {
+        if (c->mark[tris[i]] != serial)
+            continue;
+        size_t head = m;
+        bfs[m++] = tris[i];
+        c->mark[tris[i]] = 0;
+        while (head < m) {
+            uint32_t t = bfs[head++];
+            for (int k = 0; k < 3; k++) {
+                uint32_t u = c->across[3 * (size_t)t + (size_t)k];
+                if (u != UINT32_MAX && c->mark[u] == serial) {
+                    c->mark[u] = 0;
+                    bfs[m++] = u;
+                }
+            }
+        }
+        end[components++] = m;
+    }
+    memcpy(tris, bfs, n * sizeof *tris);
+    free(bfs);
+    texopt_status st = TEXOPT_OK;
+    for (size_t k = 0, from = 0; k < components && st == TEXOPT_OK; from = end[k++])
+        st = layout_region(c, tris + from, end[k] - from);
+    free(end);
+    return st;
+}
+
 /* Lays out triangles tris[0..n) as one chart, or as two halves (recursively) when they are
- * not a disk. A single non-degenerate triangle is always a disk. */
-static texopt_status layout_region(context *c, const uint32_t *tris, size_t n)
+ * not a disk or their layout overlaps itself: the first half (a prefix of the breadth-first
+ * growth, connected) and the rest one connected component at a time. A single
+ * non-degenerate triangle is always a disk laid out without overlap. */
+static texopt_status layout_region(context *c, uint32_t *tris, size_t n)
 {
     texopt_param_chart chart = local_chart(c, tris, n);
     texopt_param_boundary *b = NULL;
     char err[256];
+    int overlaps = 0;
     texopt_status st = texopt_param_boundary_create(&b, &chart, err, sizeof err);
+    if (st == TEXOPT_OK)
+        st = layout_chart(c, &chart, b, &overlaps);
     texopt_param_boundary_destroy(b);
-    if (st == TEXOPT_E_INVALID_ARGUMENT && n > 1) {
+    if ((st == TEXOPT_E_INVALID_ARGUMENT || overlaps) && n > 1) {
+        c->out->overlap_splits += overlaps;
         forget_local(c, chart.vertex_count);
         st = layout_region(c, tris, n / 2);
-        return st == TEXOPT_OK ? layout_region(c, tris + n / 2, n - n / 2) : st;
-    }
-    if (st == TEXOPT_OK) {
-        st = run_method(c->opt.method, &chart, c->uv);
-        if (st == TEXOPT_E_NOMEM)
-            return st;
-        if (st != TEXOPT_OK || count_flips(&chart, c->uv) > 0) {
-            c->out->fallback_charts++;
-            st = texopt_param_tutte(&chart, c->uv, err, sizeof err);
-        }
+        return st == TEXOPT_OK ? layout_components(c, tris + n / 2, n - n / 2) : st;
     }
     if (st == TEXOPT_OK)
         store_chart(c, tris, &chart);
@@ -241,12 +312,28 @@ static void add_to_region(const context *c, region *g, uint32_t t, uint32_t *ord
     order[(*n)++] = t;
 }
 
+/* The input layout's linear texel density of triangle t (texels per world unit), 0 when it
+ * has no texel area: new charts keep the input's resolution only where it is even. */
+static double input_density(const context *c, uint32_t t)
+{
+    const texopt_mesh *m = c->mesh;
+    return (m->flags[t] & TEXOPT_TRI_DEGENERATE_UV) ? 0 : sqrt(fabs(m->area_texel[t]) / m->area_3d[t]);
+}
+
+/* Whether u's input density is within the ratio of the seed's (either without one joins). */
+static int density_fits(const context *c, double seed_density, uint32_t u)
+{
+    double r = c->opt.density_ratio, d = input_density(c, u);
+    return !(r > 0) || !(d > 0) || !(seed_density > 0) || (d <= r * seed_density && seed_density <= r * d);
+}
+
 /* Grows one region from `seed` breadth first into order[]; returns its size. */
 static size_t grow(const context *c, region *g, uint32_t seed, uint32_t *order)
 {
     const double to_rad = 3.14159265358979323846 / 180.0;
     double cos_crease = cos(c->opt.crease_degrees * to_rad), cos_cone = cos(c->opt.cone_degrees * to_rad);
     const double *seed_normal = c->normal + 3 * (size_t)seed;
+    double seed_density = input_density(c, seed);
     size_t n = 0, head = 0;
     g->serial++;
     add_to_region(c, g, seed, order, &n);
@@ -256,7 +343,8 @@ static size_t grow(const context *c, region *g, uint32_t seed, uint32_t *order)
             uint32_t u = c->across[3 * (size_t)t + (size_t)k];
             if (u == UINT32_MAX || g->region_of[u] || is_degenerate(c, u) ||
                 texopt_dot3(c->normal + 3 * (size_t)t, c->normal + 3 * (size_t)u) < cos_crease ||
-                texopt_dot3(seed_normal, c->normal + 3 * (size_t)u) < cos_cone || !keeps_disk(c, g, u))
+                texopt_dot3(seed_normal, c->normal + 3 * (size_t)u) < cos_cone || !density_fits(c, seed_density, u) ||
+                !keeps_disk(c, g, u))
                 continue;
             add_to_region(c, g, u, order, &n);
         }
@@ -290,6 +378,7 @@ static void context_free(context *c)
     free(c->triangle);
     free(c->point_of_local);
     free(c->uv);
+    free(c->mark);
 }
 
 static int context_alloc(context *c)
@@ -302,7 +391,9 @@ static int context_alloc(context *c)
     c->triangle = malloc(3 * cap * sizeof *c->triangle);
     c->point_of_local = malloc(3 * cap * sizeof *c->point_of_local);
     c->uv = malloc(6 * cap * sizeof *c->uv);
-    if (!c->across || !c->normal || !c->local_of || !c->position || !c->triangle || !c->point_of_local || !c->uv)
+    c->mark = calloc(nt, sizeof *c->mark);
+    if (!c->mark || !c->across || !c->normal || !c->local_of || !c->position || !c->triangle || !c->point_of_local ||
+        !c->uv)
         return -1;
     for (size_t p = 0; p < c->mesh->point_count; p++)
         c->local_of[p] = UINT32_MAX;

@@ -3,12 +3,15 @@
  *
  * Triangles are grouped by region growing over shared 3D edges (through UV seams): a chart
  * never crosses a crease (normals more than crease_degrees apart) nor holds a triangle whose
- * normal is more than cone_degrees from its seed's, nor grows past max_triangles, and only
+ * normal is more than cone_degrees from its seed's (nor, with density_ratio, one whose input
+ * texel density is that factor from the seed's), nor grows past max_triangles, and only
  * takes a triangle that keeps it a disk (no vertex reached twice, no surface closed). A
  * region that is still no disk (param_chart.h: a non-manifold or inconsistently oriented
  * mesh) is split in two along its growth order until every part is one. Each chart is laid out by the chosen method at 3D scale (1 unit = 1 world unit);
  * when the method fails or flips a triangle (LSCM may fold; the square refuses ears) the
- * chart falls back to the mean-value Tutte map, which cannot flip. Degenerate (zero 3D area)
+ * chart falls back to the mean-value Tutte map, which cannot flip; when its layout overlaps
+ * itself (the boundary loop crosses itself: ABF and LSCM are only locally injective) the
+ * region is split in two along its growth order, as a region that is no disk. Degenerate (zero 3D area)
  * triangles get a chart of their own with all corners at (0, 0). It does not pack the charts
  * nor write them into the model. */
 #ifndef TEXOPT_RECHART_H
@@ -18,26 +21,16 @@
 #include <stdint.h>
 
 #include "mesh.h"
+#include "params.h"
 #include "status.h"
-
-typedef enum texopt_parameterizer {
-    TEXOPT_PARAMETERIZER_LSCM,
-    TEXOPT_PARAMETERIZER_ABF,
-    TEXOPT_PARAMETERIZER_TUTTE,
-    TEXOPT_PARAMETERIZER_SQUARE
-} texopt_parameterizer;
-
-/* "lscm", "abf", "tutte", "square"; NULL for an unknown value. */
-const char *texopt_parameterizer_name(texopt_parameterizer p);
-
-/* 0 and *out set when `name` is one of the names above, else -1. */
-int texopt_parameterizer_parse(const char *name, texopt_parameterizer *out);
 
 typedef struct texopt_rechart_options {
     texopt_parameterizer method;
     double crease_degrees; /* 0 = 60 */
     double cone_degrees;   /* 0 = 75 */
     size_t max_triangles;  /* 0 = 5000: bounds one chart's solve */
+    double density_ratio;  /* > 0: no triangle whose input texel density (texels per world
+                              unit) is more than this factor from the seed's joins it; 0 = any */
 } texopt_rechart_options;
 
 typedef struct texopt_rechart {
@@ -46,6 +39,7 @@ typedef struct texopt_rechart {
     double *corner_uv;      /* 6 per mesh triangle: its corners' layout, world units, each
                             chart's box starting at (0, 0) */
     size_t fallback_charts; /* charts laid out by Tutte because the method failed or flipped */
+    size_t overlap_splits;  /* regions split in two because the method's layout overlapped itself */
 } texopt_rechart;
 
 /* On success the caller owns *out and frees it with texopt_rechart_destroy. */

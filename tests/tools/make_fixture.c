@@ -8,6 +8,10 @@
  *   orm       "orm" as metallicRoughnessTexture and occlusionTexture (one image);
  *   normal    "grooves" as normalTexture, metallicFactor 0.
  * Base colour is flat, so every texel a layout needs is one the other map asks for.
+ * Two more are the fragmented atlases of issue 41 (grid_glb.h fragmented_grid_fill, GRID
+ * default 32, islands of 2 x 2 quads, "checker" base colour only, folded 90 degrees at x = 1/2):
+ *   fragmented   the islands with gutter between them (3/4 of a cell each);
+ *   overlapping  neighbouring islands overlapping (each 1.5 cells wide).
  * Does not: check the model (texopt info does) or write anything but OUT.glb. */
 #include <stdio.h>
 #include <stdlib.h>
@@ -33,7 +37,8 @@ static const fixture_kind KINDS[] = {
 
 static int usage(void)
 {
-    fprintf(stderr, "usage: texopt_make_fixture emissive|orm|normal OUT.glb [TEXTURE_SIZE [GRID]]\n");
+    fprintf(stderr, "usage: texopt_make_fixture emissive|orm|normal|fragmented|overlapping OUT.glb [TEXTURE_SIZE "
+                    "[GRID]]\n");
     return 2;
 }
 
@@ -41,6 +46,17 @@ int main(int argc, char **argv)
 {
     if (argc < 3 || argc > 5)
         return usage();
+    if (strcmp(argv[1], "fragmented") == 0 || strcmp(argv[1], "overlapping") == 0) {
+        int tex = argc > 3 ? atoi(argv[3]) : 512, grid = argc > 4 ? atoi(argv[4]) : 32;
+        double side = strcmp(argv[1], "fragmented") == 0 ? 0.75 : 1.5;
+        if (tex < 8 || tex > 8192 || grid < 2 || grid > 256 || grid % 2 != 0)
+            return usage();
+        if (write_fragmented_grid_glb(argv[2], grid, 2, side, 1.5707963267948966, tex, "checker") != 0) {
+            fprintf(stderr, "texopt_make_fixture: cannot write %s\n", argv[2]);
+            return 1;
+        }
+        return 0;
+    }
     const fixture_kind *kind = NULL;
     for (size_t k = 0; k < sizeof KINDS / sizeof KINDS[0]; k++)
         if (strcmp(argv[1], KINDS[k].name) == 0)

@@ -6,6 +6,7 @@
 #ifndef TEXOPT_TEST_GRID_GLB_H
 #define TEXOPT_TEST_GRID_GLB_H
 
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -20,10 +21,68 @@ static inline void grid_put32(unsigned char *p, uint32_t v)
         p[i] = (unsigned char)(v >> (8 * i));
 }
 
+/* The island whose cell is `cell` in fragmented_grid_fill's shuffle k -> (k * 37 + 11) mod
+ * g^2 (37 is odd and prime to 3, so the shuffle is a bijection when g is a power of 2). */
+static inline int fragment_island_of_cell(int g, int cell)
+{
+    for (int k = 0; k < g * g; k++)
+        if ((k * 37 + 11) % (g * g) == cell)
+            return k;
+    return 0;
+}
+
+/* Paints a fragmented atlas (fragmented_grid_fill with n, block, side) the way a texture
+ * projected onto the surface looks in it: each texel shows `base` (a fixtures.h pattern over
+ * the grid's [0,1]^2) at the surface point its nearest island maps it to, so the surface
+ * looks continuous across the islands' seams. 0 on success. */
+static inline int fragment_fill(texopt_image *img, int n, int block, double side, const char *base)
+{
+    texopt_image src;
+    int tex = img->width, g = n / block;
+    if (texopt_image_create(&src, tex, tex, img->channels, NULL, 0) != TEXOPT_OK)
+        return -1;
+    if (fixture_fill_pattern(&src, base) != 0 || g < 1) {
+        texopt_image_destroy(&src);
+        return -1;
+    }
+    double size = side / g, spacing = g > 1 ? (1.0 - size) / (g - 1) : 0;
+    for (int y = 0; y < tex; y++)
+        for (int x = 0; x < tex; x++) {
+            double u = (x + 0.5) / tex, v = (y + 0.5) / tex;
+            int cx = g > 1 ? (int)lround((u - size / 2) / spacing) : 0,
+                cy = g > 1 ? (int)lround((v - size / 2) / spacing) : 0;
+            cx = cx < 0 ? 0 : cx >= g ? g - 1 : cx;
+            cy = cy < 0 ? 0 : cy >= g ? g - 1 : cy;
+            int k = fragment_island_of_cell(g, cy * g + cx);
+            double gx = ((k % g) * block + (u - cx * spacing) / size * block) / n;
+            double gy = ((k / g) * block + (v - cy * spacing) / size * block) / n;
+            int sx = (int)floor(gx * tex), sy = (int)floor(gy * tex);
+            sx = sx < 0 ? 0 : sx >= tex ? tex - 1 : sx;
+            sy = sy < 0 ? 0 : sy >= tex ? tex - 1 : sy;
+            memcpy(texopt_image_at(img, x, y), texopt_image_at(&src, sx, sy), (size_t)img->channels * sizeof(float));
+        }
+    texopt_image_destroy(&src);
+    return 0;
+}
+
 /* A tex x tex image of `pattern` as PNG into *png (the caller frees it); 0 on success.
- * "COLOUR|ALPHA" names two patterns: RGB of the first, alpha the second's luma (RGBA). */
+ * "COLOUR|ALPHA" names two patterns: RGB of the first, alpha the second's luma (RGBA).
+ * "fragments:N:BLOCK:SIDE:BASE" paints BASE into a fragmented atlas (fragment_fill). */
 static inline int grid_pattern_png(int tex, const char *pattern, unsigned char **png, size_t *png_len)
 {
+    int fn, fblock;
+    double fside;
+    char fbase[32];
+    if (sscanf(pattern, "fragments:%d:%d:%lf:%31s", &fn, &fblock, &fside, fbase) == 4) {
+        texopt_image img;
+        if (texopt_image_create(&img, tex, tex, 3, NULL, 0) != TEXOPT_OK)
+            return -1;
+        int r = fragment_fill(&img, fn, fblock, fside, fbase);
+        if (r == 0 && texopt_image_encode_png(&img, png, png_len, NULL, 0) != TEXOPT_OK)
+            r = -1;
+        texopt_image_destroy(&img);
+        return r;
+    }
     char colour[32];
     const char *bar = strchr(pattern, '|');
     snprintf(colour, sizeof colour, "%.*s", bar ? (int)(bar - pattern) : (int)strlen(pattern), pattern);
@@ -229,6 +288,74 @@ static inline void grid_fill(int n, float *pos, float *uv, uint32_t *idx)
             uint32_t *t = idx + 6 * (size_t)(j * n + i);
             t[0] = a, t[1] = b, t[2] = c, t[3] = a, t[4] = c, t[5] = d;
         }
+}
+
+/* The n x n grid of grid_fill with its texture cut into islands of block x block quads
+ * (block divides n; g = n / block islands a side), each with its own vertices, laid out in a
+ * g x g arrangement shuffled by k -> (k * 37 + 11) mod g^2: an exporter's fragmented atlas.
+ * Each island's UVs span `side` / g of the texture, its cells spaced evenly from 0 to
+ * 1 - side / g: side < 1 leaves gutter between islands, side > 1 makes neighbours overlap.
+ * fold > 0 turns the part x > 1/2 up by that angle (radians) about the line x = 1/2.
+ * Writes g^2 (block + 1)^2 vertices (fragmented_grid_vertices) and 2 n^2 triangles. */
+static inline size_t fragmented_grid_vertices(int n, int block)
+{
+    size_t g = (size_t)(n / block);
+    return g * g * (size_t)(block + 1) * (size_t)(block + 1);
+}
+
+static inline void fragmented_grid_fill(int n, int block, double side, double fold, float *pos, float *uv,
+                                        uint32_t *idx)
+{
+    int g = n / block, b1 = block + 1;
+    double size = side / g, spacing = g > 1 ? (1.0 - size) / (g - 1) : 0;
+    for (int k = 0; k < g * g; k++) {
+        int bi = k % g, bj = k / g, cell = (k * 37 + 11) % (g * g);
+        for (int j = 0; j <= block; j++)
+            for (int i = 0; i <= block; i++) {
+                size_t v = (size_t)k * (size_t)(b1 * b1) + (size_t)(j * b1 + i);
+                double x = (double)(bi * block + i) / n, y = (double)(bj * block + j) / n;
+                double px = x, pz = 0;
+                if (fold > 0 && x > 0.5) {
+                    px = 0.5 + (x - 0.5) * cos(fold);
+                    pz = (x - 0.5) * sin(fold);
+                }
+                pos[3 * v] = (float)px;
+                pos[3 * v + 1] = (float)y;
+                pos[3 * v + 2] = (float)pz;
+                uv[2 * v] = (float)((cell % g) * spacing + size * i / block);
+                uv[2 * v + 1] = (float)((cell / g) * spacing + size * j / block);
+            }
+        for (int j = 0; j < block; j++)
+            for (int i = 0; i < block; i++) {
+                uint32_t a = (uint32_t)((size_t)k * (size_t)(b1 * b1) + (size_t)(j * b1 + i)), b = a + 1,
+                         c = a + (uint32_t)b1 + 1, d = a + (uint32_t)b1;
+                uint32_t *t = idx + 6 * (size_t)((bj * block + j) * n + bi * block + i);
+                t[0] = a, t[1] = b, t[2] = c, t[3] = a, t[4] = c, t[5] = d;
+            }
+    }
+}
+
+/* fragmented_grid_fill written as a .glb with one tex x tex base colour texture: `pattern`
+ * painted as fragment_fill paints it. Returns 0 on success. */
+static inline int write_fragmented_grid_glb(const char *path, int n, int block, double side, double fold, int tex,
+                                            const char *pattern)
+{
+    size_t nv = fragmented_grid_vertices(n, block), nt = 2 * (size_t)n * n;
+    float *pos = malloc(nv * 12), *uv = malloc(nv * 8);
+    uint32_t *idx = malloc(nt * 12);
+    int r = -1;
+    if (pos && uv && idx && block > 0 && n % block == 0) {
+        fragmented_grid_fill(n, block, side, fold, pos, uv, idx);
+        char painted[96];
+        snprintf(painted, sizeof painted, "fragments:%d:%d:%.17g:%s", n, block, side, pattern);
+        const char *patterns[1] = {painted};
+        r = write_mesh_glb_material(path, pos, uv, nv, idx, nt, tex, patterns, 1,
+                                    "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}");
+    }
+    free(pos);
+    free(uv);
+    free(idx);
+    return r;
 }
 
 /* Writes an n x n grid (grid_fill) with image_count tex x tex images of patterns[i] and the

@@ -149,10 +149,9 @@ TEST(spot_grows_into_few_charts)
 
 TEST(names_and_options_are_checked)
 {
-    texopt_parameterizer p;
-    CHECK(texopt_parameterizer_parse("abf", &p) == 0 && p == TEXOPT_PARAMETERIZER_ABF);
-    CHECK(texopt_parameterizer_parse("square", &p) == 0 && p == TEXOPT_PARAMETERIZER_SQUARE);
-    CHECK(texopt_parameterizer_parse("arap", &p) == -1);
+    CHECK(texopt_parameterizer_from_name("abf") == TEXOPT_PARAMETERIZER_ABF);
+    CHECK(texopt_parameterizer_from_name("square") == TEXOPT_PARAMETERIZER_SQUARE);
+    CHECK(texopt_parameterizer_from_name("arap") == -1);
     CHECK(strcmp(texopt_parameterizer_name(TEXOPT_PARAMETERIZER_LSCM), "lscm") == 0);
     CHECK(texopt_parameterizer_name((texopt_parameterizer)9) == NULL);
     texopt_mesh *m = cube();
@@ -162,4 +161,47 @@ TEST(names_and_options_are_checked)
     CHECK_EQ_INT(texopt_rechart_create(&r, m, &opt, err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
     CHECK(r == NULL);
     texopt_mesh_destroy(m);
+}
+
+/* A flat grid whose input layout gives the left half 4 times the texel density of the right
+ * (its texel areas scaled 9 times there, 3 times the linear density): one
+ * chart without density_ratio, and with ratio 2 no chart holds triangles of both halves. */
+TEST(density_ratio_keeps_detailed_parts_apart)
+{
+    texopt_model *model = fixture_grid(8, 64, "flat");
+    CHECK(model != NULL);
+    if (!model)
+        return;
+    texopt_mesh *m = NULL;
+    char err[256] = "";
+    CHECK_OK(texopt_mesh_create(&m, model, 0, err, sizeof err), err);
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        double x = 0;
+        for (int k = 0; k < 3; k++)
+            x += texopt_mesh_vertex_point(m, m->triangle[3 * t + (size_t)k])[0] / 3;
+        m->area_texel[t] *= x < 0.5 ? 9.0 : 1.0;
+    }
+    texopt_rechart *plain = NULL, *even = NULL;
+    texopt_rechart_options opt = {.method = TEXOPT_PARAMETERIZER_ABF};
+    CHECK_OK(texopt_rechart_create(&plain, m, &opt, err, sizeof err), err);
+    opt.density_ratio = 2.0;
+    CHECK_OK(texopt_rechart_create(&even, m, &opt, err, sizeof err), err);
+    if (plain && even) {
+        CHECK_EQ_INT(plain->chart_count, 1);
+        CHECK(even->chart_count >= 2);
+        int *side = malloc(even->chart_count * sizeof *side);
+        for (size_t c = 0; c < even->chart_count; c++)
+            side[c] = -1;
+        for (size_t t = 0; t < m->triangle_count; t++) {
+            int left = fabs(m->area_texel[t]) > 64.0; /* 32 texels a triangle on the right */
+            int *s = &side[even->chart_of[t]];
+            CHECK(*s == -1 || *s == left);
+            *s = left;
+        }
+        free(side);
+    }
+    texopt_rechart_destroy(plain);
+    texopt_rechart_destroy(even);
+    texopt_mesh_destroy(m);
+    texopt_model_destroy(model);
 }

@@ -764,6 +764,7 @@ texopt_status add_primitive(const tinygltf::Model &g, const texopt_model *model,
     tp.triangle_count = idx.size() / 3;
     tp.first_variant = geo->variant_materials.size();
     tp.variant_count = (int)variants.size();
+    tp.winding_flipped = flip;
     geo->variant_materials.insert(geo->variant_materials.end(), variants.begin(), variants.end());
     geo->positions.insert(geo->positions.end(), pos.begin(), pos.end());
     geo->uvs.insert(geo->uvs.end(), uv.begin(), uv.end());

@@ -1,6 +1,8 @@
 /* gltf_save.cpp - texopt_model_save_glb (see gltf_io.h).
  *
  * Writes the loaded document back with these changes and nothing else:
+ *   - a primitive whose vertices model_split.h copied gets every attribute gathered per
+ *     model vertex and new unsigned-int triangle indices;
  *   - TEXCOORD_0 of each primitive that had one becomes a tightly packed float accessor with
  *     exact min/max (in place when no one else reads the old accessor, else a new one), and
  *     the KHR_texture_transform of bindings on TEXCOORD_0, which the loader applied to the
@@ -178,6 +180,122 @@ void drop_applied_texture_transforms(tinygltf::Model &g)
         return;
     for (std::vector<std::string> *list : {&g.extensionsUsed, &g.extensionsRequired})
         list->erase(std::remove(list->begin(), list->end(), std::string("KHR_texture_transform")), list->end());
+}
+
+/* Appends a buffer view holding data (made[view] keeps the bytes) and returns its index. */
+int append_view(tinygltf::Model &g, std::vector<unsigned char> data, int target, size_t stride,
+                std::vector<std::vector<unsigned char>> *made)
+{
+    tinygltf::BufferView view;
+    view.buffer = 0;
+    view.byteLength = data.size();
+    view.byteStride = stride;
+    view.target = target;
+    g.bufferViews.push_back(view);
+    made->resize(g.bufferViews.size());
+    made->back() = std::move(data);
+    return (int)g.bufferViews.size() - 1;
+}
+
+/* Puts acc where accessor `old` was when no one else reads it, else appends it; returns its
+ * index. */
+int place_accessor(tinygltf::Model &g, std::vector<int> &readers, int old, tinygltf::Accessor acc)
+{
+    if (old >= 0 && (size_t)old < readers.size() && readers[(size_t)old] == 1) {
+        acc.name = g.accessors[(size_t)old].name;
+        acc.extras = g.accessors[(size_t)old].extras;
+        g.accessors[(size_t)old] = acc;
+        return old;
+    }
+    if (old >= 0 && (size_t)old < readers.size())
+        readers[(size_t)old]--;
+    g.accessors.push_back(acc);
+    return (int)g.accessors.size() - 1;
+}
+
+/* A vertex attribute accessor with element i copied from file vertex file_vertex[i] of
+ * accessor `old` (the loader checked its bounds). Elements are padded to 4 bytes as glTF
+ * asks of vertex attributes. */
+int gather_attribute(tinygltf::Model &g, const tinygltf::Model &src, std::vector<int> &readers, int old,
+                     const uint32_t *file_vertex, size_t n, std::vector<std::vector<unsigned char>> *made)
+{
+    const tinygltf::Accessor &a = src.accessors[(size_t)old];
+    size_t elem = (size_t)tinygltf::GetComponentSizeInBytes((uint32_t)a.componentType) *
+                  (size_t)tinygltf::GetNumComponentsInType((uint32_t)a.type);
+    size_t stride = (elem + 3) / 4 * 4;
+    std::vector<unsigned char> data(n * stride, 0);
+    if (a.bufferView >= 0) {
+        const tinygltf::BufferView &view = src.bufferViews[(size_t)a.bufferView];
+        int from_stride = a.ByteStride(view);
+        const unsigned char *base = src.buffers[(size_t)view.buffer].data.data() + view.byteOffset + a.byteOffset;
+        for (size_t i = 0; i < n && from_stride > 0; i++)
+            memcpy(data.data() + i * stride, base + (size_t)file_vertex[i] * (size_t)from_stride, elem);
+    }
+    tinygltf::Accessor acc = a;
+    acc.bufferView = append_view(g, std::move(data), TINYGLTF_TARGET_ARRAY_BUFFER, stride == elem ? 0 : stride, made);
+    acc.byteOffset = 0;
+    acc.count = n;
+    acc.sparse.isSparse = false;                 /* the loader refuses sparse accessors */
+    return place_accessor(g, readers, old, acc); /* copies only: min and max stay exact */
+}
+
+/* Primitive tp's triangles as a new unsigned-int index accessor, in the file's winding. */
+int triangle_indices(tinygltf::Model &g, std::vector<int> &readers, int old, const texopt_model *model,
+                     const texopt_primitive &tp, std::vector<std::vector<unsigned char>> *made)
+{
+    std::vector<uint32_t> idx(3 * tp.triangle_count);
+    for (size_t t = 0; t < tp.triangle_count; t++)
+        for (int k = 0; k < 3; k++) {
+            int from = tp.winding_flipped && k > 0 ? 3 - k : k;
+            idx[3 * t + (size_t)k] =
+                model->triangles[3 * (tp.first_triangle + t) + (size_t)from] - (uint32_t)tp.first_vertex;
+        }
+    std::vector<unsigned char> data(idx.size() * sizeof(uint32_t));
+    if (!data.empty())
+        memcpy(data.data(), idx.data(), data.size());
+    tinygltf::Accessor acc;
+    acc.bufferView = append_view(g, std::move(data), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER, 0, made);
+    acc.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+    acc.type = TINYGLTF_TYPE_SCALAR;
+    acc.count = idx.size();
+    return place_accessor(g, readers, old, acc);
+}
+
+/* Whether primitive tp holds vertices model_split.h copied. */
+bool primitive_was_split(const tinygltf::Model &src, const tinygltf::Primitive &p, const texopt_model *model,
+                         const texopt_primitive &tp)
+{
+    if (!model->file_vertex)
+        return false;
+    auto pos = p.attributes.find("POSITION");
+    if (pos != p.attributes.end() && src.accessors[(size_t)pos->second].count != tp.vertex_count)
+        return true;
+    for (size_t v = 0; v < tp.vertex_count; v++)
+        if (model->file_vertex[tp.first_vertex + v] != v)
+            return true;
+    return false;
+}
+
+/* Rewrites every primitive model_split.h split: each attribute (morph targets' too) gathered
+ * per model vertex, new triangle indices. */
+void write_split_vertices(tinygltf::Model &g, const tinygltf::Model &src, const texopt_model *model,
+                          std::vector<std::vector<unsigned char>> *made)
+{
+    std::vector<int> readers = accessor_readers(g);
+    for (int pi = 0; pi < model->primitive_count; pi++) {
+        const texopt_primitive &tp = model->primitives[pi];
+        tinygltf::Primitive &p = g.meshes[(size_t)tp.gltf_mesh].primitives[(size_t)tp.gltf_primitive];
+        if (!primitive_was_split(src, p, model, tp))
+            continue;
+        const uint32_t *fv = model->file_vertex + tp.first_vertex;
+        for (auto &kv : p.attributes)
+            kv.second = gather_attribute(g, src, readers, kv.second, fv, tp.vertex_count, made);
+        for (auto &target : p.targets)
+            for (auto &kv : target)
+                kv.second = gather_attribute(g, src, readers, kv.second, fv, tp.vertex_count, made);
+        p.indices = triangle_indices(g, readers, p.indices, model, tp, made);
+        p.mode = TINYGLTF_MODE_TRIANGLES;
+    }
 }
 
 /* Points every primitive that had TEXCOORD_0 at a float accessor holding its slice of uvs.
@@ -423,6 +541,7 @@ texopt_status build_output(const texopt_model *model, const texopt_model_edit *e
     /* Data of the views that will exist, by old index; views made here carry their bytes. */
     size_t old_views = g.bufferViews.size();
     std::vector<std::vector<unsigned char>> made(old_views);
+    write_split_vertices(g, src, model, &made);
     if (edit && edit->uvs) {
         replace_texcoords(g, model, edit->uvs, &made);
         drop_applied_texture_transforms(g);
