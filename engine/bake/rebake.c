@@ -36,6 +36,13 @@
  * layouts on four models, fell by 4-69% (median about 45%; BENCHMARKS.md@9f788a8 "Re-bake"), while
  * fitting only magnified triangles gained little except where everything is magnified. */
 #define DEFAULT_FIT TEXOPT_REBAKE_FIT_LEAST_SQUARES
+/* The fit's references are looked up through half an output texel's footprint, the spacing
+ * of the four sub-texel points: a whole texel's footprint averages each reference over its
+ * neighbours' too, and where the layout shrinks, the fit then matched a box-blurred input and
+ * gave back the prefiltered bake, blurrier than a Lanczos-3 resize (docs/benchmarks.md "The
+ * re-bake's reduction against a Lanczos-3 resize"). The cost: detail finer than the output
+ * can hold (above its Nyquist frequency) is no longer averaged away but may alias. */
+#define REFERENCE_FOOTPRINT 0.5
 
 enum { TEXEL_EMPTY = 0, TEXEL_INSIDE = 1, TEXEL_RIM = 2 };
 
@@ -260,7 +267,7 @@ static void sample_references(const bake_context *ctx, int x, int y, float *ref)
             barycentrics(tri, px, py, w);
             clamp_barycentrics(w);
         }
-        lookup(ctx, tri, w, 1.0, ref + (size_t)s * ch);
+        lookup(ctx, tri, w, REFERENCE_FOOTPRINT, ref + (size_t)s * ch);
     }
 }
 

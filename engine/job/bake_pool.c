@@ -84,8 +84,8 @@ typedef struct domain_bake {
     texopt_domain_stats *ds;
 } domain_bake;
 
-/* Bakes image i of the domain (its output size already in the statistics) into out, a
- * draft of it where BAKE_DRAFT_REST says so. */
+/* Bakes image i of the domain (its output size already in the statistics) into out, with the
+ * fit whatever the plan (job_state.h bake_plan says why there are no drafts). */
 static texopt_status bake_image(const domain_bake *b, int i, const texopt_monitor *monitor, char *err, size_t err_len)
 {
     const texopt_model *model = b->model;
@@ -93,7 +93,6 @@ static texopt_status bake_image(const domain_bake *b, int i, const texopt_monito
     int im = b->dom->images[i];
     const texopt_image *src = &model->images[im];
     texopt_image_stats *is = &b->ds->images[i];
-    int draft = b->plan == BAKE_DRAFT_REST && !image_is_evaluated(model, im) && !image_is_normal_map(model, im);
     texopt_wrap ws, wt;
     image_wrap(model, im, &ws, &wt);
     out->edit_images[im] = NULL;
@@ -103,11 +102,9 @@ static texopt_status bake_image(const domain_bake *b, int i, const texopt_monito
         texopt_image_create(&out->images[im], is->output_width, is->output_height, src->channels, err, err_len);
     if (st == TEXOPT_OK)
         st = texopt_rebake_image_fit(src, ws, wt, normal_map_needs_rotation(model, b->dom, im), b->layout,
-                                     draft ? TEXOPT_REBAKE_FIT_PREFILTER : TEXOPT_REBAKE_FIT_DEFAULT, &out->images[im],
-                                     NULL, monitor, err, err_len);
+                                     TEXOPT_REBAKE_FIT_DEFAULT, &out->images[im], NULL, monitor, err, err_len);
     if (st == TEXOPT_OK) {
         out->edit_images[im] = &out->images[im];
-        out->draft[im] = (unsigned char)draft;
         is->rewritten = 1;
     }
     return st;

@@ -23,8 +23,8 @@ typedef struct job_output {
     double **packed;      /* per domain: the packed layout in output texels (kept to
                                     bake a chosen candidate's remaining images), NULL when none */
     int *packed_size;     /* per domain: its output width and height */
-    unsigned char *draft; /* per model image: baked with the prefilter only (bake_plan
-                                    BAKE_DRAFT_REST), to be baked again before it is saved */
+    unsigned char *draft; /* per model image: a draft, to be baked again before it is saved
+                                    (none is made since every bake fits: job_state.h bake_plan) */
 } job_output;
 
 /* Room for the images of the model and, when lays_out, the new UVs (a copy of the model's

@@ -63,15 +63,15 @@ struct texopt_job {
 /* Which images a run bakes, and how. A candidate bakes only what the evaluation that
  * judges it reads; the images left out are baked for the kept layout alone
  * (job_bake_remaining_images). The lit refinement's rounds read every image and are mostly
- * thrown away: BAKE_DRAFT_REST drafts the maps base colour's evaluation does not read with
- * the prefilter alone (rebake.h; a fraction of the least-squares fit's time), to be baked
- * again with the fit for the saved layout. Normal maps are fitted even then: their detail
- * shows in every highlight, and rounds judged on blurred normal drafts ended 1-6% higher in
- * lit q on DamagedHelmet (BENCHMARKS.md@9f788a8 "Cheaper lit refinement"). */
+ * thrown away, but BAKE_DRAFT_REST bakes them with the fit too: rounds judged on blurred
+ * drafts (the prefilter alone) chose worse layouts, normal maps' 1-6% higher in lit q on
+ * DamagedHelmet (BENCHMARKS.md@9f788a8 "Cheaper lit refinement"), and every map's once the
+ * fit kept a reduced map's detail (docs/benchmarks.md "The re-bake's reduction against a
+ * Lanczos-3 resize"). */
 typedef enum bake_plan {
     BAKE_ALL = 0,    /* every image not baked yet or drafted, with the fit */
     BAKE_EVALUATED,  /* the images base colour's evaluation reads */
-    BAKE_DRAFT_REST, /* those and normal maps with the fit, the others drafted */
+    BAKE_DRAFT_REST, /* every image the lit evaluation reads */
 } bake_plan;
 
 /* One layout of every domain at one budget. */

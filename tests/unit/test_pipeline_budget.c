@@ -285,14 +285,17 @@ static double q_on(const texopt_model *in, const texopt_model *out, texopt_camer
  * lies on the u > 0.5 half of base colour, or, with mr_pattern, of the metallic-roughness map
  * only: the on-screen error (base colour's, or lit when the material has that map) is on the
  * text, so the refined layout gives the text half more of the same budget, and its loss on
- * the cameras it was tuned on (the icosahedron's) is lower. */
-static void check_refinement(const char *pattern, const char *mr_pattern)
+ * the cameras it was tuned on (the icosahedron's) is lower. relative_cost: the budget, small
+ * enough that the rounds find something to move (base colour's grid at 0.8 left them none
+ * once the re-bake's fit kept the reduced half's detail: no round kept; at 0.3 the text half
+ * went from 83% to 87% of the texels). */
+static void check_refinement(const char *pattern, const char *mr_pattern, double relative_cost)
 {
     int lit = mr_pattern != NULL;
     scratch s;
     CHECK(scratch_init(&s, 8, 128, pattern) == 0);
     CHECK(write_grid_glb_images(s.in, 8, 128, pattern, mr_pattern) == 0);
-    texopt_params p = small_perceptual_job(0.8);
+    texopt_params p = small_perceptual_job(relative_cost);
     p.refinements = -1;
     /* The paper's threshold, whose targets leave the rounds something to find here: with the
      * default 0.03 the rounds on this grid lower base colour's 12-view q by under 1% (0.04842
@@ -407,14 +410,14 @@ TEST(stage1_statistics_count_the_triangles_with_close_ups)
 
 TEST(refinement_moves_texels_to_the_detailed_half)
 {
-    check_refinement("half", NULL);
+    check_refinement("half", NULL, 0.3);
 }
 
 /* Base colour flat, the metallic-roughness map half text, refine_lit: base colour's error
  * shows nothing to move, the lit render's does. */
 TEST(refinement_reads_the_lit_render_when_the_material_has_other_maps)
 {
-    check_refinement("flat", "half");
+    check_refinement("flat", "half", 0.8);
 }
 
 /* The saved model at path (a grid whose second image repeats base colour's pixels) holds two

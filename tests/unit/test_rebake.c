@@ -67,7 +67,7 @@ TEST(identity_layout_reproduces_texture_exactly)
     texopt_image_destroy(&out);
 }
 
-TEST(half_size_bake_of_texel_checker_is_prefiltered_grey)
+TEST(half_size_prefiltered_bake_of_texel_checker_is_grey)
 {
     /* A one-texel checker reduced 2x: point sampling would give pure black or white,
      * a box prefilter gives 0.5 everywhere. */
@@ -76,9 +76,9 @@ TEST(half_size_bake_of_texel_checker_is_prefiltered_grey)
     CHECK(texopt_image_create(&out, 32, 32, 1, NULL, 0) == TEXOPT_OK);
     texopt_rebake_layout layout = {2, quad_tris, unit_quad, unit_quad, 1};
     char err[256] = "";
-    CHECK_OK(
-        texopt_rebake_image(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 0, &layout, &out, NULL, NULL, err, sizeof err),
-        err);
+    CHECK_OK(texopt_rebake_image_fit(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 0, &layout,
+                                     TEXOPT_REBAKE_FIT_PREFILTER, &out, NULL, NULL, err, sizeof err),
+             err);
     double lo = 1, hi = 0;
     for (int i = 0; i < 32 * 32; i++) {
         lo = fmin(lo, out.pixels[i]);
@@ -411,6 +411,46 @@ TEST(least_squares_bake_undoes_the_second_bilinear_blur)
         texopt_image_destroy(&pre);
         texopt_image_destroy(&fit);
     }
+}
+
+/* A smooth pattern, cos(2 pi x / 8) cos(2 pi y / 8) around 0.5: at half size 4 output texels
+ * per period, half the output's Nyquist frequency, detail a half-size texture can hold. */
+#define TWO_PI 6.283185307179586
+
+static int make_waves(texopt_image *img, int w, int h)
+{
+    if (texopt_image_create(img, w, h, 1, NULL, 0) != TEXOPT_OK)
+        return -1;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            texopt_image_at(img, x, y)[0] =
+                (float)(0.5 + 0.4 * cos(TWO_PI * (x + 0.5) / 8) * cos(TWO_PI * (y + 0.5) / 8));
+    return 0;
+}
+
+TEST(least_squares_reduction_keeps_detail_the_output_can_hold)
+{
+    /* Reduced 2x, the fit's references are the input itself at the output's sub-texel points
+     * (half an output texel's footprint: one input texel). With references averaged over a
+     * whole output texel, the fit matched the box-blurred input and gave the prefiltered bake
+     * back: render error 0.072 for both, against 0.049 with the half footprint. */
+    texopt_image in, pre, fit;
+    CHECK(make_waves(&in, 64, 64) == 0);
+    CHECK(texopt_image_create(&pre, 32, 32, 1, NULL, 0) == TEXOPT_OK);
+    CHECK(texopt_image_create(&fit, 32, 32, 1, NULL, 0) == TEXOPT_OK);
+    texopt_rebake_layout layout = {2, quad_tris, unit_quad, unit_quad, 1};
+    char err[256] = "";
+    CHECK_OK(texopt_rebake_image_fit(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 0, &layout,
+                                     TEXOPT_REBAKE_FIT_PREFILTER, &pre, NULL, NULL, err, sizeof err),
+             err);
+    CHECK_OK(texopt_rebake_image_fit(&in, TEXOPT_WRAP_REPEAT, TEXOPT_WRAP_REPEAT, 0, &layout,
+                                     TEXOPT_REBAKE_FIT_LEAST_SQUARES, &fit, NULL, NULL, err, sizeof err),
+             err);
+    double e_pre = render_error(&in, &pre, 0.5, 0), e_fit = render_error(&in, &fit, 0.5, 0);
+    CHECK_MSG(e_fit < 0.8 * e_pre, "fitted %g, prefiltered %g", e_fit, e_pre);
+    texopt_image_destroy(&in);
+    texopt_image_destroy(&pre);
+    texopt_image_destroy(&fit);
 }
 
 TEST(magnified_fit_leaves_shrunk_triangles_prefiltered)
