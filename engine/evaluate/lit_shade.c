@@ -30,6 +30,23 @@ static void sub3(const float *a, const float *b, double out[3])
         out[k] = (double)a[k] - b[k];
 }
 
+/* Completes frame (T, B, N) from its unit N and a tangent T: T Gram-Schmidt against N and
+ * B = sign N x T; T = B = 0 where T is parallel to N. */
+static void complete_frame(double *frame, double sign)
+{
+    double *T = frame, *B = frame + 3, *N = frame + 6;
+    double tn = texopt_dot3(T, N), nxt[3];
+    for (int k = 0; k < 3; k++)
+        T[k] -= tn * N[k];
+    if (!texopt_normalize3(T)) {
+        memset(frame, 0, 6 * sizeof *frame);
+        return;
+    }
+    texopt_cross3(N, T, nxt);
+    for (int k = 0; k < 3; k++)
+        B[k] = sign * nxt[k];
+}
+
 /* T, B, N of triangle t; N = 0 as well when the triangle itself is degenerate (it then
  * covers no pixel: meshrender skips edge-on and zero-area triangles). */
 static void triangle_frame(const texopt_model *m, size_t t, double *tbn)
@@ -39,7 +56,7 @@ static void triangle_frame(const texopt_model *m, size_t t, double *tbn)
     double e1[3], e2[3];
     sub3(m->positions + 3 * (size_t)c[1], m->positions + 3 * (size_t)c[0], e1);
     sub3(m->positions + 3 * (size_t)c[2], m->positions + 3 * (size_t)c[0], e2);
-    double *T = tbn, *B = tbn + 3, *N = tbn + 6;
+    double *T = tbn, *N = tbn + 6;
     texopt_cross3(e1, e2, N);
     if (!texopt_normalize3(N))
         return;
@@ -54,19 +71,11 @@ static void triangle_frame(const texopt_model *m, size_t t, double *tbn)
         T[k] = (e1[k] * dv2 - e2[k] * dv1) / r;
         dpdv[k] = (e2[k] * du1 - e1[k] * du2) / r;
     }
-    double tn = texopt_dot3(T, N);
-    for (int k = 0; k < 3; k++)
-        T[k] -= tn * N[k];
-    if (!texopt_normalize3(T)) {
-        memset(tbn, 0, 6 * sizeof *tbn);
-        return;
-    }
-    /* glTF's +Y of a normal map is up in the image, i.e. towards -v. */
+    /* glTF's +Y of a normal map is up in the image, i.e. towards -v. N x T keeps its
+     * direction through the Gram-Schmidt step, so its side of dpdv decides now. */
     double NxT[3];
     texopt_cross3(N, T, NxT);
-    double sign = texopt_dot3(NxT, dpdv) > 0 ? -1.0 : 1.0;
-    for (int k = 0; k < 3; k++)
-        B[k] = sign * NxT[k];
+    complete_frame(tbn, texopt_dot3(NxT, dpdv) > 0 ? -1.0 : 1.0);
 }
 
 /* Per triangle of m, its material's metallic and roughness factors into factors (2 each). */
@@ -177,7 +186,7 @@ static void pixel_frame(const double *tbn, const float *corners, const float *ba
     memcpy(frame, tbn, 9 * sizeof *frame);
     if (!corners || (corners[0] == 0 && corners[1] == 0 && corners[2] == 0))
         return;
-    double *T = frame, *B = frame + 3, *N = frame + 6;
+    double *N = frame + 6;
     double b1 = bary[0], b2 = bary[1], b0 = 1.0 - b1 - b2;
     for (int k = 0; k < 3; k++)
         N[k] = b0 * corners[k] + b1 * corners[3 + k] + b2 * corners[6 + k];
@@ -187,19 +196,9 @@ static void pixel_frame(const double *tbn, const float *corners, const float *ba
     }
     if (!(texopt_dot3(tbn, tbn) > 0))
         return; /* degenerate UVs: no tangent, n = N */
-    double face_nxt[3], nxt[3];
+    double face_nxt[3];
     texopt_cross3(tbn + 6, tbn, face_nxt);
-    double sign = texopt_dot3(face_nxt, tbn + 3) < 0 ? -1.0 : 1.0;
-    double tn = texopt_dot3(T, N);
-    for (int k = 0; k < 3; k++)
-        T[k] -= tn * N[k];
-    if (!texopt_normalize3(T)) {
-        memset(frame, 0, 6 * sizeof *frame);
-        return;
-    }
-    texopt_cross3(N, T, nxt);
-    for (int k = 0; k < 3; k++)
-        B[k] = sign * nxt[k];
+    complete_frame(frame, texopt_dot3(face_nxt, tbn + 3) < 0 ? -1.0 : 1.0);
 }
 
 /* The shading normal at a pixel with tangent frame `frame`, from its normal-map texel (NULL:
