@@ -66,12 +66,10 @@ static int image_is_evaluated(const texopt_model *model, int image)
     return 0;
 }
 
-/* Whether the plan bakes image im (not baked yet, or a draft to bake again). */
+/* Whether the plan bakes image im (one not baked yet). */
 static int plan_bakes(const texopt_model *model, bake_plan plan, const job_output *out, int im)
 {
-    if (plan == BAKE_ALL)
-        return !out->edit_images[im] || out->draft[im];
-    return !out->edit_images[im] && (plan == BAKE_DRAFT_REST || image_is_evaluated(model, im));
+    return !out->edit_images[im] && (plan == BAKE_ALL || image_is_evaluated(model, im));
 }
 
 /* One domain's bake: what every image of it is baked with. */
@@ -79,13 +77,12 @@ typedef struct domain_bake {
     const texopt_model *model;
     const texopt_domain *dom;
     const texopt_rebake_layout *layout;
-    bake_plan plan;
     job_output *out;
     texopt_domain_stats *ds;
 } domain_bake;
 
 /* Bakes image i of the domain (its output size already in the statistics) into out, with the
- * fit whatever the plan (job_state.h bake_plan says why there are no drafts). */
+ * fit (job_state.h bake_plan says why there are no drafts). */
 static texopt_status bake_image(const domain_bake *b, int i, const texopt_monitor *monitor, char *err, size_t err_len)
 {
     const texopt_model *model = b->model;
@@ -96,7 +93,6 @@ static texopt_status bake_image(const domain_bake *b, int i, const texopt_monito
     texopt_wrap ws, wt;
     image_wrap(model, im, &ws, &wt);
     out->edit_images[im] = NULL;
-    out->draft[im] = 0;
     texopt_image_destroy(&out->images[im]);
     texopt_status st =
         texopt_image_create(&out->images[im], is->output_width, is->output_height, src->channels, err, err_len);
@@ -234,7 +230,7 @@ texopt_status job_rebake_domain(texopt_job *job, const layout_run *run, int d, c
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the bake layouts");
     }
     texopt_rebake_layout layout = {mesh->triangle_count, bl.triangles, bl.uv_in, bl.uv_out, threads};
-    domain_bake bake = {model, dom, &layout, run->plan, run->out, ds};
+    domain_bake bake = {model, dom, &layout, run->out, ds};
     texopt_status st = TEXOPT_OK;
     int workers = threads < count ? threads : count;
     if (workers > MAX_BAKE_WORKERS)

@@ -18,7 +18,7 @@ texopt_status job_rebake_domain(texopt_job *job, const layout_run *run, int d, c
                                 double from, double to, char *err, size_t err_len);
 
 /* Bakes the images of run->out that its layout's run left out (run->plan: under BAKE_ALL
- * those and its drafts, as the saved model needs them) into the layouts it packed. */
+ * every one, as the saved model needs them) into the layouts it packed. */
 texopt_status job_bake_remaining_images(texopt_job *job, const layout_run *run, double from, double to, char *err,
                                         size_t err_len);
 

@@ -18,10 +18,10 @@ texopt_status job_run_candidate(texopt_job *job, const layout_run *how, candidat
     return job_run_budget(job, &run, from, to, err, err_len);
 }
 
-texopt_status job_draft_candidate_images(texopt_job *job, const texopt_params *p, candidate *c, double from, double to,
-                                         char *err, size_t err_len)
+texopt_status job_bake_candidate_images(texopt_job *job, const texopt_params *p, candidate *c, double from, double to,
+                                        char *err, size_t err_len)
 {
-    layout_run run = {.p = p, .plan = BAKE_DRAFT_REST, .domains = c->domains, .out = &c->out};
+    layout_run run = {.p = p, .plan = BAKE_ALL, .domains = c->domains, .out = &c->out};
     return job_bake_remaining_images(job, &run, from, to, err, err_len);
 }
 

@@ -2,7 +2,7 @@
  *
  * Does: run a layout of every domain (job_state.h layout_run) into a candidate of its own,
  * its statistics a copy of the job's so that several candidates can each record theirs, and
- * draft the images it left out. Does not: choose between candidates (job_candidates.h). */
+ * bake the images it left out. Does not: choose between candidates (job_candidates.h). */
 #ifndef TEXOPT_CANDIDATE_H
 #define TEXOPT_CANDIDATE_H
 
@@ -20,10 +20,10 @@ typedef struct candidate {
 texopt_status job_run_candidate(texopt_job *job, const layout_run *how, candidate *c, double from, double to, char *err,
                                 size_t err_len);
 
-/* Drafts the images a candidate left out (BAKE_DRAFT_REST) into its layouts, recording them
- * in its own statistics. */
-texopt_status job_draft_candidate_images(texopt_job *job, const texopt_params *p, candidate *c, double from, double to,
-                                         char *err, size_t err_len);
+/* Bakes the images a candidate left out (BAKE_ALL) into its layouts, recording them in its
+ * own statistics. */
+texopt_status job_bake_candidate_images(texopt_job *job, const texopt_params *p, candidate *c, double from, double to,
+                                        char *err, size_t err_len);
 
 /* Frees a candidate's layout, bakes and statistics. */
 void job_candidate_free(texopt_job *job, candidate *c);

@@ -12,7 +12,6 @@ void job_output_destroy(job_output *o, int image_count)
             texopt_image_destroy(&o->images[i]);
     free(o->images);
     free(o->edit_images);
-    free(o->draft);
     free(o->uvs);
     for (int d = 0; d < o->domain_count; d++) {
         free(o->solved[d]);
@@ -40,8 +39,7 @@ texopt_status job_output_alloc(const texopt_model *model, int lays_out, job_outp
     size_t n = (size_t)(model->image_count > 0 ? model->image_count : 1);
     out->images = calloc(n, sizeof *out->images);
     out->edit_images = calloc(n, sizeof *out->edit_images);
-    out->draft = calloc(n, sizeof *out->draft);
-    if (!out->images || !out->edit_images || !out->draft)
+    if (!out->images || !out->edit_images)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the output images");
     if (!lays_out)
         return TEXOPT_OK;

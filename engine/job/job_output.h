@@ -18,13 +18,11 @@ typedef struct job_output {
     const texopt_image **edit_images;
     float *uvs; /* new TEXCOORD_0 of every model vertex, NULL when unchanged */
     int domain_count;
-    double **solved;      /* per domain: stage 2's layout in input texels (kept for
+    double **solved;  /* per domain: stage 2's layout in input texels (kept for
                                     the loss share of a chosen candidate), NULL when none */
-    double **packed;      /* per domain: the packed layout in output texels (kept to
+    double **packed;  /* per domain: the packed layout in output texels (kept to
                                     bake a chosen candidate's remaining images), NULL when none */
-    int *packed_size;     /* per domain: its output width and height */
-    unsigned char *draft; /* per model image: a draft, to be baked again before it is saved
-                                    (none is made since every bake fits: job_state.h bake_plan) */
+    int *packed_size; /* per domain: its output width and height */
 } job_output;
 
 /* Room for the images of the model and, when lays_out, the new UVs (a copy of the model's

@@ -115,7 +115,7 @@ static texopt_status refinement_trial(texopt_job *job, const layout_run *made_by
     layout_run round = {.p = made_by->p,
                         .source = made_by->source,
                         .refined = r->next,
-                        .plan = screen->lit ? BAKE_DRAFT_REST : BAKE_EVALUATED};
+                        .plan = screen->lit ? BAKE_ALL : BAKE_EVALUATED};
     texopt_status st = job_run_candidate(job, &round, trial, from, from + 0.8 * (to - from), err, err_len);
     const job_output *shown = &trial->out;
     if (st == TEXOPT_OK) {
@@ -139,10 +139,8 @@ static texopt_status refinement_trial(texopt_job *job, const layout_run *made_by
  * maps is what a viewer sees, and base colour's error alone moves texels away from it; it
  * costs base colour's q and over twice the rounds' time (BENCHMARKS.md@9f788a8 "Specular lit
  * loss", "Cheaper lit refinement"), hence not the default. Lit rounds read the input's views
- * shaded once (texopt_evaluate_reference_create) and draft the maps besides base colour and
- * normal (BAKE_DRAFT_REST), the kept layout's too, so that every layout is judged with the
- * same bake; the saved layout's drafts are baked again with the fit
- * (job_bake_remaining_images). The rounds tried and kept, the measure, the 12-view q before
+ * shaded once (texopt_evaluate_reference_create) and bake every map (BAKE_ALL), the kept
+ * layout's too, so that every layout is judged with the same bake. The rounds tried and kept, the measure, the 12-view q before
  * and after and their time go to *rec (for the statistics' allocation_choice.refinement);
  * kept->ev stays the choice's. */
 texopt_status job_refine_kept(texopt_job *job, const layout_run *made_by, candidate *kept, double from, double to,
@@ -168,7 +166,7 @@ texopt_status job_refine_kept(texopt_job *job, const layout_run *made_by, candid
     double span = (to - from) / (rounds + 1);
     texopt_evaluate_reference *views = NULL;
     if (st == TEXOPT_OK && lit)
-        st = job_draft_candidate_images(job, p, kept, from, from + 0.5 * span, err, err_len);
+        st = job_bake_candidate_images(job, p, kept, from, from + 0.5 * span, err, err_len);
     if (st == TEXOPT_OK)
         job_stage(&job->jm, "evaluate", from + (lit ? 0.5 * span : 0), from + span);
     if (st == TEXOPT_OK && lit) {

@@ -60,18 +60,16 @@ struct texopt_job {
                                   (lit_weight.h): stage 1's loss compares them so scaled */
 };
 
-/* Which images a run bakes, and how. A candidate bakes only what the evaluation that
- * judges it reads; the images left out are baked for the kept layout alone
- * (job_bake_remaining_images). The lit refinement's rounds read every image and are mostly
- * thrown away, but BAKE_DRAFT_REST bakes them with the fit too: rounds judged on blurred
- * drafts (the prefilter alone) chose worse layouts, normal maps' 1-6% higher in lit q on
- * DamagedHelmet (BENCHMARKS.md@9f788a8 "Cheaper lit refinement"), and every map's once the
- * fit kept a reduced map's detail (docs/benchmarks.md "The re-bake's reduction against a
- * Lanczos-3 resize"). */
+/* Which images a run bakes. A candidate bakes only what the evaluation that judges it reads;
+ * the images left out are baked for the kept layout alone (job_bake_remaining_images). Every
+ * bake is the fit's: the lit refinement's rounds read every image and are mostly thrown away,
+ * but rounds judged on cheaper drafts (the prefilter alone) chose worse layouts, normal maps'
+ * 1-6% higher in lit q on DamagedHelmet (BENCHMARKS.md@9f788a8 "Cheaper lit refinement"), and
+ * every map's once the fit kept a reduced map's detail (docs/benchmarks.md "The re-bake's
+ * reduction against a Lanczos-3 resize"). */
 typedef enum bake_plan {
-    BAKE_ALL = 0,    /* every image not baked yet or drafted, with the fit */
-    BAKE_EVALUATED,  /* the images base colour's evaluation reads */
-    BAKE_DRAFT_REST, /* every image the lit evaluation reads */
+    BAKE_ALL = 0,   /* every image not baked yet */
+    BAKE_EVALUATED, /* the images base colour's evaluation reads */
 } bake_plan;
 
 /* One layout of every domain at one budget. */

@@ -49,7 +49,6 @@ static void keep_resized_input_layout(texopt_job *job, job_output *out, job_outp
         out->images[im] = resized->images[im];
         memset(&resized->images[im], 0, sizeof resized->images[im]);
         out->edit_images[im] = resized->edit_images[im] ? &out->images[im] : NULL;
-        out->draft[im] = 0;
     }
     job_output_restore_uvs(job->model, d, out->uvs);
     free(out->solved[d]);
