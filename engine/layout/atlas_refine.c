@@ -8,6 +8,7 @@
 
 #include "axis_angles.h"
 #include "axis_deform.h"
+#include "param_chart.h"
 
 static double now_seconds(void)
 {
@@ -16,58 +17,16 @@ static double now_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-static uint64_t undirected_key(uint32_t a, uint32_t b)
-{
-    return a < b ? ((uint64_t)a << 32) | b : ((uint64_t)b << 32) | a;
-}
-
-static int compare_u64(const void *a, const void *b)
-{
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return x < y ? -1 : x > y;
-}
-
-/* The edges of nt triangles used by one triangle only, each as (from, to) in its
- * triangle's order: *from and *to (caller frees) get *count of them. Returns 0 on no memory. */
-static int boundary_edges(const uint32_t *tri, size_t nt, uint32_t **from, uint32_t **to, size_t *count)
-{
-    size_t ne = 3 * nt;
-    uint64_t *keys = malloc((ne ? ne : 1) * sizeof *keys);
-    *from = malloc((ne ? ne : 1) * sizeof **from);
-    *to = malloc((ne ? ne : 1) * sizeof **to);
-    if (!keys || !*from || !*to) {
-        free(keys);
-        return 0;
-    }
-    for (size_t e = 0; e < ne; e++)
-        keys[e] = undirected_key(tri[e], tri[e - e % 3 + (e % 3 + 1) % 3]);
-    qsort(keys, ne, sizeof *keys, compare_u64);
-    *count = 0;
-    for (size_t e = 0; e < ne; e++) {
-        uint32_t a = tri[e], b = tri[e - e % 3 + (e % 3 + 1) % 3];
-        uint64_t k = undirected_key(a, b);
-        const uint64_t *hit = bsearch(&k, keys, ne, sizeof *keys, compare_u64);
-        int shared = (hit > keys && hit[-1] == k) || (hit + 1 < keys + ne && hit[1] == k);
-        if (!shared) {
-            (*from)[*count] = a;
-            (*to)[(*count)++] = b;
-        }
-    }
-    free(keys);
-    return 1;
-}
-
 double texopt_atlas_boundary_length(const texopt_mesh *mesh, const double *texel)
 {
-    uint32_t *from, *to;
+    uint32_t *edge = NULL;
     size_t n = 0;
     double length = 0;
-    if (boundary_edges(mesh->triangle, mesh->triangle_count, &from, &to, &n))
+    if (texopt_param_boundary_edges(mesh->triangle, mesh->triangle_count, &edge, &n, NULL, 0) == TEXOPT_OK)
         for (size_t e = 0; e < n; e++)
-            length += hypot(texel[2 * (size_t)to[e]] - texel[2 * (size_t)from[e]],
-                            texel[2 * (size_t)to[e] + 1] - texel[2 * (size_t)from[e] + 1]);
-    free(from);
-    free(to);
+            length += hypot(texel[2 * (size_t)edge[2 * e + 1]] - texel[2 * (size_t)edge[2 * e]],
+                            texel[2 * (size_t)edge[2 * e + 1] + 1] - texel[2 * (size_t)edge[2 * e] + 1]);
+    free(edge);
     return length;
 }
 
@@ -78,7 +37,8 @@ typedef struct chart_problem {
     uint32_t *vertex; /* local -> mesh vertex */
     uint32_t *tri;    /* 3 per triangle, local, counter-clockwise */
     double *rest, *xy;
-    double mirror; /* +1, or -1 when y was negated */
+    double *position; /* rest with z = 0, the chart for param_chart.h */
+    double mirror;    /* +1, or -1 when y was negated */
     double area;
 } chart_problem;
 
@@ -121,40 +81,39 @@ static int chart_build(const texopt_mesh *mesh, const double *texel, const uint3
         local[p->vertex[i]] = UINT32_MAX;
         p->rest[2 * i] = texel[2 * (size_t)p->vertex[i]];
         p->rest[2 * i + 1] = p->mirror * texel[2 * (size_t)p->vertex[i] + 1];
+        p->position[3 * i] = p->rest[2 * i];
+        p->position[3 * i + 1] = p->rest[2 * i + 1];
+        p->position[3 * i + 2] = 0;
     }
     return ok;
 }
 
-/* The chart's boundary as one loop (loop gets its local vertices, counter-clockwise);
- * returns its length, 0 when the boundary is not one simple loop. next is scratch (nv). */
-static size_t chart_loop(const chart_problem *p, uint32_t *next, uint32_t *loop)
+/* The boundary loop of a disk chart (param_chart.h; counter-clockwise, *count vertices, the
+ * caller frees it), or NULL when the chart is not a disk or on no memory. It starts at the
+ * first boundary edge in triangle order, as the refinement's loops always have: the angles
+ * and the deformation round differently from another start, and refined layouts stay as
+ * they were. */
+static uint32_t *chart_loop(const chart_problem *p, size_t *count)
 {
-    uint32_t *from, *to;
-    size_t n = 0, len = 0;
-    if (!boundary_edges(p->tri, p->nt, &from, &to, &n)) {
-        free(from);
-        free(to);
-        return 0;
+    char err[256];
+    texopt_param_chart chart = {p->nv, p->position, p->nt, p->tri};
+    texopt_param_boundary *boundary = NULL;
+    uint32_t *edge = NULL, *loop = NULL;
+    size_t n = 0;
+    if (texopt_param_boundary_create(&boundary, &chart, err, sizeof err) == TEXOPT_OK &&
+        texopt_param_boundary_edges(p->tri, p->nt, &edge, &n, err, sizeof err) == TEXOPT_OK)
+        loop = malloc(boundary->count * sizeof *loop);
+    if (loop) {
+        size_t first = 0;
+        while (boundary->vertex[first] != edge[0])
+            first++;
+        for (size_t i = 0; i < boundary->count; i++)
+            loop[i] = boundary->vertex[(first + i) % boundary->count];
+        *count = boundary->count;
     }
-    for (size_t i = 0; i < p->nv; i++)
-        next[i] = UINT32_MAX;
-    int simple = n > 0;
-    for (size_t e = 0; e < n && simple; e++) {
-        simple = next[from[e]] == UINT32_MAX;
-        next[from[e]] = to[e];
-    }
-    if (simple) {
-        uint32_t v = from[0];
-        do {
-            loop[len++] = v;
-            v = next[v];
-        } while (v != UINT32_MAX && v != from[0] && len < n);
-        if (v != from[0] || len != n)
-            len = 0;
-    }
-    free(from);
-    free(to);
-    return len;
+    free(edge);
+    texopt_param_boundary_destroy(boundary);
+    return loop;
 }
 
 enum { DEFORMED = 1, REFUSED = 0, TURNS_TOO_FAR = -1 };
@@ -162,15 +121,15 @@ enum { DEFORMED = 1, REFUSED = 0, TURNS_TOO_FAR = -1 };
 /* Deforms one chart; returns DEFORMED when p->xy holds the refined chart, with its
  * distortion and angle error in rep, TURNS_TOO_FAR for a keep_angle chart whose turn is
  * past TEXOPT_ATLAS_REFINE_MAX_TURN. */
-static int chart_deform(chart_problem *p, int keep_angle, uint32_t *scratch, uint32_t *loop,
-                        texopt_axis_deform_report *rep)
+static int chart_deform(chart_problem *p, int keep_angle, texopt_axis_deform_report *rep)
 {
-    size_t nb = chart_loop(p, scratch, loop);
-    if (nb < 4)
-        return 0;
-    double *pts = malloc(2 * nb * sizeof *pts);
-    if (!pts)
-        return 0;
+    size_t nb = 0;
+    uint32_t *loop = chart_loop(p, &nb);
+    double *pts = loop && nb >= 4 ? malloc(2 * nb * sizeof *pts) : NULL;
+    if (!pts) {
+        free(loop);
+        return REFUSED;
+    }
     for (size_t i = 0; i < nb; i++)
         memcpy(pts + 2 * i, p->rest + 2 * (size_t)loop[i], 2 * sizeof *pts);
     char err[256];
@@ -181,6 +140,7 @@ static int chart_deform(chart_problem *p, int keep_angle, uint32_t *scratch, uin
     if (st == TEXOPT_OK && !turns_too_far)
         st = texopt_axis_deform(p->nv, p->rest, p->nt, p->tri, loop, &angles, p->xy, rep, err, sizeof err);
     texopt_axis_angles_destroy(&angles);
+    free(loop);
     free(pts);
     if (turns_too_far)
         return TURNS_TOO_FAR;
@@ -215,15 +175,15 @@ texopt_status texopt_atlas_refine(const texopt_mesh *mesh, const double *texel, 
     size_t nv = mesh->vertex_count ? mesh->vertex_count : 1, nt = mesh->triangle_count ? mesh->triangle_count : 1;
     memcpy(texel_out, texel, 2 * mesh->vertex_count * sizeof *texel_out);
     uint32_t *order = malloc(nt * sizeof *order), *local = malloc(nv * sizeof *local);
-    uint32_t *scratch = malloc(nv * sizeof *scratch), *loop = malloc(3 * nt * sizeof *loop);
     size_t *start = malloc((mesh->chart_count + 1) * sizeof *start);
     chart_problem p = {0};
     p.vertex = malloc(nv * sizeof *p.vertex);
     p.tri = malloc(3 * nt * sizeof *p.tri);
     p.rest = malloc(2 * nv * sizeof *p.rest);
     p.xy = malloc(2 * nv * sizeof *p.xy);
+    p.position = malloc(3 * nv * sizeof *p.position);
     texopt_status st = TEXOPT_OK;
-    if (!order || !local || !scratch || !loop || !start || !p.vertex || !p.tri || !p.rest || !p.xy ||
+    if (!order || !local || !start || !p.vertex || !p.tri || !p.rest || !p.xy || !p.position ||
         !charts_of_triangles(mesh, order, start))
         st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "atlas refinement: no memory");
     else
@@ -237,9 +197,8 @@ texopt_status texopt_atlas_refine(const texopt_mesh *mesh, const double *texel, 
         int built = chart_build(mesh, texel, order + start[c], start[c + 1] - start[c], local, &p);
         texopt_axis_deform_report dr = {0};
         area += p.area;
-        int deformed = built && !(keep_shape && keep_shape[c])
-                           ? chart_deform(&p, keep_angle && keep_angle[c], scratch, loop, &dr)
-                           : REFUSED;
+        int deformed =
+            built && !(keep_shape && keep_shape[c]) ? chart_deform(&p, keep_angle && keep_angle[c], &dr) : REFUSED;
         if (deformed != DEFORMED) {
             rep.charts_skipped++;
             rep.charts_kept_angle += deformed == TURNS_TOO_FAR;
@@ -270,12 +229,11 @@ texopt_status texopt_atlas_refine(const texopt_mesh *mesh, const double *texel, 
     }
     free(order);
     free(local);
-    free(scratch);
-    free(loop);
     free(start);
     free(p.vertex);
     free(p.tri);
     free(p.rest);
     free(p.xy);
+    free(p.position);
     return st;
 }

@@ -13,7 +13,7 @@
  * same). A chart laid out clockwise (texel space has v down) is mirrored for the solve and
  * back.
  * Left as they are: charts in keep_shape (sharing groups must stay on each other), charts
- * whose boundary is not one loop (holes, non-manifold corners), charts with a triangle
+ * that are not disks (param_chart.h: holes, handles, non-manifold edges), charts with a triangle
  * without area or against the chart's orientation (folds), and charts the angles or the
  * deformation refuse, and charts the deformation distorts past max_distortion (their mean
  * symmetric Dirichlet energy relative to the given layout, 1 = unchanged): a chart bent far

@@ -39,10 +39,39 @@ static int compare_u64(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-static int has_half_edge(const uint64_t *sorted, size_t n, uint32_t from, uint32_t to)
+static uint64_t undirected_key(uint32_t a, uint32_t b)
 {
-    uint64_t key = ((uint64_t)from << 32) | to;
-    return bsearch(&key, sorted, n, sizeof key, compare_u64) != NULL;
+    return a < b ? ((uint64_t)a << 32) | b : ((uint64_t)b << 32) | a;
+}
+
+texopt_status texopt_param_boundary_edges(const uint32_t *triangle, size_t triangle_count, uint32_t **edge,
+                                          size_t *count, char *err, size_t err_len)
+{
+    size_t ne = 3 * triangle_count;
+    uint64_t *keys = malloc((ne ? ne : 1) * sizeof *keys);
+    *edge = malloc(2 * (ne ? ne : 1) * sizeof **edge);
+    *count = 0;
+    if (!keys || !*edge) {
+        free(keys);
+        free(*edge);
+        *edge = NULL;
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "boundary edges: out of memory");
+    }
+    for (size_t e = 0; e < ne; e++)
+        keys[e] = undirected_key(triangle[e], triangle[e - e % 3 + (e % 3 + 1) % 3]);
+    qsort(keys, ne, sizeof *keys, compare_u64);
+    for (size_t e = 0; e < ne; e++) {
+        uint32_t a = triangle[e], b = triangle[e - e % 3 + (e % 3 + 1) % 3];
+        uint64_t k = undirected_key(a, b);
+        const uint64_t *hit = bsearch(&k, keys, ne, sizeof *keys, compare_u64);
+        int shared = (hit > keys && hit[-1] == k) || (hit + 1 < keys + ne && hit[1] == k);
+        if (!shared) {
+            (*edge)[2 * *count] = a;
+            (*edge)[2 * (*count)++ + 1] = b;
+        }
+    }
+    free(keys);
+    return TEXOPT_OK;
 }
 
 void texopt_param_boundary_destroy(texopt_param_boundary *boundary)
@@ -97,34 +126,33 @@ static texopt_status walk_loop(texopt_param_boundary *b, const uint32_t *next, s
     return TEXOPT_OK;
 }
 
-static texopt_status find_boundary(texopt_param_boundary *b, const texopt_param_chart *chart, const uint64_t *half,
-                                   size_t nh, char *err, size_t err_len)
+/* The boundary of a chart whose half-edges are all distinct (nh of them): the edges used
+ * by one triangle, walked into one loop from its smallest vertex. */
+static texopt_status find_boundary(texopt_param_boundary *b, const texopt_param_chart *chart, size_t nh, char *err,
+                                   size_t err_len)
 {
-    size_t nv = chart->vertex_count;
-    uint32_t *next = malloc(nv * sizeof *next);
+    size_t nv = chart->vertex_count, boundary_edges = 0;
+    uint32_t *next = malloc(nv * sizeof *next), *edge = NULL;
     b->on_boundary = calloc(nv, 1);
-    if (!next || !b->on_boundary) {
-        free(next);
-        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "chart: out of memory");
-    }
-    for (size_t v = 0; v < nv; v++)
-        next[v] = UINT32_MAX;
-    size_t boundary_edges = 0;
-    uint32_t start = UINT32_MAX;
     texopt_status st = TEXOPT_OK;
-    for (size_t h = 0; h < nh && st == TEXOPT_OK; h++) {
-        uint32_t from = (uint32_t)(half[h] >> 32), to = (uint32_t)half[h];
-        if (has_half_edge(half, nh, to, from))
-            continue;
+    if (!next || !b->on_boundary)
+        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "chart: out of memory");
+    if (st == TEXOPT_OK)
+        st = texopt_param_boundary_edges(chart->triangle, chart->triangle_count, &edge, &boundary_edges, err, err_len);
+    for (size_t v = 0; v < nv && st == TEXOPT_OK; v++)
+        next[v] = UINT32_MAX;
+    uint32_t start = UINT32_MAX;
+    for (size_t e = 0; e < boundary_edges && st == TEXOPT_OK; e++) {
+        uint32_t from = edge[2 * e], to = edge[2 * e + 1];
         if (next[from] != UINT32_MAX)
             st = texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                              "chart: vertex %u is on the boundary twice; not a disk", from);
         next[from] = to;
         b->on_boundary[from] = 1;
-        if (start == UINT32_MAX)
+        if (from < start)
             start = from;
-        boundary_edges++;
     }
+    free(edge);
     if (st == TEXOPT_OK && boundary_edges == 0)
         st = texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "chart: closed surface, no boundary; not a disk");
     if (st == TEXOPT_OK)
@@ -198,7 +226,7 @@ texopt_status texopt_param_boundary_create(texopt_param_boundary **out, const te
                              "inconsistently oriented)",
                              (unsigned)(half[h] >> 32), (unsigned)(uint32_t)half[h]);
     if (st == TEXOPT_OK)
-        st = find_boundary(b, chart, half, nh, err, err_len);
+        st = find_boundary(b, chart, nh, err, err_len);
     if (st == TEXOPT_OK)
         st = measure_arcs(b, chart, err, err_len);
     free(half);

@@ -5,8 +5,9 @@
  * vertices of a whole texture domain). The caller owns all arrays. A chart is a disk when
  * every vertex is used, every edge has one or two triangles with consistent orientation, and
  * the boundary edges form one simple loop (Euler characteristic 1). This module checks that,
- * orders the boundary loop, measures the L2/Linf stretch of a layout of the chart and runs
- * the pinned least-squares solve LSCM and ABF share; the methods are in param_*.h. */
+ * finds the boundary edges (of any triangles) and orders a disk's into its loop, measures
+ * the L2/Linf stretch of a layout of the chart and runs the pinned least-squares solve LSCM
+ * and ABF share; the methods are in param_*.h. */
 #ifndef TEXOPT_PARAM_CHART_H
 #define TEXOPT_PARAM_CHART_H
 
@@ -41,6 +42,13 @@ typedef struct texopt_param_boundary {
 texopt_status texopt_param_boundary_create(texopt_param_boundary **out, const texopt_param_chart *chart, char *err,
                                            size_t err_len);
 void texopt_param_boundary_destroy(texopt_param_boundary *boundary);
+
+/* The edges that only one of `triangle_count` triangles (3 vertex indices each, any mesh,
+ * not only a disk) uses, in triangle order, each directed as its triangle lists it: edge
+ * e runs from (*edge)[2 e] to (*edge)[2 e + 1]. An edge of three or more triangles is not
+ * one of them. On success the caller frees *edge (*count edges); fails only on no memory. */
+texopt_status texopt_param_boundary_edges(const uint32_t *triangle, size_t triangle_count, uint32_t **edge,
+                                          size_t *count, char *err, size_t err_len);
 
 /* Triangles with all three vertices on the boundary ("ears"): a boundary mapped onto
  * straight sides flattens each ear lying along one side. */

@@ -1,7 +1,9 @@
 /* test_param_tutte.c - mean-value Tutte embedding (engine/param/param_tutte.c) and the disk check
- * of engine/param/param_chart.c, on generated grids (tests/support/param_grids.h). */
+ * and boundary edges of engine/param/param_chart.c, on generated grids
+ * (tests/support/param_grids.h) and a hand-made non-manifold fan. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "param_grids.h"
 #include "param_tutte.h"
@@ -84,5 +86,39 @@ TEST(non_disks_are_refused_with_a_reason)
     CHECK_EQ_INT(texopt_param_tutte(&g->chart, NULL, err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
     free(tris);
     free(uv);
+    param_grid_destroy(g);
+}
+
+/* Boundary edges come in triangle order, directed as their triangle lists them; an edge of
+ * three triangles (0-2) or of two in the same direction (4 -> 2) is none of them. */
+TEST(boundary_edges_are_the_edges_of_one_triangle)
+{
+    const uint32_t tri[12] = {0, 1, 2, 0, 2, 3, 2, 0, 4, 5, 4, 2};
+    const uint32_t want[14] = {0, 1, 1, 2, 2, 3, 3, 0, 0, 4, 5, 4, 2, 5};
+    uint32_t *edge = NULL;
+    size_t count = 99;
+    char err[256] = "";
+    CHECK_OK(texopt_param_boundary_edges(tri, 4, &edge, &count, err, sizeof err), err);
+    CHECK_EQ_INT(count, 7);
+    CHECK(memcmp(edge, want, sizeof want) == 0);
+    free(edge);
+    CHECK_OK(texopt_param_boundary_edges(tri, 0, &edge, &count, err, sizeof err), err);
+    CHECK_EQ_INT(count, 0);
+    free(edge);
+    /* On a disk they are its boundary loop's edges. */
+    param_grid *g = param_grid_create(5, SHAPE_TILTED_PLANE, 7);
+    texopt_param_boundary *b = NULL;
+    CHECK_OK(texopt_param_boundary_create(&b, &g->chart, err, sizeof err), err);
+    CHECK_OK(texopt_param_boundary_edges(g->chart.triangle, g->chart.triangle_count, &edge, &count, err, sizeof err),
+             err);
+    CHECK_EQ_INT(count, b->count);
+    for (size_t e = 0; e < count; e++) {
+        size_t i = 0;
+        while (i < b->count && b->vertex[i] != edge[2 * e])
+            i++;
+        CHECK(i < b->count && b->vertex[(i + 1) % b->count] == edge[2 * e + 1]);
+    }
+    free(edge);
+    texopt_param_boundary_destroy(b);
     param_grid_destroy(g);
 }
