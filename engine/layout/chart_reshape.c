@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "meshwise.h"
+#include "sort_keys.h"
 
 #define PI 3.14159265358979323846
 /* Pull weights tried, relative to the fitting stiffness around a vertex (meshwise.h):
@@ -151,7 +152,7 @@ static tri_edge *sorted_edges(const texopt_mesh *m)
         for (int j = 0; j < 3; j++) {
             uint32_t a = m->triangle[3 * t + j], b = m->triangle[3 * t + (j + 1) % 3];
             tri_edge *k = &e[3 * t + j];
-            k->key = a < b ? ((uint64_t)a << 32) | b : ((uint64_t)b << 32) | a;
+            k->key = texopt_edge_key(a, b);
             k->from = a;
             k->to = b;
             k->tri = (uint32_t)t;

@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sort_keys.h"
 #include "triangulate.h"
 
 #define DEFAULT_WEIGHT 0.01
@@ -36,12 +37,6 @@ typedef struct scaffold_build {
 static double signed_area(const double *a, const double *b, const double *c)
 {
     return 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
-}
-
-static int compare_u64(const void *pa, const void *pb)
-{
-    uint64_t a = *(const uint64_t *)pa, b = *(const uint64_t *)pb;
-    return a < b ? -1 : a > b;
 }
 
 static int compare_u32(const void *pa, const void *pb)
@@ -80,9 +75,9 @@ static long boundary_edges(const texopt_mesh *mesh, const uint32_t *tris, size_t
     for (size_t k = 0; k < n; k++)
         for (int j = 0; j < 3; j++) {
             uint32_t a = mesh->triangle[3 * (size_t)tris[k] + j], b = mesh->triangle[3 * (size_t)tris[k] + (j + 1) % 3];
-            keys[3 * k + j] = a < b ? ((uint64_t)a << 32) | b : ((uint64_t)b << 32) | a;
+            keys[3 * k + j] = texopt_edge_key(a, b);
         }
-    qsort(keys, 3 * n, sizeof *keys, compare_u64);
+    qsort(keys, 3 * n, sizeof *keys, texopt_compare_u64);
     size_t out = 0;
     for (size_t i = 0; i < 3 * n;) {
         size_t j = i;

@@ -11,6 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sort_keys.h"
+
 #define SUPER_SCALE 64.0 /* enclosing triangle size, in extents of the points */
 
 typedef struct tri {
@@ -283,26 +285,15 @@ static int point_on_segment(const builder *b, uint32_t a, uint32_t c)
     return 0;
 }
 
-static int compare_u64(const void *pa, const void *pb)
-{
-    uint64_t a = *(const uint64_t *)pa, b = *(const uint64_t *)pb;
-    return a < b ? -1 : a > b;
-}
-
-static uint64_t edge_key(uint32_t x, uint32_t y)
-{
-    return x < y ? ((uint64_t)x << 32) | y : ((uint64_t)y << 32) | x;
-}
-
 static int is_segment(const uint64_t *keys, size_t count, uint32_t x, uint32_t y)
 {
-    uint64_t k = edge_key(x, y);
-    return bsearch(&k, keys, count, sizeof *keys, compare_u64) != NULL;
+    uint64_t k = texopt_edge_key(x, y);
+    return bsearch(&k, keys, count, sizeof *keys, texopt_compare_u64) != NULL;
 }
 
 /* Sloan's recovery of segment (a, c): flip every crossing edge whose quadrilateral is
  * convex, requeue the rest and the new diagonals that still cross. keys: every segment,
- * sorted (edge_key): a crossing edge that is one means two segments cross. */
+ * sorted (texopt_edge_key): a crossing edge that is one means two segments cross. */
 static texopt_status recover_segment(builder *b, uint32_t a, uint32_t c, const uint64_t *keys, size_t key_count,
                                      char *err, size_t err_len)
 {
@@ -479,9 +470,9 @@ texopt_status texopt_triangulate(const double *xy, size_t point_count, const uin
     texopt_status st = b.p && keys ? enclose(&b, xy, err, err_len)
                                    : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "triangulate: out of memory");
     for (size_t s = 0; s < segment_count && st == TEXOPT_OK; s++)
-        keys[s] = edge_key(segment[2 * s], segment[2 * s + 1]);
+        keys[s] = texopt_edge_key(segment[2 * s], segment[2 * s + 1]);
     if (st == TEXOPT_OK)
-        qsort(keys, segment_count, sizeof *keys, compare_u64);
+        qsort(keys, segment_count, sizeof *keys, texopt_compare_u64);
     if (st == TEXOPT_OK)
         st = insert_points(&b, err, err_len);
     for (size_t s = 0; s < segment_count && st == TEXOPT_OK; s++)

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 
 #include "distortion.h"
+#include "sort_keys.h"
 #include "vec3.h"
 
 static const double *point(const texopt_param_chart *chart, uint32_t v)
@@ -33,17 +34,6 @@ void texopt_param_corner_angles(const texopt_param_chart *chart, size_t t, doubl
     }
 }
 
-static int compare_u64(const void *a, const void *b)
-{
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return x < y ? -1 : x > y;
-}
-
-static uint64_t undirected_key(uint32_t a, uint32_t b)
-{
-    return a < b ? ((uint64_t)a << 32) | b : ((uint64_t)b << 32) | a;
-}
-
 texopt_status texopt_param_boundary_edges(const uint32_t *triangle, size_t triangle_count, uint32_t **edge,
                                           size_t *count, char *err, size_t err_len)
 {
@@ -58,12 +48,12 @@ texopt_status texopt_param_boundary_edges(const uint32_t *triangle, size_t trian
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "boundary edges: out of memory");
     }
     for (size_t e = 0; e < ne; e++)
-        keys[e] = undirected_key(triangle[e], triangle[e - e % 3 + (e % 3 + 1) % 3]);
-    qsort(keys, ne, sizeof *keys, compare_u64);
+        keys[e] = texopt_edge_key(triangle[e], triangle[e - e % 3 + (e % 3 + 1) % 3]);
+    qsort(keys, ne, sizeof *keys, texopt_compare_u64);
     for (size_t e = 0; e < ne; e++) {
         uint32_t a = triangle[e], b = triangle[e - e % 3 + (e % 3 + 1) % 3];
-        uint64_t k = undirected_key(a, b);
-        const uint64_t *hit = bsearch(&k, keys, ne, sizeof *keys, compare_u64);
+        uint64_t k = texopt_edge_key(a, b);
+        const uint64_t *hit = bsearch(&k, keys, ne, sizeof *keys, texopt_compare_u64);
         int shared = (hit > keys && hit[-1] == k) || (hit + 1 < keys + ne && hit[1] == k);
         if (!shared) {
             (*edge)[2 * *count] = a;
@@ -218,7 +208,7 @@ texopt_status texopt_param_boundary_create(texopt_param_boundary **out, const te
     for (size_t t = 0; t < chart->triangle_count; t++)
         for (int k = 0; k < 3; k++)
             half[3 * t + k] = ((uint64_t)chart->triangle[3 * t + k] << 32) | chart->triangle[3 * t + (k + 1) % 3];
-    qsort(half, nh, sizeof *half, compare_u64);
+    qsort(half, nh, sizeof *half, texopt_compare_u64);
     for (size_t h = 1; h < nh && st == TEXOPT_OK; h++)
         if (half[h] == half[h - 1])
             st = texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,

@@ -10,6 +10,7 @@
 #include "param_lscm.h"
 #include "param_square.h"
 #include "param_tutte.h"
+#include "sort_keys.h"
 #include "vec3.h"
 
 void texopt_rechart_destroy(texopt_rechart *rechart)
@@ -36,12 +37,6 @@ typedef struct context {
     uint32_t mark_serial;
 } context;
 
-static int compare_u64(const void *a, const void *b)
-{
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return x < y ? -1 : x > y;
-}
-
 static int is_degenerate(const context *c, size_t t)
 {
     return (c->mesh->flags[t] & TEXOPT_TRI_DEGENERATE_3D) != 0;
@@ -58,11 +53,11 @@ static int find_neighbours(context *c)
         return -1;
     for (size_t h = 0; h < nh; h++) {
         uint32_t a = m->point_of[m->triangle[h]], b = m->point_of[m->triangle[h - h % 3 + (h % 3 + 1) % 3]];
-        pair[2 * h] = a < b ? ((uint64_t)a << 32) | b : ((uint64_t)b << 32) | a;
+        pair[2 * h] = texopt_edge_key(a, b);
         pair[2 * h + 1] = h;
         c->across[h] = UINT32_MAX;
     }
-    qsort(pair, nh, 2 * sizeof *pair, compare_u64);
+    qsort(pair, nh, 2 * sizeof *pair, texopt_compare_u64);
     for (size_t i = 0; i < nh;) {
         size_t j = i;
         while (j < nh && pair[2 * j] == pair[2 * i])

@@ -62,6 +62,7 @@
 
 #include "distortion.h"
 #include "parallel.h"
+#include "sort_keys.h"
 #include "tri_bins.h"
 
 #define PI 3.14159265358979323846
@@ -620,12 +621,6 @@ static int64_t unknown_of(const solver *sv, uint32_t vertex)
     return sv->var[vertex];
 }
 
-static int compare_u64(const void *a, const void *b)
-{
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return x < y ? -1 : x > y;
-}
-
 /* Index of entry (row, col) among the sorted rows of column col. */
 static int32_t find_slot(const cholmod_sparse *A, int64_t row, int64_t col)
 {
@@ -909,7 +904,7 @@ static texopt_status build_pattern(solver *sv, char *err, size_t err_len)
                     continue;
                 keys[n++] = ((uint64_t)c << 32) | (uint64_t)r;
             }
-    qsort(keys, n, sizeof *keys, compare_u64);
+    qsort(keys, n, sizeof *keys, texopt_compare_u64);
     size_t unique = 0;
     for (size_t k = 0; k < n; k++)
         if (unique == 0 || keys[unique - 1] != keys[k])

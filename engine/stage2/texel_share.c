@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sort_keys.h"
 #include "tri_bins.h"
 
 #define NONE UINT32_MAX
@@ -183,12 +184,6 @@ static texopt_status index_charts(work *w, char *err, size_t err_len)
     return TEXOPT_OK;
 }
 
-static int compare_u64(const void *pa, const void *pb)
-{
-    uint64_t a = *(const uint64_t *)pa, b = *(const uint64_t *)pb;
-    return a < b ? -1 : a > b;
-}
-
 /* Charts from the most covered texels down (ties by index). */
 static uint32_t *charts_by_texels(const work *w)
 {
@@ -202,7 +197,7 @@ static uint32_t *charts_by_texels(const work *w)
     }
     for (size_t c = 0; c < nc; c++)
         key[c] = (uint64_t)(UINT32_MAX - w->texels[c]) << 32 | c;
-    qsort(key, nc, sizeof *key, compare_u64);
+    qsort(key, nc, sizeof *key, texopt_compare_u64);
     for (size_t c = 0; c < nc; c++)
         order[c] = (uint32_t)key[c];
     free(key);
