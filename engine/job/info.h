@@ -29,11 +29,16 @@
  *        "degenerate", "degenerate_3d", "degenerate_uv", "flipped", "overlapping", "wrapped",
  *        "distortion" (texopt_distortion_json of distortion.h; null when no triangle counts),
  *        "layout_check": { "passed", "failed", "triangles", "overlapping_triangles",
- *                          "foldover_triangles", "oversized_triangles" }
+ *                          "overlapping_within_chart_triangles",
+ *                          "overlap_within_chart_texels", "foldover_triangles",
+ *                          "oversized_triangles" }
  *     } ] }
  * "layout_check" is layout_check.h's check of the file's own layout (texopt_layout_check_own):
  * triangles on texels of another sharing group (mirrored twins laid on one region are one
  * group, as the pipeline keeps them), fold-overs ("flipped"); the first 16 offenders listed.
+ * Counted, not failed: the triangles on a texel centre (in the frame) that their own chart
+ * covers already under the same orientation, and those centres (a chart over itself; the
+ * two sides of a fold may share); "oversized_triangles" is 0 (no targets to compare with).
  * "degenerate" counts triangles with either degenerate flag; the others are mesh.h flags.
  * When coverage refuses the layout with TEXOPT_E_LIMIT (frame past its cap, a triangle over
  * thousands of repeats), covered_texels, overlap_texels and packing_efficiency are null and

@@ -152,13 +152,15 @@ static uint8_t *charts_over_themselves(const texopt_mesh *m, const double *texel
 }
 
 /* Triangles covering a texel of another sharing group (group_of_chart) in the new layout,
- * and those covering a texel of their own chart again where the input did not. */
+ * and those covering a texel of their own chart again where the input did not (own_layout:
+ * texel is the input's layout, and every chart over itself counts). */
 static texopt_status check_overlaps(const texopt_mesh *m, const double *texel, int width, int height,
-                                    const uint32_t *group_of_chart, texopt_layout_check *out, char *err, size_t err_len)
+                                    const uint32_t *group_of_chart, int own_layout, texopt_layout_check *out, char *err,
+                                    size_t err_len)
 {
     if ((uint64_t)width * (uint64_t)height > OWNER_MAX_TEXELS || width <= 0 || height <= 0)
         return TEXOPT_OK;
-    uint8_t *over_in_input = charts_over_themselves(m, m->texel);
+    uint8_t *over_in_input = own_layout ? NULL : charts_over_themselves(m, m->texel);
     texel_owners o = {m,      texel,          width,
                       height, group_of_chart, malloc((size_t)width * (size_t)height * sizeof(uint32_t))};
     if (!o.owner) {
@@ -204,12 +206,12 @@ static double target_scale(const texopt_mesh *m, const double *texel, const texo
     return want > 0 ? have / want : 0;
 }
 
-texopt_status texopt_layout_check_run(const texopt_mesh *input, const double *texel, int width, int height,
-                                      const uint32_t *group_of_chart, const texopt_triangle_target *targets,
-                                      texopt_layout_check *out, char *err, size_t err_len)
+static texopt_status run_checks(const texopt_mesh *input, const double *texel, int width, int height,
+                                const uint32_t *group_of_chart, const texopt_triangle_target *targets, int own_layout,
+                                texopt_layout_check *out, char *err, size_t err_len)
 {
     memset(out, 0, sizeof *out);
-    texopt_status st = check_overlaps(input, texel, width, height, group_of_chart, out, err, err_len);
+    texopt_status st = check_overlaps(input, texel, width, height, group_of_chart, own_layout, out, err, err_len);
     double scale = st == TEXOPT_OK && targets ? target_scale(input, texel, targets) : 0;
     double total = total_area(input, texel), total_in = total_area(input, input->texel);
     double mean = input->triangle_count ? total / (double)input->triangle_count : 0;
@@ -229,13 +231,19 @@ texopt_status texopt_layout_check_run(const texopt_mesh *input, const double *te
     return st;
 }
 
+texopt_status texopt_layout_check_run(const texopt_mesh *input, const double *texel, int width, int height,
+                                      const uint32_t *group_of_chart, const texopt_triangle_target *targets,
+                                      texopt_layout_check *out, char *err, size_t err_len)
+{
+    return run_checks(input, texel, width, height, group_of_chart, targets, 0, out, err, err_len);
+}
+
 texopt_status texopt_layout_check_own(const texopt_mesh *mesh, texopt_layout_check *out, char *err, size_t err_len)
 {
     texopt_texel_share *share = NULL;
     texopt_status st = texopt_texel_share_create(&share, mesh, err, err_len);
     if (st == TEXOPT_OK)
-        st = texopt_layout_check_run(mesh, mesh->texel, mesh->width, mesh->height, share->primary_of, NULL, out, err,
-                                     err_len);
+        st = run_checks(mesh, mesh->texel, mesh->width, mesh->height, share->primary_of, NULL, 1, out, err, err_len);
     texopt_texel_share_destroy(share);
     out->oversized = 0; /* its own areas: nothing to compare with */
     if (out->failed == TEXOPT_LAYOUT_AREA) {

@@ -71,7 +71,8 @@ texopt_status texopt_layout_check_run(const texopt_mesh *input, const double *te
                                       texopt_layout_check *out, char *err, size_t err_len);
 
 /* The check on a file's own layout, for `texopt info`, which has no input to compare with:
- * overlaps between its sharing groups (texel_share.h, as the pipeline groups them) and its
+ * overlaps between its sharing groups (texel_share.h, as the pipeline groups them), every
+ * chart over itself in the frame (overlap within a chart, counted, not failed) and its
  * fold-overs (FLIPPED, mesh.h); no area check. */
 texopt_status texopt_layout_check_own(const texopt_mesh *mesh, texopt_layout_check *out, char *err, size_t err_len);
 

@@ -324,3 +324,45 @@ TEST(the_layout_check_tells_shared_twins_from_overlapping_charts)
     }
     sliver_grid_free(&g);
 }
+
+/* A fan of right triangles (legs of 20 texels on integer corners, 190 texel centres strictly
+ * inside each) around one vertex: past a full turn its fifth triangle lies on its first, one
+ * chart over itself with one orientation, which info's layout check counts (and passes);
+ * three quarters of a turn lie over nothing. */
+TEST(the_layout_check_counts_a_chart_over_itself)
+{
+    for (int turns = 3; turns <= 5; turns += 2) {
+        float positions[3 * 7] = {0, 0, 0}, uvs[2 * 7] = {0.5f, 0.5f};
+        uint32_t triangles[3 * 5];
+        for (int k = 0; k <= turns; k++) {
+            const float cos_k[4] = {1, 0, -1, 0}, sin_k[4] = {0, 1, 0, -1};
+            float *p = positions + 3 * (k + 1), *uv = uvs + 2 * (k + 1);
+            p[0] = cos_k[k % 4];
+            p[1] = sin_k[k % 4];
+            p[2] = 0.1f * (float)k; /* a helix: the ring's repeated corners are new points */
+            uv[0] = (32 + 20 * cos_k[k % 4]) / 64;
+            uv[1] = (32 + 20 * sin_k[k % 4]) / 64;
+        }
+        for (int k = 0; k < turns; k++) {
+            triangles[3 * k] = 0;
+            triangles[3 * k + 1] = (uint32_t)k + 1;
+            triangles[3 * k + 2] = (uint32_t)k + 2;
+        }
+        texopt_model *model =
+            fixture_model_from_arrays(positions, uvs, (size_t)turns + 2, triangles, (size_t)turns, 64, 64, "checker");
+        CHECK(model != NULL);
+        cJSON *doc = NULL;
+        char err[256] = "";
+        CHECK_OK(texopt_info_json(model, &doc, err, sizeof err), err);
+        const cJSON *d = domain(doc, 0), *check = cJSON_GetObjectItemCaseSensitive(d, "layout_check");
+        CHECK_NEAR(num(d, "charts"), 1, 0);
+        CHECK(cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(check, "passed")));
+        double triangles_over = num(check, "overlapping_within_chart_triangles");
+        double texels_over = num(check, "overlap_within_chart_texels");
+        CHECK_MSG(triangles_over == (turns == 5 ? 1 : 0) && texels_over == (turns == 5 ? 190 : 0),
+                  "%d quarter turns: %g triangles, %g texels over their chart", turns, triangles_over, texels_over);
+        CHECK_NEAR(num(d, "overlap_texels"), texels_over, 0);
+        cJSON_Delete(doc);
+        texopt_model_destroy(model);
+    }
+}
