@@ -138,6 +138,7 @@ static void budget_request(texopt_job *job, const layout_run *run, const job_dom
     req->reshape_efficiency = p->packing_efficiency;
     req->threads = job_worker_threads(p);
     req->keep_shape = job_sharing(jd) ? jd->share->grouped : NULL;
+    req->paid = jd->paid;
     req->monitor = &job->jm.inner;
 }
 
