@@ -199,8 +199,9 @@ static int bake_layouts_make(bake_layouts *bl, const texopt_mesh *mesh, const te
     return 0;
 }
 
-texopt_status job_rebake_domain(texopt_job *job, const layout_run *run, int d, const double *packed, const int size[2],
-                                double from, double to, char *err, size_t err_len)
+texopt_status job_rebake_domain(texopt_job *job, const layout_run *run, int d, const texopt_mesh *charts,
+                                const double *packed, const int size[2], double from, double to, char *err,
+                                size_t err_len)
 {
     const texopt_model *model = job->model;
     const texopt_mesh *mesh = job->domains[d].mesh;
@@ -225,7 +226,7 @@ texopt_status job_rebake_domain(texopt_job *job, const layout_run *run, int d, c
             todo[count++] = i;
     }
     bake_layouts bl;
-    if (bake_layouts_make(&bl, mesh, job->domains[d].layout, packed, width, height) != 0) {
+    if (bake_layouts_make(&bl, mesh, charts, packed, width, height) != 0) {
         free(todo);
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the bake layouts");
     }
@@ -267,8 +268,8 @@ texopt_status job_bake_remaining_images(texopt_job *job, const layout_run *run, 
             continue;
         texopt_domain_stats *ds = &run->domains[d];
         double t0 = job_now_seconds();
-        st = job_rebake_domain(job, run, d, out->packed[d], &out->packed_size[2 * d], from + (to - from) * d / n,
-                               from + (to - from) * (d + 1) / n, err, err_len);
+        st = job_rebake_domain(job, run, d, job->domains[d].layout, out->packed[d], &out->packed_size[2 * d],
+                               from + (to - from) * d / n, from + (to - from) * (d + 1) / n, err, err_len);
         ds->seconds_bake += job_now_seconds() - t0;
     }
     return st;

@@ -12,10 +12,12 @@
 #include "job_state.h"
 
 /* Re-bakes the images of domain d that run->plan names from the input layout into packed
- * (output texels of a size[0] x size[1] frame), into run->out, their sizes and whether they
- * were rewritten in run->domains[d]; progress over [from, to] of the job. */
-texopt_status job_rebake_domain(texopt_job *job, const layout_run *run, int d, const double *packed, const int size[2],
-                                double from, double to, char *err, size_t err_len);
+ * (output texels of a size[0] x size[1] frame, per vertex of `charts`: the domain's layout
+ * mesh, job_state.h, or NULL for the input's own vertices), into run->out, their sizes and
+ * whether they were rewritten in run->domains[d]; progress over [from, to] of the job. */
+texopt_status job_rebake_domain(texopt_job *job, const layout_run *run, int d, const texopt_mesh *charts,
+                                const double *packed, const int size[2], double from, double to, char *err,
+                                size_t err_len);
 
 /* Bakes the images of run->out that its layout's run left out (run->plan: under BAKE_ALL
  * every one, as the saved model needs them) into the layouts it packed. */

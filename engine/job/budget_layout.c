@@ -138,6 +138,7 @@ static void budget_request(texopt_job *job, const layout_run *run, const job_dom
     req->reshape_efficiency = p->packing_efficiency;
     req->threads = job_worker_threads(p);
     req->keep_shape = job_sharing(jd) ? jd->share->grouped : NULL;
+    req->paid = jd->paid;
     req->monitor = &job->jm.inner;
 }
 
@@ -284,7 +285,7 @@ static texopt_status run_layout_method(texopt_job *job, const layout_run *run, i
         ds->repacked = 1;
         double t0 = job_now_seconds();
         int size[2] = {l.br.width, l.br.height};
-        st = job_rebake_domain(job, run, d, l.packed, size, bake_from, to, err, err_len);
+        st = job_rebake_domain(job, run, d, jd->layout, l.packed, size, bake_from, to, err, err_len);
         ds->seconds_bake = job_now_seconds() - t0;
     }
     if (st == TEXOPT_OK)

@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "bake_pool.h"
 #include "lanczos.h"
 
 /* Cost of the unchanged layout in its input frame and in the resized frame (the same UVs
@@ -95,4 +96,54 @@ texopt_status job_run_input_method(texopt_job *job, const layout_run *run, int d
     }
     ds->seconds_bake = job_now_seconds() - t0;
     return input_layout_costs(mesh, ow, oh, ds, err, err_len);
+}
+
+/* The whole tiles (per axis) that move the input layout into the frame [0, 1] x [0, 1]:
+ * *tile the floor of its smallest UV. 0 when the layout does not lie in one tile, or lies
+ * in another than the first where the axis does not REPEAT (a mirrored or clamped read
+ * there is not the frame's). */
+static int layout_tile(const texopt_mesh *mesh, const texopt_domain *dom, double tile[2])
+{
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, size[2] = {mesh->width, mesh->height};
+    for (size_t v = 0; v < mesh->vertex_count; v++)
+        for (int a = 0; a < 2; a++) {
+            double uv = mesh->texel[2 * v + a] / size[a];
+            lo[a] = fmin(lo[a], uv);
+            hi[a] = fmax(hi[a], uv);
+        }
+    texopt_wrap wrap[2] = {dom->wrap_s, dom->wrap_t};
+    for (int a = 0; a < 2; a++) {
+        tile[a] = floor(lo[a]);
+        if (!(hi[a] <= tile[a] + 1) || (tile[a] != 0 && wrap[a] != TEXOPT_WRAP_REPEAT))
+            return 0;
+    }
+    return mesh->vertex_count > 0;
+}
+
+texopt_status job_refit_input_layout(texopt_job *job, const layout_run *run, int d, double from, double to, char *err,
+                                     size_t err_len)
+{
+    const texopt_mesh *mesh = job->domains[d].mesh;
+    const texopt_domain *dom = &job->model->domains[mesh->domain];
+    texopt_domain_stats *ds = &run->domains[d];
+    double tile[2];
+    if (!layout_tile(mesh, dom, tile))
+        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                           "domain %d: its input layout does not lie in one tile of its texture", d);
+    int size[2];
+    job_input_frame(dom, run->p, &size[0], &size[1]);
+    ds->output_width = size[0];
+    ds->output_height = size[1];
+    double *packed = malloc(sizeof(double) * 2 * (mesh->vertex_count ? mesh->vertex_count : 1));
+    if (!packed)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the refitted layout");
+    for (size_t v = 0; v < mesh->vertex_count; v++) {
+        packed[2 * v] = (mesh->texel[2 * v] / mesh->width - tile[0]) * size[0];
+        packed[2 * v + 1] = (mesh->texel[2 * v + 1] / mesh->height - tile[1]) * size[1];
+    }
+    double t0 = job_now_seconds();
+    texopt_status st = job_rebake_domain(job, run, d, NULL, packed, size, from, to, err, err_len);
+    ds->seconds_bake = job_now_seconds() - t0;
+    free(packed);
+    return st == TEXOPT_OK ? input_layout_costs(mesh, size[0], size[1], ds, err, err_len) : st;
 }

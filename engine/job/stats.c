@@ -51,7 +51,10 @@ static void add_resize_check(cJSON *o, const texopt_domain_stats *d)
     cJSON_AddStringToObject(r, "views", "icosahedron");
     cJSON_AddNumberToObject(r, "q_layout", d->q_resize_check_layout);
     cJSON_AddNumberToObject(r, "q_resize", d->q_resize_check_resize);
-    cJSON_AddStringToObject(r, "kept", d->resize_check_kept ? "resize" : "layout");
+    static const char *const kept[] = {"layout", "resize", "input_fit"};
+    cJSON_AddStringToObject(r, "kept", kept[d->resize_check_kept]);
+    if (d->resize_check_has_input_fit)
+        cJSON_AddNumberToObject(r, "input_fit_images", d->resize_check_input_fit_images);
     cJSON_AddStringToObject(r, "decided_by", texopt_map_measure_name(d->resize_check_decided_by));
     cJSON *maps = cJSON_AddObjectToObject(r, "maps");
     for (int m = 0; m < TEXOPT_MAP_MEASURES; m++) {
@@ -60,6 +63,8 @@ static void add_resize_check(cJSON *o, const texopt_domain_stats *d)
         cJSON *q = cJSON_AddObjectToObject(maps, texopt_map_measure_name(m));
         cJSON_AddNumberToObject(q, "q_layout", d->resize_check_maps_layout.q[m]);
         cJSON_AddNumberToObject(q, "q_resize", d->resize_check_maps_resize.q[m]);
+        if (d->resize_check_has_input_fit)
+            cJSON_AddNumberToObject(q, "q_input_fit", d->resize_check_maps_input_fit.q[m]);
     }
     cJSON_AddNumberToObject(r, "seconds", d->seconds_resize_check);
 }

@@ -32,6 +32,13 @@ typedef struct texopt_image_stats {
     int rewritten; /* 0 when the original bytes were kept */
 } texopt_image_stats;
 
+/* What the resize check (resize_check.h) wrote for a domain. */
+typedef enum texopt_resize_check_kept {
+    TEXOPT_RESIZE_CHECK_LAYOUT = 0, /* the new layout */
+    TEXOPT_RESIZE_CHECK_RESIZE,     /* the input layout, its images resized with Lanczos-3 */
+    TEXOPT_RESIZE_CHECK_INPUT_FIT   /* the input layout, images re-baked by the fit where it won */
+} texopt_resize_check_kept;
+
 typedef struct texopt_domain_stats {
     int domain;
     size_t triangles, charts;
@@ -52,12 +59,15 @@ typedef struct texopt_domain_stats {
     int has_resize_check;                                /* perceptual: its new layout against its input layout
                                         resized to the same pixels (resize_check.c
                                         job_keep_resize_if_better) ... */
-    int resize_check_kept;                               /* ... the resize kept (its q not above the layout's) */
+    int resize_check_kept;                               /* ... which was written: texopt_resize_check_kept */
     double q_resize_check_layout, q_resize_check_resize; /* on the choice's 12 views, of the
                                         measure that decided (map_check.h) */
     int resize_check_decided_by;                         /* that measure: a texture key, or TEXOPT_MAP_LIT */
     texopt_map_q resize_check_maps_layout, resize_check_maps_resize; /* every measure's q */
-    double seconds_resize_check;                                     /* the resize and the evaluation of both */
+    int resize_check_has_input_fit;           /* the input layout re-baked by the fit was measured */
+    texopt_map_q resize_check_maps_input_fit; /* ... every measure's q of its mix (resize_check.h) */
+    int resize_check_input_fit_images;        /* ... the images the mix takes from the fit */
+    double seconds_resize_check;              /* the resize and the evaluation of both */
     int image_count;
     texopt_image_stats *images;
 

@@ -54,6 +54,10 @@ typedef struct texopt_budget_request {
     const uint8_t *keep_shape;             /* may be NULL: per chart, nonzero = never reshaped
                                             (a sharing group, texel_share.h: its charts must
                                             stay on each other) */
+    const double *paid;                    /* may be NULL: per triangle, the share of its texel
+                                            area it pays for (texel_share.h
+                                            texopt_texel_share_paid); the scale estimates
+                                            count a texel shared by a sharing group once */
     int threads;                           /* for the packing search and the reshape's
                                             solves; 0 -> 1. The result does not depend
                                             on it */

@@ -1,6 +1,7 @@
 /* Tests of budget.c on generated meshes: the packed cost lands within 2% of c_r c(input)
  * (measured here independently with coverage.h), a texture size is filled as far as it can
- * be (a 1% larger scale no longer fits), and bad requests are refused. */
+ * be (a 1% larger scale no longer fits; texels a sharing group covers twice counted once),
+ * and bad requests are refused. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -119,6 +120,45 @@ TEST(texture_size_is_filled_as_far_as_the_packer_allows)
     free(out);
     texopt_mesh_destroy(mesh);
     texopt_model_destroy(model);
+}
+
+/* One chart holding a square twice on the same texels (a sharing group's primary and its
+ * secondary, texel_share.h), the copy paying for nothing: a texture size is filled by the
+ * texels paid for. Counting the copy's area as well, the scale stopped where the summed
+ * area filled the texture, half of it covered. */
+TEST(texture_size_counts_shared_texels_once)
+{
+    texopt_mesh *mesh = handmesh_alloc(8, 4);
+    CHECK(mesh != NULL);
+    static const double corner[4][2] = {{0, 0}, {40, 0}, {40, 40}, {0, 40}};
+    static const uint32_t quad[6] = {0, 1, 2, 0, 2, 3};
+    for (uint32_t copy = 0; copy < 2; copy++) {
+        for (int v = 0; v < 4; v++) {
+            mesh->texel[2 * (4 * copy + v)] = corner[v][0];
+            mesh->texel[2 * (4 * copy + v) + 1] = corner[v][1];
+            mesh->position[3 * (4 * copy + v)] = corner[v][0];
+            mesh->position[3 * (4 * copy + v) + 1] = corner[v][1];
+        }
+        for (int i = 0; i < 6; i++)
+            mesh->triangle[6 * copy + i] = 4 * copy + quad[i];
+    }
+    handmesh_finish(mesh);
+    const double paid[4] = {1, 1, 0, 0};
+    texopt_budget_request req = {0};
+    req.kind = TEXOPT_BUDGET_TEXTURE_SIZE;
+    req.texture_width = req.texture_height = 64;
+    req.input_cost = 1600;
+    req.input_width = req.input_height = 256;
+    req.paid = paid;
+    double out[16];
+    texopt_budget_result res;
+    char err[256] = "";
+    CHECK_OK(texopt_budget_fit(mesh, mesh->texel, &req, out, &res, err, sizeof err), err);
+    /* 2-texel pads: the square's side s fits while s + 4 < 64 */
+    CHECK_MSG(res.packing_efficiency > 0.8, "packing efficiency %.3f", res.packing_efficiency);
+    CHECK_NEAR(out[0], out[8], 1e-9); /* the copy still lies on the square */
+    CHECK_NEAR(out[5], out[13], 1e-9);
+    texopt_mesh_destroy(mesh);
 }
 
 TEST(budget_refuses_impossible_requests)

@@ -193,7 +193,7 @@ static int write_jpeg_quad(const char *dir, char *path, size_t len)
     size_t jpg_len = 0;
     int ok = builder_texture(&tex, 64, 64);
     if (ok) {
-        ok = texopt_image_encode_jpeg(&tex, 90, &jpg, &jpg_len, NULL, 0) == TEXOPT_OK;
+        ok = texopt_image_encode_jpeg(&tex, 90, 1, &jpg, &jpg_len, NULL, 0) == TEXOPT_OK;
         texopt_image_destroy(&tex);
     }
     int view = ok ? quad_doc_add_view(&doc, jpg, jpg_len) : -1;

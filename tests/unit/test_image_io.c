@@ -1,5 +1,7 @@
-/* test_image_io.c - PNG encode/decode through OpenImageIO: exact 8-bit round trip, straight
+/* test_image_io.c - PNG and JPEG encode/decode through OpenImageIO: exact 8-bit round trip, JPEG
+ * chroma kept at full resolution when asked, straight
  * (unassociated) alpha, header probing, the pixel cap and refusal of garbage. */
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -207,4 +209,50 @@ TEST(forged_jpeg_header_is_capped_before_any_decoder_runs)
     /* Without a cap the missing scan data makes it malformed, not a crash. */
     CHECK_EQ_INT(texopt_image_decode_memory(&img, jpg, sizeof jpg, 100, "forged.jpg", err, sizeof err), TEXOPT_E_LIMIT);
     CHECK_EQ_INT(texopt_image_decode_memory(&img, jpg, 10, 0, "cut.jpg", err, sizeof err), TEXOPT_E_MALFORMED);
+}
+
+/* The largest difference in channel k between an image and its JPEG round trip. */
+static double jpeg_round_trip_error(const texopt_image *img, int subsample, int k, int *probed_subsampled)
+{
+    unsigned char *jpg = NULL;
+    size_t len = 0;
+    texopt_image back = {0};
+    texopt_image_info info;
+    if (texopt_image_encode_jpeg(img, 98, subsample, &jpg, &len, NULL, 0) != TEXOPT_OK ||
+        texopt_image_probe_memory(&info, jpg, len, "round trip", NULL, 0) != TEXOPT_OK ||
+        texopt_image_decode_memory(&back, jpg, len, 0, "round trip", NULL, 0) != TEXOPT_OK) {
+        free(jpg);
+        return INFINITY;
+    }
+    *probed_subsampled = info.chroma_subsampled;
+    double worst = 0;
+    for (int y = 0; y < img->height; y++)
+        for (int x = 0; x < img->width; x++)
+            worst = fmax(worst, fabs(texopt_image_at(&back, x, y)[k] - texopt_image_at(img, x, y)[k]));
+    free(jpg);
+    texopt_image_destroy(&back);
+    return worst;
+}
+
+/* A metallic-roughness map's detail is colour to JPEG: G and B against each other, at one
+ * texel. Subsampled chroma (4:2:0) averages it away; full chroma (4:4:4), which a re-baked
+ * texture keeps when its input had it, holds it; the probe reads which one a file has. */
+TEST(jpeg_full_chroma_keeps_one_texel_colour_detail)
+{
+    texopt_image img;
+    CHECK_OK(texopt_image_create(&img, 32, 32, 3, NULL, 0), "image");
+    for (int y = 0; y < 32; y++)
+        for (int x = 0; x < 32; x++) {
+            float *p = texopt_image_at(&img, x, y);
+            p[0] = 0;
+            p[1] = (x + y) % 2 ? 0.8f : 0.2f;
+            p[2] = (x + y) % 2 ? 0.2f : 0.8f;
+        }
+    int full_probe = -1, sub_probe = -1;
+    double full = jpeg_round_trip_error(&img, 0, 1, &full_probe), sub = jpeg_round_trip_error(&img, 1, 1, &sub_probe);
+    printf("  largest G error: %.3f at 4:4:4, %.3f at 4:2:0\n", full, sub);
+    CHECK(full < 0.03 && sub > 0.1);
+    CHECK_EQ_INT(full_probe, 0);
+    CHECK_EQ_INT(sub_probe, 1);
+    texopt_image_destroy(&img);
 }

@@ -1,8 +1,9 @@
 /* test_pipeline_resize.c - never worse than a resize (resize_check.c): a
  * perceptual domain whose new layout's q, on the choice's views, is not below its input layout
- * resized with Lanczos-3 to the same pixels keeps that resize, exactly as method "input" writes
- * it, and the statistics give both q; a layout that beats the resize is kept; a layout that
- * loses on an emissive map keeps the resize, named as the map that decided. Generated grids
+ * resized with Lanczos-3 to the same pixels keeps its input layout, its images re-baked by the
+ * fit where that beats the resize in every map (the statistics give all three q), else
+ * resized exactly as method "input" writes them; a layout that beats the resize is kept; a
+ * layout that loses on an emissive map is not, named as the map that decided. Generated grids
  * (grid_glb.h). */
 #include <math.h>
 #include <string.h>
@@ -42,20 +43,27 @@ static double number(cJSON *o, const char *key)
     return cJSON_IsNumber(v) ? v->valuedouble : NAN;
 }
 
-/* Whether two files have the same UVs and base-colour pixels. */
-static int same_model(const char *a_path, const char *b_path)
+/* Whether two files have the same UVs and, with pixels, the same base-colour pixels. */
+static int same_model_of(const char *a_path, const char *b_path, int pixels)
 {
     texopt_model *a = load(a_path), *b = load(b_path);
-    int same = a && b && a->vertex_count == b->vertex_count && a->images[0].width == b->images[0].width &&
-               a->images[0].height == b->images[0].height && a->images[0].channels == b->images[0].channels;
+    int same = a && b && a->vertex_count == b->vertex_count;
     for (size_t i = 0; same && i < 2 * a->vertex_count; i++)
         same = a->uvs[i] == b->uvs[i];
-    size_t n = same ? (size_t)a->images[0].width * a->images[0].height * a->images[0].channels : 0;
+    same =
+        same && (!pixels || (a->images[0].width == b->images[0].width && a->images[0].height == b->images[0].height &&
+                             a->images[0].channels == b->images[0].channels));
+    size_t n = same && pixels ? (size_t)a->images[0].width * a->images[0].height * a->images[0].channels : 0;
     for (size_t i = 0; same && i < n; i++)
         same = a->images[0].pixels[i] == b->images[0].pixels[i];
     texopt_model_destroy(a);
     texopt_model_destroy(b);
     return same;
+}
+
+static int same_model(const char *a_path, const char *b_path)
+{
+    return same_model_of(a_path, b_path, 1);
 }
 
 /* The check's verdict in the statistics, with both q, printed. */
@@ -114,32 +122,40 @@ TEST(a_layout_below_the_resize_is_kept)
     scratch_free(&s);
 }
 
+/* The check's q of one map (resize_check.maps): layout's, resize's or the fit's. */
+static double map_q(cJSON *st, const char *map, const char *which)
+{
+    cJSON *maps = cJSON_GetObjectItem(cJSON_GetObjectItem(domain0(st), "resize_check"), "maps");
+    return number(cJSON_GetObjectItem(maps, map), which);
+}
+
 /* Uniform detail over a texture its one chart fills: no layout spends the pixels better than
- * the resize, and the file written is method "input"'s at the same size, to the pixel. */
-TEST(a_resize_that_wins_is_written_as_method_input_writes_it)
+ * the input's, and the input layout re-baked by the fit beats its Lanczos-3 resize. That is
+ * written: the input's UVs, other pixels than method "input"'s and a lower reported q. */
+TEST(a_losing_layout_falls_back_to_the_input_layout_refitted_when_that_beats_the_resize)
 {
     scratch s;
     CHECK(scratch_init(&s, 4, 64, "checker") == 0);
     cJSON *st = run_job(&s, s.out, TEXOPT_METHOD_PERCEPTUAL, 32, 0);
     CHECK(st != NULL);
     double q_layout, q_resize;
-    CHECK(strcmp(verdict(st, &q_layout, &q_resize), "resize") == 0);
+    CHECK(strcmp(verdict(st, &q_layout, &q_resize), "input_fit") == 0);
     CHECK(q_resize <= q_layout);
+    CHECK(map_q(st, "baseColor", "q_input_fit") < map_q(st, "baseColor", "q_resize"));
+    CHECK(number(cJSON_GetObjectItem(domain0(st), "resize_check"), "input_fit_images") == 1);
+    cJSON *why = cJSON_GetObjectItem(domain0(st), "input_layout_kept");
+    CHECK(cJSON_IsString(why) && strstr(why->valuestring, "its images re-baked by the fit") != NULL &&
+          strstr(why->valuestring, "the others resized") == NULL);
     double q = number(cJSON_GetObjectItem(st, "evaluation"), "q");
     cJSON_Delete(st);
     st = run_job(&s, s.again, TEXOPT_METHOD_INPUT, 32, 0);
     CHECK(st != NULL);
-    CHECK(q == number(cJSON_GetObjectItem(st, "evaluation"), "q"));
-    CHECK(same_model(s.out, s.again));
+    double q_input = number(cJSON_GetObjectItem(st, "evaluation"), "q");
+    printf("  reported q %.5f refitted, %.5f resized\n", q, q_input);
+    CHECK(q < q_input);
+    CHECK(same_model_of(s.out, s.again, 0) && !same_model(s.out, s.again));
     cJSON_Delete(st);
     scratch_free(&s);
-}
-
-/* The check's q of one map (resize_check.maps), layout's or resize's. */
-static double map_q(cJSON *st, const char *map, const char *which)
-{
-    cJSON *maps = cJSON_GetObjectItem(cJSON_GetObjectItem(domain0(st), "resize_check"), "maps");
-    return number(cJSON_GetObjectItem(maps, map), which);
 }
 
 /* A grid whose material binds a base colour of `base` and an emissive map of `emissive`, at a
@@ -159,17 +175,22 @@ static cJSON *run_emissive_job(scratch *s, const char *base, const char *emissiv
     *kept = st ? verdict(st, &q_layout, &q_resize) : "";
     cJSON *by = cJSON_GetObjectItem(cJSON_GetObjectItem(domain0(st), "resize_check"), "decided_by");
     *decided_by = cJSON_IsString(by) ? by->valuestring : "";
-    printf("  decided by %s; base colour %.5f / %.5f, emissive %.5f / %.5f, lit %.5f / %.5f\n", *decided_by,
-           map_q(st, "baseColor", "q_layout"), map_q(st, "baseColor", "q_resize"), map_q(st, "emissive", "q_layout"),
-           map_q(st, "emissive", "q_resize"), map_q(st, "lit", "q_layout"), map_q(st, "lit", "q_resize"));
+    printf("  decided by %s; layout / resize / fit: base colour %.5f / %.5f / %.5f, emissive %.5f / %.5f / %.5f, "
+           "lit %.5f / %.5f / %.5f; %g images fitted\n",
+           *decided_by, map_q(st, "baseColor", "q_layout"), map_q(st, "baseColor", "q_resize"),
+           map_q(st, "baseColor", "q_input_fit"), map_q(st, "emissive", "q_layout"), map_q(st, "emissive", "q_resize"),
+           map_q(st, "emissive", "q_input_fit"), map_q(st, "lit", "q_layout"), map_q(st, "lit", "q_resize"),
+           map_q(st, "lit", "q_input_fit"),
+           number(cJSON_GetObjectItem(domain0(st), "resize_check"), "input_fit_images"));
     return st;
 }
 
 /* Every map counts (map_check.h): base colour where the layout wins (the gradient above) and
- * an emissive checker where it loses. The resize is kept and the statistics name emissive as
- * the map that decided, with every map's q and lit's; the reported q per map covers the same
- * maps. */
-TEST(a_layout_that_loses_on_the_emissive_map_keeps_the_resize)
+ * an emissive checker where it loses. The input layout is kept, its emissive map re-baked by
+ * the fit (below the resize there) and its base colour resized (the fit is not below there),
+ * and the statistics name emissive as the map that decided, with every map's q and lit's;
+ * the reported q per map covers the same maps. */
+TEST(a_layout_that_loses_on_the_emissive_map_keeps_the_input_layout)
 {
     scratch s;
     const char *kept, *by;
@@ -177,8 +198,12 @@ TEST(a_layout_that_loses_on_the_emissive_map_keeps_the_resize)
     CHECK(st != NULL);
     CHECK(map_q(st, "baseColor", "q_layout") < map_q(st, "baseColor", "q_resize"));
     CHECK(map_q(st, "emissive", "q_layout") > map_q(st, "emissive", "q_resize"));
-    CHECK(strcmp(kept, "resize") == 0);
+    CHECK(strcmp(kept, "input_fit") == 0);
     CHECK(strcmp(by, "emissive") == 0);
+    CHECK(map_q(st, "emissive", "q_input_fit") < map_q(st, "emissive", "q_resize"));
+    CHECK(map_q(st, "baseColor", "q_input_fit") == map_q(st, "baseColor", "q_resize"));
+    CHECK(map_q(st, "lit", "q_input_fit") < map_q(st, "lit", "q_resize"));
+    CHECK(same_model_of(s.in, s.out, 0));
     cJSON *check = cJSON_GetObjectItem(domain0(st), "resize_check");
     CHECK(number(check, "q_layout") == map_q(st, "emissive", "q_layout"));
     CHECK(number(check, "q_resize") == map_q(st, "emissive", "q_resize"));
@@ -192,7 +217,8 @@ TEST(a_layout_that_loses_on_the_emissive_map_keeps_the_resize)
 
 /* Flat base colour, a sharp emissive shape (text-like strokes on half the map): base colour
  * is the same under any layout, so only the emissive map (and lit) can decide; a check on
- * base colour alone would keep the resize on a tie. */
+ * base colour alone would keep the resize on a tie. Where the fit is not below the resize
+ * either, the file is method "input"'s, to the pixel. */
 TEST(over_a_flat_base_colour_the_emissive_map_decides)
 {
     scratch s;
@@ -204,6 +230,12 @@ TEST(over_a_flat_base_colour_the_emissive_map_decides)
     CHECK(strcmp(by, "emissive") == 0 && el != er);
     CHECK(strcmp(kept, el < er && map_q(st, "lit", "q_layout") <= map_q(st, "lit", "q_resize") ? "layout" : "resize") ==
           0);
+    CHECK(map_q(st, "emissive", "q_input_fit") >= er);
     cJSON_Delete(st);
+    if (strcmp(kept, "resize") == 0) {
+        st = run_job(&s, s.again, TEXOPT_METHOD_INPUT, 32, 0);
+        CHECK(st != NULL && same_model(s.out, s.again));
+        cJSON_Delete(st);
+    }
     scratch_free(&s);
 }

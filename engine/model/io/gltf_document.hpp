@@ -16,8 +16,9 @@
 
 struct texopt_gltf_document {
     tinygltf::Model gltf;
-    std::vector<std::string> image_mime; /* per image: "image/png", "image/jpeg", ... */
-    std::vector<int> image_bits;         /* per image: bits per channel of the file (8, 16) */
+    std::vector<std::string> image_mime;       /* per image: "image/png", "image/jpeg", ... */
+    std::vector<int> image_bits;               /* per image: bits per channel of the file (8, 16) */
+    std::vector<char> image_chroma_subsampled; /* per image: a JPEG's colour planes below luma's resolution */
 };
 
 #endif

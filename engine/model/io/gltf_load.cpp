@@ -898,6 +898,7 @@ texopt_status convert_images(texopt_gltf_document *doc, texopt_model *model, con
     model->image_count = (int)n;
     doc->image_mime.assign(n, std::string());
     doc->image_bits.assign(n, 8);
+    doc->image_chroma_subsampled.assign(n, 1);
     std::vector<texopt_image_info> info(n);
     uint64_t total = 0;
     for (size_t i = 0; i < n; i++) {
@@ -924,6 +925,7 @@ texopt_status convert_images(texopt_gltf_document *doc, texopt_model *model, con
         if (st != TEXOPT_OK)
             return st;
         doc->image_bits[i] = info[i].bits_per_channel;
+        doc->image_chroma_subsampled[i] = (char)info[i].chroma_subsampled;
         total += (uint64_t)info[i].width * (uint64_t)info[i].height;
         if (total > lim.max_total_pixels)
             return texopt_fail(err, err_len, TEXOPT_E_LIMIT,

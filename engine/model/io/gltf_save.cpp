@@ -390,9 +390,11 @@ texopt_status encode_replacements(const texopt_model *model, const texopt_model_
             unsigned char *bytes = nullptr;
             size_t len = 0;
             int bits = model->document->image_bits[i] > 8 ? 16 : 8;
-            texopt_status st = replaced_as_jpeg(model, edit, i)
-                                   ? texopt_image_encode_jpeg(img, JPEG_QUALITY, &bytes, &len, job_err, job_err_len)
-                                   : texopt_image_encode_png_bits(img, bits, &bytes, &len, job_err, job_err_len);
+            texopt_status st =
+                replaced_as_jpeg(model, edit, i)
+                    ? texopt_image_encode_jpeg(img, JPEG_QUALITY, model->document->image_chroma_subsampled[i], &bytes,
+                                               &len, job_err, job_err_len)
+                    : texopt_image_encode_png_bits(img, bits, &bytes, &len, job_err, job_err_len);
             if (st == TEXOPT_OK)
                 (*encoded)[i].assign(bytes, bytes + len);
             free(bytes);

@@ -50,8 +50,9 @@ std::string pseudo_filename(const unsigned char *b, size_t len, const char *name
  * must be checked before OpenImageIO sees the bytes, and probing a JPEG is cheaper here. */
 struct header_size {
     int width = 0, height = 0;
-    int components = 0; /* JPEG only: colour components in the frame */
-    int precision = 0;  /* bits per sample */
+    int components = 0;        /* JPEG only: colour components in the frame */
+    int precision = 0;         /* bits per sample */
+    int chroma_subsampled = 0; /* JPEG only: a colour component sampled below the first's */
 };
 
 uint32_t be16(const unsigned char *p)
@@ -106,6 +107,8 @@ bool jpeg_header_size(const unsigned char *b, size_t len, header_size *hs)
             hs->height = (int)be16(b + at + 5);
             hs->width = (int)be16(b + at + 7);
             hs->components = b[at + 9];
+            for (int c = 1; c < hs->components && 8u + 3u * (unsigned)c + 3u <= seg; c++)
+                hs->chroma_subsampled |= b[at + 11 + 3 * c] != b[at + 11];
             return hs->width > 0 && hs->height > 0;
         }
         if (marker == 0xDA || marker == 0xD9)
@@ -192,6 +195,7 @@ extern "C" texopt_status texopt_image_probe_memory(texopt_image_info *info, cons
         info->height = hs.height;
         info->channels = hs.components;
         info->bits_per_channel = 8;
+        info->chroma_subsampled = hs.chroma_subsampled;
         snprintf(info->format, sizeof info->format, "jpeg");
         return TEXOPT_OK;
     }
@@ -313,8 +317,8 @@ extern "C" texopt_status texopt_image_encode_png_bits(const texopt_image *img, i
     return encode_image(img, "image.png", spec, "PNG", bytes, len, err, err_len);
 }
 
-extern "C" texopt_status texopt_image_encode_jpeg(const texopt_image *img, int quality, unsigned char **bytes,
-                                                  size_t *len, char *err, size_t err_len)
+extern "C" texopt_status texopt_image_encode_jpeg(const texopt_image *img, int quality, int subsample_chroma,
+                                                  unsigned char **bytes, size_t *len, char *err, size_t err_len)
 {
     if (!bytes || !len)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "no output buffer for JPEG");
@@ -326,6 +330,7 @@ extern "C" texopt_status texopt_image_encode_jpeg(const texopt_image *img, int q
                            img ? img->channels : 0, quality);
     OIIO::ImageSpec spec(img->width, img->height, img->channels, OIIO::TypeDesc::UINT8);
     spec.attribute("Compression", "jpeg:" + std::to_string(quality));
+    spec.attribute("jpeg:subsampling", subsample_chroma ? "4:2:0" : "4:4:4");
     return encode_image(img, "image.jpg", spec, "JPEG", bytes, len, err, err_len);
 }
 

@@ -30,8 +30,9 @@ extern "C" {
 /* What an image header says, read without decoding the pixels. */
 typedef struct texopt_image_info {
     int width, height, channels;
-    int bits_per_channel; /* 8 or 16 for PNG, 8 for JPEG; the file's own depth */
-    char format[16];      /* OpenImageIO's format name: "png", "jpeg", ... */
+    int bits_per_channel;  /* 8 or 16 for PNG, 8 for JPEG; the file's own depth */
+    char format[16];       /* OpenImageIO's format name: "png", "jpeg", ... */
+    int chroma_subsampled; /* JPEG: its colour planes are stored below the luma's resolution */
 } texopt_image_info;
 
 /* Reads the header of an encoded image held in memory. name is used in messages only (may
@@ -60,9 +61,11 @@ texopt_status texopt_image_encode_png_bits(const texopt_image *img, int bits, un
 
 /* Encodes img (1 or 3 channels) as a baseline JPEG of `quality` (1-100) into a malloc'ed
  * buffer (*bytes, *len) that the caller frees with free(): a JPEG input's re-baked texture
- * stays a JPEG, at a tenth of a PNG's bytes. */
-texopt_status texopt_image_encode_jpeg(const texopt_image *img, int quality, unsigned char **bytes, size_t *len,
-                                       char *err, size_t err_len);
+ * stays a JPEG, at a tenth of a PNG's bytes. subsample_chroma: the colour planes at half
+ * the resolution each way (4:2:0), else at full resolution (4:4:4), as the input had them:
+ * a metallic-roughness map keeps its G and B detail only at full resolution. */
+texopt_status texopt_image_encode_jpeg(const texopt_image *img, int quality, int subsample_chroma,
+                                       unsigned char **bytes, size_t *len, char *err, size_t err_len);
 
 /* Writes img as an 8-bit PNG at path (temporary file, fsync, rename). */
 texopt_status texopt_image_write_png(const texopt_image *img, const char *path, char *err, size_t err_len);
