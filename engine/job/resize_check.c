@@ -198,7 +198,7 @@ static int decide(const domain_choice *c, int *by, int *lost_to_fit)
     int layout_wins = texopt_map_layout_wins(&c->q[0], &c->q[1], by);
     int fit_wins = c->fitted_images > 0 && texopt_map_layout_wins(&c->mix, &c->q[1], &by_fit);
     int shown = shown_measure(&c->q[0]);
-    *lost_to_fit = layout_wins && fit_wins && !(c->q[0].q[shown] < c->mix.q[shown]);
+    *lost_to_fit = layout_wins && fit_wins && c->q[0].q[shown] > c->mix.q[shown]; /* a tie keeps the layout */
     if (*lost_to_fit)
         *by = shown;
     if (layout_wins && !*lost_to_fit)

@@ -8,7 +8,7 @@
  * where that is above the resize in no map that reads it, else its resize: the mix. All are
  * measured on the choice's views (CHOICE_CAMERAS) in every map that shows the domain and lit
  * (map_check.h). The new layout is kept when it is below the resize in one map and above it
- * in none, and below the mix in what a viewer shows (lit, else base colour) when the mix
+ * in none, and not above the mix in what a viewer shows (lit, else base colour) when the mix
  * beats the resize too; else the mix when it beats the resize; else the resize (stats
  * resize_check: every map's q, what was kept, the map that decided; input_layout_kept). So
  * what is written is above the resize in no map, and a domain at its input's pixels keeps
