@@ -231,8 +231,9 @@ TEST(over_a_flat_base_colour_the_emissive_map_decides)
     CHECK(strcmp(kept, el < er && map_q(st, "lit", "q_layout") <= map_q(st, "lit", "q_resize") ? "layout" : "resize") ==
           0);
     CHECK(map_q(st, "emissive", "q_input_fit") >= er);
+    int resize_kept = strcmp(kept, "resize") == 0; /* kept lives in st */
     cJSON_Delete(st);
-    if (strcmp(kept, "resize") == 0) {
+    if (resize_kept) {
         st = run_job(&s, s.again, TEXOPT_METHOD_INPUT, 32, 0);
         CHECK(st != NULL && same_model(s.out, s.again));
         cJSON_Delete(st);
