@@ -49,7 +49,7 @@ static void usage(FILE *out)
                  "  --seed S            random seed, 0 to 2^53 (default 0)\n"
                  "  --refinements N     perceptual: most closed-loop refinement rounds, 0-20\n"
                  "                      (default 4; 0 = none), as in texopt optimize\n"
-                 "  --refine-by M       perceptual: baseColor (default) or lit, as in texopt optimize\n"
+                 "  --refine-by M       perceptual: lit (default) or baseColor, as in texopt optimize\n"
                  "  --threads T         worker threads (default: every core)\n"
                  "  --reuse-layout      each layout method once, at the largest cost; smaller costs by\n"
                  "                      resampling its re-baked textures (much faster, but measurably\n"
@@ -214,8 +214,9 @@ int cmd_compare(int argc, char **argv)
             if (!bad)
                 texopt_params_set_refinement_rounds(&opt.params, rounds);
         } else if (!strcmp(a, "--refine-by")) {
-            opt.params.refine_lit = texopt_refine_measure_from_name(v);
-            bad = opt.params.refine_lit < 0;
+            int measure = texopt_refine_measure_from_name(v);
+            opt.params.refine_lit = texopt_refine_lit_of(measure);
+            bad = measure < 0;
         } else if (!strcmp(a, "--threads")) {
             bad = !v || cli_parse_int(v, 1, 256, &opt.params.threads) != 0;
             if (!bad)

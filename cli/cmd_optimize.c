@@ -50,10 +50,9 @@ static void usage(FILE *out)
                  "  --refinements N          perceptual: most closed-loop refinement rounds of the\n"
                  "                           kept layout by its on-screen error, 0-20 (default 4;\n"
                  "                           0: none)\n"
-                 "  --refine-by M            perceptual: what the refinement's screen shows, baseColor\n"
-                 "                           (default) or lit (every map under a light, when the\n"
-                 "                           material has more than base colour: better lit look,\n"
-                 "                           worse base colour, slower)\n"
+                 "  --refine-by M            perceptual: what the refinement's screen shows, lit\n"
+                 "                           (default: every map under a light, when the material\n"
+                 "                           has more than base colour; slower) or baseColor\n"
                  "  --packing-efficiency E   reshape the charts that fill little of their box and\n"
                  "                           pack again when the packing falls short of E, [0, 1)\n"
                  "                           (default 0: never; changes q either way at equal cost)\n"
@@ -183,7 +182,7 @@ static int parse_option(optimize_args *a, const char *opt, const char *val)
     else if (strcmp(opt, "--refinements") == 0 && parse_long(val, &n) && n >= 0 && n <= 20)
         texopt_params_set_refinement_rounds(&a->params, (int)n);
     else if (strcmp(opt, "--refine-by") == 0 && texopt_refine_measure_from_name(val) >= 0)
-        a->params.refine_lit = texopt_refine_measure_from_name(val);
+        a->params.refine_lit = texopt_refine_lit_of(texopt_refine_measure_from_name(val));
     else if (strcmp(opt, "--packing-efficiency") == 0 && parse_double(val, &d) && d >= 0 && d < 1)
         a->params.packing_efficiency = d;
     else if (strcmp(opt, "--packing") == 0 && texopt_packing_from_name(val) >= 0)

@@ -199,13 +199,16 @@ static texopt_status read_rest(const cJSON *obj, texopt_params *p, char *err, si
         return s;
     if (present)
         texopt_params_set_refinement_rounds(p, (int)v);
+    int refine_measure = -1;
     if ((s = read_named(obj, "refine_by", texopt_refine_measure_from_name, "must be \"baseColor\" or \"lit\"",
-                        &p->refine_lit, err, err_len)) != TEXOPT_OK ||
+                        &refine_measure, err, err_len)) != TEXOPT_OK ||
         (s = read_named(obj, "lookup", texopt_lookup_from_name, "must be \"bilinear\" or \"mipmapped\"", &p->mipmapped,
                         err, err_len)) != TEXOPT_OK ||
         (s = read_named(obj, "packing", texopt_packing_from_name, "must be \"plain\" or \"refine\"", &p->packing_refine,
                         err, err_len)) != TEXOPT_OK)
         return s;
+    if (refine_measure >= 0)
+        p->refine_lit = texopt_refine_lit_of(refine_measure);
     int charts = p->charts, parameterizer = p->parameterizer;
     if ((s = read_named(obj, "charts", texopt_charts_from_name, "must be \"keep\" or \"new\"", &charts, err,
                         err_len)) != TEXOPT_OK ||

@@ -57,7 +57,7 @@ int texopt_parameterizer_from_name(const char *name)
 
 const char *texopt_refine_measure_name(int refine_lit)
 {
-    return refine_lit ? "lit" : "baseColor";
+    return refine_lit >= 0 ? "lit" : "baseColor";
 }
 
 /* Which of a two-way setting's values (0 or 1) name_of names `name`; -1 for neither. */
@@ -71,7 +71,14 @@ static int two_way_from_name(const char *name, const char *(*name_of)(int))
 
 int texopt_refine_measure_from_name(const char *name)
 {
-    return two_way_from_name(name, texopt_refine_measure_name);
+    if (name && strcmp(name, "lit") == 0)
+        return 1;
+    return name && strcmp(name, "baseColor") == 0 ? 0 : -1;
+}
+
+int texopt_refine_lit_of(int measure)
+{
+    return measure > 0 ? 1 : -1;
 }
 
 const char *texopt_lookup_name(int mipmapped)
@@ -112,6 +119,8 @@ void texopt_params_resolve(texopt_params *p)
         p->metric_candidates = 1;
     if (p->resize_check == 0)
         p->resize_check = 1;
+    if (p->refine_lit == 0)
+        p->refine_lit = 1;
 }
 
 int texopt_params_refinement_rounds(const texopt_params *p)

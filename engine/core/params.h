@@ -93,10 +93,10 @@ typedef struct texopt_params {
     int refinements;                    /* perceptual: most rounds of the closed-loop refinement of the
                                kept layout by its on-screen error (job_refine.c);
                                0 -> TEXOPT_DEFAULT_REFINEMENTS, -1 -> none */
-    int refine_lit;                     /* perceptual: non-zero: the refinement's screen is the lit render
+    int refine_lit;                     /* perceptual: 1: the refinement's screen is the lit render
                                (evaluate.h `lit`, every image baked each round) when the
-                               material has a map a light reads besides base colour; 0: base
-                               colour's (job_refine.c) */
+                               material has a map a light reads besides base colour; -1: base
+                               colour's (job_refine.c); 0 -> 1 */
     int mipmapped;                      /* non-zero: the texture lookups the layout is tuned for and its q
                                is measured with (the perceptual candidates' choice, the
                                refinement's screens, `evaluate`, the target_loss search) are
@@ -142,10 +142,12 @@ texopt_method texopt_method_from_name(const char *name);
 /* Replaces zero fields by their defaults. */
 void texopt_params_resolve(texopt_params *params);
 
-/* The refinement's measure as users name it: "baseColor" or "lit" (texopt_params.refine_lit),
- * and back; -1 for an unknown name. */
+/* The refinement's measure as users name it: "baseColor" or "lit" (texopt_params.refine_lit:
+ * -1, or 1 or the default 0), and back: 0 for "baseColor", 1 for "lit", -1 for an unknown
+ * name; texopt_refine_lit_of turns that 0 or 1 into refine_lit's -1 or 1. */
 const char *texopt_refine_measure_name(int refine_lit);
 int texopt_refine_measure_from_name(const char *name);
+int texopt_refine_lit_of(int measure);
 
 /* The lookups as users name them: "bilinear" or "mipmapped" (texopt_params.mipmapped), and
  * back; -1 for an unknown name. */

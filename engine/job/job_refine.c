@@ -132,13 +132,13 @@ static texopt_status refinement_trial(texopt_job *job, const layout_run *made_by
  * of the plain luma difference on seven sample models and level on Duck,
  * BENCHMARKS.md@9f788a8 "The refinement steered by edges"). Errors and q are measured on the
  * choice's views (CHOICE_CAMERAS), not on those that define the reported q: the layout is not
- * tuned on the views it is graded on. With p->refine_lit, and when the material has maps a
- * light reads besides base colour, the screen is lit (with the luma difference per triangle,
- * the measure it was tuned with; evaluate.h `lit`: every map under one light), else base
- * colour's: on a glossy multi-map material what the light shows of the normal and roughness
- * maps is what a viewer sees, and base colour's error alone moves texels away from it; it
- * costs base colour's q and over twice the rounds' time (BENCHMARKS.md@9f788a8 "Specular lit
- * loss", "Cheaper lit refinement"), hence not the default. Lit rounds read the input's views
+ * tuned on the views it is graded on. Unless p->refine_lit asks for base colour, and when the
+ * material has maps a light reads besides base colour, the screen is lit (with the luma
+ * difference per triangle, the measure it was tuned with; evaluate.h `lit`: every map under
+ * one light), else base colour's: what the light shows of the normal and roughness maps is
+ * what a viewer sees, and base colour's error alone moves texels away from it, at the cost of
+ * base colour's q and about twice the rounds' time (docs/benchmarks.md "The refinement judged
+ * lit by default"). Lit rounds read the input's views
  * shaded once (texopt_evaluate_reference_create) and bake every map (BAKE_ALL), the kept
  * layout's too, so that every layout is judged with the same bake. The rounds tried and kept, the measure, the 12-view q before
  * and after and their time go to *rec (for the statistics' allocation_choice.refinement);
@@ -160,7 +160,7 @@ texopt_status job_refine_kept(texopt_job *job, const layout_run *made_by, candid
                            : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the refinement");
     if (st == TEXOPT_OK)
         st = copy_targets(job, r.best, r.next, err, err_len);
-    int lit = rec->lit = p->refine_lit && texopt_lit_has_maps(job->model);
+    int lit = rec->lit = p->refine_lit >= 0 && texopt_lit_has_maps(job->model);
     const job_output *shown = &kept->out;
     texopt_evaluation best_ev;
     double span = (to - from) / (rounds + 1);

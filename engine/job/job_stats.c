@@ -22,7 +22,7 @@ void job_stats_fill_params(texopt_job_stats *js, const texopt_params *p)
     js->threads = p->threads;
     js->seed = (unsigned long long)p->seed;
     js->refinements = texopt_params_refinement_rounds(p);
-    js->refine_lit = p->refine_lit != 0;
+    js->refine_lit = p->refine_lit;
     js->mipmapped = p->mipmapped != 0;
     js->packing_efficiency = p->packing_efficiency;
     js->bijective = p->bijective != 0;

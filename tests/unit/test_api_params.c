@@ -25,7 +25,7 @@ TEST(empty_object_gives_paper_defaults)
     CHECK_NEAR(p.lambda_min, 0.1, 0);
     CHECK_EQ_INT(p.evaluate, 0);
     CHECK_EQ_INT(p.refinements, 4);
-    CHECK_EQ_INT(p.refine_lit, 0);
+    CHECK_EQ_INT(p.refine_lit, 1); /* lit */
     CHECK_EQ_INT(p.mipmapped, 0);
     CHECK_NEAR(p.packing_efficiency, 0, 0);
     CHECK_EQ_INT(p.bijective, 0);
@@ -178,7 +178,7 @@ TEST(params_survive_a_json_round_trip)
              err);
     for (int refinements = -1; refinements <= 3; refinements += 4) {
         p.refinements = refinements; /* none, and some */
-        p.refine_lit = refinements > 0;
+        p.refine_lit = refinements > 0 ? 1 : -1;
         p.mipmapped = refinements > 0;
         p.hessian_floor = refinements > 0 ? 0.3 : -1;
         p.metric_candidates = refinements > 0 ? 1 : -1;

@@ -312,7 +312,7 @@ static void check_refinement(const char *pattern, const char *mr_pattern, double
     char err[512] = "";
     CHECK_OK(texopt_optimize_file(s.in, s.out, NULL, &p, NULL, err, sizeof err), err);
     p.refinements = 0; /* the default rounds */
-    p.refine_lit = lit;
+    p.refine_lit = lit ? 1 : -1;
     CHECK_OK(texopt_optimize_file(s.in, s.again, s.stats, &p, NULL, err, sizeof err), err);
     cJSON *st = read_json(s.stats);
     cJSON *rounds = cJSON_GetObjectItem(cJSON_GetObjectItem(st, "allocation_choice"), "refinement");
@@ -459,9 +459,9 @@ TEST(perceptual_bakes_every_image_into_the_kept_layout)
     cJSON *st = read_json(s.stats);
     cJSON *rounds = cJSON_GetObjectItem(cJSON_GetObjectItem(st, "allocation_choice"), "refinement");
     CHECK(rounds != NULL);
-    /* A metallic-roughness map but refine_lit not asked: base colour's screen. */
+    /* A metallic-roughness map and refine_lit left to its default: the lit render's screen. */
     cJSON *measure = cJSON_GetObjectItem(rounds, "measure");
-    CHECK(!measure || (cJSON_IsString(measure) && strcmp(measure->valuestring, "baseColor") == 0));
+    CHECK(cJSON_IsString(measure) && strcmp(measure->valuestring, "lit") == 0);
     cJSON_Delete(st);
     scratch_free(&s);
 }
