@@ -76,7 +76,8 @@ static int choose_fitted_images(const texopt_model *model, int d, const texopt_m
 }
 
 /* Swaps the images of domain d not in use_fit, with their statistics, between *fitted and
- * *resized: *fitted becomes the mix the fallback writes; swapping again undoes it. */
+ * *resized: *fitted becomes the mix the fallback writes, *resized the rest; swapping again
+ * undoes it. */
 static void swap_resized_images(const texopt_model *model, int d, const int *use_fit, job_output *fitted,
                                 texopt_domain_stats *fs, job_output *resized, texopt_domain_stats *rs)
 {
@@ -127,7 +128,8 @@ typedef struct domain_choice {
     job_output resized, fitted; /* the input layout resized; re-baked by the fit (then the mix) */
     texopt_domain_stats *rs, *fs;
     int can_fit;       /* fitted was made (the layout lies in one tile, the pixels differ) */
-    int fitted_images; /* images whose fitted bake the mix keeps */
+    int *use_fit;      /* per image of the domain: the mix keeps its fitted bake */
+    int fitted_images; /* how many */
     texopt_map_q q[3]; /* layout, resize, fit (every image fitted) */
     texopt_map_q mix;  /* the mix's */
 } domain_choice;
@@ -138,10 +140,12 @@ static void domain_choice_free(domain_choice *c, const texopt_job *job)
     job_output_destroy(&c->fitted, job->model->image_count);
     job_stats_free_domains(c->rs, job->model->domain_count);
     job_stats_free_domains(c->fs, job->model->domain_count);
+    free(c->use_fit);
 }
 
 /* Makes the resize and, where it can be, the fitted bake of domain d, measures them beside
- * out on the choice's views and makes the mix (its q in c->mix). */
+ * out on the choice's views, and the mix (its images in c->use_fit, its q in c->mix); the
+ * resize and the fitted bake are left as they were made. */
 static texopt_status measure_choices(texopt_job *job, const texopt_params *p, const job_output *out, int d, double at,
                                      domain_choice *c, char *err, size_t err_len)
 {
@@ -167,18 +171,18 @@ static texopt_status measure_choices(texopt_job *job, const texopt_params *p, co
     c->mix = c->q[1];
     if (st != TEXOPT_OK || !c->can_fit)
         return st;
-    int *use_fit = malloc(sizeof(int) * (size_t)(dom->image_count ? dom->image_count : 1));
-    if (!use_fit)
+    c->use_fit = malloc(sizeof(int) * (size_t)(dom->image_count ? dom->image_count : 1));
+    if (!c->use_fit)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the fitted images");
-    c->fitted_images = choose_fitted_images(job->model, d, &c->q[1], &c->q[2], use_fit);
+    c->fitted_images = choose_fitted_images(job->model, d, &c->q[1], &c->q[2], c->use_fit);
     if (c->fitted_images == dom->image_count)
         c->mix = c->q[2];
     else if (c->fitted_images > 0) {
-        swap_resized_images(job->model, d, use_fit, &c->fitted, c->fs, &c->resized, c->rs);
+        swap_resized_images(job->model, d, c->use_fit, &c->fitted, c->fs, &c->resized, c->rs);
         const job_output *mix = &c->fitted;
         st = job_evaluate_maps(job, &mix, 1, p, CHOICE_CAMERAS, d, &c->mix, err, err_len);
+        swap_resized_images(job->model, d, c->use_fit, &c->fitted, c->fs, &c->resized, c->rs);
     }
-    free(use_fit);
     return st;
 }
 
@@ -255,8 +259,10 @@ texopt_status job_keep_resize_if_better(texopt_job *job, const texopt_params *p,
             int by, lost_to_fit, kept = decide(&c, &by, &lost_to_fit);
             if (kept == TEXOPT_RESIZE_CHECK_RESIZE)
                 keep_input_layout(job, out, &c.resized, d, c.rs);
-            else if (kept == TEXOPT_RESIZE_CHECK_INPUT_FIT)
+            else if (kept == TEXOPT_RESIZE_CHECK_INPUT_FIT) {
+                swap_resized_images(job->model, d, c.use_fit, &c.fitted, c.fs, &c.resized, c.rs); /* the mix */
                 keep_input_layout(job, out, &c.fitted, d, c.fs);
+            }
             record(&job->stats.domains[d], &c, kept, by, lost_to_fit, job_now_seconds() - t0);
         }
         domain_choice_free(&c, job);

@@ -43,19 +43,24 @@ static double number(cJSON *o, const char *key)
     return cJSON_IsNumber(v) ? v->valuedouble : NAN;
 }
 
-/* Whether two files have the same UVs and, with pixels, the same base-colour pixels. */
+/* Whether two images have the same size and pixels. */
+static int same_image(const texopt_image *a, const texopt_image *b)
+{
+    if (a->width != b->width || a->height != b->height || a->channels != b->channels)
+        return 0;
+    size_t n = (size_t)a->width * a->height * a->channels;
+    return n == 0 || memcmp(a->pixels, b->pixels, n * sizeof *a->pixels) == 0;
+}
+
+/* Whether two files have the same UVs and, with pixels, the same pixels in every image. */
 static int same_model_of(const char *a_path, const char *b_path, int pixels)
 {
     texopt_model *a = load(a_path), *b = load(b_path);
-    int same = a && b && a->vertex_count == b->vertex_count;
+    int same = a && b && a->vertex_count == b->vertex_count && a->image_count == b->image_count;
     for (size_t i = 0; same && i < 2 * a->vertex_count; i++)
         same = a->uvs[i] == b->uvs[i];
-    same =
-        same && (!pixels || (a->images[0].width == b->images[0].width && a->images[0].height == b->images[0].height &&
-                             a->images[0].channels == b->images[0].channels));
-    size_t n = same && pixels ? (size_t)a->images[0].width * a->images[0].height * a->images[0].channels : 0;
-    for (size_t i = 0; same && i < n; i++)
-        same = a->images[0].pixels[i] == b->images[0].pixels[i];
+    for (int i = 0; same && pixels && i < a->image_count; i++)
+        same = same_image(&a->images[i], &b->images[i]);
     texopt_model_destroy(a);
     texopt_model_destroy(b);
     return same;
