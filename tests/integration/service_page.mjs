@@ -2,8 +2,10 @@
 // run by service_page.sh. Usage: node service_page.mjs BASE MODEL [TOKEN]
 // Uploads MODEL through the file picker with the fast `input` method, follows the progress
 // bar to the end, checks the sizes shown and the downloaded file against the API; then
-// checks the two 3D views, the UV heat maps and the q-cost plot of two evaluated jobs; then
+// checks the two 3D views, the UV heat maps (by texel density and by each distortion metric,
+// whose values must be `texopt info`'s) and the q-cost plot of two evaluated jobs; then
 // starts a slow (perceptual) job and cancels it from the page; fails on any console error.
+import { execFileSync } from 'node:child_process';
 import { createRequire } from 'node:module';
 import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -168,6 +170,120 @@ try {
   }));
   check(heat[0] > 0.1 && heat[1] > 0.1, `both UV heat maps drawn (${heat.map(h => h.toFixed(3))} of the canvas covered)`);
   check(await page.$eval('#qcost-box', e => e.hidden), 'no q-cost plot for a job without evaluation');
+
+  // The layouts' colouring: texel density by default, or a distortion metric. The `input`
+  // method keeps the layout at half the texels: by density the output reads apart from the
+  // input, by any metric the two read the same (a change of resolution is no distortion).
+  // Switching redraws both from what the page holds, without a request.
+  let requests = 0;
+  const countRequest = () => { requests++; };
+  page.on('request', countRequest);
+  const drawnWith = choice => page.evaluate(choice => {
+    const select = document.querySelector('#uv-metric');
+    const initial = select.value;
+    if (choice) { select.value = choice; select.dispatchEvent(new Event('change')); }
+    const pixels = id => document.getElementById(id).getContext('2d').getImageData(0, 0, 360, 360).data;
+    const meanDifference = (x, y) => {
+      let sum = 0;
+      for (let i = 0; i < x.length; i++) if (i % 4 !== 3) sum += Math.abs(x[i] - y[i]);
+      return sum / (0.75 * x.length);
+    };
+    const a = pixels('uv-in'), b = pixels('uv-out');
+    let flagged = 0, hash = 0;
+    const colours = new Set();
+    for (let i = 0; i < b.length; i += 4) {
+      flagged += b[i] === 0 && b[i + 1] === 200 && b[i + 2] === 0;
+      colours.add(b[i] << 16 | b[i + 1] << 8 | b[i + 2]);
+      hash = (Math.imul(hash, 31) + b[i] + 7 * b[i + 1] + 13 * b[i + 2]) >>> 0;
+    }
+    // Against the last drawing by the same choice: Chromium may move a canvas read back often
+    // from the GPU to the CPU, which anti-aliases edges differently.
+    window.uvDrawn = window.uvDrawn || {};
+    const last = window.uvDrawn[select.value];
+    window.uvDrawn[select.value] = b;
+    return { initial, options: [...select.options].map(o => o.value), inOut: meanDifference(a, b), flagged,
+      colours: colours.size, hash, sinceLast: last ? meanDifference(last, b) : null,
+      legend: document.querySelector('#uv-legend').textContent };
+  }, choice);
+  const initial = await drawnWith(null);
+  const density = await drawnWith('density'); // a redraw, the reference of the one below
+  const MINIMA = { conformal: 1, mips: 2, isometric: 1.41, max_isometric: 1, area: 1, symmetric_dirichlet: 4, l2_stretch: 1,
+    linf_stretch: 1 };
+  const METRIC_KEYS = Object.keys(MINIMA);
+  check(initial.initial === 'density' && density.options.join() === ['density', ...METRIC_KEYS].join(),
+    `the layouts' colouring selector, texel density by default (${density.options})`);
+  check(density.inOut > 10 && density.legend.includes("against the input's median"),
+    `by texel density the output's half texels show (mean difference ${density.inOut.toFixed(1)} of 255)`);
+  const hashes = new Set([density.hash]);
+  for (const key of METRIC_KEYS) {
+    const drawn = await drawnWith(key);
+    hashes.add(drawn.hash);
+    check(drawn.inOut === 0 && drawn.colours > 20 && drawn.flagged === 0 && drawn.legend.includes(`${MINIMA[key]} (isometry)`),
+      `by ${key} the output reads as the input, in ${drawn.colours} colours (legend: ${drawn.legend.slice(0, 50)}…)`);
+  }
+  check(hashes.size === 1 + METRIC_KEYS.length, `each colouring draws differently (${hashes.size} different canvases)`);
+  const back = await drawnWith('density');
+  check(back.sinceLast === 0, 'back to texel density, the same drawing again');
+  page.off('request', countRequest);
+  check(requests === 0, `switching the colouring made no request (${requests})`);
+  const legendColours = await page.evaluate(async () => {
+    const { metricColours, FLAGGED_COLOUR } = await import('/ui/viewer.js');
+    const { METRICS } = await import('/ui/distortion.js');
+    const layout = { degenerate: [0, 1, 0, 0], flipped: [0, 0, 1, 0], sigmaMax: [1, 1, 1, 8], sigmaMin: [1, 1, 1, 1] };
+    const colourOf = metricColours(METRICS.find(m => m.key === 'conformal'));
+    return [0, 1, 2, 3].map(t => colourOf(layout, t) === FLAGGED_COLOUR ? 'flagged' : colourOf(layout, t));
+  });
+  check(legendColours.join(' ') === 'rgb(255,255,255) flagged flagged rgb(255,0,0)',
+    `conformal 1 is white, 8 red, a degenerate or flipped triangle flagged (${legendColours.join(' ')})`);
+
+  // The page's metrics of the result are the engine's: their area-weighted means (L2: root
+  // mean square) and maxima are those `texopt info` gives for the result file.
+  const resultDir = mkdtempSync(join(tmpdir(), 'texopt-page-'));
+  let engine;
+  try {
+    writeFileSync(join(resultDir, 'result.glb'), direct);
+    const info = JSON.parse(execFileSync(process.env.TEXOPT_BIN, ['info', join(resultDir, 'result.glb')]).toString());
+    engine = info.domains[0].distortion;
+  } finally {
+    rmSync(resultDir, { recursive: true, force: true });
+  }
+  const pageMetrics = await page.evaluate(async () => {
+    const { GLTFLoader } = await import('/ui/three-GLTFLoader.js');
+    const { uvLayouts, measureLayouts } = await import('/ui/viewer.js');
+    const { METRICS } = await import('/ui/distortion.js');
+    const bytes = await (await fetch(document.querySelector('#download').href)).arrayBuffer();
+    const gltf = await new Promise((ok, fail) => new GLTFLoader().parse(bytes, '', ok, fail));
+    const layouts = uvLayouts(gltf.scene);
+    measureLayouts([], layouts);
+    const area = (p, t) => {
+      const e = [3, 6].map(k => [0, 1, 2].map(c => p[9 * t + k + c] - p[9 * t + c]));
+      return Math.hypot(e[0][1] * e[1][2] - e[0][2] * e[1][1], e[0][2] * e[1][0] - e[0][0] * e[1][2],
+        e[0][0] * e[1][1] - e[0][1] * e[1][0]) / 2;
+    };
+    return Object.fromEntries(METRICS.map(m => {
+      let sum = 0, total = 0, max = 0;
+      for (const l of layouts)
+        for (let t = 0; t < l.degenerate.length; t++) {
+          if (l.degenerate[t]) continue;
+          const v = m.of(l.sigmaMax[t], l.sigmaMin[t]), a = area(l.positions, t);
+          sum += a * (m.key === 'l2_stretch' ? v * v : v);
+          total += a;
+          max = Math.max(max, v);
+        }
+      return [m.key, { mean: m.key === 'l2_stretch' ? Math.sqrt(sum / total) : sum / total, max }];
+    }));
+  });
+  const relative = (a, b) => Math.abs(a - b) / Math.abs(b);
+  const worst = Math.max(...METRIC_KEYS.flatMap(k => [relative(pageMetrics[k].mean, engine[k].mean),
+    relative(pageMetrics[k].max, engine[k].max)]));
+  check(worst < 1e-9, `the page's metrics match texopt info's (conformal mean ${pageMetrics.conformal.mean.toFixed(4)}, ` +
+    `engine ${engine.conformal.mean.toFixed(4)}; worst relative difference ${worst.toExponential(1)})`);
+  // SCREENSHOT_UV=file.png: the layouts by a metric, to look at.
+  if (process.env.SCREENSHOT_UV) {
+    await drawnWith('conformal');
+    await (await page.$('#result')).screenshot({ path: process.env.SCREENSHOT_UV });
+    await drawnWith('density');
+  }
 
   // An evaluated job: the q-cost plot shows it beside the other evaluated job of the model.
   for (const cost of ['0.25', '0.5']) {

@@ -2,9 +2,10 @@
 # service_page: the page at / and its files over HTTP (types, caching, no way out of the
 # page's directory, public with a token on), then in a real browser (headless Chromium
 # driven by service_page.mjs): upload, progress to the end, result sizes, download, 3D
-# views, heat maps, q-cost plot, cancel, job list, no console error; once without and once
-# with an API token (which must not reach the log). The browser part skips (with a message)
-# only where Chromium or puppeteer-core is not installed.
+# views, heat maps (texel density and each distortion metric, checked against `texopt
+# info`), q-cost plot, cancel, job list, no console error; once without and once with an
+# API token (which must not reach the log). The browser part skips (with a message) only
+# where Chromium or puppeteer-core is not installed.
 source "$(dirname "$0")/service_common.bash"
 
 # The files, served by a server with a token: the page needs none, the API does.

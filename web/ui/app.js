@@ -1,7 +1,9 @@
 // app.js - the texopt page: choose a model, set parameters, follow the job, fetch the
 // result, list jobs. Talks to texoptd only through api.js (the public API).
 import { call, json, paramsSchema, followEvents, setToken, getToken } from './api.js';
-import { SideBySide, texelDensities, medianDensity, drawHeatMap } from './viewer.js';
+import { SideBySide, uvLayouts, measureLayouts, medianDensity, drawHeatMap, heatColour, densityColours, metricColours,
+  FLAGGED_COLOUR } from './viewer.js';
+import { METRICS } from './distortion.js';
 import { drawQCost } from './plot.js';
 
 const $ = id => document.getElementById(id);
@@ -292,10 +294,44 @@ async function showModels(id, resultBytes) {
     inputScene = await viewer.show(0, await input.main.arrayBuffer(), files);
   }
   const outputScene = await viewer.show(1, resultBytes);
-  const before = inputScene ? texelDensities(inputScene) : [], after = texelDensities(outputScene);
+  const before = inputScene ? uvLayouts(inputScene) : [], after = uvLayouts(outputScene);
+  measureLayouts(before, after);
   const reference = medianDensity(before.length ? before : after);
-  drawHeatMap($('uv-in'), before, reference);
-  drawHeatMap($('uv-out'), after, reference);
+  $('uv-metric').onchange = () => drawLayouts(before, after, reference);
+  drawLayouts(before, after, reference);
+}
+
+// Both UV layouts coloured by what #uv-metric selects (one scale for both), and the legend.
+function drawLayouts(before, after, reference) {
+  const metric = METRICS.find(m => m.key === $('uv-metric').value);
+  const colours = metric ? metricColours(metric) : densityColours(reference);
+  drawHeatMap($('uv-in'), before, colours);
+  drawHeatMap($('uv-out'), after, colours);
+  showHeatLegend(metric);
+}
+
+// What the colours of the UV layouts mean: density against the input's median, or the
+// metric, its minimum (an isometry) and its scale.
+function showHeatLegend(metric) {
+  const legend = $('uv-legend');
+  legend.textContent = '';
+  const swatch = (colour, text) => {
+    const box = document.createElement('span');
+    box.className = 'swatch';
+    box.style.background = colour;
+    legend.append(box, ` ${text}`);
+  };
+  if (!metric) {
+    legend.append("Texels per unit of surface, against the input's median: ");
+    [[1 / 8, '8× fewer · '], [1, 'same · '], [8, '8× more']].forEach(([x, text]) => swatch(heatColour(x, 1), text));
+    return;
+  }
+  const value = x => Number((metric.minimum * x).toPrecision(3));
+  legend.append(`${metric.name} ${metric.formula} (σ the singular values of the map from the surface to the ` +
+    "layout scaled to the surface's area), on a log scale from its minimum, an isometry's: ");
+  [[1, `${value(1)} (isometry) · `], [Math.SQRT2 * 2, `${value(Math.SQRT2 * 2)} · `], [8, `${value(8)} or more · `]]
+    .forEach(([x, text]) => swatch(heatColour(x, 1), text));
+  swatch(FLAGGED_COLOUR, 'flipped against the input, or degenerate');
 }
 
 // q against cost for the evaluated, succeeded jobs of the same model on the listed page.
@@ -373,11 +409,17 @@ function setUpCompare() {
   $('split').addEventListener('input', update);
 }
 
+// The selector's choices after texel density: distortion.js's metrics.
+function setUpMetricChoice() {
+  for (const metric of METRICS) $('uv-metric').add(new Option(metric.name, metric.key));
+}
+
 function setUp() {
   $('token').value = getToken();
   $('token').addEventListener('change', e => { setToken(e.target.value.trim()); boot(); });
   setUpDrop();
   setUpCompare();
+  setUpMetricChoice();
   $('start').addEventListener('click', start);
   $('cancel').addEventListener('click', cancel);
   $('jobs-next').addEventListener('click', () => listJobs(jobsNext));

@@ -1,9 +1,11 @@
 // viewer.js - the input and output models side by side with one camera (turning either
-// view turns both), and their UV layouts coloured by per-triangle texel density. Models
-// come in as bytes (the chosen file, the job's result); nothing is fetched from elsewhere.
+// view turns both), and their UV layouts coloured per triangle by texel density or by a
+// distortion metric (distortion.js computes them). Models come in as bytes (the chosen file,
+// the job's result); nothing is fetched from elsewhere.
 import * as THREE from './three.module.js';
 import { GLTFLoader } from './three-GLTFLoader.js';
 import { OrbitControls } from './three-OrbitControls.js';
+import { flippedAgainst, measureDomains, texelCoordinates, texelDensity } from './distortion.js';
 
 export class SideBySide {
   constructor(canvases) {
@@ -75,9 +77,10 @@ export class SideBySide {
   }
 }
 
-// Texels per unit of surface of each textured triangle: {density: Float64Array, uvs, size}
-// per mesh primitive that has a base-colour texture.
-export function texelDensities(scene) {
+// The triangles of each mesh primitive with a base-colour texture, in world space:
+// {positions (9 per triangle), uvs (6), texels (6: the uvs in pixels of the texture), size,
+// domain (the texture's image: the primitives sharing it are one texture domain)}.
+export function uvLayouts(scene) {
   const out = [];
   scene.updateMatrixWorld(true);
   scene.traverse(mesh => {
@@ -88,23 +91,26 @@ export function texelDensities(scene) {
     const pos = geometry.attributes.position, uv = geometry.attributes.uv;
     const index = geometry.index ? geometry.index.array : [...Array(pos.count).keys()];
     const n = Math.floor(index.length / 3);
-    const density = new Float64Array(n), uvs = new Float32Array(n * 6);
-    const p = [new THREE.Vector3(), new THREE.Vector3(), new THREE.Vector3()];
-    for (let t = 0; t < n; t++) {
-      for (let k = 0; k < 3; k++) {
-        const v = index[3 * t + k];
-        p[k].fromBufferAttribute(pos, v).applyMatrix4(mesh.matrixWorld);
-        uvs[6 * t + 2 * k] = uv.getX(v);
-        uvs[6 * t + 2 * k + 1] = uv.getY(v);
-      }
-      const area = p[1].clone().sub(p[0]).cross(p[2].clone().sub(p[0])).length() / 2;
-      const u = uvs.subarray(6 * t, 6 * t + 6);
-      const texels = Math.abs((u[2] - u[0]) * (u[5] - u[1]) - (u[4] - u[0]) * (u[3] - u[1])) / 2 * size[0] * size[1];
-      density[t] = area > 0 ? texels / area : 0;
+    const positions = new Float64Array(n * 9), uvs = new Float32Array(n * 6);
+    const p = new THREE.Vector3();
+    for (let c = 0; c < 3 * n; c++) {
+      p.fromBufferAttribute(pos, index[c]).applyMatrix4(mesh.matrixWorld).toArray(positions, 3 * c);
+      uvs[2 * c] = uv.getX(index[c]);
+      uvs[2 * c + 1] = uv.getY(index[c]);
     }
-    out.push({ density, uvs, size });
+    const layout = { positions, uvs, size, domain: map.image };
+    out.push(Object.assign(layout, { texels: texelCoordinates(layout) }));
   });
   return out;
+}
+
+// Adds to the input's and the output's layouts their texel densities, the singular values
+// of their distortion and, where the triangles pair up, the output's flips against the input.
+export function measureLayouts(before, after) {
+  for (const layout of [...before, ...after]) layout.density = texelDensity(layout);
+  measureDomains(before);
+  measureDomains(after);
+  if (before.length === after.length) after.forEach((layout, i) => { layout.flipped = flippedAgainst(layout, before[i]); });
 }
 
 export function medianDensity(layouts) {
@@ -112,24 +118,39 @@ export function medianDensity(layouts) {
   return all.length ? all[all.length >> 1] : 1;
 }
 
-// Blue (8x fewer texels per area than reference) through white (reference) to red (8x more).
-function heatColour(density, reference) {
-  const x = Math.max(-1, Math.min(1, Math.log2(density / reference) / 3));
+// White at `reference`, red at 8x it or more, blue at 1/8 of it or less (log scale between).
+export function heatColour(value, reference) {
+  const x = Math.max(-1, Math.min(1, Math.log2(value / reference) / 3));
   const toWhite = 1 - Math.abs(x);
   const r = x > 0 ? 255 : Math.round(255 * toWhite), b = x < 0 ? 255 : Math.round(255 * toWhite);
   return `rgb(${r},${Math.round(255 * toWhite)},${b})`;
 }
 
-// Draws the UV layouts (uv (0,0) at the top left, as glTF's images) on canvas.
-export function drawHeatMap(canvas, layouts, reference) {
+// The colour of a flipped or degenerate triangle, which has no metric.
+export const FLAGGED_COLOUR = 'rgb(0,200,0)';
+
+// Colours a triangle by its texel density against `reference` (the input's median).
+export function densityColours(reference) {
+  return (layout, t) => heatColour(layout.density[t], reference);
+}
+
+// Colours a triangle by `metric` (distortion.js METRICS) against its minimum, the isometry's.
+export function metricColours(metric) {
+  return (layout, t) => layout.degenerate[t] || (layout.flipped && layout.flipped[t]) ? FLAGGED_COLOUR
+    : heatColour(metric.of(layout.sigmaMax[t], layout.sigmaMin[t]), metric.minimum);
+}
+
+// Draws the UV layouts (uv (0,0) at the top left, as glTF's images) on canvas, each
+// triangle in colourOf(layout, triangle).
+export function drawHeatMap(canvas, layouts, colourOf) {
   const ctx = canvas.getContext('2d');
   const w = canvas.width, h = canvas.height;
   ctx.fillStyle = '#333';
   ctx.fillRect(0, 0, w, h);
-  for (const { density, uvs } of layouts) {
-    for (let t = 0; t < density.length; t++) {
-      const u = uvs.subarray(6 * t, 6 * t + 6);
-      ctx.fillStyle = heatColour(density[t], reference);
+  for (const layout of layouts) {
+    for (let t = 0; t < layout.uvs.length / 6; t++) {
+      const u = layout.uvs.subarray(6 * t, 6 * t + 6);
+      ctx.fillStyle = colourOf(layout, t);
       ctx.beginPath();
       ctx.moveTo(u[0] * w, u[1] * h);
       ctx.lineTo(u[2] * w, u[3] * h);
