@@ -61,6 +61,9 @@ static void usage(FILE *out)
                  "                           0.5; 0: no floor)\n"
                  "  --metric-candidates B    perceptual: yes (default) or no: the tewari and ssp\n"
                  "                           layouts are candidates beside stage 1's\n"
+                 "  --resize-check B         perceptual: yes (default) or no: a domain whose layout\n"
+                 "                           does not beat the input layout resized (or re-baked)\n"
+                 "                           at the same pixels writes that instead\n"
                  "  --bijective              stage 2 with scaffold triangles: no chart overlaps itself\n"
                  "  --packing P              plain (default) or refine: charts deformed toward\n"
                  "                           axis-aligned shapes before packing (Liu et al. 2019),\n"
@@ -191,6 +194,8 @@ static int parse_option(optimize_args *a, const char *opt, const char *val)
         texopt_params_set_hessian_floor(&a->params, d);
     else if (strcmp(opt, "--metric-candidates") == 0 && (strcmp(val, "yes") == 0 || strcmp(val, "no") == 0))
         a->params.metric_candidates = strcmp(val, "yes") == 0 ? 1 : -1;
+    else if (strcmp(opt, "--resize-check") == 0 && (strcmp(val, "yes") == 0 || strcmp(val, "no") == 0))
+        a->params.resize_check = strcmp(val, "yes") == 0 ? 1 : -1;
     else if (strcmp(opt, "--charts") == 0 && texopt_charts_from_name(val) >= 0)
         a->params.charts = (texopt_charts)texopt_charts_from_name(val);
     else if (strcmp(opt, "--parameterizer") == 0 && texopt_parameterizer_from_name(val) >= 0)

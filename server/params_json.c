@@ -37,6 +37,7 @@ static const char *const known_keys[] = {
     "packing",
     "hessian_floor",
     "metric_candidates",
+    "resize_check",
     "charts",
     "parameterizer",
 };
@@ -241,6 +242,11 @@ static texopt_status read_rest(const cJSON *obj, texopt_params *p, char *err, si
         return bad(err, err_len, "metric_candidates", "must be true or false");
     if (m)
         p->metric_candidates = cJSON_IsTrue(m) ? 1 : -1;
+    const cJSON *r = cJSON_GetObjectItemCaseSensitive(obj, "resize_check");
+    if (r && !cJSON_IsBool(r))
+        return bad(err, err_len, "resize_check", "must be true or false");
+    if (r)
+        p->resize_check = cJSON_IsTrue(r) ? 1 : -1;
     return TEXOPT_OK;
 }
 
@@ -349,6 +355,7 @@ cJSON *api_params_to_json(const texopt_params *p)
     cJSON_AddStringToObject(o, "packing", texopt_packing_name(p->packing_refine));
     cJSON_AddNumberToObject(o, "hessian_floor", texopt_params_hessian_floor(p));
     cJSON_AddBoolToObject(o, "metric_candidates", p->metric_candidates > 0);
+    cJSON_AddBoolToObject(o, "resize_check", p->resize_check > 0);
     cJSON_AddStringToObject(o, "charts", texopt_charts_name(p->charts));
     cJSON_AddStringToObject(o, "parameterizer", texopt_parameterizer_name(p->parameterizer));
     return o;

@@ -186,6 +186,9 @@ texopt_status texopt_params_validate(const texopt_params *p, char *err, size_t e
     if (p->resize_check != -1 && p->resize_check != 1)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "resize_check: %d is neither -1 nor 1",
                            p->resize_check);
+    if (p->refine_lit != -1 && p->refine_lit != 1)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "refine_lit: %d is neither -1 nor 1",
+                           p->refine_lit);
     if ((unsigned)p->charts >= TEXOPT_CHARTS_COUNT)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "charts: unknown value %d", (int)p->charts);
     if ((unsigned)p->parameterizer >= TEXOPT_PARAMETERIZER_COUNT)

@@ -110,9 +110,9 @@ typedef struct texopt_params {
     int metric_candidates;              /* perceptual: 1: the signal metrics' targets (tewari.h, ssp.h),
                                solved as they are, are candidate layouts beside stage 1's
                                (job_candidates.c); 0 -> 1, -1 -> not made */
-    int resize_check;                   /* perceptual: 1: a domain whose new layout's q is not below its
-                               input layout resized to the same pixels keeps the resize
-                               (resize_check.c); 0 -> 1, -1 -> never */
+    int resize_check;                   /* perceptual: 1: a domain whose new layout does not beat its
+                               input layout resized or re-baked at the same pixels writes
+                               that instead (resize_check.h); 0 -> 1, -1 -> never */
     int lossless_textures;              /* non-zero: replaced textures are written as PNG even where the
                                input's were JPEG (texopt_model_edit.lossless), so that a q
                                measured from the file is the layout's and not the encoding's

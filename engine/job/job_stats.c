@@ -29,6 +29,7 @@ void job_stats_fill_params(texopt_job_stats *js, const texopt_params *p)
     js->packing_refine = p->packing_refine != 0;
     js->hessian_floor = texopt_params_hessian_floor(p);
     js->metric_candidates = p->metric_candidates > 0;
+    js->resize_check = p->resize_check > 0;
     js->charts = p->charts;
     js->parameterizer = p->parameterizer;
 }

@@ -205,6 +205,7 @@ static cJSON *job_json(const texopt_job_stats *s)
     cJSON_AddStringToObject(p, "packing", texopt_packing_name(s->packing_refine));
     cJSON_AddNumberToObject(p, "hessian_floor", s->hessian_floor);
     cJSON_AddBoolToObject(p, "metric_candidates", s->metric_candidates);
+    cJSON_AddBoolToObject(p, "resize_check", s->resize_check);
     cJSON_AddStringToObject(p, "charts", texopt_charts_name(s->charts));
     if (s->charts == TEXOPT_CHARTS_NEW) {
         cJSON_AddStringToObject(p, "parameterizer", texopt_parameterizer_name(s->parameterizer));

@@ -124,6 +124,7 @@ typedef struct texopt_job_stats {
     int packing_refine;        /* packing "refine" was asked for */
     double hessian_floor;      /* perceptual's floor factor (0: none) */
     int metric_candidates;     /* perceptual makes the metric candidates */
+    int resize_check;          /* perceptual checks its layouts against the input layout resized */
     texopt_charts charts;      /* keep the input's or new (then parameterizer) */
     texopt_parameterizer parameterizer;
     size_t vertices_split; /* charts new: model vertices copied where a new chart boundary runs */

@@ -33,7 +33,7 @@ set +e
 "$bin" optimize "$spot" -o "$tmp/x.glb" --refine-by shininess 2>"$tmp/err"; rc=$?
 [ $rc -eq 2 ] || fail "unknown --refine-by: exit $rc, expected 2"
 grep -q "refine-by" "$tmp/err" || fail "a bad --refine-by is not named: $(cat "$tmp/err")"
-for bad in "--hessian-floor 1.5" "--hessian-floor -1" "--metric-candidates maybe"; do
+for bad in "--hessian-floor 1.5" "--hessian-floor -1" "--metric-candidates maybe" "--resize-check 1"; do
   # shellcheck disable=SC2086 # option and value split on purpose
   "$bin" optimize "$spot" -o "$tmp/x.glb" $bad 2>"$tmp/err"; rc=$?
   [ $rc -eq 2 ] || fail "$bad: exit $rc, expected 2"
@@ -53,7 +53,7 @@ set -e
 [ ! -e "$tmp/x.glb" ] || fail "a failed run left an output file"
 
 "$bin" optimize "$spot" -o "$tmp/half.glb" --method input --relative-cost 0.5 --stats "$tmp/half.json" \
-  --hessian-floor 0 --metric-candidates no 2>"$tmp/progress"
+  --hessian-floor 0 --metric-candidates no --resize-check no 2>"$tmp/progress"
 grep -q "save 100%" "$tmp/progress" || fail "no final progress line: $(cat "$tmp/progress")"
 /usr/bin/python3 - "$tmp/half.json" "$revision" <<'PY'
 import json, sys
@@ -66,6 +66,7 @@ assert d["output_size"] == [724, 724], d["output_size"]
 assert d["images"][0]["rewritten"] is True
 assert s["params"]["lookup"] == "bilinear", s["params"]
 assert s["params"]["hessian_floor"] == 0 and s["params"]["metric_candidates"] is False, s["params"]
+assert s["params"]["resize_check"] is False, s["params"]
 PY
 # --mipmap: the lookups the job tunes for and measures with (the engine's side is unit-tested).
 "$bin" optimize "$spot" -o "$tmp/mip.glb" --method input --relative-cost 0.5 --mipmap --evaluate --stats "$tmp/mip.json" --quiet

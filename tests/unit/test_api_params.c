@@ -32,6 +32,7 @@ TEST(empty_object_gives_paper_defaults)
     CHECK_EQ_INT(p.packing_refine, 0);
     CHECK_NEAR(p.hessian_floor, TEXOPT_DEFAULT_HESSIAN_FLOOR, 0);
     CHECK_EQ_INT(p.metric_candidates, 1);
+    CHECK_EQ_INT(p.resize_check, 1);
 }
 
 TEST(every_key_is_read)
@@ -42,7 +43,7 @@ TEST(every_key_is_read)
                    "\"lambda_min\":0.3,\"threads\":3,\"seed\":123456789012,\"evaluate\":true,"
                    "\"eval_resolution\":256,\"refinements\":5,\"refine_by\":\"lit\",\"lookup\":\"mipmapped\","
                    "\"packing_efficiency\":0.75,\"bijective\":true,\"packing\":\"refine\",\"hessian_floor\":0.25,"
-                   "\"metric_candidates\":false}",
+                   "\"metric_candidates\":false,\"resize_check\":false}",
                    &p, err),
              err);
     CHECK_EQ_INT(p.method, TEXOPT_METHOD_ARAP);
@@ -62,6 +63,7 @@ TEST(every_key_is_read)
     CHECK_EQ_INT(p.packing_refine, 1);
     CHECK_NEAR(p.hessian_floor, 0.25, 0);
     CHECK_EQ_INT(p.metric_candidates, -1);
+    CHECK_EQ_INT(p.resize_check, -1);
     CHECK_OK(parse("{\"refinements\":0,\"hessian_floor\":0}", &p, err), err);
     CHECK_EQ_INT(p.refinements, -1);    /* none, not the engine's default */
     CHECK_NEAR(p.hessian_floor, -1, 0); /* none, likewise */
@@ -122,6 +124,7 @@ TEST(bad_params_are_refused_by_name)
     check_refused("{\"hessian_floor\":1.5}", "params.hessian_floor");
     check_refused("{\"hessian_floor\":-1}", "params.hessian_floor");
     check_refused("{\"metric_candidates\":\"no\"}", "params.metric_candidates");
+    check_refused("{\"resize_check\":0}", "params.resize_check");
     check_refused("[1,2]", "must be a JSON object");
     check_refused("{\"method\":\"input\",", "not valid JSON");
 }
@@ -182,6 +185,7 @@ TEST(params_survive_a_json_round_trip)
         p.mipmapped = refinements > 0;
         p.hessian_floor = refinements > 0 ? 0.3 : -1;
         p.metric_candidates = refinements > 0 ? 1 : -1;
+        p.resize_check = refinements > 0 ? -1 : 1;
         cJSON *o = api_params_to_json(&p);
         CHECK(o != NULL);
         texopt_status s = api_params_from_json(o, &q, err, sizeof err);

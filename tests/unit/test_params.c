@@ -89,6 +89,12 @@ TEST(out_of_range_fields_are_named)
     p.resize_check = 3;
     CHECK(texopt_params_validate(&p, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
     CHECK(strstr(err, "resize_check") != NULL);
+    p.resize_check = 1;
+    p.refine_lit = -1; /* base colour: valid */
+    CHECK_OK(texopt_params_validate(&p, err, sizeof err), err);
+    p.refine_lit = 2;
+    CHECK(texopt_params_validate(&p, err, sizeof err) == TEXOPT_E_INVALID_ARGUMENT);
+    CHECK(strstr(err, "refine_lit") != NULL);
 }
 
 TEST(refinement_rounds_count_as_users_do)
