@@ -98,8 +98,9 @@ texopt_status job_measure_loss_share(texopt_job *job, int d, const double *texel
                                      char *err, size_t err_len)
 {
     const texopt_params *params = &job->params;
-    /* It reads the texture through the layout's own input UVs, which new charts have not. */
-    if ((!job->method->chooses && !params->evaluate) || job->domains[d].layout)
+    /* It reads the texture through the layout's own input UVs, which new charts have not
+     * (unfolded charts have: their layout keeps the input's vertices, domain_unfold.h). */
+    if ((!job->method->chooses && !params->evaluate) || job->domains[d].rechart)
         return TEXOPT_OK;
     texopt_loss_share share;
     double t0 = job_now_seconds();

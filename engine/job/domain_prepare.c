@@ -5,6 +5,7 @@
 
 #include "domain_keep.h"
 #include "domain_rechart.h"
+#include "domain_unfold.h"
 #include "job_stats.h"
 #include "ssp.h"
 #include "tewari.h"
@@ -134,10 +135,11 @@ texopt_status job_prepare_domain(texopt_job *job, int d, double from, double to,
     /* New charts unroll a repeating (or overlapping) layout: the user asked for that. */
     if (st != TEXOPT_OK || (!jd->rechart && job_keep_if_tiling(dom, jd, ds)))
         return st;
-    if (jd->rechart) {
+    if (jd->rechart)
         st = new_charts(job, d, err, err_len);
-        if (st != TEXOPT_OK)
-            return st;
-    }
+    else if (job->params.bijective)
+        st = job_unfold_domain(job, d, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
     return domain_targets(job, d, from, to, err, err_len);
 }

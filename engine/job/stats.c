@@ -93,6 +93,12 @@ static void add_stage_stats(cJSON *dom, const texopt_domain_stats *d)
             cJSON_AddNumberToObject(sc, "charts", (double)d->scaffold_charts);
             cJSON_AddNumberToObject(sc, "skipped_charts", (double)d->scaffold_skipped_charts);
             cJSON_AddNumberToObject(sc, "triangles", (double)d->scaffold_triangles);
+            cJSON_AddNumberToObject(sc, "overlapping_input_charts", (double)d->unfold.overlapping);
+            cJSON_AddNumberToObject(sc, "unfolded_charts", (double)d->unfold.unfolded);
+            cJSON_AddNumberToObject(sc, "unfolded_by_tutte", (double)d->unfold.tutte);
+            cJSON_AddNumberToObject(sc, "kept_shared_charts", (double)d->unfold.kept);
+            cJSON_AddNumberToObject(sc, "kept_mirrored_charts", (double)d->unfold.mirrored);
+            cJSON_AddNumberToObject(sc, "kept_charts_not_disks", (double)d->unfold.not_disks);
         }
         if (d->has_loss_share) {
             cJSON_AddNumberToObject(s2, "within_epsilon_share", d->solved_within_epsilon_share);

@@ -17,6 +17,7 @@
 #include <stddef.h>
 
 #include "atlas_refine.h"
+#include "chart_unfold.h"
 #include "distortion.h"
 #include "layout_check.h"
 #include "map_check.h"
@@ -84,8 +85,10 @@ typedef struct texopt_domain_stats {
     int has_scaffold; /* params.bijective: stage 2 with scaffolds (scaffold.h) */
     int scaffold_rounds;
     size_t scaffold_charts, scaffold_skipped_charts, scaffold_triangles;
-    int has_atlas_refine;  /* params.packing_refine: charts deformed before packing (atlas_refine.h) */
-    int atlas_refine_kept; /* the refined layout packed tighter and was kept */
+    texopt_unfold_report unfold; /* params.bijective: charts overlapping themselves in the input
+                                    layout, laid out anew or left (chart_unfold.h) */
+    int has_atlas_refine;        /* params.packing_refine: charts deformed before packing (atlas_refine.h) */
+    int atlas_refine_kept;       /* the refined layout packed tighter and was kept */
     double packing_efficiency_unrefined, packing_efficiency_refined; /* of the two packings */
     texopt_atlas_refine_report atlas_refine;
     int has_loss_share; /* loss of every triangle under the solved layout */

@@ -11,8 +11,8 @@
  *    the two sides of a fold may share), in a chart that does not do so in the input (the
  *    input rastered the same way over its whole extent, past the frame too; past 2^26
  *    texels every chart counts). Stage 2's barrier does not prevent it, and `bijective`
- *    prevents it only in the charts its scaffold covers (scaffold.h), so it is measured,
- *    not failed;
+ *    prevents it only in the charts its scaffold covers (scaffold.h; chart_unfold.h says
+ *    which it cannot), so it is measured, not failed;
  *  - fold-over: a triangle with an area in both layouts whose orientation the new one
  *    reverses, and that was not FLIPPED (mesh.h) in the input;
  *  - area: a triangle whose new texel area is above TEXOPT_LAYOUT_CHECK_AREA_FACTOR times

@@ -32,6 +32,7 @@ typedef struct scaffold_build {
     double *rest;
     size_t triangle_count, triangle_cap, rest_cap;
     size_t scaffolded, skipped;
+    uint8_t *skipped_chart; /* per chart when not NULL (a box per chart): 1 when skipped */
 } scaffold_build;
 
 static double signed_area(const double *a, const double *b, const double *c)
@@ -265,11 +266,29 @@ static texopt_status build_scaffold(const texopt_mesh *mesh, const double *x, in
             sb->scaffolded += charts;
         else
             sb->skipped += charts;
+        if (sb->skipped_chart && !one_box)
+            sb->skipped_chart[c] = r == 0;
     }
     free(start);
     free(order);
     free(sign);
     return failed ? texopt_fail(err, err_len, TEXOPT_E_NOMEM, "scaffold: out of memory") : TEXOPT_OK;
+}
+
+texopt_status texopt_scaffold_overlapping_charts(const texopt_mesh *mesh, const double *texel, uint8_t *overlapping,
+                                                 size_t *count, char *err, size_t err_len)
+{
+    if (!mesh || !texel || !overlapping || (mesh->triangle_count && (!mesh->triangle || !mesh->chart_of)))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "scaffold: NULL mesh, layout or output");
+    scaffold_build sb = {0};
+    sb.base = mesh->vertex_count;
+    sb.skipped_chart = overlapping;
+    memset(overlapping, 0, mesh->chart_count);
+    texopt_status st = build_scaffold(mesh, texel, 0, &sb, err, err_len);
+    if (count)
+        *count = sb.skipped;
+    scaffold_build_free(&sb);
+    return st;
 }
 
 /* Maps a round's stage-2 progress into the whole solve's, so it never goes back. */
@@ -399,11 +418,14 @@ static void cover_triangle(const texopt_mesh *mesh, const double *texel, size_t 
         }
 }
 
-texopt_status texopt_count_overlap(const texopt_mesh *mesh, const double *texel, size_t *within, size_t *between,
-                                   char *err, size_t err_len)
+/* texopt_count_overlap, and per chart (when not NULL) its centres covered twice. */
+static texopt_status count_overlap(const texopt_mesh *mesh, const double *texel, size_t *within, size_t *between,
+                                   size_t *chart_within, char *err, size_t err_len)
 {
     if (!mesh || !texel || !within || !between)
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "overlap count: NULL argument");
+    if (chart_within)
+        memset(chart_within, 0, mesh->chart_count * sizeof *chart_within);
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     for (size_t v = 0; v < mesh->vertex_count; v++)
         for (int a = 0; a < 2; a++) {
@@ -428,8 +450,25 @@ texopt_status texopt_count_overlap(const texopt_mesh *mesh, const double *texel,
     for (size_t k = 0; k < (size_t)(w * h); k++) {
         *within += flags[k] & 1;
         *between += (flags[k] >> 1) & 1;
+        if (chart_within && (flags[k] & 1))
+            chart_within[(owner[k] - 1) / 2]++;
     }
     free(owner);
     free(flags);
     return TEXOPT_OK;
+}
+
+texopt_status texopt_count_overlap(const texopt_mesh *mesh, const double *texel, size_t *within, size_t *between,
+                                   char *err, size_t err_len)
+{
+    return count_overlap(mesh, texel, within, between, NULL, err, err_len);
+}
+
+texopt_status texopt_count_overlap_per_chart(const texopt_mesh *mesh, const double *texel, size_t *chart_within,
+                                             char *err, size_t err_len)
+{
+    size_t within, between;
+    if (!chart_within)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "overlap count: NULL argument");
+    return count_overlap(mesh, texel, &within, &between, chart_within, err, err_len);
 }

@@ -17,13 +17,16 @@
  * its charts' extent and is rebuilt around them at every re-mesh, so charts can grow.
  * A chart that already overlaps itself at the start (a folded chart, a mirrored half, a
  * boundary through a vertex) cannot be made bijective by a scaffold: it is solved without
- * one and counted in charts_skipped. With one_box, charts overlapping one another at the
- * start skip the whole box.
+ * one and counted in charts_skipped. The job gives such charts a bijective start first
+ * under `bijective` (chart_unfold.h: laid out anew as disks, their targets restated), so
+ * only those it leaves alone stay skipped: a sharing group's, clean mirrors, no disks. With
+ * one_box, charts overlapping one another at the start skip the whole box.
  * Does not: change stage 2's energy on the charts, pack, or repair an overlapping start. */
 #ifndef TEXOPT_SCAFFOLD_H
 #define TEXOPT_SCAFFOLD_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "mesh.h"
 #include "meshwise.h"
@@ -55,6 +58,12 @@ texopt_status texopt_scaffold_solve(const texopt_mesh *mesh, const texopt_triang
                                     texopt_scaffold_report *report, const texopt_monitor *monitor, char *err,
                                     size_t err_len);
 
+/* Per chart of mesh, 1 in overlapping[] (chart_count bytes) when it overlaps itself in
+ * the layout texel (the charts texopt_scaffold_solve skips with a box per chart); *count
+ * (may be NULL) how many. */
+texopt_status texopt_scaffold_overlapping_charts(const texopt_mesh *mesh, const double *texel, uint8_t *overlapping,
+                                                 size_t *count, char *err, size_t err_len);
+
 /* Texel centres (x + 0.5, y + 0.5 of the integer lattice) covered by two triangles of one
  * chart with one orientation (within: a chart over itself; the two sides of a fold are
  * not counted) and by triangles of two different charts (between: mirrored twins count),
@@ -62,5 +71,9 @@ texopt_status texopt_scaffold_solve(const texopt_mesh *mesh, const texopt_triang
  * For measurement and tests; layouts spanning more than 2^26 centres are refused. */
 texopt_status texopt_count_overlap(const texopt_mesh *mesh, const double *texel, size_t *within, size_t *between,
                                    char *err, size_t err_len);
+
+/* Per chart (chart_count entries), the centres texopt_count_overlap counts within it. */
+texopt_status texopt_count_overlap_per_chart(const texopt_mesh *mesh, const double *texel, size_t *chart_within,
+                                             char *err, size_t err_len);
 
 #endif

@@ -339,3 +339,39 @@ texopt_status texopt_param_solve_pinned(const texopt_param_chart *chart, const u
     free(x);
     return st;
 }
+
+size_t texopt_param_flips(const texopt_param_chart *chart, const double *uv)
+{
+    size_t flips = 0;
+    for (size_t t = 0; t < chart->triangle_count; t++) {
+        const uint32_t *v = chart->triangle + 3 * t;
+        const double *a = uv + 2 * (size_t)v[0], *b = uv + 2 * (size_t)v[1], *p = uv + 2 * (size_t)v[2];
+        flips += !((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]) > 0.0);
+    }
+    return flips;
+}
+
+/* Whether segments pq and rs cross (touching at an end point does not count). */
+static int segments_cross(const double *p, const double *q, const double *r, const double *s)
+{
+    double d1 = (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+    double d2 = (q[0] - p[0]) * (s[1] - p[1]) - (q[1] - p[1]) * (s[0] - p[0]);
+    double d3 = (s[0] - r[0]) * (p[1] - r[1]) - (s[1] - r[1]) * (p[0] - r[0]);
+    double d4 = (s[0] - r[0]) * (q[1] - r[1]) - (s[1] - r[1]) * (q[0] - r[0]);
+    return ((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0));
+}
+
+int texopt_param_boundary_crosses(const texopt_param_boundary *b, const double *uv)
+{
+    size_t n = b->count;
+    for (size_t i = 0; i < n; i++)
+        for (size_t j = i + 2; j < n; j++) {
+            if (i == 0 && j == n - 1)
+                continue; /* adjacent through the loop's start */
+            const double *p = uv + 2 * b->vertex[i], *q = uv + 2 * b->vertex[(i + 1) % n];
+            const double *r = uv + 2 * b->vertex[j], *s = uv + 2 * b->vertex[(j + 1) % n];
+            if (segments_cross(p, q, r, s))
+                return 1;
+        }
+    return 0;
+}

@@ -50,6 +50,16 @@ void texopt_param_boundary_destroy(texopt_param_boundary *boundary);
 texopt_status texopt_param_boundary_edges(const uint32_t *triangle, size_t triangle_count, uint32_t **edge,
                                           size_t *count, char *err, size_t err_len);
 
+/* Triangles of the layout uv (2 per vertex) that are not counter-clockwise (flipped or
+ * collapsed). */
+size_t texopt_param_flips(const texopt_param_chart *chart, const double *uv);
+
+/* Whether the layout's boundary loop crosses itself (touching at an end point does not
+ * count): a disk laid out without flips is a bijection onto its boundary's inside exactly
+ * when it does not (ABF and LSCM are only locally injective; a long curved chart can wrap
+ * onto itself). Quadratic in the boundary's length. */
+int texopt_param_boundary_crosses(const texopt_param_boundary *boundary, const double *uv);
+
 /* Triangles with all three vertices on the boundary ("ears"): a boundary mapped onto
  * straight sides flattens each ear lying along one side. */
 size_t texopt_param_boundary_ears(const texopt_param_chart *chart, const texopt_param_boundary *boundary);

@@ -86,17 +86,6 @@ static void triangle_normals(context *c)
     }
 }
 
-static size_t count_flips(const texopt_param_chart *chart, const double *uv)
-{
-    size_t flips = 0;
-    for (size_t t = 0; t < chart->triangle_count; t++) {
-        const uint32_t *v = chart->triangle + 3 * t;
-        const double *a = uv + 2 * (size_t)v[0], *b = uv + 2 * (size_t)v[1], *p = uv + 2 * (size_t)v[2];
-        flips += !((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]) > 0.0);
-    }
-    return flips;
-}
-
 static texopt_status run_method(texopt_parameterizer method, const texopt_param_chart *chart, double *uv)
 {
     char err[256];
@@ -156,34 +145,6 @@ static void store_chart(context *c, const uint32_t *tris, const texopt_param_cha
     }
 }
 
-/* Whether segments pq and rs cross (touching at an end point does not count). */
-static int segments_cross(const double *p, const double *q, const double *r, const double *s)
-{
-    double d1 = (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
-    double d2 = (q[0] - p[0]) * (s[1] - p[1]) - (q[1] - p[1]) * (s[0] - p[0]);
-    double d3 = (s[0] - r[0]) * (p[1] - r[1]) - (s[1] - r[1]) * (p[0] - r[0]);
-    double d4 = (s[0] - r[0]) * (q[1] - r[1]) - (s[1] - r[1]) * (q[0] - r[0]);
-    return ((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0));
-}
-
-/* Whether the layout's boundary loop crosses itself: a disk laid out without flips then
- * overlaps itself (ABF and LSCM are only locally injective; a long curved chart can wrap
- * onto itself). Quadratic in the boundary's length, which max_triangles bounds. */
-static int boundary_crosses(const texopt_param_boundary *b, const double *uv)
-{
-    size_t n = b->count;
-    for (size_t i = 0; i < n; i++)
-        for (size_t j = i + 2; j < n; j++) {
-            if (i == 0 && j == n - 1)
-                continue; /* adjacent through the loop's start */
-            const double *p = uv + 2 * b->vertex[i], *q = uv + 2 * b->vertex[(i + 1) % n];
-            const double *r = uv + 2 * b->vertex[j], *s = uv + 2 * b->vertex[(j + 1) % n];
-            if (segments_cross(p, q, r, s))
-                return 1;
-        }
-    return 0;
-}
-
 /* The chart's layout by the method, by Tutte when the method fails or flips a triangle.
  * *overlaps: the method's layout overlaps itself (not checked for Tutte's, a bijection). */
 static texopt_status layout_chart(context *c, const texopt_param_chart *chart, const texopt_param_boundary *b,
@@ -194,11 +155,11 @@ static texopt_status layout_chart(context *c, const texopt_param_chart *chart, c
     texopt_status st = run_method(c->opt.method, chart, c->uv);
     if (st == TEXOPT_E_NOMEM)
         return st;
-    if (st != TEXOPT_OK || count_flips(chart, c->uv) > 0) {
+    if (st != TEXOPT_OK || texopt_param_flips(chart, c->uv) > 0) {
         c->out->fallback_charts++;
         return texopt_param_tutte(chart, c->uv, err, sizeof err);
     }
-    *overlaps = boundary_crosses(b, c->uv);
+    *overlaps = texopt_param_boundary_crosses(b, c->uv);
     return TEXOPT_OK;
 }
 

@@ -449,6 +449,15 @@ void texopt_texel_share_destroy(texopt_texel_share *share)
     free(share);
 }
 
+void texopt_texel_share_rebase(texopt_texel_share *share, const texopt_mesh *layout)
+{
+    texopt_mesh view = *layout;
+    view.chart_count = share->view.chart_count;
+    view.chart_of = share->view.chart_of;
+    view.chart_sign = share->view.chart_sign;
+    share->view = view;
+}
+
 size_t texopt_texel_share_paid(const texopt_texel_share *share, const texopt_mesh *mesh, double *paid)
 {
     size_t free_riders = 0;

@@ -69,6 +69,10 @@ texopt_status texopt_texel_share_create(texopt_texel_share **out, const texopt_m
 
 void texopt_texel_share_destroy(texopt_texel_share *share);
 
+/* Re-bases the view on `layout`: a mesh of the same vertices, triangles and charts as the
+ * one `share` was made from, in another layout (chart_unfold.h), which must outlive it. */
+void texopt_texel_share_rebase(texopt_texel_share *share, const texopt_mesh *layout);
+
 /* Per triangle of the mesh `share` was made from, the share of its texel area that it pays
  * for in a budget of covered texels (target_allocation.h `paid`): 0 for the triangles of a
  * secondary, which lie on their primary's texels, and for a chart's triangles of the

@@ -7,10 +7,12 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "chart_unfold.h"
 #include "distortion.h"
 #include "handmesh.h"
 #include "meshwise.h"
 #include "scaffold.h"
+#include "target_restate.h"
 #include "test.h"
 
 #define CELL 4.0
@@ -270,5 +272,156 @@ TEST(progress_runs_forward_through_the_re_meshes)
     CHECK(log.last <= 1.0);
     free(out);
     free(tg);
+    texopt_mesh_destroy(m);
+}
+
+/* One chart of 8 x 2 cells, flat in 3D, laid in texels with a Z fold: column 5 runs back
+ * (its triangles FLIPPED, 4 of 32) and columns 6-7 forward again over columns 4-5, with
+ * the chart's orientation: the chart covers centres twice with one orientation at the start,
+ * which no scaffold can box. */
+static texopt_mesh *z_folded_strip(void)
+{
+    cell cells[16];
+    size_t n = 0;
+    for (int j = 0; j < 2; j++)
+        for (int i = 0; i < 8; i++)
+            cells[n++] = (cell){i, j, 0};
+    texopt_mesh *m = cell_mesh(cells, n, 1, 8);
+    for (size_t v = 0; v < m->vertex_count; v++) {
+        double i = m->position[3 * v];
+        if (i >= 6)
+            m->texel[2 * v] = CELL * (i - 2); /* 6 -> 4, 7 -> 5, 8 -> 6 */
+    }
+    m->chart_sign = malloc(1);
+    m->chart_sign[0] = 1;
+    handmesh_finish(m);
+    return m;
+}
+
+/* Triangles of m that are not counter-clockwise in the layout texel. */
+static size_t clockwise(const texopt_mesh *m, const double *texel)
+{
+    size_t n = 0;
+    for (size_t t = 0; t < m->triangle_count; t++)
+        n += !(handmesh_doubled_area(texel, m->triangle + 3 * t, 2) > 0);
+    return n;
+}
+
+/* A copy of m (its own arrays) with the layout texel. */
+static texopt_mesh *with_layout(const texopt_mesh *m, const double *texel)
+{
+    texopt_mesh *c = handmesh_alloc(m->vertex_count, m->triangle_count);
+    memcpy(c->texel, texel, 2 * m->vertex_count * sizeof *texel);
+    memcpy(c->position, m->position, 3 * m->vertex_count * sizeof *c->position);
+    memcpy(c->triangle, m->triangle, 3 * m->triangle_count * sizeof *c->triangle);
+    memcpy(c->chart_of, m->chart_of, m->triangle_count * sizeof *c->chart_of);
+    c->chart_count = m->chart_count;
+    c->width = m->width;
+    c->height = m->height;
+    c->chart_sign = malloc(m->chart_count);
+    memcpy(c->chart_sign, m->chart_sign, m->chart_count);
+    handmesh_finish(c);
+    return c;
+}
+
+TEST(a_folded_chart_is_unfolded_so_the_scaffold_leaves_no_centre_twice)
+{
+    texopt_mesh *m = z_folded_strip();
+    size_t nv = m->vertex_count, within, between, count;
+    char err[256];
+    CHECK_OK(texopt_count_overlap(m, m->texel, &within, &between, err, sizeof err), err);
+    CHECK_MSG(within > 10, "the fold covers %zu centres twice", within);
+    texopt_triangle_target *tg = malloc(m->triangle_count * sizeof *tg);
+    for (size_t t = 0; t < m->triangle_count; t++)
+        tg[t] = stretch_target(1.3, 1.0); /* a little longer, as a layout method would ask */
+    double *out = malloc(2 * nv * sizeof *out);
+    texopt_scaffold_report rep;
+    CHECK_OK(texopt_scaffold_solve(m, tg, NULL, NULL, NULL, out, &rep, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(rep.charts_skipped, 1);
+    CHECK_OK(texopt_count_overlap(m, out, &within, &between, err, sizeof err), err);
+    CHECK_MSG(within > 10, "solved from the fold: %zu centres twice", within);
+
+    double *unfolded = malloc(2 * nv * sizeof *unfolded);
+    uint8_t laid = 0;
+    texopt_unfold_report ur;
+    CHECK_OK(texopt_unfold_charts(m, NULL, unfolded, &laid, &ur, err, sizeof err), err);
+    CHECK_EQ_INT(ur.overlapping, 1);
+    CHECK_EQ_INT(ur.unfolded, 1);
+    CHECK_EQ_INT(ur.tutte, 0); /* flat in 3D: ABF lays it out without flips */
+    CHECK_EQ_INT(laid, 1);
+    /* Flat in 3D, so the layout is the 3D strip scaled to the input's texel area (16 cells
+     * of CELL^2): every edge CELL times its 3D length. */
+    for (size_t t = 0; t < m->triangle_count; t++)
+        for (int k = 0; k < 3; k++) {
+            uint32_t a = m->triangle[3 * t + (size_t)k], b = m->triangle[3 * t + (size_t)(k + 1) % 3];
+            double d3 = hypot(m->position[3 * a] - m->position[3 * b], m->position[3 * a + 1] - m->position[3 * b + 1]);
+            double d2 = hypot(unfolded[2 * a] - unfolded[2 * b], unfolded[2 * a + 1] - unfolded[2 * b + 1]);
+            CHECK_NEAR(d2, CELL * d3, 1e-6);
+        }
+    texopt_mesh *layout = with_layout(m, unfolded);
+    CHECK_EQ_INT(clockwise(layout, layout->texel), 0);
+    uint8_t over;
+    CHECK_OK(texopt_scaffold_overlapping_charts(layout, layout->texel, &over, &count, err, sizeof err), err);
+    CHECK_EQ_INT(count, 0);
+
+    texopt_targets_restate(m, layout, tg);
+    CHECK_OK(texopt_scaffold_solve(layout, tg, NULL, NULL, NULL, out, &rep, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(rep.charts_skipped, 0);
+    CHECK_EQ_INT(rep.charts_scaffolded, 1);
+    CHECK_OK(texopt_count_overlap(layout, out, &within, &between, err, sizeof err), err);
+    CHECK_EQ_INT(within, 0);
+    CHECK_EQ_INT(clockwise(layout, out), 0);
+    free(out);
+    free(unfolded);
+    free(tg);
+    texopt_mesh_destroy(layout);
+    texopt_mesh_destroy(m);
+}
+
+TEST(a_chart_with_a_hole_and_a_fold_is_unfolded_by_tutte)
+{
+    /* 3 x 3 cells less the centre (a hole), its top right corner cell folded over its
+     * neighbours: both boundary loops are kept, the hole filled only for the layout. */
+    cell cells[8];
+    size_t n = 0;
+    for (int j = 0; j < 3; j++)
+        for (int i = 0; i < 3; i++)
+            if (i != 1 || j != 1)
+                cells[n++] = (cell){i, j, 0};
+    texopt_mesh *m = cell_mesh(cells, n, 1, 3);
+    for (size_t v = 0; v < m->vertex_count; v++)
+        if (m->position[3 * v] == 3 && m->position[3 * v + 1] == 3)
+            m->texel[2 * v] = m->texel[2 * v + 1] = 1.5 * CELL;
+    m->chart_sign = malloc(1);
+    m->chart_sign[0] = 1;
+    handmesh_finish(m);
+    char err[256];
+    CHECK(clockwise(m, m->texel) > 0);
+    double *unfolded = malloc(2 * m->vertex_count * sizeof *unfolded);
+    texopt_unfold_report ur;
+    CHECK_OK(texopt_unfold_charts(m, NULL, unfolded, NULL, &ur, err, sizeof err), err);
+    CHECK_EQ_INT(ur.overlapping, 1);
+    CHECK_EQ_INT(ur.unfolded, 1);
+    CHECK_EQ_INT(ur.tutte, 1);
+    texopt_mesh *layout = with_layout(m, unfolded);
+    CHECK_EQ_INT(clockwise(layout, layout->texel), 0);
+    size_t count;
+    uint8_t over;
+    CHECK_OK(texopt_scaffold_overlapping_charts(layout, layout->texel, &over, &count, err, sizeof err), err);
+    CHECK_EQ_INT(count, 0);
+    /* the kept chart's texel area */
+    double before = 0, after = 0;
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        before += fabs(m->area_texel[t]);
+        after += fabs(layout->area_texel[t]);
+    }
+    CHECK_NEAR(after, before, 1e-9 * before);
+    uint8_t keep = 1;
+    CHECK_OK(texopt_unfold_charts(m, &keep, unfolded, NULL, &ur, err, sizeof err), err);
+    CHECK_EQ_INT(ur.kept, 1);
+    CHECK_EQ_INT(ur.unfolded, 0);
+    CHECK(memcmp(unfolded, m->texel, 2 * m->vertex_count * sizeof *unfolded) == 0);
+    free(unfolded);
+    texopt_mesh_destroy(layout);
     texopt_mesh_destroy(m);
 }

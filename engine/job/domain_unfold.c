@@ -1,0 +1,80 @@
+/* domain_unfold.c - overlapping input charts laid out anew under --bijective (domain_unfold.h). */
+#include "domain_unfold.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "chart_unfold.h"
+
+/* Per chart, 1 when it belongs to a sharing group (a primary with secondaries, or one of
+ * them); NULL on no memory. */
+static uint8_t *shared_charts(const job_domain *jd)
+{
+    size_t nc = jd->mesh->chart_count;
+    uint8_t *keep = calloc(nc ? nc : 1, 1);
+    for (size_t c = 0; keep && jd->share && c < nc; c++)
+        if (jd->share->primary_of[c] != c)
+            keep[c] = keep[jd->share->primary_of[c]] = 1;
+    return keep;
+}
+
+/* Whether layout has mesh's vertices, triangles and charts (the welding of its UVs found the
+ * same ones). */
+static int same_structure(const texopt_mesh *mesh, const texopt_mesh *layout)
+{
+    return layout->vertex_count == mesh->vertex_count && layout->triangle_count == mesh->triangle_count &&
+           layout->chart_count == mesh->chart_count &&
+           !memcmp(layout->triangle, mesh->triangle, 3 * mesh->triangle_count * sizeof *mesh->triangle) &&
+           !memcmp(layout->chart_of, mesh->chart_of, mesh->triangle_count * sizeof *mesh->chart_of);
+}
+
+/* jd->layout: the domain's mesh built from the model with texel's UVs; left NULL when its
+ * welding differs from the input's. */
+static texopt_status layout_mesh(texopt_job *job, int d, const double *texel, char *err, size_t err_len)
+{
+    job_domain *jd = &job->domains[d];
+    const texopt_model *model = job->model;
+    float *uvs = malloc(2 * (model->vertex_count + 1) * sizeof *uvs);
+    if (!uvs)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the unfolded charts' UVs");
+    if (model->uvs)
+        memcpy(uvs, model->uvs, 2 * model->vertex_count * sizeof *uvs);
+    job_output_write_uvs(model, jd->mesh, texel, jd->mesh->width, jd->mesh->height, uvs);
+    texopt_model unfolded = *model; /* the model with the new UVs, read only */
+    unfolded.uvs = uvs;
+    texopt_mesh *layout = NULL;
+    texopt_status st = texopt_mesh_create(&layout, &unfolded, d, err, err_len);
+    free(uvs);
+    if (st == TEXOPT_OK && !same_structure(jd->mesh, layout)) {
+        texopt_mesh_destroy(layout);
+        layout = NULL;
+    }
+    jd->layout = layout;
+    return st;
+}
+
+texopt_status job_unfold_domain(texopt_job *job, int d, char *err, size_t err_len)
+{
+    job_domain *jd = &job->domains[d];
+    texopt_unfold_report *rep = &job->stats.domains[d].unfold;
+    uint8_t *keep = shared_charts(jd);
+    double *texel = malloc(2 * (jd->mesh->vertex_count ? jd->mesh->vertex_count : 1) * sizeof *texel);
+    texopt_status st =
+        keep && texel ? TEXOPT_OK : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory to unfold domain %d", d);
+    if (st == TEXOPT_OK)
+        st = texopt_unfold_charts(jd->mesh, keep, texel, NULL, rep, err, err_len);
+    if (st == TEXOPT_OK && rep->unfolded > 0)
+        st = layout_mesh(job, d, texel, err, err_len);
+    if (st == TEXOPT_OK && rep->unfolded > 0 && !jd->layout) { /* welded otherwise: left as they were */
+        rep->not_disks += rep->unfolded;
+        rep->unfolded = rep->tutte = 0;
+    }
+    if (st == TEXOPT_OK && jd->layout && jd->share) {
+        if (jd->paid)
+            texopt_texel_share_paid(jd->share, jd->layout, jd->paid);
+        texopt_texel_share_rebase(jd->share, jd->layout);
+    }
+    free(keep);
+    free(texel);
+    return st;
+}

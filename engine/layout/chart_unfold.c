@@ -1,0 +1,339 @@
+/* chart_unfold.c - overlapping charts laid out anew as disks (chart_unfold.h). */
+#include "chart_unfold.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "param_abf.h"
+#include "param_tutte.h"
+#include "scaffold.h"
+#include "sort_keys.h"
+#include "vec3.h"
+
+/* One chart as a parameterization input: its mesh vertices numbered locally. */
+typedef struct local_chart {
+    uint32_t *local_of;  /* per mesh vertex: its local index, UINT32_MAX outside the chart */
+    uint32_t *vertex;    /* per local vertex: its mesh vertex */
+    double *position;    /* 3 per local vertex */
+    uint32_t *triangle;  /* 3 per chart triangle, local */
+    double *uv;          /* 2 per local vertex */
+    size_t vertex_count; /* of the chart being laid out */
+    size_t triangle_count;
+    size_t filled_vertices, filled_triangles; /* with the fans that fill its holes (fill_holes) */
+} local_chart;
+
+/* Whether chart c has a side of the orientation opposite to its own that is no fold-over:
+ * mirrored halves (mesh.h: neither side is FLIPPED). */
+static int chart_is_mirrored(const texopt_mesh *mesh, uint32_t c)
+{
+    for (size_t t = 0; t < mesh->triangle_count; t++)
+        if (mesh->chart_of[t] == c && !(mesh->flags[t] & (TEXOPT_TRI_DEGENERATE_UV | TEXOPT_TRI_FLIPPED)) &&
+            (mesh->area_texel[t] > 0 ? 1 : -1) != mesh->chart_sign[c])
+            return 1;
+    return 0;
+}
+
+/* Fills lc with chart c's triangles and vertices; returns its input texel area. */
+static double gather_chart(const texopt_mesh *mesh, uint32_t c, local_chart *lc)
+{
+    double area = 0;
+    lc->vertex_count = lc->triangle_count = 0;
+    for (size_t t = 0; t < mesh->triangle_count; t++) {
+        if (mesh->chart_of[t] != c)
+            continue;
+        for (int k = 0; k < 3; k++) {
+            uint32_t v = mesh->triangle[3 * t + (size_t)k];
+            if (lc->local_of[v] == UINT32_MAX) {
+                lc->local_of[v] = (uint32_t)lc->vertex_count;
+                lc->vertex[lc->vertex_count] = v;
+                memcpy(lc->position + 3 * lc->vertex_count, texopt_mesh_vertex_point(mesh, v), 3 * sizeof(double));
+                lc->vertex_count++;
+            }
+            lc->triangle[3 * lc->triangle_count + (size_t)k] = lc->local_of[v];
+        }
+        lc->triangle_count++;
+        if (!(mesh->flags[t] & TEXOPT_TRI_DEGENERATE_UV))
+            area += fabs(mesh->area_texel[t]);
+    }
+    return area;
+}
+
+/* Half-edge a -> b as a sortable key. */
+static uint64_t half_edge(uint32_t a, uint32_t b)
+{
+    return (uint64_t)a << 32 | b;
+}
+
+static int has_half_edge(const uint64_t *keys, size_t n, uint64_t key)
+{
+    return bsearch(&key, keys, n, sizeof *keys, texopt_compare_u64) != NULL;
+}
+
+/* The boundary half-edge that follows a -> b round b (through the triangles at b, from the
+ * one holding a -> b): so a pinched vertex's fans give loops of their own. UINT32_MAX when
+ * the rotation does not end (a non-manifold vertex). `after` maps each half-edge to the
+ * next one of its triangle. */
+static uint32_t next_boundary_vertex(const uint64_t *keys, const uint64_t *after, size_t n, uint32_t a, uint32_t b)
+{
+    uint64_t e = half_edge(a, b);
+    for (size_t steps = 0; steps <= n; steps++) {
+        const uint64_t *hit = bsearch(&e, keys, n, sizeof *keys, texopt_compare_u64);
+        if (!hit)
+            return UINT32_MAX;
+        uint64_t out = after[hit - keys]; /* b -> c in the same triangle */
+        uint32_t c = (uint32_t)out;
+        if (!has_half_edge(keys, n, half_edge(c, b)))
+            return c;
+        e = half_edge(c, b); /* into the triangle across b -> c */
+    }
+    return UINT32_MAX;
+}
+
+/* Fills every boundary loop of the chart but the longest (in 3D) with a fan round a new
+ * vertex at the loop's centroid, after the chart's vertices and triangles, so that a chart
+ * with holes or pinched vertices (its boundary through a vertex twice) becomes a disk whose
+ * layout, fans dropped, is the chart's. Returns 1 when it filled some, 0 when the chart has
+ * one loop, -1 when a rotation does not close, -2 when out of memory. */
+static int fill_holes(local_chart *lc)
+{
+    size_t nh = 3 * lc->triangle_count;
+    uint64_t *pairs = malloc(2 * (nh ? nh : 1) * sizeof *pairs), *keys = malloc((nh ? nh : 1) * sizeof *keys);
+    uint64_t *after = malloc((nh ? nh : 1) * sizeof *after);
+    uint32_t *from = malloc((nh ? nh : 1) * sizeof *from), *to = malloc((nh ? nh : 1) * sizeof *to);
+    uint8_t *used = calloc(nh ? nh : 1, 1);
+    double *length = malloc((nh ? nh : 1) * sizeof *length);
+    size_t *loop_of = malloc((nh ? nh : 1) * sizeof *loop_of), *stack = malloc((nh ? nh : 1) * sizeof *stack);
+    uint32_t *at = calloc(lc->vertex_count ? lc->vertex_count : 1, sizeof *at); /* 1 + stack index of v's edge */
+    size_t nb = 0, loops = 0;
+    int result = -2;
+    lc->filled_vertices = lc->vertex_count;
+    lc->filled_triangles = lc->triangle_count;
+    if (!pairs || !keys || !after || !from || !to || !used || !length || !loop_of || !stack || !at)
+        goto done;
+    result = -1;
+    for (size_t h = 0; h < nh; h++) {
+        const uint32_t *v = lc->triangle + h - h % 3;
+        pairs[2 * h] = half_edge(v[h % 3], v[(h % 3 + 1) % 3]);
+        pairs[2 * h + 1] = half_edge(v[(h % 3 + 1) % 3], v[(h % 3 + 2) % 3]);
+    }
+    qsort(pairs, nh, 2 * sizeof *pairs, texopt_compare_u64);
+    for (size_t h = 0; h < nh; h++) {
+        keys[h] = pairs[2 * h];
+        after[h] = pairs[2 * h + 1];
+    }
+    for (size_t h = 0; h < nh; h++) {
+        uint32_t a = (uint32_t)(keys[h] >> 32), b = (uint32_t)keys[h];
+        if (!has_half_edge(keys, nh, half_edge(b, a))) {
+            from[nb] = a;
+            to[nb++] = b;
+        }
+    }
+    /* Loops: each boundary half-edge is followed by the one its rotation reaches; a loop
+     * through a vertex twice (a pinch) is split there into simple loops. */
+    for (size_t e = 0; e < nb; e++) {
+        size_t top = 0;
+        for (size_t f = e; !used[f];) {
+            used[f] = 1;
+            stack[top++] = f;
+            at[from[f]] = (uint32_t)top;
+            if (at[to[f]]) { /* a simple loop closes at to[f]: stack[at - 1 .. top) */
+                size_t first = at[to[f]] - 1;
+                length[loops] = 0;
+                for (size_t i = first; i < top; i++) {
+                    loop_of[stack[i]] = loops;
+                    at[from[stack[i]]] = 0;
+                    length[loops] += texopt_distance3(lc->position + 3 * (size_t)from[stack[i]],
+                                                      lc->position + 3 * (size_t)to[stack[i]]);
+                }
+                loops++;
+                top = first;
+            }
+            uint32_t c = next_boundary_vertex(keys, after, nh, from[f], to[f]);
+            size_t g = 0;
+            while (g < nb && !(from[g] == to[f] && to[g] == c))
+                g++;
+            if (g == nb)
+                goto done;
+            f = g;
+        }
+        if (top != 0)
+            goto done;
+    }
+    result = loops > 1;
+    size_t outer = 0;
+    for (size_t k = 1; k < loops; k++)
+        if (length[k] > length[outer])
+            outer = k;
+    for (size_t k = 0; k < loops && result == 1; k++) {
+        if (k == outer)
+            continue;
+        size_t w = lc->filled_vertices++, count = 0;
+        double *centre = lc->position + 3 * w;
+        centre[0] = centre[1] = centre[2] = 0;
+        for (size_t e = 0; e < nb; e++)
+            if (loop_of[e] == k) {
+                for (int a = 0; a < 3; a++)
+                    centre[a] += lc->position[3 * (size_t)from[e] + (size_t)a];
+                count++;
+                uint32_t *t = lc->triangle + 3 * lc->filled_triangles++;
+                t[0] = to[e];
+                t[1] = from[e];
+                t[2] = (uint32_t)w;
+            }
+        for (int a = 0; a < 3; a++)
+            centre[a] /= (double)count;
+    }
+done:
+    free(pairs);
+    free(keys);
+    free(after);
+    free(from);
+    free(to);
+    free(used);
+    free(length);
+    free(loop_of);
+    free(stack);
+    free(at);
+    return result;
+}
+
+/* The chart's layout by linear ABF, by Tutte when ABF's fails, flips or crosses itself. */
+static texopt_status disk_layout(const texopt_param_chart *chart, const texopt_param_boundary *b, double *uv,
+                                 int *by_tutte)
+{
+    char err[256];
+    texopt_status st = texopt_param_abf(chart, uv, NULL, err, sizeof err);
+    *by_tutte = st == TEXOPT_E_NOMEM ? 0
+                : st != TEXOPT_OK    ? 1
+                                     : texopt_param_flips(chart, uv) > 0 || texopt_param_boundary_crosses(b, uv);
+    return *by_tutte ? texopt_param_tutte(chart, uv, err, sizeof err) : st;
+}
+
+/* uv (counter-clockwise, any scale) placed in the input's frame as chart c: mirrored to the
+ * chart's sign, scaled to texel area `area`, turned and moved by the rigid least-squares fit
+ * to the input positions. */
+static void place_like_input(const texopt_mesh *mesh, uint32_t c, double area, local_chart *lc, double *texel_out)
+{
+    size_t n = lc->vertex_count;
+    double mirror = mesh->chart_sign[c] < 0 ? -1.0 : 1.0, have = 0, pc[2] = {0, 0}, qc[2] = {0, 0};
+    for (size_t i = 0; i < n; i++)
+        lc->uv[2 * i + 1] *= mirror;
+    for (size_t t = 0; t < lc->triangle_count; t++) {
+        const double *a = lc->uv + 2 * (size_t)lc->triangle[3 * t], *b = lc->uv + 2 * (size_t)lc->triangle[3 * t + 1],
+                     *p = lc->uv + 2 * (size_t)lc->triangle[3 * t + 2];
+        have += 0.5 * fabs((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]));
+    }
+    double s = sqrt(area / have);
+    for (size_t i = 0; i < n; i++)
+        for (int a = 0; a < 2; a++) {
+            lc->uv[2 * i + (size_t)a] *= s;
+            pc[a] += lc->uv[2 * i + (size_t)a] / (double)n;
+            qc[a] += mesh->texel[2 * (size_t)lc->vertex[i] + (size_t)a] / (double)n;
+        }
+    double dot = 0, cross = 0;
+    for (size_t i = 0; i < n; i++) {
+        const double *q = mesh->texel + 2 * (size_t)lc->vertex[i];
+        double px = lc->uv[2 * i] - pc[0], py = lc->uv[2 * i + 1] - pc[1], qx = q[0] - qc[0], qy = q[1] - qc[1];
+        dot += px * qx + py * qy;
+        cross += px * qy - py * qx;
+    }
+    double turn = atan2(cross, dot), co = cos(turn), si = sin(turn);
+    for (size_t i = 0; i < n; i++) {
+        double px = lc->uv[2 * i] - pc[0], py = lc->uv[2 * i + 1] - pc[1];
+        texel_out[2 * (size_t)lc->vertex[i]] = qc[0] + co * px - si * py;
+        texel_out[2 * (size_t)lc->vertex[i] + 1] = qc[1] + si * px + co * py;
+    }
+}
+
+/* Lays chart c out anew into texel_out; *laid 0 when it is no disk (or has no texel area). */
+static texopt_status unfold_chart(const texopt_mesh *mesh, uint32_t c, local_chart *lc, double *texel_out, int *laid,
+                                  int *by_tutte)
+{
+    double area = gather_chart(mesh, c, lc);
+    int filled = area > 0 ? fill_holes(lc) : -1;
+    texopt_param_chart chart = {lc->filled_vertices, lc->position, lc->filled_triangles, lc->triangle};
+    texopt_param_boundary *b = NULL;
+    char err[256];
+    texopt_status st = filled == -2 ? TEXOPT_E_NOMEM
+                       : filled < 0 ? TEXOPT_E_INVALID_ARGUMENT
+                                    : texopt_param_boundary_create(&b, &chart, err, sizeof err);
+    if (st == TEXOPT_OK && filled) { /* the fans are no surface to keep angles of */
+        *by_tutte = 1;
+        st = texopt_param_tutte(&chart, lc->uv, err, sizeof err);
+    } else if (st == TEXOPT_OK)
+        st = disk_layout(&chart, b, lc->uv, by_tutte);
+    texopt_param_boundary_destroy(b);
+    *laid = st == TEXOPT_OK;
+    if (*laid)
+        place_like_input(mesh, c, area, lc, texel_out);
+    for (size_t i = 0; i < lc->vertex_count; i++)
+        lc->local_of[lc->vertex[i]] = UINT32_MAX;
+    return st == TEXOPT_E_NOMEM ? st : TEXOPT_OK;
+}
+
+static void local_chart_free(local_chart *lc)
+{
+    free(lc->local_of);
+    free(lc->vertex);
+    free(lc->position);
+    free(lc->triangle);
+    free(lc->uv);
+}
+
+texopt_status texopt_unfold_charts(const texopt_mesh *mesh, const uint8_t *keep, double *texel_out, uint8_t *unfolded,
+                                   texopt_unfold_report *report, char *err, size_t err_len)
+{
+    if (!mesh || !texel_out || !report || !mesh->texel || (mesh->triangle_count && !mesh->chart_sign))
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "unfold: NULL mesh, output or report");
+    memset(report, 0, sizeof *report);
+    memcpy(texel_out, mesh->texel, 2 * mesh->vertex_count * sizeof *texel_out);
+    size_t nv = mesh->vertex_count ? mesh->vertex_count : 1, nt = mesh->triangle_count ? mesh->triangle_count : 1;
+    uint8_t *over = malloc(mesh->chart_count ? mesh->chart_count : 1);
+    /* room for the fans (fill_holes): a vertex and a triangle per boundary edge at most */
+    local_chart lc = {0};
+    lc.local_of = malloc(nv * sizeof *lc.local_of);
+    lc.vertex = malloc(nv * sizeof *lc.vertex);
+    lc.position = malloc(3 * (nv + 3 * nt) * sizeof *lc.position);
+    lc.triangle = malloc(12 * nt * sizeof *lc.triangle);
+    lc.uv = malloc(2 * (nv + 3 * nt) * sizeof *lc.uv);
+    texopt_status st = over && lc.local_of && lc.vertex && lc.position && lc.triangle && lc.uv
+                           ? TEXOPT_OK
+                           : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "unfold: out of memory");
+    if (st == TEXOPT_OK)
+        st = texopt_scaffold_overlapping_charts(mesh, mesh->texel, over, &report->overlapping, err, err_len);
+    if (st == TEXOPT_OK && unfolded)
+        memset(unfolded, 0, mesh->chart_count);
+    /* A mirror whose halves only lie on one another keeps its sharing; an extent too large
+     * to raster is taken for one (twice NULL). */
+    size_t *twice = st == TEXOPT_OK && report->overlapping ? malloc(mesh->chart_count * sizeof *twice) : NULL;
+    if (st == TEXOPT_OK && report->overlapping && !twice)
+        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "unfold: out of memory");
+    if (twice && texopt_count_overlap_per_chart(mesh, mesh->texel, twice, err, err_len) != TEXOPT_OK) {
+        free(twice);
+        twice = NULL;
+    }
+    for (size_t v = 0; st == TEXOPT_OK && v < mesh->vertex_count; v++)
+        lc.local_of[v] = UINT32_MAX;
+    for (uint32_t c = 0; st == TEXOPT_OK && c < mesh->chart_count; c++) {
+        int laid = 0, by_tutte = 0;
+        if (!over[c])
+            continue;
+        if (keep && keep[c])
+            report->kept++;
+        else if (chart_is_mirrored(mesh, c) && (!twice || twice[c] == 0))
+            report->mirrored++;
+        else if ((st = unfold_chart(mesh, c, &lc, texel_out, &laid, &by_tutte)) == TEXOPT_OK) {
+            report->unfolded += laid;
+            report->tutte += laid && by_tutte;
+            report->not_disks += !laid;
+            if (unfolded)
+                unfolded[c] = (uint8_t)laid;
+        } else
+            texopt_fail(err, err_len, st, "unfold: out of memory");
+    }
+    free(over);
+    free(twice);
+    local_chart_free(&lc);
+    return st;
+}
