@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "param_abf.h"
+#include "param_ears.h"
 #include "param_lscm.h"
 #include "param_square.h"
 #include "param_tutte.h"
@@ -86,6 +87,15 @@ static void triangle_normals(context *c)
     }
 }
 
+/* Layers of ears the square method peels (param_ears.h): grown charts' boundaries are
+ * jagged, an ear often sits on the next one. */
+#define RECHART_EAR_LAYERS 3
+
+static texopt_status square_layout(const texopt_param_chart *chart, void *params, double *uv, char *err, size_t err_len)
+{
+    return texopt_param_square(chart, params, uv, NULL, err, err_len);
+}
+
 static texopt_status run_method(texopt_parameterizer method, const texopt_param_chart *chart, double *uv)
 {
     char err[256];
@@ -96,7 +106,7 @@ static texopt_status run_method(texopt_parameterizer method, const texopt_param_
     case TEXOPT_PARAMETERIZER_SQUARE: {
         texopt_square_params p;
         texopt_square_params_default(&p);
-        return texopt_param_square(chart, &p, uv, NULL, err, sizeof err);
+        return texopt_param_without_ears(chart, square_layout, &p, RECHART_EAR_LAYERS, uv, NULL, err, sizeof err);
     }
     case TEXOPT_PARAMETERIZER_COUNT: break;
     }

@@ -8,7 +8,7 @@
  * takes a triangle that keeps it a disk (no vertex reached twice, no surface closed). A
  * region that is still no disk (param_chart.h: a non-manifold or inconsistently oriented
  * mesh) is split in two along its growth order until every part is one. Each chart is laid out by the chosen method at 3D scale (1 unit = 1 world unit);
- * when the method fails or flips a triangle (LSCM may fold; the square refuses ears) the
+ * when the method fails or flips a triangle (LSCM may fold; the square refuses ears it cannot peel, param_ears.h) the
  * chart falls back to the mean-value Tutte map, which cannot flip; when its layout overlaps
  * itself (the boundary loop crosses itself: ABF and LSCM are only locally injective) the
  * region is split in two along its growth order, as a region that is no disk. Degenerate (zero 3D area)
