@@ -5,6 +5,7 @@
 #include <time.h>
 
 #include "coverage.h"
+#include "distortion.h"
 #include "gltf_io.h"
 #include "mesh.h"
 
@@ -17,7 +18,9 @@ void texopt_file_cost_of_model(const texopt_model *model, texopt_file_cost *out)
     }
 }
 
-/* Domain d of the file measured as info.c does: its mesh, coverage.h on its own layout. */
+/* Domain d of the file measured as info.c does: its mesh, coverage.h on its own layout, and
+ * for a domain whose distortion the job reported, that layout's distortion (the file may
+ * hold the input's layout resized, and its UVs are floats). */
 static texopt_status record_domain(const texopt_model *model, int d, texopt_domain_stats *ds, char *err, size_t err_len)
 {
     texopt_mesh *mesh = NULL;
@@ -25,6 +28,11 @@ static texopt_status record_domain(const texopt_model *model, int d, texopt_doma
     texopt_status st = texopt_mesh_create(&mesh, model, d, err, err_len);
     if (st == TEXOPT_OK)
         st = texopt_coverage_measure(mesh, NULL, &cov, err, err_len);
+    texopt_distortion out;
+    if (st == TEXOPT_OK && ds->has_distortion && texopt_distortion_measure(mesh, NULL, &out, NULL, 0) == TEXOPT_OK) {
+        ds->distortion_out = out;
+        ds->distortion_output = out.symmetric_dirichlet;
+    }
     texopt_mesh_destroy(mesh);
     if (st != TEXOPT_OK)
         return st;

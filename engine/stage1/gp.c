@@ -154,11 +154,6 @@ texopt_status texopt_gp_set_dimension_scales(texopt_gp *gp, const double *multip
     return texopt_gp_set_hyper(gp, gp->length_scale, gp->jitter);
 }
 
-void texopt_gp_dimension_scales(const texopt_gp *gp, double *multipliers)
-{
-    memcpy(multipliers, gp->multiplier, (size_t)gp->dim * sizeof *multipliers);
-}
-
 texopt_status texopt_gp_fit_dimension_scales(texopt_gp *gp)
 {
     static const double factors[2] = {0.5, 2.0};

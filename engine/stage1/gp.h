@@ -58,7 +58,6 @@ texopt_status texopt_gp_fit_length_scale(texopt_gp *gp, const double *candidates
  * effective length scale of dimension k is length_scale * m_k; 1 = isotropic, the start).
  * Refactors. */
 texopt_status texopt_gp_set_dimension_scales(texopt_gp *gp, const double *multipliers);
-void texopt_gp_dimension_scales(const texopt_gp *gp, double *multipliers);
 
 /* One coordinate pass: each multiplier is halved or doubled (within [1/16, 16]) when that
  * raises the marginal likelihood. 2 * dim refactorisations. */

@@ -1,5 +1,5 @@
 /* file_cost_checks.h - the invariant of issue 37 item 5: a job's statistics report the costs
- * `texopt info` measures on the file it wrote (header only; test_file_costs.c and
+ * and output distortion `texopt info` measures on the file it wrote (header only; test_file_costs.c and
  * test_file_costs_models_slow.c). */
 #ifndef TEXOPT_TEST_FILE_COST_CHECKS_H
 #define TEXOPT_TEST_FILE_COST_CHECKS_H
@@ -30,6 +30,28 @@ static inline double number_at(const cJSON *o, const char *key)
 {
     const cJSON *v = cJSON_GetObjectItem(o, key);
     return cJSON_IsNumber(v) ? v->valuedouble : NAN;
+}
+
+/* 0 when the statistics' output distortion (domain a) is info's on the file (domain b) in
+ * every metric's mean, else -1 with the first difference in why. */
+static inline int distortion_matches(const cJSON *a, const cJSON *b, const char *method, int d, char *why,
+                                     size_t why_len)
+{
+    const cJSON *sd = cJSON_GetObjectItem(cJSON_GetObjectItem(a, "distortion"), "output");
+    const cJSON *fd = cJSON_GetObjectItem(b, "distortion");
+    if (!sd)
+        return 0; /* a domain laid out by no method has no output distortion */
+    for (const cJSON *m = sd->child; m; m = m->next) {
+        if (!cJSON_IsObject(m))
+            continue;
+        double x = number_at(m, "mean"), y = number_at(cJSON_GetObjectItem(fd, m->string), "mean");
+        if (!(fabs(x - y) <= 1e-9 * fabs(y))) { /* summed in another order */
+            snprintf(why, why_len, "%s domain %d: statistics' output %s %.17g, the file's %.17g", method, d, m->string,
+                     x, y);
+            return -1;
+        }
+    }
+    return 0;
 }
 
 /* Optimises `in` with method at c_r and compares the statistics with info on the output and
@@ -74,6 +96,8 @@ static inline int stats_match_file(const char *in, const char *method, double re
                          method, d, cost, rel, pack, covered, rel_file, pack_file);
                 r = -1;
             }
+            if (r == 0)
+                r = distortion_matches(a, b, method, d, why, why_len);
         }
     }
     cJSON_Delete(stats);
