@@ -155,17 +155,12 @@ static texopt_status new_uvs(const texopt_model *model, const texopt_mesh *mesh,
 texopt_status job_rechart_layout_mesh(texopt_job *job, int d, char *err, size_t err_len)
 {
     job_domain *jd = &job->domains[d];
-    const texopt_model *model = job->model;
-    float *uvs = malloc(2 * (model->vertex_count + 1) * sizeof *uvs);
+    float *uvs = job_output_uvs_copy(job->model);
     if (!uvs)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the new charts' UVs");
-    if (model->uvs)
-        memcpy(uvs, model->uvs, 2 * model->vertex_count * sizeof *uvs);
-    texopt_status st = new_uvs(model, jd->mesh, jd->rechart, uvs, err, err_len);
-    texopt_model charted = *model; /* the model with the new charts' UVs, read only */
-    charted.uvs = uvs;
+    texopt_status st = new_uvs(job->model, jd->mesh, jd->rechart, uvs, err, err_len);
     if (st == TEXOPT_OK)
-        st = texopt_mesh_create(&jd->layout, &charted, d, err, err_len);
+        st = job_output_mesh_with_uvs(job->model, d, uvs, &jd->layout, err, err_len);
     free(uvs);
     return st;
 }

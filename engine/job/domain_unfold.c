@@ -33,17 +33,12 @@ static int same_structure(const texopt_mesh *mesh, const texopt_mesh *layout)
 static texopt_status layout_mesh(texopt_job *job, int d, const double *texel, char *err, size_t err_len)
 {
     job_domain *jd = &job->domains[d];
-    const texopt_model *model = job->model;
-    float *uvs = malloc(2 * (model->vertex_count + 1) * sizeof *uvs);
+    float *uvs = job_output_uvs_copy(job->model);
     if (!uvs)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the unfolded charts' UVs");
-    if (model->uvs)
-        memcpy(uvs, model->uvs, 2 * model->vertex_count * sizeof *uvs);
-    job_output_write_uvs(model, jd->mesh, texel, jd->mesh->width, jd->mesh->height, uvs);
-    texopt_model unfolded = *model; /* the model with the new UVs, read only */
-    unfolded.uvs = uvs;
+    job_output_write_uvs(job->model, jd->mesh, texel, jd->mesh->width, jd->mesh->height, uvs);
     texopt_mesh *layout = NULL;
-    texopt_status st = texopt_mesh_create(&layout, &unfolded, d, err, err_len);
+    texopt_status st = job_output_mesh_with_uvs(job->model, d, uvs, &layout, err, err_len);
     free(uvs);
     if (st == TEXOPT_OK && !same_structure(jd->mesh, layout)) {
         texopt_mesh_destroy(layout);

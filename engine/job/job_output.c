@@ -68,6 +68,22 @@ void job_output_write_uvs(const texopt_model *model, const texopt_mesh *mesh, co
     }
 }
 
+float *job_output_uvs_copy(const texopt_model *model)
+{
+    float *uvs = calloc(2 * (model->vertex_count + 1), sizeof *uvs);
+    if (uvs && model->uvs)
+        memcpy(uvs, model->uvs, 2 * model->vertex_count * sizeof *uvs);
+    return uvs;
+}
+
+texopt_status job_output_mesh_with_uvs(const texopt_model *model, int d, const float *uvs, texopt_mesh **mesh,
+                                       char *err, size_t err_len)
+{
+    texopt_model with_uvs = *model; /* read only: the model's own arrays but the UVs */
+    with_uvs.uvs = (float *)uvs;
+    return texopt_mesh_create(mesh, &with_uvs, d, err, err_len);
+}
+
 void job_output_restore_uvs(const texopt_model *model, int d, float *uvs)
 {
     const texopt_domain *dom = &model->domains[d];

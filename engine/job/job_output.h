@@ -35,6 +35,14 @@ void job_output_destroy(job_output *o, int image_count);
 void job_output_write_uvs(const texopt_model *model, const texopt_mesh *mesh, const double *texel, int width,
                           int height, float *uvs);
 
+/* A copy of the model's UVs (zeros where it has none) with room for one more pair, for a
+ * domain to overwrite before job_output_mesh_with_uvs; NULL on no memory. */
+float *job_output_uvs_copy(const texopt_model *model);
+
+/* Domain d's mesh built from the model as if it held uvs (welded anew from them). */
+texopt_status job_output_mesh_with_uvs(const texopt_model *model, int d, const float *uvs, texopt_mesh **mesh,
+                                       char *err, size_t err_len);
+
 /* The side of an image scaled by factor, in [1, 16384]. */
 int job_scaled_side(int side, double factor);
 
