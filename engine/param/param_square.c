@@ -33,6 +33,8 @@ typedef struct square_search {
     size_t m;
     double *stretch; /* per candidate; NAN = not evaluated */
     double *uv, *trial, *divisor, *vertex_stretch;
+    size_t *chord; /* 2 per chord: loop indices of an interior edge's two boundary ends */
+    size_t chord_count;
     double best;
     size_t best_corner, evaluations;
 } square_search;
@@ -63,6 +65,55 @@ static void find_corners(const texopt_param_boundary *b, size_t start, size_t co
         corner[s] = best;
     }
     corner[4] = start + n;
+}
+
+/* The chords: interior edges with both ends on the boundary (an ear's base, a bridge across
+ * a narrow part). 0, or -1 on no memory. */
+static int find_chords(square_search *s)
+{
+    const texopt_param_chart *c = s->chart;
+    size_t n = s->b->count, *loop = malloc((c->vertex_count ? c->vertex_count : 1) * sizeof *loop);
+    s->chord = malloc((6 * c->triangle_count + 1) * sizeof *s->chord);
+    if (!loop || !s->chord) {
+        free(loop);
+        return -1;
+    }
+    for (size_t k = 0; k < n; k++)
+        loop[s->b->vertex[k]] = k;
+    for (size_t t = 0; t < c->triangle_count; t++)
+        for (int e = 0; e < 3; e++) {
+            uint32_t u = c->triangle[3 * t + (size_t)e], v = c->triangle[3 * t + (size_t)(e + 1) % 3];
+            if (!s->b->on_boundary[u] || !s->b->on_boundary[v])
+                continue;
+            size_t i = loop[u], j = loop[v];
+            if ((i + 1) % n == j || (j + 1) % n == i)
+                continue; /* a boundary edge */
+            s->chord[2 * s->chord_count] = i;
+            s->chord[2 * s->chord_count++ + 1] = j;
+        }
+    free(loop);
+    return 0;
+}
+
+/* Whether the boundary mapping starting at `start` puts both ends of a chord on one side of
+ * the square. Floater (2003): a convex-combination map onto a convex boundary is one-to-one
+ * unless an interior edge joins two points of one straight side; that edge's triangles go
+ * flat. Such candidates are not evaluated. (The paper assumes charts without such edges;
+ * region-grown charts have many.) */
+static int flattens_a_chord(const square_search *s, size_t start)
+{
+    size_t n = s->b->count, corner[5];
+    find_corners(s->b, start, corner);
+    for (size_t k = 0; k < s->chord_count; k++) {
+        size_t a = (s->chord[2 * k] + n - start) % n, b = (s->chord[2 * k + 1] + n - start) % n;
+        for (int side = 0; side < 4; side++) {
+            size_t lo = corner[side] - start, hi = corner[side + 1] - start;
+            int in_a = (a >= lo && a <= hi) || (a == 0 && hi == n), in_b = (b >= lo && b <= hi) || (b == 0 && hi == n);
+            if (in_a && in_b)
+                return 1;
+        }
+    }
+    return 0;
 }
 
 static void boundary_to_square(const texopt_param_boundary *b, size_t start, double *uv)
@@ -247,14 +298,6 @@ texopt_status texopt_param_square(const texopt_param_chart *chart, const texopt_
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "square: the boundary has %zu vertices; a square needs 4", boundary_count);
     }
-    size_t ears = texopt_param_boundary_ears(chart, b);
-    if (ears > 0) {
-        texopt_param_boundary_destroy(b);
-        return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
-                           "square: %zu triangles have all three vertices on the boundary; a square "
-                           "side would flatten them (split them first)",
-                           ears);
-    }
     size_t nv = chart->vertex_count;
     square_search s = {.chart = chart, .b = b, .params = params, .m = count_candidates(b), .best = INFINITY};
     s.stretch = malloc(s.m * sizeof *s.stretch);
@@ -262,12 +305,21 @@ texopt_status texopt_param_square(const texopt_param_chart *chart, const texopt_
     s.trial = malloc(2 * nv * sizeof *s.trial);
     s.divisor = malloc(nv * sizeof *s.divisor);
     s.vertex_stretch = malloc(nv * sizeof *s.vertex_stretch);
-    if (!s.stretch || !s.uv || !s.trial || !s.divisor || !s.vertex_stretch)
+    if (!s.stretch || !s.uv || !s.trial || !s.divisor || !s.vertex_stretch || find_chords(&s) != 0)
         st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "square: out of memory");
-    for (size_t k = 0; k < s.m && st == TEXOPT_OK; k++)
-        s.stretch[k] = NAN;
+    size_t admissible = 0; /* candidates flattening no chord: the others count as infinite stretch */
+    for (size_t k = 0; k < s.m && st == TEXOPT_OK; k++) {
+        s.stretch[k] = flattens_a_chord(&s, k) ? INFINITY : NAN;
+        admissible += isnan(s.stretch[k]);
+    }
+    if (st == TEXOPT_OK && admissible == 0)
+        st = texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
+                         "square: every corner placement puts both ends of an interior edge on one side, "
+                         "which would flatten its triangles");
     if (st == TEXOPT_OK)
         st = run_search(&s, uv, err, err_len);
+    if (st == TEXOPT_OK && !isfinite(s.best)) /* the search sampled only flattening candidates */
+        st = brute_force(&s, uv, err, err_len);
     if (st == TEXOPT_OK && !isfinite(s.best))
         st = texopt_fail(err, err_len, TEXOPT_E_NUMERIC, "square: no boundary mapping gave a valid layout");
     if (st == TEXOPT_OK && report) {
@@ -279,6 +331,7 @@ texopt_status texopt_param_square(const texopt_param_chart *chart, const texopt_
     free(s.trial);
     free(s.divisor);
     free(s.vertex_stretch);
+    free(s.chord);
     texopt_param_boundary_destroy(b);
     return st;
 }

@@ -50,9 +50,11 @@ typedef struct texopt_square_report {
 /* Lays out the disk `chart` on the unit square [0,1]^2: 2 doubles per vertex into uv
  * (caller-owned, 2 * vertex_count); report may be NULL. Fails with
  * TEXOPT_E_INVALID_ARGUMENT when the boundary has fewer than 4 vertices or the parameters
- * are out of range, and with TEXOPT_E_UNSUPPORTED when the chart has ears
- * (texopt_param_boundary_ears): a fixed straight boundary flattens them, so the paper's
- * method assumes charts without. */
+ * are out of range, and with TEXOPT_E_UNSUPPORTED when every candidate puts both ends of an
+ * interior edge on one side of the square (an ear whose apex is no corner, a bridge across
+ * a narrow part): the map would flatten its triangles (Floater 2003). The paper's method
+ * assumes charts without such edges; candidates that have them are skipped, not
+ * evaluated. */
 texopt_status texopt_param_square(const texopt_param_chart *chart, const texopt_square_params *params, double *uv,
                                   texopt_square_report *report, char *err, size_t err_len);
 

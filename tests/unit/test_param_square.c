@@ -2,6 +2,7 @@
  * (engine/param/param_square.c) on generated grids. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "param_grids.h"
 #include "param_square.h"
@@ -90,19 +91,6 @@ TEST(bad_parameters_are_refused)
     texopt_square_params_default(&p);
     p.search = (texopt_square_search)7;
     CHECK_EQ_INT(texopt_param_square(&g->chart, &p, uv, NULL, err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
-    /* The grid with its two corner quads cut the other way: those corners are ears. */
-    uint32_t *tris = malloc(3 * g->chart.triangle_count * sizeof *tris);
-    for (size_t i = 0; i < 3 * g->chart.triangle_count; i++)
-        tris[i] = g->chart.triangle[i];
-    size_t corner_quad = 2; /* (n - 1, 0) of the 3 x 3 grid: a b c d = 2 3 7 6 */
-    uint32_t a = 2, b = 3, c = 7, d = 6, quad[6] = {a, b, c, a, c, d};
-    for (int k = 0; k < 6; k++)
-        tris[6 * corner_quad + (size_t)k] = quad[k];
-    texopt_param_chart eared = g->chart;
-    eared.triangle = tris;
-    texopt_square_params_default(&p);
-    CHECK_EQ_INT(texopt_param_square(&eared, &p, uv, NULL, err, sizeof err), TEXOPT_E_UNSUPPORTED);
-    free(tris);
     /* One triangle: a boundary of three vertices cannot go onto four corners. */
     static const double corners[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
     static const uint32_t one[3] = {0, 1, 2};
@@ -110,4 +98,80 @@ TEST(bad_parameters_are_refused)
     CHECK_EQ_INT(texopt_param_square(&single, &p, uv, NULL, err, sizeof err), TEXOPT_E_INVALID_ARGUMENT);
     free(uv);
     param_grid_destroy(g);
+}
+
+/* Smallest |signed area| over the chart's triangles in uv, times the sign agreement: negative
+ * when two triangles disagree in orientation. */
+static double least_signed_area(const texopt_param_chart *c, const double *uv)
+{
+    double least = INFINITY, first = 0;
+    for (size_t t = 0; t < c->triangle_count; t++) {
+        const double *a = uv + 2 * (size_t)c->triangle[3 * t], *b = uv + 2 * (size_t)c->triangle[3 * t + 1],
+                     *d = uv + 2 * (size_t)c->triangle[3 * t + 2];
+        double area = 0.5 * ((b[0] - a[0]) * (d[1] - a[1]) - (b[1] - a[1]) * (d[0] - a[0]));
+        if (t == 0)
+            first = area;
+        least = fmin(least, area * (first > 0 ? 1 : -1));
+    }
+    return least;
+}
+
+TEST(ears_at_corners_are_laid_out_without_flattening)
+{
+    /* The 4 x 4 grid with its four corner quads cut the other way: each corner is the apex of
+     * an ear, whose base joins two points of the boundary. Only the placements with those
+     * apexes at the square's corners keep the ears open (Floater's condition). */
+    param_grid *g = param_grid_create(4, SHAPE_TILTED_PLANE, 0);
+    uint32_t *tris = malloc(3 * g->chart.triangle_count * sizeof *tris);
+    for (size_t i = 0; i < 3 * g->chart.triangle_count; i++)
+        tris[i] = g->chart.triangle[i];
+    static const size_t quads[4] = {0, 3, 12, 15}; /* quad (i, j) = 4 j + i: the corners */
+    for (int q = 0; q < 4; q++) {
+        size_t i = quads[q] % 4, j = quads[q] / 4;
+        uint32_t a = (uint32_t)(5 * j + i), b = a + 1, c = a + 6, d = a + 5;
+        uint32_t bd[6] = {a, b, d, b, c, d}, ac[6] = {a, b, c, a, c, d}; /* the diagonal away from the corner */
+        for (int k = 0; k < 6; k++)
+            tris[6 * quads[q] + (size_t)k] = i == j ? bd[k] : ac[k];
+    }
+    texopt_param_chart eared = g->chart;
+    eared.triangle = tris;
+    double *uv = malloc(2 * g->chart.vertex_count * sizeof *uv);
+    char err[256] = "";
+    texopt_square_params p;
+    texopt_square_params_default(&p);
+    for (int search = TEXOPT_SQUARE_BRUTE_FORCE; search <= TEXOPT_SQUARE_PSO; search++) {
+        p.search = (texopt_square_search)search;
+        texopt_square_report rep;
+        CHECK_OK(texopt_param_square(&eared, &p, uv, &rep, err, sizeof err), err);
+        CHECK(least_signed_area(&eared, uv) > 1e-3);
+    }
+    free(uv);
+    free(tris);
+    param_grid_destroy(g);
+}
+
+TEST(a_strip_one_quad_wide_is_refused)
+{
+    /* Two rows of 9 points: every vertex is on the boundary and each rung and diagonal joins
+     * the rows, so any four corners leave some of them on one side. */
+    double pos[2 * 9 * 3];
+    uint32_t tri[8 * 6];
+    for (uint32_t k = 0; k < 9; k++)
+        for (uint32_t r = 0; r < 2; r++) {
+            pos[3 * (2 * k + r)] = k;
+            pos[3 * (2 * k + r) + 1] = r;
+            pos[3 * (2 * k + r) + 2] = 0;
+        }
+    for (uint32_t k = 0; k < 8; k++) {
+        uint32_t a = 2 * k, b = 2 * k + 2, c = 2 * k + 3, d = 2 * k + 1, quad[6] = {a, b, c, a, c, d};
+        for (int i = 0; i < 6; i++)
+            tri[6 * k + (uint32_t)i] = quad[i];
+    }
+    texopt_param_chart strip = {18, pos, 16, tri};
+    double uv[36];
+    char err[256] = "";
+    texopt_square_params p;
+    texopt_square_params_default(&p);
+    CHECK_EQ_INT(texopt_param_square(&strip, &p, uv, NULL, err, sizeof err), TEXOPT_E_UNSUPPORTED);
+    CHECK(strstr(err, "interior edge") != NULL);
 }
