@@ -228,16 +228,6 @@ texopt_status texopt_param_boundary_create(texopt_param_boundary **out, const te
     return TEXOPT_OK;
 }
 
-size_t texopt_param_boundary_ears(const texopt_param_chart *chart, const texopt_param_boundary *boundary)
-{
-    size_t ears = 0;
-    for (size_t t = 0; t < chart->triangle_count; t++) {
-        const uint32_t *v = chart->triangle + 3 * t;
-        ears += boundary->on_boundary[v[0]] && boundary->on_boundary[v[1]] && boundary->on_boundary[v[2]];
-    }
-    return ears;
-}
-
 int texopt_param_stretch(const texopt_param_chart *chart, const double *uv, double *l2, double *linf,
                          double *per_vertex_l2)
 {

@@ -60,10 +60,6 @@ size_t texopt_param_flips(const texopt_param_chart *chart, const double *uv);
  * onto itself). Quadratic in the boundary's length. */
 int texopt_param_boundary_crosses(const texopt_param_boundary *boundary, const double *uv);
 
-/* Triangles with all three vertices on the boundary ("ears"): a boundary mapped onto
- * straight sides flattens each ear lying along one side. */
-size_t texopt_param_boundary_ears(const texopt_param_chart *chart, const texopt_param_boundary *boundary);
-
 /* The corner angles (radians) of triangle t in 3D, at its vertices 0, 1, 2. */
 void texopt_param_corner_angles(const texopt_param_chart *chart, size_t t, double angle[3]);
 
