@@ -16,7 +16,8 @@
  * orientation that is not FLIPPED, i.e. a patch holding 20% or more of the chart's texel
  * area, and no texel centre covered twice with one orientation: halves laid on one another
  * on purpose, whose texels the budget pays once, and whose overlap the within-chart count
- * does not count), and charts that are no disk (a handle, a non-manifold vertex or edge, a
+ * does not count; the scaffold boxes most of them half by half, so they reach here only
+ * when a half cannot be boxed), and charts that are no disk (a handle, a non-manifold vertex or edge, a
  * triangle without 3D area). A mirror that also covers centres twice with one orientation
  * (folds inside it) is unfolded and so loses its sharing. Holes and pinched vertices (a
  * boundary through a vertex twice) are no obstacle: every boundary loop but the longest is

@@ -230,6 +230,46 @@ done:
     return result;
 }
 
+/* Whether the chart's triangles tris hold both orientations and no fold-over: mirrored
+ * halves welded at their mirror line (mesh.h), each of which can be boxed on its own. */
+static int clean_mirror(const texopt_mesh *mesh, const double *x, const uint32_t *tris, size_t n)
+{
+    int positive = 0, negative = 0;
+    for (size_t k = 0; k < n; k++) {
+        if (mesh->flags[tris[k]] & TEXOPT_TRI_FLIPPED)
+            return 0;
+        const uint32_t *v = mesh->triangle + 3 * (size_t)tris[k];
+        double a = signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]);
+        positive |= a > 0.0;
+        negative |= a < 0.0;
+    }
+    return positive && negative;
+}
+
+/* A clean mirror scaffolded as two components, one per orientation: the halves lie on one
+ * another by design (the budget pays their texels once), and each half's own box keeps it
+ * off itself. 1 when both are scaffolded, 0 when one is not, -1 out of memory. */
+static int scaffold_halves(scaffold_build *sb, const texopt_mesh *mesh, const double *x, const uint32_t *tris, size_t n,
+                           int8_t *sign)
+{
+    uint32_t *half = malloc(n * sizeof *half);
+    if (!half)
+        return -1;
+    size_t positive = 0, negative = n;
+    for (size_t k = 0; k < n; k++) {
+        const uint32_t *v = mesh->triangle + 3 * (size_t)tris[k];
+        double a = signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]);
+        if (a >= 0.0)
+            half[positive++] = tris[k];
+        else
+            half[--negative] = tris[k];
+    }
+    int first = scaffold_component(sb, mesh, x, half, positive, sign);
+    int second = first < 0 ? -1 : scaffold_component(sb, mesh, x, half + negative, n - negative, sign);
+    free(half);
+    return first < 0 || second < 0 ? -1 : first && second;
+}
+
 static void scaffold_build_free(scaffold_build *sb)
 {
     free(sb->position);
@@ -260,7 +300,9 @@ static texopt_status build_scaffold(const texopt_mesh *mesh, const double *x, in
     for (size_t c = 0; c < boxes && !failed; c++) {
         size_t first = one_box ? 0 : start[c], last = one_box ? nt : start[c + 1];
         size_t charts = one_box ? nc : 1;
-        int r = scaffold_component(sb, mesh, x, order + first, last - first, sign);
+        int r = !one_box && clean_mirror(mesh, x, order + first, last - first)
+                    ? scaffold_halves(sb, mesh, x, order + first, last - first, sign)
+                    : scaffold_component(sb, mesh, x, order + first, last - first, sign);
         failed = r < 0;
         if (r > 0)
             sb->scaffolded += charts;

@@ -15,12 +15,14 @@
  * the charts afterwards, so only a chart's overlap with itself needs the scaffold), or one
  * around all charts (one_box: they also keep clear of one another). A box is three times
  * its charts' extent and is rebuilt around them at every re-mesh, so charts can grow.
- * A chart that already overlaps itself at the start (a folded chart, a mirrored half, a
- * boundary through a vertex) cannot be made bijective by a scaffold: it is solved without
- * one and counted in charts_skipped. The job gives such charts a bijective start first
- * under `bijective` (chart_unfold.h: laid out anew as disks, their targets restated), so
- * only those it leaves alone stay skipped: a sharing group's, clean mirrors, no disks. With
- * one_box, charts overlapping one another at the start skip the whole box.
+ * A clean mirror (halves of opposite orientation welded at their mirror line, no fold-over:
+ * mesh.h) is boxed half by half, so each half stays off itself while the halves keep lying
+ * on one another. A chart that otherwise overlaps itself at the start (a fold, a boundary
+ * through a vertex) cannot be made bijective by a scaffold: it is solved without one and
+ * counted in charts_skipped. The job gives such charts a bijective start first under
+ * `bijective` (chart_unfold.h: laid out anew as disks, their targets restated), so only
+ * those it leaves alone stay skipped: a sharing group's, no disks. With one_box, charts
+ * overlapping one another at the start skip the whole box.
  * Does not: change stage 2's energy on the charts, pack, or repair an overlapping start. */
 #ifndef TEXOPT_SCAFFOLD_H
 #define TEXOPT_SCAFFOLD_H

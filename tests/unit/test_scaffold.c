@@ -298,6 +298,58 @@ static texopt_mesh *z_folded_strip(void)
     return m;
 }
 
+/* closing_u and its mirror image welded along the right arm's outer edge (lattice x = 5):
+ * the mirrored U lies on the first with the other orientation, as mirrored halves do in
+ * the sample assets (neither half FLIPPED). Both halves' arms ask to be 2.5 times wider. */
+static texopt_mesh *mirrored_u(texopt_triangle_target **targets)
+{
+    cell cells[128];
+    size_t n = 0;
+    for (int j = 0; j < 7; j++)
+        for (int i = 0; i < 10; i++)
+            if (j == 0 || (i != 2 && i != 7))
+                cells[n++] = (cell){i, j, 0};
+    texopt_mesh *m = cell_mesh(cells, n, 1, 10);
+    for (size_t v = 0; v < m->vertex_count; v++)
+        if (m->position[3 * v] > 5)
+            m->texel[2 * v] = CELL * (10 - m->position[3 * v]);
+    m->chart_sign = malloc(1);
+    m->chart_sign[0] = 1;
+    handmesh_finish(m);
+    for (size_t t = 0; t < m->triangle_count; t++)   /* handmesh marks every clockwise triangle */
+        m->flags[t] &= (uint8_t)~TEXOPT_TRI_FLIPPED; /* mesh.h: a mirror's halves are not FLIPPED */
+    *targets = malloc(m->triangle_count * sizeof **targets);
+    for (size_t c = 0; c < n; c++)
+        (*targets)[2 * c] = (*targets)[2 * c + 1] = stretch_target(cells[c].j > 0 ? 2.5 : 1.0, 1.0);
+    return m;
+}
+
+TEST(each_half_of_a_mirror_is_kept_off_itself)
+{
+    texopt_triangle_target *tg;
+    texopt_mesh *m = mirrored_u(&tg);
+    double *plain = malloc(2 * m->vertex_count * sizeof *plain), *bij = malloc(2 * m->vertex_count * sizeof *bij);
+    char err[256];
+    size_t within, between, overlapping = 99;
+    uint8_t over = 1;
+    CHECK_OK(texopt_scaffold_overlapping_charts(m, m->texel, &over, &overlapping, err, sizeof err), err);
+    CHECK_EQ_INT(overlapping, 0);
+    CHECK_OK(texopt_meshwise_solve(m, tg, NULL, NULL, plain, NULL, NULL, err, sizeof err), err);
+    CHECK_OK(texopt_count_overlap(m, plain, &within, &between, err, sizeof err), err);
+    CHECK_MSG(within > 10, "without scaffold: %zu texels covered twice with one orientation", within);
+    texopt_scaffold_report rep;
+    CHECK_OK(texopt_scaffold_solve(m, tg, NULL, NULL, NULL, bij, &rep, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(rep.charts_scaffolded, 1);
+    CHECK_EQ_INT(rep.charts_skipped, 0);
+    CHECK_OK(texopt_count_overlap(m, bij, &within, &between, err, sizeof err), err);
+    CHECK_EQ_INT(within, 0);
+    CHECK_EQ_INT(texopt_count_flipped(m, bij), 0);
+    free(plain);
+    free(bij);
+    free(tg);
+    texopt_mesh_destroy(m);
+}
+
 /* Triangles of m that are not counter-clockwise in the layout texel. */
 static size_t clockwise(const texopt_mesh *m, const double *texel)
 {
