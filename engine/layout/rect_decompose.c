@@ -242,16 +242,12 @@ static int sign_of(double v)
     return v > 0.0 ? 1 : v < 0.0 ? -1 : 0;
 }
 
-texopt_status texopt_rect_decompose(const double *xy, size_t n, const uint8_t *choice, texopt_rect **rects,
-                                    size_t *count, char *err, size_t err_len)
+/* Builds the grid of the polygon and runs its motorcycles (choice as in the header); bikes
+ * (2 n, caller's) end at their stops, corner[k] (2 n) the polygon point bike k left from. */
+static texopt_status run_motorcycles(const double *xy, size_t n, const uint8_t *choice, grid *g, motorcycle *bikes,
+                                     size_t *corner, size_t *count, char *err, size_t err_len)
 {
-    if (!xy || n < 4 || !rects || !count)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "rectangles: need a polygon of 4 points or more");
-    grid g;
-    texopt_status st = grid_build(&g, xy, n, err, err_len);
-    motorcycle *bikes = st == TEXOPT_OK ? malloc(2 * n * sizeof *bikes) : NULL;
-    if (st == TEXOPT_OK && !bikes)
-        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "rectangles: out of memory");
+    texopt_status st = grid_build(g, xy, n, err, err_len);
     size_t nb = 0, reflex = 0;
     for (size_t v = 0; v < n && st == TEXOPT_OK; v++) {
         if (!(cross_turn(xy, n, v) < 0.0))
@@ -259,19 +255,81 @@ texopt_status texopt_rect_decompose(const double *xy, size_t n, const uint8_t *c
         uint8_t c = choice ? choice[reflex] & 3 : 3;
         reflex++;
         const double *a = xy + 2 * ((v + n - 1) % n), *b = xy + 2 * v, *d = xy + 2 * ((v + 1) % n);
-        long i = (long)index_of(g.xs, g.nx, b[0]), j = (long)index_of(g.ys, g.ny, b[1]);
+        long i = (long)index_of(g->xs, g->nx, b[0]), j = (long)index_of(g->ys, g->ny, b[1]);
         int dirs[2][2] = {{sign_of(b[0] - a[0]), sign_of(b[1] - a[1])}, {sign_of(b[0] - d[0]), sign_of(b[1] - d[1])}};
         for (int k = 0; k < 2; k++)
             if (c == 0 || (c >> k) & 1) {
                 motorcycle m = {i, j, dirs[k][0], dirs[k][1], 0.0, 1};
+                corner[nb] = v;
                 bikes[nb++] = m;
             }
     }
-    if (st == TEXOPT_OK) {
-        race(&g, bikes, nb);
+    if (st == TEXOPT_OK)
+        race(g, bikes, nb);
+    *count = nb;
+    return st;
+}
+
+/* Work room for run_motorcycles: bikes and corners, 2 n each. */
+static texopt_status bikes_alloc(size_t n, motorcycle **bikes, size_t **corner, char *err, size_t err_len)
+{
+    *bikes = malloc(2 * n * sizeof **bikes);
+    *corner = malloc(2 * n * sizeof **corner);
+    if (*bikes && *corner)
+        return TEXOPT_OK;
+    free(*bikes);
+    free(*corner);
+    *bikes = NULL;
+    *corner = NULL;
+    return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "rectangles: out of memory");
+}
+
+texopt_status texopt_rect_decompose(const double *xy, size_t n, const uint8_t *choice, texopt_rect **rects,
+                                    size_t *count, char *err, size_t err_len)
+{
+    if (!xy || n < 4 || !rects || !count)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "rectangles: need a polygon of 4 points or more");
+    grid g;
+    memset(&g, 0, sizeof g);
+    motorcycle *bikes = NULL;
+    size_t *corner = NULL, nb = 0;
+    texopt_status st = bikes_alloc(n, &bikes, &corner, err, err_len);
+    if (st == TEXOPT_OK)
+        st = run_motorcycles(xy, n, choice, &g, bikes, corner, &nb, err, err_len);
+    if (st == TEXOPT_OK)
         st = collect_faces(&g, rects, count, err, err_len);
+    free(bikes);
+    free(corner);
+    grid_free(&g);
+    return st;
+}
+
+texopt_status texopt_rect_trails(const double *xy, size_t n, const uint8_t *choice, texopt_rect_trail **trails,
+                                 size_t *count, char *err, size_t err_len)
+{
+    if (!xy || n < 4 || !trails || !count)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "rectangles: need a polygon of 4 points or more");
+    grid g;
+    memset(&g, 0, sizeof g);
+    motorcycle *bikes = NULL;
+    size_t *corner = NULL, nb = 0;
+    texopt_status st = bikes_alloc(n, &bikes, &corner, err, err_len);
+    if (st == TEXOPT_OK)
+        st = run_motorcycles(xy, n, choice, &g, bikes, corner, &nb, err, err_len);
+    texopt_rect_trail *out = st == TEXOPT_OK ? malloc((nb ? nb : 1) * sizeof *out) : NULL;
+    if (st == TEXOPT_OK && !out)
+        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "rectangles: out of memory");
+    for (size_t k = 0; out && k < nb; k++) {
+        const double *c = xy + 2 * corner[k];
+        texopt_rect_trail t = {corner[k], c[0], c[1], g.xs[bikes[k].i], g.ys[bikes[k].j], bikes[k].time};
+        out[k] = t;
+    }
+    if (st == TEXOPT_OK) {
+        *trails = out;
+        *count = nb;
     }
     free(bikes);
+    free(corner);
     grid_free(&g);
     return st;
 }
