@@ -122,6 +122,9 @@ texopt_status job_measure_loss_share(texopt_job *job, int d, const double *texel
  * the sample models, BENCHMARKS.md@9f788a8 "End to end"). A miss by more than RESOLVE_RATIO is
  * solved once more at the cost reached. */
 #define EXPECTED_PACKING_EFFICIENCY 0.68
+/* Texels (input frame) added to each rectangle when the cuts' decompositions are scored:
+ * about the packer's gutter, so that a cut must pay for the gap its pieces need. */
+#define CUT_PADDING 4.0
 #define RESOLVE_RATIO 1.1
 
 static void budget_request(texopt_job *job, const layout_run *run, const job_domain *jd, texopt_budget_request *req)
@@ -161,6 +164,61 @@ static uint8_t *charts_keeping_angle(const texopt_mesh *charts, const texopt_tri
     return keep;
 }
 
+/* The refined layout's charts cut into pieces (texopt_atlas_cut) and the pieces packed at
+ * the same budget: its packing efficiency, boundary and split vertices go to the
+ * statistics only. The cut is not written: the model's vertices would need splitting where
+ * pieces meet, and the job's model, outputs and candidates' evaluation share one vertex
+ * numbering (model_split.h is applied before any layout, for new charts only). */
+static texopt_status measure_cut(const texopt_mesh *charts, const double *refined, const texopt_budget_request *req,
+                                 texopt_domain_stats *ds, char *err, size_t err_len)
+{
+    size_t nt = charts->triangle_count ? charts->triangle_count : 1, pieces = 0;
+    uint32_t *piece_of = malloc(nt * sizeof *piece_of), *source = NULL;
+    texopt_chart_cut_options opt = {.padding = CUT_PADDING, .seed = 1};
+    texopt_mesh *cut = NULL;
+    double *texel = NULL, *packed = NULL;
+    uint8_t *keep = NULL;
+    texopt_status st = piece_of ? TEXOPT_OK : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the pieces");
+    if (st == TEXOPT_OK)
+        st = texopt_atlas_cut(charts, refined, req->keep_shape, &opt, piece_of, &pieces, &ds->atlas_refine,
+                              req->monitor, err, err_len);
+    if (st == TEXOPT_OK && pieces > charts->chart_count)
+        st = texopt_mesh_cut_create(charts, piece_of, pieces, &cut, &source, err, err_len);
+    if (cut) {
+        texel = malloc(2 * cut->vertex_count * sizeof *texel);
+        packed = malloc(2 * cut->vertex_count * sizeof *packed);
+        keep = calloc(pieces, 1);
+        if (!texel || !packed || !keep)
+            st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the cut layout");
+    }
+    if (st == TEXOPT_OK && cut) {
+        for (size_t v = 0; v < cut->vertex_count; v++)
+            memcpy(texel + 2 * v, refined + 2 * (size_t)source[v], 2 * sizeof *texel);
+        for (size_t t = 0; req->keep_shape && t < charts->triangle_count; t++)
+            keep[piece_of[t]] = req->keep_shape[charts->chart_of[t]];
+        texopt_budget_request r = *req;
+        r.keep_shape = keep;
+        texopt_budget_result br = {0};
+        st = texopt_budget_fit(cut, texel, &r, packed, &br, err, err_len);
+        if (st == TEXOPT_E_LIMIT)
+            st = TEXOPT_OK;
+        ds->packing_efficiency_cut = br.packing_efficiency;
+        ds->atlas_refine.vertices_split = cut->vertex_count - charts->vertex_count;
+        ds->atlas_refine.boundary_cut = texopt_atlas_boundary_length(cut, texel);
+    }
+    if (st == TEXOPT_OK && !cut) {
+        ds->packing_efficiency_cut = ds->packing_efficiency_refined;
+        ds->atlas_refine.boundary_cut = ds->atlas_refine.boundary_after;
+    }
+    texopt_mesh_destroy(cut);
+    free(piece_of);
+    free(source);
+    free(texel);
+    free(packed);
+    free(keep);
+    return st;
+}
+
 /* Packing "refine": the charts of l->texel_new deformed toward axis-aligned shapes
  * (atlas_refine.h) and packed at the same budget; the tighter of the two packings (the
  * higher packing efficiency: fewer texture texels at a relative cost, more covered ones at
@@ -190,6 +248,7 @@ static texopt_status refine_if_tighter(const texopt_mesh *charts, const texopt_b
         ds->packing_efficiency_unrefined = l->br.packing_efficiency;
         ds->packing_efficiency_refined = br.packing_efficiency;
         ds->atlas_refine_kept = br.packing_efficiency > l->br.packing_efficiency;
+        st = measure_cut(charts, refined, req, ds, err, err_len);
     }
     if (st == TEXOPT_OK && ds->atlas_refine_kept) {
         memcpy(l->texel_new, refined, n * sizeof *refined);

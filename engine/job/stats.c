@@ -134,6 +134,13 @@ static void add_atlas_refine(cJSON *o, const texopt_domain_stats *d)
     cJSON_AddNumberToObject(a, "packing_efficiency_after", d->packing_efficiency_refined);
     cJSON_AddNumberToObject(a, "boundary_length_before", r->boundary_before);
     cJSON_AddNumberToObject(a, "boundary_length_after", r->boundary_after);
+    cJSON_AddNumberToObject(a, "charts_cut", (double)r->charts_cut);
+    cJSON_AddNumberToObject(a, "pieces", (double)r->pieces);
+    cJSON_AddNumberToObject(a, "cuts", (double)r->cuts);
+    cJSON_AddNumberToObject(a, "vertices_split", (double)r->vertices_split);
+    cJSON_AddNumberToObject(a, "boundary_length_cut", r->boundary_cut);
+    cJSON_AddNumberToObject(a, "packing_efficiency_cut", d->packing_efficiency_cut);
+    cJSON_AddNumberToObject(a, "cut_seconds", r->cut_seconds);
     cJSON_AddNumberToObject(a, "distortion", r->distortion);
     cJSON_AddNumberToObject(a, "max_angle_error", r->max_angle_error);
     cJSON_AddNumberToObject(a, "seconds", r->seconds);

@@ -90,6 +90,7 @@ typedef struct texopt_domain_stats {
     int has_atlas_refine;        /* params.packing_refine: charts deformed before packing (atlas_refine.h) */
     int atlas_refine_kept;       /* the refined layout packed tighter and was kept */
     double packing_efficiency_unrefined, packing_efficiency_refined; /* of the two packings */
+    double packing_efficiency_cut; /* the refined charts cut (chart_cut.h) and packed: measured, not written */
     texopt_atlas_refine_report atlas_refine;
     int has_loss_share; /* loss of every triangle under the solved layout */
     double solved_within_epsilon_share, solved_loss_mean, solved_loss_max;

@@ -1,7 +1,9 @@
 /* test_pipeline_packing.c - `packing refine` through the whole job (budget_layout.c,
  * layout/atlas_refine.h): an L-shaped flat chart with a jittered outline, laid out by arap
  * (isometric, so stage 2 keeps the jitter), is refined, the statistics report it, the
- * tighter packing is the one kept, and without the option nothing is refined. */
+ * tighter packing is the one kept, and without the option nothing is refined. The refined
+ * L is cut once into two pieces (chart_cut.h), measured in the statistics: more boundary,
+ * the vertices along the cut split, and the written layout still passes the check. */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <string.h>
@@ -92,6 +94,14 @@ TEST(the_refined_packing_is_reported_and_kept_only_when_tighter)
     CHECK(number(a, "distortion") > 1.0 && number(a, "distortion") <= 1.1);
     CHECK(number(a, "boundary_length_before") > 0 && number(a, "boundary_length_after") > 0);
     CHECK(cJSON_IsTrue(cJSON_GetObjectItem(cJSON_GetObjectItem(d_on, "layout_check"), "passed")));
+    CHECK(number(a, "charts_cut") == 1 && number(a, "pieces") == 2 && number(a, "cuts") == 1);
+    /* a cut across the L's 6 cells, along mesh edges: about 7 vertices */
+    CHECK_MSG(number(a, "vertices_split") >= 6 && number(a, "vertices_split") <= 12, "%g vertices split",
+              number(a, "vertices_split"));
+    CHECK(number(a, "boundary_length_cut") > number(a, "boundary_length_after"));
+    /* two rectangles pack tighter than the refined L (0.82 against 0.69 when written) */
+    CHECK_MSG(number(a, "packing_efficiency_cut") > after + 0.05 && number(a, "packing_efficiency_cut") <= 1,
+              "cut %.3f", number(a, "packing_efficiency_cut"));
     cJSON_Delete(on);
     cJSON_Delete(off);
 }
