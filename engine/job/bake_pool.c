@@ -268,7 +268,8 @@ texopt_status job_bake_remaining_images(texopt_job *job, const layout_run *run, 
             continue;
         texopt_domain_stats *ds = &run->domains[d];
         double t0 = job_now_seconds();
-        st = job_rebake_domain(job, run, d, job->domains[d].layout, out->packed[d], &out->packed_size[2 * d],
+        const texopt_mesh *charts = out->cut && out->cut[d] ? out->cut[d] : job->domains[d].layout;
+        st = job_rebake_domain(job, run, d, charts, out->packed[d], &out->packed_size[2 * d],
                                from + (to - from) * d / n, from + (to - from) * (d + 1) / n, err, err_len);
         ds->seconds_bake += job_now_seconds() - t0;
     }

@@ -94,8 +94,8 @@ static texopt_status solve_layout(texopt_job *job, const layout_run *run, int d,
 /* One loss evaluation per triangle: about 1% of stage 1 but the bulk of a baseline's run,
  * so it is measured only for statistics that are written, and for baselines only when the
  * job asks for an evaluation. */
-texopt_status job_measure_loss_share(texopt_job *job, int d, const double *texel_new, texopt_domain_stats *ds,
-                                     char *err, size_t err_len)
+texopt_status job_measure_loss_share(texopt_job *job, int d, const texopt_mesh *cut, const double *texel_new,
+                                     texopt_domain_stats *ds, char *err, size_t err_len)
 {
     const texopt_params *params = &job->params;
     /* It reads the texture through the layout's own input UVs, which new charts have not
@@ -105,8 +105,8 @@ texopt_status job_measure_loss_share(texopt_job *job, int d, const double *texel
     texopt_loss_share share;
     double t0 = job_now_seconds();
     texopt_status st =
-        texopt_meshwise_loss_share(job->model, job->domains[d].mesh, texel_new, job->signal_weights, params->epsilon,
-                                   params->threads, 0, NULL, &share, &job->jm.inner, err, err_len);
+        texopt_meshwise_loss_share(job->model, cut ? cut : job->domains[d].mesh, texel_new, job->signal_weights,
+                                   params->epsilon, params->threads, 0, NULL, &share, &job->jm.inner, err, err_len);
     if (st == TEXOPT_OK) {
         ds->has_loss_share = 1;
         ds->solved_within_epsilon_share = share.share;
@@ -122,6 +122,9 @@ texopt_status job_measure_loss_share(texopt_job *job, int d, const double *texel
  * the sample models, BENCHMARKS.md@9f788a8 "End to end"). A miss by more than RESOLVE_RATIO is
  * solved once more at the cost reached. */
 #define EXPECTED_PACKING_EFFICIENCY 0.68
+/* Texels (input frame) added to each rectangle when the cuts' decompositions are scored:
+ * about the packer's gutter, so that a cut must pay for the gap its pieces need. */
+#define CUT_PADDING 4.0
 #define RESOLVE_RATIO 1.1
 
 static void budget_request(texopt_job *job, const layout_run *run, const job_domain *jd, texopt_budget_request *req)
@@ -148,6 +151,8 @@ typedef struct domain_layout {
     double *texel_new;       /* stage 2's, in input texels */
     double *packed;          /* packed, in output texels */
     texopt_budget_result br; /* the packing's frame and cost */
+    texopt_mesh *cut;        /* owned: the layout mesh cut into pieces that texel_new and
+                                packed are on (packing "refine"), NULL when not cut */
 } domain_layout;
 
 /* Per chart of `charts`, 1 when one of its triangles cares about its angle on the texel
@@ -159,6 +164,68 @@ static uint8_t *charts_keeping_angle(const texopt_mesh *charts, const texopt_tri
         if (targets[t].w_rotation != 0)
             keep[charts->chart_of[t]] = 1;
     return keep;
+}
+
+/* The refined layout's charts cut into pieces (texopt_atlas_cut) and the pieces packed at
+ * the same budget; when that packs tighter than l's layout, and the domain has no sharing
+ * groups (whose chart numbering the layout check and the packer's groups hold), the cut
+ * layout replaces l's, on l->cut. Its packing efficiency, boundary and split vertices go to
+ * the statistics either way. */
+static texopt_status cut_if_tighter(const texopt_mesh *charts, const double *refined, const texopt_budget_request *req,
+                                    domain_layout *l, texopt_domain_stats *ds, char *err, size_t err_len)
+{
+    size_t nt = charts->triangle_count ? charts->triangle_count : 1, pieces = 0;
+    uint32_t *piece_of = malloc(nt * sizeof *piece_of), *source = NULL;
+    texopt_chart_cut_options opt = {.padding = CUT_PADDING, .seed = 1};
+    texopt_mesh *cut = NULL;
+    double *texel = NULL, *packed = NULL;
+    texopt_status st = piece_of ? TEXOPT_OK : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the pieces");
+    if (st == TEXOPT_OK)
+        st = texopt_atlas_cut(charts, refined, req->keep_shape, &opt, piece_of, &pieces, &ds->atlas_refine,
+                              req->monitor, err, err_len);
+    if (st == TEXOPT_OK && pieces > charts->chart_count)
+        st = texopt_mesh_cut_create(charts, piece_of, pieces, &cut, &source, err, err_len);
+    if (cut) {
+        texel = malloc(2 * cut->vertex_count * sizeof *texel);
+        packed = malloc(2 * cut->vertex_count * sizeof *packed);
+        if (!texel || !packed)
+            st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the cut layout");
+    }
+    texopt_budget_result br = {0};
+    if (st == TEXOPT_OK && cut) {
+        for (size_t v = 0; v < cut->vertex_count; v++)
+            memcpy(texel + 2 * v, refined + 2 * (size_t)source[v], 2 * sizeof *texel);
+        texopt_budget_request r = *req;
+        r.keep_shape = NULL; /* sharing groups stay whole: see above */
+        st = texopt_budget_fit(cut, texel, &r, packed, &br, err, err_len);
+        if (st == TEXOPT_E_LIMIT)
+            st = TEXOPT_OK;
+        ds->packing_efficiency_cut = br.packing_efficiency;
+        ds->atlas_refine.vertices_split = cut->vertex_count - charts->vertex_count;
+        ds->atlas_refine.boundary_cut = texopt_atlas_boundary_length(cut, texel);
+    }
+    if (st == TEXOPT_OK && !cut) {
+        ds->packing_efficiency_cut = ds->packing_efficiency_refined;
+        ds->atlas_refine.boundary_cut = ds->atlas_refine.boundary_after;
+    }
+    if (st == TEXOPT_OK && cut && !req->keep_shape && br.packing_efficiency > l->br.packing_efficiency) {
+        double *swap = l->texel_new;
+        l->texel_new = texel;
+        texel = swap;
+        swap = l->packed;
+        l->packed = packed;
+        packed = swap;
+        l->br = br;
+        l->cut = cut;
+        cut = NULL;
+        ds->atlas_refine_kept = ATLAS_REFINE_KEPT_CUT;
+    }
+    texopt_mesh_destroy(cut);
+    free(piece_of);
+    free(source);
+    free(texel);
+    free(packed);
+    return st;
 }
 
 /* Packing "refine": the charts of l->texel_new deformed toward axis-aligned shapes
@@ -196,6 +263,8 @@ static texopt_status refine_if_tighter(const texopt_mesh *charts, const texopt_b
         memcpy(l->packed, packed, n * sizeof *packed);
         l->br = br;
     }
+    if (st == TEXOPT_OK)
+        st = cut_if_tighter(charts, refined, req, l, ds, err, err_len);
     free(refined);
     free(packed);
     free(keep_angle);
@@ -219,6 +288,8 @@ static texopt_status layout_for_budget(texopt_job *job, const layout_run *run, i
     budget_request(job, run, jd, &req);
     texopt_status st = TEXOPT_OK;
     for (int round = 0; round < 2 && st == TEXOPT_OK; round++) {
+        texopt_mesh_destroy(l->cut); /* texel_new and packed stay large enough for the mesh */
+        l->cut = NULL;
         job_stage(jm, "stage2", from, split);
         st = solve_layout(job, run, d, cost, l->texel_new, err, err_len);
         if (st == TEXOPT_OK)
@@ -258,24 +329,26 @@ static texopt_status run_layout_method(texopt_job *job, const layout_run *run, i
     double span = (to - from) / (w->stage2 + w->pack + w->bake);
     double pack_from = from + span * w->stage2, bake_from = pack_from + span * w->pack;
     size_t n = 2 * (mesh->vertex_count ? mesh->vertex_count : 1);
-    domain_layout l = {malloc(n * sizeof(double)), malloc(n * sizeof(double)), {0}};
+    domain_layout l = {malloc(n * sizeof(double)), malloc(n * sizeof(double)), {0}, NULL};
     texopt_status st =
         l.texel_new && l.packed ? TEXOPT_OK : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the new layout");
     ds->input_layout_kept[0] = '\0';
     if (st == TEXOPT_OK)
         st = layout_for_budget(job, run, d, &l, from, pack_from, bake_from, err, err_len);
     ds->has_layout_check = 0;
-    if (job_input_layout_packs_better(job->model, mesh, run->p, &l.br, st, ds) ||
-        (st == TEXOPT_OK && job_layout_fails_check(job, run, d, l.packed, &l.br, &st, err, err_len))) {
+    const texopt_mesh *laid = l.cut ? l.cut : mesh; /* the mesh texel_new and packed are on */
+    if (job_input_layout_packs_better(job->model, laid, run->p, &l.br, st, ds) ||
+        (st == TEXOPT_OK && job_layout_fails_check(job, run, d, laid, l.packed, &l.br, &st, err, err_len))) {
         free(l.texel_new);
         free(l.packed);
+        texopt_mesh_destroy(l.cut);
         ds->repacked = 0;
         return job_run_input_method(job, run, d, bake_from, to, err, err_len);
     }
     if (st == TEXOPT_OK && run->with_stats)
-        st = job_measure_loss_share(job, d, l.texel_new, ds, err, err_len);
+        st = job_measure_loss_share(job, d, l.cut, l.texel_new, ds, err, err_len);
     if (st == TEXOPT_OK) {
-        job_stats_record_distortion(mesh, l.texel_new, ds);
+        job_stats_record_distortion(laid, l.texel_new, ds);
         ds->output_width = l.br.width;
         ds->output_height = l.br.height;
         ds->cost_input = (double)jd->input_coverage.covered_texels;
@@ -286,21 +359,26 @@ static texopt_status run_layout_method(texopt_job *job, const layout_run *run, i
         ds->repacked = 1;
         double t0 = job_now_seconds();
         int size[2] = {l.br.width, l.br.height};
-        st = job_rebake_domain(job, run, d, jd->layout, l.packed, size, bake_from, to, err, err_len);
+        st = job_rebake_domain(job, run, d, l.cut ? l.cut : jd->layout, l.packed, size, bake_from, to, err, err_len);
         ds->seconds_bake = job_now_seconds() - t0;
     }
-    if (st == TEXOPT_OK)
+    if (st == TEXOPT_OK && l.cut)
+        st = job_output_write_cut_uvs(job->model, l.cut, l.packed, l.br.width, l.br.height, out, err, err_len);
+    else if (st == TEXOPT_OK)
         job_output_write_uvs(job->model, mesh, l.packed, l.br.width, l.br.height, out->uvs);
     if (st == TEXOPT_OK && out->solved) {
         out->solved[d] = l.texel_new;
         l.texel_new = NULL;
         out->packed[d] = l.packed;
         l.packed = NULL;
+        out->cut[d] = l.cut;
+        l.cut = NULL;
         out->packed_size[2 * d] = l.br.width;
         out->packed_size[2 * d + 1] = l.br.height;
     }
     free(l.texel_new);
     free(l.packed);
+    texopt_mesh_destroy(l.cut);
     return st;
 }
 

@@ -17,10 +17,11 @@
 /* The perceptual targets' allocation for one domain with singular values capped at cap. */
 texopt_allocate_options job_domain_allocation(const job_domain *jd, double cap);
 
-/* Paper Fig. 16: the share of triangles whose loss under the solved layout texel_new still
- * meets eps, into ds. Measured only for the methods that choose or when the job evaluates. */
-texopt_status job_measure_loss_share(texopt_job *job, int d, const double *texel_new, texopt_domain_stats *ds,
-                                     char *err, size_t err_len);
+/* Paper Fig. 16: the share of triangles whose loss under the solved layout texel_new (on
+ * `cut`, the domain's cut mesh, or NULL: its mesh) still meets eps, into ds. Measured only
+ * for the methods that choose or when the job evaluates. */
+texopt_status job_measure_loss_share(texopt_job *job, int d, const texopt_mesh *cut, const double *texel_new,
+                                     texopt_domain_stats *ds, char *err, size_t err_len);
 
 /* The domains' share of a part of the job: by triangles (layout methods) or texels (input). */
 double job_domain_weight(const texopt_job *job, int d);

@@ -149,8 +149,9 @@ int job_input_layout_packs_better(const texopt_model *model, const texopt_mesh *
     return 1;
 }
 
-int job_layout_fails_check(const texopt_job *job, const layout_run *run, int d, const double *packed,
-                           const texopt_budget_result *br, texopt_status *st, char *err, size_t err_len)
+int job_layout_fails_check(const texopt_job *job, const layout_run *run, int d, const texopt_mesh *laid,
+                           const double *packed, const texopt_budget_result *br, texopt_status *st, char *err,
+                           size_t err_len)
 {
     const job_domain *jd = &job->domains[d];
     texopt_domain_stats *ds = &run->domains[d];
@@ -158,8 +159,9 @@ int job_layout_fails_check(const texopt_job *job, const layout_run *run, int d, 
     texopt_layout_check *c = &ds->layout_check;
     ds->has_layout_check = 1;
     double t0 = job_now_seconds();
-    *st = texopt_layout_check_run(job_layout_mesh(jd), packed, br->width, br->height,
-                                  jd->share ? jd->share->primary_of : NULL, targets, c, err, err_len);
+    /* a cut layout has no sharing groups (budget_layout.c keeps cuts only without them) */
+    const uint32_t *groups = jd->share && laid == job_layout_mesh(jd) ? jd->share->primary_of : NULL;
+    *st = texopt_layout_check_run(laid, packed, br->width, br->height, groups, targets, c, err, err_len);
     ds->seconds_layout_check = job_now_seconds() - t0;
     if (*st != TEXOPT_OK || c->failed == TEXOPT_LAYOUT_PASSED)
         return 0;

@@ -41,10 +41,11 @@ void job_keep_domain(const texopt_model *model, int d, texopt_domain_stats *ds);
 int job_input_layout_packs_better(const texopt_model *model, const texopt_mesh *mesh, const texopt_params *p,
                                   const texopt_budget_result *br, texopt_status st, texopt_domain_stats *ds);
 
-/* Whether domain d's packed layout fails the layout check (against the targets it was solved
- * from), recorded in run->domains[d] with the reason in its input_layout_kept; *st: the
- * check's status. */
-int job_layout_fails_check(const texopt_job *job, const layout_run *run, int d, const double *packed,
-                           const texopt_budget_result *br, texopt_status *st, char *err, size_t err_len);
+/* Whether domain d's packed layout (on `laid`: its layout mesh, or that mesh cut into
+ * pieces) fails the layout check (against the targets it was solved from), recorded in
+ * run->domains[d] with the reason in its input_layout_kept; *st: the check's status. */
+int job_layout_fails_check(const texopt_job *job, const layout_run *run, int d, const texopt_mesh *laid,
+                           const double *packed, const texopt_budget_result *br, texopt_status *st, char *err,
+                           size_t err_len);
 
 #endif

@@ -176,7 +176,7 @@ texopt_status job_measure_chosen_loss_share(texopt_job *job, const job_output *o
     texopt_status st = TEXOPT_OK;
     for (int d = 0; d < job->model->domain_count && st == TEXOPT_OK; d++)
         if (out->solved && out->solved[d])
-            st = job_measure_loss_share(job, d, out->solved[d], &job->stats.domains[d], err, err_len);
+            st = job_measure_loss_share(job, d, out->cut[d], out->solved[d], &job->stats.domains[d], err, err_len);
     return st;
 }
 

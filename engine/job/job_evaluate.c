@@ -16,8 +16,16 @@ texopt_evaluate_options job_evaluation_options(const texopt_params *p, texopt_ca
     return opt;
 }
 
-/* Each of n outputs as the input model seen through its new UVs and images (a shallow view
- * that owns nothing but *images, which the caller frees). */
+/* Each of n outputs as the input model seen through its new UVs and images (a view,
+ * job_output.h job_output_view: vertices split where a domain was cut); the caller frees
+ * *images and the views (free_output_models). */
+static void free_output_models(const texopt_model *model, texopt_model *candidates, int n, texopt_image *images)
+{
+    for (int c = 0; c < n; c++)
+        job_output_view_free(model, &candidates[c]);
+    free(images);
+}
+
 static texopt_status output_models(const texopt_model *model, const job_output *const *outs, int n,
                                    texopt_model *candidates, const texopt_model **shown, texopt_image **images,
                                    char *err, size_t err_len)
@@ -28,19 +36,22 @@ static texopt_status output_models(const texopt_model *model, const job_output *
     *images = calloc((size_t)n * k, sizeof **images);
     if (!*images)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the evaluation");
-    for (int c = 0; c < n; c++) {
+    texopt_status st = TEXOPT_OK;
+    for (int c = 0; c < n; c++)
+        candidates[c] = *model;
+    for (int c = 0; c < n && st == TEXOPT_OK; c++) {
         texopt_image *own = *images + (size_t)c * k;
         for (int i = 0; i < model->image_count; i++)
             own[i] = outs[c]->edit_images[i] ? *outs[c]->edit_images[i] : model->images[i];
-        candidates[c] = *model;
+        st = job_output_view(model, outs[c], &candidates[c], err, err_len);
         candidates[c].images = own;
-        if (outs[c]->uvs)
-            candidates[c].uvs = outs[c]->uvs;
-        candidates[c].document = NULL;
-        candidates[c].destroy_document = NULL;
         shown[c] = &candidates[c];
     }
-    return TEXOPT_OK;
+    if (st != TEXOPT_OK) {
+        free_output_models(model, candidates, n, *images);
+        *images = NULL;
+    }
+    return st;
 }
 
 texopt_status job_evaluate_outputs(texopt_job *job, const job_output *const *outs, int n, const texopt_params *p,
@@ -59,7 +70,7 @@ texopt_status job_evaluate_outputs(texopt_job *job, const job_output *const *out
     opt.triangle_error_edges = !screen->lit;
     opt.reference_views = screen->reference_views;
     st = texopt_evaluate_many(job->model, shown, n, &opt, ev, err, err_len);
-    free(images);
+    free_output_models(job->model, candidates, n, images);
     return st;
 }
 
@@ -73,9 +84,10 @@ texopt_status job_evaluate_maps(texopt_job *job, const job_output *const *outs, 
     int measured[TEXOPT_MAP_MEASURES];
     texopt_map_measures(job->model, domain, measured);
     texopt_evaluate_options opt = job_evaluation_options(p, cameras, 0, &job->jm);
-    if (st == TEXOPT_OK)
+    if (st == TEXOPT_OK) {
         st = texopt_map_evaluate(job->model, shown, n, &opt, measured, q, err, err_len);
-    free(images);
+        free_output_models(job->model, candidates, n, images);
+    }
     return st;
 }
 

@@ -233,8 +233,14 @@ texopt_status texopt_job_write(texopt_job *job, const texopt_job_budget *budget,
     if (st == TEXOPT_OK) {
         job_stage(&job->jm, "save", end, 1.0);
         double t0 = job_now_seconds();
-        texopt_model_edit edit = {out.uvs, out.edit_images, p.lossless_textures};
-        st = texopt_model_save_glb(job->model, &edit, output_glb, err, err_len);
+        texopt_model written;
+        st = job_output_view(job->model, &out, &written, err, err_len);
+        texopt_model_edit edit = {out.uvs ? written.uvs : NULL, out.edit_images, p.lossless_textures};
+        if (st == TEXOPT_OK) {
+            written.document = job->model->document; /* the file being edited */
+            st = texopt_model_save_glb(&written, &edit, output_glb, err, err_len);
+            job_output_view_free(job->model, &written);
+        }
         js->seconds_save = job_now_seconds() - t0;
     }
     if (st == TEXOPT_OK && stats_json) /* the costs reported are the written file's */

@@ -30,6 +30,10 @@ static texopt_status input_layout_at_same_pixels(texopt_job *job, const texopt_p
         return st;
     memcpy(resized->uvs, out->uvs, 2 * model->vertex_count * sizeof *resized->uvs);
     job_output_restore_uvs(model, d, resized->uvs);
+    st = job_output_copy_corners(model, out, resized, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    job_output_uncut_domain(model, d, resized);
     for (int i = 0; i < model->image_count; i++)
         resized->edit_images[i] = out->edit_images[i];
     for (int i = 0; i < dom->image_count; i++)
@@ -111,6 +115,7 @@ static void keep_input_layout(texopt_job *job, job_output *out, job_output *kept
         out->edit_images[im] = kept->edit_images[im] ? &out->images[im] : NULL;
     }
     job_output_restore_uvs(job->model, d, out->uvs);
+    job_output_uncut_domain(job->model, d, out);
     free(out->solved[d]);
     free(out->packed[d]);
     out->solved[d] = NULL;

@@ -125,7 +125,10 @@ static void add_atlas_refine(cJSON *o, const texopt_domain_stats *d)
 {
     const texopt_atlas_refine_report *r = &d->atlas_refine;
     cJSON *a = cJSON_AddObjectToObject(o, "atlas_refine");
-    cJSON_AddStringToObject(a, "kept", d->atlas_refine_kept ? "refined" : "plain");
+    cJSON_AddStringToObject(a, "kept",
+                            d->atlas_refine_kept == ATLAS_REFINE_KEPT_CUT ? "cut"
+                            : d->atlas_refine_kept                        ? "refined"
+                                                                          : "plain");
     cJSON_AddNumberToObject(a, "charts", (double)r->charts_refined);
     cJSON_AddNumberToObject(a, "skipped_charts", (double)r->charts_skipped);
     cJSON_AddNumberToObject(a, "too_distorted_charts", (double)r->charts_too_distorted);
@@ -134,6 +137,13 @@ static void add_atlas_refine(cJSON *o, const texopt_domain_stats *d)
     cJSON_AddNumberToObject(a, "packing_efficiency_after", d->packing_efficiency_refined);
     cJSON_AddNumberToObject(a, "boundary_length_before", r->boundary_before);
     cJSON_AddNumberToObject(a, "boundary_length_after", r->boundary_after);
+    cJSON_AddNumberToObject(a, "charts_cut", (double)r->charts_cut);
+    cJSON_AddNumberToObject(a, "pieces", (double)r->pieces);
+    cJSON_AddNumberToObject(a, "cuts", (double)r->cuts);
+    cJSON_AddNumberToObject(a, "vertices_split", (double)r->vertices_split);
+    cJSON_AddNumberToObject(a, "boundary_length_cut", r->boundary_cut);
+    cJSON_AddNumberToObject(a, "packing_efficiency_cut", d->packing_efficiency_cut);
+    cJSON_AddNumberToObject(a, "cut_seconds", r->cut_seconds);
     cJSON_AddNumberToObject(a, "distortion", r->distortion);
     cJSON_AddNumberToObject(a, "max_angle_error", r->max_angle_error);
     cJSON_AddNumberToObject(a, "seconds", r->seconds);

@@ -40,6 +40,8 @@ typedef enum texopt_resize_check_kept {
     TEXOPT_RESIZE_CHECK_INPUT_FIT   /* the input layout, images re-baked by the fit where it won */
 } texopt_resize_check_kept;
 
+#define ATLAS_REFINE_KEPT_CUT 2
+
 typedef struct texopt_domain_stats {
     int domain;
     size_t triangles, charts;
@@ -88,8 +90,10 @@ typedef struct texopt_domain_stats {
     texopt_unfold_report unfold; /* params.bijective: charts overlapping themselves in the input
                                     layout, laid out anew or left (chart_unfold.h) */
     int has_atlas_refine;        /* params.packing_refine: charts deformed before packing (atlas_refine.h) */
-    int atlas_refine_kept;       /* the refined layout packed tighter and was kept */
+    int atlas_refine_kept;       /* the refined layout packed tighter and was kept; ATLAS_REFINE_KEPT_CUT:
+                                    its cut (chart_cut.h) packed tighter still and was kept */
     double packing_efficiency_unrefined, packing_efficiency_refined; /* of the two packings */
+    double packing_efficiency_cut; /* the refined charts cut (chart_cut.h) and packed */
     texopt_atlas_refine_report atlas_refine;
     int has_loss_share; /* loss of every triangle under the solved layout */
     double solved_within_epsilon_share, solved_loss_mean, solved_loss_max;

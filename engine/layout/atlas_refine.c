@@ -165,6 +165,45 @@ static int charts_of_triangles(const texopt_mesh *mesh, uint32_t *order, size_t 
     return 1;
 }
 
+/* The work room of a pass over a layout's charts: triangles grouped by chart (order,
+ * start), the scratch numbering local (all UINT32_MAX) and one chart_problem. */
+typedef struct chart_pass {
+    uint32_t *order, *local;
+    size_t *start;
+    chart_problem p;
+} chart_pass;
+
+static void chart_pass_free(chart_pass *w)
+{
+    free(w->order);
+    free(w->local);
+    free(w->start);
+    free(w->p.vertex);
+    free(w->p.tri);
+    free(w->p.rest);
+    free(w->p.xy);
+    free(w->p.position);
+}
+
+static int chart_pass_alloc(chart_pass *w, const texopt_mesh *mesh)
+{
+    size_t nv = mesh->vertex_count ? mesh->vertex_count : 1, nt = mesh->triangle_count ? mesh->triangle_count : 1;
+    memset(w, 0, sizeof *w);
+    w->order = malloc(nt * sizeof *w->order);
+    w->local = malloc(nv * sizeof *w->local);
+    w->start = malloc((mesh->chart_count + 1) * sizeof *w->start);
+    w->p.vertex = malloc(nv * sizeof *w->p.vertex);
+    w->p.tri = malloc(3 * nt * sizeof *w->p.tri);
+    w->p.rest = malloc(2 * nv * sizeof *w->p.rest);
+    w->p.xy = malloc(2 * nv * sizeof *w->p.xy);
+    w->p.position = malloc(3 * nv * sizeof *w->p.position);
+    if (!w->order || !w->local || !w->start || !w->p.vertex || !w->p.tri || !w->p.rest || !w->p.xy || !w->p.position ||
+        !charts_of_triangles(mesh, w->order, w->start))
+        return 0;
+    memset(w->local, 0xff, nv * sizeof *w->local);
+    return 1;
+}
+
 texopt_status texopt_atlas_refine(const texopt_mesh *mesh, const double *texel, const uint8_t *keep_shape,
                                   const uint8_t *keep_angle, double max_distortion, double *texel_out,
                                   texopt_atlas_refine_report *report, const texopt_monitor *monitor, char *err,
@@ -172,22 +211,14 @@ texopt_status texopt_atlas_refine(const texopt_mesh *mesh, const double *texel, 
 {
     double t0 = now_seconds();
     texopt_atlas_refine_report rep = {0};
-    size_t nv = mesh->vertex_count ? mesh->vertex_count : 1, nt = mesh->triangle_count ? mesh->triangle_count : 1;
     memcpy(texel_out, texel, 2 * mesh->vertex_count * sizeof *texel_out);
-    uint32_t *order = malloc(nt * sizeof *order), *local = malloc(nv * sizeof *local);
-    size_t *start = malloc((mesh->chart_count + 1) * sizeof *start);
-    chart_problem p = {0};
-    p.vertex = malloc(nv * sizeof *p.vertex);
-    p.tri = malloc(3 * nt * sizeof *p.tri);
-    p.rest = malloc(2 * nv * sizeof *p.rest);
-    p.xy = malloc(2 * nv * sizeof *p.xy);
-    p.position = malloc(3 * nv * sizeof *p.position);
-    texopt_status st = TEXOPT_OK;
-    if (!order || !local || !start || !p.vertex || !p.tri || !p.rest || !p.xy || !p.position ||
-        !charts_of_triangles(mesh, order, start))
-        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "atlas refinement: no memory");
-    else
-        memset(local, 0xff, nv * sizeof *local);
+    chart_pass w;
+    texopt_status st = chart_pass_alloc(&w, mesh)
+                           ? TEXOPT_OK
+                           : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "atlas refinement: no memory");
+    uint32_t *order = w.order, *local = w.local;
+    size_t *start = w.start;
+    chart_problem p = w.p;
     double weighted = 0, area = 0;
     for (size_t c = 0; st == TEXOPT_OK && c < mesh->chart_count; c++) {
         if (texopt_monitor_canceled(monitor)) {
@@ -227,13 +258,80 @@ texopt_status texopt_atlas_refine(const texopt_mesh *mesh, const double *texel, 
         if (report)
             *report = rep;
     }
-    free(order);
-    free(local);
-    free(start);
-    free(p.vertex);
-    free(p.tri);
-    free(p.rest);
-    free(p.xy);
-    free(p.position);
+    chart_pass_free(&w);
+    return st;
+}
+
+/* The pieces of one chart (p, laid out counter-clockwise) into cut; 0 when it stays whole. */
+static int chart_pieces(const chart_problem *p, const texopt_chart_cut_options *opt, texopt_chart_cut *cut)
+{
+    size_t nb = 0;
+    uint32_t *loop = chart_loop(p, &nb);
+    double *pts = loop && nb >= 4 ? malloc(2 * nb * sizeof *pts) : NULL;
+    int ok = 0;
+    char err[256];
+    texopt_axis_angles angles;
+    memset(&angles, 0, sizeof angles);
+    for (size_t i = 0; pts && i < nb; i++)
+        memcpy(pts + 2 * i, p->rest + 2 * (size_t)loop[i], 2 * sizeof *pts);
+    if (pts && texopt_axis_angles_compute(pts, nb, &angles, err, sizeof err) == TEXOPT_OK &&
+        fabs(angles.rotation) <= TEXOPT_ATLAS_REFINE_MAX_TURN &&
+        texopt_chart_cut_compute(p->nv, p->rest, p->nt, p->tri, loop, angles.theta, nb, opt, cut, err, sizeof err) ==
+            TEXOPT_OK) {
+        double r = cut->polygon_area_ratio;
+        ok = cut->piece_count > 1 && r > 1 / TEXOPT_ATLAS_CUT_AREA_RATIO && r < TEXOPT_ATLAS_CUT_AREA_RATIO;
+        if (!ok)
+            texopt_chart_cut_destroy(cut);
+    }
+    texopt_axis_angles_destroy(&angles);
+    free(loop);
+    free(pts);
+    return ok;
+}
+
+texopt_status texopt_atlas_cut(const texopt_mesh *mesh, const double *texel, const uint8_t *keep_shape,
+                               const texopt_chart_cut_options *opt, uint32_t *piece_of, size_t *piece_count,
+                               texopt_atlas_refine_report *report, const texopt_monitor *monitor, char *err,
+                               size_t err_len)
+{
+    double t0 = now_seconds();
+    chart_pass w;
+    texopt_status st =
+        chart_pass_alloc(&w, mesh) ? TEXOPT_OK : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "atlas cut: no memory");
+    uint32_t *order = w.order, *local = w.local;
+    size_t *start = w.start, pieces = 0;
+    chart_problem p = w.p;
+    texopt_atlas_refine_report rep = report ? *report : (texopt_atlas_refine_report){0};
+    rep.charts_cut = rep.cuts = 0;
+    for (size_t c = 0; st == TEXOPT_OK && c < mesh->chart_count; c++) {
+        if (texopt_monitor_canceled(monitor)) {
+            st = texopt_fail(err, err_len, TEXOPT_E_CANCELED, "canceled");
+            break;
+        }
+        const uint32_t *tris = order + start[c];
+        size_t n = start[c + 1] - start[c];
+        texopt_chart_cut cut = {0};
+        int built = chart_build(mesh, texel, tris, n, local, &p);
+        if (built && !(keep_shape && keep_shape[c]) && chart_pieces(&p, opt, &cut)) {
+            for (size_t i = 0; i < n; i++)
+                piece_of[tris[i]] = (uint32_t)(pieces + cut.piece_of[i]);
+            pieces += cut.piece_count;
+            rep.charts_cut++;
+            rep.cuts += cut.trail_count;
+            texopt_chart_cut_destroy(&cut);
+            continue;
+        }
+        for (size_t i = 0; i < n; i++)
+            piece_of[tris[i]] = (uint32_t)pieces;
+        pieces++;
+    }
+    if (st == TEXOPT_OK) {
+        *piece_count = pieces;
+        rep.pieces = pieces;
+        rep.cut_seconds = now_seconds() - t0;
+        if (report)
+            *report = rep;
+    }
+    chart_pass_free(&w);
     return st;
 }

@@ -18,14 +18,15 @@
  * deformation refuse, and charts the deformation distorts past max_distortion (their mean
  * symmetric Dirichlet energy relative to the given layout, 1 = unchanged): a chart bent far
  * from the layout stage 2 solved loses the texel allocation the refinement is to keep.
- * Not here: the rectangle decomposition by motorcycle graphs and the cuts it makes
- * (rect_decompose.h), distortion reduction with the packing bound (3.3), packing. */
+ * texopt_atlas_cut then cuts the refined charts into rectangle-like pieces (chart_cut.h).
+ * Not here: distortion reduction with the packing bound (3.3), packing. */
 #ifndef TEXOPT_ATLAS_REFINE_H
 #define TEXOPT_ATLAS_REFINE_H
 
 #include <stddef.h>
 #include <stdint.h>
 
+#include "chart_cut.h"
 #include "mesh.h"
 #include "monitor.h"
 #include "status.h"
@@ -45,6 +46,13 @@ typedef struct texopt_atlas_refine_report {
     double boundary_after;
     double max_angle_error; /* radians, the largest boundary edge's miss of its target */
     double seconds;
+    /* texopt_atlas_cut's, when it ran */
+    size_t charts_cut;     /* charts cut into more than one piece */
+    size_t pieces;         /* charts after the cut: pieces of the cut ones, the others whole */
+    size_t cuts;           /* trails cut along mesh edges */
+    size_t vertices_split; /* vertex copies the pieces need (texopt_mesh_cut_create) */
+    double boundary_cut;   /* boundary length after the cut (texels) */
+    double cut_seconds;
 } texopt_atlas_refine_report;
 
 /* Refines the layout `texel` (2 per mesh vertex) of `mesh`'s charts into texel_out (2 per
@@ -55,6 +63,21 @@ texopt_status texopt_atlas_refine(const texopt_mesh *mesh, const double *texel, 
                                   const uint8_t *keep_angle, double max_distortion, double *texel_out,
                                   texopt_atlas_refine_report *report, const texopt_monitor *monitor, char *err,
                                   size_t err_len);
+
+/* Largest polygon area over chart area (or its inverse) a chart may have to be cut: its
+ * boundary runs must follow the polygon closely for the cuts to land on the trails. */
+#define TEXOPT_ATLAS_CUT_AREA_RATIO 1.1
+
+/* Cuts the charts of the layout `texel` (refined: texopt_atlas_refine's output) whose
+ * boundary is nearly axis-aligned (axis_angles.h turns them by at most
+ * TEXOPT_ATLAS_REFINE_MAX_TURN; polygon within TEXOPT_ATLAS_CUT_AREA_RATIO of the chart)
+ * into pieces (chart_cut.h); the other charts, and those in keep_shape, stay whole.
+ * piece_of (per triangle) gets the pieces numbered over the mesh, *piece_count their
+ * number; the cut's fields of report (may be NULL) are filled. opt may be NULL. */
+texopt_status texopt_atlas_cut(const texopt_mesh *mesh, const double *texel, const uint8_t *keep_shape,
+                               const texopt_chart_cut_options *opt, uint32_t *piece_of, size_t *piece_count,
+                               texopt_atlas_refine_report *report, const texopt_monitor *monitor, char *err,
+                               size_t err_len);
 
 /* Total length of the chart boundary edges (edges used by one triangle of a chart) of the
  * layout texel. */

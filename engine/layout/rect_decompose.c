@@ -242,37 +242,89 @@ static int sign_of(double v)
     return v > 0.0 ? 1 : v < 0.0 ? -1 : 0;
 }
 
-texopt_status texopt_rect_decompose(const double *xy, size_t n, const uint8_t *choice, texopt_rect **rects,
-                                    size_t *count, char *err, size_t err_len)
-{
-    if (!xy || n < 4 || !rects || !count)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "rectangles: need a polygon of 4 points or more");
+/* A polygon's grid after its motorcycles ran: each bike at its stop, corner[k] the polygon
+ * point bike k left from. */
+typedef struct race_result {
     grid g;
-    texopt_status st = grid_build(&g, xy, n, err, err_len);
-    motorcycle *bikes = st == TEXOPT_OK ? malloc(2 * n * sizeof *bikes) : NULL;
-    if (st == TEXOPT_OK && !bikes)
+    motorcycle *bikes;
+    size_t *corner, count;
+} race_result;
+
+static void race_free(race_result *r)
+{
+    free(r->bikes);
+    free(r->corner);
+    grid_free(&r->g);
+}
+
+/* Builds the grid of the polygon and runs its motorcycles (choice as in the header); r is
+ * the caller's to free (race_free) whatever the status. */
+static texopt_status race_run(race_result *r, const double *xy, size_t n, const uint8_t *choice, char *err,
+                              size_t err_len)
+{
+    memset(r, 0, sizeof *r);
+    if (!xy || n < 4)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "rectangles: need a polygon of 4 points or more");
+    texopt_status st = grid_build(&r->g, xy, n, err, err_len);
+    r->bikes = malloc(2 * n * sizeof *r->bikes);
+    r->corner = malloc(2 * n * sizeof *r->corner);
+    if (st == TEXOPT_OK && (!r->bikes || !r->corner))
         st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "rectangles: out of memory");
-    size_t nb = 0, reflex = 0;
+    size_t reflex = 0;
     for (size_t v = 0; v < n && st == TEXOPT_OK; v++) {
         if (!(cross_turn(xy, n, v) < 0.0))
             continue;
         uint8_t c = choice ? choice[reflex] & 3 : 3;
         reflex++;
         const double *a = xy + 2 * ((v + n - 1) % n), *b = xy + 2 * v, *d = xy + 2 * ((v + 1) % n);
-        long i = (long)index_of(g.xs, g.nx, b[0]), j = (long)index_of(g.ys, g.ny, b[1]);
+        long i = (long)index_of(r->g.xs, r->g.nx, b[0]), j = (long)index_of(r->g.ys, r->g.ny, b[1]);
         int dirs[2][2] = {{sign_of(b[0] - a[0]), sign_of(b[1] - a[1])}, {sign_of(b[0] - d[0]), sign_of(b[1] - d[1])}};
         for (int k = 0; k < 2; k++)
             if (c == 0 || (c >> k) & 1) {
                 motorcycle m = {i, j, dirs[k][0], dirs[k][1], 0.0, 1};
-                bikes[nb++] = m;
+                r->corner[r->count] = v;
+                r->bikes[r->count++] = m;
             }
     }
-    if (st == TEXOPT_OK) {
-        race(&g, bikes, nb);
-        st = collect_faces(&g, rects, count, err, err_len);
+    if (st == TEXOPT_OK)
+        race(&r->g, r->bikes, r->count);
+    return st;
+}
+
+texopt_status texopt_rect_decompose(const double *xy, size_t n, const uint8_t *choice, texopt_rect **rects,
+                                    size_t *count, char *err, size_t err_len)
+{
+    race_result r;
+    texopt_status st = race_run(&r, xy, n, choice, err, err_len);
+    if (st == TEXOPT_OK && (!rects || !count))
+        st = texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "rectangles: no output");
+    if (st == TEXOPT_OK)
+        st = collect_faces(&r.g, rects, count, err, err_len);
+    race_free(&r);
+    return st;
+}
+
+texopt_status texopt_rect_trails(const double *xy, size_t n, const uint8_t *choice, texopt_rect_trail **trails,
+                                 size_t *count, char *err, size_t err_len)
+{
+    race_result r;
+    texopt_status st = race_run(&r, xy, n, choice, err, err_len);
+    if (st == TEXOPT_OK && (!trails || !count))
+        st = texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "rectangles: no output");
+    texopt_rect_trail *out = st == TEXOPT_OK ? malloc((r.count ? r.count : 1) * sizeof *out) : NULL;
+    if (st == TEXOPT_OK && !out)
+        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "rectangles: out of memory");
+    for (size_t k = 0; out && k < r.count; k++) {
+        const double *c = xy + 2 * r.corner[k];
+        const motorcycle *m = &r.bikes[k];
+        texopt_rect_trail t = {r.corner[k], c[0], c[1], r.g.xs[m->i], r.g.ys[m->j], m->time};
+        out[k] = t;
     }
-    free(bikes);
-    grid_free(&g);
+    if (st == TEXOPT_OK) {
+        *trails = out;
+        *count = r.count;
+    }
+    race_free(&r);
     return st;
 }
 

@@ -15,6 +15,7 @@
  * smallest bounding box; each rectangle is padded by `padding` on its right and top and is
  * never turned (rectpack2D, the paper's packer, may turn them: an L's two rectangles 20x10
  * and 10x20 fill a square only so).
+ * The trails themselves are given too, for cutting a triangle mesh along them (chart_cut.h).
  * Not here: cutting the triangle mesh along the trails, the flattening that makes a
  * deformed chart exactly axis-aligned (axis_deform.h stops short of it), the fall-backs of
  * the paper when no candidate reaches the bound, and distortion reduction (3.3). */
@@ -45,6 +46,17 @@ texopt_status texopt_rect_decompose(const double *xy, size_t n, const uint8_t *c
  * packing efficiency sum(w h) / (width height). */
 double texopt_rect_pack(const double *w, const double *h, size_t n, double padding, double *x, double *y, double *width,
                         double *height);
+
+typedef struct texopt_rect_trail {
+    size_t corner;         /* the polygon point (a reflex corner) the motorcycle left from */
+    double x0, y0, x1, y1; /* the trail: from the corner to where it stopped */
+    double time;           /* its length, the time it stopped */
+} texopt_rect_trail;
+
+/* The trails of the decomposition texopt_rect_decompose makes with the same choice, one per
+ * motorcycle (*trails: caller frees). */
+texopt_status texopt_rect_trails(const double *xy, size_t n, const uint8_t *choice, texopt_rect_trail **trails,
+                                 size_t *count, char *err, size_t err_len);
 
 typedef struct texopt_rect_choice {
     double score, efficiency, boundary_ratio; /* eq. 11 and its parts, BL1 / BL0 */
