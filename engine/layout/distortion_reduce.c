@@ -49,7 +49,7 @@ static int triangle_jacobian(const uint32_t *v, const double *from, const double
 
 double texopt_distortion_relative(const texopt_mesh *mesh, const double *reference, const double *x)
 {
-    double sum = 0.0, area = 0.0, J[4];
+    double sum = 0.0, area = 0.0, area_x = 0.0, J[4];
     for (size_t t = 0; t < mesh->triangle_count; t++) {
         const uint32_t *v = mesh->triangle + 3 * t;
         if (!triangle_jacobian(v, reference, x, J))
@@ -59,16 +59,30 @@ double texopt_distortion_relative(const texopt_mesh *mesh, const double *referen
             return INFINITY;
         double a =
             fabs(signed_area(reference + 2 * (size_t)v[0], reference + 2 * (size_t)v[1], reference + 2 * (size_t)v[2]));
-        sum += a * 0.25 * (f + f / (g * g));
+        sum += a * 0.25 * f; /* the part that grows with the scale ... */
+        area_x += a * g;
         area += a;
     }
-    return area > 0.0 ? sum / area : 1.0;
+    double k2 = area > 0.0 ? area_x / area : 1.0; /* the reference scaled by k to x's area */
+    if (!(area > 0.0 && k2 > 0.0))
+        return 1.0;
+    double shrinking = 0.0; /* ... and the part that shrinks with it */
+    for (size_t t = 0; t < mesh->triangle_count; t++) {
+        const uint32_t *v = mesh->triangle + 3 * t;
+        if (!triangle_jacobian(v, reference, x, J))
+            continue;
+        double f = J[0] * J[0] + J[1] * J[1] + J[2] * J[2] + J[3] * J[3], g = J[0] * J[3] - J[1] * J[2];
+        double a =
+            fabs(signed_area(reference + 2 * (size_t)v[0], reference + 2 * (size_t)v[1], reference + 2 * (size_t)v[2]));
+        shrinking += a * 0.25 * f / (g * g);
+    }
+    return (sum / k2 + shrinking * k2) / area;
 }
 
 /* Per triangle, the Jacobian of the reference relative to the input texels as a stage-2
- * target: its polar rotation and stretch, w_stretch 1, w_rotation 1 on keep_angle charts. */
-static void reference_targets(const texopt_mesh *mesh, const double *reference, const uint8_t *keep_angle,
-                              texopt_triangle_target *targets)
+ * target: its polar rotation and stretch, w_stretch 1, w_rotation 0 (the symmetric
+ * Dirichlet energy is blind to rotations). */
+static void reference_targets(const texopt_mesh *mesh, const double *reference, texopt_triangle_target *targets)
 {
     for (size_t t = 0; t < mesh->triangle_count; t++) {
         texopt_triangle_target *g = &targets[t];
@@ -86,16 +100,17 @@ static void reference_targets(const texopt_mesh *mesh, const double *reference, 
         if (g->alpha < 0.0)
             g->alpha += HALF_PI;
         g->w_stretch = 1.0;
-        g->w_rotation = keep_angle && keep_angle[mesh->chart_of[t]] ? 1.0 : 0.0;
     }
 }
 
-/* Chart area over the bounding box's area of the layout x. */
-static double efficiency(const texopt_mesh *mesh, const double *x)
+/* Chart area over the bounding box's area of the layout x, of the charts not in unboxed. */
+static double efficiency(const texopt_mesh *mesh, const double *x, const uint8_t *unboxed)
 {
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, area = 0.0;
     for (size_t t = 0; t < mesh->triangle_count; t++) {
         const uint32_t *v = mesh->triangle + 3 * t;
+        if (unboxed[mesh->chart_of[t]])
+            continue;
         area += fabs(signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]));
         for (int k = 0; k < 3; k++)
             for (int a = 0; a < 2; a++) {
@@ -107,8 +122,9 @@ static double efficiency(const texopt_mesh *mesh, const double *x)
     return box > 0.0 ? area / box : 0.0;
 }
 
-/* Algorithm 2's first line: sqrt of the smallest reference area over chart area. */
-static double initial_scale(const texopt_mesh *mesh, const double *reference, const double *x)
+/* Algorithm 2's first line: sqrt of the smallest reference area over chart area, over the
+ * charts not in unboxed. */
+static double initial_scale(const texopt_mesh *mesh, const double *reference, const double *x, const uint8_t *unboxed)
 {
     double *area = calloc(2 * (mesh->chart_count ? mesh->chart_count : 1), sizeof *area), s = INFINITY;
     if (!area)
@@ -121,18 +137,20 @@ static double initial_scale(const texopt_mesh *mesh, const double *reference, co
             fabs(signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]));
     }
     for (size_t c = 0; c < mesh->chart_count; c++)
-        if (area[2 * c] > 0.0 && area[2 * c + 1] > 0.0)
+        if (!unboxed[c] && area[2 * c] > 0.0 && area[2 * c + 1] > 0.0)
             s = fmin(s, area[2 * c] / area[2 * c + 1]);
     free(area);
     return isfinite(s) ? sqrt(s) : 1.0;
 }
 
-/* The bounding box of x's triangles grown by `factor` about its centre, x0 y0 x1 y1. */
-static void grown_box(const texopt_mesh *mesh, const double *x, double factor, double box[4])
+/* The bounding box of x's triangles of charts with unboxed[c] == boxed, grown by `factor`
+ * about its centre, x0 y0 x1 y1. */
+static void grown_box(const texopt_mesh *mesh, const double *x, const uint8_t *unboxed, int boxed, double factor,
+                      double box[4])
 {
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     for (size_t t = 0; t < 3 * mesh->triangle_count; t++)
-        for (int a = 0; a < 2; a++) {
+        for (int a = 0; a < 2 && (unboxed[mesh->chart_of[t / 3]] == 0) == boxed; a++) {
             lo[a] = fmin(lo[a], x[2 * (size_t)mesh->triangle[t] + a]);
             hi[a] = fmax(hi[a], x[2 * (size_t)mesh->triangle[t] + a]);
         }
@@ -141,6 +159,49 @@ static void grown_box(const texopt_mesh *mesh, const double *x, double factor, d
         box[a] = centre - half;
         box[a + 2] = centre + half;
     }
+}
+
+/* Per chart, 1 in unboxed when one box cannot hold it without overlap: a chart over itself
+ * (scaffold.h) or of both orientations (a fold, mirrored halves); *count how many. */
+static texopt_status find_unboxed(const texopt_mesh *mesh, const double *x, uint8_t *unboxed, size_t *count, char *err,
+                                  size_t err_len)
+{
+    int8_t *sign = calloc(mesh->chart_count ? mesh->chart_count : 1, 1);
+    texopt_status st = sign ? texopt_scaffold_overlapping_charts(mesh, x, unboxed, NULL, err, err_len)
+                            : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "distortion reduction: no memory");
+    for (size_t t = 0; st == TEXOPT_OK && t < mesh->triangle_count; t++) {
+        const uint32_t *v = mesh->triangle + 3 * t;
+        double a = signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]);
+        int8_t s = a > 0.0 ? 1 : a < 0.0 ? -1 : 0, *cs = &sign[mesh->chart_of[t]];
+        if (s != 0 && *cs != 0 && s != *cs)
+            unboxed[mesh->chart_of[t]] = 1;
+        if (*cs == 0)
+            *cs = s;
+    }
+    *count = 0;
+    for (size_t c = 0; st == TEXOPT_OK && c < mesh->chart_count; c++)
+        *count += unboxed[c] != 0;
+    free(sign);
+    return st;
+}
+
+/* The charts in unboxed moved right of the box, a half box width clear of it. */
+static void move_out_of_box(const texopt_mesh *mesh, const uint8_t *unboxed, const double box[4], double *x)
+{
+    double lo[4];
+    grown_box(mesh, x, unboxed, 0, 1.0, lo);
+    if (!isfinite(lo[0]))
+        return;
+    double dx = box[2] + 0.5 * (box[2] - box[0]) - lo[0];
+    uint8_t *moved = calloc(mesh->vertex_count ? mesh->vertex_count : 1, 1);
+    for (size_t k = 0; moved && k < 3 * mesh->triangle_count; k++) {
+        uint32_t v = mesh->triangle[k];
+        if (unboxed[mesh->chart_of[k / 3]] && !moved[v]) {
+            moved[v] = 1;
+            x[2 * (size_t)v] += dx;
+        }
+    }
+    free(moved);
 }
 
 texopt_status texopt_distortion_reduce(const texopt_mesh *mesh, const double *reference, const double *start,
@@ -160,27 +221,34 @@ texopt_status texopt_distortion_reduce(const texopt_mesh *mesh, const double *re
     texopt_distortion_reduce_report rep = {0};
     memcpy(out, start, n * sizeof *out);
     rep.distortion_start = rep.distortion = texopt_distortion_relative(mesh, reference, start);
-    rep.efficiency_start = rep.efficiency = efficiency(mesh, start);
     double *x = malloc((n ? n : 1) * sizeof *x), *next = malloc((n ? n : 1) * sizeof *next);
     texopt_triangle_target *targets = malloc((nt ? nt : 1) * sizeof *targets);
-    texopt_status st =
-        x && next && targets ? TEXOPT_OK : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "distortion reduction: no memory");
-    if (st == TEXOPT_OK) {
-        rep.scale = initial_scale(mesh, reference, start);
+    uint8_t *unboxed = calloc(mesh->chart_count ? mesh->chart_count : 1, 1);
+    texopt_status st = x && next && targets && unboxed
+                           ? TEXOPT_OK
+                           : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "distortion reduction: no memory");
+    if (st == TEXOPT_OK)
+        st = find_unboxed(mesh, start, unboxed, &rep.charts_unboxed, err, err_len);
+    if (st == TEXOPT_OK && rep.charts_unboxed == mesh->chart_count)
+        rep.refused = 1;
+    if (st == TEXOPT_OK && !rep.refused) {
+        rep.efficiency_start = rep.efficiency = efficiency(mesh, start, unboxed);
+        rep.scale = initial_scale(mesh, reference, start, unboxed);
         for (size_t i = 0; i < n; i++)
             x[i] = rep.scale * start[i];
-        grown_box(mesh, x, delta, rep.box);
-        reference_targets(mesh, reference, o.keep_angle, targets);
+        grown_box(mesh, x, unboxed, 1, delta, rep.box);
+        move_out_of_box(mesh, unboxed, rep.box, x);
+        reference_targets(mesh, reference, targets);
     }
     texopt_meshwise_options mopt = {0};
     mopt.threads = o.threads;
     mopt.max_iterations = o.round_iterations > 0 ? o.round_iterations : DEFAULT_ROUND_ITERATIONS;
     double box[4];
     memcpy(box, rep.box, sizeof box);
-    texopt_scaffold_options so = {1, box, 0.0, REMESH_ITERATIONS};
+    texopt_scaffold_options so = {1, box, unboxed, 0.0, REMESH_ITERATIONS};
     texopt_monitor quiet = {NULL, NULL, monitor ? monitor->cancel : NULL}; /* the caller's stage goes on */
     double previous = st == TEXOPT_OK ? texopt_distortion_relative(mesh, reference, x) : 0.0;
-    for (int round = 0; st == TEXOPT_OK && round < max_rounds; round++) {
+    for (int round = 0; st == TEXOPT_OK && !rep.refused && round < max_rounds; round++) {
         texopt_scaffold_report sr;
         st = texopt_scaffold_solve(mesh, targets, x, &mopt, &so, next, &sr, &quiet, err, err_len);
         /* Refused by stage 2: at the start, a reversed triangle; later, a re-mesh between
@@ -192,7 +260,7 @@ texopt_status texopt_distortion_reduce(const texopt_mesh *mesh, const double *re
             rep.refused |= round == 0;
             break;
         }
-        double d = texopt_distortion_relative(mesh, reference, next), e = efficiency(mesh, next);
+        double d = texopt_distortion_relative(mesh, reference, next), e = efficiency(mesh, next, unboxed);
         if (o.min_efficiency > 0 && e < o.min_efficiency)
             break;
         memcpy(x, next, n * sizeof *x);
@@ -210,15 +278,16 @@ texopt_status texopt_distortion_reduce(const texopt_mesh *mesh, const double *re
     if (st == TEXOPT_OK && !rep.refused) {
         memcpy(out, x, n * sizeof *out);
         rep.distortion = texopt_distortion_relative(mesh, reference, out);
-        rep.efficiency = efficiency(mesh, out);
+        rep.efficiency = efficiency(mesh, out, unboxed);
     }
     if (st == TEXOPT_OK && rep.refused)
-        grown_box(mesh, start, 1.0, rep.box);
+        grown_box(mesh, start, unboxed, 1, 1.0, rep.box);
     rep.seconds = now_seconds() - t0;
     if (st == TEXOPT_OK && report)
         *report = rep;
     free(x);
     free(next);
     free(targets);
+    free(unboxed);
     return st;
 }

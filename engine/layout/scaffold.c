@@ -286,9 +286,9 @@ static void scaffold_build_free(scaffold_build *sb)
 }
 
 /* Scaffolds every box at positions x: one per chart, or one for all (one_box), that one
- * fixed_box when not NULL. */
+ * fixed_box when not NULL and without the charts marked in unboxed (may be NULL). */
 static texopt_status build_scaffold(const texopt_mesh *mesh, const double *x, int one_box, const double *fixed_box,
-                                    scaffold_build *sb, char *err, size_t err_len)
+                                    const uint8_t *unboxed, scaffold_build *sb, char *err, size_t err_len)
 {
     size_t nc = mesh->chart_count, nt = mesh->triangle_count;
     uint32_t *start = calloc(nc + 2, sizeof *start), *order = malloc((nt ? nt : 1) * sizeof *order);
@@ -304,10 +304,18 @@ static texopt_status build_scaffold(const texopt_mesh *mesh, const double *x, in
         start[c] = start[c - 1];
     if (!failed)
         start[0] = 0;
-    size_t boxes = one_box ? 1 : nc;
+    size_t boxes = one_box ? 1 : nc, boxed_triangles = nt, boxed_charts = nc;
+    if (one_box && unboxed && !failed) {
+        boxed_triangles = boxed_charts = 0;
+        for (size_t k = 0; k < nt; k++)
+            if (!unboxed[mesh->chart_of[order[k]]])
+                order[boxed_triangles++] = order[k];
+        for (size_t c = 0; c < nc; c++)
+            boxed_charts += !unboxed[c];
+    }
     for (size_t c = 0; c < boxes && !failed; c++) {
-        size_t first = one_box ? 0 : start[c], last = one_box ? nt : start[c + 1];
-        size_t charts = one_box ? nc : 1;
+        size_t first = one_box ? 0 : start[c], last = one_box ? boxed_triangles : start[c + 1];
+        size_t charts = one_box ? boxed_charts : 1;
         int r = !one_box && clean_mirror(mesh, x, order + first, last - first)
                     ? scaffold_halves(sb, mesh, x, order + first, last - first, sign)
                     : scaffold_component(sb, mesh, x, order + first, last - first, one_box ? fixed_box : NULL, sign);
@@ -334,7 +342,7 @@ texopt_status texopt_scaffold_overlapping_charts(const texopt_mesh *mesh, const 
     sb.base = mesh->vertex_count;
     sb.skipped_chart = overlapping;
     memset(overlapping, 0, mesh->chart_count);
-    texopt_status st = build_scaffold(mesh, texel, 0, NULL, &sb, err, err_len);
+    texopt_status st = build_scaffold(mesh, texel, 0, NULL, NULL, &sb, err, err_len);
     if (count)
         *count = sb.skipped;
     scaffold_build_free(&sb);
@@ -400,7 +408,8 @@ texopt_status texopt_scaffold_solve(const texopt_mesh *mesh, const texopt_triang
     for (int done = 0; st == TEXOPT_OK && done < max_iterations;) {
         scaffold_build sb = {0};
         sb.base = mesh->vertex_count;
-        st = build_scaffold(mesh, x, sopt && sopt->one_box, sopt ? sopt->box : NULL, &sb, err, err_len);
+        st = build_scaffold(mesh, x, sopt && sopt->one_box, sopt ? sopt->box : NULL, sopt ? sopt->unboxed : NULL, &sb,
+                            err, err_len);
         texopt_meshwise_scaffold sc = {sb.vertex_count,   sb.position,
                                        sb.triangle_count, sb.triangle,
                                        sb.rest,           sopt && sopt->weight > 0.0 ? sopt->weight : DEFAULT_WEIGHT};

@@ -39,12 +39,14 @@
 #include "target.h"
 
 typedef struct texopt_scaffold_options {
-    int one_box;           /* 1: every chart in one box; 0: a box per chart */
-    const double *box;     /* with one_box, may be NULL: the box {x0, y0, x1, y1}, fixed (every
+    int one_box;            /* 1: every chart in one box; 0: a box per chart */
+    const double *box;      /* with one_box, may be NULL: the box {x0, y0, x1, y1}, fixed (every
                               chart must lie inside it, else the box is skipped); NULL: three
                               times the charts' extent, rebuilt around them */
-    double weight;         /* scaffold energy per texel relative to the charts' mean; 0 -> 0.01 */
-    int remesh_iterations; /* stage 2 iterations between re-meshes; 0 -> 10 */
+    const uint8_t *unboxed; /* with one_box, may be NULL: per chart, nonzero leaves it out of
+                               the box (solved without scaffold, counted in no report field) */
+    double weight;          /* scaffold energy per texel relative to the charts' mean; 0 -> 0.01 */
+    int remesh_iterations;  /* stage 2 iterations between re-meshes; 0 -> 10 */
 } texopt_scaffold_options;
 
 typedef struct texopt_scaffold_report {
