@@ -154,6 +154,7 @@ static void add_atlas_refine(cJSON *o, const texopt_domain_stats *d)
     cJSON *b = cJSON_AddObjectToObject(a, "reduction");
     cJSON_AddNumberToObject(b, "charts", (double)d->reduce_charts_refined);
     cJSON_AddNumberToObject(b, "pieces", (double)d->reduce_pieces);
+    cJSON_AddNumberToObject(b, "boundary_length", d->reduce_boundary);
     cJSON_AddNumberToObject(b, "packing_efficiency_before", d->packing_efficiency_deformed);
     cJSON_AddNumberToObject(b, "packing_efficiency_after", d->packing_efficiency_reduced);
     cJSON_AddBoolToObject(b, "refused", q->refused);

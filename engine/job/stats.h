@@ -100,6 +100,8 @@ typedef struct texopt_domain_stats {
     texopt_atlas_refine_report atlas_refine;
     int has_reduce; /* every chart deformed, cut, packed, reduced (distortion_reduce.h), packed again */
     size_t reduce_charts_refined, reduce_pieces;
+    double reduce_boundary; /* boundary length of the reduced layout scaled to stage 2's area
+                               (texels of stage 2's layout) */
     double packing_efficiency_deformed, packing_efficiency_reduced; /* before and after the reduction */
     texopt_distortion_reduce_report reduce;
     int has_loss_share; /* loss of every triangle under the solved layout */
