@@ -252,8 +252,9 @@ texopt_status texopt_distortion_reduce(const texopt_mesh *mesh, const double *re
         texopt_scaffold_report sr;
         st = texopt_scaffold_solve(mesh, targets, x, &mopt, &so, next, &sr, &quiet, err, err_len);
         /* Refused by stage 2: at the start, a reversed triangle; later, a re-mesh between
-         * charts pressed together (a scaffold triangle without area): the last round stays. */
-        int stop = st == TEXOPT_E_INVALID_ARGUMENT;
+         * charts pressed together (a scaffold triangle without area), or a factorisation
+         * failing on such slivers: the last round stays. */
+        int stop = st == TEXOPT_E_INVALID_ARGUMENT || st == TEXOPT_E_NUMERIC;
         if (stop)
             st = TEXOPT_OK;
         if (st != TEXOPT_OK || stop || sr.charts_skipped > 0) {

@@ -27,7 +27,7 @@
  * over one another, not manifold), a start with a triangle reversed relative to the mesh's
  * input texels, no chart to box. Charts pressed together until a re-mesh makes a
  * scaffold triangle without area end the reduction at the last round (stage 2 refuses
- * such a start).
+ * such a start, or its factorisation fails).
  * Does not: cut, pack into a texture, or keep gaps between charts (the paper's gap layers):
  * charts may come to touch, so a caller that needs gutters packs the result again. */
 #ifndef TEXOPT_DISTORTION_REDUCE_H
@@ -72,8 +72,8 @@ typedef struct texopt_distortion_reduce_report {
 /* mesh: triangles, charts and input texels (mesh->texel, the frame of the reference's
  * Jacobians); reference and start: 2 per vertex, start without overlap (a packed atlas),
  * reference at the scale the start's charts should return to, any placement. out (2 per
- * vertex) gets the reduced atlas. opt and report may be NULL. Fails on no memory,
- * cancellation or a numeric failure of stage 2. */
+ * vertex) gets the reduced atlas. opt and report may be NULL. Fails on no memory or
+ * cancellation. */
 texopt_status texopt_distortion_reduce(const texopt_mesh *mesh, const double *reference, const double *start,
                                        const texopt_distortion_reduce_options *opt, double *out,
                                        texopt_distortion_reduce_report *report, const texopt_monitor *monitor,

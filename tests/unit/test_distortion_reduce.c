@@ -10,7 +10,8 @@
  * whose size is the start's bounding box scaled by the initial scale, delta and the
  * growth of its rounds, so the packing efficiency is at least the chart area over it. A
  * packing bound above any reachable ends the reduction before its first round; pieces laid
- * over each other are refused and returned as they came. */
+ * over each other are refused and returned as they came; a folded chart is left out of the
+ * box while the others are reduced. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -247,4 +248,44 @@ TEST(pieces_over_each_other_are_refused_and_returned_as_they_came)
     free(start);
     free(reference);
     texopt_mesh_destroy(cut);
+}
+
+/* Two squares of two triangles, squeezed to 0.8 of their width in the start, and a folded
+ * chart (two triangles over one edge, one of each orientation, folded in the input too):
+ * the fold cannot be boxed, so it is moved right of the box and the squares are reduced
+ * without it. */
+TEST(a_folded_chart_is_left_out_of_the_box)
+{
+    texopt_mesh *m = handmesh_alloc(12, 6);
+    CHECK(m != NULL);
+    m->chart_count = 3;
+    double texel[24] = {0, 0, 8, 0, 8, 8, 0, 8, 12, 0, 20, 0, 20, 8, 12, 8, 24, 0, 32, 0, 28, 8, 28, 5};
+    uint32_t tri[18] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7, 8, 9, 10, 9, 8, 11};
+    memcpy(m->texel, texel, sizeof texel);
+    memcpy(m->triangle, tri, sizeof tri);
+    for (size_t v = 0; v < 12; v++) {
+        m->position[3 * v] = texel[2 * v];
+        m->position[3 * v + 1] = texel[2 * v + 1];
+    }
+    uint32_t chart[6] = {0, 0, 1, 1, 2, 2};
+    memcpy(m->chart_of, chart, sizeof chart);
+    handmesh_finish(m);
+    double start[24];
+    memcpy(start, texel, sizeof start);
+    for (size_t v = 0; v < 8; v++) /* the squares squeezed across */
+        start[2 * v] = (v < 4 ? 0 : 12) + 0.8 * (texel[2 * v] - (v < 4 ? 0 : 12));
+    double out[24];
+    texopt_distortion_reduce_report rep;
+    char err[256];
+    CHECK_OK(texopt_distortion_reduce(m, m->texel, start, NULL, out, &rep, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(rep.refused, 0);
+    CHECK_EQ_INT(rep.charts_unboxed, 1);
+    CHECK(rep.rounds >= 1);
+    for (size_t v = 0; v < 8; v++)
+        CHECK(out[2 * v] >= rep.box[0] && out[2 * v] <= rep.box[2] && out[2 * v + 1] >= rep.box[1] &&
+              out[2 * v + 1] <= rep.box[3]);
+    for (size_t v = 8; v < 12; v++)
+        CHECK_MSG(out[2 * v] > rep.box[2], "fold vertex %zu at x %.2f, box ends at %.2f", v, out[2 * v], rep.box[2]);
+    CHECK_MSG(rep.distortion < rep.distortion_start, "distortion %.4f -> %.4f", rep.distortion_start, rep.distortion);
+    texopt_mesh_destroy(m);
 }
