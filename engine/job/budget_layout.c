@@ -8,6 +8,7 @@
 #include "atlas_refine.h"
 #include "bake_pool.h"
 #include "budget.h"
+#include "distortion_reduce.h"
 #include "domain_keep.h"
 #include "domain_rechart.h"
 #include "input_method.h"
@@ -228,6 +229,141 @@ static texopt_status cut_if_tighter(const texopt_mesh *charts, const double *ref
     return st;
 }
 
+/* The work room of reduce_if_tighter on the charts mesh or its cut: per vertex of `laid`,
+ * the refined layout, the reference (stage 2's), the packings and the reduction. */
+typedef struct reduce_work {
+    texopt_mesh *cut; /* NULL: laid out on the charts mesh itself */
+    double *texel, *reference, *packed, *reduced, *repacked;
+} reduce_work;
+
+static void reduce_work_free(reduce_work *w)
+{
+    texopt_mesh_destroy(w->cut);
+    free(w->texel);
+    free(w->reference);
+    free(w->packed);
+    free(w->reduced);
+    free(w->repacked);
+}
+
+/* Texel area of the layout texel's triangles. */
+static double layout_area(const texopt_mesh *mesh, const double *texel)
+{
+    double area = 0;
+    for (size_t t = 0; t < mesh->triangle_count; t++) {
+        const double *a = texel + 2 * (size_t)mesh->triangle[3 * t], *b = texel + 2 * (size_t)mesh->triangle[3 * t + 1],
+                     *c = texel + 2 * (size_t)mesh->triangle[3 * t + 2];
+        area += 0.5 * fabs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    }
+    return area;
+}
+
+/* Every chart of `charts` at `stage2` deformed without bounds (atlas_refine.h) and cut
+ * (texopt_atlas_cut): w's mesh, refined layout and reference on it. */
+static texopt_status refine_and_cut_all(const texopt_mesh *charts, const double *stage2,
+                                        const texopt_budget_request *req, reduce_work *w, texopt_domain_stats *ds,
+                                        char *err, size_t err_len)
+{
+    size_t nv = charts->vertex_count ? charts->vertex_count : 1,
+           nt = charts->triangle_count ? charts->triangle_count : 1;
+    double *refined = malloc(2 * nv * sizeof *refined);
+    uint32_t *piece_of = malloc(nt * sizeof *piece_of), *source = NULL;
+    size_t pieces = 0;
+    texopt_chart_cut_options opt = {.padding = CUT_PADDING, .seed = 1};
+    texopt_atlas_refine_report rr = {0};
+    texopt_status st =
+        refined && piece_of ? TEXOPT_OK : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the reduction");
+    if (st == TEXOPT_OK)
+        st = texopt_atlas_refine(charts, stage2, NULL, NULL, 0, refined, &rr, req->monitor, err, err_len);
+    if (st == TEXOPT_OK)
+        st = texopt_atlas_cut(charts, refined, NULL, &opt, piece_of, &pieces, &rr, req->monitor, err, err_len);
+    if (st == TEXOPT_OK && pieces > charts->chart_count)
+        st = texopt_mesh_cut_create(charts, piece_of, pieces, &w->cut, &source, err, err_len);
+    const texopt_mesh *laid = w->cut ? w->cut : charts;
+    size_t n = 2 * (laid->vertex_count ? laid->vertex_count : 1);
+    if (st == TEXOPT_OK) {
+        w->texel = malloc(n * sizeof *w->texel);
+        w->reference = malloc(n * sizeof *w->reference);
+        w->packed = malloc(n * sizeof *w->packed);
+        w->reduced = malloc(n * sizeof *w->reduced);
+        w->repacked = malloc(n * sizeof *w->repacked);
+        if (!w->texel || !w->reference || !w->packed || !w->reduced || !w->repacked)
+            st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the reduction");
+    }
+    for (size_t v = 0; st == TEXOPT_OK && v < laid->vertex_count; v++) {
+        size_t from = source ? source[v] : v;
+        memcpy(w->texel + 2 * v, refined + 2 * from, 2 * sizeof *w->texel);
+        memcpy(w->reference + 2 * v, stage2 + 2 * from, 2 * sizeof *w->reference);
+    }
+    if (st == TEXOPT_OK) {
+        ds->reduce_charts_refined = rr.charts_refined;
+        ds->reduce_pieces = w->cut ? pieces : charts->chart_count;
+    }
+    free(refined);
+    free(piece_of);
+    free(source);
+    return st;
+}
+
+/* The paper's pipeline (Liu et al. 2019): every chart but a sharing group's deformed however
+ * far or turned, cut, packed, its distortion reduced toward stage 2's layout `stage2` in a
+ * fixed box (distortion_reduce.h), and packed again (the reduction lets charts touch, the
+ * packer puts the gutters back); kept, on l->cut when cut, when tighter than l's layout.
+ * The deformed packing unreduced is no candidate: its distortion is what the bounds of
+ * refine_if_tighter keep out. */
+static texopt_status reduce_if_tighter(const texopt_mesh *charts, const double *stage2,
+                                       const texopt_budget_request *req, domain_layout *l, texopt_domain_stats *ds,
+                                       char *err, size_t err_len)
+{
+    if (req->keep_shape) /* sharing groups: their chart numbering must stay (cut_if_tighter) */
+        return TEXOPT_OK;
+    reduce_work w = {0};
+    texopt_status st = refine_and_cut_all(charts, stage2, req, &w, ds, err, err_len);
+    const texopt_mesh *laid = w.cut ? w.cut : charts;
+    texopt_budget_request r = *req;
+    texopt_budget_result packed = {0}, repacked = {0};
+    if (st == TEXOPT_OK)
+        st = texopt_budget_fit(laid, w.texel, &r, w.packed, &packed, err, err_len);
+    if (st == TEXOPT_E_LIMIT) {
+        reduce_work_free(&w);
+        return TEXOPT_OK;
+    }
+    for (size_t i = 0; st == TEXOPT_OK && i < 2 * laid->vertex_count; i++)
+        w.reference[i] *= packed.scale; /* the texel allocation at the budget's scale */
+    texopt_distortion_reduce_options o = {0};
+    o.threads = req->threads;
+    if (st == TEXOPT_OK)
+        st = texopt_distortion_reduce(laid, w.reference, w.packed, &o, w.reduced, &ds->reduce, req->monitor, err,
+                                      err_len);
+    if (st == TEXOPT_OK && !ds->reduce.refused)
+        st = texopt_budget_fit(laid, w.reduced, &r, w.repacked, &repacked, err, err_len);
+    if (st == TEXOPT_E_LIMIT)
+        st = TEXOPT_OK;
+    if (st == TEXOPT_OK) {
+        ds->has_reduce = 1;
+        ds->packing_efficiency_deformed = packed.packing_efficiency;
+        ds->packing_efficiency_reduced = repacked.packing_efficiency;
+        ds->reduce_boundary = texopt_atlas_boundary_length(laid, w.reduced) *
+                              sqrt(layout_area(laid, w.reference) / layout_area(laid, w.reduced)) / packed.scale;
+    }
+    if (st == TEXOPT_OK && repacked.packing_efficiency > l->br.packing_efficiency) {
+        for (size_t i = 0; i < 2 * laid->vertex_count; i++)
+            w.reduced[i] /= packed.scale; /* back to input texels, as stage 2's */
+        free(l->texel_new);
+        free(l->packed);
+        texopt_mesh_destroy(l->cut);
+        l->texel_new = w.reduced;
+        l->packed = w.repacked;
+        l->br = repacked;
+        l->cut = w.cut;
+        w.reduced = w.repacked = NULL;
+        w.cut = NULL;
+        ds->atlas_refine_kept = ATLAS_REFINE_KEPT_REDUCED;
+    }
+    reduce_work_free(&w);
+    return st;
+}
+
 /* Packing "refine": the charts of l->texel_new deformed toward axis-aligned shapes
  * (atlas_refine.h) and packed at the same budget; the tighter of the two packings (the
  * higher packing efficiency: fewer texture texels at a relative cost, more covered ones at
@@ -237,9 +373,12 @@ static texopt_status refine_if_tighter(const texopt_mesh *charts, const texopt_b
 {
     size_t n = 2 * (charts->vertex_count ? charts->vertex_count : 1);
     double *refined = malloc(n * sizeof *refined), *packed = malloc(n * sizeof *packed);
+    double *stage2 = malloc(n * sizeof *stage2);
     uint8_t *keep_angle = charts_keeping_angle(charts, req->targets);
     texopt_budget_result br = {0};
-    texopt_status st = refined && packed && keep_angle
+    if (stage2)
+        memcpy(stage2, l->texel_new, n * sizeof *stage2);
+    texopt_status st = refined && packed && keep_angle && stage2
                            ? TEXOPT_OK
                            : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the refined layout");
     if (st == TEXOPT_OK)
@@ -265,8 +404,11 @@ static texopt_status refine_if_tighter(const texopt_mesh *charts, const texopt_b
     }
     if (st == TEXOPT_OK)
         st = cut_if_tighter(charts, refined, req, l, ds, err, err_len);
+    if (st == TEXOPT_OK)
+        st = reduce_if_tighter(charts, stage2, req, l, ds, err, err_len);
     free(refined);
     free(packed);
+    free(stage2);
     free(keep_angle);
     return st;
 }

@@ -126,9 +126,10 @@ static void add_atlas_refine(cJSON *o, const texopt_domain_stats *d)
     const texopt_atlas_refine_report *r = &d->atlas_refine;
     cJSON *a = cJSON_AddObjectToObject(o, "atlas_refine");
     cJSON_AddStringToObject(a, "kept",
-                            d->atlas_refine_kept == ATLAS_REFINE_KEPT_CUT ? "cut"
-                            : d->atlas_refine_kept                        ? "refined"
-                                                                          : "plain");
+                            d->atlas_refine_kept == ATLAS_REFINE_KEPT_REDUCED ? "reduced"
+                            : d->atlas_refine_kept == ATLAS_REFINE_KEPT_CUT   ? "cut"
+                            : d->atlas_refine_kept                            ? "refined"
+                                                                              : "plain");
     cJSON_AddNumberToObject(a, "charts", (double)r->charts_refined);
     cJSON_AddNumberToObject(a, "skipped_charts", (double)r->charts_skipped);
     cJSON_AddNumberToObject(a, "too_distorted_charts", (double)r->charts_too_distorted);
@@ -147,6 +148,24 @@ static void add_atlas_refine(cJSON *o, const texopt_domain_stats *d)
     cJSON_AddNumberToObject(a, "distortion", r->distortion);
     cJSON_AddNumberToObject(a, "max_angle_error", r->max_angle_error);
     cJSON_AddNumberToObject(a, "seconds", r->seconds);
+    if (!d->has_reduce)
+        return;
+    const texopt_distortion_reduce_report *q = &d->reduce;
+    cJSON *b = cJSON_AddObjectToObject(a, "reduction");
+    cJSON_AddNumberToObject(b, "charts", (double)d->reduce_charts_refined);
+    cJSON_AddNumberToObject(b, "pieces", (double)d->reduce_pieces);
+    cJSON_AddNumberToObject(b, "boundary_length", d->reduce_boundary);
+    cJSON_AddNumberToObject(b, "packing_efficiency_before", d->packing_efficiency_deformed);
+    cJSON_AddNumberToObject(b, "packing_efficiency_after", d->packing_efficiency_reduced);
+    cJSON_AddBoolToObject(b, "refused", q->refused);
+    cJSON_AddNumberToObject(b, "unboxed_charts", (double)q->charts_unboxed);
+    cJSON_AddNumberToObject(b, "rounds", q->rounds);
+    cJSON_AddNumberToObject(b, "scale", q->scale);
+    cJSON_AddNumberToObject(b, "distortion_before", q->distortion_start);
+    cJSON_AddNumberToObject(b, "distortion_after", q->distortion);
+    cJSON_AddNumberToObject(b, "box_efficiency_before", q->efficiency_start);
+    cJSON_AddNumberToObject(b, "box_efficiency_after", q->efficiency);
+    cJSON_AddNumberToObject(b, "seconds", q->seconds);
 }
 
 static cJSON *domain_json(const texopt_domain_stats *d)

@@ -19,6 +19,7 @@
 #include "atlas_refine.h"
 #include "chart_unfold.h"
 #include "distortion.h"
+#include "distortion_reduce.h"
 #include "layout_check.h"
 #include "map_check.h"
 #include "params.h"
@@ -41,6 +42,7 @@ typedef enum texopt_resize_check_kept {
 } texopt_resize_check_kept;
 
 #define ATLAS_REFINE_KEPT_CUT 2
+#define ATLAS_REFINE_KEPT_REDUCED 3
 
 typedef struct texopt_domain_stats {
     int domain;
@@ -91,10 +93,17 @@ typedef struct texopt_domain_stats {
                                     layout, laid out anew or left (chart_unfold.h) */
     int has_atlas_refine;        /* params.packing_refine: charts deformed before packing (atlas_refine.h) */
     int atlas_refine_kept;       /* the refined layout packed tighter and was kept; ATLAS_REFINE_KEPT_CUT:
-                                    its cut (chart_cut.h) packed tighter still and was kept */
+                                    its cut (chart_cut.h) packed tighter still and was kept;
+                                    ATLAS_REFINE_KEPT_REDUCED: the reduced one (below) was */
     double packing_efficiency_unrefined, packing_efficiency_refined; /* of the two packings */
     double packing_efficiency_cut; /* the refined charts cut (chart_cut.h) and packed */
     texopt_atlas_refine_report atlas_refine;
+    int has_reduce; /* every chart deformed, cut, packed, reduced (distortion_reduce.h), packed again */
+    size_t reduce_charts_refined, reduce_pieces;
+    double reduce_boundary; /* boundary length of the reduced layout scaled to stage 2's area
+                               (texels of stage 2's layout) */
+    double packing_efficiency_deformed, packing_efficiency_reduced; /* before and after the reduction */
+    texopt_distortion_reduce_report reduce;
     int has_loss_share; /* loss of every triangle under the solved layout */
     double solved_within_epsilon_share, solved_loss_mean, solved_loss_max;
     int has_distortion;

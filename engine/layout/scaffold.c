@@ -111,9 +111,16 @@ static int grow(void **p, size_t *cap, size_t need, size_t size)
     return 0;
 }
 
-/* The box around the component's vertices, counter-clockwise from its lowest corner. */
-static void component_box(const texopt_mesh *mesh, const double *x, const uint32_t *tris, size_t n, double box[8])
+/* The box around the component's vertices (or `fixed`, x0 y0 x1 y1, when not NULL),
+ * counter-clockwise from its lowest corner. */
+static void component_box(const texopt_mesh *mesh, const double *x, const uint32_t *tris, size_t n, const double *fixed,
+                          double box[8])
 {
+    if (fixed) {
+        double c[8] = {fixed[0], fixed[1], fixed[2], fixed[1], fixed[2], fixed[3], fixed[0], fixed[3]};
+        memcpy(box, c, sizeof c);
+        return;
+    }
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     for (size_t k = 0; k < n; k++)
         for (int j = 0; j < 3; j++)
@@ -169,7 +176,7 @@ static int append_scaffold(scaffold_build *sb, const texopt_triangulation *tr, c
 /* Scaffolds one box around the triangles tris (n of them); 0 when its start overlaps (or
  * cannot be triangulated), 1 when scaffolded, -1 out of memory. */
 static int scaffold_component(scaffold_build *sb, const texopt_mesh *mesh, const double *x, const uint32_t *tris,
-                              size_t n, int8_t *sign)
+                              size_t n, const double *fixed_box, int8_t *sign)
 {
     if (n == 0 || !one_orientation_per_chart(mesh, x, tris, n, sign))
         return 0;
@@ -196,7 +203,7 @@ static int scaffold_component(scaffold_build *sb, const texopt_mesh *mesh, const
             vert[nb++] = vert[i];
     for (size_t i = 0; i < nb; i++)
         memcpy(pts + 2 * i, x + 2 * (size_t)vert[i], 2 * sizeof *pts);
-    component_box(mesh, x, tris, n, pts + 2 * nb);
+    component_box(mesh, x, tris, n, fixed_box, pts + 2 * nb);
     for (long e = 0; e < ne; e++) {
         uint32_t a = (uint32_t)(edges[e] >> 32), b = (uint32_t)edges[e];
         seg[2 * e] = (uint32_t)((uint32_t *)bsearch(&a, vert, nb, sizeof *vert, compare_u32) - vert);
@@ -264,8 +271,8 @@ static int scaffold_halves(scaffold_build *sb, const texopt_mesh *mesh, const do
         else
             half[--negative] = tris[k];
     }
-    int first = scaffold_component(sb, mesh, x, half, positive, sign);
-    int second = first < 0 ? -1 : scaffold_component(sb, mesh, x, half + negative, n - negative, sign);
+    int first = scaffold_component(sb, mesh, x, half, positive, NULL, sign);
+    int second = first < 0 ? -1 : scaffold_component(sb, mesh, x, half + negative, n - negative, NULL, sign);
     free(half);
     return first < 0 || second < 0 ? -1 : first && second;
 }
@@ -278,9 +285,10 @@ static void scaffold_build_free(scaffold_build *sb)
     memset(sb, 0, sizeof *sb);
 }
 
-/* Scaffolds every box at positions x: one per chart, or one for all (one_box). */
-static texopt_status build_scaffold(const texopt_mesh *mesh, const double *x, int one_box, scaffold_build *sb,
-                                    char *err, size_t err_len)
+/* Scaffolds every box at positions x: one per chart, or one for all (one_box), that one
+ * fixed_box when not NULL and without the charts marked in unboxed (may be NULL). */
+static texopt_status build_scaffold(const texopt_mesh *mesh, const double *x, int one_box, const double *fixed_box,
+                                    const uint8_t *unboxed, scaffold_build *sb, char *err, size_t err_len)
 {
     size_t nc = mesh->chart_count, nt = mesh->triangle_count;
     uint32_t *start = calloc(nc + 2, sizeof *start), *order = malloc((nt ? nt : 1) * sizeof *order);
@@ -296,13 +304,21 @@ static texopt_status build_scaffold(const texopt_mesh *mesh, const double *x, in
         start[c] = start[c - 1];
     if (!failed)
         start[0] = 0;
-    size_t boxes = one_box ? 1 : nc;
+    size_t boxes = one_box ? 1 : nc, boxed_triangles = nt, boxed_charts = nc;
+    if (one_box && unboxed && !failed) {
+        boxed_triangles = boxed_charts = 0;
+        for (size_t k = 0; k < nt; k++)
+            if (!unboxed[mesh->chart_of[order[k]]])
+                order[boxed_triangles++] = order[k];
+        for (size_t c = 0; c < nc; c++)
+            boxed_charts += !unboxed[c];
+    }
     for (size_t c = 0; c < boxes && !failed; c++) {
-        size_t first = one_box ? 0 : start[c], last = one_box ? nt : start[c + 1];
-        size_t charts = one_box ? nc : 1;
+        size_t first = one_box ? 0 : start[c], last = one_box ? boxed_triangles : start[c + 1];
+        size_t charts = one_box ? boxed_charts : 1;
         int r = !one_box && clean_mirror(mesh, x, order + first, last - first)
                     ? scaffold_halves(sb, mesh, x, order + first, last - first, sign)
-                    : scaffold_component(sb, mesh, x, order + first, last - first, sign);
+                    : scaffold_component(sb, mesh, x, order + first, last - first, one_box ? fixed_box : NULL, sign);
         failed = r < 0;
         if (r > 0)
             sb->scaffolded += charts;
@@ -326,7 +342,7 @@ texopt_status texopt_scaffold_overlapping_charts(const texopt_mesh *mesh, const 
     sb.base = mesh->vertex_count;
     sb.skipped_chart = overlapping;
     memset(overlapping, 0, mesh->chart_count);
-    texopt_status st = build_scaffold(mesh, texel, 0, &sb, err, err_len);
+    texopt_status st = build_scaffold(mesh, texel, 0, NULL, NULL, &sb, err, err_len);
     if (count)
         *count = sb.skipped;
     scaffold_build_free(&sb);
@@ -392,7 +408,8 @@ texopt_status texopt_scaffold_solve(const texopt_mesh *mesh, const texopt_triang
     for (int done = 0; st == TEXOPT_OK && done < max_iterations;) {
         scaffold_build sb = {0};
         sb.base = mesh->vertex_count;
-        st = build_scaffold(mesh, x, sopt && sopt->one_box, &sb, err, err_len);
+        st = build_scaffold(mesh, x, sopt && sopt->one_box, sopt ? sopt->box : NULL, sopt ? sopt->unboxed : NULL, &sb,
+                            err, err_len);
         texopt_meshwise_scaffold sc = {sb.vertex_count,   sb.position,
                                        sb.triangle_count, sb.triangle,
                                        sb.rest,           sopt && sopt->weight > 0.0 ? sopt->weight : DEFAULT_WEIGHT};

@@ -14,7 +14,9 @@
  * Boxes: one per chart by default (stage 2 solves in the input frame and the packer places
  * the charts afterwards, so only a chart's overlap with itself needs the scaffold), or one
  * around all charts (one_box: they also keep clear of one another). A box is three times
- * its charts' extent and is rebuilt around them at every re-mesh, so charts can grow.
+ * its charts' extent and is rebuilt around them at every re-mesh, so charts can grow; or,
+ * with one_box and a given box, that box at every re-mesh (Liu et al. 2019, section 3.3:
+ * a fixed box slightly larger than a packed atlas bounds its packing efficiency).
  * A clean mirror (halves of opposite orientation welded at their mirror line, no fold-over:
  * mesh.h) is boxed half by half, so each half stays off itself while the halves keep lying
  * on one another. A chart that otherwise overlaps itself at the start (a fold, a boundary
@@ -37,9 +39,14 @@
 #include "target.h"
 
 typedef struct texopt_scaffold_options {
-    int one_box;           /* 1: every chart in one box; 0: a box per chart */
-    double weight;         /* scaffold energy per texel relative to the charts' mean; 0 -> 0.01 */
-    int remesh_iterations; /* stage 2 iterations between re-meshes; 0 -> 10 */
+    int one_box;            /* 1: every chart in one box; 0: a box per chart */
+    const double *box;      /* with one_box, may be NULL: the box {x0, y0, x1, y1}, fixed (every
+                              chart must lie inside it, else the box is skipped); NULL: three
+                              times the charts' extent, rebuilt around them */
+    const uint8_t *unboxed; /* with one_box, may be NULL: per chart, nonzero leaves it out of
+                               the box (solved without scaffold, counted in no report field) */
+    double weight;          /* scaffold energy per texel relative to the charts' mean; 0 -> 0.01 */
+    int remesh_iterations;  /* stage 2 iterations between re-meshes; 0 -> 10 */
 } texopt_scaffold_options;
 
 typedef struct texopt_scaffold_report {

@@ -4,7 +4,9 @@
  * tighter packing is the one kept, and without the option nothing is refined. The refined
  * L is cut once into two pieces (chart_cut.h), which pack tighter: the cut is written, the
  * file's vertices along it split (two charts in the file, as many vertices more as the
- * statistics say), and the written file's layout has no overlap. */
+ * statistics say), and the written file's layout has no overlap. The reduction (section 3.3)
+ * runs on the cut pieces, lowers their distortion relative to stage 2's L and is kept only
+ * when it packs tightest. */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <string.h>
@@ -123,9 +125,21 @@ TEST(the_refined_packing_is_reported_and_kept_only_when_tighter)
     CHECK(number(a, "charts") == 1 && number(a, "skipped_charts") == 0);
     double before = number(a, "packing_efficiency_before"), after = number(a, "packing_efficiency_after");
     double cut = number(a, "packing_efficiency_cut");
+    cJSON *r = cJSON_GetObjectItem(a, "reduction");
+    CHECK(r != NULL && cJSON_IsFalse(cJSON_GetObjectItem(r, "refused")));
+    double reduced = number(r, "packing_efficiency_after");
     const char *kept = cJSON_GetObjectItem(a, "kept")->valuestring;
-    const char *tightest = cut > fmax(before, after) ? "cut" : after > before ? "refined" : "plain";
-    CHECK_MSG(strcmp(kept, tightest) == 0, "kept %s with %.4f -> %.4f, cut %.4f", kept, before, after, cut);
+    const char *tightest = reduced > fmax(cut, fmax(before, after)) ? "reduced"
+                           : cut > fmax(before, after)              ? "cut"
+                           : after > before                         ? "refined"
+                                                                    : "plain";
+    CHECK_MSG(strcmp(kept, tightest) == 0, "kept %s with %.4f -> %.4f, cut %.4f, reduced %.4f", kept, before, after,
+              cut, reduced);
+    /* the reduction (distortion_reduce.h) pulls the cut pieces back toward stage 2's L */
+    CHECK_MSG(number(r, "rounds") >= 1 && number(r, "distortion_after") < number(r, "distortion_before"),
+              "distortion %.4f -> %.4f in %g rounds", number(r, "distortion_before"), number(r, "distortion_after"),
+              number(r, "rounds"));
+    CHECK(number(r, "pieces") == 2 && reduced > 0 && reduced <= 1);
     CHECK(number(a, "distortion") > 1.0 && number(a, "distortion") <= 1.1);
     CHECK(number(a, "boundary_length_before") > 0 && number(a, "boundary_length_after") > 0);
     CHECK(cJSON_IsTrue(cJSON_GetObjectItem(cJSON_GetObjectItem(d_on, "layout_check"), "passed")));

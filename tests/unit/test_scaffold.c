@@ -130,6 +130,44 @@ TEST(charts_pushed_into_each_other_overlap_without_scaffold_and_not_with_it)
     texopt_mesh_destroy(m);
 }
 
+/* The same charts in a fixed box 1% larger than their bounding box (Liu et al. 2019's
+ * bounded packing): they grow only into the gap and the margin, every vertex stays inside,
+ * no centre is covered twice. With the default box (3x, rebuilt) they grow 1.5 times. */
+TEST(a_fixed_box_holds_growing_charts_inside_it)
+{
+    texopt_triangle_target *tg;
+    texopt_mesh *m = two_charts(&tg);
+    double *x = malloc(2 * m->vertex_count * sizeof *x);
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (size_t v = 0; v < m->vertex_count; v++)
+        for (int a = 0; a < 2; a++) {
+            lo[a] = fmin(lo[a], m->texel[2 * v + a]);
+            hi[a] = fmax(hi[a], m->texel[2 * v + a]);
+        }
+    double pad[2] = {0.005 * (hi[0] - lo[0]), 0.005 * (hi[1] - lo[1])};
+    double box[4] = {lo[0] - pad[0], lo[1] - pad[1], hi[0] + pad[0], hi[1] + pad[1]};
+    texopt_scaffold_options so = {0};
+    so.one_box = 1;
+    so.box = box;
+    texopt_scaffold_report rep;
+    char err[256];
+    CHECK_OK(texopt_scaffold_solve(m, tg, NULL, NULL, &so, x, &rep, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(rep.charts_skipped, 0);
+    size_t within, between, outside = 0;
+    CHECK_OK(texopt_count_overlap(m, x, &within, &between, err, sizeof err), err);
+    CHECK_EQ_INT(between, 0);
+    CHECK_EQ_INT(within, 0);
+    CHECK_EQ_INT(texopt_count_flipped(m, x), 0);
+    for (size_t v = 0; v < m->vertex_count; v++)
+        outside += x[2 * v] < box[0] || x[2 * v] > box[2] || x[2 * v + 1] < box[1] || x[2 * v + 1] > box[3];
+    CHECK_EQ_INT(outside, 0);
+    double grown = total_area(m, x) / total_area(m, m->texel);
+    CHECK_MSG(grown > 1.01 && grown < 1.3, "area grew %.3f times in the fixed box", grown);
+    free(x);
+    free(tg);
+    texopt_mesh_destroy(m);
+}
+
 /* A U: two arms 2 cells wide and 6 high on a base row 5 cells wide, one cell apart. The
  * arms' triangles ask to be 2.5 times wider: they close the gap. */
 static texopt_mesh *closing_u(texopt_triangle_target **targets)
