@@ -7,7 +7,9 @@
  *    copy and passes the Khronos validator; stage 2 solved each new chart in a scaffold;
  *  - a flat grid (one planar patch): re-charted, its q stays near the kept layout's;
  *  - a fragmented atlas whose islands overlap (grid_glb.h): the input layout fails the layout
- *    check (its islands share texels), the new charts pass it and show the input's look. */
+ *    check (its islands share texels), the new charts pass it and show the input's look
+ *    (they join islands, though not across the seams where the overlap makes the texture
+ *    jump: rechart.h may_cross). */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdlib.h>
@@ -246,7 +248,10 @@ TEST(an_overlapping_input_layout_is_laid_out_anew)
     if (d) {
         CHECK(cJSON_IsTrue(cJSON_GetObjectItem(d, "repacked")));
         CHECK(cJSON_IsTrue(cJSON_GetObjectItem(cJSON_GetObjectItem(d, "layout_check"), "passed")));
-        CHECK_EQ_INT(cJSON_GetObjectItem(cJSON_GetObjectItem(d, "new_charts"), "charts")->valueint, 2);
+        /* overlapping islands read other texels at their shared edges, so new charts stop at
+           some of those seams (rechart.h may_cross), never cutting an island further */
+        int charts = cJSON_GetObjectItem(cJSON_GetObjectItem(d, "new_charts"), "charts")->valueint;
+        CHECK_MSG(charts >= 2 && charts <= (N / 2) * (N / 2), "%d new charts", charts);
     }
     CHECK_EQ_INT(input_layout_fails_check(s.out), 0);
     CHECK(centres_covered_twice(s.in) > 0);
