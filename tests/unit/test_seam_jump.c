@@ -12,26 +12,25 @@
 #include "seam_jump.h"
 #include "test.h"
 
-/* Triangles 0 = (0, 1, 2) and 1 = (3, 4, 5) over points p0 p1 p2 and p1 p0 p3: they share
- * the 3D edge p0-p1; triangle 1's texels are triangle 0's shifted by (dx, 0), so the edge
- * reads the image at x + dx on that side. */
+/* Triangles 0 = (0, 1, 2) and 1 = (3, 4, 5), vertices 3 and 4 on the points of 1 and 0
+ * (points are vertex ids): they share that 3D edge; in texels triangle 1 lies across the
+ * edge from triangle 0, shifted by (dx, 0), so the edge reads the image at x + dx there. */
 static texopt_mesh *seam_pair(double dx)
 {
     texopt_mesh *m = handmesh_alloc(6, 2);
     if (!m)
         return NULL;
-    static const double xyz[4][3] = {{0, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {1, 0, 0}};
-    static const uint32_t point[6] = {0, 1, 2, 1, 0, 3};
-    static const double texel[4][2] = {{64, 64}, {64, 192}, {16, 64}, {112, 64}};
+    static const double xyz[6][3] = {{0, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {1, 0, 0}};
+    static const uint32_t point[6] = {0, 1, 2, 1, 0, 5};
+    static const double texel[6][2] = {{64, 64}, {64, 192}, {16, 64}, {64, 192}, {64, 64}, {112, 64}};
     for (uint32_t v = 0; v < 6; v++) {
         m->point_of[v] = point[v];
         m->triangle[v] = v;
-        m->texel[2 * v] = texel[point[v]][0] + (v >= 3 ? dx : 0);
-        m->texel[2 * v + 1] = texel[point[v]][1];
-    }
-    for (int p = 0; p < 4; p++)
+        m->texel[2 * v] = texel[v][0] + (v >= 3 ? dx : 0);
+        m->texel[2 * v + 1] = texel[v][1];
         for (int a = 0; a < 3; a++)
-            m->position[3 * p + a] = xyz[p][a];
+            m->position[3 * v + (uint32_t)a] = xyz[v][a];
+    }
     handmesh_finish(m);
     return m;
 }
