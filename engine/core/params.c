@@ -121,6 +121,12 @@ void texopt_params_resolve(texopt_params *p)
         p->resize_check = 1;
     if (p->refine_lit == 0)
         p->refine_lit = 1;
+    /* Stage 2's barrier keeps triangles from flipping, not a chart from running over itself.
+     * New charts do so where the input's did not: their free boundaries (abf, lscm) meet
+     * targets restated from another layout, and a chart over itself shows one part's texels
+     * on another (docs/benchmarks.md "New charts over themselves"). */
+    if (p->charts == TEXOPT_CHARTS_NEW)
+        p->bijective = 1;
 }
 
 int texopt_params_refinement_rounds(const texopt_params *p)

@@ -118,7 +118,8 @@ typedef struct texopt_params {
                                measured from the file is the layout's and not the encoding's
                                (compare.h sets it); 0: a JPEG stays a JPEG */
     int bijective;                      /* non-zero: stage 2 solves with scaffold triangles around each
-                               chart (layout/scaffold.h), so no chart overlaps itself */
+                               chart (layout/scaffold.h), so no chart overlaps itself;
+                               TEXOPT_CHARTS_NEW resolves to 1 */
     int packing_refine;                 /* non-zero ("refine"): each chart of the new layout is deformed
                                toward an axis-aligned shape before packing (layout/
                                atlas_refine.h), and the tighter of the two packings kept;

@@ -7,9 +7,32 @@
 
 #include "model_split.h"
 #include "rechart.h"
+#include "seam_jump.h"
 #include "target_restate.h"
 
 #define RECHART_DENSITY_RATIO 2.0
+/* The largest jump (mean over an edge, 1 = full range) of any of a domain's textures across
+ * an input seam that a new chart may grow over: about 2.5 of 255 levels, below what the
+ * eye separates on a flat colour. */
+#define SEAM_JUMP_TOLERANCE 0.01
+
+/* What the new charts' region growing asks of an input seam (rechart.h may_cross). */
+typedef struct seam_test {
+    const texopt_model *model;
+    const texopt_mesh *mesh;
+} seam_test;
+
+/* Whether every texture of the domain reads the same across the seam of t and u: a new
+ * chart over a seam where the texture jumps would resample the jump on its texel grid. */
+static int seam_continuous(const void *context, uint32_t t, uint32_t u)
+{
+    const seam_test *s = context;
+    const texopt_domain *dom = &s->model->domains[s->mesh->domain];
+    for (int i = 0; i < dom->image_count; i++)
+        if (texopt_seam_jump(s->mesh, &s->model->images[dom->images[i]], t, u) > SEAM_JUMP_TOLERANCE)
+            return 0;
+    return 1;
+}
 
 const texopt_mesh *job_layout_mesh(const job_domain *jd)
 {
@@ -31,6 +54,9 @@ texopt_status job_rechart_model(texopt_job *job, char *err, size_t err_len)
         texopt_mesh *mesh = NULL;
         texopt_rechart *r = NULL;
         st = texopt_mesh_create(&mesh, model, d, err, err_len);
+        seam_test seams = {model, mesh};
+        opt.may_cross = seam_continuous;
+        opt.cross_context = &seams;
         if (st == TEXOPT_OK)
             st = texopt_rechart_create(&r, mesh, &opt, err, err_len);
         for (size_t t = 0; st == TEXOPT_OK && t < mesh->triangle_count; t++)

@@ -293,6 +293,19 @@ static int density_fits(const context *c, double seed_density, uint32_t u)
     return !(r > 0) || !(d > 0) || !(seed_density > 0) || (d <= r * seed_density && seed_density <= r * d);
 }
 
+/* Whether the region may grow from t into its 3D neighbour u: always where they share the
+ * edge's texel corners, across an input seam where the caller's test allows it. */
+static int may_cross_seam(const context *c, uint32_t t, uint32_t u)
+{
+    if (!c->opt.may_cross)
+        return 1;
+    int shared = 0;
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++)
+            shared += c->mesh->triangle[3 * (size_t)t + (size_t)a] == c->mesh->triangle[3 * (size_t)u + (size_t)b];
+    return shared >= 2 || c->opt.may_cross(c->opt.cross_context, t, u);
+}
+
 /* Grows one region from `seed` breadth first into order[]; returns its size. */
 static size_t grow(const context *c, region *g, uint32_t seed, uint32_t *order)
 {
@@ -310,7 +323,7 @@ static size_t grow(const context *c, region *g, uint32_t seed, uint32_t *order)
             if (u == UINT32_MAX || g->region_of[u] || is_degenerate(c, u) ||
                 texopt_dot3(c->normal + 3 * (size_t)t, c->normal + 3 * (size_t)u) < cos_crease ||
                 texopt_dot3(seed_normal, c->normal + 3 * (size_t)u) < cos_cone || !density_fits(c, seed_density, u) ||
-                !keeps_disk(c, g, u))
+                !may_cross_seam(c, t, u) || !keeps_disk(c, g, u))
                 continue;
             add_to_region(c, g, u, order, &n);
         }

@@ -4,7 +4,8 @@
  * Triangles are grouped by region growing over shared 3D edges (through UV seams): a chart
  * never crosses a crease (normals more than crease_degrees apart) nor holds a triangle whose
  * normal is more than cone_degrees from its seed's (nor, with density_ratio, one whose input
- * texel density is that factor from the seed's), nor grows past max_triangles, and only
+ * texel density is that factor from the seed's, nor, with may_cross, across an input seam
+ * it refuses), nor grows past max_triangles, and only
  * takes a triangle that keeps it a disk (no vertex reached twice, no surface closed). A
  * region that is still no disk (param_chart.h: a non-manifold or inconsistently oriented
  * mesh) is split in two along its growth order until every part is one. Each chart is laid out by the chosen method at 3D scale (1 unit = 1 world unit);
@@ -31,6 +32,10 @@ typedef struct texopt_rechart_options {
     size_t max_triangles;  /* 0 = 5000: bounds one chart's solve */
     double density_ratio;  /* > 0: no triangle whose input texel density (texels per world
                               unit) is more than this factor from the seed's joins it; 0 = any */
+    /* non-NULL: a region grows across an input seam (t and u share a 3D edge but not its
+     * texel corners) only where may_cross(cross_context, t, u) is non-zero */
+    int (*may_cross)(const void *cross_context, uint32_t t, uint32_t u);
+    const void *cross_context;
 } texopt_rechart_options;
 
 typedef struct texopt_rechart {

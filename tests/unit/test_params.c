@@ -27,6 +27,17 @@ TEST(zero_params_resolve_to_paper_defaults)
     CHECK_NEAR(paper.epsilon, 0.05, 0);
 }
 
+/* New charts are solved with scaffolds: stage 2 alone runs them over themselves. */
+TEST(new_charts_resolve_to_a_bijective_stage_2)
+{
+    texopt_params p = {.charts = TEXOPT_CHARTS_NEW};
+    texopt_params_resolve(&p);
+    CHECK_EQ_INT(p.bijective, 1);
+    texopt_params keep = {0};
+    texopt_params_resolve(&keep);
+    CHECK_EQ_INT(keep.bijective, 0);
+}
+
 /* The Hessian floor as users give it: 0 is none, which the field encodes as -1. */
 TEST(the_hessian_floor_as_users_give_it)
 {

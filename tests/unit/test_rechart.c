@@ -205,3 +205,54 @@ TEST(density_ratio_keeps_detailed_parts_apart)
     texopt_mesh_destroy(m);
     texopt_model_destroy(model);
 }
+
+/* Counts its calls; refuses every seam (rechart.h may_cross). */
+static int refuse_seam(const void *context, uint32_t t, uint32_t u)
+{
+    (void)t;
+    (void)u;
+    ++*(int *)context;
+    return 0;
+}
+
+/* Two flat unit quads side by side, each with its own vertices: the input layout has a
+ * seam along x = 1. Without may_cross one chart grows over
+ * it; refused, the quads are two charts, and only the seam was asked. */
+TEST(a_refused_input_seam_splits_the_charts)
+{
+    texopt_mesh *m = handmesh_alloc(8, 4);
+    CHECK(m != NULL);
+    if (!m)
+        return;
+    /* vertices 0-3 the left quad, 4-7 the right; 4 and 7 lie on 1 and 2 (points are vertex ids) */
+    static const double xy[8][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {1, 0}, {2, 0}, {2, 1}, {1, 1}};
+    static const uint32_t point[8] = {0, 1, 2, 3, 1, 5, 6, 2};
+    static const uint32_t tris[12] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
+    for (uint32_t v = 0; v < 8; v++) {
+        m->point_of[v] = point[v];
+        m->position[3 * v] = xy[v][0];
+        m->position[3 * v + 1] = xy[v][1];
+        m->texel[2 * v] = 10.0 * xy[v][0] + (v >= 4 ? 30.0 : 0.0);
+        m->texel[2 * v + 1] = 10.0 * xy[v][1];
+    }
+    memcpy(m->triangle, tris, sizeof tris);
+    handmesh_finish(m);
+    texopt_rechart *open = NULL, *cut = NULL;
+    int asked = 0;
+    char err[256] = "";
+    texopt_rechart_options opt = {.method = TEXOPT_PARAMETERIZER_ABF};
+    CHECK_OK(texopt_rechart_create(&open, m, &opt, err, sizeof err), err);
+    opt.may_cross = refuse_seam;
+    opt.cross_context = &asked;
+    CHECK_OK(texopt_rechart_create(&cut, m, &opt, err, sizeof err), err);
+    if (open && cut) {
+        CHECK_EQ_INT(open->chart_count, 1);
+        CHECK_EQ_INT(cut->chart_count, 2);
+        CHECK(cut->chart_of[0] == cut->chart_of[1] && cut->chart_of[2] == cut->chart_of[3]);
+        CHECK(cut->chart_of[0] != cut->chart_of[2]);
+        CHECK(asked >= 1 && asked <= 2); /* once from each side at most, never inside a quad */
+    }
+    texopt_rechart_destroy(open);
+    texopt_rechart_destroy(cut);
+    texopt_mesh_destroy(m);
+}
