@@ -8,6 +8,7 @@
 #include "atlas_refine.h"
 #include "bake_pool.h"
 #include "budget.h"
+#include "chart_gap.h"
 #include "distortion_reduce.h"
 #include "domain_keep.h"
 #include "domain_rechart.h"
@@ -305,6 +306,48 @@ static texopt_status refine_and_cut_all(const texopt_mesh *charts, const double 
     return st;
 }
 
+/* What the reduced layout would give written as it is (not done: the reduction lets pieces
+ * touch, Liu et al.'s gap layers are missing): its pieces inside the reduction's box
+ * scaled to the packed frame less the packer's gutter, their packing efficiency in that
+ * frame and the smallest distance between two of them in its texels (writable when at
+ * least the gutter). Pieces left out of the box would need room besides. */
+static texopt_status measure_direct_layout(const texopt_mesh *laid, const double *reduced,
+                                           const texopt_budget_request *req, const texopt_budget_result *packed,
+                                           texopt_domain_stats *ds, char *err, size_t err_len)
+{
+    const double *box = ds->reduce.box;
+    uint8_t *outside = calloc(laid->chart_count ? laid->chart_count : 1, 1);
+    if (!outside)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the direct layout");
+    for (size_t k = 0; k < 3 * laid->triangle_count; k++) {
+        const double *p = reduced + 2 * (size_t)laid->triangle[k];
+        if (p[0] < box[0] || p[0] > box[2] || p[1] < box[1] || p[1] > box[3])
+            outside[laid->chart_of[k / 3]] = 1;
+    }
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, area = 0.0, gap = 0.0;
+    for (size_t t = 0; t < laid->triangle_count; t++) {
+        if (outside[laid->chart_of[t]])
+            continue;
+        const uint32_t *v = laid->triangle + 3 * t;
+        const double *a = reduced + 2 * (size_t)v[0], *b = reduced + 2 * (size_t)v[1], *c = reduced + 2 * (size_t)v[2];
+        area += 0.5 * fabs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+        for (int j = 0; j < 3; j++)
+            for (int d = 0; d < 2; d++) {
+                lo[d] = fmin(lo[d], reduced[2 * (size_t)v[j] + d]);
+                hi[d] = fmax(hi[d], reduced[2 * (size_t)v[j] + d]);
+            }
+    }
+    texopt_status st = texopt_chart_gap(laid, reduced, outside, &gap, err, err_len);
+    double gutter = req->pack.gutter > 0 ? req->pack.gutter : 4;
+    double k = fmin((packed->width - gutter) / (hi[0] - lo[0]), (packed->height - gutter) / (hi[1] - lo[1]));
+    if (st == TEXOPT_OK && area > 0.0 && k > 0.0) {
+        ds->packing_efficiency_direct = area * k * k / ((double)packed->width * packed->height);
+        ds->reduce_direct_gap = gap * k;
+    }
+    free(outside);
+    return st;
+}
+
 /* The paper's pipeline (Liu et al. 2019): every chart but a sharing group's deformed however
  * far or turned, cut, packed, its distortion reduced toward stage 2's layout `stage2` in a
  * fixed box (distortion_reduce.h), and packed again (the reduction lets charts touch, the
@@ -335,6 +378,8 @@ static texopt_status reduce_if_tighter(const texopt_mesh *charts, const double *
     if (st == TEXOPT_OK)
         st = texopt_distortion_reduce(laid, w.reference, w.packed, &o, w.reduced, &ds->reduce, req->monitor, err,
                                       err_len);
+    if (st == TEXOPT_OK && !ds->reduce.refused)
+        st = measure_direct_layout(laid, w.reduced, req, &packed, ds, err, err_len);
     if (st == TEXOPT_OK && !ds->reduce.refused)
         st = texopt_budget_fit(laid, w.reduced, &r, w.repacked, &repacked, err, err_len);
     if (st == TEXOPT_E_LIMIT)

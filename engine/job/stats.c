@@ -157,6 +157,8 @@ static void add_atlas_refine(cJSON *o, const texopt_domain_stats *d)
     cJSON_AddNumberToObject(b, "boundary_length", d->reduce_boundary);
     cJSON_AddNumberToObject(b, "packing_efficiency_before", d->packing_efficiency_deformed);
     cJSON_AddNumberToObject(b, "packing_efficiency_after", d->packing_efficiency_reduced);
+    cJSON_AddNumberToObject(b, "packing_efficiency_direct", d->packing_efficiency_direct);
+    cJSON_AddNumberToObject(b, "direct_gap", d->reduce_direct_gap);
     cJSON_AddBoolToObject(b, "refused", q->refused);
     cJSON_AddNumberToObject(b, "unboxed_charts", (double)q->charts_unboxed);
     cJSON_AddNumberToObject(b, "rounds", q->rounds);

@@ -140,6 +140,10 @@ TEST(the_refined_packing_is_reported_and_kept_only_when_tighter)
               "distortion %.4f -> %.4f in %g rounds", number(r, "distortion_before"), number(r, "distortion_after"),
               number(r, "rounds"));
     CHECK(number(r, "pieces") == 2 && reduced > 0 && reduced <= 1);
+    /* measured only: the box layout written as it is; its pieces may touch (no gap layers) */
+    CHECK_MSG(number(r, "packing_efficiency_direct") > 0 && number(r, "packing_efficiency_direct") <= 1 &&
+                  number(r, "direct_gap") >= 0,
+              "direct %.4f, gap %.3f", number(r, "packing_efficiency_direct"), number(r, "direct_gap"));
     CHECK(number(a, "distortion") > 1.0 && number(a, "distortion") <= 1.1);
     CHECK(number(a, "boundary_length_before") > 0 && number(a, "boundary_length_after") > 0);
     CHECK(cJSON_IsTrue(cJSON_GetObjectItem(cJSON_GetObjectItem(d_on, "layout_check"), "passed")));
