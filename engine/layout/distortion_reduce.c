@@ -7,6 +7,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "gap_layer.h"
 #include "meshwise.h"
 #include "scaffold.h"
 #include "target.h"
@@ -204,10 +205,12 @@ static void move_out_of_box(const texopt_mesh *mesh, const uint8_t *unboxed, con
     free(moved);
 }
 
-texopt_status texopt_distortion_reduce(const texopt_mesh *mesh, const double *reference, const double *start,
-                                       const texopt_distortion_reduce_options *opt, double *out,
-                                       texopt_distortion_reduce_report *report, const texopt_monitor *monitor,
-                                       char *err, size_t err_len)
+/* Algorithm 2 on mesh as it is (no gap layer); unboxed (chart_count bytes) gets the charts
+ * left out of the box. */
+static texopt_status reduce_in_box(const texopt_mesh *mesh, const double *reference, const double *start,
+                                   const texopt_distortion_reduce_options *opt, double *out,
+                                   texopt_distortion_reduce_report *report, uint8_t *unboxed,
+                                   const texopt_monitor *monitor, char *err, size_t err_len)
 {
     double t0 = now_seconds();
     texopt_distortion_reduce_options o = {0};
@@ -223,10 +226,8 @@ texopt_status texopt_distortion_reduce(const texopt_mesh *mesh, const double *re
     rep.distortion_start = rep.distortion = texopt_distortion_relative(mesh, reference, start);
     double *x = malloc((n ? n : 1) * sizeof *x), *next = malloc((n ? n : 1) * sizeof *next);
     texopt_triangle_target *targets = malloc((nt ? nt : 1) * sizeof *targets);
-    uint8_t *unboxed = calloc(mesh->chart_count ? mesh->chart_count : 1, 1);
-    texopt_status st = x && next && targets && unboxed
-                           ? TEXOPT_OK
-                           : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "distortion reduction: no memory");
+    texopt_status st =
+        x && next && targets ? TEXOPT_OK : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "distortion reduction: no memory");
     if (st == TEXOPT_OK)
         st = find_unboxed(mesh, start, unboxed, &rep.charts_unboxed, err, err_len);
     if (st == TEXOPT_OK && rep.charts_unboxed == mesh->chart_count)
@@ -289,6 +290,43 @@ texopt_status texopt_distortion_reduce(const texopt_mesh *mesh, const double *re
     free(x);
     free(next);
     free(targets);
+    return st;
+}
+
+texopt_status texopt_distortion_reduce(const texopt_mesh *mesh, const double *reference, const double *start,
+                                       const texopt_distortion_reduce_options *opt, double *out,
+                                       texopt_distortion_reduce_report *report, const texopt_monitor *monitor,
+                                       char *err, size_t err_len)
+{
+    uint8_t *unboxed = calloc(mesh->chart_count ? mesh->chart_count : 1, 1);
+    if (!unboxed)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "distortion reduction: no memory");
+    if (!opt || !(opt->gap_layer > 0)) {
+        texopt_status st = reduce_in_box(mesh, reference, start, opt, out, report, unboxed, monitor, err, err_len);
+        free(unboxed);
+        return st;
+    }
+    texopt_gap_layer g;
+    texopt_distortion_reduce_report rep = {0};
+    texopt_status st = texopt_gap_layer_create(mesh, reference, start, opt->gap_layer, &g, err, err_len);
+    double *layered =
+        st == TEXOPT_OK ? malloc(2 * (g.mesh.vertex_count ? g.mesh.vertex_count : 1) * sizeof *layered) : NULL;
+    if (st == TEXOPT_OK && !layered)
+        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "distortion reduction: no memory");
+    if (st == TEXOPT_OK)
+        st = reduce_in_box(&g.mesh, g.reference, g.start, opt, layered, &rep, unboxed, monitor, err, err_len);
+    if (st == TEXOPT_OK) { /* the layer dropped; the report of the charts alone */
+        memcpy(out, layered, 2 * mesh->vertex_count * sizeof *out);
+        rep.distortion_start = texopt_distortion_relative(mesh, reference, start);
+        rep.distortion = texopt_distortion_relative(mesh, reference, out);
+        rep.efficiency_start = efficiency(mesh, start, unboxed);
+        rep.efficiency = efficiency(mesh, out, unboxed);
+        rep.charts_without_gap = g.charts_without;
+        if (report)
+            *report = rep;
+    }
+    texopt_gap_layer_destroy(&g); /* zeroed when its create failed */
+    free(layered);
     free(unboxed);
     return st;
 }

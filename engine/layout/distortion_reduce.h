@@ -28,8 +28,11 @@
  * input texels, no chart to box. Charts pressed together until a re-mesh makes a
  * scaffold triangle without area end the reduction at the last round (stage 2 refuses
  * such a start, or its factorisation fails).
- * Does not: cut, pack into a texture, or keep gaps between charts (the paper's gap layers):
- * charts may come to touch, so a caller that needs gutters packs the result again. */
+ * With a gap, each chart first gets the paper's gap layer ("Gaps between charts",
+ * gap_layer.h), solved as part of it and dropped at the end, so charts stay apart (the
+ * layers are squeezed as the charts are: measure the gap, chart_gap.h); without, charts may
+ * come to touch, and a caller that needs gutters packs again.
+ * Does not: cut, or pack into a texture. */
 #ifndef TEXOPT_DISTORTION_REDUCE_H
 #define TEXOPT_DISTORTION_REDUCE_H
 
@@ -53,19 +56,23 @@ typedef struct texopt_distortion_reduce_options {
     int round_iterations;  /* stage-2 iterations per round; 0 -> 20 */
     double min_efficiency; /* 0: no bound */
     int threads;           /* stage 2's; 0 -> 1 */
+    double gap_layer;      /* > 0: the width of a gap layer around each chart (gap_layer.h),
+                              in the start's units: charts stay up to twice it apart, less
+                              what pressure squeezes out of the layers */
 } texopt_distortion_reduce_options;
 
 typedef struct texopt_distortion_reduce_report {
-    int refused;             /* 1: out = start (see above) */
-    size_t charts_unboxed;   /* charts left out of the box (see above) */
-    int rounds;              /* rounds kept */
-    double scale;            /* Algorithm 2's initial scale of lengths */
-    double distortion_start; /* area-weighted mean symmetric Dirichlet relative to the reference
+    int refused;               /* 1: out = start (see above) */
+    size_t charts_unboxed;     /* charts left out of the box (see above) */
+    size_t charts_without_gap; /* with a gap: charts whose boundary took no layer */
+    int rounds;                /* rounds kept */
+    double scale;              /* Algorithm 2's initial scale of lengths */
+    double distortion_start;   /* area-weighted mean symmetric Dirichlet relative to the reference
                                 (1 = its shapes), of the start */
-    double distortion;       /* of out */
-    double efficiency_start; /* chart area over the bounding box area, of the start */
-    double efficiency;       /* of out */
-    double box[4];           /* the last box, x0 y0 x1 y1: out lies inside it */
+    double distortion;         /* of out */
+    double efficiency_start;   /* chart area over the bounding box area, of the start */
+    double efficiency;         /* of out */
+    double box[4];             /* the last box, x0 y0 x1 y1: out lies inside it */
     double seconds;
 } texopt_distortion_reduce_report;
 

@@ -11,13 +11,17 @@
  * growth of its rounds, so the packing efficiency is at least the chart area over it. A
  * packing bound above any reachable ends the reduction before its first round; pieces laid
  * over each other are refused and returned as they came; a folded chart is left out of the
- * box while the others are reduced. */
+ * box while the others are reduced. Two squares side by side, the right one's reference
+ * 2 times its size: growing in the box it presses against the left one until they touch,
+ * unless both carry a gap layer (gap_layer.h) of 3/4 of the gap, which keeps them at least
+ * the gap apart. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "atlas_refine.h"
 #include "chart_cut.h"
+#include "chart_gap.h"
 #include "distortion_reduce.h"
 #include "handmesh.h"
 #include "pack.h"
@@ -288,4 +292,85 @@ TEST(a_folded_chart_is_left_out_of_the_box)
         CHECK_MSG(out[2 * v] > rep.box[2], "fold vertex %zu at x %.2f, box ends at %.2f", v, out[2 * v], rep.box[2]);
     CHECK_MSG(rep.distortion < rep.distortion_start, "distortion %.4f -> %.4f", rep.distortion_start, rep.distortion);
     texopt_mesh_destroy(m);
+}
+
+#define SQUARE_CELLS 4
+#define SQUARE_CELL 2.0
+#define SQUARE_SIDE (SQUARE_CELLS * SQUARE_CELL)
+#define SQUARES_APART 3.5
+#define GAP 2.0
+
+/* Two squares of SQUARE_CELLS^2 cells, charts 0 (left) and 1 (right, SQUARES_APART to its
+ * right); input texels and start the same; reference: the left as it is, the right scaled
+ * by 2 about its centre (caller frees both). */
+static texopt_mesh *pressed_squares(double **reference, double **start)
+{
+    size_t side = SQUARE_CELLS + 1, nv = 2 * side * side, nt = 4 * SQUARE_CELLS * SQUARE_CELLS;
+    texopt_mesh *m = handmesh_alloc(nv, nt);
+    *reference = malloc(2 * nv * sizeof **reference);
+    *start = malloc(2 * nv * sizeof **start);
+    if (!m || !*reference || !*start)
+        return NULL;
+    size_t t = 0;
+    for (size_t c = 0; c < 2; c++) {
+        double x0 = c * (SQUARE_SIDE + SQUARES_APART), centre = x0 + 0.5 * SQUARE_SIDE;
+        for (size_t j = 0; j < side; j++)
+            for (size_t i = 0; i < side; i++) {
+                size_t v = c * side * side + j * side + i;
+                double x = x0 + SQUARE_CELL * (double)i, y = SQUARE_CELL * (double)j, k = c ? 2.0 : 1.0;
+                m->texel[2 * v] = (*start)[2 * v] = m->position[3 * v] = x;
+                m->texel[2 * v + 1] = (*start)[2 * v + 1] = m->position[3 * v + 1] = y;
+                (*reference)[2 * v] = centre + k * (x - centre);
+                (*reference)[2 * v + 1] = 0.5 * SQUARE_SIDE + k * (y - 0.5 * SQUARE_SIDE);
+            }
+        for (size_t j = 0; j < SQUARE_CELLS; j++)
+            for (size_t i = 0; i < SQUARE_CELLS; i++) {
+                uint32_t a = (uint32_t)(c * side * side + j * side + i), b = a + 1, d = a + (uint32_t)side, e = d + 1;
+                uint32_t tri[6] = {a, b, e, a, e, d};
+                memcpy(m->triangle + 3 * t, tri, sizeof tri);
+                m->chart_of[t] = m->chart_of[t + 1] = (uint32_t)c;
+                t += 2;
+            }
+    }
+    m->chart_count = 2;
+    handmesh_finish(m);
+    return m;
+}
+
+/* The squares reduced with a gap layer of width `layer` (0: none): the smallest distance
+ * between them after. */
+static void reduce_squares(double layer, double *apart, texopt_distortion_reduce_report *rep)
+{
+    char err[256];
+    double *reference = NULL, *start = NULL;
+    texopt_mesh *m = pressed_squares(&reference, &start);
+    CHECK(m != NULL);
+    double *out = malloc(2 * m->vertex_count * sizeof *out);
+    texopt_distortion_reduce_options o = {0};
+    o.gap_layer = layer;
+    CHECK_OK(texopt_distortion_reduce(m, reference, start, &o, out, rep, NULL, err, sizeof err), err);
+    CHECK_OK(texopt_chart_gap(m, out, NULL, apart, err, sizeof err), err);
+    size_t reversed = 0;
+    layout_area(m, out, &reversed);
+    CHECK_EQ_INT(reversed, 0);
+    free(out);
+    free(reference);
+    free(start);
+    texopt_mesh_destroy(m);
+}
+
+TEST(a_gap_layer_keeps_squares_pressed_together_the_gap_apart)
+{
+    texopt_distortion_reduce_report without, with;
+    double apart_without = 0, apart_with = 0;
+    reduce_squares(0.0, &apart_without, &without);
+    reduce_squares(0.75 * GAP, &apart_with, &with); /* a quarter spare for the squeeze */
+    CHECK_MSG(!without.refused && !with.refused && without.rounds >= 1 && with.rounds >= 1, "refused %d %d",
+              without.refused, with.refused);
+    CHECK_MSG(apart_without < 0.5 * GAP, "without a layer %.3f apart (%d rounds)", apart_without, without.rounds);
+    CHECK_MSG(apart_with >= GAP, "with a layer %.3f apart (%d rounds), %zu charts without", apart_with, with.rounds,
+              with.charts_without_gap);
+    CHECK_EQ_INT(with.charts_without_gap, 0);
+    CHECK_MSG(with.distortion < with.distortion_start, "distortion %.4f -> %.4f", with.distortion_start,
+              with.distortion);
 }

@@ -1,0 +1,208 @@
+/* gap_layer.c - a thin layer of triangles around each chart; see gap_layer.h. */
+#include "gap_layer.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define NONE UINT32_MAX
+#define MAX_MITRE 2.0
+
+typedef struct bedge {
+    uint32_t lo, hi, from, to; /* from -> to as in its triangle */
+    uint32_t triangle;
+} bedge;
+
+static int compare_bedges(const void *pa, const void *pb)
+{
+    const bedge *p = pa, *q = pb;
+    if (p->lo != q->lo)
+        return p->lo < q->lo ? -1 : 1;
+    return p->hi < q->hi ? -1 : p->hi > q->hi;
+}
+
+static double signed_area(const double *a, const double *b, const double *c)
+{
+    return 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+}
+
+/* The boundary edges (used by one triangle) into *out (caller frees); their count, or -1
+ * out of memory. */
+static long boundary_edges(const texopt_mesh *mesh, bedge **out)
+{
+    size_t n = 3 * mesh->triangle_count, kept = 0;
+    bedge *e = malloc((n ? n : 1) * sizeof *e);
+    *out = e;
+    if (!e)
+        return -1;
+    for (size_t t = 0; t < mesh->triangle_count; t++)
+        for (int k = 0; k < 3; k++) {
+            uint32_t p = mesh->triangle[3 * t + k], q = mesh->triangle[3 * t + (k + 1) % 3];
+            e[3 * t + k] = (bedge){p < q ? p : q, p < q ? q : p, p, q, (uint32_t)t};
+        }
+    qsort(e, n, sizeof *e, compare_bedges);
+    for (size_t i = 0; i < n;) {
+        size_t j = i + 1;
+        while (j < n && compare_bedges(&e[i], &e[j]) == 0)
+            j++;
+        if (j == i + 1)
+            e[kept++] = e[i];
+        i = j;
+    }
+    return (long)kept;
+}
+
+/* Unit outward normal of boundary edge e in layout x (its triangle's orientation there says
+ * which side is out) and its length; 0 when the edge or its triangle has no size. */
+static int outward_normal(const texopt_mesh *mesh, const double *x, const bedge *e, double n[2], double *len)
+{
+    const uint32_t *v = mesh->triangle + 3 * (size_t)e->triangle;
+    double s = signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]);
+    const double *a = x + 2 * (size_t)e->from, *b = x + 2 * (size_t)e->to;
+    double dx = b[0] - a[0], dy = b[1] - a[1];
+    *len = hypot(dx, dy);
+    if (!(*len > 0.0) || s == 0.0)
+        return 0;
+    n[0] = (s > 0.0 ? dy : -dy) / *len;
+    n[1] = (s > 0.0 ? -dx : dx) / *len;
+    return 1;
+}
+
+/* The layer vertex of boundary vertex v (edges in, out) in layout x: v moved out by the
+ * width scaled as the adjacent edges are from the start to x; 0 on a spike. */
+static int layer_vertex(const texopt_mesh *mesh, const double *x, const double *start, const bedge *in,
+                        const bedge *out, uint32_t v, double width, double *p)
+{
+    double n_in[2], n_out[2], l_in, l_out, s_in, s_out, ignored[2];
+    if (!outward_normal(mesh, x, in, n_in, &l_in) || !outward_normal(mesh, x, out, n_out, &l_out) ||
+        !outward_normal(mesh, start, in, ignored, &s_in) || !outward_normal(mesh, start, out, ignored, &s_out))
+        return 0;
+    double m[2] = {n_in[0] + n_out[0], n_in[1] + n_out[1]}, len = hypot(m[0], m[1]);
+    if (!(len > 1e-6))
+        return 0;
+    double cosine = (m[0] * n_out[0] + m[1] * n_out[1]) / len;
+    double d = width * (l_in + l_out) / (s_in + s_out) / fmax(cosine, 1.0 / MAX_MITRE);
+    p[0] = x[2 * (size_t)v] + d * m[0] / len;
+    p[1] = x[2 * (size_t)v + 1] + d * m[1] / len;
+    return 1;
+}
+
+void texopt_gap_layer_destroy(texopt_gap_layer *g)
+{
+    free(g->mesh.texel);
+    free(g->mesh.triangle);
+    free(g->mesh.area_texel);
+    free(g->mesh.flags);
+    free(g->mesh.chart_of);
+    free(g->mesh.chart_sign);
+    free(g->start);
+    free(g->reference);
+    memset(g, 0, sizeof *g);
+}
+
+/* Per vertex, its incoming and outgoing boundary edge (indices into e, NONE when none);
+ * per chart, 1 in bad when a vertex has more than one of either. */
+static void link_edges(const texopt_mesh *mesh, const bedge *e, size_t ne, uint32_t *in, uint32_t *out, uint8_t *bad)
+{
+    for (size_t i = 0; i < ne; i++) {
+        uint8_t *b = &bad[mesh->chart_of[e[i].triangle]];
+        *b |= out[e[i].from] != NONE || in[e[i].to] != NONE;
+        out[e[i].from] = in[e[i].to] = (uint32_t)i;
+    }
+}
+
+/* Fills g's three layouts at layer vertex `at` of boundary vertex v; 0 on a spike. */
+static int place_layer_vertex(const texopt_mesh *mesh, const double *reference, const double *start, const bedge *in,
+                              const bedge *out, uint32_t v, double width, texopt_gap_layer *g, size_t at)
+{
+    return layer_vertex(mesh, mesh->texel, start, in, out, v, width, g->mesh.texel + 2 * at) &&
+           layer_vertex(mesh, start, start, in, out, v, width, g->start + 2 * at) &&
+           layer_vertex(mesh, reference, start, in, out, v, width, g->reference + 2 * at);
+}
+
+texopt_status texopt_gap_layer_create(const texopt_mesh *mesh, const double *reference, const double *start,
+                                      double width, texopt_gap_layer *g, char *err, size_t err_len)
+{
+    memset(g, 0, sizeof *g);
+    bedge *e = NULL;
+    long ne = boundary_edges(mesh, &e);
+    size_t nv = mesh->vertex_count, nt = mesh->triangle_count, nc = mesh->chart_count, nb = ne > 0 ? (size_t)ne : 0;
+    uint32_t *in = malloc((nv ? nv : 1) * sizeof *in), *out = malloc((nv ? nv : 1) * sizeof *out);
+    uint32_t *layer_of = malloc((nv ? nv : 1) * sizeof *layer_of);
+    uint8_t *bad = calloc(nc ? nc : 1, 1);
+    texopt_mesh *m = &g->mesh;
+    size_t cap_v = nv + nb, cap_t = nt + 2 * nb;
+    m->texel = malloc(2 * (cap_v ? cap_v : 1) * sizeof *m->texel);
+    g->start = malloc(2 * (cap_v ? cap_v : 1) * sizeof *g->start);
+    g->reference = malloc(2 * (cap_v ? cap_v : 1) * sizeof *g->reference);
+    m->triangle = malloc(3 * (cap_t ? cap_t : 1) * sizeof *m->triangle);
+    m->area_texel = malloc((cap_t ? cap_t : 1) * sizeof *m->area_texel);
+    m->flags = calloc(cap_t ? cap_t : 1, sizeof *m->flags);
+    m->chart_of = malloc((cap_t ? cap_t : 1) * sizeof *m->chart_of);
+    m->chart_sign = malloc((nc ? nc : 1) * sizeof *m->chart_sign);
+    texopt_status st = TEXOPT_OK;
+    if (ne < 0 || !in || !out || !layer_of || !bad || !m->texel || !g->start || !g->reference || !m->triangle ||
+        !m->area_texel || !m->flags || !m->chart_of || !m->chart_sign)
+        st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "gap layer: no memory");
+    if (st == TEXOPT_OK) {
+        m->width = mesh->width;
+        m->height = mesh->height;
+        m->chart_count = nc;
+        if (mesh->chart_sign)
+            memcpy(m->chart_sign, mesh->chart_sign, nc * sizeof *m->chart_sign);
+        else { /* a mesh without it (made by hand) gives none */
+            free(m->chart_sign);
+            m->chart_sign = NULL;
+        }
+        memcpy(m->texel, mesh->texel, 2 * nv * sizeof *m->texel);
+        memcpy(g->start, start, 2 * nv * sizeof *g->start);
+        memcpy(g->reference, reference, 2 * nv * sizeof *g->reference);
+        memcpy(m->triangle, mesh->triangle, 3 * nt * sizeof *m->triangle);
+        memcpy(m->area_texel, mesh->area_texel, nt * sizeof *m->area_texel);
+        memcpy(m->flags, mesh->flags, nt * sizeof *m->flags);
+        memcpy(m->chart_of, mesh->chart_of, nt * sizeof *m->chart_of);
+        for (size_t v = 0; v < nv; v++)
+            in[v] = out[v] = layer_of[v] = NONE;
+        link_edges(mesh, e, nb, in, out, bad);
+        for (size_t i = 0; i < nb; i++) { /* first the bad charts, placing into one slot ... */
+            uint32_t v = e[i].from;
+            if (in[v] == NONE || !place_layer_vertex(mesh, reference, start, &e[in[v]], &e[i], v, width, g, nv))
+                bad[mesh->chart_of[e[i].triangle]] = 1;
+        }
+        size_t at = nv; /* ... then the good ones' layer vertices, none without a triangle */
+        for (size_t i = 0; i < nb; i++)
+            if (!bad[mesh->chart_of[e[i].triangle]]) {
+                place_layer_vertex(mesh, reference, start, &e[in[e[i].from]], &e[i], e[i].from, width, g, at);
+                layer_of[e[i].from] = (uint32_t)at++;
+            }
+        m->vertex_count = at;
+        size_t t = nt;
+        for (size_t i = 0; i < nb; i++) {
+            uint32_t a = e[i].from, b = e[i].to, c = mesh->chart_of[e[i].triangle];
+            if (bad[c] || layer_of[a] == NONE || layer_of[b] == NONE)
+                continue;
+            uint32_t quad[6] = {b, a, layer_of[a], b, layer_of[a], layer_of[b]};
+            for (int k = 0; k < 2; k++, t++) {
+                memcpy(m->triangle + 3 * t, quad + 3 * k, 3 * sizeof *quad);
+                const uint32_t *v = m->triangle + 3 * t;
+                m->area_texel[t] =
+                    signed_area(m->texel + 2 * (size_t)v[0], m->texel + 2 * (size_t)v[1], m->texel + 2 * (size_t)v[2]);
+                m->chart_of[t] = c;
+            }
+        }
+        m->triangle_count = t;
+        for (size_t c = 0; c < nc; c++) {
+            g->charts_without += bad[c] != 0;
+            g->charts_layered += bad[c] == 0;
+        }
+    }
+    free(e);
+    free(in);
+    free(out);
+    free(layer_of);
+    free(bad);
+    if (st != TEXOPT_OK)
+        texopt_gap_layer_destroy(g);
+    return st;
+}
