@@ -9,6 +9,7 @@
 #include "bake_pool.h"
 #include "budget.h"
 #include "chart_gap.h"
+#include "coverage.h"
 #include "distortion_reduce.h"
 #include "domain_keep.h"
 #include "domain_rechart.h"
@@ -128,6 +129,11 @@ texopt_status job_measure_loss_share(texopt_job *job, int d, const texopt_mesh *
  * about the packer's gutter, so that a cut must pay for the gap its pieces need. */
 #define CUT_PADDING 4.0
 #define RESOLVE_RATIO 1.1
+/* pack.h's default gutter, and the reduction's gap layer in gutters (Liu et al. 2019's gaps
+ * between charts): layers of 3/4 of a gutter keep pieces the gutter apart when squeezed by a
+ * quarter, so the reduced layout can be written as it is. */
+#define PACK_GUTTER 4.0
+#define GAP_LAYER 0.75
 
 static void budget_request(texopt_job *job, const layout_run *run, const job_domain *jd, texopt_budget_request *req)
 {
@@ -234,7 +240,7 @@ static texopt_status cut_if_tighter(const texopt_mesh *charts, const double *ref
  * the refined layout, the reference (stage 2's), the packings and the reduction. */
 typedef struct reduce_work {
     texopt_mesh *cut; /* NULL: laid out on the charts mesh itself */
-    double *texel, *reference, *packed, *reduced, *repacked;
+    double *texel, *reference, *packed, *reduced, *repacked, *direct;
 } reduce_work;
 
 static void reduce_work_free(reduce_work *w)
@@ -245,6 +251,7 @@ static void reduce_work_free(reduce_work *w)
     free(w->packed);
     free(w->reduced);
     free(w->repacked);
+    free(w->direct);
 }
 
 /* Texel area of the layout texel's triangles. */
@@ -288,7 +295,8 @@ static texopt_status refine_and_cut_all(const texopt_mesh *charts, const double 
         w->packed = malloc(n * sizeof *w->packed);
         w->reduced = malloc(n * sizeof *w->reduced);
         w->repacked = malloc(n * sizeof *w->repacked);
-        if (!w->texel || !w->reference || !w->packed || !w->reduced || !w->repacked)
+        w->direct = malloc(n * sizeof *w->direct);
+        if (!w->texel || !w->reference || !w->packed || !w->reduced || !w->repacked || !w->direct)
             st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the reduction");
     }
     for (size_t v = 0; st == TEXOPT_OK && v < laid->vertex_count; v++) {
@@ -306,45 +314,46 @@ static texopt_status refine_and_cut_all(const texopt_mesh *charts, const double 
     return st;
 }
 
-/* What the reduced layout would give written as it is (not done: the reduction lets pieces
- * touch, Liu et al.'s gap layers are missing): its pieces inside the reduction's box
- * scaled to the packed frame less the packer's gutter, their packing efficiency in that
- * frame and the smallest distance between two of them in its texels (writable when at
- * least the gutter). Pieces left out of the box would need room besides. */
-static texopt_status measure_direct_layout(const texopt_mesh *laid, const double *reduced,
-                                           const texopt_budget_request *req, const texopt_budget_result *packed,
-                                           texopt_domain_stats *ds, char *err, size_t err_len)
+/* The reduced layout written as it is: its pieces scaled into the deformed packing's frame
+ * less the packer's gutter (placed at half the gutter from the border, as pack.h), into
+ * placed; *br that frame and the cost covered there. The smallest distance between two
+ * pieces in its texels goes to the statistics. */
+static texopt_status place_direct(const texopt_mesh *laid, const double *reduced, double gutter,
+                                  const texopt_budget_result *packed, double *placed, texopt_budget_result *br,
+                                  texopt_domain_stats *ds, const texopt_budget_request *req, char *err, size_t err_len)
 {
-    const double *box = ds->reduce.box;
-    uint8_t *outside = calloc(laid->chart_count ? laid->chart_count : 1, 1);
-    if (!outside)
-        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the direct layout");
-    for (size_t k = 0; k < 3 * laid->triangle_count; k++) {
-        const double *p = reduced + 2 * (size_t)laid->triangle[k];
-        if (p[0] < box[0] || p[0] > box[2] || p[1] < box[1] || p[1] > box[3])
-            outside[laid->chart_of[k / 3]] = 1;
-    }
-    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, area = 0.0, gap = 0.0;
-    for (size_t t = 0; t < laid->triangle_count; t++) {
-        if (outside[laid->chart_of[t]])
-            continue;
-        const uint32_t *v = laid->triangle + 3 * t;
-        const double *a = reduced + 2 * (size_t)v[0], *b = reduced + 2 * (size_t)v[1], *c = reduced + 2 * (size_t)v[2];
-        area += 0.5 * fabs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
-        for (int j = 0; j < 3; j++)
-            for (int d = 0; d < 2; d++) {
-                lo[d] = fmin(lo[d], reduced[2 * (size_t)v[j] + d]);
-                hi[d] = fmax(hi[d], reduced[2 * (size_t)v[j] + d]);
-            }
-    }
-    texopt_status st = texopt_chart_gap(laid, reduced, outside, &gap, err, err_len);
-    double gutter = req->pack.gutter > 0 ? req->pack.gutter : 4;
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, gap = 0.0;
+    for (size_t i = 0; i < laid->vertex_count; i++)
+        for (int d = 0; d < 2; d++) {
+            lo[d] = fmin(lo[d], reduced[2 * i + d]);
+            hi[d] = fmax(hi[d], reduced[2 * i + d]);
+        }
     double k = fmin((packed->width - gutter) / (hi[0] - lo[0]), (packed->height - gutter) / (hi[1] - lo[1]));
-    if (st == TEXOPT_OK && area > 0.0 && k > 0.0) {
-        ds->packing_efficiency_direct = area * k * k / ((double)packed->width * packed->height);
-        ds->reduce_direct_gap = gap * k;
+    if (!(k > 0.0 && isfinite(k)))
+        return TEXOPT_OK;
+    for (size_t i = 0; i < laid->vertex_count; i++)
+        for (int d = 0; d < 2; d++)
+            placed[2 * i + d] = (reduced[2 * i + d] - lo[d]) * k + 0.5 * gutter;
+    texopt_coverage_options o = {0};
+    o.texel = placed;
+    o.width = packed->width;
+    o.height = packed->height;
+    o.use_wraps = 1;
+    o.wrap_s = o.wrap_t = TEXOPT_WRAP_CLAMP;
+    texopt_coverage c;
+    texopt_status st = texopt_coverage_measure(laid, &o, &c, err, err_len);
+    if (st == TEXOPT_OK)
+        st = texopt_chart_gap(laid, placed, NULL, &gap, err, err_len);
+    if (st == TEXOPT_OK) {
+        *br = *packed;
+        br->scale = packed->scale * k; /* from the reduced layout in input texels */
+        br->cost = (double)c.covered_texels;
+        br->relative_cost = req->input_cost > 0 ? br->cost / req->input_cost : 0.0;
+        br->packing_efficiency = br->cost / ((double)br->width * br->height);
+        br->packings = 0;
+        ds->packing_efficiency_direct = br->packing_efficiency;
+        ds->reduce_direct_gap = gap;
     }
-    free(outside);
     return st;
 }
 
@@ -363,10 +372,12 @@ static texopt_status reduce_if_tighter(const texopt_mesh *charts, const double *
     reduce_work w = {0};
     texopt_status st = refine_and_cut_all(charts, stage2, req, &w, ds, err, err_len);
     const texopt_mesh *laid = w.cut ? w.cut : charts;
-    texopt_budget_request r = *req;
-    texopt_budget_result packed = {0}, repacked = {0};
+    double gutter = req->pack.gutter > 0 ? req->pack.gutter : PACK_GUTTER;
+    texopt_budget_request r = *req, reserved = *req;
+    reserved.pack.gutter = (int)ceil(2.0 * GAP_LAYER * gutter) + 2; /* room for two layers */
+    texopt_budget_result packed = {0}, repacked = {0}, direct = {0};
     if (st == TEXOPT_OK)
-        st = texopt_budget_fit(laid, w.texel, &r, w.packed, &packed, err, err_len);
+        st = texopt_budget_fit(laid, w.texel, &reserved, w.packed, &packed, err, err_len);
     if (st == TEXOPT_E_LIMIT) {
         reduce_work_free(&w);
         return TEXOPT_OK;
@@ -375,11 +386,12 @@ static texopt_status reduce_if_tighter(const texopt_mesh *charts, const double *
         w.reference[i] *= packed.scale; /* the texel allocation at the budget's scale */
     texopt_distortion_reduce_options o = {0};
     o.threads = req->threads;
+    o.gap_layer = GAP_LAYER * gutter;
     if (st == TEXOPT_OK)
         st = texopt_distortion_reduce(laid, w.reference, w.packed, &o, w.reduced, &ds->reduce, req->monitor, err,
                                       err_len);
     if (st == TEXOPT_OK && !ds->reduce.refused)
-        st = measure_direct_layout(laid, w.reduced, req, &packed, ds, err, err_len);
+        st = place_direct(laid, w.reduced, gutter, &packed, w.direct, &direct, ds, req, err, err_len);
     if (st == TEXOPT_OK && !ds->reduce.refused)
         st = texopt_budget_fit(laid, w.reduced, &r, w.repacked, &repacked, err, err_len);
     if (st == TEXOPT_E_LIMIT)
@@ -390,6 +402,15 @@ static texopt_status reduce_if_tighter(const texopt_mesh *charts, const double *
         ds->packing_efficiency_reduced = repacked.packing_efficiency;
         ds->reduce_boundary = texopt_atlas_boundary_length(laid, w.reduced) *
                               sqrt(layout_area(laid, w.reference) / layout_area(laid, w.reduced)) / packed.scale;
+    }
+    /* Written as it is when no piece was left out of the box and all keep the gutter apart. */
+    int direct_ok = st == TEXOPT_OK && ds->reduce.charts_unboxed == 0 && ds->reduce_direct_gap >= gutter &&
+                    direct.packing_efficiency > repacked.packing_efficiency;
+    if (direct_ok) {
+        double *swap = w.repacked;
+        w.repacked = w.direct;
+        w.direct = swap;
+        repacked = direct;
     }
     if (st == TEXOPT_OK && repacked.packing_efficiency > l->br.packing_efficiency) {
         for (size_t i = 0; i < 2 * laid->vertex_count; i++)
@@ -403,7 +424,7 @@ static texopt_status reduce_if_tighter(const texopt_mesh *charts, const double *
         l->cut = w.cut;
         w.reduced = w.repacked = NULL;
         w.cut = NULL;
-        ds->atlas_refine_kept = ATLAS_REFINE_KEPT_REDUCED;
+        ds->atlas_refine_kept = direct_ok ? ATLAS_REFINE_KEPT_DIRECT : ATLAS_REFINE_KEPT_REDUCED;
     }
     reduce_work_free(&w);
     return st;

@@ -126,10 +126,11 @@ static void add_atlas_refine(cJSON *o, const texopt_domain_stats *d)
     const texopt_atlas_refine_report *r = &d->atlas_refine;
     cJSON *a = cJSON_AddObjectToObject(o, "atlas_refine");
     cJSON_AddStringToObject(a, "kept",
-                            d->atlas_refine_kept == ATLAS_REFINE_KEPT_REDUCED ? "reduced"
-                            : d->atlas_refine_kept == ATLAS_REFINE_KEPT_CUT   ? "cut"
-                            : d->atlas_refine_kept                            ? "refined"
-                                                                              : "plain");
+                            d->atlas_refine_kept == ATLAS_REFINE_KEPT_DIRECT    ? "direct"
+                            : d->atlas_refine_kept == ATLAS_REFINE_KEPT_REDUCED ? "reduced"
+                            : d->atlas_refine_kept == ATLAS_REFINE_KEPT_CUT     ? "cut"
+                            : d->atlas_refine_kept                              ? "refined"
+                                                                                : "plain");
     cJSON_AddNumberToObject(a, "charts", (double)r->charts_refined);
     cJSON_AddNumberToObject(a, "skipped_charts", (double)r->charts_skipped);
     cJSON_AddNumberToObject(a, "too_distorted_charts", (double)r->charts_too_distorted);

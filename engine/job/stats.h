@@ -43,6 +43,7 @@ typedef enum texopt_resize_check_kept {
 
 #define ATLAS_REFINE_KEPT_CUT 2
 #define ATLAS_REFINE_KEPT_REDUCED 3
+#define ATLAS_REFINE_KEPT_DIRECT 4
 
 typedef struct texopt_domain_stats {
     int domain;
@@ -94,7 +95,8 @@ typedef struct texopt_domain_stats {
     int has_atlas_refine;        /* params.packing_refine: charts deformed before packing (atlas_refine.h) */
     int atlas_refine_kept;       /* the refined layout packed tighter and was kept; ATLAS_REFINE_KEPT_CUT:
                                     its cut (chart_cut.h) packed tighter still and was kept;
-                                    ATLAS_REFINE_KEPT_REDUCED: the reduced one (below) was */
+                                    ATLAS_REFINE_KEPT_REDUCED: the reduced one (below) was;
+                                    ATLAS_REFINE_KEPT_DIRECT: the reduced one as it is */
     double packing_efficiency_unrefined, packing_efficiency_refined; /* of the two packings */
     double packing_efficiency_cut; /* the refined charts cut (chart_cut.h) and packed */
     texopt_atlas_refine_report atlas_refine;
