@@ -4,44 +4,44 @@
 #include <math.h>
 #include <stdlib.h>
 
-typedef struct edge {
-    uint32_t a, b; /* a < b */
-    uint32_t chart;
-} edge;
+typedef struct keyed_edge {
+    uint64_t key; /* smaller vertex, larger vertex */
+    texopt_boundary_edge e;
+} keyed_edge;
 
-static int compare_edges(const void *pa, const void *pb)
+static int compare_keys(const void *pa, const void *pb)
 {
-    const edge *p = pa, *q = pb;
-    if (p->a != q->a)
-        return p->a < q->a ? -1 : 1;
-    return p->b < q->b ? -1 : p->b > q->b;
+    uint64_t p = ((const keyed_edge *)pa)->key, q = ((const keyed_edge *)pb)->key;
+    return p < q ? -1 : p > q;
 }
 
-/* The boundary edges of the charts not skipped, into *out (caller frees); their count. */
-static size_t boundary_edges(const texopt_mesh *mesh, const uint8_t *skip, edge **out)
+size_t texopt_boundary_edges(const texopt_mesh *mesh, texopt_boundary_edge **out)
 {
-    size_t n = 0, kept = 0;
-    edge *e = malloc((3 * mesh->triangle_count + 1) * sizeof *e);
-    *out = e;
-    if (!e)
+    size_t n = 3 * mesh->triangle_count, kept = 0;
+    keyed_edge *k = malloc((n ? n : 1) * sizeof *k);
+    *out = malloc((n ? n : 1) * sizeof **out);
+    if (!k || !*out) {
+        free(k);
+        free(*out);
+        *out = NULL;
         return 0;
-    for (size_t t = 0; t < mesh->triangle_count; t++) {
-        if (skip && skip[mesh->chart_of[t]])
-            continue;
-        for (int k = 0; k < 3; k++) {
-            uint32_t p = mesh->triangle[3 * t + k], q = mesh->triangle[3 * t + (k + 1) % 3];
-            e[n++] = (edge){p < q ? p : q, p < q ? q : p, mesh->chart_of[t]};
-        }
     }
-    qsort(e, n, sizeof *e, compare_edges);
+    for (size_t t = 0; t < mesh->triangle_count; t++)
+        for (int j = 0; j < 3; j++) {
+            uint32_t p = mesh->triangle[3 * t + j], q = mesh->triangle[3 * t + (j + 1) % 3];
+            k[3 * t + j].key = p < q ? (uint64_t)p << 32 | q : (uint64_t)q << 32 | p;
+            k[3 * t + j].e = (texopt_boundary_edge){p, q, (uint32_t)t};
+        }
+    qsort(k, n, sizeof *k, compare_keys);
     for (size_t i = 0; i < n;) {
         size_t j = i + 1;
-        while (j < n && compare_edges(&e[i], &e[j]) == 0)
+        while (j < n && k[j].key == k[i].key)
             j++;
         if (j == i + 1)
-            e[kept++] = e[i];
+            (*out)[kept++] = k[i].e;
         i = j;
     }
+    free(k);
     return kept;
 }
 
@@ -72,16 +72,19 @@ static double segment_distance(const double *a, const double *b, const double *c
 texopt_status texopt_chart_gap(const texopt_mesh *mesh, const double *x, const uint8_t *skip, double *gap, char *err,
                                size_t err_len)
 {
-    edge *e = NULL;
-    size_t n = boundary_edges(mesh, skip, &e);
+    texopt_boundary_edge *e = NULL;
+    size_t n = texopt_boundary_edges(mesh, &e), kept = 0;
     if (!e)
         return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "chart gap: no memory");
-    double best = INFINITY;
     for (size_t i = 0; i < n; i++)
-        for (size_t j = i + 1; j < n; j++)
-            if (e[i].chart != e[j].chart)
-                best = fmin(best, segment_distance(x + 2 * (size_t)e[i].a, x + 2 * (size_t)e[i].b,
-                                                   x + 2 * (size_t)e[j].a, x + 2 * (size_t)e[j].b));
+        if (!skip || !skip[mesh->chart_of[e[i].triangle]])
+            e[kept++] = e[i];
+    double best = INFINITY;
+    for (size_t i = 0; i < kept; i++)
+        for (size_t j = i + 1; j < kept; j++)
+            if (mesh->chart_of[e[i].triangle] != mesh->chart_of[e[j].triangle])
+                best = fmin(best, segment_distance(x + 2 * (size_t)e[i].from, x + 2 * (size_t)e[i].to,
+                                                   x + 2 * (size_t)e[j].from, x + 2 * (size_t)e[j].to));
     free(e);
     *gap = best;
     return TEXOPT_OK;

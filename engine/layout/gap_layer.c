@@ -6,56 +6,20 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "chart_gap.h"
+
 #define NONE UINT32_MAX
 #define MAX_MITRE 2.0
-
-typedef struct bedge {
-    uint32_t lo, hi, from, to; /* from -> to as in its triangle */
-    uint32_t triangle;
-} bedge;
-
-static int compare_bedges(const void *pa, const void *pb)
-{
-    const bedge *p = pa, *q = pb;
-    if (p->lo != q->lo)
-        return p->lo < q->lo ? -1 : 1;
-    return p->hi < q->hi ? -1 : p->hi > q->hi;
-}
 
 static double signed_area(const double *a, const double *b, const double *c)
 {
     return 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
 }
 
-/* The boundary edges (used by one triangle) into *out (caller frees); their count, or -1
- * out of memory. */
-static long boundary_edges(const texopt_mesh *mesh, bedge **out)
-{
-    size_t n = 3 * mesh->triangle_count, kept = 0;
-    bedge *e = malloc((n ? n : 1) * sizeof *e);
-    *out = e;
-    if (!e)
-        return -1;
-    for (size_t t = 0; t < mesh->triangle_count; t++)
-        for (int k = 0; k < 3; k++) {
-            uint32_t p = mesh->triangle[3 * t + k], q = mesh->triangle[3 * t + (k + 1) % 3];
-            e[3 * t + k] = (bedge){p < q ? p : q, p < q ? q : p, p, q, (uint32_t)t};
-        }
-    qsort(e, n, sizeof *e, compare_bedges);
-    for (size_t i = 0; i < n;) {
-        size_t j = i + 1;
-        while (j < n && compare_bedges(&e[i], &e[j]) == 0)
-            j++;
-        if (j == i + 1)
-            e[kept++] = e[i];
-        i = j;
-    }
-    return (long)kept;
-}
-
 /* Unit outward normal of boundary edge e in layout x (its triangle's orientation there says
  * which side is out) and its length; 0 when the edge or its triangle has no size. */
-static int outward_normal(const texopt_mesh *mesh, const double *x, const bedge *e, double n[2], double *len)
+static int outward_normal(const texopt_mesh *mesh, const double *x, const texopt_boundary_edge *e, double n[2],
+                          double *len)
 {
     const uint32_t *v = mesh->triangle + 3 * (size_t)e->triangle;
     double s = signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]);
@@ -71,8 +35,8 @@ static int outward_normal(const texopt_mesh *mesh, const double *x, const bedge 
 
 /* The layer vertex of boundary vertex v (edges in, out) in layout x: v moved out by the
  * width scaled as the adjacent edges are from the start to x; 0 on a spike. */
-static int layer_vertex(const texopt_mesh *mesh, const double *x, const double *start, const bedge *in,
-                        const bedge *out, uint32_t v, double width, double *p)
+static int layer_vertex(const texopt_mesh *mesh, const double *x, const double *start, const texopt_boundary_edge *in,
+                        const texopt_boundary_edge *out, uint32_t v, double width, double *p)
 {
     double n_in[2], n_out[2], l_in, l_out, s_in, s_out, ignored[2];
     if (!outward_normal(mesh, x, in, n_in, &l_in) || !outward_normal(mesh, x, out, n_out, &l_out) ||
@@ -103,7 +67,8 @@ void texopt_gap_layer_destroy(texopt_gap_layer *g)
 
 /* Per vertex, its incoming and outgoing boundary edge (indices into e, NONE when none);
  * per chart, 1 in bad when a vertex has more than one of either. */
-static void link_edges(const texopt_mesh *mesh, const bedge *e, size_t ne, uint32_t *in, uint32_t *out, uint8_t *bad)
+static void link_edges(const texopt_mesh *mesh, const texopt_boundary_edge *e, size_t ne, uint32_t *in, uint32_t *out,
+                       uint8_t *bad)
 {
     for (size_t i = 0; i < ne; i++) {
         uint8_t *b = &bad[mesh->chart_of[e[i].triangle]];
@@ -113,8 +78,9 @@ static void link_edges(const texopt_mesh *mesh, const bedge *e, size_t ne, uint3
 }
 
 /* Fills g's three layouts at layer vertex `at` of boundary vertex v; 0 on a spike. */
-static int place_layer_vertex(const texopt_mesh *mesh, const double *reference, const double *start, const bedge *in,
-                              const bedge *out, uint32_t v, double width, texopt_gap_layer *g, size_t at)
+static int place_layer_vertex(const texopt_mesh *mesh, const double *reference, const double *start,
+                              const texopt_boundary_edge *in, const texopt_boundary_edge *out, uint32_t v, double width,
+                              texopt_gap_layer *g, size_t at)
 {
     return layer_vertex(mesh, mesh->texel, start, in, out, v, width, g->mesh.texel + 2 * at) &&
            layer_vertex(mesh, start, start, in, out, v, width, g->start + 2 * at) &&
@@ -125,9 +91,9 @@ texopt_status texopt_gap_layer_create(const texopt_mesh *mesh, const double *ref
                                       double width, texopt_gap_layer *g, char *err, size_t err_len)
 {
     memset(g, 0, sizeof *g);
-    bedge *e = NULL;
-    long ne = boundary_edges(mesh, &e);
-    size_t nv = mesh->vertex_count, nt = mesh->triangle_count, nc = mesh->chart_count, nb = ne > 0 ? (size_t)ne : 0;
+    texopt_boundary_edge *e = NULL;
+    size_t nb = texopt_boundary_edges(mesh, &e);
+    size_t nv = mesh->vertex_count, nt = mesh->triangle_count, nc = mesh->chart_count;
     uint32_t *in = malloc((nv ? nv : 1) * sizeof *in), *out = malloc((nv ? nv : 1) * sizeof *out);
     uint32_t *layer_of = malloc((nv ? nv : 1) * sizeof *layer_of);
     uint8_t *bad = calloc(nc ? nc : 1, 1);
@@ -142,7 +108,7 @@ texopt_status texopt_gap_layer_create(const texopt_mesh *mesh, const double *ref
     m->chart_of = malloc((cap_t ? cap_t : 1) * sizeof *m->chart_of);
     m->chart_sign = malloc((nc ? nc : 1) * sizeof *m->chart_sign);
     texopt_status st = TEXOPT_OK;
-    if (ne < 0 || !in || !out || !layer_of || !bad || !m->texel || !g->start || !g->reference || !m->triangle ||
+    if (!e || !in || !out || !layer_of || !bad || !m->texel || !g->start || !g->reference || !m->triangle ||
         !m->area_texel || !m->flags || !m->chart_of || !m->chart_sign)
         st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "gap layer: no memory");
     if (st == TEXOPT_OK) {
