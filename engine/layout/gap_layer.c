@@ -9,7 +9,6 @@
 #include "chart_gap.h"
 
 #define NONE UINT32_MAX
-#define MAX_MITRE 2.0
 
 static double signed_area(const double *a, const double *b, const double *c)
 {
@@ -45,8 +44,7 @@ static int layer_vertex(const texopt_mesh *mesh, const double *x, const double *
     double m[2] = {n_in[0] + n_out[0], n_in[1] + n_out[1]}, len = hypot(m[0], m[1]);
     if (!(len > 1e-6))
         return 0;
-    double cosine = (m[0] * n_out[0] + m[1] * n_out[1]) / len;
-    double d = width * (l_in + l_out) / (s_in + s_out) / fmax(cosine, 1.0 / MAX_MITRE);
+    double d = width * (l_in + l_out) / (s_in + s_out);
     p[0] = x[2 * (size_t)v] + d * m[0] / len;
     p[1] = x[2 * (size_t)v + 1] + d * m[1] / len;
     return 1;

@@ -5,8 +5,9 @@
  * `width` in the packed start layout (output texels), the chart's own orientation, and the
  * chart's number: the layer is part of the chart for the solve (distortion_reduce.h), so two
  * charts' layers keep them about twice the width apart. The layer's outer vertex of a
- * boundary vertex lies along its edges' mean outward normal (mitred, at most twice the
- * width); in the input texels and the reference its offset is scaled as the adjacent
+ * boundary vertex lies the width out along its edges' mean outward normal (not mitred: the
+ * layer stays within the width of its chart, so charts packed more than twice the width
+ * apart start with layers clear of one another); in the input texels and the reference its offset is scaled as the adjacent
  * boundary edges are, so its target (the reference's Jacobian) is the chart's own stretch
  * continued outward. A chart whose boundary is not simple loops (a vertex on more than two
  * boundary edges), or has a spike or an edge without length, gets no layer (counted).
