@@ -162,6 +162,7 @@ static void add_atlas_refine(cJSON *o, const texopt_domain_stats *d)
     cJSON_AddNumberToObject(b, "direct_gap", d->reduce_direct_gap);
     cJSON_AddBoolToObject(b, "refused", q->refused);
     cJSON_AddNumberToObject(b, "unboxed_charts", (double)q->charts_unboxed);
+    cJSON_AddNumberToObject(b, "charts_without_gap", (double)q->charts_without_gap);
     cJSON_AddNumberToObject(b, "rounds", q->rounds);
     cJSON_AddNumberToObject(b, "scale", q->scale);
     cJSON_AddNumberToObject(b, "distortion_before", q->distortion_start);

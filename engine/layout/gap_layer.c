@@ -85,8 +85,9 @@ static int place_layer_vertex(const texopt_mesh *mesh, const double *reference, 
            layer_vertex(mesh, reference, start, in, out, v, width, g->reference + 2 * at);
 }
 
-texopt_status texopt_gap_layer_create(const texopt_mesh *mesh, const double *reference, const double *start,
-                                      double width, texopt_gap_layer *g, char *err, size_t err_len)
+/* The layer of every chart not in bad (which gets the charts found bad on the way). */
+static texopt_status build(const texopt_mesh *mesh, const double *reference, const double *start, double width,
+                           uint8_t *bad, texopt_gap_layer *g, char *err, size_t err_len)
 {
     memset(g, 0, sizeof *g);
     texopt_boundary_edge *e = NULL;
@@ -94,7 +95,6 @@ texopt_status texopt_gap_layer_create(const texopt_mesh *mesh, const double *ref
     size_t nv = mesh->vertex_count, nt = mesh->triangle_count, nc = mesh->chart_count;
     uint32_t *in = malloc((nv ? nv : 1) * sizeof *in), *out = malloc((nv ? nv : 1) * sizeof *out);
     uint32_t *layer_of = malloc((nv ? nv : 1) * sizeof *layer_of);
-    uint8_t *bad = calloc(nc ? nc : 1, 1);
     texopt_mesh *m = &g->mesh;
     size_t cap_v = nv + nb, cap_t = nt + 2 * nb;
     m->texel = malloc(2 * (cap_v ? cap_v : 1) * sizeof *m->texel);
@@ -106,8 +106,8 @@ texopt_status texopt_gap_layer_create(const texopt_mesh *mesh, const double *ref
     m->chart_of = malloc((cap_t ? cap_t : 1) * sizeof *m->chart_of);
     m->chart_sign = malloc((nc ? nc : 1) * sizeof *m->chart_sign);
     texopt_status st = TEXOPT_OK;
-    if (!e || !in || !out || !layer_of || !bad || !m->texel || !g->start || !g->reference || !m->triangle ||
-        !m->area_texel || !m->flags || !m->chart_of || !m->chart_sign)
+    if (!e || !in || !out || !layer_of || !m->texel || !g->start || !g->reference || !m->triangle || !m->area_texel ||
+        !m->flags || !m->chart_of || !m->chart_sign)
         st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "gap layer: no memory");
     if (st == TEXOPT_OK) {
         m->width = mesh->width;
@@ -165,8 +165,46 @@ texopt_status texopt_gap_layer_create(const texopt_mesh *mesh, const double *ref
     free(in);
     free(out);
     free(layer_of);
-    free(bad);
     if (st != TEXOPT_OK)
         texopt_gap_layer_destroy(g);
+    return st;
+}
+
+/* Marks in bad the charts with a layer triangle that collapses in one of the three layouts
+ * or turns between them (at a concave corner sharper than the width allows); their count. */
+static size_t mark_turned_layers(const texopt_mesh *mesh, const texopt_gap_layer *g, uint8_t *bad)
+{
+    size_t marked = 0;
+    const double *frames[3] = {g->mesh.texel, g->start, g->reference};
+    for (size_t t = mesh->triangle_count; t < g->mesh.triangle_count; t++) {
+        const uint32_t *v = g->mesh.triangle + 3 * t;
+        int sign[3], turned = 0;
+        for (int f = 0; f < 3; f++) {
+            const double *a = frames[f] + 2 * (size_t)v[0], *b = frames[f] + 2 * (size_t)v[1],
+                         *c = frames[f] + 2 * (size_t)v[2];
+            sign[f] = signed_area(a, b, c) > 0.0 ? 1 : -1;
+            turned |= texopt_texel_triangle_degenerate(a, b, c) || sign[f] != sign[0];
+        }
+        uint32_t c = g->mesh.chart_of[t];
+        marked += turned && !bad[c];
+        bad[c] |= (uint8_t)turned;
+    }
+    return marked;
+}
+
+texopt_status texopt_gap_layer_create(const texopt_mesh *mesh, const double *reference, const double *start,
+                                      double width, texopt_gap_layer *g, char *err, size_t err_len)
+{
+    uint8_t *bad = calloc(mesh->chart_count ? mesh->chart_count : 1, 1);
+    if (!bad) {
+        memset(g, 0, sizeof *g);
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "gap layer: no memory");
+    }
+    texopt_status st = build(mesh, reference, start, width, bad, g, err, err_len);
+    if (st == TEXOPT_OK && mark_turned_layers(mesh, g, bad) > 0) { /* the others' layers are the same again */
+        texopt_gap_layer_destroy(g);
+        st = build(mesh, reference, start, width, bad, g, err, err_len);
+    }
+    free(bad);
     return st;
 }
