@@ -358,9 +358,11 @@ static texopt_status place_direct(const texopt_mesh *laid, const double *reduced
 }
 
 /* The paper's pipeline (Liu et al. 2019): every chart but a sharing group's deformed however
- * far or turned, cut, packed, its distortion reduced toward stage 2's layout `stage2` in a
- * fixed box (distortion_reduce.h), and packed again (the reduction lets charts touch, the
- * packer puts the gutters back); kept, on l->cut when cut, when tighter than l's layout.
+ * far or turned, cut, packed with room for gap layers, its distortion reduced toward stage
+ * 2's layout `stage2` in a fixed box with a gap layer around each piece (distortion_reduce.h),
+ * then written as it is when its pieces keep the gutter apart, else packed again (pieces
+ * without a layer may come to touch: the packer puts the gutters back); kept, on l->cut when
+ * cut, when tighter than l's layout.
  * The deformed packing unreduced is no candidate: its distortion is what the bounds of
  * refine_if_tighter keep out. */
 static texopt_status reduce_if_tighter(const texopt_mesh *charts, const double *stage2,

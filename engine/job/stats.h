@@ -105,8 +105,8 @@ typedef struct texopt_domain_stats {
     double reduce_boundary; /* boundary length of the reduced layout scaled to stage 2's area
                                (texels of stage 2's layout) */
     double packing_efficiency_deformed, packing_efficiency_reduced; /* before and after the reduction */
-    double packing_efficiency_direct, reduce_direct_gap;            /* measured only: the reduced layout written as
-                                                            it is (budget_layout.c), its gap in texels */
+    double packing_efficiency_direct; /* the reduced layout as it is in the deformed packing's frame */
+    double reduce_direct_gap;         /* its pieces' smallest distance there, texels (chart_gap.h) */
     texopt_distortion_reduce_report reduce;
     int has_loss_share; /* loss of every triangle under the solved layout */
     double solved_within_epsilon_share, solved_loss_mean, solved_loss_max;
