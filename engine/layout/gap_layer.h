@@ -10,7 +10,9 @@
  * apart start with layers clear of one another); in the input texels and the reference its offset is scaled as the adjacent
  * boundary edges are, so its target (the reference's Jacobian) is the chart's own stretch
  * continued outward. A chart whose boundary is not simple loops (a vertex on more than two
- * boundary edges), or has a spike or an edge without length, gets no layer (counted).
+ * boundary edges), has a spike or an edge without length, or whose layer would collapse or
+ * turn between the three layouts (a concave corner sharper than the width allows: stage 2
+ * refuses a start turned against the input texels) gets no layer (charts_without).
  * Does not: check that a layer stays off its own chart at sharp concave corners (the
  * caller's scaffold finds such a chart over itself and leaves it out of its box). */
 #ifndef TEXOPT_GAP_LAYER_H
