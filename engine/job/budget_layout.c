@@ -254,18 +254,6 @@ static void reduce_work_free(reduce_work *w)
     free(w->direct);
 }
 
-/* Texel area of the layout texel's triangles. */
-static double layout_area(const texopt_mesh *mesh, const double *texel)
-{
-    double area = 0;
-    for (size_t t = 0; t < mesh->triangle_count; t++) {
-        const double *a = texel + 2 * (size_t)mesh->triangle[3 * t], *b = texel + 2 * (size_t)mesh->triangle[3 * t + 1],
-                     *c = texel + 2 * (size_t)mesh->triangle[3 * t + 2];
-        area += 0.5 * fabs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
-    }
-    return area;
-}
-
 /* Every chart of `charts` at `stage2` deformed without bounds (atlas_refine.h) and cut
  * (texopt_atlas_cut): w's mesh, refined layout and reference on it. */
 static texopt_status refine_and_cut_all(const texopt_mesh *charts, const double *stage2,
@@ -402,8 +390,10 @@ static texopt_status reduce_if_tighter(const texopt_mesh *charts, const double *
         ds->has_reduce = 1;
         ds->packing_efficiency_deformed = packed.packing_efficiency;
         ds->packing_efficiency_reduced = repacked.packing_efficiency;
-        ds->reduce_boundary = texopt_atlas_boundary_length(laid, w.reduced) *
-                              sqrt(layout_area(laid, w.reference) / layout_area(laid, w.reduced)) / packed.scale;
+        ds->reduce_boundary =
+            texopt_atlas_boundary_length(laid, w.reduced) *
+            sqrt(texopt_layout_area(laid, w.reference, NULL) / texopt_layout_area(laid, w.reduced, NULL)) /
+            packed.scale;
     }
     /* Written as it is when no piece was left out of the box and all keep the gutter apart. */
     int direct_ok = st == TEXOPT_OK && ds->reduce.charts_unboxed == 0 && ds->reduce_direct_gap >= gutter &&

@@ -34,23 +34,6 @@ static int round_up4(double x)
     return v < 4 ? 4 : (v > MAX_SIDE ? MAX_SIDE + 1 : (int)v);
 }
 
-/* The texel area the layout pays for: a triangle lying on texels another pays for (paid, may
- * be NULL: every triangle pays) counts only its share, so that the scale estimates below do
- * not take mirrored twins laid on one region for twice the texels. */
-static double layout_area(const texopt_mesh *mesh, const double *texel, const double *paid)
-{
-    double area = 0;
-    for (size_t t = 0; t < mesh->triangle_count; t++) {
-        const uint32_t *v = mesh->triangle + 3 * t;
-        const double *a = texel + 2 * v[0], *b = texel + 2 * v[1], *c = texel + 2 * v[2];
-        if (texopt_texel_triangle_degenerate(a, b, c)) /* covers nothing (coverage.h) */
-            continue;
-        double full = 0.5 * fabs((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]));
-        area += paid ? paid[t] * full : full;
-    }
-    return area;
-}
-
 static void scale_layout(const double *in, double s, double *out, size_t vertices)
 {
     for (size_t i = 0; i < 2 * vertices; i++)
@@ -650,7 +633,7 @@ static texopt_status reshape_when_short(work *w, const texopt_budget_request *re
     texopt_budget_result second = {0};
     if (st == TEXOPT_OK) {
         w->texel = reshaped;
-        st = fit_budget(w, req, layout_area(w->mesh, reshaped, req->paid), packed, &second, err, err_len);
+        st = fit_budget(w, req, texopt_layout_area(w->mesh, reshaped, req->paid), packed, &second, err, err_len);
     }
     if (st == TEXOPT_OK && second.packing_efficiency > res->packing_efficiency) {
         *res = second;
@@ -665,7 +648,7 @@ texopt_status texopt_budget_fit(const texopt_mesh *mesh, const double *texel, co
                                 double *texel_out, texopt_budget_result *res, char *err, size_t err_len)
 {
     memset(res, 0, sizeof *res);
-    double area = layout_area(mesh, texel, req->paid);
+    double area = texopt_layout_area(mesh, texel, req->paid);
     texopt_status st = check_request(req, area, err, err_len);
     if (st != TEXOPT_OK)
         return st;

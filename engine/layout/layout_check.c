@@ -186,14 +186,6 @@ static texopt_status check_overlaps(const texopt_mesh *m, const double *texel, i
     return TEXOPT_OK;
 }
 
-static double total_area(const texopt_mesh *m, const double *texel)
-{
-    double have = 0;
-    for (size_t t = 0; t < m->triangle_count; t++)
-        have += fabs(texel_area(m, texel, t));
-    return have;
-}
-
 /* The area scale that takes the targets' areas to the layout's total. */
 static double target_scale(const texopt_mesh *m, const double *texel, const texopt_triangle_target *targets)
 {
@@ -213,7 +205,7 @@ static texopt_status run_checks(const texopt_mesh *input, const double *texel, i
     memset(out, 0, sizeof *out);
     texopt_status st = check_overlaps(input, texel, width, height, group_of_chart, own_layout, out, err, err_len);
     double scale = st == TEXOPT_OK && targets ? target_scale(input, texel, targets) : 0;
-    double total = total_area(input, texel), total_in = total_area(input, input->texel);
+    double total = texopt_layout_area(input, texel, NULL), total_in = texopt_layout_area(input, input->texel, NULL);
     double mean = input->triangle_count ? total / (double)input->triangle_count : 0;
     double uniform_scale = total_in > 0 ? total / total_in : 0;
     for (size_t t = 0; st == TEXOPT_OK && t < input->triangle_count; t++) {

@@ -323,6 +323,20 @@ int texopt_texel_triangle_degenerate(const double *a, const double *b, const dou
     return is_degenerate(fabs(signed2), fmax(m1, fmax(m2, m3)));
 }
 
+double texopt_layout_area(const texopt_mesh *mesh, const double *texel, const double *paid)
+{
+    double area = 0;
+    for (size_t t = 0; t < mesh->triangle_count; t++) {
+        const uint32_t *v = mesh->triangle + 3 * t;
+        const double *a = texel + 2 * v[0], *b = texel + 2 * v[1], *c = texel + 2 * v[2];
+        if (texopt_texel_triangle_degenerate(a, b, c))
+            continue;
+        double full = 0.5 * fabs((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]));
+        area += paid ? paid[t] * full : full;
+    }
+    return area;
+}
+
 int texopt_mesh_plane_edges(const texopt_mesh *mesh, size_t t, double P[2][2])
 {
     const uint32_t *v = mesh->triangle + 3 * t;

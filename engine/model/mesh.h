@@ -94,6 +94,12 @@ static inline const double *texopt_mesh_vertex_point(const texopt_mesh *mesh, ui
  * above: what TEXOPT_TRI_DEGENERATE_UV says of a mesh's own layout, for any layout. */
 int texopt_texel_triangle_degenerate(const double *a, const double *b, const double *c);
 
+/* The texel area of the layout texel (2 doubles per vertex), degenerate triangles counting
+ * nothing (they cover nothing, coverage.h); with paid (per triangle, may be NULL: 1 each)
+ * a triangle counts only its paid share, so mirrored twins laid on one region are not
+ * taken for twice the texels. */
+double texopt_layout_area(const texopt_mesh *mesh, const double *texel, const double *paid);
+
 /* The columns of P are the edges b - a and c - a of triangle t (vertices a, b, c) in an
  * orthonormal frame of its 3D plane with x along b - a: P is upper triangular with a positive
  * diagonal. Returns -1 (P not meaningful) when the triangle has no area, else 0. */

@@ -221,6 +221,11 @@ TEST(degenerate_triangles_are_flagged_relative_to_their_size)
     CHECK_EQ_INT(m->flags[2], 0);
     CHECK(m->area_3d[2] > 0);
     CHECK_EQ_INT(m->flags[3], TEXOPT_TRI_DEGENERATE_3D);
+    /* The layout's area: t0 16 x 16 / 2, t2 9.6 x 9.6 / 2, t3 3.2 x 3.2 / 2 texels, t1 none;
+     * paid shares weigh each triangle. */
+    CHECK_NEAR(texopt_layout_area(m, m->texel, NULL), 128.0 + 46.08 + 5.12, 1e-3);
+    const double paid[4] = {0.5, 1, 1, 0};
+    CHECK_NEAR(texopt_layout_area(m, m->texel, paid), 64.0 + 46.08, 1e-3);
     texopt_mesh_destroy(m);
     texopt_model_destroy(model);
 }
