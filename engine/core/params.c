@@ -127,6 +127,10 @@ void texopt_params_resolve(texopt_params *p)
      * on another (docs/benchmarks.md "New charts over themselves"). */
     if (p->charts == TEXOPT_CHARTS_NEW)
         p->bijective = 1;
+    if (p->packing_efficiency > 0)
+        p->packing_refine = 1;
+    else if (p->packing_refine)
+        p->packing_efficiency = TEXOPT_DEFAULT_PACKING_EFFICIENCY;
 }
 
 int texopt_params_refinement_rounds(const texopt_params *p)

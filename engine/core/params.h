@@ -41,6 +41,10 @@
  * "A floor at half the Hessian metric's targets, re-measured"). */
 #define TEXOPT_DEFAULT_HESSIAN_FLOOR 0.5
 
+/* Liu et al. 2019's packing-efficiency bound PE_bound (their default), which packing
+ * "refine" holds its packings to. */
+#define TEXOPT_DEFAULT_PACKING_EFFICIENCY 0.8
+
 typedef enum texopt_method {
     TEXOPT_METHOD_PERCEPTUAL = 0, /* stage 1 + stage 2 (the paper) */
     TEXOPT_METHOD_INPUT,          /* the input layout, textures resized to the budget */
@@ -102,9 +106,11 @@ typedef struct texopt_params {
                                refinement's screens, `evaluate`, the target_loss search) are
                                prefiltered (mip-mapped, anisotropic; evaluate.h), as real-time
                                renderers draw; 0: bilinear, the paper's setting */
-    double packing_efficiency;          /* [0, 1): when a packing's efficiency falls short of it, the
-                               charts filling little of their box are reshaped toward it and
-                               packed again (budget.h reshape_efficiency); 0 -> never */
+    double packing_efficiency;          /* [0, 1): the bound PE_bound of packing "refine" (Liu et al.
+                               2019): the rectangle decompositions must reach it and the
+                               distortion reduction may not lower a packing below it; a value
+                               given turns refine on; 0 -> TEXOPT_DEFAULT_PACKING_EFFICIENCY
+                               with refine, else 0 */
     double hessian_floor;               /* perceptual: (0, 1], the floor's factor under stage 1's targets
                                (TEXOPT_DEFAULT_HESSIAN_FLOOR); 0 -> that default, -1 -> none */
     int metric_candidates;              /* perceptual: 1: the signal metrics' targets (tewari.h, ssp.h),

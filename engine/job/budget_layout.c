@@ -147,7 +147,7 @@ static void budget_request(texopt_job *job, const layout_run *run, const job_dom
     req->input_width = jd->mesh->width;
     req->input_height = jd->mesh->height;
     req->targets = job_source_targets(jd, run->source); /* charts free to rotate are turned to their smallest box */
-    req->reshape_efficiency = p->packing_efficiency;
+    req->efficiency_bound = p->packing_efficiency;
     req->threads = job_worker_threads(p);
     req->keep_shape = job_sharing(jd) ? jd->share->grouped : NULL;
     req->paid = jd->paid;
@@ -184,7 +184,7 @@ static texopt_status cut_if_tighter(const texopt_mesh *charts, const double *ref
 {
     size_t nt = charts->triangle_count ? charts->triangle_count : 1, pieces = 0;
     uint32_t *piece_of = malloc(nt * sizeof *piece_of), *source = NULL;
-    texopt_chart_cut_options opt = {.padding = CUT_PADDING, .seed = 1};
+    texopt_chart_cut_options opt = {.padding = CUT_PADDING, .seed = 1, .efficiency_bound = req->efficiency_bound};
     texopt_mesh *cut = NULL;
     double *texel = NULL, *packed = NULL;
     texopt_status st = piece_of ? TEXOPT_OK : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the pieces");
@@ -265,7 +265,7 @@ static texopt_status refine_and_cut_all(const texopt_mesh *charts, const double 
     double *refined = malloc(2 * nv * sizeof *refined);
     uint32_t *piece_of = malloc(nt * sizeof *piece_of), *source = NULL;
     size_t pieces = 0;
-    texopt_chart_cut_options opt = {.padding = CUT_PADDING, .seed = 1};
+    texopt_chart_cut_options opt = {.padding = CUT_PADDING, .seed = 1, .efficiency_bound = req->efficiency_bound};
     texopt_atlas_refine_report rr = {0};
     texopt_status st =
         refined && piece_of ? TEXOPT_OK : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the reduction");
@@ -377,6 +377,7 @@ static texopt_status reduce_if_tighter(const texopt_mesh *charts, const double *
     texopt_distortion_reduce_options o = {0};
     o.threads = req->threads;
     o.gap_layer = GAP_LAYER * gutter;
+    o.min_efficiency = req->efficiency_bound;
     if (st == TEXOPT_OK)
         st = texopt_distortion_reduce(laid, w.reference, w.packed, &o, w.reduced, &ds->reduce, req->monitor, err,
                                       err_len);

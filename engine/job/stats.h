@@ -142,7 +142,7 @@ typedef struct texopt_job_stats {
     int refinements;           /* rounds asked for (0: none) */
     int refine_lit;            /* the refinement asked to read the lit render */
     int mipmapped;             /* the lookups tuned for and measured with were mip-mapped */
-    double packing_efficiency; /* reshape goal asked for (0: none) */
+    double packing_efficiency; /* packing refine's bound as resolved (0: plain) */
     int bijective;             /* stage 2 with scaffolds was asked for */
     int packing_refine;        /* packing "refine" was asked for */
     double hessian_floor;      /* perceptual's floor factor (0: none) */

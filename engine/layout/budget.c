@@ -7,7 +7,6 @@
 #include <string.h>
 
 #include "chart_orient.h"
-#include "chart_reshape.h"
 #include "coverage.h"
 #include "parallel.h"
 
@@ -21,12 +20,6 @@
 #define START_ORDERS 3
 #define WIDTH_LO 0.75 /* strip widths tried, relative to the estimate */
 #define WIDTH_HI 1.35
-/* Box fill a reshape lifts the charts below it to. Measured on the perceptual layouts of
- * spot, Fox and Duck (BENCHMARKS.md@9f788a8 "Packing efficiency"): asking each chart for what the
- * efficiency's shortfall needs (the aggregate fill raised by (0.75 / efficiency)^4,
- * efficiency following the fill only weakly) cost q up to +148% (Duck); one goal of 0.8
- * for every chart gained less efficiency on Fox and Duck but moved q by -8% to +16%. */
-#define RESHAPE_BOX_FILL 0.8
 
 static int round_up4(double x)
 {
@@ -575,10 +568,8 @@ static texopt_status check_request(const texopt_budget_request *req, double area
                                                     req->texture_width > MAX_SIDE || req->texture_height > MAX_SIDE))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "budget: texture size %dx%d is out of range",
                            req->texture_width, req->texture_height);
-    if (!(req->reshape_efficiency >= 0 && req->reshape_efficiency <= 1) || req->threads < 0)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "budget: reshape efficiency %g is not in [0, 1] or threads are negative",
-                           req->reshape_efficiency);
+    if (req->threads < 0)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "budget: threads are negative");
     if (req->kind != TEXOPT_BUDGET_RELATIVE_COST && req->kind != TEXOPT_BUDGET_TEXTURE_SIZE)
         return texopt_fail(err, err_len, TEXOPT_E_UNSUPPORTED,
                            "budget: only relative cost and texture size are supported");
@@ -615,35 +606,6 @@ static texopt_status fit_budget(work *w, const texopt_budget_request *req, doubl
     return st;
 }
 
-/* When the packing `res` falls short of req->reshape_efficiency: the charts of w->texel
- * filling less than RESHAPE_BOX_FILL of their boxes pulled toward it (chart_reshape.h),
- * packed again, and kept when they pack tighter. */
-static texopt_status reshape_when_short(work *w, const texopt_budget_request *req, double *texel_out,
-                                        texopt_budget_result *res, char *err, size_t err_len)
-{
-    if (!(req->reshape_efficiency > 0) || res->packing_efficiency >= req->reshape_efficiency)
-        return TEXOPT_OK;
-    size_t n = 2 * (w->mesh->vertex_count ? w->mesh->vertex_count : 1);
-    double *reshaped = malloc(n * sizeof(double)), *packed = malloc(n * sizeof(double));
-    texopt_status st =
-        reshaped && packed ? TEXOPT_OK : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory for the chart reshape");
-    texopt_reshape_options o = {.box_fill = RESHAPE_BOX_FILL, .threads = req->threads, .keep = req->keep_shape};
-    if (st == TEXOPT_OK)
-        st = texopt_chart_reshape(w->mesh, w->texel, req->targets, &o, reshaped, NULL, err, err_len);
-    texopt_budget_result second = {0};
-    if (st == TEXOPT_OK) {
-        w->texel = reshaped;
-        st = fit_budget(w, req, texopt_layout_area(w->mesh, reshaped, req->paid), packed, &second, err, err_len);
-    }
-    if (st == TEXOPT_OK && second.packing_efficiency > res->packing_efficiency) {
-        *res = second;
-        memcpy(texel_out, packed, n * sizeof(double));
-    }
-    free(reshaped);
-    free(packed);
-    return st;
-}
-
 texopt_status texopt_budget_fit(const texopt_mesh *mesh, const double *texel, const texopt_budget_request *req,
                                 double *texel_out, texopt_budget_result *res, char *err, size_t err_len)
 {
@@ -676,8 +638,6 @@ texopt_status texopt_budget_fit(const texopt_mesh *mesh, const double *texel, co
     }
     if (st == TEXOPT_OK)
         st = fit_budget(&w, req, area, texel_out, res, err, err_len);
-    if (st == TEXOPT_OK)
-        st = reshape_when_short(&w, req, texel_out, res, err, err_len);
     free(w.scaled);
     free(w.packed);
     free(oriented);

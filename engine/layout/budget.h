@@ -17,9 +17,7 @@
  * Does not: choose the layout's shape (stage 2 does) or rebake.
  * Packing is pack.h (translations and quarter turns, gutters); charts whose rotation is free
  * (see `targets`) are turned by chart_orient.h first (any angle, rigid), so their output is
- * that turn followed by the packer's quarter turn and translation. With
- * `reshape_efficiency`, a packing short of it is tried again with the low-fill charts
- * reshaped toward their boxes (chart_reshape.h), and the tighter packing kept. */
+ * that turn followed by the packer's quarter turn and translation. */
 #ifndef TEXOPT_BUDGET_H
 #define TEXOPT_BUDGET_H
 
@@ -45,22 +43,20 @@ typedef struct texopt_budget_request {
                                             smallest bounding rectangle (chart_orient.h);
                                             the others, and all with NULL, keep their angle
                                             up to the packer's quarter turns */
-    double reshape_efficiency;             /* 0 = off: charts keep their shape. In (0, 1]: when
-                                            the packing's efficiency falls short of it, the
-                                            charts filling little of their axis-aligned box
-                                            are pulled toward it (chart_reshape.h, with the
-                                            targets' weights; after any turn) and packed
-                                            again; the tighter packing is kept */
-    const uint8_t *keep_shape;             /* may be NULL: per chart, nonzero = never reshaped
-                                            (a sharing group, texel_share.h: its charts must
-                                            stay on each other) */
+    double efficiency_bound;               /* not read here: the job's refinement (packing
+                                            refine) holds its packing efficiency to it (Liu
+                                            et al. 2019's PE_bound, texopt_params
+                                            packing_efficiency) */
+    const uint8_t *keep_shape;             /* may be NULL: per chart, nonzero = a sharing group's
+                                            (texel_share.h: its charts must stay on each
+                                            other). Not read here: for the job's refinement
+                                            (atlas_refine.h), which leaves them as they are */
     const double *paid;                    /* may be NULL: per triangle, the share of its texel
                                             area it pays for (texel_share.h
                                             texopt_texel_share_paid); the scale estimates
                                             count a texel shared by a sharing group once */
-    int threads;                           /* for the packing search and the reshape's
-                                            solves; 0 -> 1. The result does not depend
-                                            on it */
+    int threads;                           /* for the packing search; 0 -> 1. The result does
+                                            not depend on it */
     const texopt_monitor *monitor;         /* may be NULL; checked for cancellation between
                                             packings (TEXOPT_E_CANCELED) */
 } texopt_budget_request;

@@ -263,7 +263,7 @@ static texopt_status reduce_in_box(const texopt_mesh *mesh, const double *refere
             break;
         }
         double d = texopt_distortion_relative(mesh, reference, next), e = efficiency(mesh, next, unboxed);
-        if (o.min_efficiency > 0 && e < o.min_efficiency)
+        if (o.min_efficiency > 0 && e < o.min_efficiency && e < efficiency(mesh, x, unboxed))
             break;
         memcpy(x, next, n * sizeof *x);
         memcpy(rep.box, box, sizeof box);

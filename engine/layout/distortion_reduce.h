@@ -18,8 +18,10 @@
  * fit to the reference Jacobians (as-rigid-as-possible to the reference shape, a
  * customised energy as 3.4 allows, with the anti-flip barrier), the distortion reported and
  * tested the symmetric Dirichlet energy relative to the reference up to scale. A round whose packing
- * efficiency (chart area over the atlas's bounding box) falls below min_efficiency is
- * undone and ends the reduction: the paper's bound, as a stop rather than a barrier.
+ * efficiency (chart area over the atlas's bounding box) falls below min_efficiency, and
+ * below the round before's, is undone and ends the reduction: the paper's bound, as a stop
+ * rather than a barrier (a start short of the bound, which the paper's never is, may gain
+ * but not lose).
  * Charts one box cannot hold without overlap at the start (a chart over itself, a fold,
  * mirrored halves) are left out of it: moved right of the box and solved without scaffold
  * (report->charts_unboxed; the box, the scale and the efficiencies are the other charts').

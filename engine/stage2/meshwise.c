@@ -39,11 +39,6 @@
  *    the same thing across charts: one pin per group, coincident vertices of the group
  *    merged, and each secondary vertex tied (add_shared_ties, same kappa) to the point of
  *    its primary's triangle that texel_share.h found under it, whatever its orientation.
- *  - Anchors (optional, chart_reshape.h): a quadratic pull of single coordinates, per axis,
- *    so it only adds to the diagonal of that axis' system; the two axes then differ and
- *    are factorised separately every iteration (the shared fitting factor is not used).
- *    Vertices sharing an unknown (folds) add their pulls; a chart's pinned vertex ignores
- *    its own.
  *  - Scaffold triangles (optional, layout/scaffold.h) are frames after the mesh's, with
  *    their own rest shapes, target I, w_R 0, w_S 1 and their area scaled by the scaffold's
  *    weight; the weight normalisation, pins, folds and ties see only the mesh's triangles,
@@ -138,14 +133,12 @@ typedef struct solver {
 
     fold_tie *ties;
     size_t tie_count;
-    double tie_weight;                    /* kappa of kappa |r|^2 per tie and axis */
-    const double *anchor, *anchor_weight; /* optional positional term (meshwise.h) */
-    double anchor_stiffness;              /* h of that term: the mean fitting diagonal */
-    uint32_t *rep_of;                     /* per vertex: the vertex whose unknown it shares */
-    uint32_t *chart_of_vertex;            /* per used vertex: its chart's sharing group */
-    const texopt_texel_share *share;      /* may be NULL: every chart is its own group */
-    size_t collapse_ties;                 /* after the fold ties: collapsed triangles held on a line */
-    size_t shared_ties;                   /* the last ties: secondaries held on their primaries */
+    double tie_weight;               /* kappa of kappa |r|^2 per tie and axis */
+    uint32_t *rep_of;                /* per vertex: the vertex whose unknown it shares */
+    uint32_t *chart_of_vertex;       /* per used vertex: its chart's sharing group */
+    const texopt_texel_share *share; /* may be NULL: every chart is its own group */
+    size_t collapse_ties;            /* after the fold ties: collapsed triangles held on a line */
+    size_t shared_ties;              /* the last ties: secondaries held on their primaries */
 
     double *x, *trial, *grad, *step;
 } solver;
@@ -283,20 +276,6 @@ static double tie_residual2(const fold_tie *tie, const double *x)
     return u * u + v * v;
 }
 
-/* The optional positional term of meshwise.h at positions x (0 without anchors). */
-static double anchor_energy(const solver *sv, const double *x)
-{
-    if (!sv->anchor_weight)
-        return 0.0;
-    double e = 0.0;
-    for (size_t i = 0; i < 2 * sv->mesh_vertices; i++)
-        if (sv->anchor_weight[i] > 0.0) {
-            double r = x[i] - sv->anchor[i];
-            e += sv->anchor_weight[i] * r * r;
-        }
-    return 0.5 * sv->anchor_stiffness * e;
-}
-
 /* Energy at positions x split into its fitting part (fold ties included) and its
  * (weighted) barrier part. */
 static void total_energy(const solver *sv, const double *x, double *fit, double *barrier)
@@ -314,7 +293,6 @@ static void total_energy(const solver *sv, const double *x, double *fit, double 
     }
     for (size_t k = 0; k < sv->tie_count; k++)
         e_fit += sv->tie_weight * tie_residual2(&sv->ties[k], x);
-    e_fit += anchor_energy(sv, x);
     *fit = e_fit;
     *barrier = sv->w_b * e_bar;
 }
@@ -976,7 +954,6 @@ static void build_fit_hessian(solver *sv)
     double mu = DAMPING * (mean_diag > 0.0 ? mean_diag : 1.0);
     for (size_t u = 0; u < sv->unknowns; u++)
         sv->fit_values[sv->diag[u]] += mu;
-    sv->anchor_stiffness = mean_diag > 0.0 ? mean_diag : 1.0;
     /* Fold ties: kappa |sum c_i x_i|^2 per axis, stiff against the fitting terms. */
     sv->tie_weight = 0.5 * TIE_STIFFNESS * (mean_diag > 0.0 ? mean_diag : 1.0);
     for (size_t k = 0; k < sv->tie_count; k++)
@@ -1046,24 +1023,6 @@ static size_t gradient_and_barrier(solver *sv)
         }
     }
     return active;
-}
-
-/* Gradient and (per axis, diagonal) Hessian of the positional term, added to sv->grad and
- * sv->axis_values. */
-static void add_anchor_terms(solver *sv)
-{
-    for (size_t v = 0; v < sv->vertex_count; v++) {
-        int64_t u = unknown_of(sv, (uint32_t)v);
-        if (u < 0)
-            continue;
-        for (int axis = 0; axis < 2; axis++) {
-            double w = sv->anchor_stiffness * sv->anchor_weight[2 * v + axis];
-            if (!(w > 0.0))
-                continue;
-            sv->grad[2 * u + axis] += w * (sv->x[2 * v + axis] - sv->anchor[2 * v + axis]);
-            sv->axis_values[axis][sv->diag[u]] += w;
-        }
-    }
 }
 
 /* Smallest t > 0 with c0 + c1 t + c2 t^2 = 0 (c0 > 0), or +inf. */
@@ -1188,9 +1147,7 @@ static texopt_status newton_direction(solver *sv, char *err, size_t err_len)
         memcpy(sv->axis_values[axis], sv->fit_values, nnz * sizeof *sv->fit_values);
     size_t active = gradient_and_barrier(sv);
     texopt_status st = TEXOPT_OK;
-    if (sv->anchor_weight) /* its Hessian differs per axis: no shared fitting factor */
-        add_anchor_terms(sv);
-    if (active == 0 && !sv->anchor_weight) {
+    if (active == 0) {
         if (!sv->factor_is_fit && (st = factorize(sv, 0, sv->fit_values, err, err_len)) != TEXOPT_OK)
             return st;
         sv->factor_is_fit = 1;
@@ -1292,8 +1249,6 @@ static texopt_status solver_init(solver *sv, const texopt_mesh *mesh, const texo
     sv->vertex_count = sv->mesh_vertices + (sv->scaffold ? sv->scaffold->vertex_count : 0);
     sv->w_rs = opt && opt->fit_weight > 0.0 ? opt->fit_weight : 1.0;
     sv->w_b = opt && opt->barrier_weight > 0.0 ? opt->barrier_weight : 1.0;
-    sv->anchor = opt ? opt->anchor : NULL;
-    sv->anchor_weight = opt ? opt->anchor_weight : NULL;
     sv->share = opt ? opt->share : NULL;
     size_t nt = sv->tri_count ? sv->tri_count : 1, nv = sv->vertex_count ? sv->vertex_count : 1;
     sv->tri = calloc(nt, sizeof *sv->tri);
@@ -1408,23 +1363,6 @@ static texopt_status iterate(solver *sv, int max_iterations, double tolerance, t
     return TEXOPT_OK;
 }
 
-static texopt_status check_anchors(const texopt_mesh *mesh, const texopt_meshwise_options *opt, char *err,
-                                   size_t err_len)
-{
-    if (!opt->anchor != !opt->anchor_weight)
-        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                           "meshwise: anchors and anchor weights must be given together");
-    for (size_t i = 0; opt->anchor && i < 2 * mesh->vertex_count; i++) {
-        double w = opt->anchor_weight[i];
-        if (!(w >= 0.0) || !isfinite(w) || (w > 0.0 && !isfinite(opt->anchor[i])))
-            return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
-                               "meshwise: anchor of vertex %zu has a negative or non-finite weight or "
-                               "a non-finite position",
-                               i / 2);
-    }
-    return TEXOPT_OK;
-}
-
 texopt_status texopt_meshwise_solve(const texopt_mesh *mesh, const texopt_triangle_target *targets,
                                     const double *initial_texel, const texopt_meshwise_options *opt, double *texel_out,
                                     texopt_meshwise_report *report, const texopt_monitor *monitor, char *err,
@@ -1448,9 +1386,6 @@ texopt_status texopt_meshwise_solve(const texopt_mesh *mesh, const texopt_triang
                !(sc->weight > 0.0) || !isfinite(sc->weight)))
         return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT,
                            "meshwise: scaffold without triangles, rest shapes, positions or a positive weight");
-    texopt_status checked = opt ? check_anchors(mesh, opt, err, err_len) : TEXOPT_OK;
-    if (checked != TEXOPT_OK)
-        return checked;
     int max_iterations = opt && opt->max_iterations > 0 ? opt->max_iterations : 50;
     double tolerance = opt && opt->tolerance > 0.0 ? opt->tolerance : 1e-4;
 

@@ -86,15 +86,6 @@ typedef struct texopt_meshwise_options {
     double barrier_weight; /* initial w_b; 0 -> 1.0 (barrier is 0 above its threshold) */
     int threads;           /* >= 2: the u and v Newton systems factorise in parallel; 0 -> 1 */
     double fit_weight;     /* w_rs of eq. 19; 0 -> 1.0 */
-    /* Optional soft positional term (chart_reshape.h pulls chart boundaries with it):
-     * sum over vertices v and axes a of 0.5 h anchor_weight[2v+a] (x[2v+a] - anchor[2v+a])^2,
-     * h the mean diagonal of the fitting Hessian, so a weight of 1 is about as stiff as the
-     * fitting terms around one vertex whatever the layout's scale. Both NULL (the default):
-     * no term, the solve is unchanged. Weights >= 0 and finite; an anchor is read only where
-     * its weight is > 0. The term is quadratic and per axis, so the barrier still keeps
-     * every triangle unflipped. */
-    const double *anchor;        /* 2 per vertex, texel units of the solve */
-    const double *anchor_weight; /* 2 per vertex */
     /* Optional sharing groups of this mesh (texel_share.h): each group is pinned once (on
      * its primary), its coincident vertices share unknowns and the secondaries' vertices
      * are tied to their primary's triangles like a fold's minority side. NULL: every chart

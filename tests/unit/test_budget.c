@@ -8,7 +8,6 @@
 
 #include "budget.h"
 #include "coverage.h"
-#include "disc_charts.h"
 #include "fixtures.h"
 #include "handmesh.h"
 #include "mesh.h"
@@ -421,41 +420,5 @@ TEST(charts_free_to_turn_are_turned_to_their_smallest_box_before_packing)
     free(as_is);
     free(turned);
     free(targets);
-    texopt_mesh_destroy(mesh);
-}
-
-TEST(round_charts_reshaped_toward_their_boxes_pack_tighter_at_the_same_cost_only_when_short)
-{
-    texopt_mesh *mesh = disc_charts(6, 6, 32, 0);
-    CHECK(mesh != NULL);
-    mesh->width = mesh->height = 1024;
-    texopt_coverage in;
-    char err[256] = "";
-    CHECK_OK(texopt_coverage_measure(mesh, NULL, &in, err, sizeof err), err);
-    texopt_budget_request req = relative_cost_request(mesh, (double)in.covered_texels, 1);
-    size_t n = 2 * mesh->vertex_count;
-    double *round = malloc(sizeof(double) * n), *squared = malloc(sizeof(double) * n);
-    texopt_budget_result r_round, r_squared;
-    CHECK_OK(texopt_budget_fit(mesh, mesh->texel, &req, round, &r_round, err, sizeof err), err);
-    req.reshape_efficiency = 0.9;
-    CHECK_OK(texopt_budget_fit(mesh, mesh->texel, &req, squared, &r_squared, err, sizeof err), err);
-    printf("discs: efficiency %.3f round, %.3f reshaped\n", r_round.packing_efficiency, r_squared.packing_efficiency);
-    /* Discs fill pi/4 of their boxes; lifted to the budget's goal of 0.8 they gain a little. */
-    CHECK_MSG(r_squared.packing_efficiency > r_round.packing_efficiency + 0.01, "%.3f -> %.3f",
-              r_round.packing_efficiency, r_squared.packing_efficiency);
-    CHECK(fabs(packed_cost(mesh, squared, r_squared.width, r_squared.height) / req.input_cost - 1) <= 0.02);
-    CHECK(!charts_overlap(mesh, squared, r_squared.width, r_squared.height));
-    for (size_t t = 0; t < mesh->triangle_count; t++)
-        CHECK(handmesh_doubled_area(squared, mesh->triangle + 3 * t, 2) > 0);
-    /* A packing already at the requested efficiency is not reshaped. */
-    req.reshape_efficiency = 0.9 * r_round.packing_efficiency;
-    CHECK_OK(texopt_budget_fit(mesh, mesh->texel, &req, squared, &r_squared, err, sizeof err), err);
-    CHECK(memcmp(squared, round, sizeof(double) * n) == 0);
-    req.reshape_efficiency = 1.5;
-    CHECK(texopt_budget_fit(mesh, mesh->texel, &req, squared, &r_squared, err, sizeof err) ==
-          TEXOPT_E_INVALID_ARGUMENT);
-    CHECK(strstr(err, "reshape") != NULL);
-    free(round);
-    free(squared);
     texopt_mesh_destroy(mesh);
 }

@@ -374,3 +374,25 @@ TEST(a_gap_layer_keeps_squares_pressed_together_the_gap_apart)
     CHECK_MSG(with.distortion < with.distortion_start, "distortion %.4f -> %.4f", with.distortion_start,
               with.distortion);
 }
+
+/* The bound holds a packing once it reaches it; a start short of it (the squares fill little
+ * of their box) may still gain, so the reduction runs toward it instead of stopping. */
+TEST(a_start_short_of_the_bound_may_gain_but_not_lose)
+{
+    char err[256];
+    double *reference = NULL, *start = NULL;
+    texopt_mesh *m = pressed_squares(&reference, &start);
+    CHECK(m != NULL);
+    double *out = malloc(2 * m->vertex_count * sizeof *out);
+    texopt_distortion_reduce_options o = {0};
+    o.min_efficiency = 0.999;
+    texopt_distortion_reduce_report rep;
+    CHECK_OK(texopt_distortion_reduce(m, reference, start, &o, out, &rep, NULL, err, sizeof err), err);
+    CHECK_MSG(rep.rounds >= 1 && rep.efficiency > rep.efficiency_start, "%d rounds, efficiency %.4f -> %.4f",
+              rep.rounds, rep.efficiency_start, rep.efficiency);
+    CHECK(rep.efficiency < o.min_efficiency);
+    free(out);
+    free(reference);
+    free(start);
+    texopt_mesh_destroy(m);
+}

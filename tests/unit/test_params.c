@@ -38,6 +38,23 @@ TEST(new_charts_resolve_to_a_bijective_stage_2)
     CHECK_EQ_INT(keep.bijective, 0);
 }
 
+/* A packing-efficiency bound is the refinement's: giving one turns it on, and the refinement
+ * without one holds the paper's. */
+TEST(a_packing_efficiency_bound_is_the_refinements)
+{
+    texopt_params bound = {.packing_efficiency = 0.7};
+    texopt_params_resolve(&bound);
+    CHECK_EQ_INT(bound.packing_refine, 1);
+    CHECK_NEAR(bound.packing_efficiency, 0.7, 0);
+    texopt_params refine = {.packing_refine = 1};
+    texopt_params_resolve(&refine);
+    CHECK_NEAR(refine.packing_efficiency, TEXOPT_DEFAULT_PACKING_EFFICIENCY, 0);
+    texopt_params plain = {0};
+    texopt_params_resolve(&plain);
+    CHECK_EQ_INT(plain.packing_refine, 0);
+    CHECK_NEAR(plain.packing_efficiency, 0, 0);
+}
+
 /* The Hessian floor as users give it: 0 is none, which the field encodes as -1. */
 TEST(the_hessian_floor_as_users_give_it)
 {
