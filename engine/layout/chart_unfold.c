@@ -337,3 +337,137 @@ texopt_status texopt_unfold_charts(const texopt_mesh *mesh, const uint8_t *keep,
     local_chart_free(&lc);
     return st;
 }
+
+/* Per vertex, the index of its tie in share->ties, UINT32_MAX for none; NULL on no memory. */
+static uint32_t *tie_of_vertex(const texopt_mesh *mesh, const texopt_texel_share *share)
+{
+    uint32_t *tie = malloc((mesh->vertex_count ? mesh->vertex_count : 1) * sizeof *tie);
+    for (size_t v = 0; tie && v < mesh->vertex_count; v++)
+        tie[v] = UINT32_MAX;
+    for (size_t k = 0; tie && k < share->tie_count; k++)
+        if (share->ties[k].vertex < mesh->vertex_count)
+            tie[share->ties[k].vertex] = (uint32_t)k;
+    return tie;
+}
+
+/* Per chart, 1 for the charts texopt_unfold_charts must leave alone: every secondary, and
+ * the primary of a group with an untied secondary vertex. */
+static void mark_kept_groups(const texopt_mesh *mesh, const texopt_texel_share *share, const uint32_t *tie,
+                             uint8_t *keep)
+{
+    memset(keep, 0, mesh->chart_count);
+    for (size_t t = 0; t < mesh->triangle_count; t++) {
+        uint32_t c = mesh->chart_of[t], p = share->primary_of[c];
+        if (p == c)
+            continue;
+        keep[c] = 1;
+        for (int k = 0; k < 3; k++)
+            if (tie[mesh->triangle[3 * t + (size_t)k]] == UINT32_MAX)
+                keep[p] = 1;
+    }
+}
+
+/* Per primary, 1 when its secondaries are to be laid on its layout: it was laid out anew,
+ * or it starts without overlap and one of them does not. */
+static void mark_followed_groups(const texopt_mesh *mesh, const texopt_texel_share *share, const uint8_t *keep,
+                                 const uint8_t *unfolded, const uint8_t *over, uint8_t *follow)
+{
+    memset(follow, 0, mesh->chart_count);
+    for (uint32_t c = 0; c < mesh->chart_count; c++) {
+        uint32_t p = share->primary_of[c];
+        if (p != c && !keep[p] && (unfolded[p] || (!over[p] && over[c])))
+            follow[p] = 1;
+    }
+}
+
+/* Puts every vertex of the secondaries of the primaries marked in follow on its tie's
+ * point of texel_out. */
+static void lay_on_primaries(const texopt_mesh *mesh, const texopt_texel_share *share, const uint32_t *tie,
+                             const uint8_t *follow, double *texel_out)
+{
+    for (size_t t = 0; t < mesh->triangle_count; t++) {
+        uint32_t c = mesh->chart_of[t], p = share->primary_of[c];
+        if (p == c || !follow[p])
+            continue;
+        for (int k = 0; k < 3; k++) {
+            const texopt_texel_tie *tt = &share->ties[tie[mesh->triangle[3 * t + (size_t)k]]];
+            for (int a = 0; a < 2; a++) {
+                double x = 0;
+                for (int j = 0; j < 3; j++)
+                    x += tt->weight[j] * texel_out[2 * (size_t)tt->corner[j] + (size_t)a];
+                texel_out[2 * (size_t)tt->vertex + (size_t)a] = x;
+            }
+        }
+    }
+}
+
+/* Marks in keep the primaries of followed groups some chart of which still overlaps
+ * itself in texel (ties where the primary overlapped itself can be ambiguous); returns how
+ * many. */
+static size_t keep_groups_still_overlapping(const texopt_mesh *mesh, const texopt_texel_share *share,
+                                            const uint8_t *follow, const uint8_t *over_now, uint8_t *keep)
+{
+    size_t n = 0;
+    for (uint32_t c = 0; c < mesh->chart_count; c++) {
+        uint32_t p = share->primary_of[c];
+        if (follow[p] && over_now[c] && !keep[p]) {
+            keep[p] = 1;
+            n++;
+        }
+    }
+    return n;
+}
+
+/* One pass: the charts not kept unfolded, the followed groups' secondaries laid on their
+ * primaries; over_now receives the charts that overlap themselves after it. */
+static texopt_status unfold_pass(const texopt_mesh *mesh, const texopt_texel_share *share, const uint32_t *tie,
+                                 const uint8_t *keep, const uint8_t *over_in, uint8_t *unfolded, uint8_t *follow,
+                                 uint8_t *over_now, double *texel_out, texopt_unfold_report *report, char *err,
+                                 size_t err_len)
+{
+    texopt_status st = texopt_unfold_charts(mesh, keep, texel_out, unfolded, report, err, err_len);
+    if (st != TEXOPT_OK)
+        return st;
+    mark_followed_groups(mesh, share, keep, unfolded, over_in, follow);
+    lay_on_primaries(mesh, share, tie, follow, texel_out);
+    for (uint32_t c = 0; c < mesh->chart_count; c++) {
+        uint32_t p = share->primary_of[c];
+        if (p != c && follow[p]) {
+            report->followed++;
+            report->kept -= over_in[c] != 0; /* texopt_unfold_charts counted it */
+        }
+    }
+    return texopt_scaffold_overlapping_charts(mesh, texel_out, over_now, NULL, err, err_len);
+}
+
+texopt_status texopt_unfold_groups(const texopt_mesh *mesh, const texopt_texel_share *share, double *texel_out,
+                                   texopt_unfold_report *report, char *err, size_t err_len)
+{
+    if (!share || share->secondary_count == 0)
+        return texopt_unfold_charts(mesh, NULL, texel_out, NULL, report, err, err_len);
+    if (!mesh || share->chart_count != mesh->chart_count)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "unfold: sharing groups of another mesh");
+    size_t nc = mesh->chart_count ? mesh->chart_count : 1;
+    uint32_t *tie = tie_of_vertex(mesh, share);
+    uint8_t *keep = malloc(nc), *unfolded = malloc(nc), *over_in = malloc(nc), *follow = malloc(nc);
+    uint8_t *over_now = malloc(nc);
+    texopt_status st = tie && keep && unfolded && over_in && follow && over_now
+                           ? TEXOPT_OK
+                           : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "unfold: out of memory for sharing groups");
+    if (st == TEXOPT_OK) {
+        mark_kept_groups(mesh, share, tie, keep);
+        st = texopt_scaffold_overlapping_charts(mesh, mesh->texel, over_in, NULL, err, err_len);
+    }
+    if (st == TEXOPT_OK)
+        st = unfold_pass(mesh, share, tie, keep, over_in, unfolded, follow, over_now, texel_out, report, err, err_len);
+    /* A group laid out as one that still overlaps is left alone whole, as before. */
+    if (st == TEXOPT_OK && keep_groups_still_overlapping(mesh, share, follow, over_now, keep) > 0)
+        st = unfold_pass(mesh, share, tie, keep, over_in, unfolded, follow, over_now, texel_out, report, err, err_len);
+    free(tie);
+    free(keep);
+    free(unfolded);
+    free(over_in);
+    free(follow);
+    free(over_now);
+    return st;
+}

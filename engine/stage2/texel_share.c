@@ -280,8 +280,23 @@ static double closest_point(const texopt_mesh *m, uint32_t t, const double p[2],
     return best;
 }
 
+/* Whether p is a corner of triangle t, with w its weights then. */
+static int on_corner(const texopt_mesh *m, uint32_t t, const double p[2], double w[3])
+{
+    for (int j = 0; j < 3; j++)
+        if (corner(m, t, j)[0] == p[0] && corner(m, t, j)[1] == p[1]) {
+            w[0] = w[1] = w[2] = 0.0;
+            w[j] = 1.0;
+            return 1;
+        }
+    return 0;
+}
+
 /* The tie of vertex v to the nearest triangle of chart `primary` within the tolerance;
- * 0 when there is none. */
+ * 0 when there is none. A vertex on a corner of the primary is tied to that corner before
+ * any triangle it lies in: where the primary overlaps itself, a mirrored or repeated twin's
+ * vertex lies in triangles of both layers, and its twin corner is the one that follows it
+ * when the primary is laid out anew (chart_unfold.h texopt_unfold_groups). */
 static int locate(const texopt_mesh *m, const texopt_tri_bins *b, uint32_t primary, uint32_t v, texopt_texel_tie *tie)
 {
     const double *p = m->texel + 2 * (size_t)v;
@@ -294,7 +309,10 @@ static int locate(const texopt_mesh *m, const texopt_tri_bins *b, uint32_t prima
             for (uint32_t k = b->start[j * b->nx + i]; k < b->start[j * b->nx + i + 1]; k++) {
                 uint32_t t = b->tri[k];
                 double w[3], d;
-                if (m->chart_of[t] != primary || !((d = closest_point(m, t, p, w)) < best))
+                if (m->chart_of[t] != primary)
+                    continue;
+                d = on_corner(m, t, p, w) ? -1.0 : closest_point(m, t, p, w);
+                if (!(d < best))
                     continue;
                 best = d;
                 for (int c = 0; c < 3; c++) {

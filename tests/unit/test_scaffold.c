@@ -14,6 +14,7 @@
 #include "scaffold.h"
 #include "target_restate.h"
 #include "test.h"
+#include "texel_share.h"
 
 #define CELL 4.0
 
@@ -388,6 +389,70 @@ TEST(each_half_of_a_mirror_is_kept_off_itself)
     texopt_mesh_destroy(m);
 }
 
+/* The vertex of m at lattice point (i, j). */
+static uint32_t lattice_vertex(const texopt_mesh *m, double i, double j)
+{
+    for (size_t v = 0; v < m->vertex_count; v++)
+        if (m->position[3 * v] == i && m->position[3 * v + 1] == j)
+            return (uint32_t)v;
+    return UINT32_MAX;
+}
+
+/* mirrored_u with its halves also joined, as DamagedHelmet's clean mirrors are, by a quad
+ * collapsed in the layout: two triangles between the left half's outer edge (lattice x = 0)
+ * and the right half's (x = 10), which lie on one another, so each triangle has two corners
+ * on one point and no area. */
+static texopt_mesh *bridged_mirror(texopt_triangle_target **targets)
+{
+    texopt_triangle_target *tg;
+    texopt_mesh *u = mirrored_u(&tg);
+    uint32_t l0 = lattice_vertex(u, 0, 0), l1 = lattice_vertex(u, 0, 1);
+    uint32_t r0 = lattice_vertex(u, 10, 0), r1 = lattice_vertex(u, 10, 1);
+    size_t nt = u->triangle_count;
+    texopt_mesh *m = handmesh_alloc(u->vertex_count, nt + 2);
+    memcpy(m->texel, u->texel, 2 * u->vertex_count * sizeof *m->texel);
+    memcpy(m->position, u->position, 3 * u->vertex_count * sizeof *m->position);
+    memcpy(m->triangle, u->triangle, 3 * nt * sizeof *m->triangle);
+    uint32_t bridge[6] = {l0, r0, r1, r1, l1, l0};
+    memcpy(m->triangle + 3 * nt, bridge, sizeof bridge);
+    m->width = u->width;
+    m->height = u->height;
+    m->chart_sign = malloc(1);
+    m->chart_sign[0] = 1;
+    handmesh_finish(m);
+    for (size_t t = 0; t < m->triangle_count; t++)
+        m->flags[t] &= (uint8_t)~TEXOPT_TRI_FLIPPED;
+    *targets = malloc(m->triangle_count * sizeof **targets);
+    memcpy(*targets, tg, nt * sizeof *tg);
+    (*targets)[nt] = (*targets)[nt + 1] = stretch_target(1.0, 1.0);
+    free(tg);
+    texopt_mesh_destroy(u);
+    return m;
+}
+
+TEST(a_mirror_joined_by_triangles_without_area_is_boxed_half_by_half)
+{
+    texopt_triangle_target *tg;
+    texopt_mesh *m = bridged_mirror(&tg);
+    CHECK(m->area_texel[m->triangle_count - 1] == 0.0 && m->area_texel[m->triangle_count - 2] == 0.0);
+    double *bij = malloc(2 * m->vertex_count * sizeof *bij);
+    char err[256];
+    size_t within, between, overlapping = 99;
+    uint8_t over = 1;
+    CHECK_OK(texopt_scaffold_overlapping_charts(m, m->texel, &over, &overlapping, err, sizeof err), err);
+    CHECK_EQ_INT(overlapping, 0);
+    texopt_scaffold_report rep;
+    CHECK_OK(texopt_scaffold_solve(m, tg, NULL, NULL, NULL, bij, &rep, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(rep.charts_scaffolded, 1);
+    CHECK_EQ_INT(rep.charts_skipped, 0);
+    CHECK_OK(texopt_count_overlap(m, bij, &within, &between, err, sizeof err), err);
+    CHECK_EQ_INT(within, 0);
+    CHECK_EQ_INT(texopt_count_flipped(m, bij), 0);
+    free(bij);
+    free(tg);
+    texopt_mesh_destroy(m);
+}
+
 /* Triangles of m that are not counter-clockwise in the layout texel. */
 static size_t clockwise(const texopt_mesh *m, const double *texel)
 {
@@ -512,6 +577,92 @@ TEST(a_chart_with_a_hole_and_a_fold_is_unfolded_by_tutte)
     CHECK_EQ_INT(ur.unfolded, 0);
     CHECK(memcmp(unfolded, m->texel, 2 * m->vertex_count * sizeof *unfolded) == 0);
     free(unfolded);
+    texopt_mesh_destroy(layout);
+    texopt_mesh_destroy(m);
+}
+
+/* A U as closing_u's, twice, as two charts on the same texels (repeated twins of a sharing
+ * group, texel_share.h), its right arm drawn 1.5 cells to the left from lattice row 2 up:
+ * it lies half a cell over the left arm (no fold, one orientation), its vertices inside the
+ * left arm's cells, so each chart covers centres twice at the start. */
+static texopt_mesh *overlapping_twins(void)
+{
+    cell cells[128];
+    size_t n = 0;
+    for (uint32_t c = 0; c < 2; c++)
+        for (int j = 0; j < 7; j++)
+            for (int i = 0; i < 5; i++)
+                if (j == 0 || i != 2)
+                    cells[n++] = (cell){i, j, c};
+    texopt_mesh *m = cell_mesh(cells, n, 2, 8);
+    for (size_t v = 0; v < m->vertex_count; v++)
+        if (m->position[3 * v] >= 3 && m->position[3 * v + 1] >= 2)
+            m->texel[2 * v] -= 1.5 * CELL;
+    m->chart_sign = malloc(2);
+    m->chart_sign[0] = m->chart_sign[1] = 1;
+    handmesh_finish(m);
+    return m;
+}
+
+TEST(twins_of_a_sharing_group_are_unfolded_as_one_and_stay_off_themselves)
+{
+    texopt_mesh *m = overlapping_twins();
+    size_t nv = m->vertex_count, within, between;
+    char err[256];
+    texopt_texel_share *share = NULL;
+    CHECK_OK(texopt_texel_share_create(&share, m, err, sizeof err), err);
+    CHECK_EQ_INT(share->secondary_count, 1);
+    uint32_t primary = share->primary_of[0], secondary = 1 - primary;
+    texopt_triangle_target *tg = malloc(m->triangle_count * sizeof *tg);
+    for (size_t t = 0; t < m->triangle_count; t++)
+        tg[t] = stretch_target(1.3, 1.0);
+    double *out = malloc(2 * nv * sizeof *out), *start = malloc(2 * nv * sizeof *start);
+    texopt_meshwise_options mo = {.share = share};
+    texopt_scaffold_report rep;
+    /* the twins left as they are: both skipped, both over themselves */
+    CHECK_OK(texopt_scaffold_solve(m, tg, NULL, &mo, NULL, out, &rep, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(rep.charts_skipped, 2);
+    CHECK_OK(texopt_count_overlap(m, out, &within, &between, err, sizeof err), err);
+    CHECK_MSG(within > 10, "solved from the folds: %zu centres twice", within);
+
+    texopt_unfold_report ur;
+    CHECK_OK(texopt_unfold_groups(m, share, start, &ur, err, sizeof err), err);
+    CHECK_EQ_INT(ur.overlapping, 2);
+    CHECK_EQ_INT(ur.unfolded, 1);
+    CHECK_EQ_INT(ur.followed, 1);
+    CHECK_EQ_INT(ur.kept, 0);
+    /* the secondary starts on the primary's new layout: its twin vertices at the same point */
+    size_t twins = 0;
+    for (size_t a = 0; a < nv; a++)
+        for (size_t b = 0; b < nv; b++)
+            if (m->position[3 * a] == m->position[3 * b] && m->position[3 * a + 1] == m->position[3 * b + 1] &&
+                a != b) {
+                CHECK_NEAR(start[2 * a], start[2 * b], 1e-9);
+                CHECK_NEAR(start[2 * a + 1], start[2 * b + 1], 1e-9);
+                twins++;
+            }
+    CHECK_EQ_INT(twins, nv);
+    texopt_mesh *layout = with_layout(m, start);
+    texopt_texel_share_rebase(share, layout);
+    texopt_targets_restate(m, layout, tg);
+    CHECK_OK(texopt_scaffold_solve(layout, tg, NULL, &mo, NULL, out, &rep, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(rep.charts_skipped, 0);
+    CHECK_EQ_INT(rep.charts_scaffolded, 2);
+    CHECK_OK(texopt_count_overlap(layout, out, &within, &between, err, sizeof err), err);
+    CHECK_EQ_INT(within, 0);
+    CHECK_EQ_INT(clockwise(layout, out), 0);
+    /* and the twins still share their texels: every secondary vertex on its primary twin */
+    double apart = 0;
+    for (size_t a = 0; a < nv; a++)
+        for (size_t b = 0; b < nv; b++)
+            if (m->position[3 * a] == m->position[3 * b] && m->position[3 * a + 1] == m->position[3 * b + 1] && a != b)
+                apart = fmax(apart, hypot(out[2 * a] - out[2 * b], out[2 * a + 1] - out[2 * b + 1]));
+    CHECK_MSG(apart < 0.1, "twins %g texels apart", apart);
+    (void)secondary;
+    free(out);
+    free(start);
+    free(tg);
+    texopt_texel_share_destroy(share);
     texopt_mesh_destroy(layout);
     texopt_mesh_destroy(m);
 }
