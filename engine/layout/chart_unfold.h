@@ -22,7 +22,11 @@
  * triangle without 3D area). A mirror that also covers centres twice with one orientation
  * (folds inside it) is unfolded and so loses its sharing. Holes and pinched vertices (a
  * boundary through a vertex twice) are no obstacle: every boundary loop but the longest is
- * filled with a fan for the layout (by Tutte then), and the fans dropped.
+ * filled with a fan for the layout (by Tutte then), and the fans dropped. A chart whose
+ * triangles fall into parts that meet only at vertices (a strip joined corner to corner) is
+ * laid out part by part, each part moved to the vertex it shares with those before it and
+ * turned about it until their boundaries do not cross (a part meeting them at two vertices
+ * is no disk).
  * Does not: restate the targets for the new layout (target_restate.h), or solve. */
 #ifndef TEXOPT_CHART_UNFOLD_H
 #define TEXOPT_CHART_UNFOLD_H

@@ -666,3 +666,45 @@ TEST(twins_of_a_sharing_group_are_unfolded_as_one_and_stay_off_themselves)
     texopt_mesh_destroy(layout);
     texopt_mesh_destroy(m);
 }
+
+TEST(a_chart_of_parts_meeting_at_a_corner_is_unfolded_part_by_part)
+{
+    /* Two cells of one chart joined only at lattice point (1, 1), the second turned a half
+     * turn about it in the input layout, so it lies on the first with the same orientation. */
+    cell cells[] = {{0, 0, 0}, {1, 1, 0}};
+    texopt_mesh *m = cell_mesh(cells, 2, 1, 2);
+    for (size_t v = 0; v < m->vertex_count; v++)
+        if (m->position[3 * v] + m->position[3 * v + 1] > 2) { /* the second cell's own corners */
+            m->texel[2 * v] = 2 * CELL - m->texel[2 * v];
+            m->texel[2 * v + 1] = 2 * CELL - m->texel[2 * v + 1];
+        }
+    m->chart_sign = malloc(1);
+    m->chart_sign[0] = 1;
+    handmesh_finish(m);
+    char err[256];
+    size_t within, between, count;
+    CHECK_OK(texopt_count_overlap(m, m->texel, &within, &between, err, sizeof err), err);
+    CHECK_MSG(within > 10, "the second cell covers %zu centres of the first", within);
+    double *unfolded = malloc(2 * m->vertex_count * sizeof *unfolded);
+    texopt_unfold_report ur;
+    CHECK_OK(texopt_unfold_charts(m, NULL, unfolded, NULL, &ur, err, sizeof err), err);
+    CHECK_EQ_INT(ur.overlapping, 1);
+    CHECK_EQ_INT(ur.unfolded, 1);
+    CHECK_EQ_INT(ur.not_disks, 0);
+    texopt_mesh *layout = with_layout(m, unfolded);
+    uint8_t over;
+    CHECK_OK(texopt_scaffold_overlapping_charts(layout, layout->texel, &over, &count, err, sizeof err), err);
+    CHECK_EQ_INT(count, 0);
+    CHECK_EQ_INT(clockwise(layout, layout->texel), 0);
+    /* each cell keeps its square (flat in 3D): every edge CELL times its 3D length */
+    for (size_t t = 0; t < m->triangle_count; t++)
+        for (int k = 0; k < 3; k++) {
+            uint32_t a = m->triangle[3 * t + (size_t)k], b = m->triangle[3 * t + (size_t)(k + 1) % 3];
+            double d3 = hypot(m->position[3 * a] - m->position[3 * b], m->position[3 * a + 1] - m->position[3 * b + 1]);
+            double d2 = hypot(unfolded[2 * a] - unfolded[2 * b], unfolded[2 * a + 1] - unfolded[2 * b + 1]);
+            CHECK_NEAR(d2, CELL * d3, 1e-6);
+        }
+    free(unfolded);
+    texopt_mesh_destroy(layout);
+    texopt_mesh_destroy(m);
+}
