@@ -628,6 +628,27 @@ static size_t keep_groups_still_overlapping(const texopt_mesh *mesh, const texop
     return n;
 }
 
+/* Releases from its group (texel_share.h) each secondary of a followed group that overlaps
+ * itself after the pass where it did in the input and its primary no longer does: it covers
+ * texels twice on its own, so it cannot lie on the primary without overlap; the next pass
+ * lays it out on its own. *released counts them. */
+static texopt_status release_overlapping_secondaries(const texopt_mesh *mesh, texopt_texel_share *share,
+                                                     const uint8_t *follow, const uint8_t *over_in,
+                                                     const uint8_t *over_now, size_t *released, char *err,
+                                                     size_t err_len)
+{
+    texopt_status st = TEXOPT_OK;
+    *released = 0;
+    for (uint32_t c = 0; c < mesh->chart_count && st == TEXOPT_OK; c++) {
+        uint32_t p = share->primary_of[c];
+        if (p != c && follow[p] && over_now[c] && over_in[c] && !over_now[p]) {
+            st = texopt_texel_share_release(share, mesh, c, err, err_len);
+            ++*released;
+        }
+    }
+    return st;
+}
+
 /* One pass: the charts not kept unfolded, the followed groups' secondaries laid on their
  * primaries; over_now receives the charts that overlap themselves after it. */
 static texopt_status unfold_pass(const texopt_mesh *mesh, const texopt_texel_share *share, const uint32_t *tie,
@@ -650,7 +671,7 @@ static texopt_status unfold_pass(const texopt_mesh *mesh, const texopt_texel_sha
     return texopt_scaffold_overlapping_charts(mesh, texel_out, over_now, NULL, err, err_len);
 }
 
-texopt_status texopt_unfold_groups(const texopt_mesh *mesh, const texopt_texel_share *share, double *texel_out,
+texopt_status texopt_unfold_groups(const texopt_mesh *mesh, texopt_texel_share *share, double *texel_out,
                                    texopt_unfold_report *report, char *err, size_t err_len)
 {
     if (!share || share->secondary_count == 0)
@@ -670,8 +691,18 @@ texopt_status texopt_unfold_groups(const texopt_mesh *mesh, const texopt_texel_s
     }
     if (st == TEXOPT_OK)
         st = unfold_pass(mesh, share, tie, keep, over_in, unfolded, follow, over_now, texel_out, report, err, err_len);
+    size_t released = 0;
+    if (st == TEXOPT_OK)
+        st = release_overlapping_secondaries(mesh, share, follow, over_in, over_now, &released, err, err_len);
+    if (st == TEXOPT_OK && released > 0) {
+        free(tie);
+        if (!(tie = tie_of_vertex(mesh, share)))
+            st = texopt_fail(err, err_len, TEXOPT_E_NOMEM, "unfold: out of memory for sharing groups");
+        else
+            mark_kept_groups(mesh, share, tie, keep);
+    }
     /* A group laid out as one that still overlaps is left alone whole, as before. */
-    if (st == TEXOPT_OK && keep_groups_still_overlapping(mesh, share, follow, over_now, keep) > 0)
+    if (st == TEXOPT_OK && (keep_groups_still_overlapping(mesh, share, follow, over_now, keep) > 0 || released > 0))
         st = unfold_pass(mesh, share, tie, keep, over_in, unfolded, follow, over_now, texel_out, report, err, err_len);
     free(tie);
     free(keep);

@@ -60,8 +60,11 @@ texopt_status texopt_unfold_charts(const texopt_mesh *mesh, const uint8_t *keep,
  * overlaps itself while the primary does not, each secondary vertex put on its tie's point
  * of the primary's layout: mirrored or repeated twins then start as the primary does,
  * without overlap, and still on its texels (counted in followed, and no longer in kept). A
- * group with an untied secondary vertex is left alone whole (kept). */
-texopt_status texopt_unfold_groups(const texopt_mesh *mesh, const texopt_texel_share *share, double *texel_out,
+ * secondary that overlaps itself in the input where its primary does not (no twin: it covers
+ * the primary's texels twice) is taken out of its group (texopt_texel_share_release) and laid
+ * out on its own, paying for its texels. A group with an untied secondary vertex, or that
+ * would still overlap, is left alone whole (kept). */
+texopt_status texopt_unfold_groups(const texopt_mesh *mesh, texopt_texel_share *share, double *texel_out,
                                    texopt_unfold_report *report, char *err, size_t err_len);
 
 #endif

@@ -467,6 +467,33 @@ void texopt_texel_share_destroy(texopt_texel_share *share)
     free(share);
 }
 
+texopt_status texopt_texel_share_release(texopt_texel_share *share, const texopt_mesh *mesh, uint32_t chart, char *err,
+                                         size_t err_len)
+{
+    if (!share || !mesh || share->chart_count != mesh->chart_count || chart >= mesh->chart_count ||
+        share->primary_of[chart] == chart)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "texel share: chart %u is no secondary", chart);
+    uint8_t *in_chart = calloc(mesh->vertex_count ? mesh->vertex_count : 1, 1);
+    if (!in_chart)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "texel share: no memory to release chart %u", chart);
+    for (size_t t = 0; t < mesh->triangle_count; t++)
+        if (mesh->chart_of[t] == chart)
+            for (int j = 0; j < 3; j++)
+                in_chart[mesh->triangle[3 * t + j]] = 1;
+    size_t kept = 0;
+    for (size_t k = 0; k < share->tie_count; k++)
+        if (!in_chart[share->ties[k].vertex])
+            share->ties[kept++] = share->ties[k];
+    share->tie_count = kept;
+    free(in_chart);
+    share->primary_of[chart] = chart;
+    share->secondary_count--;
+    free(share->view.chart_of);
+    free(share->view.chart_sign);
+    free(share->grouped);
+    return build_view(mesh, share, err, err_len);
+}
+
 void texopt_texel_share_rebase(texopt_texel_share *share, const texopt_mesh *layout)
 {
     texopt_mesh view = *layout;

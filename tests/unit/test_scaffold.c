@@ -584,8 +584,9 @@ TEST(a_chart_with_a_hole_and_a_fold_is_unfolded_by_tutte)
 /* A U as closing_u's, twice, as two charts on the same texels (repeated twins of a sharing
  * group, texel_share.h), its right arm drawn 1.5 cells to the left from lattice row 2 up:
  * it lies half a cell over the left arm (no fold, one orientation), its vertices inside the
- * left arm's cells, so each chart covers centres twice at the start. */
-static texopt_mesh *overlapping_twins(void)
+ * left arm's cells, so each chart covers centres twice at the start. The second chart's arm
+ * is drawn shift_second cells instead (1.5: twins). */
+static texopt_mesh *overlapping_twins(double shift_second)
 {
     cell cells[128];
     size_t n = 0;
@@ -597,7 +598,7 @@ static texopt_mesh *overlapping_twins(void)
     texopt_mesh *m = cell_mesh(cells, n, 2, 8);
     for (size_t v = 0; v < m->vertex_count; v++)
         if (m->position[3 * v] >= 3 && m->position[3 * v + 1] >= 2)
-            m->texel[2 * v] -= 1.5 * CELL;
+            m->texel[2 * v] -= (v < m->vertex_count / 2 ? 1.5 : shift_second) * CELL;
     m->chart_sign = malloc(2);
     m->chart_sign[0] = m->chart_sign[1] = 1;
     handmesh_finish(m);
@@ -606,7 +607,7 @@ static texopt_mesh *overlapping_twins(void)
 
 TEST(twins_of_a_sharing_group_are_unfolded_as_one_and_stay_off_themselves)
 {
-    texopt_mesh *m = overlapping_twins();
+    texopt_mesh *m = overlapping_twins(1.5);
     size_t nv = m->vertex_count, within, between;
     char err[256];
     texopt_texel_share *share = NULL;
@@ -705,6 +706,49 @@ TEST(a_chart_of_parts_meeting_at_a_corner_is_unfolded_part_by_part)
             CHECK_NEAR(d2, CELL * d3, 1e-6);
         }
     free(unfolded);
+    texopt_mesh_destroy(layout);
+    texopt_mesh_destroy(m);
+}
+
+TEST(a_secondary_over_itself_that_is_no_twin_leaves_its_group)
+{
+    /* the second U's arm 1.25 cells to the left: it lies on the first's texels but not as its
+     * twin, and covers some of them twice on its own */
+    texopt_mesh *m = overlapping_twins(1.25);
+    size_t nv = m->vertex_count, within, between;
+    char err[256];
+    texopt_texel_share *share = NULL;
+    CHECK_OK(texopt_texel_share_create(&share, m, err, sizeof err), err);
+    CHECK_EQ_INT(share->secondary_count, 1);
+    double *start = malloc(2 * nv * sizeof *start), *out = malloc(2 * nv * sizeof *out);
+    texopt_unfold_report ur;
+    CHECK_OK(texopt_unfold_groups(m, share, start, &ur, err, sizeof err), err);
+    CHECK_EQ_INT(ur.overlapping, 2);
+    CHECK_EQ_INT(ur.unfolded, 2);
+    CHECK_EQ_INT(ur.followed, 0);
+    CHECK_EQ_INT(share->secondary_count, 0);
+    CHECK_EQ_INT(share->tie_count, 0);
+    CHECK_EQ_INT(share->view.chart_count, 2);
+    texopt_mesh *layout = with_layout(m, start);
+    uint8_t over[2];
+    size_t count;
+    CHECK_OK(texopt_scaffold_overlapping_charts(layout, layout->texel, over, &count, err, sizeof err), err);
+    CHECK_EQ_INT(count, 0);
+    texopt_texel_share_rebase(share, layout);
+    texopt_triangle_target *tg = malloc(m->triangle_count * sizeof *tg);
+    for (size_t t = 0; t < m->triangle_count; t++)
+        tg[t] = stretch_target(1.3, 1.0);
+    texopt_targets_restate(m, layout, tg);
+    texopt_meshwise_options mo = {.share = share};
+    texopt_scaffold_report rep;
+    CHECK_OK(texopt_scaffold_solve(layout, tg, NULL, &mo, NULL, out, &rep, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(rep.charts_skipped, 0);
+    CHECK_OK(texopt_count_overlap(layout, out, &within, &between, err, sizeof err), err);
+    CHECK_EQ_INT(within, 0);
+    free(start);
+    free(out);
+    free(tg);
+    texopt_texel_share_destroy(share);
     texopt_mesh_destroy(layout);
     texopt_mesh_destroy(m);
 }
