@@ -13,6 +13,7 @@
 
 #define PART_TURN (3.14159265358979323846 / 18) /* 10 degrees */
 #define PART_TURNS 18                           /* either way: a half turn */
+#define PART_SHRINKS 4                          /* halvings of a part that clashes at every turn */
 
 /* One chart as a parameterization input: its mesh vertices numbered locally. */
 typedef struct local_chart {
@@ -377,16 +378,98 @@ static int part_crosses_laid(const uint64_t *edges, size_t nb, uint32_t part, co
     return 0;
 }
 
-/* Turns the vertices marked 4 in placed about `pivot` by `angle`. */
-static void turn_part(const uint8_t *placed, size_t nv, const double pivot[2], double angle, double *x)
+/* A point of triangle t just off its corner `at` (1% of the way to its centroid). */
+static void near_corner(const texopt_mesh *mesh, size_t t, uint32_t at, const double *x, double p[2])
 {
-    double co = cos(angle), si = sin(angle);
+    const uint32_t *v = mesh->triangle + 3 * t;
+    for (int a = 0; a < 2; a++)
+        p[a] = 0.99 * x[2 * (size_t)at + a] +
+               0.01 / 3 * (x[2 * (size_t)v[0] + a] + x[2 * (size_t)v[1] + a] + x[2 * (size_t)v[2] + a]);
+}
+
+static int inside_triangle(const texopt_mesh *mesh, size_t t, const double *x, const double p[2])
+{
+    const uint32_t *v = mesh->triangle + 3 * t;
+    const double *a = x + 2 * (size_t)v[0], *b = x + 2 * (size_t)v[1], *c = x + 2 * (size_t)v[2];
+    double d0 = orient2(a, b, p), d1 = orient2(b, c, p), d2 = orient2(c, a, p);
+    return (d0 > 0 && d1 > 0 && d2 > 0) || (d0 < 0 && d1 < 0 && d2 < 0);
+}
+
+/* Whether triangle t's corners are all of the part being laid (marked 4 in placed, or the
+ * shared vertex, 3) or all of the laid ones (1 or 3). */
+static int triangle_of(const texopt_mesh *mesh, size_t t, const uint8_t *placed, int new_part)
+{
+    for (int k = 0; k < 3; k++) {
+        uint8_t p = placed[mesh->triangle[3 * t + (size_t)k]];
+        if (new_part ? !(p & 4) && p != 3 : p != 1 && p != 3)
+            return 0;
+    }
+    return 1;
+}
+
+/* Whether the part being laid (its vertices marked 4 in placed, the laid parts' 1, the one
+ * they share 3) lies in a laid part or one in it where no boundary crossing shows it: a
+ * vertex of one in a triangle of the other, or, at the shared vertex, a point of one's
+ * triangle just off it in the other's (a wedge inside a wedge). */
+static int part_inside_laid(const texopt_mesh *mesh, uint32_t c, uint32_t at, const uint8_t *placed, const double *x)
+{
+    for (size_t t = 0; t < mesh->triangle_count; t++) {
+        if (mesh->chart_of[t] != c)
+            continue;
+        int is_new = triangle_of(mesh, t, placed, 1), is_laid = !is_new && triangle_of(mesh, t, placed, 0);
+        if (!is_new && !is_laid)
+            continue;
+        for (size_t v = 0; v < mesh->vertex_count; v++)
+            if ((is_laid ? (placed[v] & 4) != 0 : placed[v] == 1) && inside_triangle(mesh, t, x, x + 2 * v))
+                return 1;
+        const uint32_t *w = mesh->triangle + 3 * t;
+        if (w[0] != at && w[1] != at && w[2] != at)
+            continue;
+        double p[2];
+        near_corner(mesh, t, at, x, p);
+        for (size_t u = 0; u < mesh->triangle_count; u++)
+            if (mesh->chart_of[u] == c && triangle_of(mesh, u, placed, !is_new) && inside_triangle(mesh, u, x, p))
+                return 1;
+    }
+    return 0;
+}
+
+/* Whether the part being laid crosses or lies in the laid ones (or they in it). */
+static int part_clashes(const texopt_mesh *mesh, uint32_t c, uint32_t at, const uint8_t *placed, const uint64_t *edges,
+                        size_t nb, uint32_t part, const uint8_t *done, const double *x)
+{
+    return part_crosses_laid(edges, nb, part, done, x) || part_inside_laid(mesh, c, at, placed, x);
+}
+
+/* Scales the vertices marked 4 in placed about `pivot` by `scale` and turns them by `angle`. */
+static void scale_part(const uint8_t *placed, size_t nv, const double pivot[2], double scale, double angle, double *x)
+{
+    double co = scale * cos(angle), si = scale * sin(angle);
     for (size_t v = 0; v < nv; v++)
         if (placed[v] & 4) {
             double dx = x[2 * v] - pivot[0], dy = x[2 * v + 1] - pivot[1];
             x[2 * v] = pivot[0] + co * dx - si * dy;
             x[2 * v + 1] = pivot[1] + si * dx + co * dy;
         }
+}
+
+/* Turns (and shrinks) the part being laid about the vertex `at` it shares with the laid
+ * ones until it clashes with none of them (part_clashes): turns of 0, +1, -1, +2, -2, ...
+ * PART_TURN up to a half turn either way, then the same at half the size, up to
+ * PART_SHRINKS times (stage 2 grows it back inside its scaffold). */
+static void turn_part_clear(const texopt_mesh *mesh, uint32_t c, uint32_t at, const uint8_t *placed,
+                            const uint64_t *edges, size_t nb, uint32_t part, const uint8_t *done, double *x)
+{
+    double pivot[2] = {x[2 * (size_t)at], x[2 * (size_t)at + 1]};
+    for (int shrink = 0; shrink <= PART_SHRINKS; shrink++) {
+        if (shrink)
+            scale_part(placed, mesh->vertex_count, pivot, 0.5, PART_TURNS * PART_TURN, x); /* back to 0 */
+        for (int k = 1; k <= 2 * PART_TURNS; k++) {
+            if (!part_clashes(mesh, c, at, placed, edges, nb, part, done, x))
+                return;
+            scale_part(placed, mesh->vertex_count, pivot, 1.0, (k % 2 ? 1 : -1) * k * PART_TURN, x);
+        }
+    }
 }
 
 /* Lays chart c out anew into texel_out, part by part when its parts meet at vertices: each
@@ -455,10 +538,8 @@ static texopt_status unfold_chart(const texopt_mesh *mesh, uint32_t c, local_cha
             }
         if (shared != UINT32_MAX)
             memcpy(texel_out + 2 * (size_t)shared, keep, sizeof keep);
-        for (int k = 1;
-             shared != UINT32_MAX && k <= 2 * PART_TURNS && part_crosses_laid(edges, nb, next, done_part, texel_out);
-             k++) /* 0, +1, -1, +2, -2, ... steps, each from the last */
-            turn_part(lc->placed, mesh->vertex_count, keep, (k % 2 ? 1 : -1) * k * PART_TURN, texel_out);
+        if (shared != UINT32_MAX)
+            turn_part_clear(mesh, c, shared, lc->placed, edges, nb, next, done_part, texel_out);
         done_part[next] = 1;
         for (size_t v = 0; v < mesh->vertex_count; v++)
             if (lc->placed[v])

@@ -25,8 +25,9 @@
  * filled with a fan for the layout (by Tutte then), and the fans dropped. A chart whose
  * triangles fall into parts that meet only at vertices (a strip joined corner to corner) is
  * laid out part by part, each part moved to the vertex it shares with those before it and
- * turned about it until their boundaries do not cross (a part meeting them at two vertices
- * is no disk).
+ * turned about it, shrunk if it must be, until neither crosses or holds the other (a part
+ * meeting them at two vertices is no disk; one that never comes clear is left overlapping,
+ * and its sharing group, if any, left alone).
  * Does not: restate the targets for the new layout (target_restate.h), or solve. */
 #ifndef TEXOPT_CHART_UNFOLD_H
 #define TEXOPT_CHART_UNFOLD_H
