@@ -752,3 +752,64 @@ TEST(a_secondary_over_itself_that_is_no_twin_leaves_its_group)
     texopt_mesh_destroy(layout);
     texopt_mesh_destroy(m);
 }
+
+/* A ring of 3 x 3 cells less the centre, and a strip 3 cells long and 0.2 wide hanging at
+ * the hole's lower left corner, lattice (1, 1), its only vertex in common with the ring
+ * (one chart of two parts); in the input layout the strip lies over the ring's cells right
+ * of the hole. */
+static texopt_mesh *ring_with_strip(void)
+{
+    cell cells[8];
+    size_t n = 0;
+    for (int j = 0; j < 3; j++)
+        for (int i = 0; i < 3; i++)
+            if (i != 1 || j != 1)
+                cells[n++] = (cell){i, j, 0};
+    texopt_mesh *ring = cell_mesh(cells, n, 1, 3);
+    size_t nv = ring->vertex_count, nt = ring->triangle_count;
+    texopt_mesh *m = handmesh_alloc(nv + 3, nt + 2);
+    memcpy(m->texel, ring->texel, 2 * nv * sizeof *m->texel);
+    memcpy(m->position, ring->position, 3 * nv * sizeof *m->position);
+    memcpy(m->triangle, ring->triangle, 3 * nt * sizeof *m->triangle);
+    uint32_t p = lattice_vertex(ring, 1, 1), b = (uint32_t)nv;
+    double pos[9] = {1, 1, 3, 1, 1.2, 3, 1, 1.2, 0};
+    double tex[6] = {CELL + 3 * CELL, CELL, CELL + 3 * CELL, CELL + 0.2 * CELL, CELL, CELL + 0.2 * CELL};
+    memcpy(m->position + 3 * nv, pos, sizeof pos);
+    memcpy(m->texel + 2 * nv, tex, sizeof tex);
+    uint32_t strip[6] = {p, b, b + 1, p, b + 1, b + 2};
+    memcpy(m->triangle + 3 * nt, strip, sizeof strip);
+    m->width = ring->width;
+    m->height = ring->height;
+    m->chart_sign = malloc(1);
+    m->chart_sign[0] = 1;
+    handmesh_finish(m);
+    texopt_mesh_destroy(ring);
+    return m;
+}
+
+TEST(a_part_that_clashes_at_every_turn_is_shrunk_until_it_fits)
+{
+    /* Turned about its corner, the strip (12 texels) meets the ring at every angle: the hole
+     * is 4 texels wide. A quarter of its length fits the hole along its diagonal. */
+    texopt_mesh *m = ring_with_strip();
+    char err[256];
+    size_t count;
+    uint8_t over;
+    CHECK_OK(texopt_scaffold_overlapping_charts(m, m->texel, &over, &count, err, sizeof err), err);
+    CHECK_EQ_INT(count, 1);
+    double *unfolded = malloc(2 * m->vertex_count * sizeof *unfolded);
+    texopt_unfold_report ur;
+    CHECK_OK(texopt_unfold_charts(m, NULL, unfolded, NULL, &ur, err, sizeof err), err);
+    CHECK_EQ_INT(ur.unfolded, 1);
+    texopt_mesh *layout = with_layout(m, unfolded);
+    CHECK_OK(texopt_scaffold_overlapping_charts(layout, layout->texel, &over, &count, err, sizeof err), err);
+    CHECK_EQ_INT(count, 0);
+    CHECK_EQ_INT(clockwise(layout, layout->texel), 0);
+    size_t nt = m->triangle_count;
+    double strip = fabs(layout->area_texel[nt - 1]) + fabs(layout->area_texel[nt - 2]);
+    double input = fabs(m->area_texel[nt - 1]) + fabs(m->area_texel[nt - 2]);
+    CHECK_MSG(strip <= input / 16 * (1 + 1e-9), "the strip keeps %g of its input area", strip / input);
+    free(unfolded);
+    texopt_mesh_destroy(layout);
+    texopt_mesh_destroy(m);
+}
