@@ -293,7 +293,7 @@ static uint32_t find_root(uint32_t *parent, uint32_t x)
 
 /* part_of[t] for chart c's triangles: its edge-connected part, numbered from 0; returns how
  * many. A chart's parts meet only at vertices (a strip of triangles joined corner to
- * corner). edge_key (3 per triangle) and order are scratch. */
+ * corner). keys (6 per mesh triangle) is scratch. */
 static uint32_t chart_parts(const texopt_mesh *mesh, uint32_t c, uint32_t *part_of, uint64_t *keys)
 {
     size_t n = 0;
@@ -419,9 +419,12 @@ static int part_inside_laid(const texopt_mesh *mesh, uint32_t c, uint32_t at, co
         int is_new = triangle_of(mesh, t, placed, 1), is_laid = !is_new && triangle_of(mesh, t, placed, 0);
         if (!is_new && !is_laid)
             continue;
-        for (size_t v = 0; v < mesh->vertex_count; v++)
-            if ((is_laid ? (placed[v] & 4) != 0 : placed[v] == 1) && inside_triangle(mesh, t, x, x + 2 * v))
-                return 1;
+        for (size_t u = 0; u < mesh->triangle_count; u++) /* the chart's vertices, through its triangles */
+            for (int k = 0; k < 3 && mesh->chart_of[u] == c; k++) {
+                uint32_t v = mesh->triangle[3 * u + (size_t)k];
+                if ((is_laid ? (placed[v] & 4) != 0 : placed[v] == 1) && inside_triangle(mesh, t, x, x + 2 * (size_t)v))
+                    return 1;
+            }
         const uint32_t *w = mesh->triangle + 3 * t;
         if (w[0] != at && w[1] != at && w[2] != at)
             continue;
@@ -474,10 +477,9 @@ static void turn_part_clear(const texopt_mesh *mesh, uint32_t c, uint32_t at, co
 
 /* Lays chart c out anew into texel_out, part by part when its parts meet at vertices: each
  * part as a disk, placed like the input, then moved so that the vertex it shares with the
- * parts laid before it stays where they put it, turned about that vertex by the least angle
- * (in steps of PART_TURN) at which its boundary crosses none of theirs (a part meeting them
- * at more vertices than one closes a loop no rigid move keeps: no disk). *laid 0 when it is
- * no disk. */
+ * parts laid before it stays where they put it, turned (and shrunk) about that vertex until
+ * it clashes with none of them (turn_part_clear; a part meeting them at more vertices than
+ * one closes a loop no rigid move keeps: no disk). *laid 0 when it is no disk. */
 static texopt_status unfold_chart(const texopt_mesh *mesh, uint32_t c, local_chart *lc, double *texel_out, int *laid,
                                   int *by_tutte)
 {
@@ -536,10 +538,10 @@ static texopt_status unfold_chart(const texopt_mesh *mesh, uint32_t c, local_cha
                 texel_out[2 * v] += shift[0];
                 texel_out[2 * v + 1] += shift[1];
             }
-        if (shared != UINT32_MAX)
+        if (shared != UINT32_MAX) {
             memcpy(texel_out + 2 * (size_t)shared, keep, sizeof keep);
-        if (shared != UINT32_MAX)
             turn_part_clear(mesh, c, shared, lc->placed, edges, nb, next, done_part, texel_out);
+        }
         done_part[next] = 1;
         for (size_t v = 0; v < mesh->vertex_count; v++)
             if (lc->placed[v])
