@@ -51,6 +51,11 @@ texopt_status job_unfold_domain(texopt_job *job, int d, char *err, size_t err_le
     if (st == TEXOPT_OK && moved && !jd->layout) { /* welded otherwise: left as they were */
         rep->not_disks += rep->unfolded;
         rep->unfolded = rep->tutte = rep->followed = 0;
+        if (jd->share) { /* with every group as found, none released */
+            texopt_texel_share_destroy(jd->share);
+            jd->share = NULL;
+            st = texopt_texel_share_create(&jd->share, jd->mesh, err, err_len);
+        }
     }
     if (st == TEXOPT_OK && jd->layout && jd->share) {
         if (jd->paid)
