@@ -533,17 +533,23 @@ TEST(a_folded_chart_is_unfolded_so_the_scaffold_leaves_no_centre_twice)
     texopt_mesh_destroy(m);
 }
 
-TEST(a_chart_with_a_hole_and_a_fold_is_unfolded_by_tutte)
+/* One chart of 3 x 3 cells less the centre: a ring round a hole of one cell. */
+static texopt_mesh *ring_of_cells(void)
 {
-    /* 3 x 3 cells less the centre (a hole), its top right corner cell folded over its
-     * neighbours: both boundary loops are kept, the hole filled only for the layout. */
     cell cells[8];
     size_t n = 0;
     for (int j = 0; j < 3; j++)
         for (int i = 0; i < 3; i++)
             if (i != 1 || j != 1)
                 cells[n++] = (cell){i, j, 0};
-    texopt_mesh *m = cell_mesh(cells, n, 1, 3);
+    return cell_mesh(cells, n, 1, 3);
+}
+
+TEST(a_chart_with_a_hole_and_a_fold_is_unfolded_by_tutte)
+{
+    /* 3 x 3 cells less the centre (a hole), its top right corner cell folded over its
+     * neighbours: both boundary loops are kept, the hole filled only for the layout. */
+    texopt_mesh *m = ring_of_cells();
     for (size_t v = 0; v < m->vertex_count; v++)
         if (m->position[3 * v] == 3 && m->position[3 * v + 1] == 3)
             m->texel[2 * v] = m->texel[2 * v + 1] = 1.5 * CELL;
@@ -613,7 +619,6 @@ TEST(twins_of_a_sharing_group_are_unfolded_as_one_and_stay_off_themselves)
     texopt_texel_share *share = NULL;
     CHECK_OK(texopt_texel_share_create(&share, m, err, sizeof err), err);
     CHECK_EQ_INT(share->secondary_count, 1);
-    uint32_t primary = share->primary_of[0], secondary = 1 - primary;
     texopt_triangle_target *tg = malloc(m->triangle_count * sizeof *tg);
     for (size_t t = 0; t < m->triangle_count; t++)
         tg[t] = stretch_target(1.3, 1.0);
@@ -659,7 +664,6 @@ TEST(twins_of_a_sharing_group_are_unfolded_as_one_and_stay_off_themselves)
             if (m->position[3 * a] == m->position[3 * b] && m->position[3 * a + 1] == m->position[3 * b + 1] && a != b)
                 apart = fmax(apart, hypot(out[2 * a] - out[2 * b], out[2 * a + 1] - out[2 * b + 1]));
     CHECK_MSG(apart < 0.1, "twins %g texels apart", apart);
-    (void)secondary;
     free(out);
     free(start);
     free(tg);
@@ -759,13 +763,7 @@ TEST(a_secondary_over_itself_that_is_no_twin_leaves_its_group)
  * of the hole. */
 static texopt_mesh *ring_with_strip(void)
 {
-    cell cells[8];
-    size_t n = 0;
-    for (int j = 0; j < 3; j++)
-        for (int i = 0; i < 3; i++)
-            if (i != 1 || j != 1)
-                cells[n++] = (cell){i, j, 0};
-    texopt_mesh *ring = cell_mesh(cells, n, 1, 3);
+    texopt_mesh *ring = ring_of_cells();
     size_t nv = ring->vertex_count, nt = ring->triangle_count;
     texopt_mesh *m = handmesh_alloc(nv + 3, nt + 2);
     memcpy(m->texel, ring->texel, 2 * nv * sizeof *m->texel);
