@@ -255,7 +255,11 @@ static int clean_mirror(const texopt_mesh *mesh, const double *x, const uint32_t
 
 /* A clean mirror scaffolded as two components, one per orientation: the halves lie on one
  * another by design (the budget pays their texels once), and each half's own box keeps it
- * off itself. 1 when both are scaffolded, 0 when one is not, -1 out of memory. */
+ * off itself. Triangles without area belong to neither half: those joining the halves at
+ * their mirror line have two corners on one point (one vertex of each half, which stage 2
+ * solves as one unknown, meshwise.h), so they keep no area and, in a half's box, would put
+ * two boundary vertices on one point, which no triangulation tiles. 1 when both are
+ * scaffolded, 0 when one is not, -1 out of memory. */
 static int scaffold_halves(scaffold_build *sb, const texopt_mesh *mesh, const double *x, const uint32_t *tris, size_t n,
                            int8_t *sign)
 {
@@ -266,9 +270,9 @@ static int scaffold_halves(scaffold_build *sb, const texopt_mesh *mesh, const do
     for (size_t k = 0; k < n; k++) {
         const uint32_t *v = mesh->triangle + 3 * (size_t)tris[k];
         double a = signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]);
-        if (a >= 0.0)
+        if (a > 0.0)
             half[positive++] = tris[k];
-        else
+        else if (a < 0.0)
             half[--negative] = tris[k];
     }
     int first = scaffold_component(sb, mesh, x, half, positive, NULL, sign);
