@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <time.h>
 
+#include "atlas_quality.h"
 #include "coverage.h"
 #include "distortion.h"
 #include "gltf_io.h"
@@ -18,9 +19,9 @@ void texopt_file_cost_of_model(const texopt_model *model, texopt_file_cost *out)
     }
 }
 
-/* Domain d of the file measured as info.c does: its mesh, coverage.h on its own layout, and
- * for a domain whose distortion the job reported, that layout's distortion (the file may
- * hold the input's layout resized, and its UVs are floats). */
+/* Domain d of the file measured as info.c does: its mesh, coverage.h and atlas_quality.h on
+ * its own layout, and for a domain whose distortion the job reported, that layout's
+ * distortion (the file may hold the input's layout resized, and its UVs are floats). */
 static texopt_status record_domain(const texopt_model *model, int d, texopt_domain_stats *ds, char *err, size_t err_len)
 {
     texopt_mesh *mesh = NULL;
@@ -33,6 +34,8 @@ static texopt_status record_domain(const texopt_model *model, int d, texopt_doma
         ds->distortion_out = out;
         ds->distortion_output = out.symmetric_dirichlet;
     }
+    if (st == TEXOPT_OK)
+        ds->has_atlas_quality = texopt_atlas_quality_measure(mesh, NULL, &ds->atlas_quality, NULL, 0) == TEXOPT_OK;
     texopt_mesh_destroy(mesh);
     if (st != TEXOPT_OK)
         return st;

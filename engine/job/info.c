@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "atlas_quality.h"
 #include "coverage.h"
 #include "distortion.h"
 #include "file_cost.h"
@@ -205,6 +206,19 @@ static void add_frame_and_wrap(cJSON *o, const texopt_domain *dom)
     cJSON_AddStringToObject(wrap, "t", texopt_wrap_name(dom->wrap_t));
 }
 
+/* The layout by Liu et al. 2019's measures (atlas_quality.h); null when it has no extent. */
+static void add_atlas_quality(cJSON *o, const texopt_mesh *mesh)
+{
+    texopt_atlas_quality q;
+    cJSON *qj = NULL;
+    if (texopt_atlas_quality_measure(mesh, NULL, &q, NULL, 0) == TEXOPT_OK)
+        qj = texopt_atlas_quality_json(&q);
+    if (qj)
+        cJSON_AddItemToObject(o, "atlas_quality", qj);
+    else
+        cJSON_AddNullToObject(o, "atlas_quality");
+}
+
 /* The input layout's distortion (distortion.h); null when no triangle can be measured. */
 static void add_distortion(cJSON *o, const texopt_mesh *mesh)
 {
@@ -279,6 +293,7 @@ static texopt_status domain_json(const texopt_model *model, int d, cJSON **out, 
     cJSON_AddNumberToObject(o, "overlapping", (double)fc.overlapping);
     cJSON_AddNumberToObject(o, "wrapped", (double)fc.wrapped);
     add_distortion(o, mesh);
+    add_atlas_quality(o, mesh);
     texopt_layout_check check;
     st = texopt_layout_check_own(mesh, &check, err, err_len);
     if (st == TEXOPT_OK)

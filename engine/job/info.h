@@ -28,6 +28,7 @@
  *        "covered_texels", "overlap_texels", "packing_efficiency", "texel_area", "area_3d",
  *        "degenerate", "degenerate_3d", "degenerate_uv", "flipped", "overlapping", "wrapped",
  *        "distortion" (texopt_distortion_json of distortion.h; null when no triangle counts),
+ *        "atlas_quality" (texopt_atlas_quality_json of atlas_quality.h; null without extent),
  *        "layout_check": { "passed", "failed", "triangles", "overlapping_triangles",
  *                          "overlapping_within_chart_triangles",
  *                          "overlap_within_chart_texels", "foldover_triangles",

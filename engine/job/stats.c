@@ -193,6 +193,8 @@ static cJSON *domain_json(const texopt_domain_stats *d)
     cJSON_AddNumberToObject(o, "relative_cost", d->relative_cost);
     cJSON_AddNumberToObject(o, "packing_efficiency_input", d->packing_efficiency_input);
     cJSON_AddNumberToObject(o, "packing_efficiency", d->packing_efficiency);
+    if (d->has_atlas_quality)
+        cJSON_AddItemToObject(o, "atlas_quality", texopt_atlas_quality_json(&d->atlas_quality));
     if (d->has_layout_check)
         cJSON_AddItemToObject(o, "layout_check", texopt_layout_check_json(&d->layout_check));
     cJSON_AddBoolToObject(o, "repacked", d->repacked);

@@ -16,6 +16,7 @@
 
 #include <stddef.h>
 
+#include "atlas_quality.h"
 #include "atlas_refine.h"
 #include "chart_unfold.h"
 #include "distortion.h"
@@ -59,6 +60,8 @@ typedef struct texopt_domain_stats {
     double relative_cost;            /* cost_output / cost_input */
     double packing_efficiency_input; /* covered texels / frame texels */
     double packing_efficiency;
+    int has_atlas_quality;                               /* the written file's layout ... */
+    texopt_atlas_quality atlas_quality;                  /* ... by Liu et al. 2019's measures (atlas_quality.h) */
     int repacked;                                        /* 1 when charts were packed anew */
     char input_layout_kept[320];                         /* a layout method's domain that kept its input layout:
                                         why ("" when it was laid out anew) */

@@ -54,6 +54,24 @@ static inline int distortion_matches(const cJSON *a, const cJSON *b, const char 
     return 0;
 }
 
+/* 0 when the statistics' atlas_quality (domain a) is info's on the file (domain b), else -1
+ * with the difference in why. */
+static inline int atlas_quality_matches(const cJSON *a, const cJSON *b, const char *method, int d, char *why,
+                                        size_t why_len)
+{
+    const cJSON *sq = cJSON_GetObjectItem(a, "atlas_quality"), *fq = cJSON_GetObjectItem(b, "atlas_quality");
+    static const char *const keys[] = {"packing_efficiency", "boundary_length", "charts"};
+    for (int k = 0; k < 3; k++) {
+        double x = number_at(sq, keys[k]), y = number_at(fq, keys[k]);
+        if (!(fabs(x - y) <= 1e-12 * fabs(y))) { /* NaN when either is missing; JSON keeps 15 digits */
+            snprintf(why, why_len, "%s domain %d: statistics' atlas_quality %s %.17g, the file's %.17g", method, d,
+                     keys[k], x, y);
+            return -1;
+        }
+    }
+    return 0;
+}
+
 /* Optimises `in` with method at c_r and compares the statistics with info on the output and
  * the input. Returns 0 when they agree, else -1 with the first difference in why. */
 static inline int stats_match_file(const char *in, const char *method, double relative_cost, char *why, size_t why_len)
@@ -98,6 +116,8 @@ static inline int stats_match_file(const char *in, const char *method, double re
             }
             if (r == 0)
                 r = distortion_matches(a, b, method, d, why, why_len);
+            if (r == 0)
+                r = atlas_quality_matches(a, b, method, d, why, why_len);
         }
     }
     cJSON_Delete(stats);
