@@ -6,18 +6,6 @@
 
 #include "chart_unfold.h"
 
-/* Per chart, 1 when it belongs to a sharing group (a primary with secondaries, or one of
- * them); NULL on no memory. */
-static uint8_t *shared_charts(const job_domain *jd)
-{
-    size_t nc = jd->mesh->chart_count;
-    uint8_t *keep = calloc(nc ? nc : 1, 1);
-    for (size_t c = 0; keep && jd->share && c < nc; c++)
-        if (jd->share->primary_of[c] != c)
-            keep[c] = keep[jd->share->primary_of[c]] = 1;
-    return keep;
-}
-
 /* Whether layout has mesh's vertices, triangles and charts (the welding of its UVs found the
  * same ones). */
 static int same_structure(const texopt_mesh *mesh, const texopt_mesh *layout)
@@ -52,24 +40,28 @@ texopt_status job_unfold_domain(texopt_job *job, int d, char *err, size_t err_le
 {
     job_domain *jd = &job->domains[d];
     texopt_unfold_report *rep = &job->stats.domains[d].unfold;
-    uint8_t *keep = shared_charts(jd);
     double *texel = malloc(2 * (jd->mesh->vertex_count ? jd->mesh->vertex_count : 1) * sizeof *texel);
     texopt_status st =
-        keep && texel ? TEXOPT_OK : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory to unfold domain %d", d);
+        texel ? TEXOPT_OK : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "no memory to unfold domain %d", d);
     if (st == TEXOPT_OK)
-        st = texopt_unfold_charts(jd->mesh, keep, texel, NULL, rep, err, err_len);
-    if (st == TEXOPT_OK && rep->unfolded > 0)
+        st = texopt_unfold_groups(jd->mesh, jd->share, texel, rep, err, err_len);
+    int moved = rep->unfolded > 0 || rep->followed > 0;
+    if (st == TEXOPT_OK && moved)
         st = layout_mesh(job, d, texel, err, err_len);
-    if (st == TEXOPT_OK && rep->unfolded > 0 && !jd->layout) { /* welded otherwise: left as they were */
+    if (st == TEXOPT_OK && moved && !jd->layout) { /* welded otherwise: left as they were */
         rep->not_disks += rep->unfolded;
-        rep->unfolded = rep->tutte = 0;
+        rep->unfolded = rep->tutte = rep->followed = 0;
+        if (jd->share) { /* with every group as found, none released */
+            texopt_texel_share_destroy(jd->share);
+            jd->share = NULL;
+            st = texopt_texel_share_create(&jd->share, jd->mesh, err, err_len);
+        }
     }
     if (st == TEXOPT_OK && jd->layout && jd->share) {
         if (jd->paid)
             texopt_texel_share_paid(jd->share, jd->layout, jd->paid);
         texopt_texel_share_rebase(jd->share, jd->layout);
     }
-    free(keep);
     free(texel);
     return st;
 }

@@ -97,6 +97,7 @@ static void add_stage_stats(cJSON *dom, const texopt_domain_stats *d)
             cJSON_AddNumberToObject(sc, "unfolded_charts", (double)d->unfold.unfolded);
             cJSON_AddNumberToObject(sc, "unfolded_by_tutte", (double)d->unfold.tutte);
             cJSON_AddNumberToObject(sc, "kept_shared_charts", (double)d->unfold.kept);
+            cJSON_AddNumberToObject(sc, "shared_charts_on_primary", (double)d->unfold.followed);
             cJSON_AddNumberToObject(sc, "kept_mirrored_charts", (double)d->unfold.mirrored);
             cJSON_AddNumberToObject(sc, "kept_charts_not_disks", (double)d->unfold.not_disks);
         }

@@ -9,6 +9,7 @@
 #include "axis_angles.h"
 #include "axis_deform.h"
 #include "param_chart.h"
+#include "vec2.h"
 
 static double now_seconds(void)
 {
@@ -42,11 +43,6 @@ typedef struct chart_problem {
     double area;
 } chart_problem;
 
-static double signed_area(const double *a, const double *b, const double *c)
-{
-    return 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
-}
-
 /* Fills p with the chart's triangles tris[0..nt); local (per mesh vertex, UINT32_MAX) is
  * the scratch numbering, left as it was found. Returns 0 when the chart has a triangle
  * without area or against its orientation. */
@@ -57,7 +53,7 @@ static int chart_build(const texopt_mesh *mesh, const double *texel, const uint3
     int ok = 1;
     for (size_t i = 0; i < nt; i++) {
         const uint32_t *v = mesh->triangle + 3 * (size_t)tris[i];
-        sum += signed_area(texel + 2 * (size_t)v[0], texel + 2 * (size_t)v[1], texel + 2 * (size_t)v[2]);
+        sum += texopt_signed_area(texel + 2 * (size_t)v[0], texel + 2 * (size_t)v[1], texel + 2 * (size_t)v[2]);
     }
     p->mirror = sum < 0 ? -1.0 : 1.0;
     p->area = fabs(sum);
@@ -66,7 +62,7 @@ static int chart_build(const texopt_mesh *mesh, const double *texel, const uint3
     for (size_t i = 0; i < nt; i++) {
         const uint32_t *v = mesh->triangle + 3 * (size_t)tris[i];
         const double *a = texel + 2 * (size_t)v[0], *b = texel + 2 * (size_t)v[1], *c = texel + 2 * (size_t)v[2];
-        if (texopt_texel_triangle_degenerate(a, b, c) || !(p->mirror * signed_area(a, b, c) > 0))
+        if (texopt_texel_triangle_degenerate(a, b, c) || !(p->mirror * texopt_signed_area(a, b, c) > 0))
             ok = 0;
         for (int k = 0; k < 3; k++) {
             if (local[v[k]] == UINT32_MAX) {

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "rect_decompose.h"
+#include "vec2.h"
 
 #define PATH_OFF_TRAIL 4.0 /* per mean edge length of distance from the trail */
 #define PATH_END_MISS 4.0  /* per unit of distance from the trail's stop point */
@@ -450,7 +451,7 @@ texopt_status texopt_chart_cut_compute(size_t vertex_count, const double *xy, si
         for (size_t t = 0; t < triangle_count; t++) {
             const double *a = xy + 2 * (size_t)triangle[3 * t], *b = xy + 2 * (size_t)triangle[3 * t + 1],
                          *c = xy + 2 * (size_t)triangle[3 * t + 2];
-            area += 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+            area += texopt_signed_area(a, b, c);
         }
         out->corner_count = m;
         out->polygon_area_ratio = area > 0 ? polygon_area(poly, m) / area : 0;

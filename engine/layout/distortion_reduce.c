@@ -11,6 +11,7 @@
 #include "meshwise.h"
 #include "scaffold.h"
 #include "target.h"
+#include "vec2.h"
 
 #define HALF_PI 1.57079632679489661923
 #define DEFAULT_ROUNDS 30
@@ -22,11 +23,6 @@ static double now_seconds(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static double signed_area(const double *a, const double *b, const double *c)
-{
-    return 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
 }
 
 /* J (row-major 2x2) of the affine map taking triangle v of layout `from` to layout `to`;
@@ -58,8 +54,8 @@ double texopt_distortion_relative(const texopt_mesh *mesh, const double *referen
         double f = J[0] * J[0] + J[1] * J[1] + J[2] * J[2] + J[3] * J[3], g = J[0] * J[3] - J[1] * J[2];
         if (!(g > 0.0))
             return INFINITY;
-        double a =
-            fabs(signed_area(reference + 2 * (size_t)v[0], reference + 2 * (size_t)v[1], reference + 2 * (size_t)v[2]));
+        double a = fabs(texopt_signed_area(reference + 2 * (size_t)v[0], reference + 2 * (size_t)v[1],
+                                           reference + 2 * (size_t)v[2]));
         sum += a * 0.25 * f; /* the part that grows with the scale ... */
         area_x += a * g;
         area += a;
@@ -73,8 +69,8 @@ double texopt_distortion_relative(const texopt_mesh *mesh, const double *referen
         if (!triangle_jacobian(v, reference, x, J))
             continue;
         double f = J[0] * J[0] + J[1] * J[1] + J[2] * J[2] + J[3] * J[3], g = J[0] * J[3] - J[1] * J[2];
-        double a =
-            fabs(signed_area(reference + 2 * (size_t)v[0], reference + 2 * (size_t)v[1], reference + 2 * (size_t)v[2]));
+        double a = fabs(texopt_signed_area(reference + 2 * (size_t)v[0], reference + 2 * (size_t)v[1],
+                                           reference + 2 * (size_t)v[2]));
         shrinking += a * 0.25 * f / (g * g);
     }
     return (sum / k2 + shrinking * k2) / area;
@@ -112,7 +108,7 @@ static double efficiency(const texopt_mesh *mesh, const double *x, const uint8_t
         const uint32_t *v = mesh->triangle + 3 * t;
         if (unboxed[mesh->chart_of[t]])
             continue;
-        area += fabs(signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]));
+        area += fabs(texopt_signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]));
         for (int k = 0; k < 3; k++)
             for (int a = 0; a < 2; a++) {
                 lo[a] = fmin(lo[a], x[2 * (size_t)v[k] + a]);
@@ -132,10 +128,10 @@ static double initial_scale(const texopt_mesh *mesh, const double *reference, co
         return 1.0;
     for (size_t t = 0; t < mesh->triangle_count; t++) {
         const uint32_t *v = mesh->triangle + 3 * t;
-        area[2 * mesh->chart_of[t]] +=
-            fabs(signed_area(reference + 2 * (size_t)v[0], reference + 2 * (size_t)v[1], reference + 2 * (size_t)v[2]));
+        area[2 * mesh->chart_of[t]] += fabs(texopt_signed_area(
+            reference + 2 * (size_t)v[0], reference + 2 * (size_t)v[1], reference + 2 * (size_t)v[2]));
         area[2 * mesh->chart_of[t] + 1] +=
-            fabs(signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]));
+            fabs(texopt_signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]));
     }
     for (size_t c = 0; c < mesh->chart_count; c++)
         if (!unboxed[c] && area[2 * c] > 0.0 && area[2 * c + 1] > 0.0)
@@ -172,7 +168,7 @@ static texopt_status find_unboxed(const texopt_mesh *mesh, const double *x, uint
                             : texopt_fail(err, err_len, TEXOPT_E_NOMEM, "distortion reduction: no memory");
     for (size_t t = 0; st == TEXOPT_OK && t < mesh->triangle_count; t++) {
         const uint32_t *v = mesh->triangle + 3 * t;
-        double a = signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]);
+        double a = texopt_signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]);
         int8_t s = a > 0.0 ? 1 : a < 0.0 ? -1 : 0, *cs = &sign[mesh->chart_of[t]];
         if (s != 0 && *cs != 0 && s != *cs)
             unboxed[mesh->chart_of[t]] = 1;

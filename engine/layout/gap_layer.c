@@ -7,13 +7,9 @@
 #include <string.h>
 
 #include "chart_gap.h"
+#include "vec2.h"
 
 #define NONE UINT32_MAX
-
-static double signed_area(const double *a, const double *b, const double *c)
-{
-    return 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
-}
 
 /* Unit outward normal of boundary edge e in layout x (its triangle's orientation there says
  * which side is out) and its length; 0 when the edge or its triangle has no size. */
@@ -21,7 +17,7 @@ static int outward_normal(const texopt_mesh *mesh, const double *x, const texopt
                           double *len)
 {
     const uint32_t *v = mesh->triangle + 3 * (size_t)e->triangle;
-    double s = signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]);
+    double s = texopt_signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]);
     const double *a = x + 2 * (size_t)e->from, *b = x + 2 * (size_t)e->to;
     double dx = b[0] - a[0], dy = b[1] - a[1];
     *len = hypot(dx, dy);
@@ -150,8 +146,8 @@ static texopt_status build(const texopt_mesh *mesh, const double *reference, con
             for (int k = 0; k < 2; k++, t++) {
                 memcpy(m->triangle + 3 * t, quad + 3 * k, 3 * sizeof *quad);
                 const uint32_t *v = m->triangle + 3 * t;
-                m->area_texel[t] =
-                    signed_area(m->texel + 2 * (size_t)v[0], m->texel + 2 * (size_t)v[1], m->texel + 2 * (size_t)v[2]);
+                m->area_texel[t] = texopt_signed_area(m->texel + 2 * (size_t)v[0], m->texel + 2 * (size_t)v[1],
+                                                      m->texel + 2 * (size_t)v[2]);
                 m->chart_of[t] = c;
             }
         }
@@ -182,7 +178,7 @@ static size_t mark_turned_layers(const texopt_mesh *mesh, const texopt_gap_layer
         for (int f = 0; f < 3; f++) {
             const double *a = frames[f] + 2 * (size_t)v[0], *b = frames[f] + 2 * (size_t)v[1],
                          *c = frames[f] + 2 * (size_t)v[2];
-            sign[f] = signed_area(a, b, c) > 0.0 ? 1 : -1;
+            sign[f] = texopt_signed_area(a, b, c) > 0.0 ? 1 : -1;
             turned |= texopt_texel_triangle_degenerate(a, b, c) || sign[f] != sign[0];
         }
         uint32_t c = g->mesh.chart_of[t];

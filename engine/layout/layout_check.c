@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "texel_share.h"
+#include "vec2.h"
 
 const char *texopt_layout_failure_name(texopt_layout_failure failure)
 {
@@ -23,7 +24,7 @@ static double texel_area(const texopt_mesh *mesh, const double *texel, size_t t)
     const double *a = texel + 2 * (size_t)v[0], *b = texel + 2 * (size_t)v[1], *c = texel + 2 * (size_t)v[2];
     if (texopt_texel_triangle_degenerate(a, b, c))
         return 0.0;
-    return 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    return texopt_signed_area(a, b, c);
 }
 
 /* Counts one offending triangle of check `kind`, listing it when that check is the one that

@@ -18,6 +18,7 @@
 
 #include "sort_keys.h"
 #include "triangulate.h"
+#include "vec2.h"
 
 #define DEFAULT_WEIGHT 0.01
 #define DEFAULT_REMESH 10
@@ -35,11 +36,6 @@ typedef struct scaffold_build {
     uint8_t *skipped_chart; /* per chart when not NULL (a box per chart): 1 when skipped */
 } scaffold_build;
 
-static double signed_area(const double *a, const double *b, const double *c)
-{
-    return 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
-}
-
 static int compare_u32(const void *pa, const void *pb)
 {
     uint32_t a = *(const uint32_t *)pa, b = *(const uint32_t *)pb;
@@ -53,7 +49,7 @@ static int one_orientation_per_chart(const texopt_mesh *mesh, const double *x, c
     int ok = 1;
     for (size_t k = 0; k < n; k++) {
         const uint32_t *v = mesh->triangle + 3 * (size_t)tris[k];
-        double a = signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]);
+        double a = texopt_signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]);
         int8_t s = a > 0.0 ? 1 : a < 0.0 ? -1 : 0;
         int8_t *cs = &sign[mesh->chart_of[tris[k]]];
         if (s != 0 && *cs != 0 && s != *cs)
@@ -147,7 +143,7 @@ static int append_scaffold(scaffold_build *sb, const texopt_triangulation *tr, c
     for (size_t t = 0; t < tr->triangle_count; t++)
         if (tr->depth[t] % 2 == 1) {
             const uint32_t *v = tr->triangle + 3 * t;
-            area += signed_area(pts + 2 * (size_t)v[0], pts + 2 * (size_t)v[1], pts + 2 * (size_t)v[2]);
+            area += texopt_signed_area(pts + 2 * (size_t)v[0], pts + 2 * (size_t)v[1], pts + 2 * (size_t)v[2]);
             count++;
         }
     if (!(fabs(area - box_area) <= TILING_TOLERANCE * box_area))
@@ -216,7 +212,7 @@ static int scaffold_component(scaffold_build *sb, const texopt_mesh *mesh, const
     double chart_area = 0.0;
     for (size_t k = 0; k < n; k++) {
         const uint32_t *v = mesh->triangle + 3 * (size_t)tris[k];
-        chart_area += fabs(signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]));
+        chart_area += fabs(texopt_signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]));
     }
     const double *c = pts + 2 * nb;
     double box_area = (c[2] - c[0]) * (c[5] - c[3]);
@@ -246,7 +242,7 @@ static int clean_mirror(const texopt_mesh *mesh, const double *x, const uint32_t
         if (mesh->flags[tris[k]] & TEXOPT_TRI_FLIPPED)
             return 0;
         const uint32_t *v = mesh->triangle + 3 * (size_t)tris[k];
-        double a = signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]);
+        double a = texopt_signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]);
         positive |= a > 0.0;
         negative |= a < 0.0;
     }
@@ -255,7 +251,11 @@ static int clean_mirror(const texopt_mesh *mesh, const double *x, const uint32_t
 
 /* A clean mirror scaffolded as two components, one per orientation: the halves lie on one
  * another by design (the budget pays their texels once), and each half's own box keeps it
- * off itself. 1 when both are scaffolded, 0 when one is not, -1 out of memory. */
+ * off itself. Triangles without area belong to neither half: those joining the halves at
+ * their mirror line have two corners on one point (one vertex of each half, which stage 2
+ * solves as one unknown, meshwise.h), so they keep no area and, in a half's box, would put
+ * two boundary vertices on one point, which no triangulation tiles. 1 when both are
+ * scaffolded, 0 when one is not, -1 out of memory. */
 static int scaffold_halves(scaffold_build *sb, const texopt_mesh *mesh, const double *x, const uint32_t *tris, size_t n,
                            int8_t *sign)
 {
@@ -265,10 +265,10 @@ static int scaffold_halves(scaffold_build *sb, const texopt_mesh *mesh, const do
     size_t positive = 0, negative = n;
     for (size_t k = 0; k < n; k++) {
         const uint32_t *v = mesh->triangle + 3 * (size_t)tris[k];
-        double a = signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]);
-        if (a >= 0.0)
+        double a = texopt_signed_area(x + 2 * (size_t)v[0], x + 2 * (size_t)v[1], x + 2 * (size_t)v[2]);
+        if (a > 0.0)
             half[positive++] = tris[k];
-        else
+        else if (a < 0.0)
             half[--negative] = tris[k];
     }
     int first = scaffold_component(sb, mesh, x, half, positive, NULL, sign);
@@ -452,7 +452,7 @@ static void cover_triangle(const texopt_mesh *mesh, const double *texel, size_t 
 {
     const uint32_t *v = mesh->triangle + 3 * t;
     const double *a = texel + 2 * (size_t)v[0], *b = texel + 2 * (size_t)v[1], *c = texel + 2 * (size_t)v[2];
-    double s = signed_area(a, b, c);
+    double s = texopt_signed_area(a, b, c);
     if (!(fabs(s) > 0.0))
         return;
     double x0 = fmin(a[0], fmin(b[0], c[0])) - lo[0], x1 = fmax(a[0], fmax(b[0], c[0])) - lo[0];
@@ -463,7 +463,7 @@ static void cover_triangle(const texopt_mesh *mesh, const double *texel, size_t 
     for (size_t j = j0; j <= j1; j++)
         for (size_t i = i0; i <= i1; i++) {
             double p[2] = {lo[0] + (double)i + 0.5, lo[1] + (double)j + 0.5};
-            double e0 = signed_area(a, b, p), e1 = signed_area(b, c, p), e2 = signed_area(c, a, p);
+            double e0 = texopt_signed_area(a, b, p), e1 = texopt_signed_area(b, c, p), e2 = texopt_signed_area(c, a, p);
             int inside = s > 0.0 ? (e0 > 0.0 && e1 > 0.0 && e2 > 0.0) : (e0 < 0.0 && e1 < 0.0 && e2 < 0.0);
             if (!inside)
                 continue;

@@ -22,8 +22,9 @@
  * on one another. A chart that otherwise overlaps itself at the start (a fold, a boundary
  * through a vertex) cannot be made bijective by a scaffold: it is solved without one and
  * counted in charts_skipped. The job gives such charts a bijective start first under
- * `bijective` (chart_unfold.h: laid out anew as disks, their targets restated), so only
- * those it leaves alone stay skipped: a sharing group's, no disks. With one_box, charts
+ * `bijective` (chart_unfold.h: laid out anew as disks, a sharing group as one, their
+ * targets restated), so only those it leaves alone stay skipped: sharing groups that would
+ * still overlap, no disks. With one_box, charts
  * overlapping one another at the start skip the whole box.
  * Does not: change stage 2's energy on the charts, pack, or repair an overlapping start. */
 #ifndef TEXOPT_SCAFFOLD_H

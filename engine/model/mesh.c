@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "vec2.h"
 #include "vec3.h"
 
 /* Relative degeneracy threshold: doubled area <= this * (longest edge)^2. Floats carry
@@ -369,7 +370,7 @@ static void measure_triangle(texopt_mesh *mesh, size_t t)
     const double *a = mesh->texel + 2 * (size_t)v[0];
     const double *b = mesh->texel + 2 * (size_t)v[1];
     const double *c = mesh->texel + 2 * (size_t)v[2];
-    mesh->area_texel[t] = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    mesh->area_texel[t] = texopt_signed_area(a, b, c);
     if (texopt_texel_triangle_degenerate(a, b, c))
         flags |= TEXOPT_TRI_DEGENERATE_UV;
 

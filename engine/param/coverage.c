@@ -13,6 +13,7 @@
  *
  * Does not: rasterise attributes, pick a texture size, or pack (see the packer). */
 #include "coverage.h"
+#include "vec2.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -205,11 +206,6 @@ static int covers_nothing(const texopt_mesh *mesh, const double *texel, size_t t
     return texopt_texel_triangle_degenerate(p[0], p[1], p[2]);
 }
 
-static double signed_area(const double *p[3])
-{
-    return 0.5 * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]));
-}
-
 texopt_status texopt_coverage_measure(const texopt_mesh *mesh, const texopt_coverage_options *opt, texopt_coverage *out,
                                       char *err, size_t err_len)
 {
@@ -236,7 +232,7 @@ texopt_status texopt_coverage_measure(const texopt_mesh *mesh, const texopt_cove
         texopt_status st = check_triangle(p, m.width, m.height, t, err, err_len);
         if (st != TEXOPT_OK)
             return st;
-        total_area += fabs(signed_area(p));
+        total_area += fabs(texopt_signed_area(p[0], p[1], p[2]));
     }
     if (total_area > MAX_TOTAL_AREA)
         return texopt_fail(err, err_len, TEXOPT_E_LIMIT,
@@ -263,7 +259,7 @@ texopt_status texopt_coverage_measure(const texopt_mesh *mesh, const texopt_cove
             continue;
         const double *p[3];
         triangle_points(mesh, texel, t, p);
-        res.texel_area += fabs(signed_area(p));
+        res.texel_area += fabs(texopt_signed_area(p[0], p[1], p[2]));
         fill_triangle(&m, p, SPAN_MARK);
     }
     if (m.clamped)

@@ -6,6 +6,7 @@
 
 #include "distortion.h"
 #include "sort_keys.h"
+#include "vec2.h"
 #include "vec3.h"
 
 static const double *point(const texopt_param_chart *chart, uint32_t v)
@@ -238,7 +239,7 @@ int texopt_param_stretch(const texopt_param_chart *chart, const double *uv, doub
         texopt_plane_edges(point(chart, v[0]), point(chart, v[1]), point(chart, v[2]), P);
         area_3d += 0.5 * P[0][0] * P[1][1];
         const double *a = uv + 2 * (size_t)v[0], *b = uv + 2 * (size_t)v[1], *c = uv + 2 * (size_t)v[2];
-        area_uv += 0.5 * fabs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+        area_uv += fabs(texopt_signed_area(a, b, c));
     }
     if (!(area_uv > 0.0) || !(area_3d > 0.0))
         return -1;

@@ -280,8 +280,23 @@ static double closest_point(const texopt_mesh *m, uint32_t t, const double p[2],
     return best;
 }
 
+/* Whether p is a corner of triangle t, with w its weights then. */
+static int on_corner(const texopt_mesh *m, uint32_t t, const double p[2], double w[3])
+{
+    for (int j = 0; j < 3; j++)
+        if (corner(m, t, j)[0] == p[0] && corner(m, t, j)[1] == p[1]) {
+            w[0] = w[1] = w[2] = 0.0;
+            w[j] = 1.0;
+            return 1;
+        }
+    return 0;
+}
+
 /* The tie of vertex v to the nearest triangle of chart `primary` within the tolerance;
- * 0 when there is none. */
+ * 0 when there is none. A vertex on a corner of the primary is tied to that corner before
+ * any triangle it lies in: where the primary overlaps itself, a mirrored or repeated twin's
+ * vertex lies in triangles of both layers, and its twin corner is the one that follows it
+ * when the primary is laid out anew (chart_unfold.h texopt_unfold_groups). */
 static int locate(const texopt_mesh *m, const texopt_tri_bins *b, uint32_t primary, uint32_t v, texopt_texel_tie *tie)
 {
     const double *p = m->texel + 2 * (size_t)v;
@@ -294,7 +309,10 @@ static int locate(const texopt_mesh *m, const texopt_tri_bins *b, uint32_t prima
             for (uint32_t k = b->start[j * b->nx + i]; k < b->start[j * b->nx + i + 1]; k++) {
                 uint32_t t = b->tri[k];
                 double w[3], d;
-                if (m->chart_of[t] != primary || !((d = closest_point(m, t, p, w)) < best))
+                if (m->chart_of[t] != primary)
+                    continue;
+                d = on_corner(m, t, p, w) ? -1.0 : closest_point(m, t, p, w);
+                if (!(d < best))
                     continue;
                 best = d;
                 for (int c = 0; c < 3; c++) {
@@ -447,6 +465,33 @@ void texopt_texel_share_destroy(texopt_texel_share *share)
     free(share->view.chart_sign);
     free(share->grouped);
     free(share);
+}
+
+texopt_status texopt_texel_share_release(texopt_texel_share *share, const texopt_mesh *mesh, uint32_t chart, char *err,
+                                         size_t err_len)
+{
+    if (!share || !mesh || share->chart_count != mesh->chart_count || chart >= mesh->chart_count ||
+        share->primary_of[chart] == chart)
+        return texopt_fail(err, err_len, TEXOPT_E_INVALID_ARGUMENT, "texel share: chart %u is no secondary", chart);
+    uint8_t *in_chart = calloc(mesh->vertex_count ? mesh->vertex_count : 1, 1);
+    if (!in_chart)
+        return texopt_fail(err, err_len, TEXOPT_E_NOMEM, "texel share: no memory to release chart %u", chart);
+    for (size_t t = 0; t < mesh->triangle_count; t++)
+        if (mesh->chart_of[t] == chart)
+            for (int j = 0; j < 3; j++)
+                in_chart[mesh->triangle[3 * t + j]] = 1;
+    size_t kept = 0;
+    for (size_t k = 0; k < share->tie_count; k++)
+        if (!in_chart[share->ties[k].vertex])
+            share->ties[kept++] = share->ties[k];
+    share->tie_count = kept;
+    free(in_chart);
+    share->primary_of[chart] = chart;
+    share->secondary_count--;
+    free(share->view.chart_of);
+    free(share->view.chart_sign);
+    free(share->grouped);
+    return build_view(mesh, share, err, err_len);
 }
 
 void texopt_texel_share_rebase(texopt_texel_share *share, const texopt_mesh *layout)

@@ -69,6 +69,13 @@ texopt_status texopt_texel_share_create(texopt_texel_share **out, const texopt_m
 
 void texopt_texel_share_destroy(texopt_texel_share *share);
 
+/* Takes chart `chart`, a secondary, out of its group (a chart that overlaps itself where its
+ * primary does not cannot lie on the primary without overlap, chart_unfold.h): it becomes a
+ * primary of its own, its ties are dropped and the view is rebuilt on `mesh`, the mesh
+ * `share` was made from. */
+texopt_status texopt_texel_share_release(texopt_texel_share *share, const texopt_mesh *mesh, uint32_t chart, char *err,
+                                         size_t err_len);
+
 /* Re-bases the view on `layout`: a mesh of the same vertices, triangles and charts as the
  * one `share` was made from, in another layout (chart_unfold.h), which must outlive it. */
 void texopt_texel_share_rebase(texopt_texel_share *share, const texopt_mesh *layout);

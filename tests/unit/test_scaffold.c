@@ -14,6 +14,7 @@
 #include "scaffold.h"
 #include "target_restate.h"
 #include "test.h"
+#include "texel_share.h"
 
 #define CELL 4.0
 
@@ -388,6 +389,70 @@ TEST(each_half_of_a_mirror_is_kept_off_itself)
     texopt_mesh_destroy(m);
 }
 
+/* The vertex of m at lattice point (i, j). */
+static uint32_t lattice_vertex(const texopt_mesh *m, double i, double j)
+{
+    for (size_t v = 0; v < m->vertex_count; v++)
+        if (m->position[3 * v] == i && m->position[3 * v + 1] == j)
+            return (uint32_t)v;
+    return UINT32_MAX;
+}
+
+/* mirrored_u with its halves also joined, as DamagedHelmet's clean mirrors are, by a quad
+ * collapsed in the layout: two triangles between the left half's outer edge (lattice x = 0)
+ * and the right half's (x = 10), which lie on one another, so each triangle has two corners
+ * on one point and no area. */
+static texopt_mesh *bridged_mirror(texopt_triangle_target **targets)
+{
+    texopt_triangle_target *tg;
+    texopt_mesh *u = mirrored_u(&tg);
+    uint32_t l0 = lattice_vertex(u, 0, 0), l1 = lattice_vertex(u, 0, 1);
+    uint32_t r0 = lattice_vertex(u, 10, 0), r1 = lattice_vertex(u, 10, 1);
+    size_t nt = u->triangle_count;
+    texopt_mesh *m = handmesh_alloc(u->vertex_count, nt + 2);
+    memcpy(m->texel, u->texel, 2 * u->vertex_count * sizeof *m->texel);
+    memcpy(m->position, u->position, 3 * u->vertex_count * sizeof *m->position);
+    memcpy(m->triangle, u->triangle, 3 * nt * sizeof *m->triangle);
+    uint32_t bridge[6] = {l0, r0, r1, r1, l1, l0};
+    memcpy(m->triangle + 3 * nt, bridge, sizeof bridge);
+    m->width = u->width;
+    m->height = u->height;
+    m->chart_sign = malloc(1);
+    m->chart_sign[0] = 1;
+    handmesh_finish(m);
+    for (size_t t = 0; t < m->triangle_count; t++)
+        m->flags[t] &= (uint8_t)~TEXOPT_TRI_FLIPPED;
+    *targets = malloc(m->triangle_count * sizeof **targets);
+    memcpy(*targets, tg, nt * sizeof *tg);
+    (*targets)[nt] = (*targets)[nt + 1] = stretch_target(1.0, 1.0);
+    free(tg);
+    texopt_mesh_destroy(u);
+    return m;
+}
+
+TEST(a_mirror_joined_by_triangles_without_area_is_boxed_half_by_half)
+{
+    texopt_triangle_target *tg;
+    texopt_mesh *m = bridged_mirror(&tg);
+    CHECK(m->area_texel[m->triangle_count - 1] == 0.0 && m->area_texel[m->triangle_count - 2] == 0.0);
+    double *bij = malloc(2 * m->vertex_count * sizeof *bij);
+    char err[256];
+    size_t within, between, overlapping = 99;
+    uint8_t over = 1;
+    CHECK_OK(texopt_scaffold_overlapping_charts(m, m->texel, &over, &overlapping, err, sizeof err), err);
+    CHECK_EQ_INT(overlapping, 0);
+    texopt_scaffold_report rep;
+    CHECK_OK(texopt_scaffold_solve(m, tg, NULL, NULL, NULL, bij, &rep, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(rep.charts_scaffolded, 1);
+    CHECK_EQ_INT(rep.charts_skipped, 0);
+    CHECK_OK(texopt_count_overlap(m, bij, &within, &between, err, sizeof err), err);
+    CHECK_EQ_INT(within, 0);
+    CHECK_EQ_INT(texopt_count_flipped(m, bij), 0);
+    free(bij);
+    free(tg);
+    texopt_mesh_destroy(m);
+}
+
 /* Triangles of m that are not counter-clockwise in the layout texel. */
 static size_t clockwise(const texopt_mesh *m, const double *texel)
 {
@@ -468,17 +533,23 @@ TEST(a_folded_chart_is_unfolded_so_the_scaffold_leaves_no_centre_twice)
     texopt_mesh_destroy(m);
 }
 
-TEST(a_chart_with_a_hole_and_a_fold_is_unfolded_by_tutte)
+/* One chart of 3 x 3 cells less the centre: a ring round a hole of one cell. */
+static texopt_mesh *ring_of_cells(void)
 {
-    /* 3 x 3 cells less the centre (a hole), its top right corner cell folded over its
-     * neighbours: both boundary loops are kept, the hole filled only for the layout. */
     cell cells[8];
     size_t n = 0;
     for (int j = 0; j < 3; j++)
         for (int i = 0; i < 3; i++)
             if (i != 1 || j != 1)
                 cells[n++] = (cell){i, j, 0};
-    texopt_mesh *m = cell_mesh(cells, n, 1, 3);
+    return cell_mesh(cells, n, 1, 3);
+}
+
+TEST(a_chart_with_a_hole_and_a_fold_is_unfolded_by_tutte)
+{
+    /* 3 x 3 cells less the centre (a hole), its top right corner cell folded over its
+     * neighbours: both boundary loops are kept, the hole filled only for the layout. */
+    texopt_mesh *m = ring_of_cells();
     for (size_t v = 0; v < m->vertex_count; v++)
         if (m->position[3 * v] == 3 && m->position[3 * v + 1] == 3)
             m->texel[2 * v] = m->texel[2 * v + 1] = 1.5 * CELL;
@@ -511,6 +582,231 @@ TEST(a_chart_with_a_hole_and_a_fold_is_unfolded_by_tutte)
     CHECK_EQ_INT(ur.kept, 1);
     CHECK_EQ_INT(ur.unfolded, 0);
     CHECK(memcmp(unfolded, m->texel, 2 * m->vertex_count * sizeof *unfolded) == 0);
+    free(unfolded);
+    texopt_mesh_destroy(layout);
+    texopt_mesh_destroy(m);
+}
+
+/* A U as closing_u's, twice, as two charts on the same texels (repeated twins of a sharing
+ * group, texel_share.h), its right arm drawn 1.5 cells to the left from lattice row 2 up:
+ * it lies half a cell over the left arm (no fold, one orientation), its vertices inside the
+ * left arm's cells, so each chart covers centres twice at the start. The second chart's arm
+ * is drawn shift_second cells instead (1.5: twins). */
+static texopt_mesh *overlapping_twins(double shift_second)
+{
+    cell cells[128];
+    size_t n = 0;
+    for (uint32_t c = 0; c < 2; c++)
+        for (int j = 0; j < 7; j++)
+            for (int i = 0; i < 5; i++)
+                if (j == 0 || i != 2)
+                    cells[n++] = (cell){i, j, c};
+    texopt_mesh *m = cell_mesh(cells, n, 2, 8);
+    for (size_t v = 0; v < m->vertex_count; v++)
+        if (m->position[3 * v] >= 3 && m->position[3 * v + 1] >= 2)
+            m->texel[2 * v] -= (v < m->vertex_count / 2 ? 1.5 : shift_second) * CELL;
+    m->chart_sign = malloc(2);
+    m->chart_sign[0] = m->chart_sign[1] = 1;
+    handmesh_finish(m);
+    return m;
+}
+
+TEST(twins_of_a_sharing_group_are_unfolded_as_one_and_stay_off_themselves)
+{
+    texopt_mesh *m = overlapping_twins(1.5);
+    size_t nv = m->vertex_count, within, between;
+    char err[256];
+    texopt_texel_share *share = NULL;
+    CHECK_OK(texopt_texel_share_create(&share, m, err, sizeof err), err);
+    CHECK_EQ_INT(share->secondary_count, 1);
+    texopt_triangle_target *tg = malloc(m->triangle_count * sizeof *tg);
+    for (size_t t = 0; t < m->triangle_count; t++)
+        tg[t] = stretch_target(1.3, 1.0);
+    double *out = malloc(2 * nv * sizeof *out), *start = malloc(2 * nv * sizeof *start);
+    texopt_meshwise_options mo = {.share = share};
+    texopt_scaffold_report rep;
+    /* the twins left as they are: both skipped, both over themselves */
+    CHECK_OK(texopt_scaffold_solve(m, tg, NULL, &mo, NULL, out, &rep, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(rep.charts_skipped, 2);
+    CHECK_OK(texopt_count_overlap(m, out, &within, &between, err, sizeof err), err);
+    CHECK_MSG(within > 10, "solved from the folds: %zu centres twice", within);
+
+    texopt_unfold_report ur;
+    CHECK_OK(texopt_unfold_groups(m, share, start, &ur, err, sizeof err), err);
+    CHECK_EQ_INT(ur.overlapping, 2);
+    CHECK_EQ_INT(ur.unfolded, 1);
+    CHECK_EQ_INT(ur.followed, 1);
+    CHECK_EQ_INT(ur.kept, 0);
+    /* the secondary starts on the primary's new layout: its twin vertices at the same point */
+    size_t twins = 0;
+    for (size_t a = 0; a < nv; a++)
+        for (size_t b = 0; b < nv; b++)
+            if (m->position[3 * a] == m->position[3 * b] && m->position[3 * a + 1] == m->position[3 * b + 1] &&
+                a != b) {
+                CHECK_NEAR(start[2 * a], start[2 * b], 1e-9);
+                CHECK_NEAR(start[2 * a + 1], start[2 * b + 1], 1e-9);
+                twins++;
+            }
+    CHECK_EQ_INT(twins, nv);
+    texopt_mesh *layout = with_layout(m, start);
+    texopt_texel_share_rebase(share, layout);
+    texopt_targets_restate(m, layout, tg);
+    CHECK_OK(texopt_scaffold_solve(layout, tg, NULL, &mo, NULL, out, &rep, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(rep.charts_skipped, 0);
+    CHECK_EQ_INT(rep.charts_scaffolded, 2);
+    CHECK_OK(texopt_count_overlap(layout, out, &within, &between, err, sizeof err), err);
+    CHECK_EQ_INT(within, 0);
+    CHECK_EQ_INT(clockwise(layout, out), 0);
+    /* and the twins still share their texels: every secondary vertex on its primary twin */
+    double apart = 0;
+    for (size_t a = 0; a < nv; a++)
+        for (size_t b = 0; b < nv; b++)
+            if (m->position[3 * a] == m->position[3 * b] && m->position[3 * a + 1] == m->position[3 * b + 1] && a != b)
+                apart = fmax(apart, hypot(out[2 * a] - out[2 * b], out[2 * a + 1] - out[2 * b + 1]));
+    CHECK_MSG(apart < 0.1, "twins %g texels apart", apart);
+    free(out);
+    free(start);
+    free(tg);
+    texopt_texel_share_destroy(share);
+    texopt_mesh_destroy(layout);
+    texopt_mesh_destroy(m);
+}
+
+TEST(a_chart_of_parts_meeting_at_a_corner_is_unfolded_part_by_part)
+{
+    /* Two cells of one chart joined only at lattice point (1, 1), the second turned a half
+     * turn about it in the input layout, so it lies on the first with the same orientation. */
+    cell cells[] = {{0, 0, 0}, {1, 1, 0}};
+    texopt_mesh *m = cell_mesh(cells, 2, 1, 2);
+    for (size_t v = 0; v < m->vertex_count; v++)
+        if (m->position[3 * v] + m->position[3 * v + 1] > 2) { /* the second cell's own corners */
+            m->texel[2 * v] = 2 * CELL - m->texel[2 * v];
+            m->texel[2 * v + 1] = 2 * CELL - m->texel[2 * v + 1];
+        }
+    m->chart_sign = malloc(1);
+    m->chart_sign[0] = 1;
+    handmesh_finish(m);
+    char err[256];
+    size_t within, between, count;
+    CHECK_OK(texopt_count_overlap(m, m->texel, &within, &between, err, sizeof err), err);
+    CHECK_MSG(within > 10, "the second cell covers %zu centres of the first", within);
+    double *unfolded = malloc(2 * m->vertex_count * sizeof *unfolded);
+    texopt_unfold_report ur;
+    CHECK_OK(texopt_unfold_charts(m, NULL, unfolded, NULL, &ur, err, sizeof err), err);
+    CHECK_EQ_INT(ur.overlapping, 1);
+    CHECK_EQ_INT(ur.unfolded, 1);
+    CHECK_EQ_INT(ur.not_disks, 0);
+    texopt_mesh *layout = with_layout(m, unfolded);
+    uint8_t over;
+    CHECK_OK(texopt_scaffold_overlapping_charts(layout, layout->texel, &over, &count, err, sizeof err), err);
+    CHECK_EQ_INT(count, 0);
+    CHECK_EQ_INT(clockwise(layout, layout->texel), 0);
+    /* each cell keeps its square (flat in 3D): every edge CELL times its 3D length */
+    for (size_t t = 0; t < m->triangle_count; t++)
+        for (int k = 0; k < 3; k++) {
+            uint32_t a = m->triangle[3 * t + (size_t)k], b = m->triangle[3 * t + (size_t)(k + 1) % 3];
+            double d3 = hypot(m->position[3 * a] - m->position[3 * b], m->position[3 * a + 1] - m->position[3 * b + 1]);
+            double d2 = hypot(unfolded[2 * a] - unfolded[2 * b], unfolded[2 * a + 1] - unfolded[2 * b + 1]);
+            CHECK_NEAR(d2, CELL * d3, 1e-6);
+        }
+    free(unfolded);
+    texopt_mesh_destroy(layout);
+    texopt_mesh_destroy(m);
+}
+
+TEST(a_secondary_over_itself_that_is_no_twin_leaves_its_group)
+{
+    /* the second U's arm 1.25 cells to the left: it lies on the first's texels but not as its
+     * twin, and covers some of them twice on its own */
+    texopt_mesh *m = overlapping_twins(1.25);
+    size_t nv = m->vertex_count, within, between;
+    char err[256];
+    texopt_texel_share *share = NULL;
+    CHECK_OK(texopt_texel_share_create(&share, m, err, sizeof err), err);
+    CHECK_EQ_INT(share->secondary_count, 1);
+    double *start = malloc(2 * nv * sizeof *start), *out = malloc(2 * nv * sizeof *out);
+    texopt_unfold_report ur;
+    CHECK_OK(texopt_unfold_groups(m, share, start, &ur, err, sizeof err), err);
+    CHECK_EQ_INT(ur.overlapping, 2);
+    CHECK_EQ_INT(ur.unfolded, 2);
+    CHECK_EQ_INT(ur.followed, 0);
+    CHECK_EQ_INT(share->secondary_count, 0);
+    CHECK_EQ_INT(share->tie_count, 0);
+    CHECK_EQ_INT(share->view.chart_count, 2);
+    texopt_mesh *layout = with_layout(m, start);
+    uint8_t over[2];
+    size_t count;
+    CHECK_OK(texopt_scaffold_overlapping_charts(layout, layout->texel, over, &count, err, sizeof err), err);
+    CHECK_EQ_INT(count, 0);
+    texopt_texel_share_rebase(share, layout);
+    texopt_triangle_target *tg = malloc(m->triangle_count * sizeof *tg);
+    for (size_t t = 0; t < m->triangle_count; t++)
+        tg[t] = stretch_target(1.3, 1.0);
+    texopt_targets_restate(m, layout, tg);
+    texopt_meshwise_options mo = {.share = share};
+    texopt_scaffold_report rep;
+    CHECK_OK(texopt_scaffold_solve(layout, tg, NULL, &mo, NULL, out, &rep, NULL, err, sizeof err), err);
+    CHECK_EQ_INT(rep.charts_skipped, 0);
+    CHECK_OK(texopt_count_overlap(layout, out, &within, &between, err, sizeof err), err);
+    CHECK_EQ_INT(within, 0);
+    free(start);
+    free(out);
+    free(tg);
+    texopt_texel_share_destroy(share);
+    texopt_mesh_destroy(layout);
+    texopt_mesh_destroy(m);
+}
+
+/* A ring of 3 x 3 cells less the centre, and a strip 3 cells long and 0.2 wide hanging at
+ * the hole's lower left corner, lattice (1, 1), its only vertex in common with the ring
+ * (one chart of two parts); in the input layout the strip lies over the ring's cells right
+ * of the hole. */
+static texopt_mesh *ring_with_strip(void)
+{
+    texopt_mesh *ring = ring_of_cells();
+    size_t nv = ring->vertex_count, nt = ring->triangle_count;
+    texopt_mesh *m = handmesh_alloc(nv + 3, nt + 2);
+    memcpy(m->texel, ring->texel, 2 * nv * sizeof *m->texel);
+    memcpy(m->position, ring->position, 3 * nv * sizeof *m->position);
+    memcpy(m->triangle, ring->triangle, 3 * nt * sizeof *m->triangle);
+    uint32_t p = lattice_vertex(ring, 1, 1), b = (uint32_t)nv;
+    double pos[9] = {1, 1, 3, 1, 1.2, 3, 1, 1.2, 0};
+    double tex[6] = {CELL + 3 * CELL, CELL, CELL + 3 * CELL, CELL + 0.2 * CELL, CELL, CELL + 0.2 * CELL};
+    memcpy(m->position + 3 * nv, pos, sizeof pos);
+    memcpy(m->texel + 2 * nv, tex, sizeof tex);
+    uint32_t strip[6] = {p, b, b + 1, p, b + 1, b + 2};
+    memcpy(m->triangle + 3 * nt, strip, sizeof strip);
+    m->width = ring->width;
+    m->height = ring->height;
+    m->chart_sign = malloc(1);
+    m->chart_sign[0] = 1;
+    handmesh_finish(m);
+    texopt_mesh_destroy(ring);
+    return m;
+}
+
+TEST(a_part_that_clashes_at_every_turn_is_shrunk_until_it_fits)
+{
+    /* Turned about its corner, the strip (12 texels) meets the ring at every angle: the hole
+     * is 4 texels wide. A quarter of its length fits the hole along its diagonal. */
+    texopt_mesh *m = ring_with_strip();
+    char err[256];
+    size_t count;
+    uint8_t over;
+    CHECK_OK(texopt_scaffold_overlapping_charts(m, m->texel, &over, &count, err, sizeof err), err);
+    CHECK_EQ_INT(count, 1);
+    double *unfolded = malloc(2 * m->vertex_count * sizeof *unfolded);
+    texopt_unfold_report ur;
+    CHECK_OK(texopt_unfold_charts(m, NULL, unfolded, NULL, &ur, err, sizeof err), err);
+    CHECK_EQ_INT(ur.unfolded, 1);
+    texopt_mesh *layout = with_layout(m, unfolded);
+    CHECK_OK(texopt_scaffold_overlapping_charts(layout, layout->texel, &over, &count, err, sizeof err), err);
+    CHECK_EQ_INT(count, 0);
+    CHECK_EQ_INT(clockwise(layout, layout->texel), 0);
+    size_t nt = m->triangle_count;
+    double strip = fabs(layout->area_texel[nt - 1]) + fabs(layout->area_texel[nt - 2]);
+    double input = fabs(m->area_texel[nt - 1]) + fabs(m->area_texel[nt - 2]);
+    CHECK_MSG(strip <= input / 16 * (1 + 1e-9), "the strip keeps %g of its input area", strip / input);
     free(unfolded);
     texopt_mesh_destroy(layout);
     texopt_mesh_destroy(m);
