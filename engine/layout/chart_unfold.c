@@ -9,6 +9,7 @@
 #include "param_tutte.h"
 #include "scaffold.h"
 #include "sort_keys.h"
+#include "vec2.h"
 #include "vec3.h"
 
 #define PART_TURN (3.14159265358979323846 / 18) /* 10 degrees */
@@ -350,11 +351,6 @@ static size_t part_boundaries(const texopt_mesh *mesh, uint32_t c, const uint32_
     return nb;
 }
 
-static double orient2(const double *a, const double *b, const double *p)
-{
-    return (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
-}
-
 /* Whether a boundary edge of part `part` crosses one of the parts marked laid in done
  * (edges sharing a vertex do not count). */
 static int part_crosses_laid(const uint64_t *edges, size_t nb, uint32_t part, const uint8_t *done, const double *x)
@@ -369,8 +365,8 @@ static int part_crosses_laid(const uint64_t *edges, size_t nb, uint32_t part, co
                 continue;
             const double *pa = x + 2 * (size_t)a, *pb = x + 2 * (size_t)b, *pc = x + 2 * (size_t)c,
                          *pd = x + 2 * (size_t)d;
-            double d1 = orient2(pa, pb, pc), d2 = orient2(pa, pb, pd), d3 = orient2(pc, pd, pa),
-                   d4 = orient2(pc, pd, pb);
+            double d1 = texopt_signed_area(pa, pb, pc), d2 = texopt_signed_area(pa, pb, pd),
+                   d3 = texopt_signed_area(pc, pd, pa), d4 = texopt_signed_area(pc, pd, pb);
             if (((d1 > 0) != (d2 > 0) || d1 == 0 || d2 == 0) && ((d3 > 0) != (d4 > 0) || d3 == 0 || d4 == 0))
                 return 1;
         }
@@ -391,7 +387,7 @@ static int inside_triangle(const texopt_mesh *mesh, size_t t, const double *x, c
 {
     const uint32_t *v = mesh->triangle + 3 * t;
     const double *a = x + 2 * (size_t)v[0], *b = x + 2 * (size_t)v[1], *c = x + 2 * (size_t)v[2];
-    double d0 = orient2(a, b, p), d1 = orient2(b, c, p), d2 = orient2(c, a, p);
+    double d0 = texopt_signed_area(a, b, p), d1 = texopt_signed_area(b, c, p), d2 = texopt_signed_area(c, a, p);
     return (d0 > 0 && d1 > 0 && d2 > 0) || (d0 < 0 && d1 < 0 && d2 < 0);
 }
 

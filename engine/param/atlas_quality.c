@@ -7,6 +7,8 @@
 #include <stdint.h>
 #include <stdlib.h>
 
+#include "vec3.h"
+
 /* One triangle edge: its 3D points and its layout vertices, each pair in increasing order. */
 typedef struct half_edge {
     uint32_t p0, p1, v0, v1;
@@ -22,12 +24,6 @@ static int compare_half_edges(const void *a, const void *b)
     if (x->v0 != y->v0)
         return x->v0 < y->v0 ? -1 : 1;
     return x->v1 < y->v1 ? -1 : x->v1 > y->v1;
-}
-
-static double point_distance(const texopt_mesh *mesh, uint32_t a, uint32_t b)
-{
-    const double *p = mesh->position + 3 * (size_t)a, *q = mesh->position + 3 * (size_t)b;
-    return sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
 }
 
 /* The 3D length of the edges whose triangles do not all share one layout edge. */
@@ -49,7 +45,7 @@ static texopt_status cut_length(const texopt_mesh *mesh, double *out, char *err,
         for (j = i + 1; j < n && e[j].p0 == e[i].p0 && e[j].p1 == e[i].p1;)
             j++;
         if (e[i].v0 != e[j - 1].v0 || e[i].v1 != e[j - 1].v1)
-            length += point_distance(mesh, e[i].p0, e[i].p1);
+            length += texopt_distance3(mesh->position + 3 * (size_t)e[i].p0, mesh->position + 3 * (size_t)e[i].p1);
     }
     free(e);
     *out = length;
